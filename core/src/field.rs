@@ -1,0 +1,234 @@
+//! The height field: a validated view over caller-owned samples.
+
+use core::fmt;
+
+/// Largest width or height accepted: grid coordinates stay exact in `f32` (2²⁴).
+pub const MAX_SIDE: u32 = 1 << 24;
+
+/// Why a height field was refused.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum FieldError {
+    /// Width or height below 2 (a surface needs at least one cell).
+    TooSmall,
+    /// Width or height above [`MAX_SIDE`].
+    TooLarge,
+    /// The row stride is smaller than the width.
+    StrideTooSmall,
+    /// `stride × (H − 1) + W` does not fit in `usize`.
+    SizeOverflow,
+    /// The slice holds fewer samples than `stride × (H − 1) + W`.
+    SliceTooShort {
+        /// Samples needed.
+        needed: usize,
+        /// Samples given.
+        given: usize,
+    },
+    /// A height (or the depth scale of an integer map) is NaN or infinite.
+    NotFinite {
+        /// Index of the first bad value in the slice (0 for the depth scale).
+        index: usize,
+    },
+    /// The output buffer of an integer-map conversion is too small.
+    OutputTooShort {
+        /// Samples needed (W × H).
+        needed: usize,
+    },
+}
+
+impl fmt::Display for FieldError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            FieldError::TooSmall => write!(f, "a height field needs at least 2 x 2 samples"),
+            FieldError::TooLarge => write!(f, "width and height must be at most {MAX_SIDE}"),
+            FieldError::StrideTooSmall => write!(f, "row stride is smaller than the width"),
+            FieldError::SizeOverflow => write!(f, "height field size overflows usize"),
+            FieldError::SliceTooShort { needed, given } => {
+                write!(f, "sample slice too short: {given} given, {needed} needed")
+            }
+            FieldError::NotFinite { index } => write!(f, "height {index} is NaN or infinite"),
+            FieldError::OutputTooShort { needed } => {
+                write!(f, "output buffer too short: {needed} samples needed")
+            }
+        }
+    }
+}
+
+/// W × H heights, row-major with a row stride: sample (i, j) is `h[j * stride + i]` and
+/// sits at the grid point (x = i, y = j). Validated once at construction; every march
+/// may then index it without checks failing.
+#[derive(Clone, Copy, Debug)]
+pub struct HeightField<'a> {
+    samples: &'a [f32],
+    width: u32,
+    height: u32,
+    stride: usize,
+    min: f32,
+    max: f32,
+}
+
+/// Number of slice elements a `width × height` map with `stride` needs, with overflow checks.
+fn needed_len(width: u32, height: u32, stride: usize) -> Result<usize, FieldError> {
+    if width < 2 || height < 2 {
+        return Err(FieldError::TooSmall);
+    }
+    if width > MAX_SIDE || height > MAX_SIDE {
+        return Err(FieldError::TooLarge);
+    }
+    if stride < width as usize {
+        return Err(FieldError::StrideTooSmall);
+    }
+    stride
+        .checked_mul(height as usize - 1)
+        .and_then(|n| n.checked_add(width as usize))
+        .ok_or(FieldError::SizeOverflow)
+}
+
+impl<'a> HeightField<'a> {
+    /// Validates `samples` as a `width × height` map whose rows start `stride` apart.
+    pub fn new(
+        samples: &'a [f32],
+        width: u32,
+        height: u32,
+        stride: usize,
+    ) -> Result<Self, FieldError> {
+        let needed = needed_len(width, height, stride)?;
+        if samples.len() < needed {
+            return Err(FieldError::SliceTooShort {
+                needed,
+                given: samples.len(),
+            });
+        }
+        let (mut min, mut max) = (f32::INFINITY, f32::NEG_INFINITY);
+        for j in 0..height as usize {
+            let row = &samples[j * stride..j * stride + width as usize];
+            for (i, &h) in row.iter().enumerate() {
+                if !h.is_finite() {
+                    return Err(FieldError::NotFinite {
+                        index: j * stride + i,
+                    });
+                }
+                min = min.min(h);
+                max = max.max(h);
+            }
+        }
+        Ok(HeightField {
+            samples,
+            width,
+            height,
+            stride,
+            min,
+            max,
+        })
+    }
+
+    /// Converts 8-bit samples to heights `s / 255 × depth` into `out` (stride = width)
+    /// and returns the field over `out`.
+    pub fn from_u8(
+        samples: &[u8],
+        width: u32,
+        height: u32,
+        stride: usize,
+        depth: f32,
+        out: &'a mut [f32],
+    ) -> Result<Self, FieldError> {
+        convert(samples, width, height, stride, depth / 255.0, depth, out)
+    }
+
+    /// Converts 16-bit samples to heights `s / 65535 × depth` into `out` (stride = width)
+    /// and returns the field over `out`.
+    pub fn from_u16(
+        samples: &[u16],
+        width: u32,
+        height: u32,
+        stride: usize,
+        depth: f32,
+        out: &'a mut [f32],
+    ) -> Result<Self, FieldError> {
+        convert(samples, width, height, stride, depth / 65535.0, depth, out)
+    }
+
+    /// Number of samples along x (W).
+    #[inline]
+    pub fn width(&self) -> u32 {
+        self.width
+    }
+    /// Number of samples along y (H).
+    #[inline]
+    pub fn height(&self) -> u32 {
+        self.height
+    }
+    /// Slice elements between the starts of two rows.
+    #[inline]
+    pub fn stride(&self) -> usize {
+        self.stride
+    }
+    /// Lowest height.
+    #[inline]
+    pub fn min_height(&self) -> f32 {
+        self.min
+    }
+    /// Highest height.
+    #[inline]
+    pub fn max_height(&self) -> f32 {
+        self.max
+    }
+    /// The underlying samples.
+    #[inline]
+    pub fn samples(&self) -> &'a [f32] {
+        self.samples
+    }
+    /// Height of sample (i, j). Panics when out of range (a bug in the caller).
+    #[inline]
+    pub fn at(&self, i: u32, j: u32) -> f32 {
+        debug_assert!(i < self.width && j < self.height);
+        self.samples[j as usize * self.stride + i as usize]
+    }
+    /// The four corners of cell (i, j) as `[h00, h10, h01, h11]` (h10 is at x = i + 1).
+    #[inline]
+    pub fn cell_corners(&self, i: u32, j: u32) -> [f32; 4] {
+        let a = j as usize * self.stride + i as usize;
+        let b = a + self.stride;
+        [
+            self.samples[a],
+            self.samples[a + 1],
+            self.samples[b],
+            self.samples[b + 1],
+        ]
+    }
+}
+
+/// Shared body of the integer-map constructors.
+fn convert<'a, S: Copy + Into<f32>>(
+    samples: &[S],
+    width: u32,
+    height: u32,
+    stride: usize,
+    step: f32,
+    depth: f32,
+    out: &'a mut [f32],
+) -> Result<HeightField<'a>, FieldError> {
+    if !depth.is_finite() {
+        return Err(FieldError::NotFinite { index: 0 });
+    }
+    let needed = needed_len(width, height, stride)?;
+    if samples.len() < needed {
+        return Err(FieldError::SliceTooShort {
+            needed,
+            given: samples.len(),
+        });
+    }
+    let w = width as usize;
+    let out_len = w
+        .checked_mul(height as usize)
+        .ok_or(FieldError::SizeOverflow)?;
+    if out.len() < out_len {
+        return Err(FieldError::OutputTooShort { needed: out_len });
+    }
+    for j in 0..height as usize {
+        let src = &samples[j * stride..j * stride + w];
+        for (o, &s) in out[j * w..(j + 1) * w].iter_mut().zip(src) {
+            *o = s.into() * step;
+        }
+    }
+    HeightField::new(&out[..out_len], width, height, width as usize)
+}

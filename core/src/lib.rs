@@ -1,0 +1,68 @@
+//! # hfcast — exact and fast ray casting of height fields
+//!
+//! A `no_std` core: height fields over caller-owned samples, the five surface
+//! reconstructions of `DESIGN.md`, the exact grid traversal (in `f64` the test oracle,
+//! in `f32` the fast path), and the bake-free search baselines.
+//!
+//! Grid space: sample (i, j) sits at (x = i, y = j); the surface covers
+//! [0, W−1] × [0, H−1]; heights are in grid units. Everything below the surface is
+//! solid, so a ray starting under it hits at `t_min`.
+//!
+//! ```
+//! use hfcast::{HeightField, Query, Surface, Method};
+//! let heights = [0.0f32, 1.0, 1.0, 2.0];
+//! let hf = HeightField::new(&heights, 2, 2, 2).unwrap();
+//! let q = Query::<f32>::from_arrays([0.5, 0.5, 5.0], [0.0, 0.0, -1.0], 0.0, f32::INFINITY).unwrap();
+//! let hit = Method::Exact.trace(&hf, Surface::Triangles, &q).hit.unwrap();
+//! assert!((hit.point.z - 1.0).abs() < 1e-6);
+//! ```
+#![no_std]
+#![forbid(unsafe_code)]
+
+#[cfg(feature = "alloc")]
+extern crate alloc;
+#[cfg(feature = "std")]
+extern crate std;
+
+#[cfg(feature = "alloc")]
+pub mod brute;
+pub mod dda;
+pub mod field;
+pub mod math;
+pub mod ray;
+pub mod search;
+pub mod surface;
+
+pub use field::{FieldError, HeightField};
+pub use math::Real;
+pub use ray::{Flags, Hit, Query, RayClass, RayError, Trace};
+pub use search::SearchSteps;
+pub use surface::Surface;
+
+/// The marching methods that need no baked data, as one value a caller can pass around.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Method {
+    /// Exact grid traversal ([`dda::trace`]).
+    Exact,
+    /// Linear then binary search ([`search::linear_binary`]); approximate.
+    LinearBinary(SearchSteps),
+    /// Linear search then a secant step, parallax-occlusion style
+    /// ([`search::linear_secant`]); approximate.
+    LinearSecant(u32),
+}
+
+impl Method {
+    /// `true` for methods that never return a wrong ray.
+    pub fn is_exact(self) -> bool {
+        matches!(self, Method::Exact)
+    }
+
+    /// Traces one query.
+    pub fn trace<R: Real>(self, hf: &HeightField, surface: Surface, q: &Query<R>) -> Trace<R> {
+        match self {
+            Method::Exact => dda::trace(hf, surface, q),
+            Method::LinearBinary(steps) => search::linear_binary(hf, surface, q, steps),
+            Method::LinearSecant(n) => search::linear_secant(hf, surface, q, n),
+        }
+    }
+}

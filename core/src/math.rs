@@ -1,0 +1,158 @@
+//! The one math shim: the scalar trait that lets every march run in `f32` (the fast
+//! path, what shaders do) and in `f64` (the test oracle) from one source, with `libm`
+//! supplying the functions `core` lacks.
+
+use core::fmt::Debug;
+use core::ops::{Add, Div, Mul, Neg, Sub};
+
+/// A floating-point scalar: `f32` or `f64`.
+///
+/// `V3` is the matching glam vector (`Vec3` or `DVec3`) used in public types.
+pub trait Real:
+    Copy
+    + Debug
+    + PartialOrd
+    + Default
+    + Add<Output = Self>
+    + Sub<Output = Self>
+    + Mul<Output = Self>
+    + Div<Output = Self>
+    + Neg<Output = Self>
+    + 'static
+{
+    /// The glam 3-vector of this precision.
+    type V3: Copy + Debug + PartialEq + Default;
+    /// 0.
+    const ZERO: Self;
+    /// 1.
+    const ONE: Self;
+    /// 0.5.
+    const HALF: Self;
+    /// +∞.
+    const INFINITY: Self;
+    /// Machine epsilon.
+    const EPSILON: Self;
+
+    /// Converts (exactly) from `f32`.
+    fn from_f32(v: f32) -> Self;
+    /// Converts from `f64` (rounding to nearest for `f32`).
+    fn from_f64(v: f64) -> Self;
+    /// Converts to `f64` (exact).
+    fn to_f64(self) -> f64;
+    /// Converts to `f32` (rounding to nearest for `f64`).
+    fn to_f32(self) -> f32;
+    /// Converts a grid index; exact for indices below 2²⁴.
+    fn from_u32(v: u32) -> Self;
+    /// Largest integer not above `self`.
+    fn floor(self) -> Self;
+    /// Square root.
+    fn sqrt(self) -> Self;
+    /// `true` unless NaN or infinite.
+    fn is_finite(self) -> bool;
+
+    /// Builds a glam vector.
+    fn v3(v: [Self; 3]) -> Self::V3;
+    /// Reads a glam vector.
+    fn xyz(v: Self::V3) -> [Self; 3];
+
+    /// Absolute value.
+    #[inline]
+    fn abs(self) -> Self {
+        if self < Self::ZERO {
+            -self
+        } else {
+            self
+        }
+    }
+    /// Minimum; returns `self` when `other` is NaN.
+    #[inline]
+    fn min(self, other: Self) -> Self {
+        if other < self {
+            other
+        } else {
+            self
+        }
+    }
+    /// Maximum; returns `self` when `other` is NaN.
+    #[inline]
+    fn max(self, other: Self) -> Self {
+        if other > self {
+            other
+        } else {
+            self
+        }
+    }
+    /// Clamps into `[lo, hi]`.
+    #[inline]
+    fn clamp_to(self, lo: Self, hi: Self) -> Self {
+        self.max(lo).min(hi)
+    }
+    /// `a (1 − f) + b f`: exact at f = 0 and f = 1.
+    #[inline]
+    fn lerp(a: Self, b: Self, f: Self) -> Self {
+        a * (Self::ONE - f) + b * f
+    }
+}
+
+macro_rules! impl_real {
+    ($t:ty, $v3:ty, $floor:path, $sqrt:path) => {
+        impl Real for $t {
+            type V3 = $v3;
+            const ZERO: Self = 0.0;
+            const ONE: Self = 1.0;
+            const HALF: Self = 0.5;
+            const INFINITY: Self = <$t>::INFINITY;
+            const EPSILON: Self = <$t>::EPSILON;
+            #[inline]
+            fn from_f32(v: f32) -> Self {
+                v as $t
+            }
+            #[inline]
+            fn from_f64(v: f64) -> Self {
+                v as $t
+            }
+            #[inline]
+            fn to_f64(self) -> f64 {
+                self as f64
+            }
+            #[inline]
+            fn to_f32(self) -> f32 {
+                self as f32
+            }
+            #[inline]
+            fn from_u32(v: u32) -> Self {
+                v as $t
+            }
+            #[inline]
+            fn floor(self) -> Self {
+                $floor(self)
+            }
+            #[inline]
+            fn sqrt(self) -> Self {
+                $sqrt(self)
+            }
+            #[inline]
+            fn is_finite(self) -> bool {
+                <$t>::is_finite(self)
+            }
+            #[inline]
+            fn v3(v: [Self; 3]) -> Self::V3 {
+                <$v3>::new(v[0], v[1], v[2])
+            }
+            #[inline]
+            fn xyz(v: Self::V3) -> [Self; 3] {
+                [v.x, v.y, v.z]
+            }
+        }
+    };
+}
+
+impl_real!(f32, glam::Vec3, libm::floorf, libm::sqrtf);
+impl_real!(f64, glam::DVec3, libm::floor, libm::sqrt);
+
+/// Unit normal of the height function with gradient `(gx, gy)`: `(−gx, −gy, 1) / |…|`.
+#[inline]
+pub fn normal_from_gradient<R: Real>(gx: R, gy: R) -> [R; 3] {
+    let len = (gx * gx + gy * gy + R::ONE).sqrt();
+    [-gx / len, -gy / len, R::ONE / len]
+}

@@ -1,0 +1,217 @@
+//! Rays, queries and their answers, shared by every method.
+
+use crate::math::Real;
+use core::fmt;
+
+/// Why a ray query was refused.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum RayError {
+    /// A component of the origin is NaN or infinite.
+    OriginNotFinite,
+    /// A component of the direction is NaN or infinite.
+    DirectionNotFinite,
+    /// The direction is (0, 0, 0).
+    ZeroDirection,
+    /// `t_min` is NaN or infinite, or `t_max` is NaN or −∞.
+    RangeNotFinite,
+    /// `t_min > t_max`.
+    EmptyRange,
+}
+
+impl fmt::Display for RayError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            RayError::OriginNotFinite => "ray origin is NaN or infinite",
+            RayError::DirectionNotFinite => "ray direction is NaN or infinite",
+            RayError::ZeroDirection => "ray direction is zero",
+            RayError::RangeNotFinite => "t_min must be finite and t_max not NaN or -inf",
+            RayError::EmptyRange => "t_min is greater than t_max",
+        })
+    }
+}
+
+/// The four ray classes of the safety-shape methods, by the ray's main horizontal axis.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+#[repr(u8)]
+pub enum RayClass {
+    /// dx ≥ |dy|.
+    XPos = 0,
+    /// −dx ≥ |dy|.
+    XNeg = 1,
+    /// dy > |dx|.
+    YPos = 2,
+    /// Every other direction (including vertical rays).
+    YNeg = 3,
+}
+
+impl RayClass {
+    /// The class of a direction (DESIGN.md contract).
+    pub fn of<R: Real>(dx: R, dy: R) -> RayClass {
+        if dx >= dy.abs() && !(dx == R::ZERO && dy == R::ZERO) {
+            RayClass::XPos
+        } else if -dx >= dy.abs() && !(dx == R::ZERO && dy == R::ZERO) {
+            RayClass::XNeg
+        } else if dy > dx.abs() {
+            RayClass::YPos
+        } else {
+            RayClass::YNeg
+        }
+    }
+}
+
+/// A validated ray query in grid space: `origin + t · dir` for `t` in `[t_min, t_max]`.
+///
+/// `dir` need not be normalised; `t_max` may be `+∞`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Query<R: Real = f32> {
+    origin: [R; 3],
+    dir: [R; 3],
+    t_min: R,
+    t_max: R,
+}
+
+impl<R: Real> Query<R> {
+    /// Checks and builds a query: finite origin and direction, non-zero direction,
+    /// finite `t_min`, `t_max ≥ t_min` (`+∞` allowed).
+    pub fn new(origin: R::V3, dir: R::V3, t_min: R, t_max: R) -> Result<Self, RayError> {
+        Self::from_arrays(R::xyz(origin), R::xyz(dir), t_min, t_max)
+    }
+
+    /// [`Query::new`] from plain arrays.
+    pub fn from_arrays(origin: [R; 3], dir: [R; 3], t_min: R, t_max: R) -> Result<Self, RayError> {
+        if !origin.iter().all(|v| v.is_finite()) {
+            return Err(RayError::OriginNotFinite);
+        }
+        if !dir.iter().all(|v| v.is_finite()) {
+            return Err(RayError::DirectionNotFinite);
+        }
+        if dir.iter().all(|&v| v == R::ZERO) {
+            return Err(RayError::ZeroDirection);
+        }
+        let t_max_ok = t_max == R::INFINITY || t_max.is_finite();
+        if !t_min.is_finite() || !t_max_ok {
+            return Err(RayError::RangeNotFinite);
+        }
+        if t_min > t_max {
+            return Err(RayError::EmptyRange);
+        }
+        Ok(Query {
+            origin,
+            dir,
+            t_min,
+            t_max,
+        })
+    }
+
+    /// Origin in grid space.
+    #[inline]
+    pub fn origin(&self) -> [R; 3] {
+        self.origin
+    }
+    /// Direction in grid space.
+    #[inline]
+    pub fn dir(&self) -> [R; 3] {
+        self.dir
+    }
+    /// Start of the parameter range.
+    #[inline]
+    pub fn t_min(&self) -> R {
+        self.t_min
+    }
+    /// End of the parameter range (may be `+∞`).
+    #[inline]
+    pub fn t_max(&self) -> R {
+        self.t_max
+    }
+    /// `origin + t · dir`.
+    #[inline]
+    pub fn at(&self, t: R) -> [R; 3] {
+        let (o, d) = (self.origin, self.dir);
+        [o[0] + t * d[0], o[1] + t * d[1], o[2] + t * d[2]]
+    }
+    /// The ray class of the direction.
+    #[inline]
+    pub fn class(&self) -> RayClass {
+        RayClass::of(self.dir[0], self.dir[1])
+    }
+    /// The same query in another precision (f32 → f64 is exact: the oracle traces
+    /// exactly the ray the fast path was given).
+    pub fn cast<S: Real>(&self) -> Query<S> {
+        let c = |v: [R; 3]| v.map(|x| S::from_f64(x.to_f64()));
+        Query {
+            origin: c(self.origin),
+            dir: c(self.dir),
+            t_min: S::from_f64(self.t_min.to_f64()),
+            t_max: S::from_f64(self.t_max.to_f64()),
+        }
+    }
+}
+
+/// Bit flags describing a hit or a trace.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub struct Flags(pub u32);
+
+impl Flags {
+    /// The ray starts under the surface: the hit is at `t_min`.
+    pub const ORIGIN_INSIDE: Flags = Flags(1);
+    /// The ray enters the footprint through a side wall below the surface; the hit is on
+    /// that wall (the field is a solid: everything below the surface is inside).
+    pub const SIDE: Flags = Flags(2);
+    /// The hit is on a vertical step of a discontinuous surface (height or linear planes).
+    pub const WALL: Flags = Flags(4);
+    /// An approximate or iterative method ran out of its step budget; the answer is
+    /// its best guess, not a converged one.
+    pub const BUDGET_EXHAUSTED: Flags = Flags(8);
+
+    /// `true` when every bit of `other` is set.
+    #[inline]
+    pub fn contains(self, other: Flags) -> bool {
+        self.0 & other.0 == other.0
+    }
+    /// Both sets of bits.
+    #[inline]
+    pub fn with(self, other: Flags) -> Flags {
+        Flags(self.0 | other.0)
+    }
+}
+
+/// Where a ray meets the surface.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Hit<R: Real = f32> {
+    /// Ray parameter of the hit.
+    pub t: R,
+    /// Hit point in grid space (`origin + t · dir`).
+    pub point: R::V3,
+    /// The cell (i, j) holding the hit: the unit square [i, i+1] × [j, j+1].
+    pub cell: [u32; 2],
+    /// Unit surface normal at the hit (a wall's normal for side and step hits).
+    pub normal: R::V3,
+    /// [`Flags::ORIGIN_INSIDE`], [`Flags::SIDE`], [`Flags::WALL`].
+    pub flags: Flags,
+}
+
+/// The full answer to one query: the hit, if any, and what it cost.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Trace<R: Real = f32> {
+    /// The first hit in `[t_min, t_max]`, or `None`.
+    pub hit: Option<Hit<R>>,
+    /// Texture fetches used: one per texel read of any texture (a cell's four corners
+    /// are four fetches). The hardware-independent cost measure.
+    pub fetches: u32,
+    /// Smallest clearance (ray height − surface height) seen before the hit, or along
+    /// the whole ray for a miss; `+∞` when the ray never overlaps the field. Exact
+    /// traversals fill it; the oracle uses it to flag ambiguous rays.
+    pub clearance: R,
+    /// [`Flags::BUDGET_EXHAUSTED`] when an iterative method stopped on its budget.
+    pub flags: Flags,
+}
+
+impl<R: Real> Trace<R> {
+    /// A miss that cost nothing.
+    pub const MISS: Trace<R> = Trace {
+        hit: None,
+        fetches: 0,
+        clearance: R::INFINITY,
+        flags: Flags(0),
+    };
+}

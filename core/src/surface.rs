@@ -1,0 +1,464 @@
+//! The five surface reconstructions of DESIGN.md and their exact ray–cell tests.
+//!
+//! Everything here works in one cell's local coordinates: `u = x − i`, `v = y − j` in
+//! `[0, 1]`, with the corners `c = [h00, h10, h01, h11]` (h10 at u = 1, h01 at v = 1).
+//! A segment is the ray restricted to the cell, from local point `a` (s = 0) to `b`
+//! (s = 1), each `[u, v, z]`.
+
+use crate::field::HeightField;
+use crate::math::{normal_from_gradient, Real};
+use crate::ray::{Flags, Query};
+
+/// How heights between samples are reconstructed.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+#[repr(u32)]
+pub enum Surface {
+    /// Two triangles per cell, split along the diagonal whose midpoint is lower, so the
+    /// cell's height is the maximum of two planes (convex). The default.
+    #[default]
+    Triangles = 0,
+    /// Bilinear interpolation of the four corners.
+    Bilinear = 1,
+    /// Piecewise constant: the height of the nearest sample (ties go to the larger
+    /// index). Steps between samples are vertical walls.
+    HeightPlanes = 2,
+    /// Qu et al. eq. 1 as read here: in cell (i, j) the plane through the samples
+    /// (i, j), (i+1, j) and (i, j+1), i.e. the base sample and its forward differences.
+    /// Not continuous across cells; steps are vertical walls.
+    LinearPlanes = 3,
+    /// Baboud et al. §7: linear along the ray between its centerline crossings, where it
+    /// equals the edge interpolation of the samples. View dependent; shaded with the
+    /// bilinear normal.
+    ViewLinear = 4,
+}
+
+/// Result of a segment test: where the segment first meets the surface (segment
+/// parameter `s` in `[0, 1]`, unit normal, flags) and the smallest clearance seen on it
+/// before that point.
+#[derive(Clone, Copy, Debug)]
+pub struct SegmentHit<R: Real> {
+    /// `(s, normal, flags)` of the first contact, if any.
+    pub hit: Option<(R, [R; 3], Flags)>,
+    /// Smallest clearance (ray height − surface height) before the contact.
+    pub clearance: R,
+}
+
+impl Surface {
+    /// Every surface, in enum order.
+    pub const ALL: [Surface; 5] = [
+        Surface::Triangles,
+        Surface::Bilinear,
+        Surface::HeightPlanes,
+        Surface::LinearPlanes,
+        Surface::ViewLinear,
+    ];
+
+    /// Short lower-case name (`triangles`, `bilinear`, `height-planes`, `linear-planes`,
+    /// `view-linear`).
+    pub fn name(self) -> &'static str {
+        match self {
+            Surface::Triangles => "triangles",
+            Surface::Bilinear => "bilinear",
+            Surface::HeightPlanes => "height-planes",
+            Surface::LinearPlanes => "linear-planes",
+            Surface::ViewLinear => "view-linear",
+        }
+    }
+
+    /// Parses [`Surface::name`].
+    pub fn from_name(name: &str) -> Option<Surface> {
+        Surface::ALL.into_iter().find(|s| s.name() == name)
+    }
+
+    /// `true` when the surface is continuous, so its height on a cell edge is the linear
+    /// interpolation of the edge's two samples, shared by both neighbouring cells.
+    pub fn is_continuous(self) -> bool {
+        matches!(
+            self,
+            Surface::Triangles | Surface::Bilinear | Surface::ViewLinear
+        )
+    }
+
+    /// Height at grid point `(x, y)`, clamped into the footprint.
+    pub fn height_at<R: Real>(self, hf: &HeightField, x: R, y: R) -> R {
+        let (c, u, v, _) = locate(hf, x, y);
+        self.cell_height(c, u, v)
+    }
+
+    /// Unit normal at grid point `(x, y)`, clamped into the footprint.
+    pub fn normal_at<R: Real>(self, hf: &HeightField, x: R, y: R) -> [R; 3] {
+        let (c, u, v, _) = locate(hf, x, y);
+        let (gx, gy) = self.cell_gradient(c, u, v);
+        normal_from_gradient(gx, gy)
+    }
+
+    /// Exact first intersection of `q`'s ray, restricted to `[ta, tb]`, with the surface
+    /// over cell `(i, j)` (the caller clips `[ta, tb]` to the cell). Returns `(t, unit
+    /// normal)`. A ray already under the surface at `ta` meets it at `ta`.
+    pub fn intersect_cell<R: Real>(
+        self,
+        hf: &HeightField,
+        cell: [u32; 2],
+        q: &Query<R>,
+        ta: R,
+        tb: R,
+    ) -> Option<(R, [R; 3])> {
+        let c = corners(hf, cell[0], cell[1]);
+        let local = |t: R| {
+            let p = q.at(t);
+            [
+                (p[0] - R::from_u32(cell[0])).clamp_to(R::ZERO, R::ONE),
+                (p[1] - R::from_u32(cell[1])).clamp_to(R::ZERO, R::ONE),
+                p[2],
+            ]
+        };
+        let (a, b) = (local(ta), local(tb));
+        let ca = a[2] - self.cell_height(c, a[0], a[1]);
+        if ca <= R::ZERO {
+            return Some((ta, self.cell_normal(c, a[0], a[1])));
+        }
+        let cb = b[2] - self.cell_height(c, b[0], b[1]);
+        let seg = self.segment_hit(c, a, b, ca, cb, [R::ZERO, R::ZERO, R::ONE]);
+        seg.hit.map(|(s, n, _)| (ta + s * (tb - ta), n))
+    }
+
+    /// Height inside a cell at local `(u, v)`.
+    #[inline]
+    pub fn cell_height<R: Real>(self, c: [R; 4], u: R, v: R) -> R {
+        match self {
+            Surface::Triangles => {
+                let [p, q] = triangle_planes(c);
+                plane(p, u, v).max(plane(q, u, v))
+            }
+            Surface::Bilinear | Surface::ViewLinear => bilinear(c, u, v),
+            Surface::HeightPlanes => c[nearest_corner(u, v)],
+            Surface::LinearPlanes => plane(linear_plane(c), u, v),
+        }
+    }
+
+    /// Height gradient `(∂h/∂x, ∂h/∂y)` inside a cell at local `(u, v)`.
+    #[inline]
+    pub fn cell_gradient<R: Real>(self, c: [R; 4], u: R, v: R) -> (R, R) {
+        match self {
+            Surface::Triangles => {
+                let [p, q] = triangle_planes(c);
+                let top = if plane(p, u, v) >= plane(q, u, v) {
+                    p
+                } else {
+                    q
+                };
+                (top[1], top[2])
+            }
+            Surface::Bilinear | Surface::ViewLinear => {
+                let e = c[0] - c[1] - c[2] + c[3];
+                (c[1] - c[0] + e * v, c[2] - c[0] + e * u)
+            }
+            Surface::HeightPlanes => (R::ZERO, R::ZERO),
+            Surface::LinearPlanes => {
+                let p = linear_plane(c);
+                (p[1], p[2])
+            }
+        }
+    }
+
+    /// Unit normal inside a cell at local `(u, v)`.
+    #[inline]
+    pub fn cell_normal<R: Real>(self, c: [R; 4], u: R, v: R) -> [R; 3] {
+        let (gx, gy) = self.cell_gradient(c, u, v);
+        normal_from_gradient(gx, gy)
+    }
+
+    /// First contact of the segment `a → b` with the surface over one cell.
+    ///
+    /// `ca` and `cb` are the clearances at `a` and `b` as the caller computed them; for
+    /// continuous surfaces the caller evaluates them once per centerline crossing and
+    /// shares them with the neighbouring cell, which makes hit-or-miss watertight. The
+    /// caller guarantees `ca > 0`. `entry_wall` is the normal of the face through which
+    /// the segment entered the cell, used when a discontinuous surface stands above the
+    /// ray right at `a`.
+    pub fn segment_hit<R: Real>(
+        self,
+        c: [R; 4],
+        a: [R; 3],
+        b: [R; 3],
+        ca: R,
+        cb: R,
+        entry_wall: [R; 3],
+    ) -> SegmentHit<R> {
+        match self {
+            Surface::Triangles => triangles_segment(c, a, b, ca, cb),
+            Surface::Bilinear => bilinear_segment(c, a, b, ca, cb),
+            Surface::ViewLinear => {
+                let hit = (cb <= R::ZERO).then(|| {
+                    let s = ca / (ca - cb);
+                    let (u, v) = (a[0] + (b[0] - a[0]) * s, a[1] + (b[1] - a[1]) * s);
+                    (s, self.cell_normal(c, u, v), Flags::default())
+                });
+                SegmentHit {
+                    hit,
+                    clearance: ca.min(cb),
+                }
+            }
+            Surface::LinearPlanes => {
+                let p = linear_plane(c);
+                let la = a[2] - plane(p, a[0], a[1]);
+                let lb = b[2] - plane(p, b[0], b[1]);
+                let n = normal_from_gradient(p[1], p[2]);
+                let hit = if la <= R::ZERO {
+                    Some((R::ZERO, entry_wall, Flags::WALL))
+                } else if lb <= R::ZERO {
+                    Some((la / (la - lb), n, Flags::default()))
+                } else {
+                    None
+                };
+                SegmentHit {
+                    hit,
+                    clearance: la.min(lb),
+                }
+            }
+            Surface::HeightPlanes => height_planes_segment(c, a, b, entry_wall),
+        }
+    }
+}
+
+/// Corners of cell (i, j) in precision `R`.
+#[inline]
+pub fn corners<R: Real>(hf: &HeightField, i: u32, j: u32) -> [R; 4] {
+    hf.cell_corners(i, j).map(R::from_f32)
+}
+
+/// Cell corners and local coordinates of grid point `(x, y)` (clamped into the footprint).
+pub fn locate<R: Real>(hf: &HeightField, x: R, y: R) -> ([R; 4], R, R, [u32; 2]) {
+    let x = x.clamp_to(R::ZERO, R::from_u32(hf.width() - 1));
+    let y = y.clamp_to(R::ZERO, R::from_u32(hf.height() - 1));
+    let i = (x.floor().to_f64() as u32).min(hf.width() - 2);
+    let j = (y.floor().to_f64() as u32).min(hf.height() - 2);
+    let c = corners(hf, i, j);
+    (c, x - R::from_u32(i), y - R::from_u32(j), [i, j])
+}
+
+/// A plane `h0 + gu·u + gv·v` as `[h0, gu, gv]`.
+#[inline]
+fn plane<R: Real>(p: [R; 3], u: R, v: R) -> R {
+    p[0] + p[1] * u + p[2] * v
+}
+
+/// Bilinear interpolation of the corners.
+#[inline]
+pub fn bilinear<R: Real>(c: [R; 4], u: R, v: R) -> R {
+    R::lerp(R::lerp(c[0], c[1], u), R::lerp(c[2], c[3], u), v)
+}
+
+/// The two planes of the triangle split: the cell is cut along the diagonal whose
+/// midpoint is lower, so the height is the maximum of the two planes.
+#[inline]
+pub fn triangle_planes<R: Real>(c: [R; 4]) -> [[R; 3]; 2] {
+    let [h00, h10, h01, h11] = c;
+    if h00 + h11 <= h10 + h01 {
+        // Diagonal 00–11: triangles (00, 10, 11) and (00, 01, 11).
+        [[h00, h10 - h00, h11 - h10], [h00, h11 - h01, h01 - h00]]
+    } else {
+        // Diagonal 10–01: triangles (00, 10, 01) and (10, 01, 11).
+        [
+            [h00, h10 - h00, h01 - h00],
+            [h10 + h01 - h11, h11 - h01, h11 - h10],
+        ]
+    }
+}
+
+/// The linear-planes surface: the plane through h00, h10 and h01.
+#[inline]
+fn linear_plane<R: Real>(c: [R; 4]) -> [R; 3] {
+    [c[0], c[1] - c[0], c[2] - c[0]]
+}
+
+/// Index into the corner array of the sample nearest to local `(u, v)`.
+#[inline]
+fn nearest_corner<R: Real>(u: R, v: R) -> usize {
+    usize::from(u >= R::HALF) | (usize::from(v >= R::HALF) << 1)
+}
+
+/// Triangles: the clearance is the minimum of two linear functions, hence concave along
+/// the segment, so the segment is clear iff both ends are; the contact is the first
+/// root of either plane's clearance.
+fn triangles_segment<R: Real>(c: [R; 4], a: [R; 3], b: [R; 3], ca: R, cb: R) -> SegmentHit<R> {
+    let clearance = ca.min(cb);
+    if cb > R::ZERO {
+        return SegmentHit {
+            hit: None,
+            clearance,
+        };
+    }
+    let mut best: Option<(R, [R; 3])> = None;
+    for p in triangle_planes(c) {
+        let la = a[2] - plane(p, a[0], a[1]);
+        let lb = b[2] - plane(p, b[0], b[1]);
+        if lb <= R::ZERO {
+            let s = if la <= R::ZERO {
+                R::ZERO
+            } else {
+                la / (la - lb)
+            };
+            if best.is_none_or(|(bs, _)| s < bs) {
+                best = Some((s, p));
+            }
+        }
+    }
+    // Rounding may leave both plane clearances just above zero while the shared edge
+    // clearance `cb` is not: the contact is then at the end of the segment.
+    let (s, p) = best.unwrap_or_else(|| {
+        let [p, q] = triangle_planes(c);
+        let top = if plane(p, b[0], b[1]) >= plane(q, b[0], b[1]) {
+            p
+        } else {
+            q
+        };
+        (R::ONE, top)
+    });
+    SegmentHit {
+        hit: Some((s, normal_from_gradient(p[1], p[2]), Flags::default())),
+        clearance,
+    }
+}
+
+/// Smallest root of `A s² + B s + C` in `[0, 1]` (within a few ulps, then clamped),
+/// computed without cancellation: `q = −(B + sign(B)·√D) / 2`, roots `q / A` and `C / q`.
+/// Correct when `A` vanishes (one root `−C / B`), for a double root, and far-apart roots.
+pub fn smallest_root_in_unit<R: Real>(qa: R, qb: R, qc: R) -> Option<R> {
+    let disc = qb * qb - R::from_f32(4.0) * qa * qc;
+    if disc < R::ZERO {
+        return None;
+    }
+    let sq = disc.sqrt();
+    let q = if qb >= R::ZERO {
+        -R::HALF * (qb + sq)
+    } else {
+        -R::HALF * (qb - sq)
+    };
+    let tol = R::from_f32(64.0) * R::EPSILON;
+    let mut best: Option<R> = None;
+    let mut consider = |r: R| {
+        if r.is_finite() && r >= -tol && r <= R::ONE + tol {
+            let r = r.clamp_to(R::ZERO, R::ONE);
+            if best.is_none_or(|b| r < b) {
+                best = Some(r);
+            }
+        }
+    };
+    if q == R::ZERO {
+        // B = 0 and D = 0: a double root at 0 when C = 0, or no root (A = B = 0, C ≠ 0).
+        if qc == R::ZERO {
+            consider(R::ZERO);
+        }
+    } else {
+        consider(q / qa);
+        consider(qc / q);
+    }
+    best
+}
+
+/// Bilinear: along the segment the clearance is `A s² + B s + C` with `C = ca` and
+/// `A + B + C = cb` (the shared edge values), and `A = −e·Δu·Δv` from the twist
+/// `e = h00 − h10 − h01 + h11`. A ray parallel to a cell edge has `A = 0` exactly.
+fn bilinear_segment<R: Real>(c: [R; 4], a: [R; 3], b: [R; 3], ca: R, cb: R) -> SegmentHit<R> {
+    let e = c[0] - c[1] - c[2] + c[3];
+    let qa = -e * (b[0] - a[0]) * (b[1] - a[1]);
+    let qc = ca;
+    let qb = cb - ca - qa;
+    let mut clearance = ca.min(cb);
+    let mut s = None;
+    if cb <= R::ZERO {
+        // A sign change: a root in (0, 1] exists; fall back on bisection if rounding
+        // pushed the discriminant below zero.
+        s = Some(smallest_root_in_unit(qa, qb, qc).unwrap_or_else(|| bisect(qa, qb, qc)));
+    } else if qa > R::ZERO {
+        // Both ends clear: the ray can still dip under a saddle between them.
+        let vertex = -qb / (R::from_f32(2.0) * qa);
+        if vertex > R::ZERO && vertex < R::ONE {
+            let lowest = qc - qb * qb / (R::from_f32(4.0) * qa);
+            clearance = clearance.min(lowest);
+            if lowest <= R::ZERO {
+                s = Some(smallest_root_in_unit(qa, qb, qc).unwrap_or(vertex));
+            }
+        }
+    }
+    let hit = s.map(|s| {
+        let (u, v) = (a[0] + (b[0] - a[0]) * s, a[1] + (b[1] - a[1]) * s);
+        (s, Surface::Bilinear.cell_normal(c, u, v), Flags::default())
+    });
+    SegmentHit { hit, clearance }
+}
+
+/// First sign change of `A s² + B s + C` on `[0, 1]` by bisection, given `C > 0 ≥ A+B+C`.
+fn bisect<R: Real>(qa: R, qb: R, qc: R) -> R {
+    let (mut lo, mut hi) = (R::ZERO, R::ONE);
+    for _ in 0..64 {
+        let mid = R::HALF * (lo + hi);
+        if (qa * mid + qb) * mid + qc > R::ZERO {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    hi
+}
+
+/// Height planes: the cell holds four constant quarters; the segment is split where it
+/// crosses u = ½ and v = ½ and each piece tested against its quarter's height. Entering
+/// a taller quarter below its top is a wall hit.
+fn height_planes_segment<R: Real>(
+    c: [R; 4],
+    a: [R; 3],
+    b: [R; 3],
+    entry_wall: [R; 3],
+) -> SegmentHit<R> {
+    let d = [b[0] - a[0], b[1] - a[1], b[2] - a[2]];
+    // Split parameters where u or v crosses ½, with the wall normal met there.
+    let mut cuts: heapless::Vec<(R, [R; 3]), 2> = heapless::Vec::new();
+    for axis in 0..2 {
+        if d[axis] != R::ZERO {
+            let s = (R::HALF - a[axis]) / d[axis];
+            if s > R::ZERO && s < R::ONE {
+                let mut n = [R::ZERO; 3];
+                n[axis] = if d[axis] > R::ZERO { -R::ONE } else { R::ONE };
+                // Capacity 2, two axes: never full.
+                let _ = cuts.push((s, n));
+            }
+        }
+    }
+    if cuts.len() == 2 && cuts[1].0 < cuts[0].0 {
+        cuts.swap(0, 1);
+    }
+    let mut clearance = R::INFINITY;
+    let mut start = (R::ZERO, entry_wall);
+    let ends = cuts
+        .iter()
+        .copied()
+        .chain(core::iter::once((R::ONE, entry_wall)));
+    for (end, next_wall) in ends {
+        let mid = R::HALF * (start.0 + end);
+        let h = c[nearest_corner(a[0] + d[0] * mid, a[1] + d[1] * mid)];
+        let c0 = a[2] + d[2] * start.0 - h;
+        let c1 = a[2] + d[2] * end - h;
+        if c0 <= R::ZERO {
+            let n = start.1;
+            return SegmentHit {
+                hit: Some((start.0, n, Flags::WALL)),
+                clearance,
+            };
+        }
+        clearance = clearance.min(c0).min(c1);
+        if c1 <= R::ZERO {
+            let s = start.0 + (end - start.0) * c0 / (c0 - c1);
+            return SegmentHit {
+                hit: Some((s, [R::ZERO, R::ZERO, R::ONE], Flags::default())),
+                clearance,
+            };
+        }
+        start = (end, next_wall);
+    }
+    SegmentHit {
+        hit: None,
+        clearance,
+    }
+}
