@@ -13,10 +13,15 @@ use crate::ray::Query;
 use crate::surface::{smallest_root_in_unit, triangle_planes, Surface};
 
 /// `[lo, hi]` of `t` with `lo_x ≤ o + t·d ≤ hi_x`, intersected with `range`.
-fn slab(o: f64, d: f64, lo: f64, hi: f64, range: (f64, f64)) -> Option<(f64, f64)> {
+///
+/// A ray that does not move along this axis and lies exactly on `hi` belongs to the
+/// next cell (or quarter), not this one, unless `keep_hi` (the footprint's far side):
+/// on a step of a discontinuous surface ties go to the larger index, as in
+/// `Surface::HeightPlanes` and the traversal's cell choice.
+fn slab(o: f64, d: f64, lo: f64, hi: f64, keep_hi: bool, range: (f64, f64)) -> Option<(f64, f64)> {
     let (mut a, mut b) = range;
     if d == 0.0 {
-        if o < lo || o > hi {
+        if o < lo || o > hi || (o == hi && !keep_hi) {
             return None;
         }
     } else {
@@ -58,8 +63,10 @@ pub fn first_hit(hf: &HeightField, surface: Surface, q: &Query<f64>) -> Option<(
     for j in 0..hf.height() - 1 {
         for i in 0..hf.width() - 1 {
             let (x0, y0) = (i as f64, j as f64);
-            let Some(cell_range) = slab(o[0], d[0], x0, x0 + 1.0, (q.t_min(), q.t_max()))
-                .and_then(|r| slab(o[1], d[1], y0, y0 + 1.0, r))
+            let (last_x, last_y) = (i + 2 == hf.width(), j + 2 == hf.height());
+            let range = (q.t_min(), q.t_max());
+            let Some(cell_range) = slab(o[0], d[0], x0, x0 + 1.0, last_x, range)
+                .and_then(|r| slab(o[1], d[1], y0, y0 + 1.0, last_y, r))
             else {
                 continue;
             };
@@ -90,8 +97,8 @@ pub fn first_hit(hf: &HeightField, surface: Surface, q: &Query<f64>) -> Option<(
                 Surface::HeightPlanes => {
                     for (k, &h) in c.iter().enumerate() {
                         let (qx, qy) = (x0 + 0.5 * (k & 1) as f64, y0 + 0.5 * (k >> 1) as f64);
-                        let r = slab(o[0], d[0], qx, qx + 0.5, cell_range)
-                            .and_then(|r| slab(o[1], d[1], qy, qy + 0.5, r))
+                        let r = slab(o[0], d[0], qx, qx + 0.5, k & 1 == 1, cell_range)
+                            .and_then(|r| slab(o[1], d[1], qy, qy + 0.5, k >> 1 == 1, r))
                             .and_then(|r| below(o[2] - h, d[2], r));
                         if let Some((t, _)) = r {
                             offer(t, [i, j]);

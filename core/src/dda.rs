@@ -37,8 +37,18 @@ pub struct Span<R: Real> {
     pub entry: Entry<R>,
 }
 
-/// Clips a query to the field's bounding box; `None` when the ray misses it.
+/// Clips a query to the field's bounding box, `z` spanning the sample range (which
+/// bounds every surface but linear planes: see [`clip_surface`]); `None` when the ray
+/// misses it.
 pub fn clip<R: Real>(hf: &HeightField, q: &Query<R>) -> Option<Span<R>> {
+    clip_surface(hf, Surface::Triangles, q)
+}
+
+/// Clips a query to the box that holds `surface` over the field: the sample range in
+/// `z`, widened for linear planes, whose plane reaches `h10 + h01 − h00` at a cell's far
+/// corner and so may leave the sample range by up to its width; `None` when the ray
+/// misses it.
+pub fn clip_surface<R: Real>(hf: &HeightField, surface: Surface, q: &Query<R>) -> Option<Span<R>> {
     let (o, d) = (q.origin(), q.dir());
     let lim = [R::from_u32(hf.width() - 1), R::from_u32(hf.height() - 1)];
     let (mut t0, mut t1, mut entry) = (q.t_min(), q.t_max(), Entry::Start);
@@ -60,7 +70,11 @@ pub fn clip<R: Real>(hf: &HeightField, q: &Query<R>) -> Option<Span<R>> {
         }
         t1 = t1.min(far);
     }
-    let (zmin, zmax) = (R::from_f32(hf.min_height()), R::from_f32(hf.max_height()));
+    let (mut zmin, mut zmax) = (R::from_f32(hf.min_height()), R::from_f32(hf.max_height()));
+    if surface == Surface::LinearPlanes {
+        let range = zmax - zmin;
+        (zmin, zmax) = (zmin - range, zmax + range);
+    }
     if d[2] == R::ZERO {
         if o[2] > zmax {
             return None;
@@ -73,17 +87,20 @@ pub fn clip<R: Real>(hf: &HeightField, q: &Query<R>) -> Option<Span<R>> {
             t0 = top;
             entry = Entry::Top;
         }
-        // Well under the lowest sample the ray is inside the solid: the hit comes first.
+        // Well under the lowest sample the ray is inside the solid: the hit comes first
+        // (at `t0` when the ray already starts or enters the footprint down there).
         let margin = R::ONE + (zmax - zmin);
-        t1 = t1.min((zmin - margin - o[2]) / d[2]);
+        t1 = t1.min(((zmin - margin - o[2]) / d[2]).max(t0));
     }
-    (t0 <= t1).then_some(Span { t0, t1, entry })
+    // Both ends finite (a direction so small that the box lies beyond the largest
+    // representable `t` cannot be traced in this precision: a miss).
+    (t0 <= t1 && t0.is_finite() && t1.is_finite()).then_some(Span { t0, t1, entry })
 }
 
 /// First cell index along one axis for coordinate `x` in `[0, cells]` moving with
 /// direction `d`: a point on a cell boundary belongs to the cell the ray moves into.
 #[inline]
-fn cell_index<R: Real>(x: R, d: R, cells: u32) -> u32 {
+pub(crate) fn cell_index<R: Real>(x: R, d: R, cells: u32) -> u32 {
     let f = x.floor();
     let mut i = f.to_f64() as u32;
     if d < R::ZERO && f == x && i > 0 {
@@ -94,7 +111,7 @@ fn cell_index<R: Real>(x: R, d: R, cells: u32) -> u32 {
 
 /// Sign of a direction component as a cell step.
 #[inline]
-fn step_of<R: Real>(d: R) -> i64 {
+pub(crate) fn step_of<R: Real>(d: R) -> i64 {
     if d > R::ZERO {
         1
     } else if d < R::ZERO {
@@ -106,11 +123,78 @@ fn step_of<R: Real>(d: R) -> i64 {
 
 /// Parameter of the next centerline crossing along one axis after cell `i`.
 #[inline]
-fn next_crossing<R: Real>(i: u32, step: i64, o: R, d: R) -> (u32, R) {
+fn next_crossing<R: Real>(i: u32, step: i64, o: R, d: R) -> R {
     match step {
-        1 => (i + 1, (R::from_u32(i + 1) - o) / d),
-        -1 => (i, (R::from_u32(i) - o) / d),
-        _ => (0, R::INFINITY),
+        1 => (R::from_u32(i + 1) - o) / d,
+        -1 => (R::from_u32(i) - o) / d,
+        _ => R::INFINITY,
+    }
+}
+
+/// Local point `[u, v, z]` and clearance of the ray point `p` (grid space) in `cell`
+/// with corners `c`. `on[axis] = Some(far)` when `p` is a centerline crossing on the
+/// cell's edge at `u = 1` (`far`) or `u = 0` of that axis: the coordinate is then exact
+/// and the height comes from that edge's two samples only (one at a corner), so both
+/// cells sharing the edge compute the same clearance (watertight). Elsewhere the
+/// surface's own cell height is used.
+#[inline]
+pub(crate) fn local_clearance<R: Real>(
+    surface: Surface,
+    c: [R; 4],
+    cell: [u32; 2],
+    p: [R; 3],
+    on: [Option<bool>; 2],
+) -> ([R; 3], R) {
+    let local = |axis: usize| match on[axis] {
+        Some(far) => R::from_u32(u32::from(far)),
+        None => (p[axis] - R::from_u32(cell[axis])).clamp_to(R::ZERO, R::ONE),
+    };
+    let b = [local(0), local(1), p[2]];
+    let height = match on {
+        [Some(fx), Some(fy)] => c[usize::from(fx) | (usize::from(fy) << 1)],
+        [Some(fx), None] => R::lerp(c[usize::from(fx)], c[usize::from(fx) + 2], b[1]),
+        [None, Some(fy)] => {
+            let k = usize::from(fy) << 1;
+            R::lerp(c[k], c[k + 1], b[0])
+        }
+        [None, None] => surface.cell_height(c, b[0], b[1]),
+    };
+    (b, b[2] - height)
+}
+
+/// [`Trace::clearance`] of a hit where the span begins, from the clearance `ca ≤ 0`
+/// there: the depth `−ca` under the surface (how far the decision was from a miss)
+/// when the ray starts or enters through a side down there; `+∞` when it enters
+/// through the top of the box, having passed nothing before.
+pub(crate) fn start_clearance<R: Real>(entry: &Entry<R>, ca: R) -> R {
+    match entry {
+        Entry::Top => R::INFINITY,
+        Entry::Start | Entry::Side(_) => -ca,
+    }
+}
+
+/// The hit of a ray already under the surface where its span begins (local point `a`
+/// with clearance `≤ 0` in `cell`, grid point `p0`): at `t0`, flagged by how the span
+/// begins.
+pub(crate) fn start_hit<R: Real>(
+    surface: Surface,
+    span: &Span<R>,
+    c: [R; 4],
+    cell: [u32; 2],
+    a: [R; 3],
+    p0: [R; 3],
+) -> Hit<R> {
+    let (normal, flags) = match span.entry {
+        Entry::Side(n) => (n, Flags::SIDE),
+        Entry::Start => (surface.cell_normal(c, a[0], a[1]), Flags::ORIGIN_INSIDE),
+        Entry::Top => (surface.cell_normal(c, a[0], a[1]), Flags::default()),
+    };
+    Hit {
+        t: span.t0,
+        point: R::v3(p0),
+        cell,
+        normal: R::v3(normal),
+        flags,
     }
 }
 
@@ -118,7 +202,7 @@ fn next_crossing<R: Real>(i: u32, step: i64, o: R, d: R) -> (u32, R) {
 ///
 /// Cost: four fetches (the corners) per cell visited.
 pub fn trace<R: Real>(hf: &HeightField, surface: Surface, q: &Query<R>) -> Trace<R> {
-    let Some(span) = clip(hf, q) else {
+    let Some(span) = clip_surface(hf, surface, q) else {
         return Trace::MISS;
     };
     let (o, d) = (q.origin(), q.dir());
@@ -130,26 +214,14 @@ pub fn trace<R: Real>(hf: &HeightField, surface: Surface, q: &Query<R>) -> Trace
     let (step_x, step_y) = (step_of(d[0]), step_of(d[1]));
     let mut c: [R; 4] = corners(hf, ix, iy);
     let mut fetches = 4u32;
-    let mut a = [x0 - R::from_u32(ix), y0 - R::from_u32(iy), p0[2]];
-    let mut ca = a[2] - surface.cell_height(c, a[0], a[1]);
+    let (mut a, mut ca) = local_clearance(surface, c, [ix, iy], [x0, y0, p0[2]], [None; 2]);
     let up = [R::ZERO, R::ZERO, R::ONE];
 
     if ca <= R::ZERO {
-        let (normal, flags) = match span.entry {
-            Entry::Side(n) => (n, Flags::SIDE),
-            Entry::Start => (surface.cell_normal(c, a[0], a[1]), Flags::ORIGIN_INSIDE),
-            Entry::Top => (surface.cell_normal(c, a[0], a[1]), Flags::default()),
-        };
         return Trace {
-            hit: Some(Hit {
-                t: span.t0,
-                point: R::v3(p0),
-                cell: [ix, iy],
-                normal: R::v3(normal),
-                flags,
-            }),
+            hit: Some(start_hit(surface, &span, c, [ix, iy], a, p0)),
             fetches,
-            clearance: ca,
+            clearance: start_clearance(&span.entry, ca),
             flags: Flags::default(),
         };
     }
@@ -157,8 +229,8 @@ pub fn trace<R: Real>(hf: &HeightField, surface: Surface, q: &Query<R>) -> Trace
     let mut clearance = ca;
     let mut ta = span.t0;
     let mut wall = up;
-    let (mut bx, mut tx) = next_crossing(ix, step_x, o[0], d[0]);
-    let (mut by, mut ty) = next_crossing(iy, step_y, o[1], d[1]);
+    let mut tx = next_crossing(ix, step_x, o[0], d[0]);
+    let mut ty = next_crossing(iy, step_y, o[1], d[1]);
     loop {
         let t_next = tx.min(ty);
         let (tb, cross_x, cross_y) = if t_next < span.t1 {
@@ -166,45 +238,25 @@ pub fn trace<R: Real>(hf: &HeightField, surface: Surface, q: &Query<R>) -> Trace
         } else {
             (span.t1, false, false)
         };
-        let p = q.at(tb);
-        let (fx, fy) = (R::from_u32(ix), R::from_u32(iy));
-        let u = if cross_x {
-            R::from_u32(bx) - fx
-        } else {
-            p[0] - fx
-        };
-        let v = if cross_y {
-            R::from_u32(by) - fy
-        } else {
-            p[1] - fy
-        };
-        let b = [
-            u.clamp_to(R::ZERO, R::ONE),
-            v.clamp_to(R::ZERO, R::ONE),
-            p[2],
-        ];
         // Clearance at the exit point; on a centerline, from that edge's two samples only.
-        let edge_height = match (cross_x, cross_y) {
-            (true, true) => c[usize::from(b[0] == R::ONE) | (usize::from(b[1] == R::ONE) << 1)],
-            (true, false) => {
-                let k = usize::from(b[0] == R::ONE);
-                R::lerp(c[k], c[k + 2], b[1])
-            }
-            (false, true) => {
-                let k = usize::from(b[1] == R::ONE) << 1;
-                R::lerp(c[k], c[k + 1], b[0])
-            }
-            (false, false) => surface.cell_height(c, b[0], b[1]),
-        };
-        let cb = b[2] - edge_height;
+        let on = [cross_x.then_some(step_x > 0), cross_y.then_some(step_y > 0)];
+        let (b, cb) = local_clearance(surface, c, [ix, iy], q.at(tb), on);
         let seg = surface.segment_hit(c, a, b, ca, cb, wall);
         clearance = clearance.min(seg.clearance);
         if let Some((s, normal, flags)) = seg.hit {
             let t = ta + s * (tb - ta);
+            // The point from the cell's integer corner plus local coordinates: as exact
+            // as `f32` allows far from the origin, where `o + t · d` loses an ulp of `t`.
+            let local = |k: usize| a[k] + s * (b[k] - a[k]);
+            let point = [
+                R::from_u32(ix) + local(0),
+                R::from_u32(iy) + local(1),
+                local(2),
+            ];
             return Trace {
                 hit: Some(Hit {
                     t,
-                    point: R::v3(q.at(t)),
+                    point: R::v3(point),
                     cell: [ix, iy],
                     normal: R::v3(normal),
                     flags,
@@ -223,7 +275,7 @@ pub fn trace<R: Real>(hf: &HeightField, surface: Surface, q: &Query<R>) -> Trace
                 break;
             }
             ix = next as u32;
-            (bx, tx) = next_crossing(ix, step_x, o[0], d[0]);
+            tx = next_crossing(ix, step_x, o[0], d[0]);
             wall = [if step_x > 0 { -R::ONE } else { R::ONE }, R::ZERO, R::ZERO];
         }
         if cross_y {
@@ -232,7 +284,7 @@ pub fn trace<R: Real>(hf: &HeightField, surface: Surface, q: &Query<R>) -> Trace
                 break;
             }
             iy = next as u32;
-            (by, ty) = next_crossing(iy, step_y, o[1], d[1]);
+            ty = next_crossing(iy, step_y, o[1], d[1]);
             if !cross_x {
                 wall = [R::ZERO, if step_y > 0 { -R::ONE } else { R::ONE }, R::ZERO];
             }

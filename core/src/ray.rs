@@ -200,7 +200,10 @@ pub struct Trace<R: Real = f32> {
     pub fetches: u32,
     /// Smallest clearance (ray height − surface height) seen before the hit, or along
     /// the whole ray for a miss; `+∞` when the ray never overlaps the field. Exact
-    /// traversals fill it; the oracle uses it to flag ambiguous rays.
+    /// traversals fill it; the oracle uses it to flag ambiguous rays. A hit right where
+    /// the traced span begins reports the depth under the surface there (`≥ 0`: how far
+    /// the decision was from a miss) when the ray starts under the surface or enters
+    /// through a side below it, and `+∞` when it enters through the top of the box.
     pub clearance: R,
     /// [`Flags::BUDGET_EXHAUSTED`] when an iterative method stopped on its budget.
     pub flags: Flags,

@@ -8,7 +8,7 @@
 //!
 //! Cost: four fetches per height sample (the cell's corners).
 
-use crate::dda::{clip, Entry};
+use crate::dda::{clip_surface, Entry};
 use crate::field::HeightField;
 use crate::math::Real;
 use crate::ray::{Flags, Hit, Query, Trace};
@@ -57,7 +57,7 @@ fn search<R: Real>(
     linear: u32,
     refine: Refine,
 ) -> Trace<R> {
-    let Some(span) = clip(hf, q) else {
+    let Some(span) = clip_surface(hf, surface, q) else {
         return Trace::MISS;
     };
     let mut fetches = 0u32;

@@ -39,7 +39,12 @@ pub enum Surface {
 pub struct SegmentHit<R: Real> {
     /// `(s, normal, flags)` of the first contact, if any.
     pub hit: Option<(R, [R; 3], Flags)>,
-    /// Smallest clearance (ray height − surface height) before the contact.
+    /// Smallest clearance (ray height − surface height) before the contact: over the
+    /// whole segment when it stays clear; up to the start of the piece that holds the
+    /// contact when it does not (the clearance falls to zero at the contact itself, so
+    /// that piece adds only its starting value). A wall hit adds the depth of the ray
+    /// under the wall's top edge there (`≥ 0`): how far the decision was from passing
+    /// over it.
     pub clearance: R,
 }
 
@@ -194,27 +199,22 @@ impl Surface {
                     let (u, v) = (a[0] + (b[0] - a[0]) * s, a[1] + (b[1] - a[1]) * s);
                     (s, self.cell_normal(c, u, v), Flags::default())
                 });
-                SegmentHit {
-                    hit,
-                    clearance: ca.min(cb),
-                }
+                let clearance = if hit.is_some() { ca } else { ca.min(cb) };
+                SegmentHit { hit, clearance }
             }
             Surface::LinearPlanes => {
                 let p = linear_plane(c);
                 let la = a[2] - plane(p, a[0], a[1]);
                 let lb = b[2] - plane(p, b[0], b[1]);
                 let n = normal_from_gradient(p[1], p[2]);
-                let hit = if la <= R::ZERO {
-                    Some((R::ZERO, entry_wall, Flags::WALL))
+                let (hit, clearance) = if la <= R::ZERO {
+                    (Some((R::ZERO, entry_wall, Flags::WALL)), -la)
                 } else if lb <= R::ZERO {
-                    Some((la / (la - lb), n, Flags::default()))
+                    (Some((la / (la - lb), n, Flags::default())), la)
                 } else {
-                    None
+                    (None, la.min(lb))
                 };
-                SegmentHit {
-                    hit,
-                    clearance: la.min(lb),
-                }
+                SegmentHit { hit, clearance }
             }
             Surface::HeightPlanes => height_planes_segment(c, a, b, entry_wall),
         }
@@ -317,7 +317,7 @@ fn triangles_segment<R: Real>(c: [R; 4], a: [R; 3], b: [R; 3], ca: R, cb: R) -> 
     });
     SegmentHit {
         hit: Some((s, normal_from_gradient(p[1], p[2]), Flags::default())),
-        clearance,
+        clearance: ca,
     }
 }
 
@@ -386,6 +386,10 @@ fn bilinear_segment<R: Real>(c: [R; 4], a: [R; 3], b: [R; 3], ca: R, cb: R) -> S
         let (u, v) = (a[0] + (b[0] - a[0]) * s, a[1] + (b[1] - a[1]) * s);
         (s, Surface::Bilinear.cell_normal(c, u, v), Flags::default())
     });
+    // Up to its first root the quadratic has no minimum below min(ca, 0): nothing but `ca`.
+    if hit.is_some() {
+        clearance = ca;
+    }
     SegmentHit { hit, clearance }
 }
 
@@ -444,10 +448,10 @@ fn height_planes_segment<R: Real>(
             let n = start.1;
             return SegmentHit {
                 hit: Some((start.0, n, Flags::WALL)),
-                clearance,
+                clearance: clearance.min(-c0),
             };
         }
-        clearance = clearance.min(c0).min(c1);
+        clearance = clearance.min(c0);
         if c1 <= R::ZERO {
             let s = start.0 + (end - start.0) * c0 / (c0 - c1);
             return SegmentHit {
@@ -455,6 +459,7 @@ fn height_planes_segment<R: Real>(
                 clearance,
             };
         }
+        clearance = clearance.min(c1);
         start = (end, next_wall);
     }
     SegmentHit {

@@ -1,1 +1,261 @@
-fn main() {}
+//! `hfcast`: render, trace and benchmark height fields from the command line.
+
+use hfcast::{Method, Surface};
+use hfcast_tools::bench::{bench_rays, markdown_table, random_rays};
+use hfcast_tools::maps::{bundled_map, load_map, shared_data_dir, Map};
+use hfcast_tools::render::{render, write_png, Camera, RenderOptions};
+use hfcast_tools::{default_threads, method_name, parse_method, trace};
+use std::collections::HashMap;
+use std::io::{BufRead, IsTerminal, Write};
+use std::path::PathBuf;
+use std::process::ExitCode;
+use std::str::FromStr;
+
+const USAGE: &str = "\
+usage: hfcast <command> [options]
+
+commands:
+  render   ray-cast a shaded, shadowed image
+           --map PATH --depth GRID_UNITS --method M --surface S --elevation DEG
+           --azimuth DEG --light-elevation DEG --light-azimuth DEG --width N --height N
+           --threads N --out PATH (default out/render.png)
+  trace    answer ray queries: hfcast trace [options] ox oy oz dx dy dz [t_min t_max]
+           or, with no ray or '-', one ray per line from stdin ('#' comments)
+           --map PATH --depth GRID_UNITS --method M --surface S
+           out: 'hit t x y z cell_i cell_j nx ny nz fetches flags' | 'miss fetches'
+  bench    rays/s, fetches/ray and hit rate of camera and random rays
+           --map PATH (default ../shared/data/dem_etopo5_himalaya_1024.png)
+           --depth GRID_UNITS --reps N (3) --random N (1000000) --size WxH (1280x1024)
+           --threads LIST (1,2) --method M --surface S
+
+methods: exact | linear-binary:N:M | secant:N (default exact)
+surfaces: triangles | bilinear | height-planes | linear-planes | view-linear
+angles: compass degrees (azimuth 0 = north = image top of the map, 90 = east)
+maps: grayscale PNG, heights = png/65535 * depth; depth defaults to 0.1 * max(W, H);
+      default map: the bundled data/dem_jacksboro_fault_403x344.png";
+
+/// `--name value` / `--name=value` options and positional words of one command line.
+struct Args {
+    opts: HashMap<String, String>,
+    positional: Vec<String>,
+}
+
+impl Args {
+    fn parse(words: impl Iterator<Item = String>) -> Result<Args, String> {
+        let (mut opts, mut positional) = (HashMap::new(), Vec::new());
+        let mut words = words.peekable();
+        while let Some(w) = words.next() {
+            let Some(name) = w.strip_prefix("--") else {
+                positional.push(w);
+                continue;
+            };
+            let (name, value) = match name.split_once('=') {
+                Some((n, v)) => (n.to_string(), v.to_string()),
+                None => {
+                    let v = words.next().ok_or(format!("--{name} needs a value"))?;
+                    (name.to_string(), v)
+                }
+            };
+            opts.insert(name, value);
+        }
+        Ok(Args { opts, positional })
+    }
+
+    /// Removes option `name` and parses it, or gives `default`.
+    fn get<T: FromStr>(&mut self, name: &str, default: T) -> Result<T, String> {
+        match self.opts.remove(name) {
+            Some(v) => v.parse().map_err(|_| format!("--{name}: bad value {v:?}")),
+            None => Ok(default),
+        }
+    }
+
+    /// Removes option `name` if given.
+    fn opt(&mut self, name: &str) -> Option<String> {
+        self.opts.remove(name)
+    }
+
+    /// Fails on options nobody asked for.
+    fn finish(&self) -> Result<(), String> {
+        match self.opts.keys().next() {
+            Some(k) => Err(format!("unknown option --{k}")),
+            None => Ok(()),
+        }
+    }
+
+    /// `--method` and `--surface`.
+    fn method_surface(&mut self) -> Result<(Method, Surface), String> {
+        let method = parse_method(&self.opt("method").unwrap_or("exact".into()))?;
+        let name = self.opt("surface").unwrap_or("triangles".into());
+        let surface = Surface::from_name(&name).ok_or(format!("unknown surface {name:?}"))?;
+        Ok((method, surface))
+    }
+
+    /// `--map` (default `default`) and `--depth`.
+    fn map(&mut self, default: PathBuf) -> Result<(PathBuf, Option<f32>), String> {
+        let path = self.opt("map").map_or(default, PathBuf::from);
+        let depth = match self.opt("depth") {
+            Some(d) => Some(d.parse().map_err(|_| format!("--depth: bad value {d:?}"))?),
+            None => None,
+        };
+        Ok((path, depth))
+    }
+}
+
+/// Loads a map and says so on stderr.
+fn load((path, depth): &(PathBuf, Option<f32>)) -> Result<Map, String> {
+    let map = load_map(path, *depth).map_err(|e| e.to_string())?;
+    eprintln!(
+        "map {} ({} x {}), depth {} grid units",
+        path.display(),
+        map.width,
+        map.height,
+        map.depth
+    );
+    Ok(map)
+}
+
+fn cmd_render(mut args: Args) -> Result<bool, String> {
+    let map_spec = args.map(bundled_map())?;
+    let (method, surface) = args.method_surface()?;
+    let d = RenderOptions::default();
+    let opts = RenderOptions {
+        method,
+        surface,
+        elevation: args.get("elevation", d.elevation)?,
+        azimuth: args.get("azimuth", d.azimuth)?,
+        light_elevation: args.get("light-elevation", d.light_elevation)?,
+        light_azimuth: args.get("light-azimuth", d.light_azimuth)?,
+        width: args.get("width", d.width)?,
+        height: args.get("height", d.height)?,
+        threads: args.get("threads", d.threads)?,
+        progress: std::io::stderr().is_terminal(),
+    };
+    let out = PathBuf::from(args.opt("out").unwrap_or("out/render.png".into()));
+    args.finish()?;
+    if opts.width == 0 || opts.height == 0 {
+        return Err("--width and --height must be positive".into());
+    }
+    let map = load(&map_spec)?;
+    eprintln!(
+        "render {} x {}, method {}, surface {}, elevation {}, azimuth {}, {} threads",
+        opts.width,
+        opts.height,
+        method_name(method),
+        surface.name(),
+        opts.elevation,
+        opts.azimuth,
+        opts.threads
+    );
+    let (image, stats) = render(&map.field(), &opts);
+    write_png(&out, &image).map_err(|e| e.to_string())?;
+    println!("{}", stats.summary());
+    println!("wrote {}", out.display());
+    Ok(true)
+}
+
+fn cmd_trace(mut args: Args) -> Result<bool, String> {
+    let map_spec = args.map(bundled_map())?;
+    let (method, surface) = args.method_surface()?;
+    args.finish()?;
+    let map = load(&map_spec)?;
+    let hf = map.field();
+    let stdout = std::io::stdout();
+    let mut out = stdout.lock();
+    let mut ok = true;
+    let mut answer = |line: &str| -> Result<(), String> {
+        if let Some((text, err)) = trace::answer_line(&hf, method, surface, line) {
+            ok &= !err;
+            writeln!(out, "{text}").map_err(|e| e.to_string())?;
+        }
+        Ok(())
+    };
+    match args.positional.as_slice() {
+        [] => read_lines(&mut answer)?,
+        [dash] if dash == "-" => read_lines(&mut answer)?,
+        words => answer(&words.join(" "))?,
+    }
+    Ok(ok)
+}
+
+fn read_lines(answer: &mut impl FnMut(&str) -> Result<(), String>) -> Result<(), String> {
+    for line in std::io::stdin().lock().lines() {
+        answer(&line.map_err(|e| e.to_string())?)?;
+    }
+    Ok(())
+}
+
+fn cmd_bench(mut args: Args) -> Result<bool, String> {
+    let default_map = shared_data_dir().join("dem_etopo5_himalaya_1024.png");
+    let map_spec = args.map(default_map)?;
+    let (method, surface) = args.method_surface()?;
+    let reps = args.get("reps", 3usize)?;
+    let n_random = args.get("random", 1_000_000usize)?;
+    let size = args.opt("size").unwrap_or("1280x1024".into());
+    let (w, h) = size
+        .split_once('x')
+        .and_then(|(w, h)| Some((w.parse::<u32>().ok()?, h.parse::<u32>().ok()?)))
+        .filter(|&(w, h)| w > 0 && h > 0)
+        .ok_or(format!("--size: bad value {size:?} (want WxH)"))?;
+    let threads: Vec<usize> = args
+        .opt("threads")
+        .unwrap_or("1,2".into())
+        .split(',')
+        .map(|t| t.parse().map_err(|_| format!("--threads: bad count {t:?}")))
+        .collect::<Result<_, _>>()?;
+    args.finish()?;
+    let map = load(&map_spec)?;
+    let hf = map.field();
+    println!(
+        "## hfcast bench: {} ({} x {}), depth {}, {} reps (median), {} cores available\n",
+        map_spec.0.file_name().unwrap_or_default().to_string_lossy(),
+        map.width,
+        map.height,
+        map.depth,
+        reps,
+        default_threads()
+    );
+    let mut results = Vec::new();
+    for elevation in [45.0, 5.0] {
+        let rays = Camera::orbit(&hf, elevation, 200.0, w, h).rays();
+        let name = format!("camera {w}x{h}, elevation {elevation}°");
+        eprintln!("bench: {name}");
+        results.push(bench_rays(
+            &hf, method, surface, &name, &rays, &threads, reps,
+        ));
+    }
+    if n_random > 0 {
+        let rays = random_rays(&hf, n_random, 1);
+        eprintln!("bench: random rays");
+        let name = "random, origin in box";
+        results.push(bench_rays(
+            &hf, method, surface, name, &rays, &threads, reps,
+        ));
+    }
+    println!("{}", markdown_table(method, surface, &results));
+    Ok(true)
+}
+
+fn main() -> ExitCode {
+    let mut words = std::env::args().skip(1);
+    let command = words.next().unwrap_or_default();
+    let run = |f: fn(Args) -> Result<bool, String>| Args::parse(words).and_then(f);
+    let result = match command.as_str() {
+        "render" => run(cmd_render),
+        "trace" => run(cmd_trace),
+        "bench" => run(cmd_bench),
+        "help" | "--help" | "-h" => {
+            println!("{USAGE}");
+            return ExitCode::SUCCESS;
+        }
+        "" => Err("no command given; try `hfcast help`".into()),
+        other => Err(format!("unknown command {other:?}; try `hfcast help`")),
+    };
+    match result {
+        Ok(true) => ExitCode::SUCCESS,
+        Ok(false) => ExitCode::FAILURE,
+        Err(e) => {
+            eprintln!("hfcast: {e}");
+            ExitCode::from(2)
+        }
+    }
+}

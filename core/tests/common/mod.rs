@@ -1,0 +1,841 @@
+//! Shared helpers of the integration tests: a seeded RNG, owned height fields, the
+//! ambiguity rule of DESIGN.md, ray generators and a tally that prints per-case counts.
+#![allow(dead_code)] // every test binary uses a different part of this module
+
+use hfcast::{brute, dda, Flags, HeightField, Query, Real, Surface, Trace};
+
+/// SplitMix64: tiny, seeded, reproducible on every platform.
+pub struct Rng(u64);
+
+impl Rng {
+    /// A generator with a fixed seed.
+    pub fn new(seed: u64) -> Rng {
+        Rng(seed ^ 0x9E37_79B9_7F4A_7C15)
+    }
+    /// Next 64 random bits.
+    pub fn u64(&mut self) -> u64 {
+        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        z ^ (z >> 31)
+    }
+    /// Uniform in `[0, 1)`.
+    pub fn f64(&mut self) -> f64 {
+        (self.u64() >> 11) as f64 * (1.0 / (1u64 << 53) as f64)
+    }
+    /// Uniform in `[lo, hi)`.
+    pub fn range(&mut self, lo: f64, hi: f64) -> f64 {
+        lo + (hi - lo) * self.f64()
+    }
+    /// Uniform integer in `[lo, hi]`.
+    pub fn int(&mut self, lo: i64, hi: i64) -> i64 {
+        lo + (self.u64() % (hi - lo + 1) as u64) as i64
+    }
+    /// Uniform index below `n`.
+    pub fn below(&mut self, n: usize) -> usize {
+        (self.u64() % n as u64) as usize
+    }
+    /// `true` with probability `p`.
+    pub fn chance(&mut self, p: f64) -> bool {
+        self.f64() < p
+    }
+    /// `±1`.
+    pub fn sign(&mut self) -> f64 {
+        if self.chance(0.5) {
+            1.0
+        } else {
+            -1.0
+        }
+    }
+}
+
+/// An owned height field; row padding (stride > width) is filled with NaN so that a
+/// read outside the rows poisons the result.
+#[derive(Clone, Debug)]
+pub struct Field {
+    pub samples: Vec<f32>,
+    pub w: u32,
+    pub h: u32,
+    pub stride: usize,
+}
+
+impl Field {
+    /// `w × h` samples from `f(i, j)`, rows `stride` apart.
+    pub fn from_fn(w: u32, h: u32, stride: usize, mut f: impl FnMut(u32, u32) -> f32) -> Field {
+        let mut samples = vec![f32::NAN; stride * (h as usize - 1) + w as usize];
+        for j in 0..h {
+            for i in 0..w {
+                samples[j as usize * stride + i as usize] = f(i, j);
+            }
+        }
+        Field {
+            samples,
+            w,
+            h,
+            stride,
+        }
+    }
+    /// The validated view.
+    pub fn hf(&self) -> HeightField<'_> {
+        HeightField::new(&self.samples, self.w, self.h, self.stride).expect("valid test field")
+    }
+    /// Sample (i, j).
+    pub fn at(&self, i: u32, j: u32) -> f32 {
+        self.samples[j as usize * self.stride + i as usize]
+    }
+    /// `(min, max)` height.
+    pub fn range(&self) -> (f64, f64) {
+        let hf = self.hf();
+        (hf.min_height() as f64, hf.max_height() as f64)
+    }
+    /// Largest |height|, at least 1: the `max(1, |z|)` of the ambiguity rule, taken
+    /// over the whole field (conservative: a graze is never below it).
+    pub fn z_scale(&self) -> f64 {
+        let (lo, hi) = self.range();
+        1f64.max(lo.abs()).max(hi.abs())
+    }
+}
+
+/// Random small field: sizes 2×2 … 12×9, random stride, heights that are integers
+/// (ties, flat cells), quarter-integers or arbitrary floats, in several ranges.
+pub fn small_field(rng: &mut Rng) -> Field {
+    let w = rng.int(2, 12) as u32;
+    let h = rng.int(2, 9) as u32;
+    let stride = w as usize
+        + if rng.chance(0.5) {
+            0
+        } else {
+            rng.int(1, 5) as usize
+        };
+    let mode = rng.below(5);
+    let amp = [1.0, 3.0, 0.01, 40.0][rng.below(4)];
+    let offset = if rng.chance(0.2) {
+        rng.range(-50.0, 50.0)
+    } else {
+        0.0
+    };
+    Field::from_fn(w, h, stride, |_, _| match mode {
+        0 => rng.int(0, 3) as f32,
+        1 => (rng.int(0, 8) as f64 * 0.25 + offset.round()) as f32,
+        2 => rng.range(-amp, amp) as f32,
+        3 => (rng.range(0.0, amp) + offset) as f32,
+        _ => {
+            if rng.chance(0.5) {
+                rng.int(-2, 2) as f32
+            } else {
+                rng.range(-2.0, 2.0) as f32
+            }
+        }
+    })
+}
+
+/// A smooth fractal-ish field: a sum of sines with random phases and falling
+/// amplitudes, plus a little value noise.
+pub fn fractal_field(rng: &mut Rng, w: u32, h: u32, stride: usize, amp: f64) -> Field {
+    let waves: Vec<[f64; 4]> = (0..8)
+        .map(|k| {
+            let f = 0.05 * 1.9f64.powi(k);
+            let a = rng.range(0.0, std::f64::consts::TAU);
+            [
+                f * a.cos(),
+                f * a.sin(),
+                rng.range(0.0, std::f64::consts::TAU),
+                amp / 1.8f64.powi(k),
+            ]
+        })
+        .collect();
+    let mut noise = Rng::new(rng.u64());
+    Field::from_fn(w, h, stride, |i, j| {
+        let (x, y) = (i as f64, j as f64);
+        let s: f64 = waves
+            .iter()
+            .map(|[fx, fy, ph, a]| a * (fx * x + fy * y + ph).sin())
+            .sum();
+        (s + noise.range(-0.02, 0.02) * amp) as f32
+    })
+}
+
+/// DESIGN.md's ambiguity threshold `2⁻¹³ · max(1, |z|)`.
+pub fn eps_f32(z_scale: f64) -> f64 {
+    z_scale / 8192.0
+}
+
+/// DESIGN.md's ambiguity rule on an exact trace: its clearance is below `eps`. (For a
+/// hit where the traced span begins the clearance is the depth under the surface
+/// there, so an origin just under the surface is ambiguous too.)
+pub fn is_ambiguous<R: Real>(oracle: &Trace<R>, eps: f64) -> bool {
+    oracle.clearance.to_f64() < eps
+}
+
+/// For the discontinuous surfaces (height planes, linear planes): `true` when the ray
+/// passes within `tol` texel (horizontally) of a point where walls meet — quarter
+/// corners at half-integer x and y for height planes, grid points for linear planes —
+/// below the top of the pieces meeting there. There two walls touch along a vertical
+/// edge, and which side of it the ray passes by is decided by rounding: an ambiguous
+/// ray that the clearance (a vertical distance) cannot flag. Vertical rays are exempt:
+/// their coordinates are exact and the tie rule decides them the same in any precision
+/// (and so are rays running exactly along a wall line).
+pub fn near_pinch(field: &Field, surface: Surface, q: &Query<f64>, tol: f64) -> bool {
+    let off = match surface {
+        Surface::HeightPlanes => 0.5,
+        Surface::LinearPlanes => 0.0,
+        _ => return false,
+    };
+    let hf = field.hf();
+    let (o, d) = (q.origin(), q.dir());
+    let lim = [(field.w - 1) as f64, (field.h - 1) as f64];
+    for axis in 0..2 {
+        if d[axis] == 0.0 {
+            continue;
+        }
+        let other = 1 - axis;
+        if d[other] == 0.0 {
+            // Running along a line of constant, exact `other` coordinate: the tie rule
+            // decides it the same way in every precision.
+            continue;
+        }
+        let mut k = off;
+        while k <= lim[axis] {
+            let t = (k - o[axis]) / d[axis];
+            k += 1.0;
+            if t < q.t_min() || t > q.t_max() {
+                continue;
+            }
+            let p = q.at(t);
+            let line = (p[other] - off).round() + off;
+            if (p[other] - line).abs() >= tol || line < 0.0 || line > lim[other] {
+                continue;
+            }
+            let mut pinch = [0.0; 2];
+            pinch[axis] = k - 1.0;
+            pinch[other] = line;
+            let top = [[-1.0, -1.0], [1.0, -1.0], [-1.0, 1.0], [1.0, 1.0]]
+                .iter()
+                .map(|s| surface.height_at(&hf, pinch[0] + 1e-3 * s[0], pinch[1] + 1e-3 * s[1]))
+                .fold(f64::NEG_INFINITY, f64::max);
+            if p[2] <= top + 1e-6 * field.z_scale() {
+                return true;
+            }
+        }
+    }
+    false
+}
+
+/// A ray query as plain `f64` numbers, before conversion to the precision under test.
+#[derive(Clone, Copy, Debug)]
+pub struct RaySpec {
+    pub o: [f64; 3],
+    pub d: [f64; 3],
+    pub t_min: f64,
+    pub t_max: f64,
+}
+
+impl RaySpec {
+    /// The `f64` query.
+    pub fn q64(&self) -> Query<f64> {
+        Query::from_arrays(self.o, self.d, self.t_min, self.t_max).expect("valid ray")
+    }
+    /// The `f32` query (values rounded to `f32`).
+    pub fn q32(&self) -> Query<f32> {
+        let c = |v: [f64; 3]| v.map(|x| x as f32);
+        Query::from_arrays(c(self.o), c(self.d), self.t_min as f32, self.t_max as f32)
+            .expect("valid ray")
+    }
+}
+
+/// The kinds of rays the random tests draw.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum RayKind {
+    Down,
+    Up,
+    Grazing,
+    Horizontal,
+    AxisX,
+    AxisY,
+    VerticalInt,
+    VerticalHalf,
+    Inside,
+    CornerOrigin,
+    CenterlineOrigin,
+    Diagonal,
+    Outside,
+}
+
+impl RayKind {
+    pub const ALL: [RayKind; 13] = [
+        RayKind::Down,
+        RayKind::Up,
+        RayKind::Grazing,
+        RayKind::Horizontal,
+        RayKind::AxisX,
+        RayKind::AxisY,
+        RayKind::VerticalInt,
+        RayKind::VerticalHalf,
+        RayKind::Inside,
+        RayKind::CornerOrigin,
+        RayKind::CenterlineOrigin,
+        RayKind::Diagonal,
+        RayKind::Outside,
+    ];
+}
+
+/// Direction with a random horizontal angle and the given elevation (radians; negative
+/// is down), scaled by a random length so that `t` is not always in grid units.
+fn dir_from(rng: &mut Rng, elevation: f64) -> [f64; 3] {
+    let azimuth = rng.range(0.0, std::f64::consts::TAU);
+    let len = if rng.chance(0.3) {
+        10f64.powf(rng.range(-1.5, 1.5))
+    } else {
+        1.0
+    };
+    [
+        len * elevation.cos() * azimuth.cos(),
+        len * elevation.cos() * azimuth.sin(),
+        len * elevation.sin(),
+    ]
+}
+
+/// A random ray of `kind` for `field`: the origin is sometimes inside and sometimes
+/// outside the box, `t_min`/`t_max` are usually `0`/`∞` but not always.
+pub fn random_ray(rng: &mut Rng, field: &Field, surface: Surface, kind: RayKind) -> RaySpec {
+    let (xm, ym) = ((field.w - 1) as f64, (field.h - 1) as f64);
+    let (zlo, zhi) = field.range();
+    let zr = (zhi - zlo).max(1e-3);
+    let hf = field.hf();
+    let any_xy = |rng: &mut Rng, pad: f64| [rng.range(-pad, xm + pad), rng.range(-pad, ym + pad)];
+    let any_z = |rng: &mut Rng| rng.range(zlo - 0.3 * zr, zhi + 0.5 * zr);
+    let (o, d) = match kind {
+        RayKind::Down | RayKind::Outside => {
+            let target = [
+                rng.range(-0.2 * xm, 1.2 * xm),
+                rng.range(-0.2 * ym, 1.2 * ym),
+                rng.range(zlo, zhi),
+            ];
+            let el = -rng.range(0.02, std::f64::consts::FRAC_PI_2);
+            let d = dir_from(rng, el);
+            let back = rng.range(0.3, 2.0 * (xm + ym) + zr)
+                / (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
+            let mut o = [
+                target[0] - back * d[0],
+                target[1] - back * d[1],
+                target[2] - back * d[2],
+            ];
+            if kind == RayKind::Outside {
+                // Push the origin out of the footprint and start below, inside or above it.
+                let side = rng.below(4);
+                match side {
+                    0 => o[0] = -rng.range(0.1, 3.0),
+                    1 => o[0] = xm + rng.range(0.1, 3.0),
+                    2 => o[1] = -rng.range(0.1, 3.0),
+                    _ => o[1] = ym + rng.range(0.1, 3.0),
+                }
+                o[2] = rng.range(zlo - 3.0 * zr - 2.0, zhi + zr);
+                let aim = [
+                    rng.range(0.0, xm),
+                    rng.range(0.0, ym),
+                    rng.range(zlo - zr, zhi + zr),
+                ];
+                let dd = [aim[0] - o[0], aim[1] - o[1], aim[2] - o[2]];
+                return finish(rng, o, dd);
+            }
+            (o, d)
+        }
+        RayKind::Up => {
+            let [x, y] = any_xy(rng, 1.0);
+            let el = rng.range(0.02, std::f64::consts::FRAC_PI_2);
+            ([x, y, any_z(rng)], dir_from(rng, el))
+        }
+        RayKind::Grazing => {
+            let [x, y] = any_xy(rng, 0.5);
+            let el = rng.sign() * 10f64.powf(rng.range(-4.0, -1.5));
+            let z = surface.height_at(&hf, x, y) + rng.range(-0.01, 0.3) * zr;
+            ([x, y, z], dir_from(rng, el))
+        }
+        RayKind::Horizontal => {
+            let [x, y] = any_xy(rng, 1.0);
+            let z = if rng.chance(0.3) {
+                field.at(
+                    rng.below(field.w as usize) as u32,
+                    rng.below(field.h as usize) as u32,
+                ) as f64
+            } else {
+                any_z(rng)
+            };
+            let a = rng.range(0.0, std::f64::consts::TAU);
+            ([x, y, z], [a.cos(), a.sin(), 0.0])
+        }
+        RayKind::AxisX | RayKind::AxisY => {
+            let axis = usize::from(kind == RayKind::AxisY);
+            let lim = [xm, ym];
+            let mut o = [0.0; 3];
+            o[axis] = rng.range(-1.0, lim[axis] + 1.0);
+            // The other coordinate: random, on a centerline, or half-way between.
+            let other = 1 - axis;
+            o[other] = match rng.below(3) {
+                0 => rng.range(0.0, lim[other]),
+                1 => rng.int(0, lim[other] as i64) as f64,
+                _ => (rng.int(0, lim[other] as i64 - 1) as f64) + 0.5,
+            };
+            o[2] = any_z(rng);
+            let mut d = [0.0; 3];
+            d[axis] = rng.sign() * rng.range(0.2, 2.0);
+            d[2] = match rng.below(4) {
+                0 => 0.0,
+                1 => rng.range(0.0, 1.0),
+                _ => -rng.range(0.0, 2.0),
+            };
+            (o, d)
+        }
+        RayKind::VerticalInt | RayKind::VerticalHalf => {
+            let half = if kind == RayKind::VerticalHalf {
+                0.5
+            } else {
+                0.0
+            };
+            let mut x = rng.int(0, xm as i64) as f64;
+            let mut y = rng.int(0, ym as i64) as f64;
+            if half > 0.0 {
+                // Half-integer in x, y or both (inside the footprint).
+                match rng.below(3) {
+                    0 => x = (x.min(xm - 1.0)) + 0.5,
+                    1 => y = (y.min(ym - 1.0)) + 0.5,
+                    _ => {
+                        x = (x.min(xm - 1.0)) + 0.5;
+                        y = (y.min(ym - 1.0)) + 0.5;
+                    }
+                }
+            }
+            let dz = if rng.chance(0.8) { -1.0 } else { 1.0 } * rng.range(0.1, 3.0);
+            ([x, y, any_z(rng)], [0.0, 0.0, dz])
+        }
+        RayKind::Inside => {
+            let [x, y] = any_xy(rng, 0.0);
+            let z = surface.height_at(&hf, x, y) - rng.range(1e-3, 1.0) * zr;
+            let el = rng.range(-1.5, 1.5);
+            ([x, y, z], dir_from(rng, el))
+        }
+        RayKind::CornerOrigin | RayKind::CenterlineOrigin => {
+            let i = rng.int(0, xm as i64) as u32;
+            let j = rng.int(0, ym as i64) as u32;
+            let (mut x, mut y) = (i as f64, j as f64);
+            if kind == RayKind::CenterlineOrigin {
+                if rng.chance(0.5) {
+                    x = rng.range(0.0, xm);
+                } else {
+                    y = rng.range(0.0, ym);
+                }
+            }
+            let z = match rng.below(5) {
+                0 => field.at(i, j) as f64,
+                3 => field.at(i, j) as f64 - rng.range(0.01, 1.0) * zr,
+                1 => field.at(i, j) as f64 + rng.range(0.01, 1.0) * zr,
+                _ => any_z(rng),
+            };
+            let d = match rng.below(3) {
+                0 => [rng.sign(), rng.sign(), rng.range(-1.0, 0.5)],
+                1 => {
+                    let mut d = [0.0, 0.0, rng.range(-1.0, 0.5)];
+                    d[rng.below(2)] = rng.sign();
+                    d
+                }
+                _ => {
+                    let el = rng.range(-1.4, 0.6);
+                    dir_from(rng, el)
+                }
+            };
+            ([x, y, z], d)
+        }
+        RayKind::Diagonal => {
+            // Through a grid point exactly, along a cell diagonal: o = p − k·d with dyadic d.
+            let (i, j) = (rng.int(0, xm as i64) as f64, rng.int(0, ym as i64) as f64);
+            let d = [rng.sign(), rng.sign(), -(rng.int(1, 16) as f64) / 8.0];
+            let k = rng.int(1, 6) as f64;
+            let zc = surface.height_at(&hf, i, j) + rng.range(-0.05, 0.05) * zr;
+            ([i - k * d[0], j - k * d[1], zc - k * d[2]], d)
+        }
+    };
+    finish(rng, o, d)
+}
+
+/// Picks the parameter range: mostly `[0, ∞)`, sometimes a negative or positive
+/// `t_min` and a finite `t_max`.
+fn finish(rng: &mut Rng, o: [f64; 3], d: [f64; 3]) -> RaySpec {
+    let (t_min, t_max) = match rng.below(8) {
+        0 => (rng.range(-1.0, 1.0), f64::INFINITY),
+        1 => {
+            let a = rng.range(0.0, 2.0);
+            (a, a + rng.range(0.0, 20.0))
+        }
+        _ => (0.0, f64::INFINITY),
+    };
+    RaySpec { o, d, t_min, t_max }
+}
+
+/// Per-case counts, printed as one line: `tried`, `wrong`, `ambiguous` and the largest
+/// position error (texels) among the compared rays.
+#[derive(Debug, Default)]
+pub struct Tally {
+    pub name: String,
+    pub tried: u64,
+    pub wrong: u64,
+    pub ambiguous: u64,
+    pub hits: u64,
+    pub max_err: f64,
+    pub sum_err: f64,
+    pub compared_hits: u64,
+    pub examples: Vec<String>,
+}
+
+impl Tally {
+    pub fn new(name: impl Into<String>) -> Tally {
+        Tally {
+            name: name.into(),
+            ..Tally::default()
+        }
+    }
+    /// Records one wrong ray (keeps the first few descriptions).
+    pub fn wrong(&mut self, what: impl FnOnce() -> String) {
+        self.wrong += 1;
+        if self.examples.len() < 5 {
+            self.examples.push(what());
+        }
+    }
+    /// Records the position error of one compared hit.
+    pub fn err(&mut self, e: f64) {
+        self.compared_hits += 1;
+        self.sum_err += e;
+        self.max_err = self.max_err.max(e);
+    }
+    /// Adds another tally's counts.
+    pub fn absorb(&mut self, o: &Tally) {
+        self.tried += o.tried;
+        self.wrong += o.wrong;
+        self.ambiguous += o.ambiguous;
+        self.hits += o.hits;
+        self.max_err = self.max_err.max(o.max_err);
+        self.sum_err += o.sum_err;
+        self.compared_hits += o.compared_hits;
+        for e in &o.examples {
+            if self.examples.len() < 5 {
+                self.examples.push(e.clone());
+            }
+        }
+    }
+    /// Appends the line the project notes quote (and a few wrong examples).
+    pub fn report(&self, out: &mut String) {
+        let mean = if self.compared_hits > 0 {
+            self.sum_err / self.compared_hits as f64
+        } else {
+            0.0
+        };
+        out.push_str(&format!(
+            "{:<44} tried {:>7}  wrong {:>5}  ambiguous {:>5}  hits {:>7}  err mean {:.1e} max {:.1e}\n",
+            self.name, self.tried, self.wrong, self.ambiguous, self.hits, mean, self.max_err
+        ));
+        for e in &self.examples {
+            out.push_str(&format!("    e.g. {e}\n"));
+        }
+    }
+}
+
+/// Euclidean distance.
+pub fn dist(a: [f64; 3], b: [f64; 3]) -> f64 {
+    ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)).sqrt()
+}
+
+/// A hit point as `[f64; 3]`.
+pub fn p64<R: Real>(v: R::V3) -> [f64; 3] {
+    R::xyz(v).map(|x| x.to_f64())
+}
+
+/// Footprint entry parameter of the ray (≥ `t_min`), `None` when it never enters.
+pub fn footprint_entry(q: &Query<f64>, xm: f64, ym: f64) -> Option<f64> {
+    let (o, d) = (q.origin(), q.dir());
+    let (mut a, mut b) = (q.t_min(), q.t_max());
+    for (axis, lim) in [xm, ym].into_iter().enumerate() {
+        if d[axis] == 0.0 {
+            if o[axis] < 0.0 || o[axis] > lim {
+                return None;
+            }
+        } else {
+            let (p, r) = ((0.0 - o[axis]) / d[axis], (lim - o[axis]) / d[axis]);
+            a = a.max(p.min(r));
+            b = b.min(p.max(r));
+        }
+    }
+    (a <= b).then_some(a)
+}
+
+/// Where the tie rule of a discontinuous surface matters, for a ray the DDA and the
+/// closed-solid brute force disagree on: the traced span starts exactly on a wall
+/// (at `t_min` or where the ray enters the footprint), or the ray passes exactly
+/// through a point where walls meet (linear planes: grid points; height planes: quarter
+/// corners at half-integer x and y), touching the cells beside its path at one point.
+pub fn tie_point(surface: Surface, q: &Query<f64>, xm: f64, ym: f64) -> bool {
+    let off = match surface {
+        Surface::LinearPlanes => 0.0,
+        Surface::HeightPlanes => 0.5,
+        _ => return false,
+    };
+    let on_wall = |x: f64| (x - off - (x - off).round()).abs() < 1e-12;
+    let d = q.dir();
+    let inside = |p: [f64; 3]| p[0] >= 0.0 && p[0] <= xm && p[1] >= 0.0 && p[1] <= ym;
+    let mut starts = vec![q.t_min()];
+    if let Some(te) = footprint_entry(q, xm, ym) {
+        starts.push(te);
+    }
+    for t in starts {
+        let p = q.at(t);
+        if inside(p) && (0..2).any(|a| d[a] != 0.0 && on_wall(p[a])) {
+            return true;
+        }
+    }
+    if d[0] == 0.0 || d[1] == 0.0 {
+        return false;
+    }
+    let o = q.origin();
+    (0..=xm as i64).any(|k| {
+        let t = (k as f64 + off - o[0]) / d[0];
+        let y = o[1] + t * d[1];
+        t >= q.t_min() && t <= q.t_max() && y >= 0.0 && y <= ym && on_wall(y)
+    })
+}
+
+/// Relative tolerance of `f64` comparisons (positions, ambiguity).
+pub const TOL64: f64 = 1e-9;
+/// DESIGN.md's "wrong" distance (texels), used for `f32`.
+pub const WRONG: f64 = 1e-3;
+/// Horizontal distance (texels) from a wall pinch point under which an `f32` ray on a
+/// discontinuous surface is ambiguous (see [`near_pinch`]).
+pub const PINCH: f64 = 1e-4;
+
+/// What one ray came to, against brute force.
+#[derive(Clone, Debug)]
+pub enum Outcome {
+    /// Same answer; the position error of a hit.
+    Right(Option<f64>),
+    /// The oracle's clearance is under the threshold (or, in `f32`, the ray passes a
+    /// wall pinch point).
+    Ambiguous,
+    /// The `f64` traversal and brute force disagree on a touch: one of them meets the
+    /// surface at zero clearance without going under it (ambiguous by DESIGN.md's rule).
+    Touch,
+    /// The `f64` traversal and brute force disagree at a wall tie point of a
+    /// discontinuous surface (see [`tie_point`]); the DDA's hit was checked to be no
+    /// earlier than the closed solid's.
+    Tie,
+    /// A wrong ray, described.
+    Wrong(String),
+}
+
+/// Traces `q` (in its own precision) and judges it against `brute::first_hit` on the
+/// same ray in `f64`. `f64` traces must match to [`TOL64`] of the scene's length scale
+/// and are ambiguous below `TOL64 · max(1, |z|)`; `f32` traces must match to
+/// [`WRONG`] and are ambiguous by DESIGN.md's `2⁻¹³ · max(1, |z|)` on the `f64`
+/// traversal's clearance, or near a wall pinch. Returns the outcome and whether brute
+/// force hits.
+pub fn judge<R: Real>(field: &Field, surface: Surface, q: &Query<R>) -> (Outcome, bool) {
+    let is64 = R::EPSILON.to_f64() < 1e-10;
+    let hf = field.hf();
+    let q64 = q.cast::<f64>();
+    let (xm, ym) = ((field.w - 1) as f64, (field.h - 1) as f64);
+    let (zlo, zhi) = field.range();
+    let (o, d) = (q64.origin(), q64.dir());
+    let dlen = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
+    let len_scale = 1f64
+        .max(xm + ym)
+        .max(zhi - zlo)
+        .max(o.iter().fold(0f64, |m, v| m.max(v.abs())));
+    let tol64 = TOL64 * len_scale;
+    let zs = field.z_scale();
+    let oracle = dda::trace(&hf, surface, &q64);
+    let bf = brute::first_hit(&hf, surface, &q64);
+    let brute_hits = bf.is_some();
+    let amb_eps = if is64 { TOL64 * zs } else { eps_f32(zs) };
+    if is_ambiguous(&oracle, amb_eps) || (!is64 && near_pinch(field, surface, &q64, PINCH)) {
+        return (Outcome::Ambiguous, brute_hits);
+    }
+    let desc = |what: &str, got: String| {
+        let samples = if field.samples.len() <= 150 {
+            format!("{:?}", field.samples)
+        } else {
+            String::from("[..]")
+        };
+        format!(
+            "{what}: {surface:?} field {}x{} stride {} {samples} query {q:?} brute {bf:?} got {got}",
+            field.w, field.h, field.stride
+        )
+    };
+    // The oracle against brute force first: touches and wall ties are settled there.
+    let agree = match (oracle.hit, bf) {
+        (None, None) => true,
+        (Some(h), Some((tb, _))) => dist(p64::<f64>(h.point), q64.at(tb)) <= tol64,
+        _ => false,
+    };
+    if !agree {
+        let first = match (oracle.hit, bf) {
+            (Some(h), Some((tb, _))) => h.t.min(tb),
+            (Some(h), None) => h.t,
+            (None, Some((tb, _))) => tb,
+            (None, None) => unreachable!(),
+        };
+        let clear = |t: f64| {
+            let p = q64.at(t);
+            p[2] - surface.height_at(&hf, p[0], p[1])
+        };
+        let eps = TOL64 * zs;
+        if clear(first).abs() <= eps && clear(first + 1e-4 / dlen) >= -eps {
+            return (Outcome::Touch, brute_hits);
+        }
+        if tie_point(surface, &q64, xm, ym) {
+            let ok = match (oracle.hit, bf) {
+                (Some(h), Some((tb, _))) => tb <= h.t + tol64,
+                (Some(_), None) => false,
+                _ => true,
+            };
+            return if ok {
+                (Outcome::Tie, brute_hits)
+            } else {
+                (
+                    Outcome::Wrong(desc("tie", format!("{:?}", oracle.hit))),
+                    brute_hits,
+                )
+            };
+        }
+    }
+    let tr = dda::trace(&hf, surface, q);
+    let tol = if is64 { tol64 } else { WRONG };
+    let (h, tb) = match (tr.hit, bf) {
+        (None, None) => return (Outcome::Right(None), false),
+        (Some(h), Some((tb, _))) => (h, tb),
+        _ => {
+            return (
+                Outcome::Wrong(desc("hit/miss", format!("{:?}", tr.hit))),
+                brute_hits,
+            )
+        }
+    };
+    let pd = p64::<R>(h.point);
+    let e = dist(pd, q64.at(tb));
+    let mut bad = Vec::new();
+    if e > tol {
+        bad.push("position");
+    }
+    if dist(pd, q64.at(h.t.to_f64())) > tol {
+        bad.push("point != at(t)");
+    }
+    // The cell holds the point.
+    let [ci, cj] = h.cell;
+    if ci >= field.w - 1
+        || cj >= field.h - 1
+        || pd[0] < ci as f64 - tol
+        || pd[0] > ci as f64 + 1.0 + tol
+        || pd[1] < cj as f64 - tol
+        || pd[1] > cj as f64 + 1.0 + tol
+    {
+        bad.push("cell");
+    }
+    // A unit normal.
+    let n = p64::<R>(h.normal);
+    if ((n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt() - 1.0).abs() > 1e-5 {
+        bad.push("normal");
+    }
+    if tr.flags != Flags::default() || h.flags.contains(Flags::BUDGET_EXHAUSTED) {
+        bad.push("trace flags");
+    }
+    if is64 {
+        // Flags from the geometry: ORIGIN_INSIDE when the start point is over the
+        // footprint and under the surface (the hit is at `t_min`), SIDE when the ray
+        // enters the footprint from outside under the surface, WALL only on the
+        // discontinuous surfaces.
+        let f = h.flags;
+        let p0 = q64.at(q64.t_min());
+        let in_fp = p0[0] >= 0.0 && p0[0] <= xm && p0[1] >= 0.0 && p0[1] <= ym;
+        let inside_flag_ok = if f.contains(Flags::ORIGIN_INSIDE) {
+            in_fp && h.t.to_f64() == q64.t_min()
+        } else {
+            !(in_fp && tb == q64.t_min())
+        };
+        if !inside_flag_ok {
+            bad.push("ORIGIN_INSIDE");
+        }
+        let side_hit =
+            !in_fp && footprint_entry(&q64, xm, ym).is_some_and(|te| (tb - te).abs() * dlen <= tol);
+        let side_ok = if f.contains(Flags::SIDE) {
+            // The normal of a side hit is the outward side normal.
+            side_hit && n[2] == 0.0 && n[0].abs() + n[1].abs() == 1.0
+        } else {
+            !side_hit
+        };
+        if !side_ok {
+            bad.push("SIDE");
+        }
+        if f.contains(Flags::WALL)
+            && !matches!(surface, Surface::HeightPlanes | Surface::LinearPlanes)
+        {
+            bad.push("WALL");
+        }
+    } else if oracle.hit.map(|o| o.flags) != Some(h.flags) {
+        bad.push("flags differ from the f64 traversal");
+    }
+    if bad.is_empty() {
+        (Outcome::Right(Some(e)), true)
+    } else {
+        let what = bad.join(", ");
+        (Outcome::Wrong(desc(&what, format!("{h:?}"))), true)
+    }
+}
+
+/// Per-case counts of [`judge`] outcomes.
+#[derive(Debug, Default)]
+pub struct Judged {
+    pub tally: Tally,
+    pub touches: u64,
+    pub ties: u64,
+}
+
+impl Judged {
+    pub fn new(name: impl Into<String>) -> Judged {
+        Judged {
+            tally: Tally::new(name),
+            ..Judged::default()
+        }
+    }
+    /// Judges one query and counts the outcome.
+    pub fn add<R: Real>(&mut self, field: &Field, surface: Surface, q: &Query<R>) {
+        let (outcome, brute_hits) = judge(field, surface, q);
+        let t = &mut self.tally;
+        t.tried += 1;
+        if brute_hits {
+            t.hits += 1;
+        }
+        match outcome {
+            Outcome::Right(Some(e)) => t.err(e),
+            Outcome::Right(None) => {}
+            Outcome::Ambiguous => t.ambiguous += 1,
+            Outcome::Touch => {
+                t.ambiguous += 1;
+                self.touches += 1;
+            }
+            Outcome::Tie => self.ties += 1,
+            Outcome::Wrong(s) => t.wrong(|| s),
+        }
+    }
+    /// Adds another case's counts.
+    pub fn absorb(&mut self, o: &Judged) {
+        self.tally.absorb(&o.tally);
+        self.touches += o.touches;
+        self.ties += o.ties;
+    }
+    /// The report lines.
+    pub fn report(&self, out: &mut String) {
+        self.tally.report(out);
+        if self.touches + self.ties > 0 {
+            out.push_str(&format!(
+                "    of the ambiguous, touches: {}; wall-point ties (checked only for order): {}\n",
+                self.touches, self.ties
+            ));
+        }
+    }
+}

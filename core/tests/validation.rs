@@ -1,0 +1,367 @@
+//! Input validation: `HeightField::new`, `from_u8`, `from_u16` and `Query` refuse bad
+//! input with the right error (and never panic or allocate on absurd sizes); the
+//! integer conversions map the full range onto `[0, depth]`; extreme but valid queries
+//! trace without panics or NaN.
+
+mod common;
+
+use common::*;
+use hfcast::field::MAX_SIDE;
+use hfcast::{dda, FieldError, HeightField, Query, RayError, Surface};
+
+#[test]
+fn height_field_sizes_and_strides() {
+    let s = [0.0f32; 64];
+    assert_eq!(
+        HeightField::new(&s, 1, 4, 4).unwrap_err(),
+        FieldError::TooSmall
+    );
+    assert_eq!(
+        HeightField::new(&s, 4, 1, 4).unwrap_err(),
+        FieldError::TooSmall
+    );
+    assert_eq!(
+        HeightField::new(&s, 0, 0, 0).unwrap_err(),
+        FieldError::TooSmall
+    );
+    assert_eq!(
+        HeightField::new(&s, 4, 4, 3).unwrap_err(),
+        FieldError::StrideTooSmall
+    );
+    assert_eq!(
+        HeightField::new(&s, MAX_SIDE + 1, 2, usize::MAX).unwrap_err(),
+        FieldError::TooLarge
+    );
+    assert_eq!(
+        HeightField::new(&s, 2, MAX_SIDE + 1, 2).unwrap_err(),
+        FieldError::TooLarge
+    );
+    // Slice too short: exactly one sample missing, with and without padding.
+    assert_eq!(
+        HeightField::new(&s[..15], 4, 4, 4).unwrap_err(),
+        FieldError::SliceTooShort {
+            needed: 16,
+            given: 15
+        }
+    );
+    assert_eq!(
+        HeightField::new(&s[..20], 3, 4, 6).unwrap_err(),
+        FieldError::SliceTooShort {
+            needed: 21,
+            given: 20
+        }
+    );
+    // The last row needs only `width` samples, not a full stride.
+    assert!(HeightField::new(&s[..21], 3, 4, 6).is_ok());
+    // Huge strides over a short slice: errors, no panic, no allocation.
+    assert_eq!(
+        HeightField::new(&s, 4, 3, usize::MAX / 2 + 1).unwrap_err(),
+        FieldError::SizeOverflow
+    );
+    assert_eq!(
+        HeightField::new(&s, 4, 2, usize::MAX - 3).unwrap_err(),
+        FieldError::SizeOverflow
+    );
+    assert_eq!(
+        HeightField::new(&s, 4, 2, usize::MAX - 4).unwrap_err(),
+        FieldError::SliceTooShort {
+            needed: usize::MAX,
+            given: 64
+        }
+    );
+    assert_eq!(
+        HeightField::new(&s, 4, 5, usize::MAX / 4).unwrap_err(),
+        FieldError::SizeOverflow
+    );
+    let mut out = [0.0f32; 16];
+    assert_eq!(
+        HeightField::from_u8(&[0u8; 8], 4, 3, usize::MAX / 2 + 1, 1.0, &mut out).unwrap_err(),
+        FieldError::SizeOverflow
+    );
+    assert_eq!(
+        HeightField::from_u16(&[0u16; 8], 4, 2, usize::MAX / 2, 1.0, &mut out).unwrap_err(),
+        FieldError::SliceTooShort {
+            needed: usize::MAX / 2 + 4,
+            given: 8
+        }
+    );
+    for e in [
+        FieldError::TooSmall,
+        FieldError::TooLarge,
+        FieldError::StrideTooSmall,
+        FieldError::SizeOverflow,
+        FieldError::SliceTooShort {
+            needed: 2,
+            given: 1,
+        },
+        FieldError::NotFinite { index: 3 },
+        FieldError::OutputTooShort { needed: 4 },
+    ] {
+        assert!(!e.to_string().is_empty());
+    }
+}
+
+#[test]
+fn height_field_rows_and_non_finite_heights() {
+    // 3 × 2 with stride 5: padding holds NaN and must be ignored.
+    let s = [1.0f32, 2.0, 3.0, f32::NAN, f32::NAN, 4.0, -5.0, 6.0];
+    let hf = HeightField::new(&s, 3, 2, 5).unwrap();
+    assert_eq!((hf.width(), hf.height(), hf.stride()), (3, 2, 5));
+    assert_eq!((hf.min_height(), hf.max_height()), (-5.0, 6.0));
+    assert_eq!(hf.at(2, 0), 3.0);
+    assert_eq!(hf.at(0, 1), 4.0);
+    assert_eq!(hf.cell_corners(1, 0), [2.0, 3.0, -5.0, 6.0]);
+    // Bad heights, reported with their slice index.
+    for (index, bad) in [
+        (0, f32::NAN),
+        (2, f32::INFINITY),
+        (6, f32::NEG_INFINITY),
+        (7, f32::NAN),
+    ] {
+        let mut t = s;
+        t[index] = bad;
+        assert_eq!(
+            HeightField::new(&t, 3, 2, 5).unwrap_err(),
+            FieldError::NotFinite { index },
+            "{bad} at {index}"
+        );
+    }
+    // The first bad one wins.
+    let mut t = s;
+    t[5] = f32::NAN;
+    t[7] = f32::NAN;
+    assert_eq!(
+        HeightField::new(&t, 3, 2, 5).unwrap_err(),
+        FieldError::NotFinite { index: 5 }
+    );
+    // Large but finite heights are fine.
+    let big = [f32::MAX, -f32::MAX, 0.0, 1.0];
+    assert!(HeightField::new(&big, 2, 2, 2).is_ok());
+}
+
+#[test]
+fn integer_maps() {
+    let mut out = [0.0f32; 12];
+    // Errors: depth, output, slice, sizes.
+    for depth in [f32::NAN, f32::INFINITY, f32::NEG_INFINITY] {
+        assert_eq!(
+            HeightField::from_u8(&[0u8; 12], 4, 3, 4, depth, &mut out).unwrap_err(),
+            FieldError::NotFinite { index: 0 }
+        );
+        assert_eq!(
+            HeightField::from_u16(&[0u16; 12], 4, 3, 4, depth, &mut out).unwrap_err(),
+            FieldError::NotFinite { index: 0 }
+        );
+    }
+    assert_eq!(
+        HeightField::from_u8(&[0u8; 12], 4, 3, 4, 1.0, &mut out[..11]).unwrap_err(),
+        FieldError::OutputTooShort { needed: 12 }
+    );
+    // Padded input (stride 5) still needs only W × H outputs.
+    assert!(HeightField::from_u16(&[0u16; 14], 4, 3, 5, 1.0, &mut out).is_ok());
+    assert_eq!(
+        HeightField::from_u16(&[0u16; 13], 4, 3, 5, 1.0, &mut out).unwrap_err(),
+        FieldError::SliceTooShort {
+            needed: 14,
+            given: 13
+        }
+    );
+    assert_eq!(
+        HeightField::from_u8(&[0u8; 12], 1, 3, 4, 1.0, &mut out).unwrap_err(),
+        FieldError::TooSmall
+    );
+    assert_eq!(
+        HeightField::from_u8(&[0u8; 12], 4, 3, 3, 1.0, &mut out).unwrap_err(),
+        FieldError::StrideTooSmall
+    );
+
+    // Values: 0 → 0, full scale → depth (within 1 ulp), monotone, padding skipped,
+    // output row-major with stride = width.
+    let within_ulp = |a: f32, b: f32| (a - b).abs() <= b.abs() * f32::EPSILON;
+    for depth in [1.0f32, 0.1, 3.7, 1000.0, 1e-3, 12345.678, 1e30, -2.5] {
+        let s8 = [0u8, 1, 128, 255, 7, 7, 254, 2, 3];
+        let hf = HeightField::from_u8(&s8, 3, 3, 3, depth, &mut out).unwrap();
+        assert_eq!(hf.at(0, 0), 0.0);
+        assert!(
+            within_ulp(hf.at(0, 1), depth),
+            "u8 255 -> {} vs {depth}",
+            hf.at(0, 1)
+        );
+        assert!((hf.at(2, 0) - 128.0 / 255.0 * depth).abs() <= depth.abs() * 1e-6);
+        let s16 = [0u16, 1, 65535, 9, 65534, 32768, 0, 0];
+        let hf = HeightField::from_u16(&s16, 3, 2, 4, depth, &mut out).unwrap();
+        assert_eq!(hf.stride(), 3);
+        assert_eq!(hf.at(0, 0), 0.0);
+        assert!(
+            within_ulp(hf.at(2, 0), depth),
+            "u16 65535 -> {} vs {depth}",
+            hf.at(2, 0)
+        );
+        assert!((hf.at(1, 1) - 32768.0 / 65535.0 * depth).abs() <= depth.abs() * 1e-6);
+        assert_eq!(hf.samples().len(), 6);
+        // Monotone over the whole range.
+        let all16: Vec<u16> = (0..=u16::MAX).collect();
+        let mut big = vec![0.0f32; all16.len()];
+        let hf = HeightField::from_u16(&all16, 256, 256, 256, depth.abs(), &mut big).unwrap();
+        assert!(hf.samples().windows(2).all(|w| w[0] <= w[1]));
+        assert!(within_ulp(hf.max_height(), depth.abs()));
+        let all8: Vec<u8> = (0..=u8::MAX).collect();
+        let mut o8 = [0.0f32; 256];
+        let hf = HeightField::from_u8(&all8, 16, 16, 16, depth.abs(), &mut o8).unwrap();
+        assert!(hf.samples().windows(2).all(|w| w[0] <= w[1]));
+        assert!(within_ulp(hf.max_height(), depth.abs()));
+    }
+}
+
+#[test]
+fn query_validation() {
+    let ok = |o: [f32; 3], d: [f32; 3], a: f32, b: f32| Query::<f32>::from_arrays(o, d, a, b);
+    let (o, d) = ([0.5f32, 0.5, 1.0], [0.0f32, 0.0, -1.0]);
+    for bad in [f32::NAN, f32::INFINITY, f32::NEG_INFINITY] {
+        for k in 0..3 {
+            let mut ob = o;
+            ob[k] = bad;
+            assert_eq!(ok(ob, d, 0.0, 1.0).unwrap_err(), RayError::OriginNotFinite);
+            let mut db = d;
+            db[k] = bad;
+            assert_eq!(
+                ok(o, db, 0.0, 1.0).unwrap_err(),
+                RayError::DirectionNotFinite
+            );
+        }
+        assert_eq!(
+            ok(o, d, bad, f32::INFINITY).unwrap_err(),
+            RayError::RangeNotFinite
+        );
+    }
+    assert_eq!(
+        ok(o, [0.0; 3], 0.0, 1.0).unwrap_err(),
+        RayError::ZeroDirection
+    );
+    assert_eq!(
+        ok(o, [-0.0, 0.0, -0.0], 0.0, 1.0).unwrap_err(),
+        RayError::ZeroDirection
+    );
+    assert_eq!(
+        ok(o, d, 0.0, f32::NAN).unwrap_err(),
+        RayError::RangeNotFinite
+    );
+    assert_eq!(
+        ok(o, d, 0.0, f32::NEG_INFINITY).unwrap_err(),
+        RayError::RangeNotFinite
+    );
+    assert_eq!(ok(o, d, 2.0, 1.0).unwrap_err(), RayError::EmptyRange);
+    assert_eq!(ok(o, d, -1.0, -1.5).unwrap_err(), RayError::EmptyRange);
+    // Accepted: t_max = +∞, an empty-length range, negative t_min, tiny directions.
+    assert!(ok(o, d, 0.0, f32::INFINITY).is_ok());
+    assert!(ok(o, d, 1.0, 1.0).is_ok());
+    assert!(ok(o, d, -5.0, 0.0).is_ok());
+    assert!(ok(o, [1e-40, 0.0, 0.0], 0.0, 1.0).is_ok());
+    // f64 the same; `new` takes glam vectors and agrees with `from_arrays`.
+    assert_eq!(
+        Query::<f64>::from_arrays([0.0, f64::NAN, 0.0], [1.0, 0.0, 0.0], 0.0, 1.0).unwrap_err(),
+        RayError::OriginNotFinite
+    );
+    assert_eq!(
+        Query::<f64>::from_arrays([0.0; 3], [0.0; 3], 0.0, 1.0).unwrap_err(),
+        RayError::ZeroDirection
+    );
+    let q = Query::<f32>::new(
+        glam::Vec3::new(0.5, 0.5, 1.0),
+        glam::Vec3::new(0.0, 0.0, -1.0),
+        0.0,
+        1.0,
+    );
+    assert_eq!(q, ok(o, d, 0.0, 1.0));
+    let q = Query::<f64>::new(glam::DVec3::new(0.5, 0.5, 1.0), glam::DVec3::ZERO, 0.0, 1.0);
+    assert_eq!(q.unwrap_err(), RayError::ZeroDirection);
+    for e in [
+        RayError::OriginNotFinite,
+        RayError::DirectionNotFinite,
+        RayError::ZeroDirection,
+        RayError::RangeNotFinite,
+        RayError::EmptyRange,
+    ] {
+        assert!(!e.to_string().is_empty());
+    }
+}
+
+/// Valid but extreme queries (tiny, huge and subnormal directions, far origins, zero
+/// length ranges) on every surface: no panic, no NaN, hits inside the box.
+#[test]
+fn extreme_valid_queries_trace_cleanly() {
+    let mut rng = Rng::new(0xE7);
+    let field = fractal_field(&mut rng, 9, 7, 11, 2.0);
+    let hf = field.hf();
+    let (lo, hi) = field.range();
+    let mut queries: Vec<Query<f32>> = Vec::new();
+    for scale in [1e-38f32, 1e-40, 1e-20, 1e-6, 1.0, 1e6, 1e20, 1e38] {
+        for d in [
+            [1.0, 0.3, -0.5],
+            [0.0, 0.0, -1.0],
+            [1.0, 0.0, 0.0],
+            [-0.7, 1.0, 0.2],
+            [1.0, 1.0, -1.0],
+        ] {
+            let d = d.map(|v: f32| v * scale);
+            if d == [0.0; 3] {
+                continue;
+            }
+            for o in [
+                [4.0, 3.0, 10.0],
+                [-3.0, 3.5, 1.0],
+                [4.0, 3.0, -100.0],
+                [1e7, -2e7, 3e7],
+            ] {
+                for (a, b) in [(0.0, f32::INFINITY), (0.0, 0.0), (-1e30, 1e30), (1.0, 2.0)] {
+                    if let Ok(q) = Query::from_arrays(o, d, a, b) {
+                        queries.push(q);
+                    }
+                }
+            }
+        }
+    }
+    let mut hits = 0;
+    let mut disagree = 0;
+    for q in &queries {
+        for surface in Surface::ALL {
+            let t32 = dda::trace(&hf, surface, q);
+            let t64 = dda::trace(&hf, surface, &q.cast::<f64>());
+            // Within f32's range of parameters the two precisions agree (unless ambiguous).
+            let m = q.dir().iter().fold(0f32, |m, v| m.max(v.abs()));
+            let tame = (1e-20..=1e20).contains(&m) && q.origin()[0].abs() < 1e3;
+            if tame
+                && t32.hit.is_some() != t64.hit.is_some()
+                && !is_ambiguous(&t64, eps_f32(field.z_scale()))
+                && !near_pinch(&field, surface, &q.cast::<f64>(), PINCH)
+            {
+                disagree += 1;
+                println!("{surface:?} {q:?}: f32 {:?} f64 {:?}", t32.hit, t64.hit);
+            }
+            assert!(!t32.clearance.is_nan() && !t64.clearance.is_nan(), "{q:?}");
+            for p in [
+                t32.hit.map(|h| p64::<f32>(h.point)),
+                t64.hit.map(|h| p64::<f64>(h.point)),
+            ]
+            .into_iter()
+            .flatten()
+            {
+                hits += 1;
+                let slack = 1e-3 * (1.0 + p[2].abs());
+                assert!(p.iter().all(|v| v.is_finite()), "{q:?} {p:?}");
+                assert!(
+                    p[0] >= -1e-3 && p[0] <= 8.001 && p[1] >= -1e-3 && p[1] <= 6.001,
+                    "{q:?} {p:?}"
+                );
+                // Linear planes may rise one range above the highest sample.
+                assert!(p[2] <= hi + (hi - lo) + slack, "{q:?} {p:?}");
+            }
+        }
+    }
+    println!(
+        "extreme queries: {} traced on 5 surfaces x 2 precisions, {hits} hits",
+        queries.len()
+    );
+    assert!(hits > 100);
+    assert_eq!(disagree, 0);
+}

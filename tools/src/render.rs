@@ -1,0 +1,356 @@
+//! A pinhole camera orbiting the field and a shaded, shadowed CPU renderer.
+//!
+//! Angles are compass angles in degrees: azimuth 0 = north (image top, −y), 90 = east
+//! (+x); elevation above the horizon. The camera is built so that the picture is not
+//! mirrored although grid y points south: image right is the camera's east-ish side.
+
+use crate::maps::Error;
+use crate::par_chunks;
+use hfcast::{HeightField, Method, Query, Surface};
+use std::io::BufWriter;
+use std::path::Path;
+use std::sync::atomic::{AtomicU64, AtomicUsize, Ordering};
+use std::time::{Duration, Instant};
+
+/// Vertical field of view of the camera, degrees.
+pub const FOV_Y_DEG: f64 = 40.0;
+
+/// Unit horizontal-and-up vector of a compass `azimuth` and `elevation` (degrees) in
+/// grid space (x east, y south, z up).
+pub fn compass_dir(azimuth_deg: f64, elevation_deg: f64) -> [f64; 3] {
+    let (a, e) = (azimuth_deg.to_radians(), elevation_deg.to_radians());
+    [e.cos() * a.sin(), -e.cos() * a.cos(), e.sin()]
+}
+
+fn scale(v: [f64; 3], s: f64) -> [f64; 3] {
+    v.map(|x| x * s)
+}
+
+fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    [
+        a[1] * b[2] - a[2] * b[1],
+        a[2] * b[0] - a[0] * b[2],
+        a[0] * b[1] - a[1] * b[0],
+    ]
+}
+
+/// A pinhole camera in grid space producing one primary ray per pixel.
+#[derive(Clone, Copy, Debug)]
+pub struct Camera {
+    /// Eye position.
+    pub eye: [f64; 3],
+    /// Unit view direction.
+    pub forward: [f64; 3],
+    /// Image right, scaled by tan(horizontal half field of view).
+    pub right: [f64; 3],
+    /// Image up, scaled by tan(vertical half field of view).
+    pub up: [f64; 3],
+    /// Image width in pixels.
+    pub width: u32,
+    /// Image height in pixels.
+    pub height: u32,
+}
+
+impl Camera {
+    /// A camera at compass `azimuth` and `elevation` (degrees) from the centre of the
+    /// box `[0, W−1] × [0, H−1] × [zmin, zmax]`, looking at that centre, just far enough
+    /// away that the whole box is in view (5 % margin).
+    pub fn orbit(
+        hf: &HeightField,
+        elevation_deg: f64,
+        azimuth_deg: f64,
+        width: u32,
+        height: u32,
+    ) -> Camera {
+        let zmin = f64::from(hf.min_height());
+        Camera::framing(hf, zmin, elevation_deg, azimuth_deg, width, height)
+    }
+
+    /// [`Camera::orbit`] framing the box down to `zmin` instead of the lowest sample.
+    pub fn framing(
+        hf: &HeightField,
+        zmin: f64,
+        elevation_deg: f64,
+        azimuth_deg: f64,
+        width: u32,
+        height: u32,
+    ) -> Camera {
+        let size = [
+            f64::from(hf.width() - 1),
+            f64::from(hf.height() - 1),
+            f64::from(hf.max_height()) - zmin,
+        ];
+        let centre = [size[0] / 2.0, size[1] / 2.0, zmin + size[2] / 2.0];
+        let tan_y = (FOV_Y_DEG.to_radians() / 2.0).tan();
+        let tan_x = tan_y * f64::from(width) / f64::from(height.max(1));
+        let to_eye = compass_dir(azimuth_deg, elevation_deg);
+        let forward = scale(to_eye, -1.0);
+        // Image right points at bearing azimuth + 270° (the camera faces azimuth + 180°);
+        // taken from the azimuth so a straight-down view is still defined.
+        let right = compass_dir(azimuth_deg + 270.0, 0.0);
+        let up = cross(forward, right);
+        // Distance at which every box corner c (relative to the centre) projects inside
+        // the image: |c·right| ≤ tan_x (d + c·forward), the same for up.
+        let dot = |a: [f64; 3], b: [f64; 3]| a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+        let mut dist = 1e-3;
+        for corner in 0..8 {
+            let c = [0, 1, 2].map(|k| size[k] * (f64::from((corner >> k) & 1) - 0.5));
+            let need_x = dot(c, right).abs() / tan_x - dot(c, forward);
+            let need_y = dot(c, up).abs() / tan_y - dot(c, forward);
+            dist = f64::max(dist, need_x.max(need_y));
+        }
+        let eye = [0, 1, 2].map(|k| centre[k] + 1.05 * dist * to_eye[k]);
+        Camera {
+            eye,
+            forward,
+            right: scale(right, tan_x),
+            up: scale(up, tan_y),
+            width,
+            height,
+        }
+    }
+
+    /// The primary ray through the centre of pixel (`px`, `py`), row 0 at the top;
+    /// `t` in `[0, ∞)`, direction not normalised.
+    pub fn ray(&self, px: u32, py: u32) -> Query<f32> {
+        let sx = 2.0 * (f64::from(px) + 0.5) / f64::from(self.width) - 1.0;
+        let sy = 1.0 - 2.0 * (f64::from(py) + 0.5) / f64::from(self.height);
+        let d = [0, 1, 2].map(|k| (self.forward[k] + sx * self.right[k] + sy * self.up[k]) as f32);
+        Query::from_arrays(self.eye.map(|v| v as f32), d, 0.0, f32::INFINITY)
+            .expect("camera rays are finite")
+    }
+
+    /// Every pixel's primary ray, row-major from the top row.
+    pub fn rays(&self) -> Vec<Query<f32>> {
+        (0..self.height)
+            .flat_map(|py| (0..self.width).map(move |px| self.ray(px, py)))
+            .collect()
+    }
+}
+
+/// What to render and how.
+#[derive(Clone, Copy, Debug)]
+pub struct RenderOptions {
+    /// Marching method, for primary and shadow rays.
+    pub method: Method,
+    /// Surface reconstruction.
+    pub surface: Surface,
+    /// Camera elevation, degrees.
+    pub elevation: f64,
+    /// Camera compass azimuth, degrees.
+    pub azimuth: f64,
+    /// Light (sun) elevation, degrees.
+    pub light_elevation: f64,
+    /// Light compass azimuth, degrees.
+    pub light_azimuth: f64,
+    /// Image width, pixels.
+    pub width: u32,
+    /// Image height, pixels.
+    pub height: u32,
+    /// Worker threads.
+    pub threads: usize,
+    /// Print a percentage of rows done on stderr.
+    pub progress: bool,
+}
+
+impl Default for RenderOptions {
+    fn default() -> Self {
+        RenderOptions {
+            method: Method::Exact,
+            surface: Surface::Triangles,
+            elevation: 35.0,
+            azimuth: 200.0,
+            light_elevation: 30.0,
+            light_azimuth: 315.0,
+            width: 1024,
+            height: 768,
+            threads: crate::default_threads(),
+            progress: false,
+        }
+    }
+}
+
+/// An RGB8 image, rows from the top.
+#[derive(Clone, Debug)]
+pub struct Image {
+    /// Width in pixels.
+    pub width: u32,
+    /// Height in pixels.
+    pub height: u32,
+    /// `width × height × 3` bytes.
+    pub rgb: Vec<u8>,
+}
+
+/// Counts and time of one render.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct RenderStats {
+    /// Primary rays traced (one per pixel).
+    pub primary: u64,
+    /// Primary rays that hit the surface.
+    pub hits: u64,
+    /// Shadow rays traced (hits facing the light).
+    pub shadow: u64,
+    /// Texture fetches of all rays.
+    pub fetches: u64,
+    /// Wall time of the whole render.
+    pub wall: Duration,
+}
+
+impl RenderStats {
+    /// A one-line summary with rays per second.
+    pub fn summary(&self) -> String {
+        let s = self.wall.as_secs_f64().max(1e-9);
+        let rate = |n: u64| n as f64 / s / 1e6;
+        format!(
+            "{:.3} s wall; primary {} rays ({:.2} Mrays/s, {} hits), shadow {} rays \
+             ({:.2} Mrays/s), total {:.2} Mrays/s; {:.1} fetches/ray",
+            s,
+            self.primary,
+            rate(self.primary),
+            self.hits,
+            self.shadow,
+            rate(self.shadow),
+            rate(self.primary + self.shadow),
+            self.fetches as f64 / (self.primary + self.shadow).max(1) as f64,
+        )
+    }
+}
+
+fn lerp3(a: [f64; 3], b: [f64; 3], f: f64) -> [f64; 3] {
+    [0, 1, 2].map(|k| a[k] + (b[k] - a[k]) * f.clamp(0.0, 1.0))
+}
+
+/// Albedo by normalised height `f` in [0, 1]: green, brown, snow.
+fn albedo(f: f64) -> [f64; 3] {
+    let (green, brown, snow) = ([0.30, 0.48, 0.22], [0.55, 0.44, 0.32], [0.93, 0.93, 0.96]);
+    if f < 0.6 {
+        lerp3(green, brown, f / 0.6)
+    } else {
+        lerp3(brown, snow, (f - 0.6) / 0.4)
+    }
+}
+
+/// The part of `q` at or above the plane `z = base`, or `None`.
+fn above_base(q: &Query<f32>, base: f32) -> Option<Query<f32>> {
+    let (o, d) = (q.origin(), q.dir());
+    let (mut t0, mut t1) = (q.t_min(), q.t_max());
+    let t = (base - o[2]) / d[2];
+    if d[2] < 0.0 {
+        t1 = t1.min(t);
+    } else if d[2] > 0.0 {
+        t0 = t0.max(t);
+    } else if o[2] < base {
+        return None;
+    }
+    Query::from_arrays(o, d, t0, t1).ok()
+}
+
+/// Renders the field: Lambert shading with a directional light, a shadow ray from
+/// every lit hit, a sky gradient for misses. Rows are shared out to the threads in
+/// bands.
+///
+/// The core treats everything under the surface as solid, down to −∞; the picture
+/// shows it as a slab whose base lies 15 % of the relief (at least 1) under the lowest
+/// sample, by clipping primary rays to the half-space above the base.
+pub fn render(hf: &HeightField, opts: &RenderOptions) -> (Image, RenderStats) {
+    let start = Instant::now();
+    let (zmin, zmax) = (f64::from(hf.min_height()), f64::from(hf.max_height()));
+    let base = zmin - f64::max(1.0, 0.15 * (zmax - zmin));
+    let (el, az) = (opts.elevation, opts.azimuth);
+    let cam = Camera::framing(hf, base, el, az, opts.width, opts.height);
+    let light = compass_dir(opts.light_azimuth, opts.light_elevation);
+    let light_f32 = light.map(|v| v as f32);
+    let (hits, shadow, fetches) = (AtomicU64::new(0), AtomicU64::new(0), AtomicU64::new(0));
+    let (rows_done, shown) = (AtomicUsize::new(0), AtomicUsize::new(0));
+    let row_bytes = opts.width as usize * 3;
+    let band = 4;
+    let mut rgb = vec![0u8; row_bytes * opts.height as usize];
+
+    let shade = |q: &Query<f32>, counts: &mut [u64; 3]| -> [f64; 3] {
+        let tr = above_base(q, base as f32).map(|q| opts.method.trace(hf, opts.surface, &q));
+        counts[2] += u64::from(tr.map_or(0, |t| t.fetches));
+        let Some(hit) = tr.and_then(|t| t.hit) else {
+            let d = q.dir();
+            let up = f64::from(d[2]) / f64::from(d[0].hypot(d[1]).hypot(d[2]));
+            return lerp3([0.78, 0.86, 0.95], [0.33, 0.52, 0.85], up);
+        };
+        counts[0] += 1;
+        let (p, n) = (hit.point.to_array(), hit.normal.to_array());
+        let colour = if hit.flags.contains(hfcast::Flags::SIDE) {
+            [0.42, 0.34, 0.26]
+        } else {
+            albedo((f64::from(p[2]) - zmin) / (zmax - zmin).max(1e-9))
+        };
+        let lambert = (0..3).map(|k| f64::from(n[k]) * light[k]).sum::<f64>();
+        let mut lit = 0.0;
+        if lambert > 0.0 {
+            // Start the shadow ray a little off the surface, along the normal.
+            let eps = 1e-3 * f32::max(1.0, p[2].abs());
+            let o = [0, 1, 2].map(|k| p[k] + eps * n[k]);
+            if let Ok(sq) = Query::from_arrays(o, light_f32, 0.0, f32::INFINITY) {
+                let st = opts.method.trace(hf, opts.surface, &sq);
+                counts[1] += 1;
+                counts[2] += u64::from(st.fetches);
+                if st.hit.is_none() {
+                    lit = lambert;
+                }
+            }
+        }
+        colour.map(|c| c * (0.22 + 0.78 * lit))
+    };
+
+    par_chunks(&mut rgb, row_bytes * band, opts.threads, |first, chunk| {
+        let y0 = first / row_bytes;
+        let mut counts = [0u64; 3];
+        for (r, row) in chunk.chunks_mut(row_bytes).enumerate() {
+            for (px, out) in row.chunks_mut(3).enumerate() {
+                let c = shade(&cam.ray(px as u32, (y0 + r) as u32), &mut counts);
+                for (o, v) in out.iter_mut().zip(c) {
+                    *o = (v.clamp(0.0, 1.0) * 255.0).round() as u8;
+                }
+            }
+        }
+        hits.fetch_add(counts[0], Ordering::Relaxed);
+        shadow.fetch_add(counts[1], Ordering::Relaxed);
+        fetches.fetch_add(counts[2], Ordering::Relaxed);
+        let done = rows_done.fetch_add(chunk.len() / row_bytes, Ordering::Relaxed)
+            + chunk.len() / row_bytes;
+        // Every 5 %.
+        let pct = done * 20 / opts.height.max(1) as usize * 5;
+        if opts.progress && shown.fetch_max(pct, Ordering::Relaxed) < pct {
+            eprint!("\rrender: {pct:3}%");
+        }
+    });
+    if opts.progress {
+        eprintln!();
+    }
+    let stats = RenderStats {
+        primary: u64::from(opts.width) * u64::from(opts.height),
+        hits: hits.into_inner(),
+        shadow: shadow.into_inner(),
+        fetches: fetches.into_inner(),
+        wall: start.elapsed(),
+    };
+    let image = Image {
+        width: opts.width,
+        height: opts.height,
+        rgb,
+    };
+    (image, stats)
+}
+
+/// Writes an RGB8 PNG, creating the parent folder if needed.
+pub fn write_png(path: impl AsRef<Path>, image: &Image) -> Result<(), Error> {
+    let path = path.as_ref();
+    let err = |e: &dyn std::fmt::Display| Error::at(path, e);
+    if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
+        std::fs::create_dir_all(dir).map_err(|e| err(&e))?;
+    }
+    let file = std::fs::File::create(path).map_err(|e| err(&e))?;
+    let mut enc = png::Encoder::new(BufWriter::new(file), image.width, image.height);
+    enc.set_color(png::ColorType::Rgb);
+    enc.set_depth(png::BitDepth::Eight);
+    let mut writer = enc.write_header().map_err(|e| err(&e))?;
+    writer.write_image_data(&image.rgb).map_err(|e| err(&e))?;
+    writer.finish().map_err(|e| err(&e))
+}
