@@ -123,7 +123,7 @@ pub(crate) fn step_of<R: Real>(d: R) -> i64 {
 
 /// Parameter of the next centerline crossing along one axis after cell `i`.
 #[inline]
-fn next_crossing<R: Real>(i: u32, step: i64, o: R, d: R) -> R {
+pub(crate) fn next_crossing<R: Real>(i: u32, step: i64, o: R, d: R) -> R {
     match step {
         1 => (R::from_u32(i + 1) - o) / d,
         -1 => (R::from_u32(i) - o) / d,

@@ -29,6 +29,7 @@ pub mod brute;
 pub mod dda;
 pub mod field;
 pub mod math;
+pub mod maxmip;
 pub mod ray;
 pub mod search;
 pub mod surface;
