@@ -206,20 +206,19 @@ pub fn trace<R: Real>(hf: &HeightField, surface: Surface, q: &Query<R>) -> Trace
         return Trace::MISS;
     };
     let (o, d) = (q.origin(), q.dir());
-    let (cells_x, cells_y) = (hf.width() - 1, hf.height() - 1);
+    // Per-axis state, index 0 = x, 1 = y.
+    let cells = [hf.width() - 1, hf.height() - 1];
     let p0 = q.at(span.t0);
-    let x0 = p0[0].clamp_to(R::ZERO, R::from_u32(cells_x));
-    let y0 = p0[1].clamp_to(R::ZERO, R::from_u32(cells_y));
-    let (mut ix, mut iy) = (cell_index(x0, d[0], cells_x), cell_index(y0, d[1], cells_y));
-    let (step_x, step_y) = (step_of(d[0]), step_of(d[1]));
-    let mut c: [R; 4] = corners(hf, ix, iy);
+    let start = [0, 1].map(|k| p0[k].clamp_to(R::ZERO, R::from_u32(cells[k])));
+    let mut cell = [0, 1].map(|k| cell_index(start[k], d[k], cells[k]));
+    let step = [step_of(d[0]), step_of(d[1])];
+    let mut c: [R; 4] = corners(hf, cell[0], cell[1]);
     let mut fetches = 4u32;
-    let (mut a, mut ca) = local_clearance(surface, c, [ix, iy], [x0, y0, p0[2]], [None; 2]);
-    let up = [R::ZERO, R::ZERO, R::ONE];
+    let (mut a, mut ca) = local_clearance(surface, c, cell, [start[0], start[1], p0[2]], [None; 2]);
 
     if ca <= R::ZERO {
         return Trace {
-            hit: Some(start_hit(surface, &span, c, [ix, iy], a, p0)),
+            hit: Some(start_hit(surface, &span, c, cell, a, p0)),
             fetches,
             clearance: start_clearance(&span.entry, ca),
             flags: Flags::default(),
@@ -228,19 +227,18 @@ pub fn trace<R: Real>(hf: &HeightField, surface: Surface, q: &Query<R>) -> Trace
 
     let mut clearance = ca;
     let mut ta = span.t0;
-    let mut wall = up;
-    let mut tx = next_crossing(ix, step_x, o[0], d[0]);
-    let mut ty = next_crossing(iy, step_y, o[1], d[1]);
-    loop {
-        let t_next = tx.min(ty);
-        let (tb, cross_x, cross_y) = if t_next < span.t1 {
-            (t_next.max(ta), tx <= t_next, ty <= t_next)
+    let mut wall = [R::ZERO, R::ZERO, R::ONE];
+    let mut t_cross = [0, 1].map(|k| next_crossing(cell[k], step[k], o[k], d[k]));
+    'walk: loop {
+        let t_next = t_cross[0].min(t_cross[1]);
+        let (tb, cross) = if t_next < span.t1 {
+            (t_next.max(ta), t_cross.map(|t| t <= t_next))
         } else {
-            (span.t1, false, false)
+            (span.t1, [false; 2])
         };
         // Clearance at the exit point; on a centerline, from that edge's two samples only.
-        let on = [cross_x.then_some(step_x > 0), cross_y.then_some(step_y > 0)];
-        let (b, cb) = local_clearance(surface, c, [ix, iy], q.at(tb), on);
+        let on = [0, 1].map(|k| cross[k].then_some(step[k] > 0));
+        let (b, cb) = local_clearance(surface, c, cell, q.at(tb), on);
         let seg = surface.segment_hit(c, a, b, ca, cb, wall);
         clearance = clearance.min(seg.clearance);
         if let Some((s, normal, flags)) = seg.hit {
@@ -249,15 +247,15 @@ pub fn trace<R: Real>(hf: &HeightField, surface: Surface, q: &Query<R>) -> Trace
             // as `f32` allows far from the origin, where `o + t · d` loses an ulp of `t`.
             let local = |k: usize| a[k] + s * (b[k] - a[k]);
             let point = [
-                R::from_u32(ix) + local(0),
-                R::from_u32(iy) + local(1),
+                R::from_u32(cell[0]) + local(0),
+                R::from_u32(cell[1]) + local(1),
                 local(2),
             ];
             return Trace {
                 hit: Some(Hit {
                     t,
                     point: R::v3(point),
-                    cell: [ix, iy],
+                    cell,
                     normal: R::v3(normal),
                     flags,
                 }),
@@ -266,36 +264,32 @@ pub fn trace<R: Real>(hf: &HeightField, surface: Surface, q: &Query<R>) -> Trace
                 flags: Flags::default(),
             };
         }
-        if !(cross_x || cross_y) {
+        if cross == [false; 2] {
             break;
         }
-        if cross_x {
-            let next = ix as i64 + step_x;
-            if next < 0 || next >= cells_x as i64 {
-                break;
-            }
-            ix = next as u32;
-            tx = next_crossing(ix, step_x, o[0], d[0]);
-            wall = [if step_x > 0 { -R::ONE } else { R::ONE }, R::ZERO, R::ZERO];
-        }
-        if cross_y {
-            let next = iy as i64 + step_y;
-            if next < 0 || next >= cells_y as i64 {
-                break;
-            }
-            iy = next as u32;
-            ty = next_crossing(iy, step_y, o[1], d[1]);
-            if !cross_x {
-                wall = [R::ZERO, if step_y > 0 { -R::ONE } else { R::ONE }, R::ZERO];
+        for k in 0..2 {
+            if cross[k] {
+                let next = cell[k] as i64 + step[k];
+                if next < 0 || next >= cells[k] as i64 {
+                    break 'walk;
+                }
+                cell[k] = next as u32;
+                t_cross[k] = next_crossing(cell[k], step[k], o[k], d[k]);
             }
         }
-        c = corners(hf, ix, iy);
+        // The face entered (x's when the ray passes exactly through a corner).
+        let k = usize::from(!cross[0]);
+        wall = [R::ZERO; 3];
+        wall[k] = if step[k] > 0 { -R::ONE } else { R::ONE };
+        c = corners(hf, cell[0], cell[1]);
         fetches += 4;
-        a = [
-            if cross_x { R::ONE - b[0] } else { b[0] },
-            if cross_y { R::ONE - b[1] } else { b[1] },
-            b[2],
-        ];
+        a = [0, 1, 2].map(|k| {
+            if k < 2 && cross[k] {
+                R::ONE - b[k]
+            } else {
+                b[k]
+            }
+        });
         ca = cb;
         ta = tb;
     }
