@@ -365,3 +365,44 @@ fn extreme_valid_queries_trace_cleanly() {
     assert!(hits > 100);
     assert_eq!(disagree, 0);
 }
+
+#[test]
+fn revalidating_a_changed_rectangle() {
+    let (w, h, stride) = (7u32, 5u32, 9usize);
+    let base = vec![1.0f32; stride * (h as usize - 1) + w as usize];
+    let before = HeightField::new(&base, w, h, stride).unwrap();
+    assert_eq!((before.min_height(), before.max_height()), (1.0, 1.0));
+    // Raise one sample and lower another inside [2, 5) x [1, 3).
+    let mut changed = base.clone();
+    changed[stride + 2] = 9.0;
+    changed[2 * stride + 4] = -3.0;
+    let after = before.revalidate_rect(&changed, 2, 1, 5, 3).unwrap();
+    assert_eq!((after.min_height(), after.max_height()), (-3.0, 9.0));
+    // Bounds only widen: restoring a sample keeps the old extremes (conservative).
+    let mut restored = changed.clone();
+    restored[stride + 2] = 1.0;
+    let again = after.revalidate_rect(&restored, 2, 1, 3, 2).unwrap();
+    assert_eq!((again.min_height(), again.max_height()), (-3.0, 9.0));
+    // A NaN inside the rectangle is found with its index.
+    let mut bad = restored.clone();
+    bad[2 * stride + 3] = f32::NAN;
+    assert_eq!(
+        again.revalidate_rect(&bad, 2, 1, 5, 3).unwrap_err(),
+        FieldError::NotFinite {
+            index: 2 * stride + 3
+        }
+    );
+    for (x0, y0, x1, y1) in [(2, 1, 2, 3), (3, 1, 2, 3), (0, 0, 8, 1), (0, 0, 1, 6)] {
+        assert_eq!(
+            again
+                .revalidate_rect(&restored, x0, y0, x1, y1)
+                .unwrap_err(),
+            FieldError::BadRect
+        );
+    }
+    assert!(matches!(
+        again.revalidate_rect(&restored[..10], 0, 0, 1, 1),
+        Err(FieldError::SliceTooShort { .. })
+    ));
+    println!("revalidate_rect: bounds widened, NaN index and bad rectangles reported");
+}
