@@ -31,6 +31,7 @@ pub mod field;
 pub mod math;
 pub mod maxmip;
 pub mod ray;
+pub mod safety;
 pub mod search;
 pub mod surface;
 

@@ -1,0 +1,276 @@
+//! Safety-distance benchmark: bake times (four classes; isotropic too) at 256², 512²,
+//! 1024² (downsamples of the Himalaya map, depth 0.1 × side) and on the 4096×2048
+//! world map; then fetches per ray (mean, p99, max) and rays per second, single
+//! thread, of the SD march against the naive exact DDA on the same camera rays
+//! (45° and 5° elevation), with wrong rays against the DDA. Medians of repetitions.
+//!
+//! `cargo run --release -p hfcast --example safety_bench [-- --size WxH --reps N]`
+//! (defaults 640x512, 5). Maps are read from `../shared/data` (or `$HFCAST_DATA`).
+
+use hfcast::safety::{self, Options, SafetyMap, Variant};
+use hfcast::{dda, HeightField, Query, Surface, Trace};
+use std::hint::black_box;
+use std::path::PathBuf;
+use std::time::Instant;
+
+fn median(mut v: Vec<f64>) -> f64 {
+    v.sort_by(f64::total_cmp);
+    v[v.len() / 2]
+}
+
+/// Wall-clock seconds of `f`, median of `reps` runs.
+fn wall(reps: usize, mut f: impl FnMut()) -> f64 {
+    median(
+        (0..reps)
+            .map(|_| {
+                let t = Instant::now();
+                f();
+                t.elapsed().as_secs_f64()
+            })
+            .collect(),
+    )
+}
+
+fn data_dir() -> PathBuf {
+    std::env::var_os("HFCAST_DATA").map_or_else(
+        || PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../shared/data"),
+        PathBuf::from,
+    )
+}
+
+/// A 16-bit PNG as raw values, width, height.
+fn load_png(name: &str) -> Option<(Vec<u16>, u32, u32)> {
+    let file = std::fs::File::open(data_dir().join(name)).ok()?;
+    let limits = png::Limits { bytes: 1 << 31 };
+    let mut reader = png::Decoder::new_with_limits(std::io::BufReader::new(file), limits)
+        .read_info()
+        .ok()?;
+    let mut buf = vec![0u8; reader.output_buffer_size()?];
+    let frame = reader.next_frame(&mut buf).ok()?;
+    assert_eq!(frame.bit_depth, png::BitDepth::Sixteen, "16-bit expected");
+    let v = buf[..frame.buffer_size()]
+        .chunks_exact(2)
+        .map(|b| u16::from_be_bytes([b[0], b[1]]))
+        .collect();
+    Some((v, frame.width, frame.height))
+}
+
+/// Every `step`-th sample of `raw` (`w` wide), as heights `v / 65535 × 0.1 · side`.
+fn downsample(raw: &[u16], w: u32, h: u32, step: u32) -> (Vec<f32>, u32, u32) {
+    let (nw, nh) = (w.div_ceil(step), h.div_ceil(step));
+    let depth = 0.1 * nw.max(nh) as f32;
+    let mut out = Vec::with_capacity((nw * nh) as usize);
+    for j in 0..nh {
+        for i in 0..nw {
+            out.push(raw[(j * step * w + i * step) as usize] as f32 / 65535.0 * depth);
+        }
+    }
+    (out, nw, nh)
+}
+
+/// Bakes with `threads` threads splitting the rows.
+fn bake_threads(
+    hf: &HeightField,
+    scratch: &mut [f32],
+    opts: Options,
+    out: &mut [u8],
+    threads: u32,
+) {
+    safety::prepare(hf, scratch).unwrap();
+    let scratch = &*scratch;
+    let row = hf.width() as usize * opts.variant.channels();
+    let band = hf.height().div_ceil(threads);
+    std::thread::scope(|s| {
+        for (k, chunk) in out.chunks_mut(band as usize * row).enumerate() {
+            let r0 = k as u32 * band;
+            let rows = r0..(r0 + band).min(hf.height());
+            s.spawn(move || safety::bake_rows(hf, scratch, rows, opts, chunk).unwrap());
+        }
+    });
+}
+
+/// Primary rays of a pinhole camera (40° vertical field of view) at `elevation`
+/// (degrees) and compass `azimuth`, looking at the centre of the field's box from just
+/// far enough that the box is in view.
+fn camera_rays(hf: &HeightField, elevation: f64, azimuth: f64, w: u32, h: u32) -> Vec<Query<f32>> {
+    let dir = |az: f64, el: f64| {
+        let (a, e) = (az.to_radians(), el.to_radians());
+        [e.cos() * a.sin(), -e.cos() * a.cos(), e.sin()]
+    };
+    let dot = |a: [f64; 3], b: [f64; 3]| a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+    let (zmin, zmax) = (hf.min_height() as f64, hf.max_height() as f64);
+    let size = [
+        (hf.width() - 1) as f64,
+        (hf.height() - 1) as f64,
+        zmax - zmin,
+    ];
+    let centre = [size[0] / 2.0, size[1] / 2.0, zmin + size[2] / 2.0];
+    let tan_y = 20f64.to_radians().tan();
+    let tan_x = tan_y * w as f64 / h as f64;
+    let to_eye = dir(azimuth, elevation);
+    let fwd = to_eye.map(|v| -v);
+    let right = dir(azimuth + 270.0, 0.0);
+    let up = [
+        fwd[1] * right[2] - fwd[2] * right[1],
+        fwd[2] * right[0] - fwd[0] * right[2],
+        fwd[0] * right[1] - fwd[1] * right[0],
+    ];
+    let mut dist = 1e-3f64;
+    for corner in 0..8 {
+        let c = [0, 1, 2].map(|k| size[k] * (f64::from((corner >> k) & 1) - 0.5));
+        let need_x = dot(c, right).abs() / tan_x - dot(c, fwd);
+        let need_y = dot(c, up).abs() / tan_y - dot(c, fwd);
+        dist = dist.max(need_x.max(need_y));
+    }
+    let eye = [0, 1, 2].map(|k| (centre[k] + 1.05 * dist * to_eye[k]) as f32);
+    let mut rays = Vec::with_capacity((w * h) as usize);
+    for py in 0..h {
+        for px in 0..w {
+            let sx = 2.0 * (px as f64 + 0.5) / w as f64 - 1.0;
+            let sy = 1.0 - 2.0 * (py as f64 + 0.5) / h as f64;
+            let d = [0, 1, 2].map(|k| (fwd[k] + sx * tan_x * right[k] + sy * tan_y * up[k]) as f32);
+            rays.push(Query::from_arrays(eye, d, 0.0, f32::INFINITY).unwrap());
+        }
+    }
+    rays
+}
+
+/// Fetches (mean, p99, max), ns per ray (median of `reps`) and the traces.
+fn run(
+    rays: &[Query<f32>],
+    reps: usize,
+    f: impl Fn(&Query<f32>) -> Trace<f32>,
+) -> (f64, u32, u32, f64, Vec<Trace<f32>>) {
+    let traces: Vec<Trace<f32>> = rays.iter().map(&f).collect();
+    let secs = wall(reps, || {
+        for q in rays {
+            black_box(f(black_box(q)));
+        }
+    });
+    let mut fetches: Vec<u32> = traces.iter().map(|t| t.fetches).collect();
+    fetches.sort_unstable();
+    let mean = fetches.iter().map(|&v| v as f64).sum::<f64>() / rays.len() as f64;
+    let p99 = fetches[(fetches.len() * 99 / 100).min(fetches.len() - 1)];
+    let max = *fetches.last().unwrap();
+    (mean, p99, max, secs * 1e9 / rays.len() as f64, traces)
+}
+
+fn main() {
+    let mut args = std::env::args().skip(1);
+    let (mut cam, mut reps) = ((640u32, 512u32), 5usize);
+    while let Some(a) = args.next() {
+        let v = args.next().expect("option value");
+        match a.as_str() {
+            "--size" => {
+                let (w, h) = v.split_once('x').expect("WxH");
+                cam = (w.parse().unwrap(), h.parse().unwrap());
+            }
+            "--reps" => reps = v.parse().unwrap(),
+            _ => panic!("unknown option {a}"),
+        }
+    }
+    let (raw, rw, rh) = load_png("dem_etopo5_himalaya_1024.png").expect("himalaya map");
+    let mut maps: Vec<(String, Vec<f32>, u32, u32)> = [4, 2, 1]
+        .into_iter()
+        .map(|s| {
+            let (v, w, h) = downsample(&raw, rw, rh, s);
+            (format!("himalaya {w}x{h}"), v, w, h)
+        })
+        .collect();
+    if let Some((raw, w, h)) = load_png("dem_etopo5_world_4096x2048.png") {
+        let (v, w, h) = downsample(&raw, w, h, 1);
+        maps.push((format!("world {w}x{h}"), v, w, h));
+    }
+
+    println!("## safety_bench: medians of {reps} repetitions (bake: wall clock)\n");
+    println!("| map | variant | bytes/texel | prepare ms | 1 thread ms | 2 threads ms | mean SD |");
+    println!("|---|---|---|---|---|---|---|");
+    for (name, v, w, h) in &maps {
+        let hf = HeightField::new(v, *w, *h, *w as usize).unwrap();
+        let mut scratch = vec![0f32; safety::scratch_len(*w, *h)];
+        let big = w * h > 2_000_000;
+        let r = if big { reps.min(2) } else { reps };
+        let tp = wall(r, || safety::prepare(&hf, &mut scratch).unwrap());
+        for variant in [Variant::Directional, Variant::Isotropic] {
+            let opts = Options {
+                variant,
+                ..Options::default()
+            };
+            let mut out = vec![0u8; safety::map_len(*w, *h, variant)];
+            let t1 = if big {
+                f64::NAN
+            } else {
+                wall(r, || bake_threads(&hf, &mut scratch, opts, &mut out, 1))
+            };
+            let t2 = wall(r, || bake_threads(&hf, &mut scratch, opts, &mut out, 2));
+            let mean = out.iter().map(|&v| v as f64).sum::<f64>() / out.len() as f64;
+            println!(
+                "| {name} | {variant:?} | {} | {:.1} | {:.0} | {:.0} | {mean:.1} |",
+                variant.channels(),
+                tp * 1e3,
+                t1 * 1e3,
+                t2 * 1e3
+            );
+        }
+    }
+
+    println!(
+        "\n| map | rays | method | fetches mean | p99 | max | ns/ray | Mrays/s | wrong vs dda |"
+    );
+    println!("|---|---|---|---|---|---|---|---|---|");
+    for (name, v, w, h) in maps.iter().skip(2) {
+        let hf = HeightField::new(v, *w, *h, *w as usize).unwrap();
+        let mut scratch = vec![0f32; safety::scratch_len(*w, *h)];
+        let dir_opts = Options::default();
+        let iso_opts = Options {
+            variant: Variant::Isotropic,
+            ..Options::default()
+        };
+        let mut dir = vec![0u8; safety::map_len(*w, *h, Variant::Directional)];
+        let mut iso = vec![0u8; safety::map_len(*w, *h, Variant::Isotropic)];
+        bake_threads(&hf, &mut scratch, dir_opts, &mut dir, 2);
+        bake_threads(&hf, &mut scratch, iso_opts, &mut iso, 2);
+        let dmap = SafetyMap::new(&hf, &dir, Variant::Directional).unwrap();
+        let imap = SafetyMap::new(&hf, &iso, Variant::Isotropic).unwrap();
+        for el in [45.0, 5.0] {
+            let rays = camera_rays(&hf, el, 200.0, cam.0, cam.1);
+            let label = format!("camera {}x{} {el}°", cam.0, cam.1);
+            let dda_r = run(&rays, reps.min(3), |q| {
+                dda::trace(&hf, Surface::Triangles, q)
+            });
+            let base = dda_r.3;
+            let rows = [
+                ("dda (naive exact)", dda_r),
+                (
+                    "SD directional",
+                    run(&rays, reps, |q| safety::trace(&dmap, &hf, q)),
+                ),
+                (
+                    "SD isotropic",
+                    run(&rays, reps, |q| safety::trace(&imap, &hf, q)),
+                ),
+            ];
+            let reference = &rows[0].1 .4;
+            for (method, r) in &rows {
+                let wrong = reference
+                    .iter()
+                    .zip(&r.4)
+                    .filter(|(a, b)| match (a.hit, b.hit) {
+                        (None, None) => false,
+                        (Some(a), Some(b)) => (a.point - b.point).length() > 1e-3,
+                        _ => true,
+                    })
+                    .count();
+                println!(
+                    "| {name} | {label} | {method} | {:.1} | {} | {} | {:.0} | {:.2} (×{:.1}) | {wrong} |",
+                    r.0,
+                    r.1,
+                    r.2,
+                    r.3,
+                    1e3 / r.3,
+                    base / r.3
+                );
+            }
+        }
+    }
+}

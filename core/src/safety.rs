@@ -1,0 +1,925 @@
+//! Safety distances (Baboud, Eisemann, Seidel, "Precomputed Safety Shapes for
+//! Efficient and Accurate Height-field Rendering", TVCG 2011, §5.2.2 and §6.1) for the
+//! triangle surface: the bake and the march side by side.
+//!
+//! **Texels and classes.** A ray of class x± ([`RayClass`]) crosses every centerline
+//! `x = m` once; where it crosses it at `y`, the texel is `(m, round(y))` and its
+//! *segment* is `x = m, y ∈ [n − ½, n + ½]`. Classes y± swap the axes.
+//!
+//! **Bake.** For each texel and class the safety distance `k` is the number of
+//! centerlines that any ray of the class, passing above the surface on the texel's
+//! segment, may skip without leaving the solid (crossing the surface upwards): there
+//! is no *limiting* triangle in the `k` columns of cells ahead of the segment. A
+//! triangle is limiting for a ray set when some ray of the set crosses its plane
+//! upwards inside it ([`RaySet`]). For all rays of a class ([`AllRays`]) that is:
+//! some point of the segment sees the triangle inside the ±45° quadrant and lies below
+//! the triangle's plane — tested exactly at three points (both ends of the part of the
+//! segment that sees the triangle, and the middle sample). Columns are scanned by
+//! increasing distance; strips of [`STRIP`] cells carry a conservative bound (highest
+//! corner, fastest rise of a plane towards the segment) that skips most cells.
+//!
+//! **March.** Like [`dda::trace`] up to the ray's first centerline of its main axis;
+//! then at each centerline `m`: fetch `k`, evaluate the clearance at `m + k` from the
+//! two samples on that centerline; above, jump; below, bisect on integer centerlines
+//! and finish with the exact cell test of [`dda::trace`] (at most two cells). `k = 0`
+//! (and clearances too small for rounding to be ruled out) walk one centerline cell by
+//! cell. Clearances at centerline crossings come from the edge's two samples only, as
+//! in [`dda::trace`], so hit or miss stays watertight; start, side and
+//! under-the-surface semantics and flags are those of [`dda::trace`].
+//!
+//! Exactness under rounding: a jump is taken only when the clearance exceeds a bound
+//! on the march's rounding error ([`Line::tol`]); the bake widens each segment by
+//! `1/16` texel, so that rounding of the crossing's coordinate cannot leave it.
+//!
+//! [`dda::trace`]: crate::dda::trace
+
+use core::fmt;
+use core::ops::Range;
+
+use crate::dda::{cell_index, clip, local_clearance, next_crossing, start_clearance, start_hit};
+use crate::dda::{step_of, Span};
+use crate::field::HeightField;
+use crate::math::Real;
+use crate::ray::{Flags, Hit, Query, RayClass, Trace};
+use crate::surface::{corners, triangle_planes, Surface};
+
+/// Cells per strip of the bake's bound (along the minor axis of a class).
+pub const STRIP: u32 = 8;
+
+/// How far (texels) the bake widens each segment beyond `[n − ½, n + ½]`.
+pub const SEG_PAD: f64 = 1.0 / 16.0;
+
+/// The four classes in channel order.
+pub const CLASSES: [RayClass; 4] = [
+    RayClass::XPos,
+    RayClass::XNeg,
+    RayClass::YPos,
+    RayClass::YNeg,
+];
+
+/// Main axis (0 = x, 1 = y) of a class.
+#[inline]
+fn axis_of(class: RayClass) -> usize {
+    match class {
+        RayClass::XPos | RayClass::XNeg => 0,
+        RayClass::YPos | RayClass::YNeg => 1,
+    }
+}
+
+/// Forward direction along the main axis of a class.
+#[inline]
+fn sign_of(class: RayClass) -> i64 {
+    match class {
+        RayClass::XPos | RayClass::YPos => 1,
+        RayClass::XNeg | RayClass::YNeg => -1,
+    }
+}
+
+/// Sample at main index `m`, minor index `n` of axis `ax`.
+#[inline]
+fn sample(hf: &HeightField, ax: usize, m: u32, n: u32) -> f32 {
+    if ax == 0 {
+        hf.at(m, n)
+    } else {
+        hf.at(n, m)
+    }
+}
+
+/// Samples along `[x, y]` of axis `ax` as `(main, minor)`.
+#[inline]
+fn extents(hf: &HeightField, ax: usize) -> (u32, u32) {
+    if ax == 0 {
+        (hf.width(), hf.height())
+    } else {
+        (hf.height(), hf.width())
+    }
+}
+
+/// How the baked distances are laid out.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Variant {
+    /// One byte per texel and class, texel-major: `data[(j·W + i)·4 + class]`.
+    Directional,
+    /// One byte per texel, the minimum over the four classes: `data[j·W + i]`.
+    Isotropic,
+}
+
+impl Variant {
+    /// Bytes per texel.
+    pub fn channels(self) -> usize {
+        match self {
+            Variant::Directional => 4,
+            Variant::Isotropic => 1,
+        }
+    }
+}
+
+/// What the bake computes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct Options {
+    /// Directional or isotropic.
+    pub variant: Variant,
+    /// Clamp every distance to at least 1 (the paper's "strictly positive" variant):
+    /// fewer fetches, **not exact** (rays may miss silhouettes).
+    pub positive: bool,
+    /// Largest distance stored (the scan stops there; smaller is conservative).
+    pub cap: u8,
+}
+
+impl Default for Options {
+    fn default() -> Self {
+        Options {
+            variant: Variant::Directional,
+            positive: false,
+            cap: u8::MAX,
+        }
+    }
+}
+
+/// Why a bake or a map was refused.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SafetyError {
+    /// The scratch slice is shorter than [`scratch_len`].
+    ScratchTooShort {
+        /// Elements needed.
+        needed: usize,
+    },
+    /// The output (or map) slice is too short.
+    OutputTooShort {
+        /// Bytes needed.
+        needed: usize,
+    },
+    /// The row range reaches past the field.
+    RowsOutOfRange,
+}
+
+impl fmt::Display for SafetyError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            SafetyError::ScratchTooShort { needed } => {
+                write!(f, "scratch too short: {needed} elements needed")
+            }
+            SafetyError::OutputTooShort { needed } => {
+                write!(f, "output too short: {needed} bytes needed")
+            }
+            SafetyError::RowsOutOfRange => write!(f, "row range reaches past the field"),
+        }
+    }
+}
+
+// ---------------------------------------------------------------------------------
+// Bake
+// ---------------------------------------------------------------------------------
+
+/// Strips per cell column (x classes) and per cell row (y classes).
+fn strips(hf: &HeightField) -> (usize, usize) {
+    let (cx, cy) = (hf.width() as usize - 1, hf.height() as usize - 1);
+    (cy.div_ceil(STRIP as usize), cx.div_ceil(STRIP as usize))
+}
+
+/// `f32` elements of the scratch that [`prepare`] fills and the bake reads: three per
+/// strip (highest corner, fastest rise towards the segment for the two classes of the
+/// strip's orientation).
+pub fn scratch_len(width: u32, height: u32) -> usize {
+    let (cx, cy) = (width.max(2) as usize - 1, height.max(2) as usize - 1);
+    let s = STRIP as usize;
+    3 * (cx * cy.div_ceil(s) + cy * cx.div_ceil(s))
+}
+
+/// Rounds up to `f32` (the bound must not shrink).
+#[inline]
+fn up(v: f64) -> f32 {
+    let r = v as f32;
+    if (r as f64) < v {
+        f32::from_bits(if r >= 0.0 {
+            r.to_bits() + 1
+        } else {
+            r.to_bits() - 1
+        })
+    } else {
+        r
+    }
+}
+
+/// Highest corner of a cell and, per class, the fastest rise of either of its planes
+/// going back towards a segment within the class's quadrant (`−g·main + |g·minor|`).
+fn cell_bound(hf: &HeightField, ci: u32, cj: u32) -> (f64, [f64; 4]) {
+    let c: [f64; 4] = corners(hf, ci, cj);
+    let top = c[0].max(c[1]).max(c[2]).max(c[3]);
+    let mut beta = [f64::NEG_INFINITY; 4];
+    for [_, gu, gv] in triangle_planes(c) {
+        let b = [-gu + gv.abs(), gu + gv.abs(), -gv + gu.abs(), gv + gu.abs()];
+        for k in 0..4 {
+            beta[k] = beta[k].max(b[k]);
+        }
+    }
+    (top, beta)
+}
+
+/// Fills the strip bounds the bake reads (`scratch_len(W, H)` elements). `O(cells)`.
+pub fn prepare(hf: &HeightField, scratch: &mut [f32]) -> Result<(), SafetyError> {
+    let needed = scratch_len(hf.width(), hf.height());
+    if scratch.len() < needed {
+        return Err(SafetyError::ScratchTooShort { needed });
+    }
+    let (cx, cy) = (hf.width() - 1, hf.height() - 1);
+    let (sx, sy) = strips(hf);
+    let (xs, ys) = scratch[..needed].split_at_mut(3 * cx as usize * sx);
+    xs.fill(f32::NEG_INFINITY);
+    ys.fill(f32::NEG_INFINITY);
+    let s = STRIP as usize;
+    for cj in 0..cy {
+        for ci in 0..cx {
+            let (top, beta) = cell_bound(hf, ci, cj);
+            let k = 3 * (ci as usize * sx + cj as usize / s);
+            let k2 = 3 * (cj as usize * sy + ci as usize / s);
+            for (slot, v) in [(k, top), (k + 1, beta[0]), (k + 2, beta[1])] {
+                xs[slot] = xs[slot].max(up(v));
+            }
+            for (slot, v) in [(k2, top), (k2 + 1, beta[2]), (k2 + 2, beta[3])] {
+                ys[slot] = ys[slot].max(up(v));
+            }
+        }
+    }
+    Ok(())
+}
+
+/// The surface over a texel's segment, in its class's frame: the minor coordinate `y`
+/// runs along the main-axis centerline `m`; the height there is `h` at `y = n`,
+/// linear with `slope[0]` below `n` and `slope[1]` above (the edge interpolation of
+/// the samples), over `[lo, hi]` (the segment widened by [`SEG_PAD`]).
+#[derive(Clone, Copy, Debug)]
+pub struct Sigma {
+    /// Main-axis centerline.
+    pub m: u32,
+    /// Minor index of the texel.
+    pub n: f64,
+    /// Height at `y = n`.
+    pub h: f64,
+    /// Slopes below and above `n`.
+    pub slope: [f64; 2],
+    /// Lower end of the widened segment.
+    pub lo: f64,
+    /// Upper end of the widened segment.
+    pub hi: f64,
+}
+
+impl Sigma {
+    /// Surface height on the segment at minor coordinate `y`.
+    #[inline]
+    pub fn height(&self, y: f64) -> f64 {
+        let s = if y < self.n {
+            self.slope[0]
+        } else {
+            self.slope[1]
+        };
+        self.h + s * (y - self.n)
+    }
+}
+
+/// One triangle of the surface, in the frame of a class and a texel: its vertices as
+/// `[distance ahead of the texel's centerline, minor coordinate]`, and its plane.
+#[derive(Clone, Copy, Debug)]
+pub struct Tri {
+    /// Vertices `[forward distance, minor coordinate]`.
+    pub verts: [[f64; 2]; 3],
+    /// Height of the plane on the texel's centerline at minor coordinate `at`.
+    pub base: f64,
+    /// Minor coordinate where the plane's height on the centerline is `base`.
+    pub at: f64,
+    /// Plane slope along the minor axis.
+    pub minor_slope: f64,
+    /// Plane slope along the class's forward direction.
+    pub forward_slope: f64,
+}
+
+impl Tri {
+    /// Height of the plane (extended) on the texel's centerline at minor coordinate `y`.
+    #[inline]
+    pub fn height_on_line(&self, y: f64) -> f64 {
+        self.base + self.minor_slope * (y - self.at)
+    }
+}
+
+/// A set of rays, as the bake sees it: which triangles limit the rays of the set that
+/// pass above a segment. A narrower set (exterior rays, a bounded downward angle) gives
+/// fewer limiting triangles and larger distances.
+pub trait RaySet {
+    /// `true` when some ray of the set, of the class the frame belongs to, passing
+    /// above `sigma`, may cross the plane of `tri` upwards inside `tri`. Must never
+    /// answer `false` wrongly; `true` wrongly only costs speed.
+    fn limiting(&self, sigma: &Sigma, tri: &Tri) -> bool;
+}
+
+/// Every ray of the class (any vertical angle, up or down).
+#[derive(Clone, Copy, Debug, Default)]
+pub struct AllRays;
+
+impl RaySet for AllRays {
+    #[inline]
+    fn limiting(&self, sigma: &Sigma, tri: &Tri) -> bool {
+        // A ray from P (above the segment) meets the triangle at Q iff Q lies in the
+        // quadrant ahead of P: |Q.minor − P.minor| ≤ Q.distance. The points of the
+        // segment that see the triangle form an interval (the triangle is convex).
+        let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
+        for [dist, y] in tri.verts {
+            lo = lo.min(y - dist);
+            hi = hi.max(y + dist);
+        }
+        let (lo, hi) = (lo.max(sigma.lo), hi.min(sigma.hi));
+        if lo > hi {
+            return false;
+        }
+        // The ray leaves the solid through the plane iff P is below the plane; P can be
+        // as low as the surface, so: the plane above the surface somewhere on [lo, hi].
+        // Both are linear on either side of n: ends and middle suffice.
+        let above = |y: f64| tri.height_on_line(y) > sigma.height(y);
+        above(lo) || above(hi) || (lo < sigma.n && sigma.n < hi && above(sigma.n))
+    }
+}
+
+/// The safety distance of texel `(i, j)` for `class` and the rays of `rays`: the first
+/// column of cells ahead that holds a limiting triangle, at most `cap` (also when the
+/// field ends first). `scratch` is what [`prepare`] filled.
+pub fn texel_distance<S: RaySet>(
+    hf: &HeightField,
+    scratch: &[f32],
+    rays: &S,
+    class: RayClass,
+    i: u32,
+    j: u32,
+    cap: u8,
+) -> u8 {
+    let ax = axis_of(class);
+    let sg = sign_of(class);
+    let (lm, ln) = extents(hf, ax);
+    let (m, n) = if ax == 0 { (i, j) } else { (j, i) };
+    let s = |k: u32| f64::from(sample(hf, ax, m, k));
+    let h = s(n);
+    let below = if n > 0 { h - s(n - 1) } else { s(n + 1) - h };
+    let above = if n + 1 < ln {
+        s(n + 1) - h
+    } else {
+        h - s(n - 1)
+    };
+    let nf = f64::from(n);
+    let sigma = Sigma {
+        m,
+        n: nf,
+        h,
+        slope: [below, above],
+        lo: nf - 0.5 - SEG_PAD,
+        hi: nf + 0.5 + SEG_PAD,
+    };
+    let floor = sigma.height(sigma.lo).min(h).min(sigma.height(sigma.hi));
+    let (sx, sy) = strips(hf);
+    let (per_line, base, chan) = if ax == 0 {
+        (sx, 0, if sg > 0 { 1 } else { 2 })
+    } else {
+        let xlen = 3 * (hf.width() as usize - 1) * sx;
+        (sy, xlen, if sg > 0 { 1 } else { 2 })
+    };
+    let st = STRIP as i64;
+    for k in 0..u32::from(cap) {
+        let cm = if sg > 0 {
+            i64::from(m) + i64::from(k)
+        } else {
+            i64::from(m) - i64::from(k) - 1
+        };
+        if cm < 0 || cm > i64::from(lm) - 2 {
+            return cap;
+        }
+        let cm = cm as u32;
+        let kf = f64::from(k);
+        let l0 = (i64::from(n) - i64::from(k) - 2).max(0);
+        let l1 = (i64::from(n) + i64::from(k) + 1).min(i64::from(ln) - 2);
+        let row = base + 3 * cm as usize * per_line;
+        for b in l0 / st..=l1 / st {
+            let at = row + 3 * b as usize;
+            let (top, beta) = (f64::from(scratch[at]), f64::from(scratch[at + chan]));
+            if top + (beta * kf).max(beta * (kf + 1.0)) <= floor {
+                continue;
+            }
+            for l in l0.max(b * st)..=l1.min(b * st + st - 1) {
+                if cell_limits(hf, rays, &sigma, ax, sg, cm, l as u32) {
+                    return k as u8;
+                }
+            }
+        }
+    }
+    cap
+}
+
+/// `true` when either triangle of cell `(cm, l)` (main, minor indices) limits.
+fn cell_limits<S: RaySet>(
+    hf: &HeightField,
+    rays: &S,
+    sigma: &Sigma,
+    ax: usize,
+    sg: i64,
+    cm: u32,
+    l: u32,
+) -> bool {
+    let (ci, cj) = if ax == 0 { (cm, l) } else { (l, cm) };
+    let c: [f64; 4] = corners(hf, ci, cj);
+    let planes = triangle_planes(c);
+    // Vertices (u, v) of the two triangles, as in `triangle_planes`.
+    let verts: [[[u8; 2]; 3]; 2] = if c[0] + c[3] <= c[1] + c[2] {
+        [[[0, 0], [1, 0], [1, 1]], [[0, 0], [0, 1], [1, 1]]]
+    } else {
+        [[[0, 0], [1, 0], [0, 1]], [[1, 0], [0, 1], [1, 1]]]
+    };
+    let (mf, lf, cmf) = (f64::from(sigma.m), f64::from(l), f64::from(cm));
+    let sgf = sg as f64;
+    for (p, vs) in planes.iter().zip(verts) {
+        let [h0, gu, gv] = *p;
+        let (g_main, g_minor) = if ax == 0 { (gu, gv) } else { (gv, gu) };
+        let tri = Tri {
+            verts: vs.map(|[u, v]| {
+                let (a, b) = if ax == 0 { (u, v) } else { (v, u) };
+                [sgf * (cmf + f64::from(a) - mf), lf + f64::from(b)]
+            }),
+            base: h0 + g_main * (mf - cmf),
+            at: lf,
+            minor_slope: g_minor,
+            forward_slope: sgf * g_main,
+        };
+        if rays.limiting(sigma, &tri) {
+            return true;
+        }
+    }
+    false
+}
+
+/// Bakes texel rows `rows` into `out` (`rows.len() · W · channels` bytes, the rows'
+/// part of the whole map), for every ray ([`AllRays`]). Rows are independent: any job
+/// system may split a bake into row ranges sharing one `scratch` from [`prepare`].
+pub fn bake_rows(
+    hf: &HeightField,
+    scratch: &[f32],
+    rows: Range<u32>,
+    opts: Options,
+    out: &mut [u8],
+) -> Result<(), SafetyError> {
+    bake_rows_with(hf, scratch, &AllRays, rows, opts, out)
+}
+
+/// [`bake_rows`] for any ray set.
+pub fn bake_rows_with<S: RaySet>(
+    hf: &HeightField,
+    scratch: &[f32],
+    rays: &S,
+    rows: Range<u32>,
+    opts: Options,
+    out: &mut [u8],
+) -> Result<(), SafetyError> {
+    let needed = scratch_len(hf.width(), hf.height());
+    if scratch.len() < needed {
+        return Err(SafetyError::ScratchTooShort { needed });
+    }
+    if rows.end > hf.height() || rows.start > rows.end {
+        return Err(SafetyError::RowsOutOfRange);
+    }
+    let (w, ch) = (hf.width() as usize, opts.variant.channels());
+    let needed = (rows.end - rows.start) as usize * w * ch;
+    if out.len() < needed {
+        return Err(SafetyError::OutputTooShort { needed });
+    }
+    let floor = u8::from(opts.positive);
+    for (r, j) in rows.enumerate() {
+        for i in 0..hf.width() {
+            let px = &mut out[(r * w + i as usize) * ch..][..ch];
+            match opts.variant {
+                Variant::Directional => {
+                    for (v, class) in px.iter_mut().zip(CLASSES) {
+                        *v = texel_distance(hf, scratch, rays, class, i, j, opts.cap).max(floor);
+                    }
+                }
+                Variant::Isotropic => {
+                    let mut v = opts.cap;
+                    for class in CLASSES {
+                        if v == 0 {
+                            break;
+                        }
+                        v = texel_distance(hf, scratch, rays, class, i, j, v);
+                    }
+                    px[0] = v.max(floor);
+                }
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Bytes of a whole map: `W · H · channels`.
+pub fn map_len(width: u32, height: u32, variant: Variant) -> usize {
+    width as usize * height as usize * variant.channels()
+}
+
+/// Prepares `scratch` and bakes the whole map into `out` ([`map_len`] bytes), one thread.
+pub fn bake(
+    hf: &HeightField,
+    scratch: &mut [f32],
+    opts: Options,
+    out: &mut [u8],
+) -> Result<(), SafetyError> {
+    prepare(hf, scratch)?;
+    bake_rows(hf, scratch, 0..hf.height(), opts, out)
+}
+
+// ---------------------------------------------------------------------------------
+// March
+// ---------------------------------------------------------------------------------
+
+/// Baked safety distances over caller-owned bytes.
+#[derive(Clone, Copy, Debug)]
+pub struct SafetyMap<'a> {
+    data: &'a [u8],
+    width: u32,
+    variant: Variant,
+}
+
+impl<'a> SafetyMap<'a> {
+    /// Views `data` ([`map_len`] bytes, as [`bake`] wrote it) for `hf`.
+    pub fn new(hf: &HeightField, data: &'a [u8], variant: Variant) -> Result<Self, SafetyError> {
+        let needed = map_len(hf.width(), hf.height(), variant);
+        if data.len() < needed {
+            return Err(SafetyError::OutputTooShort { needed });
+        }
+        Ok(SafetyMap {
+            data,
+            width: hf.width(),
+            variant,
+        })
+    }
+
+    /// The layout.
+    pub fn variant(&self) -> Variant {
+        self.variant
+    }
+
+    /// Safety distance of texel `(i, j)` for `class`.
+    #[inline]
+    pub fn distance(&self, class: RayClass, i: u32, j: u32) -> u8 {
+        let t = j as usize * self.width as usize + i as usize;
+        match self.variant {
+            Variant::Directional => self.data[t * 4 + class as usize],
+            Variant::Isotropic => self.data[t],
+        }
+    }
+}
+
+/// The ray where it crosses the main-axis centerline `m`.
+#[derive(Clone, Copy, Debug)]
+pub struct Line<R: Real> {
+    /// The centerline.
+    pub m: u32,
+    /// Ray parameter of the crossing.
+    pub t: R,
+    /// Crossing point (main coordinate exactly `m`).
+    pub p: [R; 3],
+    /// Clearance from the two samples of the centerline edge under the point.
+    pub c: R,
+    /// Minor index of that edge's first sample.
+    pub edge: u32,
+    /// Minor index of the texel whose segment holds the point.
+    pub texel: u32,
+    /// Bound on the rounding error of `c` and of the minor coordinate (scaled): a
+    /// jump is taken only when `c > tol`; `+∞` when the minor coordinate itself may be
+    /// off by more than [`SEG_PAD`].
+    pub tol: R,
+}
+
+/// Evaluates the crossing of centerline `m` of axis `ax`; two fetches.
+fn line_at<R: Real>(hf: &HeightField, q: &Query<R>, ax: usize, m: u32) -> Line<R> {
+    let (o, d) = (q.origin(), q.dir());
+    let mi = 1 - ax;
+    let (_, ln) = extents(hf, ax);
+    let t = (R::from_u32(m) - o[ax]) / d[ax];
+    let mut p = q.at(t);
+    p[ax] = R::from_u32(m);
+    let y = p[mi].clamp_to(R::ZERO, R::from_u32(ln - 1));
+    let edge = (y.floor().to_f64() as u32).min(ln - 2);
+    let v = y - R::from_u32(edge);
+    let h0 = R::from_f32(sample(hf, ax, m, edge));
+    let h1 = R::from_f32(sample(hf, ax, m, edge + 1));
+    let c = p[2] - R::lerp(h0, h1, v);
+    let texel = if v < R::HALF { edge } else { edge + 1 };
+    let ys = R::ONE + o[mi].abs() + p[mi].abs();
+    let zs = R::ONE + o[2].abs() + p[2].abs() + h0.abs() + (h1 - h0).abs() * ys;
+    let rel = (R::from_f32(32.0) * R::EPSILON).max(R::from_f64(1.0 / (1u64 << 30) as f64));
+    let tol = if R::from_f32(8.0) * R::EPSILON * ys > R::from_f64(SEG_PAD) {
+        R::INFINITY
+    } else {
+        rel * zs
+    };
+    Line {
+        m,
+        t,
+        p,
+        c,
+        edge,
+        texel,
+        tol,
+    }
+}
+
+/// What one stretch of cell-by-cell walking came to.
+enum Step<R: Real> {
+    /// The exact hit.
+    Hit(Hit<R>),
+    /// Crossed a main-axis centerline above the surface; the walk stands in the next cell.
+    Line(Line<R>),
+    /// Left the span or the field without a hit.
+    End,
+}
+
+/// State of the march: the query, and the cell walk of [`dda::trace`](crate::dda::trace).
+struct March<'a, R: Real> {
+    hf: &'a HeightField<'a>,
+    q: &'a Query<R>,
+    span: Span<R>,
+    ax: usize,
+    step: [i64; 2],
+    cells: [u32; 2],
+    ic: [u32; 2],
+    c: [R; 4],
+    stale: bool,
+    a: [R; 3],
+    ca: R,
+    ta: R,
+    wall: [R; 3],
+    tn: [R; 2],
+    fetches: u32,
+    clearance: R,
+}
+
+impl<R: Real> March<'_, R> {
+    /// A centerline evaluation, counted.
+    fn line(&mut self, m: u32) -> Line<R> {
+        self.fetches += 2;
+        let l = line_at(self.hf, self.q, self.ax, m);
+        if l.c > R::ZERO {
+            self.clearance = self.clearance.min(l.c);
+        }
+        l
+    }
+
+    /// Normal of a wall facing the ray on `axis`.
+    fn wall_of(&self, axis: usize) -> [R; 3] {
+        let mut n = [R::ZERO; 3];
+        n[axis] = if self.step[axis] > 0 { -R::ONE } else { R::ONE };
+        n
+    }
+
+    /// Puts the walk just past the crossing `l` (above the surface).
+    fn enter(&mut self, l: &Line<R>) {
+        let (ax, mi) = (self.ax, 1 - self.ax);
+        let (o, d) = (self.q.origin(), self.q.dir());
+        self.ic[ax] = if self.step[ax] > 0 { l.m } else { l.m - 1 };
+        let y = l.p[mi].clamp_to(R::ZERO, R::from_u32(self.cells[mi]));
+        self.ic[mi] = cell_index(y, d[mi], self.cells[mi]);
+        self.a[ax] = if self.step[ax] > 0 { R::ZERO } else { R::ONE };
+        self.a[mi] = (l.p[mi] - R::from_u32(self.ic[mi])).clamp_to(R::ZERO, R::ONE);
+        self.a[2] = l.p[2];
+        self.ca = l.c;
+        self.ta = l.t;
+        self.wall = self.wall_of(ax);
+        for k in 0..2 {
+            self.tn[k] = next_crossing(self.ic[k], self.step[k], o[k], d[k]);
+        }
+        self.stale = true;
+    }
+
+    /// Walks cell by cell, as [`dda::trace`](crate::dda::trace), up to the next
+    /// main-axis centerline, the hit, or the end.
+    fn walk(&mut self) -> Step<R> {
+        let (ax, mi) = (self.ax, 1 - self.ax);
+        let (o, d) = (self.q.origin(), self.q.dir());
+        loop {
+            if self.stale {
+                self.c = corners(self.hf, self.ic[0], self.ic[1]);
+                self.fetches += 4;
+                self.stale = false;
+            }
+            let t_next = self.tn[0].min(self.tn[1]);
+            let (tb, cross) = if t_next < self.span.t1 {
+                (
+                    t_next.max(self.ta),
+                    [self.tn[0] <= t_next, self.tn[1] <= t_next],
+                )
+            } else {
+                (self.span.t1, [false; 2])
+            };
+            let on = [
+                cross[0].then_some(self.step[0] > 0),
+                cross[1].then_some(self.step[1] > 0),
+            ];
+            let p = self.q.at(tb);
+            let (b, mut cb) = local_clearance(Surface::Triangles, self.c, self.ic, p, on);
+            let mut line = None;
+            if cross[ax] {
+                // The clearance the jumps use at this centerline (same samples, same
+                // arithmetic), so walking and jumping agree.
+                let m = if self.step[ax] > 0 {
+                    self.ic[ax] + 1
+                } else {
+                    self.ic[ax]
+                };
+                let l = line_at(self.hf, self.q, ax, m);
+                if l.edge != self.ic[mi] {
+                    self.fetches += 2;
+                }
+                cb = l.c;
+                line = Some(l);
+            }
+            let seg = Surface::Triangles.segment_hit(self.c, self.a, b, self.ca, cb, self.wall);
+            self.clearance = self.clearance.min(seg.clearance);
+            if let Some((s, normal, flags)) = seg.hit {
+                let (a, ic) = (self.a, self.ic);
+                let local = |k: usize| a[k] + s * (b[k] - a[k]);
+                let point = [
+                    R::from_u32(ic[0]) + local(0),
+                    R::from_u32(ic[1]) + local(1),
+                    local(2),
+                ];
+                return Step::Hit(Hit {
+                    t: self.ta + s * (tb - self.ta),
+                    point: R::v3(point),
+                    cell: ic,
+                    normal: R::v3(normal),
+                    flags,
+                });
+            }
+            if !(cross[0] || cross[1]) {
+                return Step::End;
+            }
+            for k in 0..2 {
+                if cross[k] {
+                    let next = i64::from(self.ic[k]) + self.step[k];
+                    if next < 0 || next >= i64::from(self.cells[k]) {
+                        return Step::End;
+                    }
+                    self.ic[k] = next as u32;
+                    self.tn[k] = next_crossing(self.ic[k], self.step[k], o[k], d[k]);
+                }
+            }
+            self.wall = self.wall_of(if cross[0] { 0 } else { 1 });
+            self.a = [
+                if cross[0] { R::ONE - b[0] } else { b[0] },
+                if cross[1] { R::ONE - b[1] } else { b[1] },
+                b[2],
+            ];
+            self.ca = cb;
+            self.ta = tb;
+            self.stale = true;
+            if let Some(l) = line {
+                return Step::Line(l);
+            }
+        }
+    }
+
+    /// The answer once the march is over.
+    fn done(&self, hit: Option<Hit<R>>, flags: Flags) -> Trace<R> {
+        Trace {
+            hit,
+            fetches: self.fetches,
+            clearance: self.clearance,
+            flags,
+        }
+    }
+}
+
+/// Last main-axis centerline the ray crosses strictly before the end of the span
+/// (`None` when there is none), computed with the crossing formula of the walk.
+fn last_line<R: Real>(hf: &HeightField, q: &Query<R>, ax: usize, sg: i64, t1: R) -> Option<u32> {
+    let (o, d) = (q.origin(), q.dir());
+    let (lm, _) = extents(hf, ax);
+    let t_of = |m: i64| (R::from_u32(m as u32) - o[ax]) / d[ax];
+    let inside = |m: i64| m >= 0 && m < i64::from(lm);
+    let x1 = (o[ax] + t1 * d[ax]).clamp_to(R::ZERO, R::from_u32(lm - 1));
+    let mut m = x1.floor().to_f64() as i64 + i64::from(sg < 0 && x1.floor() != x1);
+    while inside(m) && t_of(m) >= t1 {
+        m -= sg;
+    }
+    while inside(m + sg) && t_of(m + sg) < t1 {
+        m += sg;
+    }
+    inside(m).then_some(m as u32)
+}
+
+/// Traces `q` on the triangle surface with the safety distances of `map` (baked for
+/// `hf`). Exact: the same hit as [`dda::trace`](crate::dda::trace) with
+/// [`Surface::Triangles`], up to rounding on rays that graze the surface.
+///
+/// Cost: one fetch per distance read, two per centerline clearance, four per cell
+/// walked. [`Trace::clearance`] is the smallest clearance at the crossings evaluated
+/// (not the whole ray's). The march takes at most one step per centerline; a step
+/// bound guards it ([`Flags::BUDGET_EXHAUSTED`], never expected).
+pub fn trace<R: Real>(map: &SafetyMap, hf: &HeightField, q: &Query<R>) -> Trace<R> {
+    let Some(span) = clip(hf, q) else {
+        return Trace::MISS;
+    };
+    let (o, d) = (q.origin(), q.dir());
+    let class = RayClass::of(d[0], d[1]);
+    let ax = axis_of(class);
+    let cells = [hf.width() - 1, hf.height() - 1];
+    let p0 = q.at(span.t0);
+    let x0 = p0[0].clamp_to(R::ZERO, R::from_u32(cells[0]));
+    let y0 = p0[1].clamp_to(R::ZERO, R::from_u32(cells[1]));
+    let step = [step_of(d[0]), step_of(d[1])];
+    let ic = [
+        cell_index(x0, d[0], cells[0]),
+        cell_index(y0, d[1], cells[1]),
+    ];
+    let c: [R; 4] = corners(hf, ic[0], ic[1]);
+    let (a, ca) = local_clearance(Surface::Triangles, c, ic, [x0, y0, p0[2]], [None; 2]);
+    if ca <= R::ZERO {
+        return Trace {
+            hit: Some(start_hit(Surface::Triangles, &span, c, ic, a, p0)),
+            fetches: 4,
+            clearance: start_clearance(&span.entry, ca),
+            flags: Flags::default(),
+        };
+    }
+    let mut mr = March {
+        hf,
+        q,
+        span,
+        ax,
+        step,
+        cells,
+        ic,
+        c,
+        stale: false,
+        a,
+        ca,
+        ta: span.t0,
+        wall: [R::ZERO, R::ZERO, R::ONE],
+        tn: [
+            next_crossing(ic[0], step[0], o[0], d[0]),
+            next_crossing(ic[1], step[1], o[1], d[1]),
+        ],
+        fetches: 4,
+        clearance: ca,
+    };
+    let sg = step[ax];
+    let last = if sg == 0 {
+        None
+    } else {
+        last_line(hf, q, ax, sg, span.t1)
+    };
+    let mut budget = extents(hf, ax).0 + 8;
+    let mut st = mr.walk();
+    loop {
+        let l = match st {
+            Step::Hit(h) => return mr.done(Some(h), Flags::default()),
+            Step::End => return mr.done(None, Flags::default()),
+            Step::Line(l) => l,
+        };
+        if budget == 0 {
+            return mr.done(None, Flags::BUDGET_EXHAUSTED);
+        }
+        budget -= 1;
+        let Some(last) = last.filter(|&e| e != l.m) else {
+            st = mr.walk();
+            continue;
+        };
+        let k = if l.c > l.tol {
+            mr.fetches += 1;
+            let (i, j) = if ax == 0 {
+                (l.m, l.texel)
+            } else {
+                (l.texel, l.m)
+            };
+            u32::from(map.distance(class, i, j))
+        } else {
+            0
+        };
+        if k == 0 {
+            st = mr.walk();
+            continue;
+        }
+        let room = (i64::from(last) - i64::from(l.m)).unsigned_abs() as u32;
+        let target = (i64::from(l.m) + sg * i64::from(k.min(room))) as u32;
+        let lt = mr.line(target);
+        if lt.c > R::ZERO {
+            mr.enter(&lt);
+            st = Step::Line(lt);
+            continue;
+        }
+        // Below at the target, above at `m`, and no exit in between: bisect.
+        let (mut lo, mut hi) = (l, target);
+        while (i64::from(hi) - i64::from(lo.m)).abs() > 1 {
+            let mid = ((i64::from(hi) + i64::from(lo.m)) / 2) as u32;
+            let lm = mr.line(mid);
+            if lm.c > R::ZERO {
+                lo = lm;
+            } else {
+                hi = mid;
+            }
+        }
+        mr.enter(&lo);
+        st = mr.walk();
+    }
+}
