@@ -4,9 +4,14 @@
 //! thread, of the SD march against the naive exact DDA on the same camera rays
 //! (45° and 5° elevation), with wrong rays against the DDA. Medians of repetitions.
 //!
+//! Then the same for the cylinder–cone maps (exact and N-buffer slopes): bake times
+//! and the march on the same rays, plus random rays inside the box (any direction).
+//!
 //! `cargo run --release -p hfcast --example safety_bench [-- --size WxH --reps N]`
-//! (defaults 640x512, 5). Maps are read from `../shared/data` (or `$HFCAST_DATA`).
+//! (defaults 640x512, 5; `--maps K` keeps the first K maps, `--cc-only 1` skips the
+//! SD bake table). Maps are read from `../shared/data` (or `$HFCAST_DATA`).
 
+use hfcast::safety::cc::{self, CcMap, CcOptions, Slope};
 use hfcast::safety::{self, Options, SafetyMap, Variant};
 use hfcast::{dda, HeightField, Query, Surface, Trace};
 use std::hint::black_box;
@@ -89,6 +94,62 @@ fn bake_threads(
     });
 }
 
+/// Bakes a cylinder–cone map with `threads` threads (both scratches prepared first,
+/// one thread); returns (prepare seconds, bake seconds).
+fn bake_cc_threads(
+    hf: &HeightField,
+    scratch: &mut [f32],
+    nb: &mut [f32],
+    opts: CcOptions,
+    out: &mut [u8],
+    threads: u32,
+) -> (f64, f64) {
+    let t = Instant::now();
+    safety::prepare(hf, scratch).unwrap();
+    cc::prepare_nbuffer(hf, opts.cap, nb).unwrap();
+    let tp = t.elapsed().as_secs_f64();
+    let (scratch, nb) = (&*scratch, &*nb);
+    let row = hf.width() as usize * cc::BYTES_PER_TEXEL;
+    let band = hf.height().div_ceil(threads);
+    let t = Instant::now();
+    std::thread::scope(|s| {
+        for (k, chunk) in out.chunks_mut(band as usize * row).enumerate() {
+            let r0 = k as u32 * band;
+            let rows = r0..(r0 + band).min(hf.height());
+            s.spawn(move || cc::bake_rows(hf, scratch, nb, rows, opts, chunk).unwrap());
+        }
+    });
+    (tp, t.elapsed().as_secs_f64())
+}
+
+/// `n` random rays: origins uniform in the field's box, directions uniform on the
+/// sphere (upward ones included).
+fn random_rays(hf: &HeightField, n: usize, seed: u64) -> Vec<Query<f32>> {
+    let mut x = seed.wrapping_mul(0x9e37_79b9_7f4a_7c15) | 1;
+    let mut next = move || {
+        x ^= x << 13;
+        x ^= x >> 7;
+        x ^= x << 17;
+        (x >> 11) as f64 / (1u64 << 53) as f64
+    };
+    let (zmin, zmax) = (hf.min_height() as f64, hf.max_height() as f64);
+    (0..n)
+        .map(|_| {
+            let o = [
+                next() * (hf.width() - 1) as f64,
+                next() * (hf.height() - 1) as f64,
+                zmin + next() * (zmax - zmin),
+            ];
+            let z = 2.0 * next() - 1.0;
+            let a = next() * std::f64::consts::TAU;
+            let s = (1.0 - z * z).sqrt();
+            let d = [s * a.cos(), s * a.sin(), z];
+            Query::from_arrays(o.map(|v| v as f32), d.map(|v| v as f32), 0.0, f32::INFINITY)
+                .unwrap()
+        })
+        .collect()
+}
+
 /// Primary rays of a pinhole camera (40° vertical field of view) at `elevation`
 /// (degrees) and compass `azimuth`, looking at the centre of the field's box from just
 /// far enough that the box is in view.
@@ -158,6 +219,7 @@ fn run(
 fn main() {
     let mut args = std::env::args().skip(1);
     let (mut cam, mut reps) = ((640u32, 512u32), 5usize);
+    let (mut nmaps, mut cc_only) = (4usize, false);
     while let Some(a) = args.next() {
         let v = args.next().expect("option value");
         match a.as_str() {
@@ -166,6 +228,8 @@ fn main() {
                 cam = (w.parse().unwrap(), h.parse().unwrap());
             }
             "--reps" => reps = v.parse().unwrap(),
+            "--maps" => nmaps = v.parse().unwrap(),
+            "--cc-only" => cc_only = v == "1",
             _ => panic!("unknown option {a}"),
         }
     }
@@ -177,15 +241,18 @@ fn main() {
             (format!("himalaya {w}x{h}"), v, w, h)
         })
         .collect();
-    if let Some((raw, w, h)) = load_png("dem_etopo5_world_4096x2048.png") {
-        let (v, w, h) = downsample(&raw, w, h, 1);
-        maps.push((format!("world {w}x{h}"), v, w, h));
+    if nmaps > 3 {
+        if let Some((raw, w, h)) = load_png("dem_etopo5_world_4096x2048.png") {
+            let (v, w, h) = downsample(&raw, w, h, 1);
+            maps.push((format!("world {w}x{h}"), v, w, h));
+        }
     }
+    maps.truncate(nmaps);
 
     println!("## safety_bench: medians of {reps} repetitions (bake: wall clock)\n");
     println!("| map | variant | bytes/texel | prepare ms | 1 thread ms | 2 threads ms | mean SD |");
     println!("|---|---|---|---|---|---|---|");
-    for (name, v, w, h) in &maps {
+    for (name, v, w, h) in maps.iter().filter(|_| !cc_only) {
         let hf = HeightField::new(v, *w, *h, *w as usize).unwrap();
         let mut scratch = vec![0f32; safety::scratch_len(*w, *h)];
         let big = w * h > 2_000_000;
@@ -214,6 +281,43 @@ fn main() {
         }
     }
 
+    let cap = CcOptions::default().cap;
+    println!("\n### Cylinder–cone bake (cap {cap}; includes the SD radius; 2 threads)\n");
+    println!("| map | slope | bytes/texel | prepare ms | 2 threads ms | cone share | mean r |");
+    println!("|---|---|---|---|---|---|---|");
+    for (name, v, w, h) in &maps {
+        let hf = HeightField::new(v, *w, *h, *w as usize).unwrap();
+        let mut scratch = vec![0f32; safety::scratch_len(*w, *h)];
+        let mut nb = vec![0f32; cc::nbuffer_len(*w, *h, cap)];
+        let mut out = vec![0u8; cc::map_len(*w, *h)];
+        let r = if w * h > 2_000_000 { 1 } else { reps.min(3) };
+        for slope in [Slope::Exact, Slope::NBuffer] {
+            let opts = CcOptions { slope, cap };
+            let mut times = Vec::new();
+            for _ in 0..r {
+                times.push(bake_cc_threads(
+                    &hf,
+                    &mut scratch,
+                    &mut nb,
+                    opts,
+                    &mut out,
+                    2,
+                ));
+            }
+            let tp = median(times.iter().map(|t| t.0).collect());
+            let tb = median(times.iter().map(|t| t.1).collect());
+            let cones = out.chunks(4).filter(|b| b[1] != cc::NO_CONE).count();
+            let mean_r = out.chunks(4).map(|b| b[0] as f64).sum::<f64>() / (out.len() / 4) as f64;
+            println!(
+                "| {name} | {slope:?} | {} | {:.0} | {:.0} | {:.2} | {mean_r:.2} |",
+                cc::BYTES_PER_TEXEL,
+                tp * 1e3,
+                tb * 1e3,
+                cones as f64 / (out.len() / 4) as f64
+            );
+        }
+    }
+
     println!(
         "\n| map | rays | method | fetches mean | p99 | max | ns/ray | Mrays/s | wrong vs dda |"
     );
@@ -232,9 +336,34 @@ fn main() {
         bake_threads(&hf, &mut scratch, iso_opts, &mut iso, 2);
         let dmap = SafetyMap::new(&hf, &dir, Variant::Directional).unwrap();
         let imap = SafetyMap::new(&hf, &iso, Variant::Isotropic).unwrap();
-        for el in [45.0, 5.0] {
-            let rays = camera_rays(&hf, el, 200.0, cam.0, cam.1);
-            let label = format!("camera {}x{} {el}°", cam.0, cam.1);
+        let mut nb = vec![0f32; cc::nbuffer_len(*w, *h, cap)];
+        let mut cce = vec![0u8; cc::map_len(*w, *h)];
+        let mut ccn = vec![0u8; cc::map_len(*w, *h)];
+        let exact = CcOptions {
+            slope: Slope::Exact,
+            cap,
+        };
+        let nbuf = CcOptions {
+            slope: Slope::NBuffer,
+            cap,
+        };
+        bake_cc_threads(&hf, &mut scratch, &mut nb, exact, &mut cce, 2);
+        bake_cc_threads(&hf, &mut scratch, &mut nb, nbuf, &mut ccn, 2);
+        let emap = CcMap::new(&hf, &cce, cap).unwrap();
+        let nmap = CcMap::new(&hf, &ccn, cap).unwrap();
+        let n_random = (cam.0 * cam.1) as usize / 4;
+        for el in [45.0, 5.0, -1.0] {
+            let (rays, label) = if el < 0.0 {
+                (
+                    random_rays(&hf, n_random, 7),
+                    format!("random {n_random} (inside box, any direction)"),
+                )
+            } else {
+                (
+                    camera_rays(&hf, el, 200.0, cam.0, cam.1),
+                    format!("camera {}x{} {el}°", cam.0, cam.1),
+                )
+            };
             let dda_r = run(&rays, reps.min(3), |q| {
                 dda::trace(&hf, Surface::Triangles, q)
             });
@@ -248,6 +377,14 @@ fn main() {
                 (
                     "SD isotropic",
                     run(&rays, reps, |q| safety::trace(&imap, &hf, q)),
+                ),
+                (
+                    "CC exact slope",
+                    run(&rays, reps, |q| cc::trace(&emap, &hf, q)),
+                ),
+                (
+                    "CC N-buffer slope",
+                    run(&rays, reps, |q| cc::trace(&nmap, &hf, q)),
                 ),
             ];
             let reference = &rows[0].1 .4;

@@ -26,11 +26,14 @@ extern crate std;
 
 #[cfg(feature = "alloc")]
 pub mod brute;
+pub mod cone;
 pub mod dda;
 pub mod field;
 pub mod math;
 pub mod maxmip;
+pub mod qdm;
 pub mod ray;
+pub mod relaxed;
 pub mod safety;
 pub mod search;
 pub mod surface;

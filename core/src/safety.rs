@@ -31,6 +31,9 @@
 //! on the march's rounding error ([`Line::tol`]); the bake widens each segment by
 //! `1/16` texel, so that rounding of the crossing's coordinate cannot leave it.
 //!
+//! The cylinder–cone shapes of §6.3 (a cone above the cylinder, closed-form steps,
+//! packed for GPUs) are in [`cc`]; they share this module's bake of `k` and its march.
+//!
 //! [`dda::trace`]: crate::dda::trace
 
 use core::fmt;
@@ -42,6 +45,8 @@ use crate::field::HeightField;
 use crate::math::Real;
 use crate::ray::{Flags, Hit, Query, RayClass, Trace};
 use crate::surface::{corners, triangle_planes, Surface};
+
+pub mod cc;
 
 /// Cells per strip of the bake's bound (along the minor axis of a class).
 pub const STRIP: u32 = 8;
@@ -338,6 +343,28 @@ impl RaySet for AllRays {
     }
 }
 
+/// The surface over the segment of texel `(m, n)` (main, minor indices) of axis `ax`.
+pub(crate) fn sigma_of(hf: &HeightField, ax: usize, m: u32, n: u32) -> Sigma {
+    let (_, ln) = extents(hf, ax);
+    let s = |k: u32| f64::from(sample(hf, ax, m, k));
+    let h = s(n);
+    let below = if n > 0 { h - s(n - 1) } else { s(n + 1) - h };
+    let above = if n + 1 < ln {
+        s(n + 1) - h
+    } else {
+        h - s(n - 1)
+    };
+    let nf = f64::from(n);
+    Sigma {
+        m,
+        n: nf,
+        h,
+        slope: [below, above],
+        lo: nf - 0.5 - SEG_PAD,
+        hi: nf + 0.5 + SEG_PAD,
+    }
+}
+
 /// The safety distance of texel `(i, j)` for `class` and the rays of `rays`: the first
 /// column of cells ahead that holds a limiting triangle, at most `cap` (also when the
 /// field ends first). `scratch` is what [`prepare`] filled.
@@ -354,24 +381,11 @@ pub fn texel_distance<S: RaySet>(
     let sg = sign_of(class);
     let (lm, ln) = extents(hf, ax);
     let (m, n) = if ax == 0 { (i, j) } else { (j, i) };
-    let s = |k: u32| f64::from(sample(hf, ax, m, k));
-    let h = s(n);
-    let below = if n > 0 { h - s(n - 1) } else { s(n + 1) - h };
-    let above = if n + 1 < ln {
-        s(n + 1) - h
-    } else {
-        h - s(n - 1)
-    };
-    let nf = f64::from(n);
-    let sigma = Sigma {
-        m,
-        n: nf,
-        h,
-        slope: [below, above],
-        lo: nf - 0.5 - SEG_PAD,
-        hi: nf + 0.5 + SEG_PAD,
-    };
-    let floor = sigma.height(sigma.lo).min(h).min(sigma.height(sigma.hi));
+    let sigma = sigma_of(hf, ax, m, n);
+    let floor = sigma
+        .height(sigma.lo)
+        .min(sigma.h)
+        .min(sigma.height(sigma.hi));
     let (sx, sy) = strips(hf);
     let (per_line, base, chan) = if ax == 0 {
         (sx, 0, if sg > 0 { 1 } else { 2 })
@@ -420,6 +434,20 @@ fn cell_limits<S: RaySet>(
     cm: u32,
     l: u32,
 ) -> bool {
+    cell_tris(hf, sigma, ax, sg, cm, l)
+        .iter()
+        .any(|t| rays.limiting(sigma, t))
+}
+
+/// The two triangles of cell `(cm, l)` (main, minor indices) in the frame of `sigma`.
+pub(crate) fn cell_tris(
+    hf: &HeightField,
+    sigma: &Sigma,
+    ax: usize,
+    sg: i64,
+    cm: u32,
+    l: u32,
+) -> [Tri; 2] {
     let (ci, cj) = if ax == 0 { (cm, l) } else { (l, cm) };
     let c: [f64; 4] = corners(hf, ci, cj);
     let planes = triangle_planes(c);
@@ -431,11 +459,11 @@ fn cell_limits<S: RaySet>(
     };
     let (mf, lf, cmf) = (f64::from(sigma.m), f64::from(l), f64::from(cm));
     let sgf = sg as f64;
-    for (p, vs) in planes.iter().zip(verts) {
-        let [h0, gu, gv] = *p;
+    [0, 1].map(|k| {
+        let [h0, gu, gv] = planes[k];
         let (g_main, g_minor) = if ax == 0 { (gu, gv) } else { (gv, gu) };
-        let tri = Tri {
-            verts: vs.map(|[u, v]| {
+        Tri {
+            verts: verts[k].map(|[u, v]| {
                 let (a, b) = if ax == 0 { (u, v) } else { (v, u) };
                 [sgf * (cmf + f64::from(a) - mf), lf + f64::from(b)]
             }),
@@ -443,12 +471,8 @@ fn cell_limits<S: RaySet>(
             at: lf,
             minor_slope: g_minor,
             forward_slope: sgf * g_main,
-        };
-        if rays.limiting(sigma, &tri) {
-            return true;
         }
-    }
-    false
+    })
 }
 
 /// Bakes texel rows `rows` into `out` (`rows.len() · W · channels` bytes, the rows'
@@ -817,6 +841,17 @@ fn last_line<R: Real>(hf: &HeightField, q: &Query<R>, ax: usize, sg: i64, t1: R)
 /// (not the whole ray's). The march takes at most one step per centerline; a step
 /// bound guards it ([`Flags::BUDGET_EXHAUSTED`], never expected).
 pub fn trace<R: Real>(map: &SafetyMap, hf: &HeightField, q: &Query<R>) -> Trace<R> {
+    march(hf, q, |_, class, i, j| u32::from(map.distance(class, i, j)))
+}
+
+/// The march shared by the safety-shape methods: `jump(line, class, i, j)` reads the
+/// baked data of texel `(i, j)` (one fetch, counted here) and returns how many
+/// centerlines the ray crossing `line` above that texel's segment may skip.
+pub(crate) fn march<R: Real>(
+    hf: &HeightField,
+    q: &Query<R>,
+    jump: impl Fn(&Line<R>, RayClass, u32, u32) -> u32,
+) -> Trace<R> {
     let Some(span) = clip(hf, q) else {
         return Trace::MISS;
     };
@@ -892,7 +927,7 @@ pub fn trace<R: Real>(map: &SafetyMap, hf: &HeightField, q: &Query<R>) -> Trace<
             } else {
                 (l.texel, l.m)
             };
-            u32::from(map.distance(class, i, j))
+            jump(&l, class, i, j)
         } else {
             0
         };

@@ -6,6 +6,7 @@
 mod common;
 
 use common::{eps_f32, fractal_field, random_ray, small_field, Field, RayKind, Rng, Tally};
+use hfcast::safety::cc::{self, CcMap, CcOptions, Slope};
 use hfcast::safety::{self, Options, SafetyMap, Variant, CLASSES};
 use hfcast::{dda, Flags, Query, RayClass, Real, Surface, Trace};
 
@@ -152,12 +153,33 @@ fn run_case<R: Real>(
     specs: &[common::RaySpec],
     to_q: impl Fn(&common::RaySpec) -> Query<R>,
 ) -> Tally {
+    run_with(name, field, specs, to_q, |q| {
+        safety::trace(map, &field.hf(), q)
+    })
+}
+
+fn bake_cc(field: &Field, opts: CcOptions) -> Vec<u8> {
+    let hf = field.hf();
+    let mut scratch = vec![0f32; safety::scratch_len(field.w, field.h)];
+    let mut nb = vec![0f32; cc::nbuffer_len(field.w, field.h, opts.cap)];
+    let mut out = vec![0u8; cc::map_len(field.w, field.h)];
+    cc::bake(&hf, &mut scratch, &mut nb, opts, &mut out).unwrap();
+    out
+}
+
+fn run_with<R: Real>(
+    name: &str,
+    field: &Field,
+    specs: &[common::RaySpec],
+    to_q: impl Fn(&common::RaySpec) -> Query<R>,
+    tracer: impl Fn(&Query<R>) -> Trace<R>,
+) -> Tally {
     let hf = field.hf();
     let zs = field.z_scale();
     let mut t = Tally::new(name);
     for s in specs {
         let q = to_q(s);
-        let got = safety::trace(map, &hf, &q);
+        let got = tracer(&q);
         assert!(
             !got.flags.contains(Flags::BUDGET_EXHAUSTED),
             "{name}: budget"
@@ -207,6 +229,32 @@ fn zero_wrong_rays() {
                 &map,
                 &specs,
                 |s| s.q64(),
+            );
+            for t in [&t32, &t64] {
+                wrong += t.wrong;
+                t.report(&mut out);
+            }
+        }
+        for slope in [Slope::Exact, Slope::NBuffer] {
+            let opts = CcOptions {
+                slope,
+                ..CcOptions::default()
+            };
+            let data = bake_cc(&field, opts);
+            let map = CcMap::new(&hf, &data, opts.cap).unwrap();
+            let t32 = run_with(
+                &format!("{name} CC {slope:?} f32"),
+                &field,
+                &specs,
+                |s| s.q32(),
+                |q| cc::trace(&map, &hf, q),
+            );
+            let t64 = run_with(
+                &format!("{name} CC {slope:?} f64"),
+                &field,
+                &specs,
+                |s| s.q64(),
+                |q| cc::trace(&map, &hf, q),
             );
             for t in [&t32, &t64] {
                 wrong += t.wrong;
@@ -417,5 +465,193 @@ fn row_ranges_match_whole_bake() {
     );
     for (t, v) in iso.iter().enumerate() {
         assert_eq!(*v, *dir[t * 4..t * 4 + 4].iter().min().unwrap());
+    }
+}
+
+/// The cylinder–cone check: for random texels and every class, rays from the segment
+/// above the texel (many above the cone's base), rising or falling, marched the step
+/// the decoded shape allows (`max(r, floor((p_z − z_c)/(s_c − s_d)))`, the cap when
+/// `s_d ≥ s_c`), checked with the exact clearance; the shape is `inflate`d by lowering
+/// `z_c` by `inflate.0 ×` the relief and `s_c` by `inflate.1`. Returns (rays, violations).
+fn check_cc_bake(
+    field: &Field,
+    data: &[u8],
+    cap: u8,
+    inflate: (f64, f64),
+    rng: &mut Rng,
+) -> (u64, u64) {
+    let hf = field.hf();
+    let map = CcMap::new(&hf, data, cap).unwrap();
+    let (w, h) = (field.w, field.h);
+    let zs = field.z_scale();
+    let (zlo, zhi) = field.range();
+    let relief = (zhi - zlo).max(1e-3);
+    let (mut tried, mut bad) = (0, 0);
+    for _ in 0..50 {
+        let (i, j) = (rng.below(w as usize) as u32, rng.below(h as usize) as u32);
+        for class in CLASSES {
+            let shape = map.shape(class, i, j);
+            if !shape.zc.is_finite() {
+                continue;
+            }
+            let zc = shape.zc - inflate.0 * relief;
+            let sc = shape.sc - inflate.1;
+            let (ax, sg) = match class {
+                RayClass::XPos => (0, 1.0),
+                RayClass::XNeg => (0, -1.0),
+                RayClass::YPos => (1, 1.0),
+                RayClass::YNeg => (1, -1.0),
+            };
+            let (m, n) = if ax == 0 { (i, j) } else { (j, i) };
+            let lm = if ax == 0 { w } else { h } as f64;
+            let ln = if ax == 0 { h } else { w } as f64;
+            for r in 0..40 {
+                let y = match r % 5 {
+                    0 => n as f64 - 0.5,
+                    1 => n as f64 + 0.5,
+                    _ => n as f64 + rng.range(-0.5, 0.5),
+                }
+                .clamp(0.0, ln - 1.0);
+                let mut p = [0.0; 3];
+                p[ax] = m as f64;
+                p[1 - ax] = y;
+                let ground = TRI.height_at(&hf, p[0], p[1]);
+                p[2] = match r % 4 {
+                    0 => ground + rng.range(0.0, 0.05) * relief,
+                    _ => ground.max(zc) + rng.range(0.0, 0.6) * relief * rng.f64(),
+                };
+                let sd = match r % 6 {
+                    0 => rng.range(0.0, 1.5),
+                    1 => -rng.range(0.0, 0.05),
+                    _ => -rng.range(0.0, 3.0) * rng.f64(),
+                };
+                let slope = match r % 3 {
+                    0 => rng.sign(),
+                    _ => rng.range(-1.0, 1.0),
+                };
+                let cone = if p[2] <= zc {
+                    0
+                } else if sd >= sc {
+                    u32::from(cap)
+                } else {
+                    (((p[2] - zc) / (sc - sd)).floor()).min(f64::from(cap)) as u32
+                };
+                let k = cone.max(shape.r);
+                if k == 0 {
+                    continue;
+                }
+                let mut dir = [0.0, 0.0, sd];
+                dir[ax] = sg;
+                dir[1 - ax] = slope;
+                let q = Query::from_arrays(p, dir, 0.0, f64::INFINITY).unwrap();
+                let end_main = m as f64 + sg * k as f64;
+                let mut t_end = k as f64;
+                if end_main < 0.0 || end_main > lm - 1.0 {
+                    t_end = if sg > 0.0 {
+                        lm - 1.0 - m as f64
+                    } else {
+                        m as f64
+                    };
+                }
+                if slope != 0.0 {
+                    let lim = if slope > 0.0 { ln - 1.0 } else { 0.0 };
+                    t_end = t_end.min((lim - y) / slope);
+                }
+                if t_end <= 0.0 {
+                    continue;
+                }
+                tried += 1;
+                if leaves_solid(field, &q, t_end, 1e-9 * zs) {
+                    bad += 1;
+                }
+            }
+        }
+    }
+    (tried, bad)
+}
+
+#[test]
+fn cc_bake_checked_independently() {
+    let mut rng = Rng::new(19);
+    let mut inflated_bad = 0;
+    for (name, field) in fields() {
+        for slope in [Slope::Exact, Slope::NBuffer] {
+            let opts = CcOptions {
+                slope,
+                ..CcOptions::default()
+            };
+            let data = bake_cc(&field, opts);
+            let (tried, bad) = check_cc_bake(&field, &data, opts.cap, (0.0, 0.0), &mut rng);
+            let (itried, ibad) = check_cc_bake(&field, &data, opts.cap, (0.05, 0.3), &mut rng);
+            println!(
+                "{name:<36} CC {slope:?} bake check: rays {tried:>7} leaving the solid {bad}   \
+                 (inflated: rays {itried:>7} leaving {ibad})"
+            );
+            assert_eq!(
+                bad, 0,
+                "{name} {slope:?}: a ray inside its shape leaves the solid"
+            );
+            inflated_bad += ibad;
+        }
+    }
+    assert!(
+        inflated_bad > 0,
+        "the check never fails, even on an inflated shape"
+    );
+}
+
+#[test]
+fn cc_rows_and_packing() {
+    let mut rng = Rng::new(5);
+    let field = fractal_field(&mut rng, 23, 17, 25, 5.0);
+    let hf = field.hf();
+    for slope in [Slope::Exact, Slope::NBuffer] {
+        let opts = CcOptions { slope, cap: 20 };
+        let whole = bake_cc(&field, opts);
+        let mut scratch = vec![0f32; safety::scratch_len(23, 17)];
+        let mut nb = vec![0f32; cc::nbuffer_len(23, 17, opts.cap)];
+        safety::prepare(&hf, &mut scratch).unwrap();
+        cc::prepare_nbuffer(&hf, opts.cap, &mut nb).unwrap();
+        let mut parts = vec![0u8; whole.len()];
+        let row = 23 * cc::BYTES_PER_TEXEL;
+        for r in [0..4u32, 4..11, 11..17] {
+            let out = &mut parts[r.start as usize * row..r.end as usize * row];
+            cc::bake_rows(&hf, &scratch, &nb, r, opts, out).unwrap();
+        }
+        assert_eq!(whole, parts);
+        // r equals the SD bake; the N-buffer slope is never below the exact one.
+        let sd = bake(&field, Options::default());
+        let exact = bake_cc(
+            &field,
+            CcOptions {
+                slope: Slope::Exact,
+                cap: 20,
+            },
+        );
+        for t in 0..(23 * 17) as usize {
+            for c in 0..4 {
+                let b = &whole[(t * 4 + c) * 4..][..4];
+                assert_eq!(b[0], sd[t * 4 + c]);
+                let e = &exact[(t * 4 + c) * 4..][..4];
+                if slope == Slope::NBuffer && e[1] != cc::NO_CONE && b[1] != cc::NO_CONE {
+                    assert!(cc::decode_slope(b[1]) >= cc::decode_slope(e[1]));
+                    assert_eq!(b[2..4], e[2..4]);
+                }
+            }
+        }
+    }
+    // Conservative rounding of the codes.
+    for k in 0..20_000 {
+        let s = -9.0 + k as f64 * 0.00089;
+        let c = cc::encode_slope(s);
+        assert!(cc::decode_slope(c) >= s, "slope {s}");
+        if c != cc::NO_CONE && c > 0 {
+            assert!(cc::decode_slope(c - 1) < s || s < cc::S_MIN);
+        }
+    }
+    for k in 0..1000 {
+        let z = field.range().0 + (field.range().1 - field.range().0) * k as f64 / 999.0;
+        let q = cc::encode_base(&hf, z).unwrap();
+        assert!(cc::decode_base(&hf, q) >= z);
     }
 }

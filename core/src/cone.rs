@@ -1,0 +1,606 @@
+//! Cone step mapping (Dummer 2006), made conservative for the continuous triangle
+//! surface (the concern of Bán et al., "Robust cone step mapping", EGSR 2024): the bake
+//! and the march side by side, plus the machinery [`crate::qdm`] and [`crate::relaxed`]
+//! share (the pyramid-bounded search of the bake, the step-then-cell-test march).
+//!
+//! **Texels.** One texel per cell (i, j) (the unit square `[i, i+1] × [j, j+1]`), two
+//! channels `[top, ratio]` ([`CHANNELS`]): `top` is the cell's highest corner (the apex
+//! height) and `ratio` the cone's horizontal/vertical opening. The cone's apex may sit
+//! anywhere in the cell's footprint, not only at its centre: the empty region is
+//! `z ≥ top + dist(q, cell) / ratio`, where `dist` is the horizontal distance from `q`
+//! to the square. So a ray point anywhere above the cell's top may step inside the cone
+//! with its apex right under it (plain cone maps, built for texel centres, are not
+//! conservative under interpolation).
+//!
+//! **Bake.** `ratio(C) = min over cells D, corners v of D with h(v) > top(C)` of a lower
+//! bound of `dist(q, C) / (h(q) − top(C))` over D: on each triangle of D the height is
+//! linear, and for D in C's row or column band the distance is linear (`L`, exact), so
+//! `L / (h − top)` (linear-fractional) is smallest at a corner. For diagonal D the
+//! distance to C's nearest corner P is bounded below by `u_k · (q − P)` for the nine
+//! unit vectors `u_k` of the quadrant ([`DIRS`]); each is linear, so
+//! `max_k min_v u_k·(v − P) / (h(v) − top)` is a lower bound — within `cos(π/32)` of
+//! the exact cone (rounded down to `f32`). The search visits the max pyramid of
+//! [`crate::maxmip`] from the top, nearest nodes first, and skips a node whose bound
+//! `d_lb / (max − top)` cannot lower the ratio found so far ([`bnb`]); the same
+//! directional bound on the node's box distance keeps it a true lower bound of every
+//! leaf below, so the result equals the brute force [`bake_brute`] (Θ(N⁴), the test
+//! oracle) bit for bit. Rows of the map bake independently ([`bake_rows`]).
+//!
+//! **March** ([`trace`]). At the ray point, fetch the texel of the cell under it (one
+//! fetch). Above `top`: step to where the ray leaves the cone, shortened by a rounding
+//! margin — the step never passes the first intersection — unless that step stays in
+//! the cell (near a wall cone steps shrink geometrically). At or below `top`, or for
+//! such a short step: the exact
+//! cell test of [`crate::dda::trace`] (four corner fetches; clearances at centerline
+//! crossings from the edge's two samples, shared by neighbours), which either finds
+//! the exact hit or moves to the next cell. Every iteration (cone step or cell test)
+//! counts against `max_iter`; when it runs out the trace returns the current point as
+//! its guess, flagged [`Flags::BUDGET_EXHAUSTED`].
+
+// `!(x > 0)` is meant: it is true for NaN too, which must not step.
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
+
+use core::fmt;
+use core::ops::Range;
+
+use crate::dda::{cell_index, clip, local_clearance, next_crossing, start_hit, step_of};
+use crate::field::HeightField;
+use crate::math::Real;
+use crate::maxmip::{self, MaxMip};
+use crate::ray::{Flags, Hit, Query, Trace};
+use crate::surface::{corners, Surface};
+
+const TRI: Surface = Surface::Triangles;
+
+/// Channels per texel: `[top, ratio]`.
+pub const CHANNELS: usize = 2;
+
+/// Largest stored ratio (a cell whose top no other surface point exceeds).
+pub const RATIO_MAX: f32 = 1048576.0;
+
+/// The nine unit vectors `(cos θ_k, sin θ_k)`, `θ_k = k · π/16`, of the diagonal bound
+/// (exact at both ends, so a zero gap gives the exact axis distance).
+pub const DIRS: [(f64, f64); 9] = [
+    (1.0, 0.0),
+    (0.980_785_280_403_230_4, 0.195_090_322_016_128_26),
+    (0.923_879_532_511_286_7, 0.382_683_432_365_089_8),
+    (0.831_469_612_302_545_2, 0.555_570_233_019_602_2),
+    (
+        core::f64::consts::FRAC_1_SQRT_2,
+        core::f64::consts::FRAC_1_SQRT_2,
+    ),
+    (0.555_570_233_019_602_2, 0.831_469_612_302_545_2),
+    (0.382_683_432_365_089_8, 0.923_879_532_511_286_7),
+    (0.195_090_322_016_128_26, 0.980_785_280_403_230_4),
+    (0.0, 1.0),
+];
+
+/// Why a bake or a map view was refused.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum BakeError {
+    /// A slice is shorter than needed.
+    TooShort {
+        /// Elements needed.
+        needed: usize,
+        /// Elements given.
+        given: usize,
+    },
+    /// `rows` leaves the map.
+    BadRows,
+}
+
+impl fmt::Display for BakeError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            BakeError::TooShort { needed, given } => {
+                write!(f, "slice too short: {given} given, {needed} needed")
+            }
+            BakeError::BadRows => write!(f, "row range leaves the map"),
+        }
+    }
+}
+
+/// Checks `len ≥ needed`.
+pub(crate) fn check(needed: usize, given: usize) -> Result<(), BakeError> {
+    if given < needed {
+        Err(BakeError::TooShort { needed, given })
+    } else {
+        Ok(())
+    }
+}
+
+/// Cells of a `width × height` field.
+#[inline]
+pub(crate) fn cell_count(width: u32, height: u32) -> usize {
+    (width as usize - 1) * (height as usize - 1)
+}
+
+/// Length of a cone map for a `width × height` field.
+pub fn map_len(width: u32, height: u32) -> usize {
+    CHANNELS * cell_count(width, height)
+}
+
+/// Length of the bake scratch (the max pyramid of [`crate::maxmip`]).
+pub fn scratch_len(width: u32, height: u32) -> usize {
+    maxmip::pyramid_len(width, height)
+}
+
+/// Bakes the scratch pyramid every [`bake_rows`] call reads.
+pub fn prepare(hf: &HeightField, scratch: &mut [f32]) -> Result<(), BakeError> {
+    check(scratch_len(hf.width(), hf.height()), scratch.len())?;
+    maxmip::bake(hf, scratch).map_err(|_| BakeError::TooShort {
+        needed: scratch_len(hf.width(), hf.height()),
+        given: scratch.len(),
+    })
+}
+
+/// Largest `f32` not above `v` (`v ≥ 0`).
+#[inline]
+pub fn f32_down(v: f64) -> f32 {
+    let r = v as f32;
+    if (r as f64) > v && r > 0.0 {
+        f32::from_bits(r.to_bits() - 1)
+    } else {
+        r
+    }
+}
+
+/// Smallest `f32` not below `v` (`v ≥ 0`).
+#[inline]
+pub fn f32_up(v: f64) -> f32 {
+    let r = v as f32;
+    if (r as f64) < v && r.is_finite() {
+        f32::from_bits(r.to_bits() + 1)
+    } else {
+        r
+    }
+}
+
+/// Directional lower bound of the distance from a box to a point or box whose gaps
+/// along x and y are `gx, gy ≥ 0`: `max_k (cos θ_k gx + sin θ_k gy)`.
+#[inline]
+pub fn dist_lb(gx: f64, gy: f64) -> f64 {
+    if gx == 0.0 || gy == 0.0 {
+        return gx + gy;
+    }
+    DIRS.iter()
+        .map(|&(c, s)| c * gx + s * gy)
+        .fold(0.0, f64::max)
+}
+
+/// Gap from the interval `[a0, a1]` to `[b0, b1]` (0 when they overlap).
+#[inline]
+pub fn gap(a0: f64, a1: f64, b0: f64, b1: f64) -> f64 {
+    (b0 - a1).max(a0 - b1).max(0.0)
+}
+
+/// Branch and bound over the max pyramid: from the top, nearest nodes first. `src` is
+/// the box `[x0, x1] × [y0, y1]` (grid units) distances are measured from. For each
+/// node `visit(d_lb, max, leaf)` gets [`dist_lb`] of the gaps between `src` and the
+/// node's cells and the node's highest sample; `leaf` is `Some(cell)` at level 0.
+/// Returning `false` skips the node's children.
+pub fn bnb(mip: &MaxMip, src: [f64; 4], mut visit: impl FnMut(f64, f32, Option<[u32; 2]>) -> bool) {
+    let layout = mip.layout();
+    let top = layout.levels() - 1;
+    let cells = layout.dims(0);
+    // Depth-first stack: at most 4 entries per level.
+    let mut stack: heapless::Vec<(u32, u32, u32), 112> = heapless::Vec::new();
+    let _ = stack.push((top, 0, 0));
+    while let Some((l, i, j)) = stack.pop() {
+        let s = 1u32 << l;
+        let x0 = i * s;
+        let y0 = j * s;
+        let x1 = (x0 + s).min(cells[0]);
+        let y1 = (y0 + s).min(cells[1]);
+        let gx = gap(src[0], src[1], x0 as f64, x1 as f64);
+        let gy = gap(src[2], src[3], y0 as f64, y1 as f64);
+        let m = mip.texel(l, i, j);
+        let leaf = (l == 0).then_some([i, j]);
+        if !visit(dist_lb(gx, gy), m, leaf) || l == 0 {
+            continue;
+        }
+        // Children, pushed farthest first so the nearest pops first.
+        let dims = layout.dims(l - 1);
+        let mut kids: heapless::Vec<(f64, u32, u32), 4> = heapless::Vec::new();
+        for (di, dj) in [(0, 0), (1, 0), (0, 1), (1, 1)] {
+            let (ci, cj) = (2 * i + di, 2 * j + dj);
+            if ci < dims[0] && cj < dims[1] {
+                let cs = s / 2;
+                let cx0 = (ci * cs) as f64;
+                let cy0 = (cj * cs) as f64;
+                let g = gap(src[0], src[1], cx0, cx0 + cs as f64)
+                    + gap(src[2], src[3], cy0, cy0 + cs as f64);
+                let _ = kids.push((g, ci, cj));
+            }
+        }
+        kids.sort_unstable_by(|a, b| b.0.total_cmp(&a.0));
+        for (_, ci, cj) in kids {
+            let _ = stack.push((l - 1, ci, cj));
+        }
+    }
+}
+
+/// The cone bound contributed by cell `d` to the cell `c` whose apex height is `top`:
+/// a lower bound of `dist(q, c) / (h(q) − top)` over `d` where `h > top` (`+∞` when
+/// no corner of `d` is above `top`). See the module notes.
+pub fn cell_bound(hf: &HeightField, c: [u32; 2], top: f32, d: [u32; 2]) -> f64 {
+    let hs = hf.cell_corners(d[0], d[1]);
+    let top = top as f64;
+    let pts = [(0u32, 0u32), (1, 0), (0, 1), (1, 1)];
+    let cx = [c[0] as f64, c[0] as f64 + 1.0];
+    let cy = [c[1] as f64, c[1] as f64 + 1.0];
+    // Axis offsets of each corner from the source square (≥ 0), and the excess height.
+    let mut off = [(0.0f64, 0.0f64, 0.0f64); 4];
+    let mut n = 0;
+    for (k, &(a, b)) in pts.iter().enumerate() {
+        let h = hs[k] as f64;
+        if h <= top {
+            continue;
+        }
+        let vx = (d[0] + a) as f64;
+        let vy = (d[1] + b) as f64;
+        off[n] = (
+            gap(cx[0], cx[1], vx, vx),
+            gap(cy[0], cy[1], vy, vy),
+            h - top,
+        );
+        n += 1;
+    }
+    if n == 0 {
+        return f64::INFINITY;
+    }
+    let off = &off[..n];
+    if d[0] == c[0] || d[1] == c[1] {
+        // Same column or row band: the distance is one axis gap, linear on the cell.
+        return off
+            .iter()
+            .map(|&(x, y, e)| (x + y) / e)
+            .fold(f64::INFINITY, f64::min);
+    }
+    DIRS.iter()
+        .map(|&(cs, sn)| {
+            off.iter()
+                .map(|&(x, y, e)| (cs * x + sn * y) / e)
+                .fold(f64::INFINITY, f64::min)
+        })
+        .fold(0.0, f64::max)
+}
+
+/// The cone ratio (in `f64`, before rounding) of cell `c`, searched over the pyramid.
+pub fn texel_ratio(hf: &HeightField, mip: &MaxMip, c: [u32; 2]) -> f64 {
+    let top = mip.texel(0, c[0], c[1]);
+    let src = [
+        c[0] as f64,
+        c[0] as f64 + 1.0,
+        c[1] as f64,
+        c[1] as f64 + 1.0,
+    ];
+    let mut best = RATIO_MAX as f64;
+    bnb(mip, src, |d, m, leaf| {
+        if m <= top || d >= best * (m as f64 - top as f64) {
+            return false;
+        }
+        if let Some(cell) = leaf {
+            best = best.min(cell_bound(hf, c, top, cell));
+        }
+        true
+    });
+    best
+}
+
+/// Bakes the texels of cell rows `rows` into `out` (`rows.len() × (W−1) × 2` floats),
+/// reading the pyramid [`prepare`] baked into `scratch`. Rows are independent: split
+/// them over threads as you like.
+pub fn bake_rows(
+    hf: &HeightField,
+    scratch: &[f32],
+    rows: Range<u32>,
+    out: &mut [f32],
+) -> Result<(), BakeError> {
+    let mip = MaxMip::new(hf, scratch).map_err(|_| BakeError::TooShort {
+        needed: scratch_len(hf.width(), hf.height()),
+        given: scratch.len(),
+    })?;
+    let cw = hf.width() - 1;
+    if rows.end > hf.height() - 1 || rows.start > rows.end {
+        return Err(BakeError::BadRows);
+    }
+    check(CHANNELS * rows.len() * cw as usize, out.len())?;
+    for (r, j) in rows.enumerate() {
+        for i in 0..cw {
+            let k = CHANNELS * (r * cw as usize + i as usize);
+            out[k] = mip.texel(0, i, j);
+            out[k + 1] = f32_down(texel_ratio(hf, &mip, [i, j]));
+        }
+    }
+    Ok(())
+}
+
+/// Bakes the whole map: [`prepare`] then [`bake_rows`] over every row.
+pub fn bake(hf: &HeightField, scratch: &mut [f32], out: &mut [f32]) -> Result<(), BakeError> {
+    prepare(hf, scratch)?;
+    let len = map_len(hf.width(), hf.height());
+    check(len, out.len())?;
+    bake_rows(hf, scratch, 0..hf.height() - 1, &mut out[..len])
+}
+
+/// The Θ(N⁴) brute force (every cell against every cell): the test oracle of the bake.
+pub fn bake_brute(hf: &HeightField, out: &mut [f32]) -> Result<(), BakeError> {
+    let (cw, ch) = (hf.width() - 1, hf.height() - 1);
+    check(map_len(hf.width(), hf.height()), out.len())?;
+    for j in 0..ch {
+        for i in 0..cw {
+            let c = hf.cell_corners(i, j);
+            let top = c.iter().copied().fold(f32::NEG_INFINITY, f32::max);
+            let mut best = RATIO_MAX as f64;
+            for dj in 0..ch {
+                for di in 0..cw {
+                    best = best.min(cell_bound(hf, [i, j], top, [di, dj]));
+                }
+            }
+            let k = CHANNELS * (j as usize * cw as usize + i as usize);
+            out[k] = top;
+            out[k + 1] = f32_down(best);
+        }
+    }
+    Ok(())
+}
+
+/// A baked cone map: the read-only view the march uses.
+#[derive(Clone, Copy, Debug)]
+pub struct ConeMap<'a> {
+    data: &'a [f32],
+    cells_w: u32,
+}
+
+impl<'a> ConeMap<'a> {
+    /// Views `data` (baked by [`bake`] for `hf`) as `hf`'s cone map.
+    pub fn new(hf: &HeightField, data: &'a [f32]) -> Result<Self, BakeError> {
+        check(map_len(hf.width(), hf.height()), data.len())?;
+        Ok(ConeMap {
+            data,
+            cells_w: hf.width() - 1,
+        })
+    }
+
+    /// Texel `[top, ratio]` of cell (i, j).
+    #[inline]
+    pub fn texel(&self, i: u32, j: u32) -> [f32; 2] {
+        let k = CHANNELS * (j as usize * self.cells_w as usize + i as usize);
+        [self.data[k], self.data[k + 1]]
+    }
+}
+
+/// What a method's step function decides at a ray point above a cell.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Step<R: Real> {
+    /// Advance `t` by this much (`> 0`); the ray stays above the surface meanwhile.
+    Jump(R),
+    /// The rest of the ray cannot meet the surface.
+    Miss,
+    /// No safe step: run the exact cell test.
+    Cell,
+}
+
+/// Rounding margin on a clearance above a stored top: `64 ε (1 + |z| + |top|)`.
+#[inline]
+pub(crate) fn margin<R: Real>(z: R, top: R) -> R {
+    R::from_f32(64.0) * R::EPSILON * (R::ONE + z.abs() + top.abs())
+}
+
+/// The shared march: at each iteration, `step(cell, point)` (returning the step and
+/// the fetches it cost) either jumps, ends in a miss, or asks for the exact cell test of
+/// [`crate::dda::trace`]. `on_step(t)` sees every new `t` (jumps, cell exits and the
+/// hit). Start, side and under-the-surface semantics are those of `dda::trace`.
+pub fn march<R: Real>(
+    hf: &HeightField,
+    q: &Query<R>,
+    max_iter: u32,
+    mut step: impl FnMut([u32; 2], [R; 3]) -> (Step<R>, u32),
+    on_step: &mut dyn FnMut(R),
+) -> Trace<R> {
+    let Some(span) = clip(hf, q) else {
+        return Trace::MISS;
+    };
+    let (o, d) = (q.origin(), q.dir());
+    let cells = [hf.width() - 1, hf.height() - 1];
+    let dstep = [step_of(d[0]), step_of(d[1])];
+    let locate = |p: [R; 3]| {
+        [0, 1].map(|k| {
+            cell_index(
+                p[k].clamp_to(R::ZERO, R::from_u32(cells[k])),
+                d[k],
+                cells[k],
+            )
+        })
+    };
+    let p0 = q.at(span.t0);
+    let start = [0, 1].map(|k| p0[k].clamp_to(R::ZERO, R::from_u32(cells[k])));
+    let mut cell = locate(p0);
+    let mut c: [R; 4] = corners(hf, cell[0], cell[1]);
+    let mut fetches = 4u32;
+    let (mut a, mut ca) = local_clearance(TRI, c, cell, [start[0], start[1], p0[2]], [None; 2]);
+    if ca <= R::ZERO {
+        return Trace {
+            hit: Some(start_hit(TRI, &span, c, cell, a, p0)),
+            fetches,
+            clearance: R::ZERO,
+            flags: Flags::default(),
+        };
+    }
+    let mut clearance = ca;
+    // `a, ca` valid for the current point; `have_c`: `c` holds the current cell's corners.
+    let (mut have_ca, mut have_c) = (true, true);
+    let mut t = span.t0;
+    let mut iter = 0u32;
+    let miss = |fetches, clearance| Trace {
+        hit: None,
+        fetches,
+        clearance,
+        flags: Flags::default(),
+    };
+    let cell_exit = |cell: [u32; 2]| {
+        let t_cross = [0, 1].map(|k| next_crossing(cell[k], dstep[k], o[k], d[k]));
+        t_cross[0].min(t_cross[1]).min(span.t1)
+    };
+    loop {
+        let p = q.at(t);
+        if iter >= max_iter {
+            return Trace {
+                hit: Some(Hit {
+                    t,
+                    point: R::v3(p),
+                    cell,
+                    normal: R::v3([R::ZERO, R::ZERO, R::ONE]),
+                    flags: Flags::default(),
+                }),
+                fetches,
+                clearance,
+                flags: Flags::BUDGET_EXHAUSTED,
+            };
+        }
+        iter += 1;
+        let (s, f) = step(cell, p);
+        fetches += f;
+        match s {
+            Step::Miss => return miss(fetches, clearance),
+            // A jump that stays in the cell would crawl (cone steps converge only
+            // geometrically near a wall): the cell test reaches its exit at once.
+            Step::Jump(dt) if dt > R::ZERO && t + dt >= cell_exit(cell) => {
+                let tn = t + dt;
+                if !(tn < span.t1) {
+                    return miss(fetches, clearance);
+                }
+                t = tn;
+                on_step(t);
+                cell = locate(q.at(t));
+                have_ca = false;
+                have_c = false;
+                continue;
+            }
+            _ => {}
+        }
+        // The exact cell test from `t` to the cell's exit.
+        if !have_c {
+            c = corners(hf, cell[0], cell[1]);
+            fetches += 4;
+        }
+        if !have_ca {
+            (a, ca) = local_clearance(TRI, c, cell, p, [None; 2]);
+            clearance = clearance.min(ca);
+            if ca <= R::ZERO {
+                return Trace {
+                    hit: Some(Hit {
+                        t,
+                        point: R::v3(p),
+                        cell,
+                        normal: R::v3(TRI.cell_normal(c, a[0], a[1])),
+                        flags: Flags::default(),
+                    }),
+                    fetches,
+                    clearance,
+                    flags: Flags::default(),
+                };
+            }
+        }
+        let t_cross = [0, 1].map(|k| next_crossing(cell[k], dstep[k], o[k], d[k]));
+        let t_next = t_cross[0].min(t_cross[1]);
+        let (tb, cross) = if t_next < span.t1 {
+            (t_next.max(t), t_cross.map(|x| x <= t_next))
+        } else {
+            (span.t1, [false; 2])
+        };
+        let on = [0, 1].map(|k| cross[k].then_some(dstep[k] > 0));
+        let (b, cb) = local_clearance(TRI, c, cell, q.at(tb), on);
+        let seg = TRI.segment_hit(c, a, b, ca, cb, [R::ZERO, R::ZERO, R::ONE]);
+        clearance = clearance.min(seg.clearance);
+        if let Some((s, normal, flags)) = seg.hit {
+            let th = t + s * (tb - t);
+            on_step(th);
+            let local = |k: usize| a[k] + s * (b[k] - a[k]);
+            let point = [
+                R::from_u32(cell[0]) + local(0),
+                R::from_u32(cell[1]) + local(1),
+                local(2),
+            ];
+            return Trace {
+                hit: Some(Hit {
+                    t: th,
+                    point: R::v3(point),
+                    cell,
+                    normal: R::v3(normal),
+                    flags,
+                }),
+                fetches,
+                clearance,
+                flags: Flags::default(),
+            };
+        }
+        if cross == [false; 2] {
+            return miss(fetches, clearance);
+        }
+        for k in 0..2 {
+            if cross[k] {
+                let next = cell[k] as i64 + dstep[k];
+                if next < 0 || next >= cells[k] as i64 {
+                    return miss(fetches, clearance);
+                }
+                cell[k] = next as u32;
+            }
+        }
+        a = [0, 1, 2].map(|k| {
+            if k < 2 && cross[k] {
+                R::ONE - b[k]
+            } else {
+                b[k]
+            }
+        });
+        ca = cb;
+        t = tb;
+        on_step(t);
+        have_ca = true;
+        have_c = false;
+    }
+}
+
+/// The cone step from ray point `p` with direction `d` over a texel `[top, ratio]`.
+#[inline]
+pub(crate) fn cone_step<R: Real>(p: [R; 3], d: [R; 3], top: R, ratio: R) -> Step<R> {
+    let tol = margin(p[2], top);
+    let e = p[2] - top - tol;
+    if !(e > R::ZERO) || ratio <= R::ZERO {
+        return Step::Cell;
+    }
+    let hs = (d[0] * d[0] + d[1] * d[1]).sqrt();
+    let denom = hs / ratio - d[2];
+    if !(denom > R::ZERO) {
+        return Step::Miss;
+    }
+    Step::Jump(e / denom * (R::ONE - R::from_f32(16.0) * R::EPSILON))
+}
+
+/// Traces `q` over the cone map with at most `max_iter` iterations.
+pub fn trace<R: Real>(map: &ConeMap, hf: &HeightField, q: &Query<R>, max_iter: u32) -> Trace<R> {
+    trace_steps(map, hf, q, max_iter, &mut |_| {})
+}
+
+/// [`trace`], reporting every new ray parameter to `on_step` (for tests and plots).
+pub fn trace_steps<R: Real>(
+    map: &ConeMap,
+    hf: &HeightField,
+    q: &Query<R>,
+    max_iter: u32,
+    on_step: &mut dyn FnMut(R),
+) -> Trace<R> {
+    let d = q.dir();
+    march(
+        hf,
+        q,
+        max_iter,
+        |cell, p| {
+            let [top, ratio] = map.texel(cell[0], cell[1]);
+            (cone_step(p, d, R::from_f32(top), R::from_f32(ratio)), 1)
+        },
+        on_step,
+    )
+}

@@ -1,0 +1,382 @@
+//! Quadratic displacement maps (after Kiglics, Valasek, Bálint, Bán): per cell a cone
+//! `(a, b)` topped by a revolved parabola `c`, over the cell's top `h` — four channels
+//! `[a, b, c, h]` ([`CHANNELS`]). The bake and the march side by side.
+//!
+//! **Bound.** With `ρ` the horizontal distance to the cell's footprint, the *radial
+//! maximum function* `m(ρ)` is the highest surface point (above `h`) at distance `≤ ρ`;
+//! the texel stores an upper bound `F(ρ) ≥ m(ρ)` that is concave and non-decreasing:
+//! the cone `F = ρ / a` up to height `b` (the cone of [`crate::cone`], `a` its ratio),
+//! then the parabola tangent to it, `F = b + x/a − c x²` with `x = ρ − a b`, up to its
+//! top, then the plateau `b + 1 / (4 a² c)`. With `P = max − h` the height of the
+//! field's top above the cell, `c = 1 / (4 a² (P − b))`, so the plateau is `P` and the
+//! one free parameter is the *height ratio* `β = b / P`: the smallest `b` for which the
+//! bound holds is baked (the parabolas inscribed between the cone line and the plateau
+//! rise with `b`, so the bound is monotone in `b`). Empty space above `h + F(ρ)` is a
+//! solid of revolution that opens up near the top of the field, where cones stay thin.
+//!
+//! **Bake.** `a` from [`crate::cone::texel_ratio`]; then `b` by the pyramid search of
+//! [`crate::cone::bnb`]: a node of height `M` at box distance `d` (directional lower
+//! bound) needs `b ≥ M − h` or `F_b(d) ≥ M − h`; below `a b` the cone certifies every
+//! point. The least such `b` per node comes from bisection in `f64`; `b` is rounded up,
+//! `c` (from the rounded `b`) down: both only raise `F`. [`bake_brute`] visits every
+//! cell (the test oracle).
+//!
+//! **March** ([`trace`]). Above `h`, the ray may advance until it meets `h + F(ρ)`
+//! around its current point: the first root of a line against the cone, then against
+//! the parabola — a quadratic solved without cancellation ([`solve_stable`], the
+//! paper's Algorithm 2; [`solve_textbook`] is kept to show why) — then against the
+//! plateau. Otherwise, and for steps that stay in the cell, the exact cell test of
+//! [`crate::cone::march`].
+
+// `!(x > 0)` is meant: it is true for NaN too, which must not step.
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
+
+use core::ops::Range;
+
+use crate::cone::{self, bnb, check, f32_down, f32_up, march, margin, BakeError, Step};
+use crate::field::HeightField;
+use crate::math::Real;
+use crate::maxmip::MaxMip;
+use crate::ray::{Query, Trace};
+
+/// Channels per texel: `[a, b, c, h]`.
+pub const CHANNELS: usize = 4;
+
+/// Largest stored curvature (the plateau right at the cone's top).
+pub const C_MAX: f32 = 1.0e30;
+
+/// Length of a QDM for a `width × height` field.
+pub fn map_len(width: u32, height: u32) -> usize {
+    CHANNELS * cone::cell_count(width, height)
+}
+
+/// Length of the bake scratch (the max pyramid).
+pub fn scratch_len(width: u32, height: u32) -> usize {
+    cone::scratch_len(width, height)
+}
+
+/// The bound `F(ρ)` of a texel with cone ratio `a`, cone height `b`, curvature `c`.
+pub fn bound(a: f64, b: f64, c: f64, rho: f64) -> f64 {
+    if a <= 0.0 {
+        return if rho > 0.0 {
+            b + 0.25 / (a * a * c)
+        } else {
+            0.0
+        };
+    }
+    let x = rho - a * b;
+    if x <= 0.0 {
+        return rho / a;
+    }
+    let xp = 0.5 / (a * c);
+    if x >= xp {
+        b + 0.25 / (a * a * c)
+    } else {
+        b + x / a - c * x * x
+    }
+}
+
+/// `F_b(d)` for the bake: curvature from `b` and the plateau `p`.
+fn bound_b(a: f64, p: f64, b: f64, d: f64) -> f64 {
+    if b >= p {
+        return (d / a).min(p);
+    }
+    // The plateau is `p` exactly (the closed form of `bound` rounds).
+    let x = d - a * b;
+    if x <= 0.0 {
+        d / a
+    } else if x >= 2.0 * a * (p - b) {
+        p
+    } else {
+        b + x / a - 0.25 / (a * a * (p - b)) * x * x
+    }
+}
+
+/// Least `b ∈ [0, e]` with `F_b(d) ≥ e` for cone ratio `a` and plateau `p` (`e` when
+/// only `b ≥ e` works): what a region at box distance `d`, `e` above the top, needs.
+pub fn required(a: f64, p: f64, d: f64, e: f64) -> f64 {
+    if e <= 0.0 {
+        return 0.0;
+    }
+    if a <= 0.0 || bound_b(a, p, e, d) < e {
+        return e;
+    }
+    if bound_b(a, p, 0.0, d) >= e {
+        return 0.0;
+    }
+    let (mut lo, mut hi) = (0.0f64, e);
+    for _ in 0..64 {
+        let mid = 0.5 * (lo + hi);
+        if mid <= lo || mid >= hi {
+            break;
+        }
+        if bound_b(a, p, mid, d) >= e {
+            hi = mid;
+        } else {
+            lo = mid;
+        }
+    }
+    hi
+}
+
+/// The texel `[a, b, c, h]` of cell `c` from its cone ratio `a` (rounded) and `b`.
+fn pack(hf: &HeightField, top: f32, a: f32, b: f64) -> [f32; 4] {
+    let p = hf.max_height() as f64 - top as f64;
+    let b32 = f32_up(b.min(p.max(0.0)));
+    let rest = p - b32 as f64;
+    let c = if a <= 0.0 || rest <= 0.0 {
+        C_MAX
+    } else {
+        f32_down(0.25 / ((a as f64) * (a as f64) * rest)).min(C_MAX)
+    };
+    [a, b32, c, top]
+}
+
+/// The texel of cell `c`, searched over the pyramid.
+pub fn texel(hf: &HeightField, mip: &MaxMip, c: [u32; 2]) -> [f32; 4] {
+    let top = mip.texel(0, c[0], c[1]);
+    let a = f32_down(cone::texel_ratio(hf, mip, c));
+    let p = hf.max_height() as f64 - top as f64;
+    let src = [
+        c[0] as f64,
+        c[0] as f64 + 1.0,
+        c[1] as f64,
+        c[1] as f64 + 1.0,
+    ];
+    let mut best = 0.0f64;
+    bnb(mip, src, |d, m, leaf| {
+        let e = m as f64 - top as f64;
+        if e <= best || (a > 0.0 && bound_b(a as f64, p, best, d) >= e) {
+            return false;
+        }
+        if leaf.is_some() {
+            best = best.max(required(a as f64, p, d, e));
+        }
+        true
+    });
+    pack(hf, top, a, best)
+}
+
+/// Bakes the cone pyramid into `scratch` (see [`crate::cone::prepare`]).
+pub fn prepare(hf: &HeightField, scratch: &mut [f32]) -> Result<(), BakeError> {
+    cone::prepare(hf, scratch)
+}
+
+/// Bakes cell rows `rows` into `out` (`rows.len() × (W−1) × 4` floats) from the
+/// pyramid in `scratch`. Rows are independent.
+pub fn bake_rows(
+    hf: &HeightField,
+    scratch: &[f32],
+    rows: Range<u32>,
+    out: &mut [f32],
+) -> Result<(), BakeError> {
+    let mip = MaxMip::new(hf, scratch).map_err(|_| BakeError::TooShort {
+        needed: scratch_len(hf.width(), hf.height()),
+        given: scratch.len(),
+    })?;
+    let cw = hf.width() - 1;
+    if rows.end > hf.height() - 1 || rows.start > rows.end {
+        return Err(BakeError::BadRows);
+    }
+    check(CHANNELS * rows.len() * cw as usize, out.len())?;
+    for (r, j) in rows.enumerate() {
+        for i in 0..cw {
+            let k = CHANNELS * (r * cw as usize + i as usize);
+            out[k..k + 4].copy_from_slice(&texel(hf, &mip, [i, j]));
+        }
+    }
+    Ok(())
+}
+
+/// Bakes the whole map: [`prepare`] then [`bake_rows`] over every row.
+pub fn bake(hf: &HeightField, scratch: &mut [f32], out: &mut [f32]) -> Result<(), BakeError> {
+    prepare(hf, scratch)?;
+    let len = map_len(hf.width(), hf.height());
+    check(len, out.len())?;
+    bake_rows(hf, scratch, 0..hf.height() - 1, &mut out[..len])
+}
+
+/// The brute force (every cell against every cell; `a` from the cone map's brute
+/// force): the test oracle of the bake.
+pub fn bake_brute(hf: &HeightField, out: &mut [f32]) -> Result<(), BakeError> {
+    let (cw, ch) = (hf.width() - 1, hf.height() - 1);
+    check(map_len(hf.width(), hf.height()), out.len())?;
+    for j in 0..ch {
+        for i in 0..cw {
+            let top = hf.cell_corners(i, j).into_iter().fold(f32::MIN, f32::max);
+            let mut a = cone::RATIO_MAX as f64;
+            for dj in 0..ch {
+                for di in 0..cw {
+                    a = a.min(cone::cell_bound(hf, [i, j], top, [di, dj]));
+                }
+            }
+            let a = f32_down(a);
+            let p = hf.max_height() as f64 - top as f64;
+            let mut b = 0.0f64;
+            for dj in 0..ch {
+                for di in 0..cw {
+                    let m = hf.cell_corners(di, dj).into_iter().fold(f32::MIN, f32::max);
+                    let gx = cone::gap(i as f64, i as f64 + 1.0, di as f64, di as f64 + 1.0);
+                    let gy = cone::gap(j as f64, j as f64 + 1.0, dj as f64, dj as f64 + 1.0);
+                    let e = m as f64 - top as f64;
+                    if e > b {
+                        b = b.max(required(a as f64, p, cone::dist_lb(gx, gy), e));
+                    }
+                }
+            }
+            let k = CHANNELS * (j as usize * cw as usize + i as usize);
+            out[k..k + 4].copy_from_slice(&pack(hf, top, a, b));
+        }
+    }
+    Ok(())
+}
+
+/// A baked QDM: the read-only view the march uses.
+#[derive(Clone, Copy, Debug)]
+pub struct QdmMap<'a> {
+    data: &'a [f32],
+    cells_w: u32,
+}
+
+impl<'a> QdmMap<'a> {
+    /// Views `data` (baked by [`bake`] for `hf`) as `hf`'s QDM.
+    pub fn new(hf: &HeightField, data: &'a [f32]) -> Result<Self, BakeError> {
+        check(map_len(hf.width(), hf.height()), data.len())?;
+        Ok(QdmMap {
+            data,
+            cells_w: hf.width() - 1,
+        })
+    }
+
+    /// Texel `[a, b, c, h]` of cell (i, j).
+    #[inline]
+    pub fn texel(&self, i: u32, j: u32) -> [f32; 4] {
+        let k = CHANNELS * (j as usize * self.cells_w as usize + i as usize);
+        [
+            self.data[k],
+            self.data[k + 1],
+            self.data[k + 2],
+            self.data[k + 3],
+        ]
+    }
+}
+
+/// Smallest root `x ≥ 0` of `A x² + B x + C`, without cancellation: with
+/// `q = −(B + sign(B) √D) / 2` the roots are `q / A` and `C / q` (the QDM paper's
+/// Algorithm 2; also right when `A` vanishes or is tiny, and for a double root).
+pub fn solve_stable<R: Real>(qa: R, qb: R, qc: R) -> Option<R> {
+    let disc = qb * qb - R::from_f32(4.0) * qa * qc;
+    if disc < R::ZERO {
+        return None;
+    }
+    let sq = disc.sqrt();
+    let q = if qb >= R::ZERO {
+        -R::HALF * (qb + sq)
+    } else {
+        -R::HALF * (qb - sq)
+    };
+    let mut best: Option<R> = None;
+    let mut take = |r: R| {
+        if r.is_finite() && r >= R::ZERO && best.is_none_or(|b| r < b) {
+            best = Some(r);
+        }
+    };
+    if q == R::ZERO {
+        if qc == R::ZERO {
+            take(R::ZERO);
+        }
+    } else {
+        take(q / qa);
+        take(qc / q);
+    }
+    best
+}
+
+/// Smallest root `x ≥ 0` of `A x² + B x + C` by the textbook formula
+/// `(−B ± √D) / 2A`: loses the small root to cancellation when `4AC ≪ B²` (nearly
+/// flat parabolas, grazing rays). Kept for the tests that show it.
+pub fn solve_textbook<R: Real>(qa: R, qb: R, qc: R) -> Option<R> {
+    let disc = qb * qb - R::from_f32(4.0) * qa * qc;
+    if disc < R::ZERO {
+        return None;
+    }
+    let sq = disc.sqrt();
+    let two_a = R::from_f32(2.0) * qa;
+    let mut best: Option<R> = None;
+    for r in [(-qb - sq) / two_a, (-qb + sq) / two_a] {
+        if r.is_finite() && r >= R::ZERO && best.is_none_or(|b| r < b) {
+            best = Some(r);
+        }
+    }
+    best
+}
+
+/// Horizontal distance `ρ` the ray (height `e0` above `h`, rise `g` per unit of
+/// horizontal distance) may go before it meets `F(ρ)`; `None`: never.
+pub fn free_distance<R: Real>(tex: [R; 4], e0: R, g: R) -> Option<R> {
+    let [a, b, c, _] = tex;
+    let inv_a = R::ONE / a;
+    let k = inv_a - g;
+    let ab = a * b;
+    if k > R::ZERO {
+        let rho = e0 / k;
+        if rho <= ab {
+            return Some(rho);
+        }
+    }
+    let xp = R::HALF / (a * c);
+    if let Some(x) = solve_stable(c, g - inv_a, e0 + g * ab - b) {
+        if x <= xp {
+            return Some(ab + x);
+        }
+    }
+    let plateau = b + R::from_f32(0.25) / (a * a * c);
+    if g < R::ZERO {
+        Some((e0 - plateau) / -g)
+    } else {
+        None
+    }
+}
+
+/// Traces `q` over the QDM with at most `max_iter` iterations.
+pub fn trace<R: Real>(map: &QdmMap, hf: &HeightField, q: &Query<R>, max_iter: u32) -> Trace<R> {
+    trace_steps(map, hf, q, max_iter, &mut |_| {})
+}
+
+/// [`trace`], reporting every new ray parameter to `on_step`.
+pub fn trace_steps<R: Real>(
+    map: &QdmMap,
+    hf: &HeightField,
+    q: &Query<R>,
+    max_iter: u32,
+    on_step: &mut dyn FnMut(R),
+) -> Trace<R> {
+    let d = q.dir();
+    let hs = (d[0] * d[0] + d[1] * d[1]).sqrt();
+    march(
+        hf,
+        q,
+        max_iter,
+        |cell, p| {
+            let tex = map.texel(cell[0], cell[1]).map(R::from_f32);
+            let top = tex[3];
+            let e0 = p[2] - top - margin(p[2], top);
+            if !(e0 > R::ZERO) || !(tex[0] > R::ZERO) {
+                return (Step::Cell, 1);
+            }
+            let shrink = R::ONE - R::from_f32(16.0) * R::EPSILON;
+            if hs == R::ZERO {
+                return if d[2] < R::ZERO {
+                    (Step::Jump(e0 / -d[2] * shrink), 1)
+                } else {
+                    (Step::Miss, 1)
+                };
+            }
+            match free_distance(tex, e0, d[2] / hs) {
+                Some(rho) => (Step::Jump(rho / hs * shrink), 1),
+                None => (Step::Miss, 1),
+            }
+        },
+        on_step,
+    )
+}

@@ -1,0 +1,587 @@
+//! Cylinder–cone safety shapes (Baboud, Eisemann, Seidel 2011, §6.3): bake, packing
+//! and march, on top of the safety distances of the parent module.
+//!
+//! **Shape.** Per texel and class ([`super::CLASSES`]), in the class's frame (forward
+//! distance `u` from the texel's centerline, minor coordinate `y`, height `z`):
+//! - the *cylinder* radius `r`: the safety distance ([`super::texel_distance`]), no
+//!   limiting triangle in the columns `u ∈ [0, r)`;
+//! - the *cone* `z ≤ z_c + s_c·u`: every limiting triangle ([`RaySet`]) in the
+//!   columns `r ≤ u < cap`, over the part of it a ray from the segment can reach
+//!   (`lo − u ≤ y ≤ hi + u`), lies under that line. `z_c` is the highest point of the
+//!   surface on the (widened) segment; `s_c` the smallest slope that makes the line
+//!   bound them (`−∞` when there is none: stored as the lowest code).
+//!
+//! **Step.** A ray crossing the texel's centerline above the surface at height `p_z`,
+//! with *rise per centerline* `s_d = d_z / |d_main|` (negative for downward rays,
+//! positive for upward/shadow rays), stays above that line for all
+//! `u ≤ (p_z − z_c) / (s_c − s_d)` when `s_c > s_d`, and for all `u` when `s_d ≥ s_c`
+//! and `p_z > z_c`. It cannot leave the solid where it is above every limiting
+//! triangle, nor inside the cylinder, so it may skip
+//! `i = max(r, min(cap, floor((p_z − z_c) / (s_c − s_d))))` centerlines
+//! (`i = max(r, cap)` when `s_d ≥ s_c`, `i = r` when `p_z ≤ z_c`). `floor`, not
+//! `ceil`: past `(p_z − z_c)/(s_c − s_d)` the ray may be under the line, where a
+//! limiting triangle may be. The march ([`trace`]) evaluates the clearance at the
+//! target and bisects when below, exactly like the SD march ([`super::trace`]); the
+//! numerator loses twice the march's rounding bound, the denominator is rounded up.
+//!
+//! **Slopes.** [`Slope::Exact`] takes `s_c` over the limiting triangles only: each
+//! triangle clipped to the reachable band (a convex polygon of at most five vertices);
+//! `(plane − z_c)/u` is linear-fractional, so its maximum is at a vertex. A column is
+//! skipped when the maximum sample over its reachable range (from the N-buffer, two
+//! lookups) cannot raise `s_c`; the scan stops when the field's maximum cannot.
+//! [`Slope::NBuffer`] counts every triangle as limiting and bounds a column `k ≥ 1`
+//! by that maximum sample at `u = k` (or `k + 1` when it is under `z_c`); column 0
+//! is taken exactly (dividing by `u = 0` would leave no cone).
+//!
+//! **N-buffers** ([`nbuffer_len`], [`prepare_nbuffer`]): per axis, per cell column
+//! (the two sample columns on its sides) and level `L`, the maximum over `2^L`
+//! consecutive samples along the cross axis; any range is two lookups at level
+//! `⌊log₂ len⌋`. Levels up to the widest reachable range, `2·cap + 5` samples.
+//!
+//! **Packing** (the GPU layout, [`map_len`]): 16 bytes per texel, four per class in
+//! class order, `data[(t·4 + class)·4 ..]` = `[r, s, z_lo, z_hi]` (one RGBA8UI texel
+//! per class): `r` the safety distance (u8, exact, capped at 255 by the SD scan);
+//! `s` the slope code, decoded `s_c = t·|t| / 2048` with `t = s − 128` (exact in `f32`;
+//! ±1/1024 near 0, 1/16 near 2, up to 7.75), **rounded up** (the line only rises);
+//! `s = 255` means "no cone" (`s_c > 7.75` saturates there: the step is then `r`, the
+//! SD step; `s_c < −8` saturates to −8, which is larger, so safe);
+//! `z` the base height as u16 over the field's range, `z_c = zmin + z·(zmax −
+//! zmin)/65535`, **rounded up** (the bake checks the decoded value in `f64`; a base
+//! that would saturate above `zmax` stores "no cone"). Rounding never enlarges a
+//! shape: `r` is exact, `z_c` and `s_c` only grow, so the line only rises and the
+//! step only shrinks.
+
+use core::ops::Range;
+
+use super::{
+    axis_of, cell_tris, extents, march, sample, sigma_of, sign_of, texel_distance, AllRays, Line,
+    RaySet, SafetyError, Sigma, Tri, CLASSES,
+};
+use crate::field::HeightField;
+use crate::math::Real;
+use crate::ray::{Query, RayClass, Trace};
+
+/// Bytes per texel of the packed map (four per class).
+pub const BYTES_PER_TEXEL: usize = 16;
+
+/// Slope code meaning "no cone": the step is the cylinder radius only.
+pub const NO_CONE: u8 = 255;
+
+/// Lowest slope a code stores (`t = −128`).
+pub const S_MIN: f64 = -8.0;
+
+/// Highest finite slope a code stores (`t = 126`).
+pub const S_MAX: f64 = 126.0 * 126.0 / 2048.0;
+
+/// How the cone slope is computed.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Slope {
+    /// Over the limiting triangles only, exactly.
+    Exact,
+    /// Every triangle limiting, column maxima from the N-buffer (conservative, faster).
+    NBuffer,
+}
+
+/// What the bake computes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct CcOptions {
+    /// How `s_c` is computed.
+    pub slope: Slope,
+    /// Longest cone step (centerlines); the bake scans that far. The march must use the
+    /// same value ([`CcMap::new`]).
+    pub cap: u8,
+}
+
+impl Default for CcOptions {
+    fn default() -> Self {
+        CcOptions {
+            slope: Slope::Exact,
+            cap: 64,
+        }
+    }
+}
+
+/// Bytes of a whole packed map: `W · H · 16`.
+pub fn map_len(width: u32, height: u32) -> usize {
+    width as usize * height as usize * BYTES_PER_TEXEL
+}
+
+/// N-buffer levels for a cone reach `cap`.
+fn levels(cap: u8) -> u32 {
+    let span = 2 * u32::from(cap) + 6;
+    32 - span.leading_zeros()
+}
+
+/// `f32` elements of the N-buffers for a `width × height` field and reach `cap`.
+pub fn nbuffer_len(width: u32, height: u32, cap: u8) -> usize {
+    let (w, h) = (width.max(2) as usize, height.max(2) as usize);
+    levels(cap) as usize * ((w - 1) * h + (h - 1) * w)
+}
+
+/// Index of level `l`, cell column `c` (along axis `ax`), cross sample `y`.
+#[inline]
+fn nb_index(hf: &HeightField, cap: u8, ax: usize, l: u32, c: u32, y: u32) -> usize {
+    let (lm, ln) = extents(hf, ax);
+    let base = if ax == 0 {
+        0
+    } else {
+        levels(cap) as usize * (hf.width() as usize - 1) * hf.height() as usize
+    };
+    base + ((l as usize * (lm as usize - 1) + c as usize) * ln as usize + y as usize)
+}
+
+/// Fills the N-buffers ([`nbuffer_len`] elements). `O(cells · levels)`.
+pub fn prepare_nbuffer(hf: &HeightField, cap: u8, nb: &mut [f32]) -> Result<(), SafetyError> {
+    let needed = nbuffer_len(hf.width(), hf.height(), cap);
+    if nb.len() < needed {
+        return Err(SafetyError::ScratchTooShort { needed });
+    }
+    for ax in 0..2 {
+        let (lm, ln) = extents(hf, ax);
+        for c in 0..lm - 1 {
+            for y in 0..ln {
+                nb[nb_index(hf, cap, ax, 0, c, y)] =
+                    sample(hf, ax, c, y).max(sample(hf, ax, c + 1, y));
+            }
+            for l in 1..levels(cap) {
+                let half = 1u32 << (l - 1);
+                for y in 0..ln {
+                    let a = nb[nb_index(hf, cap, ax, l - 1, c, y)];
+                    let b = nb[nb_index(hf, cap, ax, l - 1, c, (y + half).min(ln - 1))];
+                    nb[nb_index(hf, cap, ax, l, c, y)] = a.max(b);
+                }
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Highest sample of cell column `c` (axis `ax`) over cross samples `a..=b`.
+#[inline]
+fn range_max(hf: &HeightField, nb: &[f32], cap: u8, ax: usize, c: u32, a: u32, b: u32) -> f64 {
+    let len = b - a + 1;
+    let l = (31 - len.leading_zeros()).min(levels(cap) - 1);
+    let w = 1u32 << l;
+    // Cover [a, b] with windows of `w` (two when l is the top level and `len ≤ 2w`).
+    let mut m = f32::NEG_INFINITY;
+    let mut y = a;
+    loop {
+        let s = y.min(b + 1 - w);
+        m = m.max(nb[nb_index(hf, cap, ax, l, c, s)]);
+        if s + w > b {
+            break;
+        }
+        y = s + w;
+    }
+    f64::from(m)
+}
+
+/// Largest `(plane − zc) / u` over the part of `tri` a ray from the segment reaches;
+/// `+∞` when that part touches the centerline above `zc`.
+fn tri_slope(sigma: &Sigma, tri: &Tri, zc: f64) -> f64 {
+    // Clip the triangle (forward distance, minor) to lo − u ≤ y ≤ hi + u.
+    let mut poly = [[0f64; 2]; 8];
+    let mut n = 3;
+    poly[..3].copy_from_slice(&tri.verts);
+    let planes: [(f64, f64, f64); 2] = [(1.0, 1.0, -sigma.lo), (1.0, -1.0, sigma.hi)];
+    for (a, b, c) in planes {
+        // keep a·u + b·y + c ≥ 0
+        let f = |p: [f64; 2]| a * p[0] + b * p[1] + c;
+        let mut out = [[0f64; 2]; 8];
+        let mut k = 0;
+        for e in 0..n {
+            let (p, q) = (poly[e], poly[(e + 1) % n]);
+            let (fp, fq) = (f(p), f(q));
+            if fp >= 0.0 {
+                out[k] = p;
+                k += 1;
+            }
+            if (fp >= 0.0) != (fq >= 0.0) {
+                let s = fp / (fp - fq);
+                out[k] = [p[0] + s * (q[0] - p[0]), p[1] + s * (q[1] - p[1])];
+                k += 1;
+            }
+        }
+        poly = out;
+        n = k;
+        if n == 0 {
+            return f64::NEG_INFINITY;
+        }
+    }
+    let tol = 1e-9 * (1.0 + zc.abs());
+    let mut best = f64::NEG_INFINITY;
+    for p in &poly[..n] {
+        let z = tri.height_on_line(p[1]) + tri.forward_slope * p[0];
+        if p[0] <= 1e-9 {
+            if z - zc > tol {
+                return f64::INFINITY;
+            }
+            continue;
+        }
+        best = best.max((z - zc) / p[0]);
+    }
+    best
+}
+
+/// The cone `(z_c, s_c)` of texel `(i, j)` for `class`, beyond the cylinder `r`, in
+/// `f64` (`s_c` at least [`S_MIN`]; `+∞` when no cone is possible). `nb` is what
+/// [`prepare_nbuffer`] filled for `opts.cap`.
+#[allow(clippy::too_many_arguments)]
+pub fn texel_cone<S: RaySet>(
+    hf: &HeightField,
+    nb: &[f32],
+    rays: &S,
+    class: RayClass,
+    i: u32,
+    j: u32,
+    r: u8,
+    opts: CcOptions,
+) -> (f64, f64) {
+    let ax = axis_of(class);
+    let sg = sign_of(class);
+    let (lm, ln) = extents(hf, ax);
+    let (m, n) = if ax == 0 { (i, j) } else { (j, i) };
+    let sigma = sigma_of(hf, ax, m, n);
+    let zc = sigma
+        .height(sigma.lo)
+        .max(sigma.h)
+        .max(sigma.height(sigma.hi));
+    let hmax = f64::from(hf.max_height());
+    let capf = f64::from(opts.cap);
+    let mut s = S_MIN;
+    for k in u32::from(r)..u32::from(opts.cap) {
+        let kf = f64::from(k);
+        if hmax - zc <= (s * kf).min(s * capf) {
+            break;
+        }
+        let cm = if sg > 0 {
+            i64::from(m) + i64::from(k)
+        } else {
+            i64::from(m) - i64::from(k) - 1
+        };
+        if cm < 0 || cm > i64::from(lm) - 2 {
+            break;
+        }
+        let cm = cm as u32;
+        let l0 = (i64::from(n) - i64::from(k) - 2).max(0) as u32;
+        let l1 = (i64::from(n) + i64::from(k) + 1).min(i64::from(ln) - 2) as u32;
+        let top = range_max(hf, nb, opts.cap, ax, cm, l0, l1 + 1) - zc;
+        let lowest = (s * kf).min(s * (kf + 1.0));
+        if top <= lowest {
+            continue;
+        }
+        if opts.slope == Slope::NBuffer && k >= 1 {
+            s = s.max(top / if top > 0.0 { kf } else { kf + 1.0 });
+            continue;
+        }
+        let col = Column {
+            hf,
+            nb,
+            rays,
+            sigma: &sigma,
+            ax,
+            sg,
+            cm,
+            cap: opts.cap,
+            kf,
+            zc,
+            all: opts.slope == Slope::NBuffer,
+        };
+        col.scan(l0, l1, &mut s);
+        if s == f64::INFINITY {
+            return (zc, s);
+        }
+    }
+    (zc, s)
+}
+
+/// One column of cells ahead of a texel, as the exact slope scans it.
+struct Column<'a, S: RaySet> {
+    hf: &'a HeightField<'a>,
+    nb: &'a [f32],
+    rays: &'a S,
+    sigma: &'a Sigma,
+    ax: usize,
+    sg: i64,
+    cm: u32,
+    cap: u8,
+    kf: f64,
+    zc: f64,
+    all: bool,
+}
+
+impl<S: RaySet> Column<'_, S> {
+    /// Raises `s` over the cells `c0..=c1` of the column, skipping (by halves, with
+    /// the N-buffer) every range whose highest sample cannot raise it.
+    fn scan(&self, c0: u32, c1: u32, s: &mut f64) {
+        let lowest = (*s * self.kf).min(*s * (self.kf + 1.0));
+        let top = range_max(self.hf, self.nb, self.cap, self.ax, self.cm, c0, c1 + 1) - self.zc;
+        if top <= lowest || *s == f64::INFINITY {
+            return;
+        }
+        if c0 < c1 {
+            let mid = c0 + (c1 - c0) / 2;
+            self.scan(c0, mid, s);
+            self.scan(mid + 1, c1, s);
+            return;
+        }
+        for tri in cell_tris(self.hf, self.sigma, self.ax, self.sg, self.cm, c0) {
+            if self.all || self.rays.limiting(self.sigma, &tri) {
+                *s = s.max(tri_slope(self.sigma, &tri, self.zc));
+            }
+        }
+    }
+}
+
+/// Slope code of `s` rounded up (`NO_CONE` above [`S_MAX`]).
+pub fn encode_slope(s: f64) -> u8 {
+    if s.is_nan() || s > S_MAX {
+        return NO_CONE;
+    }
+    let mut t = if s >= 0.0 {
+        libm::ceil(libm::sqrt(2048.0 * s)) as i32
+    } else {
+        -(libm::floor(libm::sqrt(-2048.0 * s).min(128.0)) as i32)
+    };
+    while t < 126 && decode_t(t) < s {
+        t += 1;
+    }
+    if decode_t(t) < s {
+        return NO_CONE;
+    }
+    (t + 128) as u8
+}
+
+#[inline]
+fn decode_t(t: i32) -> f64 {
+    f64::from(t * t.abs()) / 2048.0
+}
+
+/// The slope a code stands for (`+∞` for [`NO_CONE`]).
+#[inline]
+pub fn decode_slope(code: u8) -> f64 {
+    if code == NO_CONE {
+        f64::INFINITY
+    } else {
+        decode_t(i32::from(code) - 128)
+    }
+}
+
+/// The field's height range as the base heights are stored: `(zmin, step)`.
+#[inline]
+fn z_frame(hf: &HeightField) -> (f64, f64) {
+    let (lo, hi) = (f64::from(hf.min_height()), f64::from(hf.max_height()));
+    (lo, (hi - lo) / 65535.0)
+}
+
+/// Base-height code of `z` rounded up; `None` when it would saturate.
+pub fn encode_base(hf: &HeightField, z: f64) -> Option<u16> {
+    let (lo, step) = z_frame(hf);
+    if step <= 0.0 {
+        return (z <= lo).then_some(0);
+    }
+    let mut q = libm::ceil(((z - lo) / step).max(0.0));
+    if q > 65535.0 {
+        return None;
+    }
+    while q < 65535.0 && lo + q * step < z {
+        q += 1.0;
+    }
+    (lo + q * step >= z).then_some(q as u16)
+}
+
+/// The base height a code stands for.
+#[inline]
+pub fn decode_base(hf: &HeightField, q: u16) -> f64 {
+    let (lo, step) = z_frame(hf);
+    lo + f64::from(q) * step
+}
+
+/// The four packed bytes of a texel and class.
+pub fn pack(hf: &HeightField, r: u8, zc: f64, sc: f64) -> [u8; 4] {
+    match (encode_base(hf, zc), encode_slope(sc)) {
+        (Some(z), s) if s != NO_CONE => {
+            let [z0, z1] = z.to_le_bytes();
+            [r, s, z0, z1]
+        }
+        _ => [r, NO_CONE, 0, 0],
+    }
+}
+
+/// Bakes texel rows `rows` into `out` (`rows.len() · W · 16` bytes), for every ray.
+/// `scratch` is what [`super::prepare`] filled, `nb` what [`prepare_nbuffer`] filled for
+/// `opts.cap`. Rows are independent (any job system may split them).
+pub fn bake_rows(
+    hf: &HeightField,
+    scratch: &[f32],
+    nb: &[f32],
+    rows: Range<u32>,
+    opts: CcOptions,
+    out: &mut [u8],
+) -> Result<(), SafetyError> {
+    let needed = super::scratch_len(hf.width(), hf.height());
+    if scratch.len() < needed {
+        return Err(SafetyError::ScratchTooShort { needed });
+    }
+    let needed = nbuffer_len(hf.width(), hf.height(), opts.cap);
+    if nb.len() < needed {
+        return Err(SafetyError::ScratchTooShort { needed });
+    }
+    if rows.end > hf.height() || rows.start > rows.end {
+        return Err(SafetyError::RowsOutOfRange);
+    }
+    let w = hf.width() as usize;
+    let needed = (rows.end - rows.start) as usize * w * BYTES_PER_TEXEL;
+    if out.len() < needed {
+        return Err(SafetyError::OutputTooShort { needed });
+    }
+    for (row, j) in rows.enumerate() {
+        for i in 0..hf.width() {
+            let px = &mut out[(row * w + i as usize) * BYTES_PER_TEXEL..][..BYTES_PER_TEXEL];
+            for (c, class) in CLASSES.into_iter().enumerate() {
+                let r = texel_distance(hf, scratch, &AllRays, class, i, j, u8::MAX);
+                let (zc, sc) = if r >= opts.cap {
+                    (0.0, f64::INFINITY)
+                } else {
+                    texel_cone(hf, nb, &AllRays, class, i, j, r, opts)
+                };
+                px[c * 4..c * 4 + 4].copy_from_slice(&pack(hf, r, zc, sc));
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Prepares both scratches and bakes the whole map, one thread.
+pub fn bake(
+    hf: &HeightField,
+    scratch: &mut [f32],
+    nb: &mut [f32],
+    opts: CcOptions,
+    out: &mut [u8],
+) -> Result<(), SafetyError> {
+    super::prepare(hf, scratch)?;
+    prepare_nbuffer(hf, opts.cap, nb)?;
+    bake_rows(hf, scratch, nb, 0..hf.height(), opts, out)
+}
+
+/// A packed cylinder–cone map over caller-owned bytes.
+#[derive(Clone, Copy, Debug)]
+pub struct CcMap<'a> {
+    data: &'a [u8],
+    width: u32,
+    cap: u8,
+    zmin: f64,
+    zstep: f64,
+}
+
+/// One texel's shape for one class, decoded.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Shape {
+    /// Cylinder radius (centerlines).
+    pub r: u32,
+    /// Cone base height (`+∞` without a cone).
+    pub zc: f64,
+    /// Cone slope (`+∞` without a cone).
+    pub sc: f64,
+}
+
+impl<'a> CcMap<'a> {
+    /// Views `data` ([`map_len`] bytes, as [`bake`] wrote it with `opts.cap == cap`).
+    pub fn new(hf: &HeightField, data: &'a [u8], cap: u8) -> Result<Self, SafetyError> {
+        let needed = map_len(hf.width(), hf.height());
+        if data.len() < needed {
+            return Err(SafetyError::OutputTooShort { needed });
+        }
+        let (zmin, zstep) = z_frame(hf);
+        Ok(CcMap {
+            data,
+            width: hf.width(),
+            cap,
+            zmin,
+            zstep,
+        })
+    }
+
+    /// Longest cone step.
+    pub fn cap(&self) -> u8 {
+        self.cap
+    }
+
+    /// The packed bytes of texel `(i, j)` for `class`.
+    #[inline]
+    pub fn texel(&self, class: RayClass, i: u32, j: u32) -> [u8; 4] {
+        let t = (j as usize * self.width as usize + i as usize) * 4 + class as usize;
+        let b = &self.data[t * 4..t * 4 + 4];
+        [b[0], b[1], b[2], b[3]]
+    }
+
+    /// The decoded shape of texel `(i, j)` for `class`.
+    pub fn shape(&self, class: RayClass, i: u32, j: u32) -> Shape {
+        let [r, s, z0, z1] = self.texel(class, i, j);
+        if s == NO_CONE {
+            return Shape {
+                r: u32::from(r),
+                zc: f64::INFINITY,
+                sc: f64::INFINITY,
+            };
+        }
+        Shape {
+            r: u32::from(r),
+            zc: self.zmin + f64::from(u16::from_le_bytes([z0, z1])) * self.zstep,
+            sc: decode_slope(s),
+        }
+    }
+}
+
+/// The step (centerlines) of a ray of rise `sd` per centerline (`sd_err` bounds its
+/// rounding) crossing the centerline at height `pz` (within `tol`) above a texel of
+/// shape `[r, s, z0, z1]`.
+#[inline]
+fn cone_step<R: Real>(map: &CcMap, b: [u8; 4], pz: R, tol: R, sd: R, sd_err: R) -> u32 {
+    let r = u32::from(b[0]);
+    let cap = u32::from(map.cap);
+    if b[1] == NO_CONE || r >= cap {
+        return r;
+    }
+    let zc = R::from_f64(map.zmin)
+        + R::from_u32(u32::from(u16::from_le_bytes([b[2], b[3]]))) * R::from_f64(map.zstep);
+    let sc = R::from_f64(decode_slope(b[1]));
+    // zc's own rounding: relative EPSILON of the terms.
+    let zerr = R::from_f32(4.0)
+        * R::EPSILON
+        * (R::from_f64(map.zmin).abs() + R::from_f64(map.zstep * 65535.0) + zc.abs());
+    let num = pz - zc - tol - tol - zerr;
+    let above = num > R::ZERO; // false for NaN too
+    if !above {
+        return r;
+    }
+    let sd_lo = sd - sd_err;
+    if sd_lo >= sc {
+        return cap.max(r);
+    }
+    let den = (sc - sd_lo) * (R::ONE + R::from_f32(4.0) * R::EPSILON);
+    let x = num / den * (R::ONE - R::from_f32(4.0) * R::EPSILON);
+    let short = x < R::from_u32(cap); // false for NaN and +∞
+    if !short {
+        return cap.max(r);
+    }
+    (x.floor().to_f64() as u32).max(r)
+}
+
+/// Traces `q` on the triangle surface with the cylinder–cone map `map` (baked for
+/// `hf`). Exact, like [`super::trace`], whose march it shares: one fetch per shape read
+/// (`[r, s, z]` of the texel and class), two per centerline clearance, four per cell
+/// walked. Upward rays use the same data. The step bound of the shared march flags
+/// [`Flags::BUDGET_EXHAUSTED`](crate::ray::Flags::BUDGET_EXHAUSTED) (never expected).
+pub fn trace<R: Real>(map: &CcMap, hf: &HeightField, q: &Query<R>) -> Trace<R> {
+    let d = q.dir();
+    let class = RayClass::of(d[0], d[1]);
+    let ax = axis_of(class);
+    let dm = d[ax].abs();
+    let sd = if dm > R::ZERO { d[2] / dm } else { R::ZERO };
+    let sd_err = R::from_f32(2.0) * R::EPSILON * sd.abs();
+    march(hf, q, |l: &Line<R>, class, i, j| {
+        cone_step(map, map.texel(class, i, j), l.p[2], l.tol, sd, sd_err)
+    })
+}
