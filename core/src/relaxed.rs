@@ -72,7 +72,8 @@ pub fn pair_ratio(hf: &HeightField, src: [u32; 2], dst: [u32; 2]) -> f64 {
     if p[2] <= ht {
         return f64::INFINITY;
     }
-    ((p[0] - t[0]).powi(2) + (p[1] - t[1]).powi(2)).sqrt() / (p[2] - ht)
+    let (dx, dy) = (p[0] - t[0], p[1] - t[1]);
+    libm::sqrt(dx * dx + dy * dy) / (p[2] - ht)
 }
 
 /// The ratio of sample `s`, searched over the pyramid.
