@@ -26,6 +26,9 @@ cargo clippy --workspace --all-targets --all-features -- -D warnings
 echo "== no_std build of the core (a second panic handler from std would fail it)"
 CARGO_TARGET_DIR=target/nostd cargo build --manifest-path nostd-check/Cargo.toml
 
+echo "== hfcast report --quick (smoke test of the error-against-time report, < 2 min)"
+cargo run --release -p hfcast-tools --bin hfcast -- report --quick --out target/report-quick
+
 echo "== cargo test"
 cargo test --workspace --all-features 2>&1 | tee target/test.log
 # The summary line CI reads: totals over every test binary.

@@ -2,8 +2,9 @@
 //!
 //! The library behind the `hfcast` command-line tool, shared with its tests and later
 //! report tools: loading the real height maps ([`maps`]), a pinhole camera and a
-//! shaded, shadowed renderer ([`render`]), the traversal benchmark ([`bench`]) and the
-//! text format of `hfcast trace` ([`trace`]).
+//! shaded, shadowed renderer ([`render`]), the traversal benchmark ([`bench`]), the
+//! error-against-time report ([`report`]) and the text format of `hfcast trace`
+//! ([`trace`]).
 
 use hfcast::{Method, SearchSteps};
 use std::sync::Mutex;
@@ -11,6 +12,7 @@ use std::sync::Mutex;
 pub mod bench;
 pub mod maps;
 pub mod render;
+pub mod report;
 pub mod trace;
 
 /// Parses a method name: `exact`, `linear-binary:N:M` (N linear steps, M bisections) or

@@ -4,6 +4,7 @@ use hfcast::{Method, Surface};
 use hfcast_tools::bench::{bench_rays, markdown_table, random_rays};
 use hfcast_tools::maps::{bundled_map, load_map, shared_data_dir, Map};
 use hfcast_tools::render::{render, write_png, Camera, RenderOptions};
+use hfcast_tools::report::{self, ReportOptions};
 use hfcast_tools::{default_threads, method_name, parse_method, trace};
 use std::collections::HashMap;
 use std::io::{BufRead, IsTerminal, Write};
@@ -27,6 +28,12 @@ commands:
            --map PATH (default ../shared/data/dem_etopo5_himalaya_1024.png)
            --depth GRID_UNITS --reps N (3) --random N (1000000) --size WxH (1280x1024)
            --threads LIST (1,2) --method M --surface S
+  report   error against run time of every method setting vs the f64 oracle, on every
+           map of ../shared/data at two depths and synthetic fields: Markdown + SVG plots
+           --quick (CI smoke test: small scenes, short sweep) --out DIR (out/report)
+           --reps N (3) --size WxH (160x120; quick 64x48) --synthetic N (512;
+           quick 128) --threads N (oracle only; timing is single-threaded)
+           --scenes WORD,WORD (keep scenes whose name contains a word)
 
 methods: exact | linear-binary:N:M | secant:N (default exact)
 surfaces: triangles | bilinear | height-planes | linear-planes | view-linear
@@ -34,7 +41,11 @@ angles: compass degrees (azimuth 0 = north = image top of the map, 90 = east)
 maps: grayscale PNG, heights = png/65535 * depth; depth defaults to 0.1 * max(W, H);
       default map: the bundled data/dem_jacksboro_fault_403x344.png";
 
-/// `--name value` / `--name=value` options and positional words of one command line.
+/// Options that take no value (`--quick` is `--quick=true`).
+const FLAGS: [&str; 1] = ["quick"];
+
+/// `--name value` / `--name=value` options, `--flag`s ([`FLAGS`]) and positional words
+/// of one command line.
 struct Args {
     opts: HashMap<String, String>,
     positional: Vec<String>,
@@ -51,6 +62,7 @@ impl Args {
             };
             let (name, value) = match name.split_once('=') {
                 Some((n, v)) => (n.to_string(), v.to_string()),
+                None if FLAGS.contains(&name) => (name.to_string(), "true".to_string()),
                 None => {
                     let v = words.next().ok_or(format!("--{name} needs a value"))?;
                     (name.to_string(), v)
@@ -235,6 +247,40 @@ fn cmd_bench(mut args: Args) -> Result<bool, String> {
     Ok(true)
 }
 
+fn cmd_report(mut args: Args) -> Result<bool, String> {
+    let quick = args.get("quick", false)?;
+    let out = PathBuf::from(args.opt("out").unwrap_or("out/report".into()));
+    let mut opts = ReportOptions::new(quick, out);
+    opts.reps = args.get("reps", opts.reps)?;
+    if let Some(size) = args.opt("size") {
+        opts.size = size
+            .split_once('x')
+            .and_then(|(w, h)| Some((w.parse::<u32>().ok()?, h.parse::<u32>().ok()?)))
+            .filter(|&(w, h)| w > 0 && h > 0)
+            .ok_or(format!("--size: bad value {size:?} (want WxH)"))?;
+    }
+    opts.synthetic_size = args.get("synthetic", opts.synthetic_size)?;
+    if opts.synthetic_size < 2 {
+        return Err("--synthetic must be at least 2".into());
+    }
+    opts.threads = args.get("threads", opts.threads)?.max(1);
+    if let Some(words) = args.opt("scenes") {
+        opts.only = words.split(',').map(String::from).collect();
+    }
+    args.finish()?;
+    if let Some(p) = args.positional.first() {
+        return Err(format!("report: unexpected argument {p:?}"));
+    }
+    opts.command = std::iter::once("hfcast".to_string())
+        .chain(std::env::args().skip(1))
+        .collect::<Vec<_>>()
+        .join(" ");
+    let summary = report::run(&opts)?;
+    println!("{summary}");
+    println!("wrote {}", opts.out.join("README.md").display());
+    Ok(true)
+}
+
 fn main() -> ExitCode {
     let mut words = std::env::args().skip(1);
     let command = words.next().unwrap_or_default();
@@ -243,6 +289,7 @@ fn main() -> ExitCode {
         "render" => run(cmd_render),
         "trace" => run(cmd_trace),
         "bench" => run(cmd_bench),
+        "report" => run(cmd_report),
         "help" | "--help" | "-h" => {
             println!("{USAGE}");
             return ExitCode::SUCCESS;

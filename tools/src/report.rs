@@ -1,0 +1,235 @@
+//! `hfcast report`: error against run time for every method setting on the same rays,
+//! judged against the `f64` exact oracle, written as Markdown with SVG plots.
+//!
+//! Scenes: every map of the shared data folder at two depths, synthetic fields
+//! (fractal, 1-texel walls, needles, max/min checkerboard, flat), a few of them on the
+//! bilinear surface too. Rays: orbit cameras at 45°, 15° and 5° elevation, a camera
+//! inside the box looking sideways, and shadow rays from the first camera's hits
+//! towards a light. Methods: [`methods::settings`], with parry3d's height field as a
+//! peer. The definitions (wrong, ambiguous, costs) are written into the report itself.
+
+pub mod markdown;
+pub mod measure;
+pub mod methods;
+pub mod parry;
+pub mod plot;
+pub mod scenes;
+
+use measure::{measure, oracle, Measured};
+use methods::{settings, Setting, Sweep};
+use scenes::{map_scenes, ray_sets, RaySet, Scene, Synthetic};
+use std::io::IsTerminal;
+use std::path::PathBuf;
+use std::time::Instant;
+
+/// What `hfcast report` does.
+#[derive(Clone, Debug)]
+pub struct ReportOptions {
+    /// Small scenes, small images, a shorter sweep, one timing repetition.
+    pub quick: bool,
+    /// Output folder (`README.md`, `results.csv`, `plots/*.svg`).
+    pub out: PathBuf,
+    /// Timing repetitions (median).
+    pub reps: usize,
+    /// Image size of every camera, pixels.
+    pub size: (u32, u32),
+    /// Side of the synthetic fields.
+    pub synthetic_size: u32,
+    /// Threads for the oracle (timing is always single-threaded).
+    pub threads: usize,
+    /// Keep only scenes whose name contains one of these words (all when empty).
+    pub only: Vec<String>,
+    /// The command line, quoted in the report.
+    pub command: String,
+}
+
+impl ReportOptions {
+    /// The defaults of the full report or of `--quick`.
+    pub fn new(quick: bool, out: PathBuf) -> ReportOptions {
+        ReportOptions {
+            quick,
+            out,
+            reps: 3,
+            size: if quick { (64, 48) } else { (160, 120) },
+            synthetic_size: if quick { 128 } else { 512 },
+            threads: crate::default_threads(),
+            only: Vec::new(),
+            command: String::new(),
+        }
+    }
+}
+
+/// Shadow rays start this many ambiguity thresholds (`2⁻¹³ · max(1, |z|)`) straight
+/// above the surface point they leave.
+pub const SHADOW_LIFT: f64 = 4.0;
+
+/// Maps of the `--quick` report (the small ones; the full report takes every map).
+pub const QUICK_MAPS: [&str; 2] = ["jacksboro", "spike"];
+
+/// Everything measured on one scene.
+pub struct SceneResult {
+    /// The scene (heights dropped after measuring).
+    pub scene: Scene,
+    /// Ray set names, sizes and whether they are pixels.
+    pub sets: Vec<(String, usize, bool)>,
+    /// Ambiguous rays per set.
+    pub ambiguous: Vec<u64>,
+    /// Oracle hits per set.
+    pub oracle_hits: Vec<u64>,
+    /// Seconds the oracle took (all threads).
+    pub oracle_s: f64,
+    /// One entry per setting traced on the scene.
+    pub measured: Vec<Measured>,
+}
+
+/// Builds the scene list.
+pub fn build_scenes(opts: &ReportOptions) -> Result<Vec<Scene>, String> {
+    let words: Vec<&str> = if opts.quick {
+        QUICK_MAPS.to_vec()
+    } else {
+        Vec::new()
+    };
+    let mut list = map_scenes(&words).map_err(|e| e.to_string())?;
+    if list.is_empty() {
+        list.push(scenes::bundled_scene().map_err(|e| e.to_string())?);
+    }
+    let n = opts.synthetic_size;
+    for kind in Synthetic::ALL {
+        list.push(kind.scene(n, hfcast::Surface::Triangles));
+    }
+    // The bilinear surface (where the iterative bilinear settings apply).
+    for kind in [Synthetic::Fractal, Synthetic::Checkerboard] {
+        list.push(kind.scene(n, hfcast::Surface::Bilinear));
+    }
+    if let Some(first) = list.first().filter(|s| !s.name.starts_with("synthetic")) {
+        let mut s = first.clone();
+        s.surface = hfcast::Surface::Bilinear;
+        s.name = format!("{}-bilinear", s.name);
+        s.about = format!("{}, bilinear surface", s.about);
+        list.push(s);
+    }
+    if !opts.only.is_empty() {
+        list.retain(|s| opts.only.iter().any(|w| s.name.contains(w.as_str())));
+    }
+    Ok(list)
+}
+
+/// Runs the report and writes it; returns the Markdown summary section.
+pub fn run(opts: &ReportOptions) -> Result<String, String> {
+    let start = Instant::now();
+    let scenes = build_scenes(opts)?;
+    if scenes.is_empty() {
+        return Err("no scene left (check --scenes)".into());
+    }
+    let pixel_angle = scenes::pixel_angle(opts.size.1) as f32;
+    let sweep = if opts.quick {
+        Sweep::quick(pixel_angle)
+    } else {
+        Sweep::full(pixel_angle)
+    };
+    let all = settings(&sweep);
+    let units: u64 = scenes
+        .iter()
+        .map(|s| {
+            1 + all
+                .iter()
+                .filter(|m| m.surfaces.contains(&s.surface))
+                .count() as u64
+        })
+        .sum();
+    let bar = indicatif::ProgressBar::new(units);
+    if std::io::stderr().is_terminal() {
+        bar.set_style(
+            indicatif::ProgressStyle::with_template(
+                "{elapsed_precise} [{bar:30}] {pos}/{len} {msg}",
+            )
+            .map_err(|e| e.to_string())?
+            .progress_chars("=> "),
+        );
+    } else {
+        bar.set_draw_target(indicatif::ProgressDrawTarget::hidden());
+    }
+    let mut results = Vec::new();
+    for scene in scenes {
+        let line = format!(
+            "report: {} ({} x {}, {}) at {:.0} s",
+            scene.name,
+            scene.width,
+            scene.height,
+            scene.surface.name(),
+            start.elapsed().as_secs_f64()
+        );
+        if bar.is_hidden() {
+            eprintln!("{line}");
+        } else {
+            bar.println(line);
+        }
+        bar.set_message(format!("{}: oracle", scene.name));
+        let r = run_scene(opts, scene, &all, &bar);
+        results.push(r);
+    }
+    bar.finish_and_clear();
+    let elapsed = start.elapsed().as_secs_f64();
+    markdown::write_all(opts, &sweep, &all, &results, elapsed)
+}
+
+/// Measures every setting that applies on one scene.
+fn run_scene(
+    opts: &ReportOptions,
+    mut scene: Scene,
+    all: &[Setting],
+    bar: &indicatif::ProgressBar,
+) -> SceneResult {
+    let hf = scene.field();
+    let (w, h) = opts.size;
+    let z_scale = scene.z_scale();
+    let lift = SHADOW_LIFT * measure::AMBIGUOUS * z_scale;
+    let sets: Vec<RaySet> = ray_sets(&hf, scene.surface, w, h, lift);
+    let t0 = Instant::now();
+    let oracles: Vec<_> = sets
+        .iter()
+        .map(|s| oracle(&hf, scene.surface, &s.rays, opts.threads))
+        .collect();
+    let oracle_s = t0.elapsed().as_secs_f64();
+    bar.inc(1);
+    let eps = measure::AMBIGUOUS * z_scale;
+    let ambiguous = oracles
+        .iter()
+        .map(|o| o.iter().filter(|r| r.clearance < eps).count() as u64)
+        .collect();
+    let oracle_hits = oracles
+        .iter()
+        .map(|o| o.iter().filter(|r| r.hit.is_some()).count() as u64)
+        .collect();
+    let mut measured = Vec::new();
+    for (k, s) in all.iter().enumerate() {
+        if !s.surfaces.contains(&scene.surface) {
+            continue;
+        }
+        bar.set_message(format!("{}: {}", scene.name, s.label));
+        measured.push(measure(
+            k,
+            s,
+            &hf,
+            scene.surface,
+            &sets,
+            &oracles,
+            z_scale,
+            opts.reps,
+        ));
+        bar.inc(1);
+    }
+    let set_info = sets
+        .iter()
+        .map(|s| (s.name.clone(), s.rays.len(), s.pixels))
+        .collect();
+    scene.heights = Vec::new();
+    SceneResult {
+        scene,
+        sets: set_info,
+        ambiguous,
+        oracle_hits,
+        oracle_s,
+        measured,
+    }
+}
