@@ -35,6 +35,9 @@ pub struct ReportOptions {
     pub size: (u32, u32),
     /// Side of the synthetic fields.
     pub synthetic_size: u32,
+    /// Side of the small synthetic fractal, the scene the slow bakes (relaxed cone
+    /// stepping; in `--quick` cone steps and QDM too) fit on.
+    pub small_size: u32,
     /// Threads for the oracle (timing is always single-threaded).
     pub threads: usize,
     /// Keep only scenes whose name contains one of these words (all when empty).
@@ -52,6 +55,7 @@ impl ReportOptions {
             reps: 3,
             size: if quick { (64, 48) } else { (160, 120) },
             synthetic_size: if quick { 128 } else { 512 },
+            small_size: if quick { 64 } else { 96 },
             threads: crate::default_threads(),
             only: Vec::new(),
             command: String::new(),
@@ -80,6 +84,9 @@ pub struct SceneResult {
     pub oracle_s: f64,
     /// One entry per setting traced on the scene.
     pub measured: Vec<Measured>,
+    /// Settings (indices) of the scene's surface skipped because the field is over
+    /// their [`Setting::max_texels`].
+    pub skipped: Vec<usize>,
 }
 
 /// Builds the scene list.
@@ -97,6 +104,10 @@ pub fn build_scenes(opts: &ReportOptions) -> Result<Vec<Scene>, String> {
     for kind in Synthetic::ALL {
         list.push(kind.scene(n, hfcast::Surface::Triangles));
     }
+    // A small field for the slow bakes (relaxed cone stepping is Θ(N⁴)).
+    let mut small = Synthetic::Fractal.scene(opts.small_size, hfcast::Surface::Triangles);
+    small.name = format!("{}-{}", small.name, opts.small_size);
+    list.push(small);
     // The bilinear surface (where the iterative bilinear settings apply).
     for kind in [Synthetic::Fractal, Synthetic::Checkerboard] {
         list.push(kind.scene(n, hfcast::Surface::Bilinear));
@@ -133,7 +144,7 @@ pub fn run(opts: &ReportOptions) -> Result<String, String> {
         .map(|s| {
             1 + all
                 .iter()
-                .filter(|m| m.surfaces.contains(&s.surface))
+                .filter(|m| m.surfaces.contains(&s.surface) && m.fits(s.width, s.height))
                 .count() as u64
         })
         .sum();
@@ -202,8 +213,13 @@ fn run_scene(
         .map(|o| o.iter().filter(|r| r.hit.is_some()).count() as u64)
         .collect();
     let mut measured = Vec::new();
+    let mut skipped = Vec::new();
     for (k, s) in all.iter().enumerate() {
         if !s.surfaces.contains(&scene.surface) {
+            continue;
+        }
+        if !s.fits(scene.width, scene.height) {
+            skipped.push(k);
             continue;
         }
         bar.set_message(format!("{}: {}", scene.name, s.label));
@@ -231,5 +247,6 @@ fn run_scene(
         oracle_hits,
         oracle_s,
         measured,
+        skipped,
     }
 }

@@ -185,7 +185,26 @@ pub fn write_all(
         }
         let budget: u64 = r.measured.iter().map(|m| m.total.budget).sum();
         if budget > 0 {
-            let _ = writeln!(md, "\n{budget} traces ran out of their step budget.");
+            let parts: Vec<String> = r
+                .measured
+                .iter()
+                .filter(|m| m.total.budget > 0)
+                .map(|m| format!("{} {}", all[m.setting].label, m.total.budget))
+                .collect();
+            let _ = writeln!(
+                md,
+                "\n{budget} traces ran out of their step budget ({}).",
+                parts.join(", ")
+            );
+        }
+        if !r.skipped.is_empty() {
+            let names: Vec<&str> = r.skipped.iter().map(|&k| all[k].label.as_str()).collect();
+            let _ = writeln!(
+                md,
+                "\nSkipped for size ({} samples, over their bake's limit): {}.",
+                s.width as usize * s.height as usize,
+                names.join(", ")
+            );
         }
         let parry: Vec<&Measured> = r
             .measured
@@ -460,13 +479,24 @@ fn definitions(opts: &ReportOptions, sweep: &Sweep, w: u32, h: u32) -> String {
          and on the bilinear surface iterative cell tests (linear:bisect) {:?}); safety \
          distances (triangles only; four classes and isotropic exact, \"positive\" \
          approximate); linear + binary search with {:?} linear steps × {:?} bisections; \
-         linear + secant with {:?} steps; parry3d {} `HeightField::cast_local_ray` (`f32`).\n",
+         linear + secant with {:?} steps; cone step mapping and quadratic displacement \
+         maps (triangles only; conservative but iterative, capped at {:?} iterations: a ray \
+         that runs out returns its current point, flagged as out of budget, so they are not \
+         counted as exact) on fields of at most {} samples; relaxed cone stepping \
+         (approximate; cone:binary steps {:?}) on fields of at most {} samples (its bake is \
+         Θ(N⁴) in the side). The settings of one of these families share one bake per \
+         scene; its time is reported on each. parry3d {} \
+         `HeightField::cast_local_ray` (`f32`).\n",
         sweep.lod_pixels,
         sweep.pixel_angle,
         sweep.iterative,
         sweep.linear,
         sweep.binary,
         sweep.linear,
+        sweep.cone_caps,
+        sweep.cone_max_texels,
+        sweep.relaxed,
+        sweep.relaxed_max_texels,
         PARRY_VERSION
     );
     s.push_str(PARRY_NOTE);

@@ -265,7 +265,7 @@ pub fn measure(
         total,
         seconds,
         ns_per_ray: ns_total * 1e9 / n.max(1) as f64,
-        bake_s: median(bakes),
+        bake_s: caster.bake_seconds().unwrap_or_else(|| median(bakes)),
         bytes: caster.baked_bytes(),
     }
 }

@@ -7,7 +7,9 @@
 use hfcast::maxmip::{self, Ascent};
 use hfcast::safety::{self, SafetyMap, Variant};
 use hfcast::search::SearchSteps;
-use hfcast::{dda, HeightField, Method, Query, Real, Surface, Trace};
+use hfcast::{cone, dda, qdm, relaxed, HeightField, Method, Query, Real, Surface, Trace};
+use std::sync::{Arc, Mutex};
+use std::time::Instant;
 
 /// What the report keeps of one traced ray.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -41,6 +43,82 @@ pub trait Caster: Sync {
     /// Fills in `out[k].fetches` after an untimed [`Caster::trace_all`] when the method
     /// cannot count them itself (an estimate; nothing by default).
     fn fill_fetches(&self, _rays: &[Query<f32>], _out: &mut [Out]) {}
+    /// Seconds of the bake this caster's data came from, when it shares a bake with
+    /// other settings ([`SharedBake`]) and so its own bake call only fetched it.
+    fn bake_seconds(&self) -> Option<f64> {
+        None
+    }
+}
+
+/// A [`Caster`] over a bake shared with other settings: batch function, baked bytes
+/// and the seconds the shared bake took.
+pub struct SharedBatch<F>(pub F, pub usize, pub f64);
+
+impl<F: Fn(&[Query<f32>], &mut [Out]) + Sync> Caster for SharedBatch<F> {
+    fn trace_all(&self, rays: &[Query<f32>], out: &mut [Out]) {
+        (self.0)(rays, out)
+    }
+    fn baked_bytes(&self) -> usize {
+        self.1
+    }
+    fn bake_seconds(&self) -> Option<f64> {
+        Some(self.2)
+    }
+}
+
+/// The last bake of a family whose settings differ only in how they trace (iteration
+/// caps): the first setting on a field bakes, the others reuse it. Keyed by the field's
+/// size and samples; holds one map at a time.
+#[derive(Default)]
+pub struct SharedBake {
+    slot: Mutex<Option<Baked>>,
+}
+
+/// A shared bake: field key, map, seconds.
+type Baked = (u64, Arc<Vec<f32>>, f64);
+
+/// A core bake function `(field, scratch, out)`.
+type BakeFn = fn(&HeightField, &mut [f32], &mut [f32]) -> Result<(), cone::BakeError>;
+
+/// FNV-1a of the field's size and sample bits.
+fn field_key(hf: &HeightField) -> u64 {
+    let mut k = 0xcbf2_9ce4_8422_2325u64;
+    let mut eat = |v: u32| {
+        k ^= u64::from(v);
+        k = k.wrapping_mul(0x100_0000_01b3);
+    };
+    eat(hf.width());
+    eat(hf.height());
+    for j in 0..hf.height() {
+        for i in 0..hf.width() {
+            eat(hf.at(i, j).to_bits());
+        }
+    }
+    k
+}
+
+impl SharedBake {
+    /// The map of `hf` (baking it with `bake` unless the last call was for the same
+    /// field) and the seconds its bake took.
+    pub fn get(
+        &self,
+        hf: &HeightField,
+        bake: impl Fn(&HeightField) -> Vec<f32>,
+    ) -> (Arc<Vec<f32>>, f64) {
+        let key = field_key(hf);
+        let mut slot = self.slot.lock().unwrap_or_else(|e| e.into_inner());
+        if let Some((k, data, s)) = slot.as_ref() {
+            if *k == key {
+                return (Arc::clone(data), *s);
+            }
+        }
+        *slot = None;
+        let start = Instant::now();
+        let data = Arc::new(bake(hf));
+        let s = start.elapsed().as_secs_f64();
+        *slot = Some((key, Arc::clone(&data), s));
+        (data, s)
+    }
 }
 
 /// A [`Caster`] from a batch function and its baked byte count.
@@ -76,6 +154,13 @@ pub enum Family {
     Safety,
     /// Safety distances, approximate settings (strictly positive distances).
     SafetyApprox,
+    /// Cone step mapping, conservative (never passes the first hit) but iterative: a
+    /// ray that runs out of its iteration cap returns its current point as a guess.
+    Cone,
+    /// Quadratic displacement maps: conservative and iterative like [`Family::Cone`].
+    Qdm,
+    /// Relaxed cone stepping then binary search: approximate.
+    Relaxed,
     /// Linear then binary search (baseline).
     LinearBinary,
     /// Linear search then a secant step, parallax-occlusion style (baseline).
@@ -95,6 +180,9 @@ impl Family {
             Family::MaxMipApprox => "max mipmap, approx.",
             Family::Safety => "safety distance",
             Family::SafetyApprox => "safety dist., approx.",
+            Family::Cone => "cone step",
+            Family::Qdm => "QDM",
+            Family::Relaxed => "relaxed cone, approx.",
             Family::LinearBinary => "linear + binary",
             Family::Secant => "linear + secant",
             Family::Parry => "parry3d (peer)",
@@ -115,6 +203,9 @@ impl Family {
             Family::MaxMipApprox => (140, 190, 230),
             Family::Safety => (44, 160, 44),
             Family::SafetyApprox => (150, 215, 140),
+            Family::Cone => (140, 86, 75),
+            Family::Qdm => (227, 119, 194),
+            Family::Relaxed => (188, 189, 34),
             Family::LinearBinary => (214, 39, 40),
             Family::Secant => (255, 127, 14),
             Family::Parry => (148, 103, 189),
@@ -139,6 +230,17 @@ pub struct Setting {
     pub surfaces: &'static [Surface],
     /// Bakes (possibly nothing) and returns the caster.
     pub bake: Baker,
+    /// Largest field (samples) the setting is measured on: its bake is too slow for
+    /// bigger ones (`None`: every size).
+    pub max_texels: Option<usize>,
+}
+
+impl Setting {
+    /// `false` when a `width × height` field is over [`Setting::max_texels`].
+    pub fn fits(&self, width: u32, height: u32) -> bool {
+        self.max_texels
+            .is_none_or(|m| width as usize * height as usize <= m)
+    }
 }
 
 /// Every surface the core traces.
@@ -170,6 +272,7 @@ fn setting(
         f64: false,
         surfaces,
         bake,
+        max_texels: None,
     }
 }
 
@@ -186,6 +289,14 @@ pub struct Sweep {
     pub pixel_angle: f32,
     /// `(linear, bisect)` settings of the maximum mipmap's iterative bilinear test.
     pub iterative: Vec<(u32, u32)>,
+    /// Iteration caps of cone step mapping and QDM.
+    pub cone_caps: Vec<u32>,
+    /// `(cone, binary)` steps of relaxed cone stepping.
+    pub relaxed: Vec<(u32, u32)>,
+    /// Largest field (samples) cone step mapping and QDM bake on.
+    pub cone_max_texels: usize,
+    /// Largest field (samples) relaxed cone stepping bakes on (its bake is Θ(N⁴)).
+    pub relaxed_max_texels: usize,
 }
 
 impl Sweep {
@@ -197,6 +308,10 @@ impl Sweep {
             lod_pixels: vec![1.0, 4.0],
             pixel_angle,
             iterative: vec![(2, 4), (4, 8), (8, 16)],
+            cone_caps: vec![16, 64, 256],
+            relaxed: vec![(32, 8), (64, 8)],
+            cone_max_texels: 300_000,
+            relaxed_max_texels: 20_000,
         }
     }
 
@@ -208,6 +323,10 @@ impl Sweep {
             lod_pixels: vec![1.0, 4.0],
             pixel_angle,
             iterative: vec![(2, 4), (8, 16)],
+            cone_caps: vec![64],
+            relaxed: vec![(32, 8)],
+            cone_max_texels: 5_000,
+            relaxed_max_texels: 5_000,
         }
     }
 }
@@ -258,6 +377,81 @@ fn safety_setting(opts: safety::Options) -> Baker {
                 each(rays, out, |q| Out::of(&safety::trace(&map, &hf, q)))
             },
             bytes,
+        ))
+    })
+}
+
+/// Bakes `len` floats with `bake` (sized scratch of `scratch` floats), panicking on a
+/// size error (the lengths come from the module).
+fn bake_map(hf: &HeightField, scratch: usize, len: usize, bake: BakeFn) -> Vec<f32> {
+    let mut s = vec![0f32; scratch];
+    let mut out = vec![0f32; len];
+    bake(hf, &mut s, &mut out).expect("sized by the module");
+    out
+}
+
+/// Cone step mapping with at most `cap` iterations (triangle surface).
+fn cone_setting(shared: Arc<SharedBake>, cap: u32) -> Baker {
+    baker(move |hf, _surface| {
+        let hf = *hf;
+        let (w, h) = (hf.width(), hf.height());
+        let (data, s) = shared.get(&hf, |hf| {
+            bake_map(hf, cone::scratch_len(w, h), cone::map_len(w, h), cone::bake)
+        });
+        let bytes = data.len() * 4;
+        Box::new(SharedBatch(
+            move |rays: &[Query<f32>], out: &mut [Out]| {
+                let map = cone::ConeMap::new(&hf, &data).expect("baked for hf");
+                each(rays, out, |q| Out::of(&cone::trace(&map, &hf, q, cap)))
+            },
+            bytes,
+            s,
+        ))
+    })
+}
+
+/// Quadratic displacement maps with at most `cap` iterations (triangle surface).
+fn qdm_setting(shared: Arc<SharedBake>, cap: u32) -> Baker {
+    baker(move |hf, _surface| {
+        let hf = *hf;
+        let (w, h) = (hf.width(), hf.height());
+        let (data, s) = shared.get(&hf, |hf| {
+            bake_map(hf, qdm::scratch_len(w, h), qdm::map_len(w, h), qdm::bake)
+        });
+        let bytes = data.len() * 4;
+        Box::new(SharedBatch(
+            move |rays: &[Query<f32>], out: &mut [Out]| {
+                let map = qdm::QdmMap::new(&hf, &data).expect("baked for hf");
+                each(rays, out, |q| Out::of(&qdm::trace(&map, &hf, q, cap)))
+            },
+            bytes,
+            s,
+        ))
+    })
+}
+
+/// Relaxed cone stepping with `steps` (triangle surface).
+fn relaxed_setting(shared: Arc<SharedBake>, steps: relaxed::Steps) -> Baker {
+    baker(move |hf, _surface| {
+        let hf = *hf;
+        let (w, h) = (hf.width(), hf.height());
+        let (data, s) = shared.get(&hf, |hf| {
+            bake_map(
+                hf,
+                relaxed::scratch_len(w, h),
+                relaxed::map_len(w, h),
+                relaxed::bake,
+            )
+        });
+        let bytes = data.len() * 4;
+        Box::new(SharedBatch(
+            move |rays: &[Query<f32>], out: &mut [Out]| {
+                each(rays, out, |q| {
+                    Out::of(&relaxed::trace(&data, &hf, q, steps))
+                })
+            },
+            bytes,
+            s,
         ))
     })
 }
@@ -362,6 +556,34 @@ pub fn settings(sweep: &Sweep) -> Vec<Setting> {
         TRIANGLES,
         safety_setting(positive),
     ));
+    let (cone_bake, qdm_bake) = (Arc::<SharedBake>::default(), Arc::<SharedBake>::default());
+    for (family, name) in [(Family::Cone, "cone"), (Family::Qdm, "qdm")] {
+        for &cap in &sweep.cone_caps {
+            let bake = if family == Family::Cone {
+                cone_setting(Arc::clone(&cone_bake), cap)
+            } else {
+                qdm_setting(Arc::clone(&qdm_bake), cap)
+            };
+            v.push(Setting {
+                max_texels: Some(sweep.cone_max_texels),
+                ..setting(family, format!("{name} cap {cap}"), false, TRIANGLES, bake)
+            });
+        }
+    }
+    let relaxed_bake = Arc::<SharedBake>::default();
+    for &(cone, binary) in &sweep.relaxed {
+        let steps = relaxed::Steps { cone, binary };
+        v.push(Setting {
+            max_texels: Some(sweep.relaxed_max_texels),
+            ..setting(
+                Family::Relaxed,
+                format!("relaxed {cone}:{binary}"),
+                false,
+                TRIANGLES,
+                relaxed_setting(Arc::clone(&relaxed_bake), steps),
+            )
+        });
+    }
     for &linear in &sweep.linear {
         for &binary in &sweep.binary {
             let m = Method::LinearBinary(SearchSteps { linear, binary });
