@@ -7,6 +7,10 @@ cd "$(dirname "$0")/.."
 # System packages the tests need (none yet beyond the Rust toolchain and a C compiler;
 # the C API and OpenGL issues add theirs here).
 APT_PACKAGES=()
+# C API, C tests, GLSL validation and the OpenGL renderers (issue 6): a C/C++ compiler,
+# OSMesa (GL 4.5 core offscreen), GLFW + Xvfb (window test), glslangValidator,
+# valgrind, libpng (the renderers read the PNG maps and write images).
+APT_PACKAGES+=(gcc g++ make libosmesa6-dev libglfw3-dev xvfb xauth glslang-tools valgrind libpng-dev)
 missing=()
 for p in "${APT_PACKAGES[@]}"; do
   dpkg -s "$p" >/dev/null 2>&1 || missing+=("$p")
@@ -31,5 +35,33 @@ cargo run --release -p hfcast-tools --bin hfcast -- report --quick --out target/
 
 echo "== cargo test"
 cargo test --workspace --all-features 2>&1 | tee target/test.log
-# The summary line CI reads: totals over every test binary.
-awk '/^test result:/ { p += $4; f += $6; i += $8 } END { printf "%d passed, %d failed, %d skipped\n", p, f, i }' target/test.log
+
+# ---- C API, C tests, GLSL ports, OpenGL renderers (issue 6; see c_tests/Makefile) ----
+# Builds libhfcast.{a,so}, then: the API tests (plain, ASan+UBSan, valgrind), the header
+# alone as C99 and C++, glslangValidator on every composed shader, the OSMesa GPU/CPU
+# parity test of every method, and the GLFW window under Xvfb against the OSMesa image.
+echo "== C API: cargo build --release -p hfcast-capi (libhfcast.a, libhfcast.so)"
+cargo build --release -p hfcast-capi
+export MESA_SHADER_CACHE_DISABLE=true
+C_MAKE=(make -s -C c_tests HFCAST_LIB_DIR=../target/release OUT=../target/c_tests)
+C_MAPS="../data/dem_jacksboro_fault_403x344.png"
+if [ -f ../shared/data/game_etr_i_like_spike_2_128x640.png ]; then
+  C_MAPS="$C_MAPS ../../shared/data/game_etr_i_like_spike_2_128x640.png"
+fi
+: > target/c_tests.log
+echo "== C tests: header alone (C99, C++11, .a and .so), API tests plain and with ASan+UBSan"
+"${C_MAKE[@]}" test 2>&1 | tee -a target/c_tests.log
+echo "== C tests under valgrind"
+"${C_MAKE[@]}" valgrind 2>&1 | tee -a target/c_tests.log
+echo "== GLSL: glslangValidator on every composed shader"
+"${C_MAKE[@]}" shaders
+echo "== OSMesa (llvmpipe): GPU/CPU parity of every method, 256 x 192"
+"${C_MAKE[@]}" render-test MAPS="$C_MAPS" 2>&1 | tee -a target/c_tests.log
+echo "== GLFW under Xvfb: the window's screenshot against the OSMesa image"
+"${C_MAKE[@]}" glfw-test 2>&1 | tee -a target/c_tests.log
+
+# The summary line CI reads: totals over every test binary (cargo), plus the C suites'
+# "name: N passed, N failed" lines.
+awk '/^test result:/ { p += $4; f += $6; i += $8 }
+     /^[a-z-]+: [0-9]+ passed, [0-9]+ failed$/ { p += $2; f += $4 }
+     END { printf "%d passed, %d failed, %d skipped\n", p, f, i }' target/test.log target/c_tests.log

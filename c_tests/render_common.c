@@ -1,0 +1,627 @@
+#define _POSIX_C_SOURCE 199309L
+#include "render_common.h"
+
+#include <math.h>
+#include <png.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+/* Towards the light (unit): a low sun, for long shadows. */
+const float LIGHT_DIR[3] = {0.75f, -0.45f, 0.48541f};
+
+const char *method_name(uint32_t method) {
+    switch (method) {
+    case HF_METHOD_EXACT: return "exact";
+    case HF_METHOD_LINEAR_BINARY: return "linear-binary";
+    case HF_METHOD_LINEAR_SECANT: return "linear-secant";
+    case HF_METHOD_MAXMIP: return "maxmip";
+    case HF_METHOD_SAFETY: return "safety";
+    case HF_METHOD_CONE: return "cone";
+    case HF_METHOD_RELAXED: return "relaxed";
+    case HF_METHOD_QDM: return "qdm";
+    case HF_METHOD_CC: return "cc";
+    default: return "?";
+    }
+}
+
+const char *surface_name(uint32_t surface) {
+    switch (surface) {
+    case HF_SURFACE_TRIANGLES: return "triangles";
+    case HF_SURFACE_BILINEAR: return "bilinear";
+    case HF_SURFACE_HEIGHT_PLANES: return "height-planes";
+    case HF_SURFACE_LINEAR_PLANES: return "linear-planes";
+    case HF_SURFACE_VIEW_LINEAR: return "view-linear";
+    default: return "?";
+    }
+}
+
+double now_seconds(void) {
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+static void die_hf(const char *what, hf_result r) {
+    char msg[128];
+    size_t n = 0;
+    if (hf_error_message(r, msg, sizeof msg, &n) != HF_OK) strcpy(msg, "?");
+    fprintf(stderr, "%s failed: %s (%u)\n", what, msg, (unsigned)r);
+    exit(2);
+}
+
+/* ---- PNG ------------------------------------------------------------------------- */
+
+/* Reads a grayscale PNG (8 or 16 bits) as 16-bit samples (8-bit values widened v * 257). */
+static uint16_t *read_png_gray16(const char *path, uint32_t *w, uint32_t *h) {
+    FILE *fp = fopen(path, "rb");
+    if (!fp) return NULL;
+    png_structp png = png_create_read_struct(PNG_LIBPNG_VER_STRING, NULL, NULL, NULL);
+    png_infop info = png_create_info_struct(png);
+    uint16_t *out = NULL;
+    png_bytep row = NULL;
+    if (setjmp(png_jmpbuf(png))) {
+        free(out);
+        free(row);
+        out = NULL;
+        goto done;
+    }
+    png_init_io(png, fp);
+    png_read_info(png, info);
+    *w = png_get_image_width(png, info);
+    *h = png_get_image_height(png, info);
+    int depth = png_get_bit_depth(png, info);
+    int type = png_get_color_type(png, info);
+    if (type != PNG_COLOR_TYPE_GRAY || (depth != 8 && depth != 16)) {
+        fprintf(stderr, "%s: not an 8/16-bit grayscale PNG\n", path);
+        goto done;
+    }
+    out = (uint16_t *)malloc(sizeof(uint16_t) * (size_t)*w * *h);
+    row = (png_bytep)malloc(png_get_rowbytes(png, info));
+    for (uint32_t j = 0; j < *h; j++) {
+        png_read_row(png, row, NULL);
+        for (uint32_t i = 0; i < *w; i++) {
+            out[(size_t)j * *w + i] = depth == 16 ? (uint16_t)((row[2 * i] << 8) | row[2 * i + 1])
+                                                  : (uint16_t)(row[i] * 257);
+        }
+    }
+    free(row);
+    row = NULL;
+done:
+    png_destroy_read_struct(&png, &info, NULL);
+    fclose(fp);
+    return out;
+}
+
+int write_png_rgba(const char *path, const unsigned char *rgba, int w, int h) {
+    FILE *fp = fopen(path, "wb");
+    if (!fp) return -1;
+    png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, NULL, NULL, NULL);
+    png_infop info = png_create_info_struct(png);
+    if (setjmp(png_jmpbuf(png))) {
+        png_destroy_write_struct(&png, &info);
+        fclose(fp);
+        return -1;
+    }
+    png_init_io(png, fp);
+    png_set_IHDR(png, info, (png_uint_32)w, (png_uint_32)h, 8, PNG_COLOR_TYPE_RGB,
+                 PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
+    png_write_info(png, info);
+    png_bytep row = (png_bytep)malloc((size_t)w * 3);
+    /* GL row 0 is the bottom row: write top first. */
+    for (int y = h - 1; y >= 0; y--) {
+        for (int x = 0; x < w; x++) memcpy(row + 3 * x, rgba + 4 * ((size_t)y * w + x), 3);
+        png_write_row(png, row);
+    }
+    free(row);
+    png_write_end(png, NULL);
+    png_destroy_write_struct(&png, &info);
+    fclose(fp);
+    return 0;
+}
+
+/* Reads an 8-bit RGB PNG written by write_png_rgba, rows back in GL order (bottom first). */
+int read_png_rgb(const char *path, unsigned char **rgb, int *w, int *h) {
+    FILE *fp = fopen(path, "rb");
+    if (!fp) return -1;
+    png_structp png = png_create_read_struct(PNG_LIBPNG_VER_STRING, NULL, NULL, NULL);
+    png_infop info = png_create_info_struct(png);
+    *rgb = NULL;
+    if (setjmp(png_jmpbuf(png))) {
+        png_destroy_read_struct(&png, &info, NULL);
+        fclose(fp);
+        free(*rgb);
+        *rgb = NULL;
+        return -1;
+    }
+    png_init_io(png, fp);
+    png_read_info(png, info);
+    *w = (int)png_get_image_width(png, info);
+    *h = (int)png_get_image_height(png, info);
+    if (png_get_color_type(png, info) != PNG_COLOR_TYPE_RGB || png_get_bit_depth(png, info) != 8) {
+        png_destroy_read_struct(&png, &info, NULL);
+        fclose(fp);
+        return -1;
+    }
+    *rgb = (unsigned char *)malloc((size_t)*w * *h * 3);
+    for (int y = *h - 1; y >= 0; y--) png_read_row(png, *rgb + (size_t)y * *w * 3, NULL);
+    png_destroy_read_struct(&png, &info, NULL);
+    fclose(fp);
+    return 0;
+}
+
+/* ---- scene ------------------------------------------------------------------------ */
+
+int scene_load(scene *s, const char *png_path) { return scene_load_ex(s, png_path, 0, 0); }
+
+int scene_load_ex(scene *s, const char *png_path, uint32_t crop, int relaxed) {
+    memset(s, 0, sizeof *s);
+    uint16_t *samples = read_png_gray16(png_path, &s->w, &s->h);
+    if (!samples) return -1;
+    uint32_t stride = s->w;
+    if (crop > 0) {
+        s->w = s->w < crop ? s->w : crop;
+        s->h = s->h < crop ? s->h : crop;
+    }
+    const char *base = strrchr(png_path, '/');
+    base = base ? base + 1 : png_path;
+    snprintf(s->name, sizeof s->name, "%s", base);
+    char *dot = strrchr(s->name, '.');
+    if (dot) *dot = 0;
+    if (crop > 0) {
+        size_t len = strlen(s->name);
+        snprintf(s->name + len, sizeof s->name - len, "_crop%u", (unsigned)crop);
+    }
+    /* The tools' default relief depth: 0.1 x max(W, H) grid units. */
+    s->depth = 0.1f * (float)(s->w > s->h ? s->w : s->h);
+    size_t n = (size_t)s->w * s->h;
+    size_t avail = (size_t)stride * (s->h - 1) + s->w;
+    hf_result r = hf_field_create_u16(samples, avail, s->w, s->h, stride, s->depth, &s->field);
+    free(samples);
+    if (r != HF_OK) die_hf("hf_field_create_u16", r);
+    if ((r = hf_field_get_info(s->field, &s->info)) != HF_OK) die_hf("hf_field_get_info", r);
+    s->heights = (float *)malloc(sizeof(float) * n);
+    if ((r = hf_field_copy_heights(s->field, s->heights, n)) != HF_OK) die_hf("copy_heights", r);
+    if ((r = hf_maxmip_len(s->w, s->h, &s->pyramid_len)) != HF_OK) die_hf("hf_maxmip_len", r);
+    s->pyramid = (float *)malloc(sizeof(float) * s->pyramid_len);
+    if ((r = hf_maxmip_bake_threaded(s->field, 0, s->pyramid, s->pyramid_len)) != HF_OK)
+        die_hf("hf_maxmip_bake_threaded", r);
+    if ((r = hf_maxmip_levels(s->w, s->h, s->levels, HF_MAX_LEVELS, &s->nlevels)) != HF_OK)
+        die_hf("hf_maxmip_levels", r);
+    hf_safety_options opts = {HF_SAFETY_DIRECTIONAL, 0, 255};
+    if ((r = hf_safety_map_len(s->w, s->h, HF_SAFETY_DIRECTIONAL, &s->safety_len)) != HF_OK)
+        die_hf("hf_safety_map_len", r);
+    s->safety = (unsigned char *)malloc(s->safety_len);
+    double t0 = now_seconds();
+    if ((r = hf_safety_bake(s->field, &opts, 0, s->safety, s->safety_len)) != HF_OK)
+        die_hf("hf_safety_bake", r);
+    s->safety_bake_ms = 1e3 * (now_seconds() - t0);
+    hf_safety_options iso = {HF_SAFETY_ISOTROPIC, 0, 255};
+    if ((r = hf_safety_map_len(s->w, s->h, HF_SAFETY_ISOTROPIC, &s->safety_iso_len)) != HF_OK)
+        die_hf("hf_safety_map_len", r);
+    s->safety_iso = (unsigned char *)malloc(s->safety_iso_len);
+    if ((r = hf_safety_bake(s->field, &iso, 0, s->safety_iso, s->safety_iso_len)) != HF_OK)
+        die_hf("hf_safety_bake (isotropic)", r);
+    if ((r = hf_cone_map_len(s->w, s->h, &s->cone_len)) != HF_OK) die_hf("hf_cone_map_len", r);
+    if ((r = hf_relaxed_map_len(s->w, s->h, &s->relaxed_len)) != HF_OK) die_hf("relaxed_len", r);
+    if ((r = hf_qdm_map_len(s->w, s->h, &s->qdm_len)) != HF_OK) die_hf("hf_qdm_map_len", r);
+    s->cone = (float *)malloc(sizeof(float) * s->cone_len);
+    s->relaxed = (float *)calloc(s->relaxed_len, sizeof(float));
+    s->qdm = (float *)malloc(sizeof(float) * s->qdm_len);
+    t0 = now_seconds();
+    if ((r = hf_cone_bake(s->field, 0, s->cone, s->cone_len)) != HF_OK) die_hf("hf_cone_bake", r);
+    s->cone_bake_ms = 1e3 * (now_seconds() - t0);
+    t0 = now_seconds();
+    if (relaxed && (r = hf_relaxed_bake(s->field, 0, s->relaxed, s->relaxed_len)) != HF_OK)
+        die_hf("hf_relaxed_bake", r);
+    s->relaxed_bake_ms = relaxed ? 1e3 * (now_seconds() - t0) : -1.0;
+    t0 = now_seconds();
+    if ((r = hf_qdm_bake(s->field, 0, s->qdm, s->qdm_len)) != HF_OK) die_hf("hf_qdm_bake", r);
+    s->qdm_bake_ms = 1e3 * (now_seconds() - t0);
+    hf_cc_options cco = {HF_CC_SLOPE_EXACT, CC_CAP};
+    if ((r = hf_cc_map_len(s->w, s->h, &s->cc_len)) != HF_OK) die_hf("hf_cc_map_len", r);
+    s->cc = (unsigned char *)malloc(s->cc_len);
+    t0 = now_seconds();
+    if ((r = hf_cc_bake(s->field, &cco, 0, s->cc, s->cc_len)) != HF_OK) die_hf("hf_cc_bake", r);
+    s->cc_bake_ms = 1e3 * (now_seconds() - t0);
+    r = hf_cc_frame(s->field, &s->cc_frame[0], &s->cc_frame[1], &s->cc_frame[2]);
+    if (r != HF_OK) die_hf("hf_cc_frame", r);
+    return 0;
+}
+
+void scene_free(scene *s) {
+    hf_field_destroy(s->field);
+    free(s->heights);
+    free(s->pyramid);
+    free(s->safety);
+    free(s->safety_iso);
+    free(s->cone);
+    free(s->relaxed);
+    free(s->qdm);
+    free(s->cc);
+    memset(s, 0, sizeof *s);
+}
+
+camera default_camera(void) {
+    camera c = {0.6f, 0.6f, 1.25f, 0.7f};
+    return c;
+}
+
+static float scene_size(const scene *s) { return (float)(s->w > s->h ? s->w : s->h); }
+
+float scene_depth_far(const scene *s, const camera *c) {
+    return 4.0f * c->distance * scene_size(s);
+}
+
+static void normalize3(float v[3]) {
+    float l = sqrtf(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+    v[0] /= l;
+    v[1] /= l;
+    v[2] /= l;
+}
+
+void make_rays(const scene *s, const camera *c, int w, int h, hf_ray *rays) {
+    float size = scene_size(s);
+    float target[3] = {0.5f * (float)(s->w - 1), 0.5f * (float)(s->h - 1),
+                       0.5f * (s->info.min_height + s->info.max_height)};
+    float dist = c->distance * size;
+    float ce = cosf(c->elevation);
+    float eye[3] = {target[0] + dist * ce * cosf(c->azimuth), target[1] + dist * ce * sinf(c->azimuth),
+                    target[2] + dist * sinf(c->elevation)};
+    float fwd[3] = {target[0] - eye[0], target[1] - eye[1], target[2] - eye[2]};
+    normalize3(fwd);
+    /* Grid space is x east, y south, z up (left-handed): right = up x fwd keeps the
+     * image unmirrored. */
+    float right[3] = {-fwd[1], fwd[0], 0.0f};
+    normalize3(right);
+    float up[3] = {right[1] * fwd[2] - right[2] * fwd[1], right[2] * fwd[0] - right[0] * fwd[2],
+                   right[0] * fwd[1] - right[1] * fwd[0]};
+    if (up[2] < 0) {
+        up[0] = -up[0];
+        up[1] = -up[1];
+        up[2] = -up[2];
+    }
+    float th = tanf(0.5f * c->fov), aspect = (float)w / (float)h;
+    for (int y = 0; y < h; y++) {
+        for (int x = 0; x < w; x++) {
+            float sx = ((2.0f * ((float)x + 0.5f) / (float)w) - 1.0f) * th * aspect;
+            float sy = ((2.0f * ((float)y + 0.5f) / (float)h) - 1.0f) * th;
+            hf_ray *r = &rays[(size_t)y * w + x];
+            for (int k = 0; k < 3; k++) {
+                r->origin[k] = eye[k];
+                r->dir[k] = fwd[k] + sx * right[k] + sy * up[k];
+            }
+            normalize3(r->dir);
+            r->t_min = 0.0f;
+            r->t_max = INFINITY;
+        }
+    }
+}
+
+hf_result cpu_trace(const scene *s, method_cfg cfg, const hf_ray *rays, size_t n, hf_hit *hits) {
+    switch (cfg.method) {
+    case HF_METHOD_EXACT: return hf_trace_exact_batch(s->field, cfg.surface, rays, n, hits, n);
+    case HF_METHOD_LINEAR_BINARY:
+        return hf_trace_linear_binary_batch(s->field, cfg.surface, cfg.linear, cfg.binary, rays, n,
+                                            hits, n);
+    case HF_METHOD_LINEAR_SECANT:
+        return hf_trace_linear_secant_batch(s->field, cfg.surface, cfg.linear, rays, n, hits, n);
+    case HF_METHOD_MAXMIP:
+        return hf_trace_maxmip_batch(s->field, s->pyramid, s->pyramid_len, cfg.surface, rays, n,
+                                     hits, n);
+    case HF_METHOD_SAFETY:
+        if (cfg.variant == HF_SAFETY_ISOTROPIC)
+            return hf_trace_safety_batch(s->field, s->safety_iso, s->safety_iso_len,
+                                         HF_SAFETY_ISOTROPIC, rays, n, hits, n);
+        return hf_trace_safety_batch(s->field, s->safety, s->safety_len, HF_SAFETY_DIRECTIONAL,
+                                     rays, n, hits, n);
+    case HF_METHOD_CONE:
+        return hf_trace_cone_batch(s->field, s->cone, s->cone_len, cfg.linear, rays, n, hits, n);
+    case HF_METHOD_RELAXED:
+        return hf_trace_relaxed_batch(s->field, s->relaxed, s->relaxed_len, cfg.linear, cfg.binary,
+                                      rays, n, hits, n);
+    case HF_METHOD_QDM:
+        return hf_trace_qdm_batch(s->field, s->qdm, s->qdm_len, cfg.linear, rays, n, hits, n);
+    case HF_METHOD_CC:
+        return hf_trace_cc_batch(s->field, s->cc, s->cc_len, CC_CAP, rays, n, hits, n);
+    default: return HF_ERR_INVALID_ENUM;
+    }
+}
+
+/* ---- shaders ---------------------------------------------------------------------- */
+
+const char *VERTEX_SOURCE =
+    "#version 330 core\n"
+    "// A full-screen triangle; the fragment shader reads its ray by pixel.\n"
+    "void main() {\n"
+    "    vec2 p = vec2(float((gl_VertexID << 1) & 2), float(gl_VertexID & 2));\n"
+    "    gl_Position = vec4(p * 2.0 - 1.0, 0.0, 1.0);\n"
+    "}\n";
+
+/* The renderer's main: one primary ray per pixel (read from the ray textures), then a
+ * shadow ray towards the light from just above the hit, both with the method's
+ * hf_trace; writes the hit, the normal and shadow, a shaded colour, and the depth. */
+static const char *FRAGMENT_MAIN =
+    "// ---- renderer main (c_tests/render_common.c)\n"
+    "uniform sampler2D hf_ray_origin; // RGBA32F: origin.xyz, t_min\n"
+    "uniform sampler2D hf_ray_dir;    // RGBA32F: dir.xyz, t_max\n"
+    "uniform vec3 light_dir;          // unit, towards the light\n"
+    "uniform float depth_far;         // gl_FragDepth = t / depth_far\n"
+    "uniform float shadow_offset;     // shadow rays start at point + normal * offset\n"
+    "layout(location = 0) out vec4 out_point;  // hit point, t (-1 on a miss)\n"
+    "layout(location = 1) out vec4 out_normal; // normal, 1 when shadowed\n"
+    "layout(location = 2) out vec4 out_color;  // shaded\n"
+    "void main() {\n"
+    "    ivec2 px = ivec2(gl_FragCoord.xy);\n"
+    "    vec4 o = texelFetch(hf_ray_origin, px, 0);\n"
+    "    vec4 d = texelFetch(hf_ray_dir, px, 0);\n"
+    "    Query q = Query(o.xyz, d.xyz, o.w, d.w);\n"
+    "    Trace first = trace_miss(0u, real_infinity());\n"
+    "    bool shadowed = false;\n"
+    "    // One call site of hf_trace in a loop: the march is compiled once.\n"
+    "    for (int pass = 0; pass < 2; pass++) {\n"
+    "        Trace tr = hf_trace(q);\n"
+    "        if (pass == 1) { shadowed = tr.has_hit; break; }\n"
+    "        first = tr;\n"
+    "        if (!tr.has_hit) break;\n"
+    "        vec3 p = tr.hit.point, n = tr.hit.normal;\n"
+    "        vec3 so = vec3(p.x + n.x * shadow_offset, p.y + n.y * shadow_offset,\n"
+    "                       p.z + n.z * shadow_offset);\n"
+    "        q = Query(so, light_dir, 0.0, real_infinity());\n"
+    "    }\n"
+    "    if (!first.has_hit) {\n"
+    "        out_point = vec4(0.0, 0.0, 0.0, -1.0);\n"
+    "        out_normal = vec4(0.0);\n"
+    "        out_color = vec4(0.55, 0.70, 0.90, 1.0);\n"
+    "        gl_FragDepth = 1.0;\n"
+    "        return;\n"
+    "    }\n"
+    "    Hit h = first.hit;\n"
+    "    out_point = vec4(h.point, h.t);\n"
+    "    out_normal = vec4(h.normal, shadowed ? 1.0 : 0.0);\n"
+    "    float range = max(field_max_height() - field_min_height(), 1e-6);\n"
+    "    float k = clamp((h.point.z - field_min_height()) / range, 0.0, 1.0);\n"
+    "    vec3 albedo = mix(vec3(0.30, 0.50, 0.22), vec3(0.92, 0.90, 0.85), k);\n"
+    "    float lit = max(dot(h.normal, light_dir), 0.0) * (shadowed ? 0.2 : 1.0);\n"
+    "    out_color = vec4(albedo * (0.18 + 0.82 * lit), 1.0);\n"
+    "    gl_FragDepth = clamp(h.t / depth_far, 0.0, 1.0);\n"
+    "}\n";
+
+char *fragment_source(uint32_t method) {
+    size_t len = 0, written = 0;
+    hf_result r = hf_shader_source_len(method, &len);
+    if (r != HF_OK) die_hf("hf_shader_source_len", r);
+    const char *head = "#version 330 core\n";
+    size_t total = strlen(head) + len + strlen(FRAGMENT_MAIN) + 1;
+    char *src = (char *)malloc(total);
+    strcpy(src, head);
+    r = hf_shader_source(method, src + strlen(head), len, &written);
+    if (r != HF_OK) die_hf("hf_shader_source", r);
+    strcat(src, FRAGMENT_MAIN);
+    return src;
+}
+
+/* ---- GL ------------------------------------------------------------------------- */
+
+static GLuint compile(GLenum type, const char *src) {
+    GLuint sh = glCreateShader(type);
+    glShaderSource(sh, 1, &src, NULL);
+    glCompileShader(sh);
+    GLint ok = 0;
+    glGetShaderiv(sh, GL_COMPILE_STATUS, &ok);
+    if (!ok) {
+        char log[4096];
+        glGetShaderInfoLog(sh, sizeof log, NULL, log);
+        fprintf(stderr, "shader compile failed:\n%s\n", log);
+        exit(2);
+    }
+    return sh;
+}
+
+static GLuint link_program(uint32_t method) {
+    char *fs_src = fragment_source(method);
+    GLuint vs = compile(GL_VERTEX_SHADER, VERTEX_SOURCE);
+    GLuint fs = compile(GL_FRAGMENT_SHADER, fs_src);
+    free(fs_src);
+    GLuint p = glCreateProgram();
+    glAttachShader(p, vs);
+    glAttachShader(p, fs);
+    glLinkProgram(p);
+    GLint ok = 0;
+    glGetProgramiv(p, GL_LINK_STATUS, &ok);
+    if (!ok) {
+        char log[4096];
+        glGetProgramInfoLog(p, sizeof log, NULL, log);
+        fprintf(stderr, "program link failed:\n%s\n", log);
+        exit(2);
+    }
+    glDeleteShader(vs);
+    glDeleteShader(fs);
+    return p;
+}
+
+static GLuint make_texture(GLenum internal, int w, int h, GLenum format, GLenum type,
+                           const void *data) {
+    GLuint t;
+    glGenTextures(1, &t);
+    glBindTexture(GL_TEXTURE_2D, t);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    glTexImage2D(GL_TEXTURE_2D, 0, (GLint)internal, w, h, 0, format, type, data);
+    return t;
+}
+
+int gpu_init(gpu *g, const scene *s, int w, int h) {
+    memset(g, 0, sizeof *g);
+    g->w = w;
+    g->h = h;
+    for (uint32_t m = 0; m < NUM_METHODS; m++) g->prog[m] = link_program(m);
+    glGenVertexArrays(1, &g->vao);
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
+    g->tex_heights = make_texture(GL_R32F, (int)s->w, (int)s->h, GL_RED, GL_FLOAT, s->heights);
+    /* The pyramid buffer as rows of HF_PYRAMID_TEX_WIDTH texels (last row padded). */
+    size_t rows = (s->pyramid_len + HF_PYRAMID_TEX_WIDTH - 1) / HF_PYRAMID_TEX_WIDTH;
+    float *padded = (float *)calloc(rows * HF_PYRAMID_TEX_WIDTH, sizeof(float));
+    memcpy(padded, s->pyramid, sizeof(float) * s->pyramid_len);
+    g->tex_pyramid =
+        make_texture(GL_R32F, HF_PYRAMID_TEX_WIDTH, (int)rows, GL_RED, GL_FLOAT, padded);
+    free(padded);
+    /* Directional safety distances: one byte per ray class, an RGBA8UI texture. */
+    g->tex_safety = make_texture(GL_RGBA8UI, (int)s->w, (int)s->h, GL_RGBA_INTEGER,
+                                 GL_UNSIGNED_BYTE, s->safety);
+    /* Isotropic: one byte per texel, an R8UI texture (rows are W bytes: alignment 1). */
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+    g->tex_safety_iso = make_texture(GL_R8UI, (int)s->w, (int)s->h, GL_RED_INTEGER,
+                                     GL_UNSIGNED_BYTE, s->safety_iso);
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
+    /* The cone family: per cell [top, ratio] (RG32F), per cell [a, b, c, h] (RGBA32F),
+     * per sample the relaxed ratio (R32F). */
+    g->tex_cone = make_texture(GL_RG32F, (int)s->w - 1, (int)s->h - 1, GL_RG, GL_FLOAT, s->cone);
+    g->tex_qdm = make_texture(GL_RGBA32F, (int)s->w - 1, (int)s->h - 1, GL_RGBA, GL_FLOAT, s->qdm);
+    g->tex_relaxed = make_texture(GL_R32F, (int)s->w, (int)s->h, GL_RED, GL_FLOAT, s->relaxed);
+    /* Cylinder-cone shapes: four RGBA8UI texels (one per ray class) per map texel. */
+    g->tex_cc = make_texture(GL_RGBA8UI, 4 * (int)s->w, (int)s->h, GL_RGBA_INTEGER,
+                             GL_UNSIGNED_BYTE, s->cc);
+    g->tex_origin = make_texture(GL_RGBA32F, w, h, GL_RGBA, GL_FLOAT, NULL);
+    g->tex_dir = make_texture(GL_RGBA32F, w, h, GL_RGBA, GL_FLOAT, NULL);
+    g->tex_point = make_texture(GL_RGBA32F, w, h, GL_RGBA, GL_FLOAT, NULL);
+    g->tex_normal = make_texture(GL_RGBA32F, w, h, GL_RGBA, GL_FLOAT, NULL);
+    g->tex_color = make_texture(GL_RGBA8, w, h, GL_RGBA, GL_UNSIGNED_BYTE, NULL);
+    glGenRenderbuffers(1, &g->rb_depth);
+    glBindRenderbuffer(GL_RENDERBUFFER, g->rb_depth);
+    glRenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH_COMPONENT32F, w, h);
+    glGenFramebuffers(1, &g->fbo);
+    glBindFramebuffer(GL_FRAMEBUFFER, g->fbo);
+    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, g->tex_point, 0);
+    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT1, GL_TEXTURE_2D, g->tex_normal, 0);
+    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT2, GL_TEXTURE_2D, g->tex_color, 0);
+    glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, g->rb_depth);
+    GLenum bufs[3] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1, GL_COLOR_ATTACHMENT2};
+    glDrawBuffers(3, bufs);
+    if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE) {
+        fprintf(stderr, "framebuffer incomplete\n");
+        return -1;
+    }
+    return glGetError() == GL_NO_ERROR ? 0 : -1;
+}
+
+void gpu_upload_rays(gpu *g, const hf_ray *rays) {
+    size_t n = (size_t)g->w * g->h;
+    float *o = (float *)malloc(sizeof(float) * 4 * n);
+    float *d = (float *)malloc(sizeof(float) * 4 * n);
+    for (size_t k = 0; k < n; k++) {
+        memcpy(o + 4 * k, rays[k].origin, sizeof(float) * 3);
+        o[4 * k + 3] = rays[k].t_min;
+        memcpy(d + 4 * k, rays[k].dir, sizeof(float) * 3);
+        d[4 * k + 3] = rays[k].t_max;
+    }
+    glBindTexture(GL_TEXTURE_2D, g->tex_origin);
+    glTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, g->w, g->h, GL_RGBA, GL_FLOAT, o);
+    glBindTexture(GL_TEXTURE_2D, g->tex_dir);
+    glTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, g->w, g->h, GL_RGBA, GL_FLOAT, d);
+    free(o);
+    free(d);
+}
+
+void gpu_render(gpu *g, const scene *s, method_cfg cfg, float depth_far) {
+    GLuint p = g->prog[cfg.method];
+    glUseProgram(p);
+    glBindFramebuffer(GL_FRAMEBUFFER, g->fbo);
+    glViewport(0, 0, g->w, g->h);
+    glEnable(GL_DEPTH_TEST);
+    glDepthFunc(GL_ALWAYS);
+    glClearDepth(1.0);
+    glClear(GL_DEPTH_BUFFER_BIT);
+    GLuint safety = cfg.variant == HF_SAFETY_ISOTROPIC ? g->tex_safety_iso : g->tex_safety;
+    GLuint tex[9] = {g->tex_heights, g->tex_pyramid, g->tex_origin,  g->tex_dir, safety,
+                     g->tex_cone,    g->tex_qdm,     g->tex_relaxed, g->tex_cc};
+    const char *names[9] = {"hf_heights",  "hf_pyramid", "hf_ray_origin",  "hf_ray_dir",
+                            "hf_safety_map", "hf_cone_map", "hf_qdm_map", "hf_relaxed_map",
+                            "hf_cc_map"};
+    for (int k = 0; k < 9; k++) {
+        glActiveTexture(GL_TEXTURE0 + (GLenum)k);
+        glBindTexture(GL_TEXTURE_2D, tex[k]);
+        GLint loc = glGetUniformLocation(p, names[k]);
+        if (loc >= 0) glUniform1i(loc, k);
+    }
+    glUniform2i(glGetUniformLocation(p, "hf_size"), (GLint)s->w, (GLint)s->h);
+    glUniform2f(glGetUniformLocation(p, "hf_height_range"), s->info.min_height,
+                s->info.max_height);
+    GLint sloc = glGetUniformLocation(p, "hf_surface");
+    if (sloc >= 0) glUniform1ui(sloc, cfg.surface);
+    sloc = glGetUniformLocation(p, "hf_safety_variant");
+    if (sloc >= 0) glUniform1ui(sloc, cfg.variant);
+    GLint loc = glGetUniformLocation(p, "hf_linear_steps");
+    if (loc >= 0) glUniform1ui(loc, cfg.linear);
+    loc = glGetUniformLocation(p, "hf_binary_steps");
+    if (loc >= 0) glUniform1ui(loc, cfg.binary);
+    loc = glGetUniformLocation(p, "hf_max_iter");
+    if (loc >= 0) glUniform1ui(loc, cfg.linear);
+    loc = glGetUniformLocation(p, "hf_cone_steps");
+    if (loc >= 0) glUniform1ui(loc, cfg.linear);
+    if (cfg.method == HF_METHOD_CC) {
+        glUniform1ui(glGetUniformLocation(p, "hf_cc_cap"), CC_CAP);
+        glUniform1f(glGetUniformLocation(p, "hf_cc_zmin"), s->cc_frame[0]);
+        glUniform1f(glGetUniformLocation(p, "hf_cc_zstep"), s->cc_frame[1]);
+        glUniform1f(glGetUniformLocation(p, "hf_cc_zspan"), s->cc_frame[2]);
+    }
+    if (cfg.method == HF_METHOD_MAXMIP) {
+        GLint dims[2 * HF_MAX_LEVELS] = {0}, offs[HF_MAX_LEVELS] = {0};
+        for (uint32_t l = 0; l < s->nlevels; l++) {
+            dims[2 * l] = (GLint)s->levels[l].width;
+            dims[2 * l + 1] = (GLint)s->levels[l].height;
+            offs[l] = (GLint)s->levels[l].offset;
+        }
+        glUniform1i(glGetUniformLocation(p, "hf_levels"), (GLint)s->nlevels);
+        glUniform2iv(glGetUniformLocation(p, "hf_level_dims"), HF_MAX_LEVELS, dims);
+        glUniform1iv(glGetUniformLocation(p, "hf_level_offset"), HF_MAX_LEVELS, offs);
+    }
+    glUniform3fv(glGetUniformLocation(p, "light_dir"), 1, LIGHT_DIR);
+    glUniform1f(glGetUniformLocation(p, "depth_far"), depth_far);
+    glUniform1f(glGetUniformLocation(p, "shadow_offset"), SHADOW_OFFSET);
+    glBindVertexArray(g->vao);
+    glDrawArrays(GL_TRIANGLES, 0, 3);
+}
+
+int frame_alloc(frame *f, int w, int h) {
+    size_t n = (size_t)w * h;
+    f->point = (float *)malloc(sizeof(float) * 4 * n);
+    f->normal = (float *)malloc(sizeof(float) * 4 * n);
+    f->color = (unsigned char *)malloc(4 * n);
+    f->depth = (float *)malloc(sizeof(float) * n);
+    return f->point && f->normal && f->color && f->depth ? 0 : -1;
+}
+
+void frame_free(frame *f) {
+    free(f->point);
+    free(f->normal);
+    free(f->color);
+    free(f->depth);
+}
+
+void gpu_read(gpu *g, frame *f) {
+    glBindFramebuffer(GL_READ_FRAMEBUFFER, g->fbo);
+    glPixelStorei(GL_PACK_ALIGNMENT, 1);
+    glReadBuffer(GL_COLOR_ATTACHMENT0);
+    glReadPixels(0, 0, g->w, g->h, GL_RGBA, GL_FLOAT, f->point);
+    glReadBuffer(GL_COLOR_ATTACHMENT1);
+    glReadPixels(0, 0, g->w, g->h, GL_RGBA, GL_FLOAT, f->normal);
+    glReadBuffer(GL_COLOR_ATTACHMENT2);
+    glReadPixels(0, 0, g->w, g->h, GL_RGBA, GL_UNSIGNED_BYTE, f->color);
+    glReadPixels(0, 0, g->w, g->h, GL_DEPTH_COMPONENT, GL_FLOAT, f->depth);
+}
+
+void gpu_free(gpu *g) {
+    for (int m = 0; m < NUM_METHODS; m++) glDeleteProgram(g->prog[m]);
+    GLuint tex[13] = {g->tex_heights, g->tex_pyramid, g->tex_safety, g->tex_safety_iso,
+                      g->tex_origin,  g->tex_dir,     g->tex_point,  g->tex_normal,
+                      g->tex_color,   g->tex_cone,    g->tex_qdm,    g->tex_relaxed,
+                      g->tex_cc};
+    glDeleteTextures(13, tex);
+    glDeleteRenderbuffers(1, &g->rb_depth);
+    glDeleteFramebuffers(1, &g->fbo);
+    glDeleteVertexArrays(1, &g->vao);
+}

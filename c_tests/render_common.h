@@ -1,0 +1,121 @@
+/* The scene both OpenGL renderers draw (OSMesa offscreen, GLFW window): a height map
+ * loaded from a 16-bit PNG, baked through the C API, and ray cast by the GLSL port of
+ * a method in a full-screen pass, one ray per pixel.
+ *
+ * Parity: the C code computes every pixel's ray once (origin, direction, t range as
+ * floats) and uploads the very same floats as two RGBA32F textures; the fragment
+ * shader reads its ray with texelFetch at its pixel, and the CPU check traces the same
+ * array through the C API. Both sides therefore trace bit-identical rays, and any
+ * difference comes from the marches themselves. */
+#ifndef HFCAST_RENDER_COMMON_H
+#define HFCAST_RENDER_COMMON_H
+
+#define GL_GLEXT_PROTOTYPES 1
+#include <GL/gl.h>
+#include <GL/glext.h>
+
+#include "hfcast.h"
+
+#define NUM_METHODS 9 /* HF_METHOD_EXACT .. HF_METHOD_CC */
+#define CC_CAP 64     /* the cylinder-cone bake's (and march's) cap */
+
+/* One method configuration: an hf_method, an hf_surface, the step counts (`linear`:
+ * search steps, or the cone/QDM iteration budget, or relaxed cone steps; `binary`:
+ * bisections) and the safety map layout. */
+typedef struct method_cfg {
+    uint32_t method;
+    uint32_t surface;
+    uint32_t linear;
+    uint32_t binary;
+    uint32_t variant; /* safety: an hf_safety_variant */
+} method_cfg;
+
+typedef struct scene {
+    char name[128];
+    uint32_t w, h;
+    float depth;       /* relief depth: a PNG value of 65535 is this many grid units */
+    hf_field *field;
+    hf_field_info info;
+    float *heights;    /* W x H, for the texture */
+    float *pyramid;
+    size_t pyramid_len;
+    hf_level levels[HF_MAX_LEVELS];
+    uint32_t nlevels;
+    unsigned char *safety; /* directional safety distances, W x H x 4 */
+    size_t safety_len;
+    unsigned char *safety_iso; /* isotropic safety distances, W x H */
+    size_t safety_iso_len;
+    float *cone, *relaxed, *qdm; /* the cone family's maps */
+    size_t cone_len, relaxed_len, qdm_len;
+    double cone_bake_ms, relaxed_bake_ms, qdm_bake_ms;
+    unsigned char *cc; /* cylinder-cone shapes, W x H x 16 bytes */
+    size_t cc_len;
+    float cc_frame[3]; /* zmin, zstep, zspan */
+    double cc_bake_ms;
+    double safety_bake_ms;
+} scene;
+
+typedef struct camera {
+    float azimuth, elevation; /* radians */
+    float distance;           /* in units of max(W, H) */
+    float fov;                /* vertical, radians */
+} camera;
+
+typedef struct gpu {
+    int w, h;
+    GLuint prog[NUM_METHODS]; /* one program per hf_method */
+    GLuint vao;
+    GLuint tex_heights, tex_pyramid, tex_safety, tex_safety_iso, tex_origin, tex_dir;
+    GLuint tex_cone, tex_relaxed, tex_qdm, tex_cc;
+    GLuint fbo, tex_point, tex_normal, tex_color, rb_depth;
+} gpu;
+
+/* Output of one pass, read back (row 0 = bottom row, as GL). */
+typedef struct frame {
+    float *point;         /* w*h*4: hit point, t (-1 on a miss) */
+    float *normal;        /* w*h*4: normal, shadow (1 = shadowed) */
+    unsigned char *color; /* w*h*4: shaded RGBA8 */
+    float *depth;         /* w*h: the depth buffer (t / depth_far, 1 on a miss) */
+} frame;
+
+#define SHADOW_OFFSET 0.01f
+
+extern const float LIGHT_DIR[3];
+
+const char *method_name(uint32_t method);
+const char *surface_name(uint32_t surface);
+
+int scene_load(scene *s, const char *png_path);
+/* scene_load with options: `crop` > 0 keeps only the top-left crop x crop samples;
+ * `relaxed` bakes the relaxed cone map too (the book's bake: minutes on a full map). */
+int scene_load_ex(scene *s, const char *png_path, uint32_t crop, int relaxed);
+void scene_free(scene *s);
+/* The fixed view of the tests: both renderers' images of it are compared. */
+camera default_camera(void);
+float scene_depth_far(const scene *s, const camera *c);
+
+/* Rays of a w x h image, rays[y * w + x] for pixel (x, y) with y = 0 the bottom row. */
+void make_rays(const scene *s, const camera *c, int w, int h, hf_ray *rays);
+
+/* Traces `n` rays on the CPU through the C API with `cfg`. */
+hf_result cpu_trace(const scene *s, method_cfg cfg, const hf_ray *rays, size_t n, hf_hit *hits);
+
+/* The fragment shader of `method`: #version, hf_shader_source, the renderer's main. */
+char *fragment_source(uint32_t method);
+extern const char *VERTEX_SOURCE;
+
+int gpu_init(gpu *g, const scene *s, int w, int h);
+void gpu_upload_rays(gpu *g, const hf_ray *rays);
+void gpu_render(gpu *g, const scene *s, method_cfg cfg, float depth_far);
+void gpu_read(gpu *g, frame *f);
+void gpu_free(gpu *g);
+
+int frame_alloc(frame *f, int w, int h);
+void frame_free(frame *f);
+
+int write_png_rgba(const char *path, const unsigned char *rgba, int w, int h);
+int read_png_rgb(const char *path, unsigned char **rgb, int *w, int *h);
+
+double now_seconds(void);
+
+#endif

@@ -1,0 +1,178 @@
+/* The scene of render_osmesa in a GLFW window (OpenGL 4.5 core).
+ *
+ * By hand:   render_glfw MAP.png
+ *   arrows orbit, +/- zoom, M next method, S next surface, Esc quits; the title shows
+ *   the method and the frame time.
+ * In tests:  render_glfw --frames N --screenshot OUT.png --compare REF.png MAP.png
+ *   draws N frames of the fixed view (exact method, triangles, 256 x 192), reads the
+ *   window back and compares it with the OSMesa image of the same view.
+ */
+#define _POSIX_C_SOURCE 200112L
+#include "render_common.h"
+
+#define GLFW_INCLUDE_NONE
+#include <GLFW/glfw3.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+static camera cam;
+/* `linear`: search steps, or the cone/QDM iteration budget. */
+static method_cfg cfg = {HF_METHOD_EXACT, HF_SURFACE_TRIANGLES, 64, 8, HF_SAFETY_DIRECTIONAL};
+static int dirty = 1;
+
+static void on_key(GLFWwindow *win, int key, int scancode, int action, int mods) {
+    (void)scancode;
+    (void)mods;
+    if (action != GLFW_PRESS && action != GLFW_REPEAT) return;
+    switch (key) {
+    case GLFW_KEY_ESCAPE: glfwSetWindowShouldClose(win, 1); break;
+    case GLFW_KEY_LEFT: cam.azimuth -= 0.05f; break;
+    case GLFW_KEY_RIGHT: cam.azimuth += 0.05f; break;
+    case GLFW_KEY_UP: cam.elevation = cam.elevation < 1.5f ? cam.elevation + 0.05f : 1.5f; break;
+    case GLFW_KEY_DOWN: cam.elevation = cam.elevation > -0.3f ? cam.elevation - 0.05f : -0.3f; break;
+    case GLFW_KEY_EQUAL:
+    case GLFW_KEY_KP_ADD: cam.distance *= 0.9f; break;
+    case GLFW_KEY_MINUS:
+    case GLFW_KEY_KP_SUBTRACT: cam.distance *= 1.1f; break;
+    case GLFW_KEY_M:
+        /* Relaxed cones are skipped: their bake takes minutes on a full map. */
+        do cfg.method = (cfg.method + 1) % NUM_METHODS;
+        while (cfg.method == HF_METHOD_RELAXED);
+        break;
+    case GLFW_KEY_S: cfg.surface = (cfg.surface + 1) % 5; break;
+    default: return;
+    }
+    dirty = 1;
+}
+
+static int compare_images(const unsigned char *rgba, int w, int h, const char *ref_path) {
+    unsigned char *ref = NULL;
+    int rw = 0, rh = 0;
+    if (read_png_rgb(ref_path, &ref, &rw, &rh) != 0) {
+        fprintf(stderr, "cannot read the reference %s\n", ref_path);
+        return 1;
+    }
+    if (rw != w || rh != h) {
+        fprintf(stderr, "reference is %d x %d, window %d x %d\n", rw, rh, w, h);
+        free(ref);
+        return 1;
+    }
+    int differ = 0, listed = 0;
+    for (int k = 0; k < w * h; k++) {
+        int bad = 0;
+        for (int c = 0; c < 3; c++) {
+            int d = (int)rgba[4 * k + c] - (int)ref[3 * k + c];
+            if (d > 1 || d < -1) bad = 1;
+        }
+        if (bad) {
+            differ++;
+            if (listed++ < 50)
+                fprintf(stderr, "  pixel (%d, %d): window (%d, %d, %d), osmesa (%d, %d, %d)\n",
+                        k % w, k / w, rgba[4 * k], rgba[4 * k + 1], rgba[4 * k + 2], ref[3 * k],
+                        ref[3 * k + 1], ref[3 * k + 2]);
+        }
+    }
+    free(ref);
+    printf("glfw: %d pixels compared with %s, %d differ by more than 1/255\n", w * h, ref_path,
+           differ);
+    printf("glfw: %d passed, %d failed\n", differ == 0 ? 1 : 0, differ == 0 ? 0 : 1);
+    return differ == 0 ? 0 : 1;
+}
+
+int main(int argc, char **argv) {
+    int frames = 0, w = 800, h = 600;
+    const char *shot = NULL, *ref = NULL, *map = NULL;
+    for (int i = 1; i < argc; i++) {
+        if (strcmp(argv[i], "--frames") == 0 && i + 1 < argc) frames = atoi(argv[++i]);
+        else if (strcmp(argv[i], "--screenshot") == 0 && i + 1 < argc) shot = argv[++i];
+        else if (strcmp(argv[i], "--compare") == 0 && i + 1 < argc) ref = argv[++i];
+        else map = argv[i];
+    }
+    if (!map) {
+        fprintf(stderr, "usage: %s [--frames N --screenshot OUT.png --compare REF.png] MAP.png\n",
+                argv[0]);
+        return 2;
+    }
+    if (frames > 0) {
+        w = 256; /* the size of the OSMesa test image */
+        h = 192;
+    }
+    setenv("MESA_SHADER_CACHE_DISABLE", "true", 0);
+    if (!glfwInit()) {
+        fprintf(stderr, "glfwInit failed (no display?)\n");
+        return 2;
+    }
+    glfwWindowHint(GLFW_CONTEXT_VERSION_MAJOR, 4);
+    glfwWindowHint(GLFW_CONTEXT_VERSION_MINOR, 5);
+    glfwWindowHint(GLFW_OPENGL_PROFILE, GLFW_OPENGL_CORE_PROFILE);
+    glfwWindowHint(GLFW_OPENGL_FORWARD_COMPAT, GLFW_TRUE);
+    glfwWindowHint(GLFW_RESIZABLE, GLFW_FALSE);
+    GLFWwindow *win = glfwCreateWindow(w, h, "hfcast", NULL, NULL);
+    if (!win) {
+        fprintf(stderr, "glfwCreateWindow (4.5 core) failed\n");
+        glfwTerminate();
+        return 2;
+    }
+    glfwMakeContextCurrent(win);
+    glfwSwapInterval(0);
+    glfwSetKeyCallback(win, on_key);
+    int fw = 0, fh = 0;
+    glfwGetFramebufferSize(win, &fw, &fh);
+    scene s;
+    if (scene_load(&s, map) != 0) {
+        fprintf(stderr, "cannot read %s\n", map);
+        return 2;
+    }
+    gpu g;
+    if (gpu_init(&g, &s, fw, fh) != 0) return 2;
+    cam = default_camera();
+    hf_ray *rays = (hf_ray *)malloc(sizeof(hf_ray) * (size_t)fw * fh);
+    unsigned char *pixels = (unsigned char *)malloc((size_t)fw * fh * 4);
+    int rc = 0;
+    double last = now_seconds(), shown = 0;
+    for (int frame = 0; !glfwWindowShouldClose(win); frame++) {
+        if (dirty) {
+            make_rays(&s, &cam, fw, fh, rays);
+            gpu_upload_rays(&g, rays);
+            dirty = 0;
+        }
+        gpu_render(&g, &s, cfg, scene_depth_far(&s, &cam));
+        glBindFramebuffer(GL_READ_FRAMEBUFFER, g.fbo);
+        glReadBuffer(GL_COLOR_ATTACHMENT2);
+        glBindFramebuffer(GL_DRAW_FRAMEBUFFER, 0);
+        glDrawBuffer(GL_BACK);
+        glBlitFramebuffer(0, 0, fw, fh, 0, 0, fw, fh, GL_COLOR_BUFFER_BIT, GL_NEAREST);
+        if (frames > 0 && frame == frames - 1) {
+            glBindFramebuffer(GL_READ_FRAMEBUFFER, 0);
+            glReadBuffer(GL_BACK);
+            glPixelStorei(GL_PACK_ALIGNMENT, 1);
+            glReadPixels(0, 0, fw, fh, GL_RGBA, GL_UNSIGNED_BYTE, pixels);
+            if (shot && write_png_rgba(shot, pixels, fw, fh) != 0) rc = 1;
+            if (ref) rc |= compare_images(pixels, fw, fh, ref);
+            glfwSetWindowShouldClose(win, 1);
+        }
+        glfwSwapBuffers(win);
+        glfwPollEvents();
+        double t = now_seconds();
+        if (t - shown > 0.25) {
+            char title[256];
+            snprintf(title, sizeof title, "hfcast - %s/%s - %.1f ms/frame (M: method, S: surface)",
+                     method_name(cfg.method), surface_name(cfg.surface), 1e3 * (t - last));
+            glfwSetWindowTitle(win, title);
+            shown = t;
+        }
+        last = t;
+    }
+    if (glGetError() != GL_NO_ERROR) {
+        fprintf(stderr, "GL error\n");
+        rc = 1;
+    }
+    free(rays);
+    free(pixels);
+    gpu_free(&g);
+    scene_free(&s);
+    glfwDestroyWindow(win);
+    glfwTerminate();
+    return rc;
+}

@@ -1,0 +1,1181 @@
+/* API tests of libhfcast: every bad input returns its error code and writes nothing;
+ * good queries match known values; the methods agree with each other.
+ * Built by the Makefile with -Wall -Wextra -Werror -std=c99, run plain, under
+ * -fsanitize=address,undefined, and under valgrind. */
+#define _POSIX_C_SOURCE 200112L
+#include "hfcast.h"
+
+#include <math.h>
+#include <pthread.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+static int failures = 0;
+static int checks = 0;
+static int bad_inputs = 0;
+
+#define CHECK(cond)                                                                \
+    do {                                                                           \
+        checks++;                                                                  \
+        if (!(cond)) {                                                             \
+            failures++;                                                            \
+            fprintf(stderr, "%s:%d: check failed: %s\n", __FILE__, __LINE__, #cond); \
+        }                                                                          \
+    } while (0)
+
+#define CHECK_OK(call)                                                             \
+    do {                                                                           \
+        hf_result r_ = (call);                                                     \
+        checks++;                                                                  \
+        if (r_ != HF_OK) {                                                         \
+            failures++;                                                            \
+            fprintf(stderr, "%s:%d: %s returned %u\n", __FILE__, __LINE__, #call,  \
+                    (unsigned)r_);                                                 \
+        }                                                                          \
+    } while (0)
+
+/* A bad call: must return `code` and leave the `len` bytes at `out` as they were. */
+#define CHECK_BAD(call, code, out, len)                                            \
+    do {                                                                           \
+        unsigned char before_[512];                                                \
+        size_t n_ = (len) < sizeof before_ ? (size_t)(len) : sizeof before_;       \
+        memcpy(before_, (out), n_);                                               \
+        hf_result r_ = (call);                                                     \
+        checks++;                                                                  \
+        bad_inputs++;                                                              \
+        if (r_ != (code)) {                                                        \
+            failures++;                                                            \
+            fprintf(stderr, "%s:%d: %s returned %u, expected %s (%u)\n", __FILE__, \
+                    __LINE__, #call, (unsigned)r_, #code, (unsigned)(code));       \
+        } else if (memcmp(before_, (out), n_) != 0) {                              \
+            failures++;                                                            \
+            fprintf(stderr, "%s:%d: %s wrote its output on error\n", __FILE__,     \
+                    __LINE__, #call);                                              \
+        }                                                                          \
+    } while (0)
+
+/* An output that is not there: nothing to compare. */
+static unsigned char nothing[1];
+
+static int near(float a, float b, float tol) { return fabsf(a - b) <= tol; }
+
+static hf_ray ray(float ox, float oy, float oz, float dx, float dy, float dz) {
+    hf_ray r;
+    r.origin[0] = ox;
+    r.origin[1] = oy;
+    r.origin[2] = oz;
+    r.dir[0] = dx;
+    r.dir[1] = dy;
+    r.dir[2] = dz;
+    r.t_min = 0.0f;
+    r.t_max = INFINITY;
+    return r;
+}
+
+/* ---- version and messages ---------------------------------------------------- */
+
+static void test_version_and_messages(void) {
+    uint32_t ma = 99, mi = 99, pa = 99;
+    CHECK_OK(hf_version(&ma, &mi, &pa));
+    CHECK(ma == HFCAST_VERSION_MAJOR && mi == HFCAST_VERSION_MINOR &&
+          pa == HFCAST_VERSION_PATCH);
+    char s[32];
+    snprintf(s, sizeof s, "%u.%u.%u", (unsigned)ma, (unsigned)mi, (unsigned)pa);
+    CHECK(strcmp(s, HFCAST_VERSION_STRING) == 0);
+    CHECK_BAD(hf_version(NULL, &mi, &pa), HF_ERR_NULL_POINTER, &mi, sizeof mi);
+    CHECK_BAD(hf_version(&ma, NULL, &pa), HF_ERR_NULL_POINTER, &ma, sizeof ma);
+    CHECK_BAD(hf_version(&ma, &mi, NULL), HF_ERR_NULL_POINTER, &ma, sizeof ma);
+
+    char buf[128];
+    size_t written = 777;
+    for (uint32_t code = 0; code <= HF_ERR_PANIC; code++) {
+        memset(buf, 'x', sizeof buf);
+        CHECK_OK(hf_error_message(code, buf, sizeof buf, &written));
+        CHECK(written > 0 && written < sizeof buf && buf[written] == 0 &&
+              strlen(buf) == written);
+    }
+    CHECK_OK(hf_error_message(HF_OK, buf, sizeof buf, &written));
+    CHECK(strcmp(buf, "success") == 0);
+    memset(buf, 'x', sizeof buf);
+    written = 777;
+    CHECK_BAD(hf_error_message(HF_ERR_PANIC + 1, buf, sizeof buf, &written),
+              HF_ERR_INVALID_ENUM, buf, sizeof buf);
+    CHECK_BAD(hf_error_message(0xFFFFFFFFu, buf, sizeof buf, &written),
+              HF_ERR_INVALID_ENUM, &written, sizeof written);
+    CHECK_BAD(hf_error_message(HF_OK, NULL, sizeof buf, &written), HF_ERR_NULL_POINTER,
+              &written, sizeof written);
+    CHECK_BAD(hf_error_message(HF_OK, buf, sizeof buf, NULL), HF_ERR_NULL_POINTER, buf,
+              sizeof buf);
+    /* "success" needs 8 bytes with its NUL. */
+    CHECK_BAD(hf_error_message(HF_OK, buf, 7, &written), HF_ERR_BUFFER_TOO_SMALL, buf,
+              sizeof buf);
+    CHECK_BAD(hf_error_message(HF_OK, buf, 0, &written), HF_ERR_BUFFER_TOO_SMALL,
+              &written, sizeof written);
+    CHECK_OK(hf_error_message(HF_OK, buf, 8, &written));
+    CHECK(written == 7);
+}
+
+/* ---- fields ------------------------------------------------------------------ */
+
+static void test_field_constructors(void) {
+    const float h4[4] = {0.0f, 1.0f, 1.0f, 2.0f};
+    hf_field *f = NULL;
+    hf_field *sentinel = (hf_field *)(uintptr_t)0x1234;
+    hf_field *out = sentinel;
+
+    /* NULL pointers, sizes, buffer lengths, non-finite values. */
+    CHECK_BAD(hf_field_create_f32(NULL, 4, 2, 2, 2, &out), HF_ERR_NULL_POINTER, &out,
+              sizeof out);
+    CHECK_BAD(hf_field_create_f32(h4, 4, 2, 2, 2, NULL), HF_ERR_NULL_POINTER, nothing, 0);
+    CHECK_BAD(hf_field_create_f32(h4, 4, 0, 2, 2, &out), HF_ERR_INVALID_SIZE, &out,
+              sizeof out);
+    CHECK_BAD(hf_field_create_f32(h4, 4, 1, 2, 2, &out), HF_ERR_INVALID_SIZE, &out,
+              sizeof out);
+    CHECK_BAD(hf_field_create_f32(h4, 4, 2, 1, 2, &out), HF_ERR_INVALID_SIZE, &out,
+              sizeof out);
+    CHECK_BAD(hf_field_create_f32(h4, 4, 2, 0, 2, &out), HF_ERR_INVALID_SIZE, &out,
+              sizeof out);
+    CHECK_BAD(hf_field_create_f32(h4, 4, HF_MAX_SIDE + 1u, 2, HF_MAX_SIDE + 1u, &out),
+              HF_ERR_INVALID_SIZE, &out, sizeof out);
+    CHECK_BAD(hf_field_create_f32(h4, 4, 2, 0xFFFFFFFFu, 2, &out), HF_ERR_INVALID_SIZE,
+              &out, sizeof out);
+    CHECK_BAD(hf_field_create_f32(h4, 4, 2, 2, 1, &out), HF_ERR_INVALID_SIZE, &out,
+              sizeof out);
+    CHECK_BAD(hf_field_create_f32(h4, 4, 2, 3, SIZE_MAX / 2, &out), HF_ERR_INVALID_SIZE,
+              &out, sizeof out);
+    CHECK_BAD(hf_field_create_f32(h4, SIZE_MAX, 2, 2, 2, &out), HF_ERR_INVALID_SIZE, &out,
+              sizeof out);
+    CHECK_BAD(hf_field_create_f32(h4, 3, 2, 2, 2, &out), HF_ERR_BUFFER_TOO_SMALL, &out,
+              sizeof out);
+    CHECK_BAD(hf_field_create_f32(h4, 0, 2, 2, 2, &out), HF_ERR_BUFFER_TOO_SMALL, &out,
+              sizeof out);
+    CHECK_BAD(hf_field_create_f32(h4, 4, 2, 2, 3, &out), HF_ERR_BUFFER_TOO_SMALL, &out,
+              sizeof out);
+    const float hnan[4] = {0.0f, NAN, 1.0f, 2.0f};
+    const float hinf[4] = {0.0f, 1.0f, -INFINITY, 2.0f};
+    CHECK_BAD(hf_field_create_f32(hnan, 4, 2, 2, 2, &out), HF_ERR_NOT_FINITE, &out,
+              sizeof out);
+    CHECK_BAD(hf_field_create_f32(hinf, 4, 2, 2, 2, &out), HF_ERR_NOT_FINITE, &out,
+              sizeof out);
+    /* A misaligned float pointer. */
+    float storage[8] = {0};
+    const float *misaligned = (const float *)((const char *)storage + 1);
+    CHECK_BAD(hf_field_create_f32(misaligned, 4, 2, 2, 2, &out),
+              HF_ERR_MISALIGNED_POINTER, &out, sizeof out);
+
+    const uint8_t s8[6] = {0, 255, 51, 0, 0, 0};
+    CHECK_BAD(hf_field_create_u8(NULL, 6, 3, 2, 3, 10.0f, &out), HF_ERR_NULL_POINTER, &out,
+              sizeof out);
+    CHECK_BAD(hf_field_create_u8(s8, 6, 3, 2, 3, NAN, &out), HF_ERR_NOT_FINITE, &out,
+              sizeof out);
+    CHECK_BAD(hf_field_create_u8(s8, 6, 3, 2, 3, INFINITY, &out), HF_ERR_NOT_FINITE, &out,
+              sizeof out);
+    CHECK_BAD(hf_field_create_u8(s8, 5, 3, 2, 3, 10.0f, &out), HF_ERR_BUFFER_TOO_SMALL,
+              &out, sizeof out);
+    CHECK_BAD(hf_field_create_u8(s8, 6, 3, 2, 2, 10.0f, &out), HF_ERR_INVALID_SIZE, &out,
+              sizeof out);
+    CHECK_BAD(hf_field_create_u8(s8, 6, 3, 2, 3, 10.0f, NULL), HF_ERR_NULL_POINTER, nothing, 0);
+    const uint16_t s16[4] = {0, 65535, 13107, 0};
+    CHECK_BAD(hf_field_create_u16(NULL, 4, 2, 2, 2, 10.0f, &out), HF_ERR_NULL_POINTER,
+              &out, sizeof out);
+    CHECK_BAD(hf_field_create_u16(s16, 4, 2, 2, 2, NAN, &out), HF_ERR_NOT_FINITE, &out,
+              sizeof out);
+    CHECK_BAD(hf_field_create_u16(s16, 3, 2, 2, 2, 10.0f, &out), HF_ERR_BUFFER_TOO_SMALL,
+              &out, sizeof out);
+    CHECK_BAD(hf_field_create_u16(s16, 4, 2, 1, 2, 10.0f, &out), HF_ERR_INVALID_SIZE, &out,
+              sizeof out);
+    CHECK_BAD(hf_field_create_u16((const uint16_t *)((const char *)storage + 1), 4, 2, 2,
+                                  2, 10.0f, &out),
+              HF_ERR_MISALIGNED_POINTER, &out, sizeof out);
+    CHECK(out == sentinel);
+
+    /* Good constructors. */
+    hf_field_info info;
+    CHECK_OK(hf_field_create_f32(h4, 4, 2, 2, 2, &f));
+    CHECK_OK(hf_field_get_info(f, &info));
+    CHECK(info.width == 2 && info.height == 2 && info.min_height == 0.0f &&
+          info.max_height == 2.0f);
+    memset(&info, 0xAB, sizeof info);
+    CHECK_BAD(hf_field_get_info(NULL, &info), HF_ERR_NULL_POINTER, &info, sizeof info);
+    CHECK_BAD(hf_field_get_info(f, NULL), HF_ERR_NULL_POINTER, nothing, 0);
+    float copy[4] = {-1, -1, -1, -1};
+    CHECK_BAD(hf_field_copy_heights(f, copy, 3), HF_ERR_BUFFER_TOO_SMALL, copy, sizeof copy);
+    CHECK_BAD(hf_field_copy_heights(NULL, copy, 4), HF_ERR_NULL_POINTER, copy, sizeof copy);
+    CHECK_BAD(hf_field_copy_heights(f, NULL, 4), HF_ERR_NULL_POINTER, nothing, 0);
+    CHECK_OK(hf_field_copy_heights(f, copy, 4));
+    CHECK(memcmp(copy, h4, sizeof h4) == 0);
+    hf_field_destroy(f);
+    hf_field_destroy(NULL);
+
+    /* Strided f32: a 2 x 2 field inside rows of 3. */
+    const float strided[5] = {0.0f, 1.0f, 99.0f, 1.0f, 2.0f};
+    CHECK_OK(hf_field_create_f32(strided, 5, 2, 2, 3, &f));
+    CHECK_OK(hf_field_copy_heights(f, copy, 4));
+    CHECK(memcmp(copy, h4, sizeof h4) == 0);
+    hf_field_destroy(f);
+
+    /* 8-bit: 255 -> depth, 51 -> depth / 5. */
+    CHECK_OK(hf_field_create_u8(s8, 6, 3, 2, 3, 10.0f, &f));
+    float c6[6];
+    CHECK_OK(hf_field_copy_heights(f, c6, 6));
+    CHECK(c6[0] == 0.0f && near(c6[1], 10.0f, 1e-5f) && near(c6[2], 2.0f, 1e-5f));
+    hf_field_destroy(f);
+    /* 16-bit: 65535 -> depth, 13107 -> depth / 5. */
+    CHECK_OK(hf_field_create_u16(s16, 4, 2, 2, 2, 10.0f, &f));
+    CHECK_OK(hf_field_copy_heights(f, copy, 4));
+    CHECK(copy[0] == 0.0f && near(copy[1], 10.0f, 1e-5f) && near(copy[2], 2.0f, 1e-5f));
+    hf_field_destroy(f);
+}
+
+/* ---- single-ray queries with known answers ----------------------------------------- */
+
+static void test_known_hits(void) {
+    const float h4[4] = {0.0f, 1.0f, 1.0f, 2.0f};
+    hf_field *f = NULL;
+    CHECK_OK(hf_field_create_f32(h4, 4, 2, 2, 2, &f));
+    size_t plen = 0;
+    CHECK_OK(hf_maxmip_len(2, 2, &plen));
+    CHECK(plen == 1);
+    float pyr[1];
+    CHECK_OK(hf_maxmip_bake(f, pyr, 1));
+    CHECK(pyr[0] == 2.0f);
+
+    /* A vertical ray onto the plane z = x + y at (0.5, 0.5): z = 1, t = 4. */
+    hf_ray r = ray(0.5f, 0.5f, 5.0f, 0.0f, 0.0f, -1.0f);
+    hf_hit h;
+    for (uint32_t m = 0; m < 4; m++) {
+        memset(&h, 0, sizeof h);
+        hf_result res = HF_OK;
+        switch (m) {
+        case 0: res = hf_trace_exact(f, HF_SURFACE_TRIANGLES, &r, &h); break;
+        case 1: res = hf_trace_linear_binary(f, HF_SURFACE_TRIANGLES, 64, 24, &r, &h); break;
+        case 2: res = hf_trace_linear_secant(f, HF_SURFACE_TRIANGLES, 64, &r, &h); break;
+        default: res = hf_trace_maxmip(f, pyr, 1, HF_SURFACE_TRIANGLES, &r, &h); break;
+        }
+        CHECK(res == HF_OK);
+        CHECK(h.hit == 1 && h.flags == 0 && h.cell[0] == 0 && h.cell[1] == 0);
+        CHECK(near(h.t, 4.0f, 1e-4f) && near(h.point[2], 1.0f, 1e-4f));
+        CHECK(near(h.point[0], 0.5f, 1e-6f) && near(h.point[1], 0.5f, 1e-6f));
+        float n = 1.0f / sqrtf(3.0f);
+        CHECK(near(h.normal[0], -n, 1e-5f) && near(h.normal[1], -n, 1e-5f) &&
+              near(h.normal[2], n, 1e-5f));
+        CHECK(h.fetches >= 4);
+    }
+    CHECK_OK(hf_trace_exact(f, HF_SURFACE_TRIANGLES, &r, &h));
+    CHECK(h.fetches == 4 && h.t == 4.0f && h.point[2] == 1.0f);
+
+    /* Every surface of this field is the plane z = x + y except height planes. */
+    for (uint32_t s = HF_SURFACE_TRIANGLES; s <= HF_SURFACE_VIEW_LINEAR; s++) {
+        CHECK_OK(hf_trace_exact(f, s, &r, &h));
+        CHECK(h.hit == 1);
+        if (s == HF_SURFACE_HEIGHT_PLANES) {
+            CHECK(near(h.point[2], 2.0f, 1e-6f)); /* (0.5, 0.5) ties to sample (1, 1) */
+        } else {
+            CHECK(near(h.point[2], 1.0f, 1e-5f));
+        }
+    }
+
+    /* Under the surface: hit at t_min, flagged. */
+    r = ray(0.5f, 0.5f, 0.25f, 1.0f, 0.0f, 0.0f);
+    r.t_min = 0.0f;
+    CHECK_OK(hf_trace_exact(f, HF_SURFACE_TRIANGLES, &r, &h));
+    CHECK(h.hit == 1 && h.t == 0.0f && (h.flags & HF_FLAG_ORIGIN_INSIDE));
+    CHECK_OK(hf_trace_maxmip(f, pyr, 1, HF_SURFACE_TRIANGLES, &r, &h));
+    CHECK(h.hit == 1 && h.t == 0.0f && (h.flags & HF_FLAG_ORIGIN_INSIDE));
+
+    /* A horizontal ray entering the side x = 0 below the edge: a side hit at x = 0. */
+    r = ray(-3.0f, 0.75f, 0.5f, 1.0f, 0.0f, 0.0f);
+    CHECK_OK(hf_trace_exact(f, HF_SURFACE_TRIANGLES, &r, &h));
+    CHECK(h.hit == 1 && (h.flags & HF_FLAG_SIDE) && near(h.t, 3.0f, 1e-6f) &&
+          h.normal[0] == -1.0f);
+
+    /* Upwards from above: a miss that reads nothing or little. */
+    r = ray(0.5f, 0.5f, 3.0f, 0.1f, 0.2f, 1.0f);
+    CHECK_OK(hf_trace_exact(f, HF_SURFACE_TRIANGLES, &r, &h));
+    CHECK(h.hit == 0 && h.t == 0.0f);
+    /* Outside the footprint. */
+    r = ray(10.0f, 10.0f, 0.0f, 0.0f, 0.0f, -1.0f);
+    CHECK_OK(hf_trace_exact(f, HF_SURFACE_TRIANGLES, &r, &h));
+    CHECK(h.hit == 0 && h.fetches == 0);
+    /* t_max before the surface. */
+    r = ray(0.5f, 0.5f, 5.0f, 0.0f, 0.0f, -1.0f);
+    r.t_max = 3.5f;
+    CHECK_OK(hf_trace_exact(f, HF_SURFACE_TRIANGLES, &r, &h));
+    CHECK(h.hit == 0);
+    hf_field_destroy(f);
+}
+
+/* ---- bad query inputs ----------------------------------------------------------- */
+
+static void test_bad_queries(void) {
+    const float h4[4] = {0.0f, 1.0f, 1.0f, 2.0f};
+    hf_field *f = NULL;
+    CHECK_OK(hf_field_create_f32(h4, 4, 2, 2, 2, &f));
+    float pyr[1];
+    CHECK_OK(hf_maxmip_bake(f, pyr, 1));
+    hf_ray good = ray(0.5f, 0.5f, 5.0f, 0.0f, 0.0f, -1.0f);
+    hf_hit h;
+    memset(&h, 0x5A, sizeof h);
+
+    hf_ray bad[9];
+    hf_result bad_code = HF_ERR_INVALID_RAY;
+    for (int k = 0; k < 9; k++) bad[k] = good;
+    bad[0].origin[0] = NAN;
+    bad[1].origin[2] = INFINITY;
+    bad[2].dir[1] = NAN;
+    bad[3].dir[2] = -INFINITY;
+    bad[4].dir[2] = 0.0f; /* zero direction */
+    bad[5].t_min = NAN;
+    bad[6].t_min = -INFINITY;
+    bad[7].t_max = NAN;
+    bad[8].t_min = 2.0f;
+    bad[8].t_max = 1.0f; /* empty range */
+
+    for (int k = 0; k < 9; k++) {
+        CHECK_BAD(hf_trace_exact(f, HF_SURFACE_TRIANGLES, &bad[k], &h), bad_code, &h, sizeof h);
+        CHECK_BAD(hf_trace_linear_binary(f, HF_SURFACE_TRIANGLES, 8, 8, &bad[k], &h), bad_code,
+                  &h, sizeof h);
+        CHECK_BAD(hf_trace_linear_secant(f, HF_SURFACE_TRIANGLES, 8, &bad[k], &h), bad_code,
+                  &h, sizeof h);
+        CHECK_BAD(hf_trace_maxmip(f, pyr, 1, HF_SURFACE_TRIANGLES, &bad[k], &h), bad_code, &h,
+                  sizeof h);
+    }
+    /* NULL pointers of every single-ray function. */
+    CHECK_BAD(hf_trace_exact(NULL, 0, &good, &h), HF_ERR_NULL_POINTER, &h, sizeof h);
+    CHECK_BAD(hf_trace_exact(f, 0, NULL, &h), HF_ERR_NULL_POINTER, &h, sizeof h);
+    CHECK_BAD(hf_trace_exact(f, 0, &good, NULL), HF_ERR_NULL_POINTER, nothing, 0);
+    CHECK_BAD(hf_trace_linear_binary(NULL, 0, 8, 8, &good, &h), HF_ERR_NULL_POINTER, &h,
+              sizeof h);
+    CHECK_BAD(hf_trace_linear_binary(f, 0, 8, 8, NULL, &h), HF_ERR_NULL_POINTER, &h, sizeof h);
+    CHECK_BAD(hf_trace_linear_binary(f, 0, 8, 8, &good, NULL), HF_ERR_NULL_POINTER, nothing, 0);
+    CHECK_BAD(hf_trace_linear_secant(NULL, 0, 8, &good, &h), HF_ERR_NULL_POINTER, &h, sizeof h);
+    CHECK_BAD(hf_trace_linear_secant(f, 0, 8, NULL, &h), HF_ERR_NULL_POINTER, &h, sizeof h);
+    CHECK_BAD(hf_trace_linear_secant(f, 0, 8, &good, NULL), HF_ERR_NULL_POINTER, nothing, 0);
+    CHECK_BAD(hf_trace_maxmip(NULL, pyr, 1, 0, &good, &h), HF_ERR_NULL_POINTER, &h, sizeof h);
+    CHECK_BAD(hf_trace_maxmip(f, NULL, 1, 0, &good, &h), HF_ERR_NULL_POINTER, &h, sizeof h);
+    CHECK_BAD(hf_trace_maxmip(f, pyr, 1, 0, NULL, &h), HF_ERR_NULL_POINTER, &h, sizeof h);
+    CHECK_BAD(hf_trace_maxmip(f, pyr, 1, 0, &good, NULL), HF_ERR_NULL_POINTER, nothing, 0);
+    /* Unknown enums, zero steps, short pyramid. */
+    const uint32_t bad_surfaces[3] = {5, 6, 0xFFFFFFFFu};
+    for (int k = 0; k < 3; k++) {
+        uint32_t s = bad_surfaces[k];
+        CHECK_BAD(hf_trace_exact(f, s, &good, &h), HF_ERR_INVALID_ENUM, &h, sizeof h);
+        CHECK_BAD(hf_trace_linear_binary(f, s, 8, 8, &good, &h), HF_ERR_INVALID_ENUM, &h,
+                  sizeof h);
+        CHECK_BAD(hf_trace_linear_secant(f, s, 8, &good, &h), HF_ERR_INVALID_ENUM, &h, sizeof h);
+        CHECK_BAD(hf_trace_maxmip(f, pyr, 1, s, &good, &h), HF_ERR_INVALID_ENUM, &h, sizeof h);
+    }
+    CHECK_BAD(hf_trace_linear_binary(f, 0, 0, 8, &good, &h), HF_ERR_INVALID_ARGUMENT, &h,
+              sizeof h);
+    CHECK_BAD(hf_trace_linear_secant(f, 0, 0, &good, &h), HF_ERR_INVALID_ARGUMENT, &h, sizeof h);
+    CHECK_BAD(hf_trace_maxmip(f, pyr, 0, 0, &good, &h), HF_ERR_BUFFER_TOO_SMALL, &h, sizeof h);
+
+    /* Batches: empty, short output, NULLs, one bad ray among good ones. */
+    hf_ray rays[3] = {good, good, good};
+    hf_hit hits[3];
+    memset(hits, 0x5A, sizeof hits);
+    CHECK_BAD(hf_trace_exact_batch(f, 0, rays, 0, hits, 3), HF_ERR_INVALID_SIZE, hits,
+              sizeof hits);
+    CHECK_BAD(hf_trace_exact_batch(f, 0, rays, 3, hits, 2), HF_ERR_BUFFER_TOO_SMALL, hits,
+              sizeof hits);
+    CHECK_BAD(hf_trace_exact_batch(f, 0, NULL, 3, hits, 3), HF_ERR_NULL_POINTER, hits,
+              sizeof hits);
+    CHECK_BAD(hf_trace_exact_batch(f, 0, rays, 3, NULL, 3), HF_ERR_NULL_POINTER, nothing, 0);
+    CHECK_BAD(hf_trace_exact_batch(NULL, 0, rays, 3, hits, 3), HF_ERR_NULL_POINTER, hits,
+              sizeof hits);
+    CHECK_BAD(hf_trace_exact_batch(f, 9, rays, 3, hits, 3), HF_ERR_INVALID_ENUM, hits,
+              sizeof hits);
+    CHECK_BAD(hf_trace_exact_batch(f, 0, rays, SIZE_MAX, hits, SIZE_MAX), HF_ERR_INVALID_SIZE,
+              hits, sizeof hits);
+    rays[2] = bad[2];
+    CHECK_BAD(hf_trace_exact_batch(f, 0, rays, 3, hits, 3), HF_ERR_INVALID_RAY, hits,
+              sizeof hits);
+    CHECK_BAD(hf_trace_linear_binary_batch(f, 0, 8, 8, rays, 3, hits, 3), HF_ERR_INVALID_RAY,
+              hits, sizeof hits);
+    CHECK_BAD(hf_trace_linear_secant_batch(f, 0, 8, rays, 3, hits, 3), HF_ERR_INVALID_RAY,
+              hits, sizeof hits);
+    CHECK_BAD(hf_trace_maxmip_batch(f, pyr, 1, 0, rays, 3, hits, 3), HF_ERR_INVALID_RAY, hits,
+              sizeof hits);
+    rays[2] = good;
+    CHECK_BAD(hf_trace_linear_binary_batch(f, 0, 0, 8, rays, 3, hits, 3),
+              HF_ERR_INVALID_ARGUMENT, hits, sizeof hits);
+    CHECK_BAD(hf_trace_linear_secant_batch(f, 0, 8, rays, 0, hits, 3), HF_ERR_INVALID_SIZE,
+              hits, sizeof hits);
+    CHECK_BAD(hf_trace_linear_binary_batch(f, 7, 8, 8, rays, 3, hits, 3), HF_ERR_INVALID_ENUM,
+              hits, sizeof hits);
+    CHECK_BAD(hf_trace_linear_secant_batch(NULL, 0, 8, rays, 3, hits, 3), HF_ERR_NULL_POINTER,
+              hits, sizeof hits);
+    CHECK_BAD(hf_trace_maxmip_batch(f, NULL, 1, 0, rays, 3, hits, 3), HF_ERR_NULL_POINTER, hits,
+              sizeof hits);
+    CHECK_BAD(hf_trace_maxmip_batch(f, pyr, 0, 0, rays, 3, hits, 3), HF_ERR_BUFFER_TOO_SMALL,
+              hits, sizeof hits);
+    CHECK_BAD(hf_trace_maxmip_batch(f, pyr, 1, 0, rays, 3, hits, 1), HF_ERR_BUFFER_TOO_SMALL,
+              hits, sizeof hits);
+    CHECK_OK(hf_trace_maxmip_batch(f, pyr, 1, 0, rays, 3, hits, 3));
+    CHECK(hits[2].hit == 1 && hits[2].t == 4.0f);
+    hf_field_destroy(f);
+}
+
+/* ---- a random field: every method on many rays ------------------------------------ */
+
+static uint32_t rng_state = 12345u;
+static float frand(void) {
+    rng_state = rng_state * 1664525u + 1013904223u;
+    return (float)(rng_state >> 8) / 16777216.0f;
+}
+
+static void test_methods_agree(void) {
+    enum { W = 37, H = 23, N = 2000 };
+    float *heights = (float *)malloc(sizeof(float) * W * H);
+    for (int k = 0; k < W * H; k++) heights[k] = 8.0f * frand();
+    hf_field *f = NULL;
+    CHECK_OK(hf_field_create_f32(heights, W * H, W, H, W, &f));
+    size_t plen = 0;
+    CHECK_OK(hf_maxmip_len(W, H, &plen));
+    float *pyr = (float *)malloc(sizeof(float) * plen);
+    CHECK_OK(hf_maxmip_bake(f, pyr, plen));
+
+    hf_ray *rays = (hf_ray *)malloc(sizeof(hf_ray) * N);
+    for (int k = 0; k < N; k++) {
+        rays[k] = ray(-5.0f + (W + 10) * frand(), -5.0f + (H + 10) * frand(), 12.0f * frand(),
+                      frand() - 0.5f, frand() - 0.5f, -frand());
+        if (k % 10 == 0) rays[k].dir[0] = 0.0f; /* axis-parallel */
+        if (k % 17 == 0) rays[k].dir[0] = rays[k].dir[1] = 0.0f; /* vertical */
+    }
+    hf_hit *exact = (hf_hit *)malloc(sizeof(hf_hit) * N);
+    hf_hit *other = (hf_hit *)malloc(sizeof(hf_hit) * N);
+    int hits = 0, lb_close = 0, lb_hits = 0, sec_hits = 0;
+    for (uint32_t s = HF_SURFACE_TRIANGLES; s <= HF_SURFACE_VIEW_LINEAR; s++) {
+        CHECK_OK(hf_trace_exact_batch(f, s, rays, N, exact, N));
+        /* The batch answers as the single-ray call. */
+        for (int k = 0; k < N; k += 97) {
+            hf_hit one;
+            CHECK_OK(hf_trace_exact(f, s, &rays[k], &one));
+            CHECK(memcmp(&one, &exact[k], sizeof one) == 0);
+        }
+        /* Maxmip is exact: the same hit as the exact method, bit for bit. */
+        CHECK_OK(hf_trace_maxmip_batch(f, pyr, plen, s, rays, N, other, N));
+        int same = 0;
+        for (int k = 0; k < N; k++) {
+            hits += exact[k].hit;
+            same += exact[k].hit == other[k].hit && exact[k].t == other[k].t &&
+                    memcmp(exact[k].point, other[k].point, sizeof exact[k].point) == 0 &&
+                    exact[k].flags == other[k].flags;
+        }
+        CHECK(same == N);
+        /* The search baselines: approximate; with many steps, mostly right. */
+        CHECK_OK(hf_trace_linear_binary_batch(f, s, 256, 20, rays, N, other, N));
+        for (int k = 0; k < N; k++) {
+            lb_hits += other[k].hit;
+            if (exact[k].hit && other[k].hit) {
+                float dx = exact[k].point[0] - other[k].point[0];
+                float dy = exact[k].point[1] - other[k].point[1];
+                float dz = exact[k].point[2] - other[k].point[2];
+                lb_close += sqrtf(dx * dx + dy * dy + dz * dz) < 1e-2f;
+            }
+        }
+        CHECK_OK(hf_trace_linear_secant_batch(f, s, 256, rays, N, other, N));
+        for (int k = 0; k < N; k++) sec_hits += other[k].hit;
+    }
+    CHECK(hits > N); /* most rays hit */
+    CHECK(lb_close > hits * 9 / 10);
+    CHECK(lb_hits > hits * 9 / 10 && sec_hits > hits * 9 / 10);
+    printf("methods: %d rays x 5 surfaces, %d exact hits, maxmip identical, linear-binary "
+           "within 1e-2 on %d\n",
+           N, hits, lb_close);
+    free(exact);
+    free(other);
+    free(rays);
+    free(pyr);
+    free(heights);
+    hf_field_destroy(f);
+}
+
+/* ---- bakes and updates ------------------------------------------------------------ */
+
+static void test_bake_and_update(void) {
+    /* A 3 x 3 field 0..8: level 0 is 2 x 2 (each cell's highest corner), level 1 1 x 1. */
+    const float h9[9] = {0, 1, 2, 3, 4, 5, 6, 7, 8};
+    hf_field *f = NULL;
+    CHECK_OK(hf_field_create_f32(h9, 9, 3, 3, 3, &f));
+    size_t len = 0;
+    CHECK_OK(hf_maxmip_len(3, 3, &len));
+    CHECK(len == 5);
+    float p[5] = {-1, -1, -1, -1, -1};
+    CHECK_OK(hf_maxmip_bake(f, p, 5));
+    CHECK(p[0] == 4 && p[1] == 5 && p[2] == 7 && p[3] == 8 && p[4] == 8);
+    hf_level levels[HF_MAX_LEVELS];
+    uint32_t count = 0;
+    CHECK_OK(hf_maxmip_levels(3, 3, levels, HF_MAX_LEVELS, &count));
+    CHECK(count == 2 && levels[0].width == 2 && levels[0].height == 2 && levels[0].offset == 0);
+    CHECK(levels[1].width == 1 && levels[1].height == 1 && levels[1].offset == 4);
+
+    size_t big = 0;
+    CHECK_OK(hf_maxmip_len(4096, 2048, &big));
+    CHECK(big > 4095u * 2047u && big < 4095u * 2047u / 2u * 3u);
+    CHECK_OK(hf_maxmip_levels(HF_MAX_SIDE, 2, levels, HF_MAX_LEVELS, &count));
+    CHECK(count == 25);
+
+    /* Bad bake inputs. */
+    float q[5] = {-1, -1, -1, -1, -1};
+    size_t zlen = 99;
+    CHECK_BAD(hf_maxmip_len(1, 3, &zlen), HF_ERR_INVALID_SIZE, &zlen, sizeof zlen);
+    CHECK_BAD(hf_maxmip_len(3, 0, &zlen), HF_ERR_INVALID_SIZE, &zlen, sizeof zlen);
+    CHECK_BAD(hf_maxmip_len(HF_MAX_SIDE + 1u, 3, &zlen), HF_ERR_INVALID_SIZE, &zlen,
+              sizeof zlen);
+    CHECK_BAD(hf_maxmip_len(3, 3, NULL), HF_ERR_NULL_POINTER, nothing, 0);
+    CHECK_BAD(hf_maxmip_levels(3, 3, levels, 1, &count), HF_ERR_BUFFER_TOO_SMALL, levels,
+              sizeof levels);
+    CHECK_BAD(hf_maxmip_levels(3, 3, NULL, 2, &count), HF_ERR_NULL_POINTER, &count,
+              sizeof count);
+    CHECK_BAD(hf_maxmip_levels(3, 3, levels, 2, NULL), HF_ERR_NULL_POINTER, levels,
+              sizeof levels);
+    CHECK_BAD(hf_maxmip_levels(0, 3, levels, 2, &count), HF_ERR_INVALID_SIZE, levels,
+              sizeof levels);
+    CHECK_BAD(hf_maxmip_bake(f, q, 4), HF_ERR_BUFFER_TOO_SMALL, q, sizeof q);
+    CHECK_BAD(hf_maxmip_bake(f, NULL, 5), HF_ERR_NULL_POINTER, nothing, 0);
+    CHECK_BAD(hf_maxmip_bake(NULL, q, 5), HF_ERR_NULL_POINTER, q, sizeof q);
+    CHECK_BAD(hf_maxmip_bake_threaded(f, 2, q, 4), HF_ERR_BUFFER_TOO_SMALL, q, sizeof q);
+    CHECK_BAD(hf_maxmip_bake_threaded(NULL, 2, q, 5), HF_ERR_NULL_POINTER, q, sizeof q);
+    CHECK_BAD(hf_maxmip_bake_threaded(f, 2, NULL, 5), HF_ERR_NULL_POINTER, nothing, 0);
+    CHECK_BAD(hf_maxmip_bake_rows(f, 2, 0, 1, q, 5), HF_ERR_INVALID_ARGUMENT, q, sizeof q);
+    CHECK_BAD(hf_maxmip_bake_rows(f, 0, 1, 3, q, 5), HF_ERR_INVALID_ARGUMENT, q, sizeof q);
+    CHECK_BAD(hf_maxmip_bake_rows(f, 0, 2, 1, q, 5), HF_ERR_INVALID_ARGUMENT, q, sizeof q);
+    CHECK_BAD(hf_maxmip_bake_rows(f, 0xFFFFFFFFu, 0, 1, q, 5), HF_ERR_INVALID_ARGUMENT, q,
+              sizeof q);
+    CHECK_BAD(hf_maxmip_bake_rows(f, 0, 0, 1, q, 4), HF_ERR_BUFFER_TOO_SMALL, q, sizeof q);
+    CHECK_BAD(hf_maxmip_bake_rows(f, 0, 0, 1, NULL, 5), HF_ERR_NULL_POINTER, nothing, 0);
+    CHECK_BAD(hf_maxmip_bake_rows(NULL, 0, 0, 1, q, 5), HF_ERR_NULL_POINTER, q, sizeof q);
+    CHECK_BAD(hf_maxmip_update_rect(f, 0, 0, 4, 1, p, 5), HF_ERR_INVALID_RECT, p, sizeof p);
+    CHECK_BAD(hf_maxmip_update_rect(f, 2, 0, 1, 1, p, 5), HF_ERR_INVALID_RECT, p, sizeof p);
+    CHECK_BAD(hf_maxmip_update_rect(f, 0, 0, 1, 1, p, 4), HF_ERR_BUFFER_TOO_SMALL, p, sizeof p);
+    CHECK_BAD(hf_maxmip_update_rect(f, 0, 0, 1, 1, NULL, 5), HF_ERR_NULL_POINTER, nothing, 0);
+    CHECK_BAD(hf_maxmip_update_rect(NULL, 0, 0, 1, 1, p, 5), HF_ERR_NULL_POINTER, p, sizeof p);
+
+    /* Row-range bake, level by level, rows split: equals the whole bake. */
+    CHECK_OK(hf_maxmip_bake_rows(f, 0, 1, 2, q, 5));
+    CHECK_OK(hf_maxmip_bake_rows(f, 0, 0, 1, q, 5));
+    CHECK_OK(hf_maxmip_bake_rows(f, 0, 2, 2, q, 5)); /* empty range: nothing */
+    CHECK_OK(hf_maxmip_bake_rows(f, 1, 0, 1, q, 5));
+    CHECK(memcmp(p, q, sizeof p) == 0);
+
+    /* Field update: bad inputs leave the field as it was. */
+    const float v[4] = {20.0f, 21.0f, 22.0f, 23.0f};
+    const float vnan[4] = {20.0f, NAN, 22.0f, 23.0f};
+    float heights[9], before[9];
+    CHECK_OK(hf_field_copy_heights(f, before, 9));
+    CHECK_BAD(hf_field_update_rect(NULL, 0, 0, 2, 2, v, 4, 2), HF_ERR_NULL_POINTER, nothing, 0);
+    CHECK_BAD(hf_field_update_rect(f, 0, 0, 2, 2, NULL, 4, 2), HF_ERR_NULL_POINTER, nothing, 0);
+    CHECK_BAD(hf_field_update_rect(f, 0, 0, 2, 2, vnan, 4, 2), HF_ERR_NOT_FINITE, nothing, 0);
+    CHECK_BAD(hf_field_update_rect(f, 0, 0, 2, 2, v, 3, 2), HF_ERR_BUFFER_TOO_SMALL, nothing, 0);
+    CHECK_BAD(hf_field_update_rect(f, 0, 0, 2, 2, v, 4, 1), HF_ERR_INVALID_SIZE, nothing, 0);
+    CHECK_BAD(hf_field_update_rect(f, 0, 0, 2, 2, v, 4, SIZE_MAX), HF_ERR_INVALID_SIZE, nothing, 0);
+    CHECK_BAD(hf_field_update_rect(f, 0, 0, 0, 2, v, 4, 2), HF_ERR_INVALID_RECT, nothing, 0);
+    CHECK_BAD(hf_field_update_rect(f, 2, 0, 1, 2, v, 4, 2), HF_ERR_INVALID_RECT, nothing, 0);
+    CHECK_BAD(hf_field_update_rect(f, 2, 2, 4, 3, v, 4, 2), HF_ERR_INVALID_RECT, nothing, 0);
+    CHECK_OK(hf_field_copy_heights(f, heights, 9));
+    CHECK(memcmp(heights, before, sizeof before) == 0);
+
+    /* A 2 x 2 update at (1, 1), then the pyramid update: equals a fresh bake. */
+    CHECK_OK(hf_field_update_rect(f, 1, 1, 3, 3, v, 4, 2));
+    hf_field_info info;
+    CHECK_OK(hf_field_get_info(f, &info));
+    CHECK(info.max_height == 23.0f && info.min_height == 0.0f);
+    CHECK_OK(hf_maxmip_update_rect(f, 1, 1, 3, 3, p, 5));
+    CHECK_OK(hf_field_copy_heights(f, heights, 9));
+    hf_field *g = NULL;
+    CHECK_OK(hf_field_create_f32(heights, 9, 3, 3, 3, &g));
+    CHECK(heights[4] == 20.0f && heights[8] == 23.0f && heights[0] == 0.0f);
+    CHECK_OK(hf_maxmip_bake(g, q, 5));
+    CHECK(memcmp(p, q, sizeof p) == 0 && p[4] == 23.0f);
+    hf_ray r = ray(1.5f, 1.5f, 50.0f, 0.0f, 0.0f, -1.0f);
+    hf_hit a, b;
+    CHECK_OK(hf_trace_maxmip(f, p, 5, HF_SURFACE_BILINEAR, &r, &a));
+    CHECK_OK(hf_trace_exact(g, HF_SURFACE_BILINEAR, &r, &b));
+    CHECK(a.hit && b.hit && a.t == b.t && near(a.point[2], 21.5f, 1e-5f));
+    hf_field_destroy(g);
+    hf_field_destroy(f);
+
+    /* A larger odd-sized field: threaded and single-threaded bakes agree. */
+    enum { W = 301, H = 157 };
+    float *hs = (float *)malloc(sizeof(float) * W * H);
+    for (int k = 0; k < W * H; k++) hs[k] = 100.0f * frand();
+    CHECK_OK(hf_field_create_f32(hs, W * H, W, H, W, &f));
+    CHECK_OK(hf_maxmip_len(W, H, &len));
+    float *p1 = (float *)malloc(sizeof(float) * len);
+    float *p2 = (float *)malloc(sizeof(float) * len);
+    CHECK_OK(hf_maxmip_bake(f, p1, len));
+    for (uint32_t t = 0; t <= 5; t++) {
+        memset(p2, 0, sizeof(float) * len);
+        CHECK_OK(hf_maxmip_bake_threaded(f, t, p2, len));
+        CHECK(memcmp(p1, p2, sizeof(float) * len) == 0);
+    }
+    free(p1);
+    free(p2);
+    free(hs);
+    hf_field_destroy(f);
+}
+
+/* ---- safety distances -------------------------------------------------------------- */
+
+static void test_safety(void) {
+    enum { W = 41, H = 29, N = 3000 };
+    float *heights = (float *)malloc(sizeof(float) * W * H);
+    for (int k = 0; k < W * H; k++) heights[k] = 10.0f * frand() * frand();
+    heights[15 * W + 20] = 40.0f; /* a needle */
+    hf_field *f = NULL;
+    CHECK_OK(hf_field_create_f32(heights, W * H, W, H, W, &f));
+
+    size_t dlen = 0, ilen = 0, slen = 0, junk = 77;
+    CHECK_OK(hf_safety_map_len(W, H, HF_SAFETY_DIRECTIONAL, &dlen));
+    CHECK_OK(hf_safety_map_len(W, H, HF_SAFETY_ISOTROPIC, &ilen));
+    CHECK(dlen == (size_t)W * H * 4 && ilen == (size_t)W * H);
+    CHECK_OK(hf_safety_scratch_len(W, H, &slen));
+    CHECK(slen > 0);
+    CHECK_BAD(hf_safety_map_len(W, H, 2, &junk), HF_ERR_INVALID_ENUM, &junk, sizeof junk);
+    CHECK_BAD(hf_safety_map_len(1, H, 0, &junk), HF_ERR_INVALID_SIZE, &junk, sizeof junk);
+    CHECK_BAD(hf_safety_map_len(W, H, 0, NULL), HF_ERR_NULL_POINTER, nothing, 0);
+    CHECK_BAD(hf_safety_scratch_len(W, 0, &junk), HF_ERR_INVALID_SIZE, &junk, sizeof junk);
+    CHECK_BAD(hf_safety_scratch_len(W, H, NULL), HF_ERR_NULL_POINTER, nothing, 0);
+
+    unsigned char *dmap = (unsigned char *)malloc(dlen);
+    unsigned char *imap = (unsigned char *)malloc(ilen);
+    unsigned char *rows = (unsigned char *)malloc(dlen);
+    float *scratch = (float *)malloc(sizeof(float) * slen);
+    memset(dmap, 0xEE, dlen);
+    hf_safety_options good = {HF_SAFETY_DIRECTIONAL, 0, 255};
+    hf_safety_options bad_variant = {5, 0, 255}, bad_positive = {0, 2, 255}, bad_cap = {0, 0, 256};
+    CHECK_BAD(hf_safety_bake(NULL, &good, 1, dmap, dlen), HF_ERR_NULL_POINTER, dmap, 64);
+    CHECK_BAD(hf_safety_bake(f, NULL, 1, dmap, dlen), HF_ERR_NULL_POINTER, dmap, 64);
+    CHECK_BAD(hf_safety_bake(f, &good, 1, NULL, dlen), HF_ERR_NULL_POINTER, nothing, 0);
+    CHECK_BAD(hf_safety_bake(f, &good, 1, dmap, dlen - 1), HF_ERR_BUFFER_TOO_SMALL, dmap, 64);
+    CHECK_BAD(hf_safety_bake(f, &bad_variant, 1, dmap, dlen), HF_ERR_INVALID_ENUM, dmap, 64);
+    CHECK_BAD(hf_safety_bake(f, &bad_positive, 1, dmap, dlen), HF_ERR_INVALID_ARGUMENT, dmap, 64);
+    CHECK_BAD(hf_safety_bake(f, &bad_cap, 1, dmap, dlen), HF_ERR_INVALID_ARGUMENT, dmap, 64);
+    CHECK_BAD(hf_safety_prepare(f, scratch, slen - 1), HF_ERR_BUFFER_TOO_SMALL, nothing, 0);
+    CHECK_BAD(hf_safety_prepare(f, NULL, slen), HF_ERR_NULL_POINTER, nothing, 0);
+    CHECK_BAD(hf_safety_prepare(NULL, scratch, slen), HF_ERR_NULL_POINTER, nothing, 0);
+
+    /* The whole bake on 1, 3 and all threads equals prepare + row bakes in pieces. */
+    CHECK_OK(hf_safety_bake(f, &good, 1, dmap, dlen));
+    CHECK_OK(hf_safety_prepare(f, scratch, slen));
+    CHECK_BAD(hf_safety_bake_rows(f, scratch, slen, &good, 5, 4, rows, dlen),
+              HF_ERR_INVALID_ARGUMENT, nothing, 0);
+    CHECK_BAD(hf_safety_bake_rows(f, scratch, slen, &good, 0, H + 1, rows, dlen),
+              HF_ERR_INVALID_ARGUMENT, nothing, 0);
+    CHECK_BAD(hf_safety_bake_rows(f, scratch, slen - 1, &good, 0, 1, rows, dlen),
+              HF_ERR_BUFFER_TOO_SMALL, nothing, 0);
+    CHECK_BAD(hf_safety_bake_rows(f, scratch, slen, &good, 0, 1, rows, dlen - 1),
+              HF_ERR_BUFFER_TOO_SMALL, nothing, 0);
+    CHECK_BAD(hf_safety_bake_rows(f, NULL, slen, &good, 0, 1, rows, dlen), HF_ERR_NULL_POINTER,
+              nothing, 0);
+    CHECK_BAD(hf_safety_bake_rows(f, scratch, slen, NULL, 0, 1, rows, dlen), HF_ERR_NULL_POINTER,
+              nothing, 0);
+    CHECK_BAD(hf_safety_bake_rows(f, scratch, slen, &good, 0, 1, NULL, dlen),
+              HF_ERR_NULL_POINTER, nothing, 0);
+    CHECK_BAD(hf_safety_bake_rows(f, scratch, slen, &bad_variant, 0, 1, rows, dlen),
+              HF_ERR_INVALID_ENUM, nothing, 0);
+    CHECK_OK(hf_safety_bake_rows(f, scratch, slen, &good, 10, H, rows, dlen));
+    CHECK_OK(hf_safety_bake_rows(f, scratch, slen, &good, 0, 10, rows, dlen));
+    CHECK(memcmp(rows, dmap, dlen) == 0);
+    for (uint32_t t = 0; t <= 3; t += 3) {
+        memset(rows, 0, dlen);
+        CHECK_OK(hf_safety_bake(f, &good, t, rows, dlen));
+        CHECK(memcmp(rows, dmap, dlen) == 0);
+    }
+    hf_safety_options iso = {HF_SAFETY_ISOTROPIC, 0, 255};
+    CHECK_OK(hf_safety_bake(f, &iso, 2, imap, ilen));
+    /* Isotropic = the minimum over the four classes. */
+    int iso_ok = 1;
+    for (int k = 0; k < W * H; k++) {
+        unsigned char m = dmap[4 * k];
+        for (int c = 1; c < 4; c++) m = dmap[4 * k + c] < m ? dmap[4 * k + c] : m;
+        iso_ok &= imap[k] == m;
+    }
+    CHECK(iso_ok);
+
+    /* Exact: the safety march finds the exact method's hits on the triangle surface. */
+    hf_ray *rays = (hf_ray *)malloc(sizeof(hf_ray) * N);
+    for (int k = 0; k < N; k++) {
+        rays[k] = ray(-5.0f + (W + 10) * frand(), -5.0f + (H + 10) * frand(), 30.0f * frand(),
+                      frand() - 0.5f, frand() - 0.5f, -0.05f - 0.5f * frand());
+        if (k % 13 == 0) rays[k].dir[1] = 0.0f;
+        if (k % 31 == 0) rays[k].dir[0] = rays[k].dir[1] = 0.0f;
+    }
+    hf_hit *exact = (hf_hit *)malloc(sizeof(hf_hit) * N);
+    hf_hit *sd = (hf_hit *)malloc(sizeof(hf_hit) * N);
+    CHECK_OK(hf_trace_exact_batch(f, HF_SURFACE_TRIANGLES, rays, N, exact, N));
+    int same[2] = {0, 0}, hits = 0;
+    for (int v = 0; v < 2; v++) {
+        const unsigned char *map = v == 0 ? dmap : imap;
+        size_t len = v == 0 ? dlen : ilen;
+        CHECK_OK(hf_trace_safety_batch(f, map, len, (uint32_t)v, rays, N, sd, N));
+        for (int k = 0; k < N; k++) {
+            if (v == 0) hits += exact[k].hit;
+            same[v] += exact[k].hit == sd[k].hit &&
+                       (!exact[k].hit || (fabsf(exact[k].point[0] - sd[k].point[0]) <= 1e-3f &&
+                                          fabsf(exact[k].point[1] - sd[k].point[1]) <= 1e-3f &&
+                                          fabsf(exact[k].point[2] - sd[k].point[2]) <= 1e-3f));
+        }
+        hf_hit one;
+        CHECK_OK(hf_trace_safety(f, map, len, (uint32_t)v, &rays[7], &one));
+        CHECK(memcmp(&one, &sd[7], sizeof one) == 0);
+    }
+    CHECK(same[0] == N && same[1] == N);
+    printf("safety: %d rays, %d exact hits; directional agrees on %d, isotropic on %d\n", N, hits,
+           same[0], same[1]);
+
+    /* Bad trace inputs. */
+    hf_hit h;
+    memset(&h, 0x5A, sizeof h);
+    hf_ray nan_ray = rays[0];
+    nan_ray.dir[2] = NAN;
+    CHECK_BAD(hf_trace_safety(NULL, dmap, dlen, 0, &rays[0], &h), HF_ERR_NULL_POINTER, &h, sizeof h);
+    CHECK_BAD(hf_trace_safety(f, NULL, dlen, 0, &rays[0], &h), HF_ERR_NULL_POINTER, &h, sizeof h);
+    CHECK_BAD(hf_trace_safety(f, dmap, dlen, 0, NULL, &h), HF_ERR_NULL_POINTER, &h, sizeof h);
+    CHECK_BAD(hf_trace_safety(f, dmap, dlen, 0, &rays[0], NULL), HF_ERR_NULL_POINTER, nothing, 0);
+    CHECK_BAD(hf_trace_safety(f, dmap, dlen - 1, 0, &rays[0], &h), HF_ERR_BUFFER_TOO_SMALL, &h,
+              sizeof h);
+    CHECK_BAD(hf_trace_safety(f, imap, ilen, 0, &rays[0], &h), HF_ERR_BUFFER_TOO_SMALL, &h,
+              sizeof h);
+    CHECK_BAD(hf_trace_safety(f, dmap, dlen, 2, &rays[0], &h), HF_ERR_INVALID_ENUM, &h, sizeof h);
+    CHECK_BAD(hf_trace_safety(f, dmap, dlen, 0, &nan_ray, &h), HF_ERR_INVALID_RAY, &h, sizeof h);
+    memset(sd, 0x5A, sizeof(hf_hit) * N);
+    rays[N - 1] = nan_ray;
+    CHECK_BAD(hf_trace_safety_batch(f, dmap, dlen, 0, rays, N, sd, N), HF_ERR_INVALID_RAY, sd,
+              512);
+    CHECK_BAD(hf_trace_safety_batch(f, dmap, dlen, 0, rays, 0, sd, N), HF_ERR_INVALID_SIZE, sd,
+              512);
+    CHECK_BAD(hf_trace_safety_batch(f, dmap, dlen, 0, rays, 2, sd, 1), HF_ERR_BUFFER_TOO_SMALL, sd,
+              512);
+    CHECK_BAD(hf_trace_safety_batch(f, dmap, dlen, 9, rays, 2, sd, 2), HF_ERR_INVALID_ENUM, sd, 512);
+    CHECK_BAD(hf_trace_safety_batch(f, dmap, dlen, 0, NULL, 2, sd, 2), HF_ERR_NULL_POINTER, sd, 512);
+    CHECK_BAD(hf_trace_safety_batch(f, dmap, dlen, 0, rays, 2, NULL, 2), HF_ERR_NULL_POINTER,
+              nothing, 0);
+    free(rays);
+    free(exact);
+    free(sd);
+    free(dmap);
+    free(imap);
+    free(rows);
+    free(scratch);
+    free(heights);
+    hf_field_destroy(f);
+}
+
+/* ---- the cone family: cone step mapping, relaxed cones, QDM ----------------------------- */
+
+static void test_cones(void) {
+    enum { W = 33, H = 25, N = 2000 };
+    float *heights = (float *)malloc(sizeof(float) * W * H);
+    for (int k = 0; k < W * H; k++) heights[k] = 6.0f * frand() * frand();
+    heights[12 * W + 9] = 20.0f; /* a needle */
+    hf_field *f = NULL;
+    CHECK_OK(hf_field_create_f32(heights, W * H, W, H, W, &f));
+    size_t slen = 0, mlen = 0, clen = 0, rlen = 0, qlen = 0, junk = 5;
+    CHECK_OK(hf_cone_scratch_len(W, H, &slen));
+    CHECK_OK(hf_maxmip_len(W, H, &mlen));
+    CHECK(slen == mlen);
+    CHECK_OK(hf_cone_map_len(W, H, &clen));
+    CHECK_OK(hf_relaxed_map_len(W, H, &rlen));
+    CHECK_OK(hf_qdm_map_len(W, H, &qlen));
+    CHECK(clen == 2u * (W - 1) * (H - 1) && rlen == (size_t)W * H && qlen == 4u * (W - 1) * (H - 1));
+    CHECK_BAD(hf_cone_scratch_len(0, H, &junk), HF_ERR_INVALID_SIZE, &junk, sizeof junk);
+    CHECK_BAD(hf_cone_map_len(W, 1, &junk), HF_ERR_INVALID_SIZE, &junk, sizeof junk);
+    CHECK_BAD(hf_relaxed_map_len(HF_MAX_SIDE + 1u, H, &junk), HF_ERR_INVALID_SIZE, &junk,
+              sizeof junk);
+    CHECK_BAD(hf_qdm_map_len(W, H, NULL), HF_ERR_NULL_POINTER, nothing, 0);
+    CHECK_BAD(hf_cone_scratch_len(W, H, NULL), HF_ERR_NULL_POINTER, nothing, 0);
+
+    float *scratch = (float *)malloc(sizeof(float) * slen);
+    float *cmap = (float *)malloc(sizeof(float) * clen), *crows = (float *)malloc(sizeof(float) * clen);
+    float *rmap = (float *)malloc(sizeof(float) * rlen), *rrows = (float *)malloc(sizeof(float) * rlen);
+    float *qmap = (float *)malloc(sizeof(float) * qlen), *qrows = (float *)malloc(sizeof(float) * qlen);
+    memset(cmap, 0, sizeof(float) * clen);
+    CHECK_BAD(hf_cone_bake(NULL, 1, cmap, clen), HF_ERR_NULL_POINTER, cmap, 64);
+    CHECK_BAD(hf_cone_bake(f, 1, NULL, clen), HF_ERR_NULL_POINTER, nothing, 0);
+    CHECK_BAD(hf_cone_bake(f, 1, cmap, clen - 1), HF_ERR_BUFFER_TOO_SMALL, cmap, 64);
+    CHECK_BAD(hf_relaxed_bake(f, 1, rmap, rlen - 1), HF_ERR_BUFFER_TOO_SMALL, nothing, 0);
+    CHECK_BAD(hf_qdm_bake(f, 1, qmap, qlen - 1), HF_ERR_BUFFER_TOO_SMALL, nothing, 0);
+    CHECK_BAD(hf_cone_prepare(f, scratch, slen - 1), HF_ERR_BUFFER_TOO_SMALL, nothing, 0);
+    CHECK_BAD(hf_cone_prepare(NULL, scratch, slen), HF_ERR_NULL_POINTER, nothing, 0);
+    CHECK_BAD(hf_cone_prepare(f, NULL, slen), HF_ERR_NULL_POINTER, nothing, 0);
+
+    /* Whole bakes (1 and 3 threads) against prepare + row bakes in two pieces. */
+    CHECK_OK(hf_cone_bake(f, 1, cmap, clen));
+    CHECK_OK(hf_relaxed_bake(f, 3, rmap, rlen));
+    CHECK_OK(hf_qdm_bake(f, 3, qmap, qlen));
+    CHECK_OK(hf_cone_prepare(f, scratch, slen));
+    CHECK_BAD(hf_cone_bake_rows(f, scratch, slen, 0, H, crows, clen), HF_ERR_INVALID_ARGUMENT,
+              nothing, 0); /* cone rows are cell rows: H - 1 */
+    CHECK_BAD(hf_cone_bake_rows(f, scratch, slen, 3, 2, crows, clen), HF_ERR_INVALID_ARGUMENT,
+              nothing, 0);
+    CHECK_BAD(hf_relaxed_bake_rows(f, scratch, slen, 0, H + 1, rrows, rlen),
+              HF_ERR_INVALID_ARGUMENT, nothing, 0);
+    CHECK_BAD(hf_qdm_bake_rows(f, scratch, slen - 1, 0, 1, qrows, qlen), HF_ERR_BUFFER_TOO_SMALL,
+              nothing, 0);
+    CHECK_BAD(hf_qdm_bake_rows(f, scratch, slen, 0, 1, qrows, qlen - 1), HF_ERR_BUFFER_TOO_SMALL,
+              nothing, 0);
+    CHECK_BAD(hf_cone_bake_rows(f, NULL, slen, 0, 1, crows, clen), HF_ERR_NULL_POINTER, nothing, 0);
+    CHECK_BAD(hf_cone_bake_rows(f, scratch, slen, 0, 1, NULL, clen), HF_ERR_NULL_POINTER, nothing,
+              0);
+    CHECK_BAD(hf_relaxed_bake_rows(NULL, scratch, slen, 0, 1, rrows, rlen), HF_ERR_NULL_POINTER,
+              nothing, 0);
+    CHECK_OK(hf_cone_bake_rows(f, scratch, slen, 7, H - 1, crows, clen));
+    CHECK_OK(hf_cone_bake_rows(f, scratch, slen, 0, 7, crows, clen));
+    CHECK(memcmp(crows, cmap, sizeof(float) * clen) == 0);
+    CHECK_OK(hf_relaxed_bake_rows(f, scratch, slen, 5, H, rrows, rlen));
+    CHECK_OK(hf_relaxed_bake_rows(f, scratch, slen, 0, 5, rrows, rlen));
+    CHECK(memcmp(rrows, rmap, sizeof(float) * rlen) == 0);
+    CHECK_OK(hf_qdm_bake_rows(f, scratch, slen, 0, H - 1, qrows, qlen));
+    CHECK(memcmp(qrows, qmap, sizeof(float) * qlen) == 0);
+
+    /* Cone and QDM are exact within their budget; relaxed cones are approximate. */
+    hf_ray *rays = (hf_ray *)malloc(sizeof(hf_ray) * N);
+    for (int k = 0; k < N; k++) {
+        rays[k] = ray(-5.0f + (W + 10) * frand(), -5.0f + (H + 10) * frand(), 25.0f * frand(),
+                      frand() - 0.5f, frand() - 0.5f, -0.05f - 0.5f * frand());
+        if (k % 11 == 0) rays[k].dir[0] = 0.0f;
+        if (k % 29 == 0) rays[k].dir[0] = rays[k].dir[1] = 0.0f;
+    }
+    hf_hit *exact = (hf_hit *)malloc(sizeof(hf_hit) * N);
+    hf_hit *other = (hf_hit *)malloc(sizeof(hf_hit) * N);
+    CHECK_OK(hf_trace_exact_batch(f, HF_SURFACE_TRIANGLES, rays, N, exact, N));
+    int same[3] = {0, 0, 0}, hits = 0;
+    for (int m = 0; m < 3; m++) {
+        if (m == 0) CHECK_OK(hf_trace_cone_batch(f, cmap, clen, 1000, rays, N, other, N));
+        if (m == 1) CHECK_OK(hf_trace_qdm_batch(f, qmap, qlen, 1000, rays, N, other, N));
+        if (m == 2) CHECK_OK(hf_trace_relaxed_batch(f, rmap, rlen, 64, 16, rays, N, other, N));
+        for (int k = 0; k < N; k++) {
+            if (m == 0) hits += exact[k].hit;
+            same[m] += exact[k].hit == other[k].hit &&
+                       (!exact[k].hit || (fabsf(exact[k].point[0] - other[k].point[0]) <= 1e-3f &&
+                                          fabsf(exact[k].point[1] - other[k].point[1]) <= 1e-3f &&
+                                          fabsf(exact[k].point[2] - other[k].point[2]) <= 1e-3f));
+        }
+    }
+    CHECK(same[0] == N && same[1] == N && same[2] > N * 9 / 10);
+    printf("cones: %d rays, %d exact hits; agree with the exact method: cone %d, qdm %d, relaxed "
+           "%d (approximate)\n",
+           N, hits, same[0], same[1], same[2]);
+    hf_hit one, h;
+    CHECK_OK(hf_trace_cone(f, cmap, clen, 1000, &rays[3], &one));
+    CHECK_OK(hf_trace_cone_batch(f, cmap, clen, 1000, &rays[3], 1, &h, 1));
+    CHECK(memcmp(&one, &h, sizeof h) == 0);
+    CHECK_OK(hf_trace_qdm(f, qmap, qlen, 1000, &rays[3], &one));
+    CHECK_OK(hf_trace_relaxed(f, rmap, rlen, 64, 16, &rays[3], &one));
+    /* A budget of one iteration: the current point, flagged. */
+    hf_ray down = ray(16.0f, 12.0f, 100.0f, 0.0f, 0.0f, -1.0f);
+    CHECK_OK(hf_trace_cone(f, cmap, clen, 1, &down, &one));
+    CHECK((one.flags & HF_FLAG_BUDGET_EXHAUSTED) || one.hit);
+
+    memset(&h, 0x5A, sizeof h);
+    hf_ray nan_ray = rays[0];
+    nan_ray.origin[1] = NAN;
+    CHECK_BAD(hf_trace_cone(f, cmap, clen, 0, &rays[0], &h), HF_ERR_INVALID_ARGUMENT, &h, sizeof h);
+    CHECK_BAD(hf_trace_qdm(f, qmap, qlen, 0, &rays[0], &h), HF_ERR_INVALID_ARGUMENT, &h, sizeof h);
+    CHECK_BAD(hf_trace_relaxed(f, rmap, rlen, 0, 8, &rays[0], &h), HF_ERR_INVALID_ARGUMENT, &h,
+              sizeof h);
+    CHECK_BAD(hf_trace_cone(f, cmap, clen - 1, 10, &rays[0], &h), HF_ERR_BUFFER_TOO_SMALL, &h,
+              sizeof h);
+    CHECK_BAD(hf_trace_qdm(f, qmap, qlen - 1, 10, &rays[0], &h), HF_ERR_BUFFER_TOO_SMALL, &h,
+              sizeof h);
+    CHECK_BAD(hf_trace_relaxed(f, rmap, rlen - 1, 10, 8, &rays[0], &h), HF_ERR_BUFFER_TOO_SMALL,
+              &h, sizeof h);
+    CHECK_BAD(hf_trace_cone(f, NULL, clen, 10, &rays[0], &h), HF_ERR_NULL_POINTER, &h, sizeof h);
+    CHECK_BAD(hf_trace_qdm(NULL, qmap, qlen, 10, &rays[0], &h), HF_ERR_NULL_POINTER, &h, sizeof h);
+    CHECK_BAD(hf_trace_relaxed(f, rmap, rlen, 10, 8, NULL, &h), HF_ERR_NULL_POINTER, &h, sizeof h);
+    CHECK_BAD(hf_trace_cone(f, cmap, clen, 10, &rays[0], NULL), HF_ERR_NULL_POINTER, nothing, 0);
+    CHECK_BAD(hf_trace_cone(f, cmap, clen, 10, &nan_ray, &h), HF_ERR_INVALID_RAY, &h, sizeof h);
+    CHECK_BAD(hf_trace_qdm(f, qmap, qlen, 10, &nan_ray, &h), HF_ERR_INVALID_RAY, &h, sizeof h);
+    CHECK_BAD(hf_trace_relaxed(f, rmap, rlen, 10, 8, &nan_ray, &h), HF_ERR_INVALID_RAY, &h,
+              sizeof h);
+    memset(other, 0x5A, sizeof(hf_hit) * N);
+    rays[N / 2] = nan_ray;
+    CHECK_BAD(hf_trace_cone_batch(f, cmap, clen, 10, rays, N, other, N), HF_ERR_INVALID_RAY, other,
+              512);
+    CHECK_BAD(hf_trace_qdm_batch(f, qmap, qlen, 10, rays, N, other, N), HF_ERR_INVALID_RAY, other,
+              512);
+    CHECK_BAD(hf_trace_relaxed_batch(f, rmap, rlen, 10, 8, rays, N, other, N), HF_ERR_INVALID_RAY,
+              other, 512);
+    CHECK_BAD(hf_trace_cone_batch(f, cmap, clen, 10, rays, 0, other, N), HF_ERR_INVALID_SIZE, other,
+              512);
+    CHECK_BAD(hf_trace_qdm_batch(f, qmap, qlen, 10, rays, 3, other, 2), HF_ERR_BUFFER_TOO_SMALL,
+              other, 512);
+    CHECK_BAD(hf_trace_relaxed_batch(f, rmap, rlen, 0, 8, rays, 3, other, 3),
+              HF_ERR_INVALID_ARGUMENT, other, 512);
+    CHECK_BAD(hf_trace_cone_batch(f, cmap, clen, 10, NULL, 3, other, 3), HF_ERR_NULL_POINTER, other,
+              512);
+    CHECK_BAD(hf_trace_qdm_batch(f, NULL, qlen, 10, rays, 3, other, 3), HF_ERR_NULL_POINTER, other,
+              512);
+    CHECK_BAD(hf_trace_relaxed_batch(f, rmap, rlen, 10, 8, rays, 3, NULL, 3), HF_ERR_NULL_POINTER,
+              nothing, 0);
+    free(rays);
+    free(exact);
+    free(other);
+    free(scratch);
+    free(cmap);
+    free(crows);
+    free(rmap);
+    free(rrows);
+    free(qmap);
+    free(qrows);
+    free(heights);
+    hf_field_destroy(f);
+}
+
+/* ---- cylinder-cone safety shapes ------------------------------------------------------ */
+
+static void test_cc(void) {
+    enum { W = 37, H = 27, N = 2000, CAP = 32 };
+    float *heights = (float *)malloc(sizeof(float) * W * H);
+    for (int k = 0; k < W * H; k++) heights[k] = 8.0f * frand() * frand();
+    heights[10 * W + 20] = 30.0f;
+    hf_field *f = NULL;
+    CHECK_OK(hf_field_create_f32(heights, W * H, W, H, W, &f));
+    size_t mlen = 0, nlen = 0, slen = 0, junk = 3;
+    CHECK_OK(hf_cc_map_len(W, H, &mlen));
+    CHECK(mlen == (size_t)W * H * 16);
+    CHECK_OK(hf_cc_nbuffer_len(W, H, CAP, &nlen));
+    CHECK_OK(hf_safety_scratch_len(W, H, &slen));
+    CHECK_BAD(hf_cc_map_len(1, H, &junk), HF_ERR_INVALID_SIZE, &junk, sizeof junk);
+    CHECK_BAD(hf_cc_nbuffer_len(W, H, 256, &junk), HF_ERR_INVALID_ARGUMENT, &junk, sizeof junk);
+    CHECK_BAD(hf_cc_nbuffer_len(W, H, CAP, NULL), HF_ERR_NULL_POINTER, nothing, 0);
+    unsigned char *map = (unsigned char *)malloc(mlen), *rows = (unsigned char *)malloc(mlen);
+    float *scratch = (float *)malloc(sizeof(float) * slen), *nb = (float *)malloc(sizeof(float) * nlen);
+    hf_cc_options good = {HF_CC_SLOPE_EXACT, CAP}, nbo = {HF_CC_SLOPE_NBUFFER, CAP};
+    hf_cc_options bad_slope = {2, CAP}, bad_cap = {HF_CC_SLOPE_EXACT, 300};
+    memset(map, 0, mlen);
+    CHECK_BAD(hf_cc_bake(f, &bad_slope, 1, map, mlen), HF_ERR_INVALID_ENUM, map, 64);
+    CHECK_BAD(hf_cc_bake(f, &bad_cap, 1, map, mlen), HF_ERR_INVALID_ARGUMENT, map, 64);
+    CHECK_BAD(hf_cc_bake(f, &good, 1, map, mlen - 1), HF_ERR_BUFFER_TOO_SMALL, map, 64);
+    CHECK_BAD(hf_cc_bake(f, NULL, 1, map, mlen), HF_ERR_NULL_POINTER, map, 64);
+    CHECK_BAD(hf_cc_bake(NULL, &good, 1, map, mlen), HF_ERR_NULL_POINTER, map, 64);
+    CHECK_BAD(hf_cc_bake(f, &good, 1, NULL, mlen), HF_ERR_NULL_POINTER, nothing, 0);
+    CHECK_BAD(hf_cc_prepare_nbuffer(f, CAP, nb, nlen - 1), HF_ERR_BUFFER_TOO_SMALL, nothing, 0);
+    CHECK_BAD(hf_cc_prepare_nbuffer(f, 999, nb, nlen), HF_ERR_INVALID_ARGUMENT, nothing, 0);
+    CHECK_BAD(hf_cc_prepare_nbuffer(NULL, CAP, nb, nlen), HF_ERR_NULL_POINTER, nothing, 0);
+
+    /* Whole bakes (1 and 3 threads) against prepare + row bakes in two pieces. */
+    CHECK_OK(hf_cc_bake(f, &good, 1, map, mlen));
+    CHECK_OK(hf_cc_bake(f, &good, 3, rows, mlen));
+    CHECK(memcmp(rows, map, mlen) == 0);
+    CHECK_OK(hf_safety_prepare(f, scratch, slen));
+    CHECK_OK(hf_cc_prepare_nbuffer(f, CAP, nb, nlen));
+    CHECK_BAD(hf_cc_bake_rows(f, scratch, slen, nb, nlen, &good, 0, H + 1, rows, mlen),
+              HF_ERR_INVALID_ARGUMENT, nothing, 0);
+    CHECK_BAD(hf_cc_bake_rows(f, scratch, slen, nb, nlen - 1, &good, 0, 1, rows, mlen),
+              HF_ERR_BUFFER_TOO_SMALL, nothing, 0);
+    CHECK_BAD(hf_cc_bake_rows(f, scratch, slen - 1, nb, nlen, &good, 0, 1, rows, mlen),
+              HF_ERR_BUFFER_TOO_SMALL, nothing, 0);
+    CHECK_BAD(hf_cc_bake_rows(f, scratch, slen, nb, nlen, &good, 0, 1, rows, mlen - 1),
+              HF_ERR_BUFFER_TOO_SMALL, nothing, 0);
+    CHECK_BAD(hf_cc_bake_rows(f, scratch, slen, NULL, nlen, &good, 0, 1, rows, mlen),
+              HF_ERR_NULL_POINTER, nothing, 0);
+    CHECK_BAD(hf_cc_bake_rows(f, scratch, slen, nb, nlen, &bad_slope, 0, 1, rows, mlen),
+              HF_ERR_INVALID_ENUM, nothing, 0);
+    memset(rows, 0, mlen);
+    CHECK_OK(hf_cc_bake_rows(f, scratch, slen, nb, nlen, &good, 9, H, rows, mlen));
+    CHECK_OK(hf_cc_bake_rows(f, scratch, slen, nb, nlen, &good, 0, 9, rows, mlen));
+    CHECK(memcmp(rows, map, mlen) == 0);
+    unsigned char *nbmap = (unsigned char *)malloc(mlen);
+    CHECK_OK(hf_cc_bake(f, &nbo, 0, nbmap, mlen));
+
+    float fr[3] = {0, 0, 0};
+    CHECK_OK(hf_cc_frame(f, &fr[0], &fr[1], &fr[2]));
+    CHECK(fr[1] > 0.0f && near(fr[2], fr[1] * 65535.0f, 1e-3f * fr[2]));
+    CHECK_BAD(hf_cc_frame(f, &fr[0], NULL, &fr[2]), HF_ERR_NULL_POINTER, fr, sizeof fr);
+    CHECK_BAD(hf_cc_frame(NULL, &fr[0], &fr[1], &fr[2]), HF_ERR_NULL_POINTER, fr, sizeof fr);
+
+    /* Exact: both slope variants find the exact method's hits (shadow rays too). */
+    hf_ray *rays = (hf_ray *)malloc(sizeof(hf_ray) * N);
+    for (int k = 0; k < N; k++) {
+        rays[k] = ray(-5.0f + (W + 10) * frand(), -5.0f + (H + 10) * frand(), 35.0f * frand(),
+                      frand() - 0.5f, frand() - 0.5f, (k % 4 == 0 ? 0.3f : -0.5f) * frand());
+        if (k % 13 == 0) rays[k].dir[1] = 0.0f;
+    }
+    hf_hit *exact = (hf_hit *)malloc(sizeof(hf_hit) * N), *cc = (hf_hit *)malloc(sizeof(hf_hit) * N);
+    CHECK_OK(hf_trace_exact_batch(f, HF_SURFACE_TRIANGLES, rays, N, exact, N));
+    int same[2] = {0, 0}, hits = 0;
+    for (int v = 0; v < 2; v++) {
+        CHECK_OK(hf_trace_cc_batch(f, v == 0 ? map : nbmap, mlen, CAP, rays, N, cc, N));
+        for (int k = 0; k < N; k++) {
+            if (v == 0) hits += exact[k].hit;
+            same[v] += exact[k].hit == cc[k].hit &&
+                       (!exact[k].hit || (fabsf(exact[k].point[0] - cc[k].point[0]) <= 1e-3f &&
+                                          fabsf(exact[k].point[1] - cc[k].point[1]) <= 1e-3f &&
+                                          fabsf(exact[k].point[2] - cc[k].point[2]) <= 1e-3f));
+        }
+    }
+    CHECK(same[0] == N && same[1] == N);
+    printf("cc: %d rays, %d exact hits; exact slopes agree on %d, n-buffer slopes on %d\n", N, hits,
+           same[0], same[1]);
+    hf_hit one, h;
+    CHECK_OK(hf_trace_cc(f, map, mlen, CAP, &rays[5], &one));
+    CHECK_OK(hf_trace_cc_batch(f, map, mlen, CAP, &rays[5], 1, &h, 1));
+    CHECK(memcmp(&one, &h, sizeof h) == 0);
+    memset(&h, 0x5A, sizeof h);
+    hf_ray nan_ray = rays[0];
+    nan_ray.t_max = NAN;
+    CHECK_BAD(hf_trace_cc(f, map, mlen, 256, &rays[0], &h), HF_ERR_INVALID_ARGUMENT, &h, sizeof h);
+    CHECK_BAD(hf_trace_cc(f, map, mlen - 1, CAP, &rays[0], &h), HF_ERR_BUFFER_TOO_SMALL, &h,
+              sizeof h);
+    CHECK_BAD(hf_trace_cc(f, NULL, mlen, CAP, &rays[0], &h), HF_ERR_NULL_POINTER, &h, sizeof h);
+    CHECK_BAD(hf_trace_cc(f, map, mlen, CAP, NULL, &h), HF_ERR_NULL_POINTER, &h, sizeof h);
+    CHECK_BAD(hf_trace_cc(f, map, mlen, CAP, &rays[0], NULL), HF_ERR_NULL_POINTER, nothing, 0);
+    CHECK_BAD(hf_trace_cc(f, map, mlen, CAP, &nan_ray, &h), HF_ERR_INVALID_RAY, &h, sizeof h);
+    memset(cc, 0x5A, sizeof(hf_hit) * N);
+    rays[1] = nan_ray;
+    CHECK_BAD(hf_trace_cc_batch(f, map, mlen, CAP, rays, N, cc, N), HF_ERR_INVALID_RAY, cc, 512);
+    CHECK_BAD(hf_trace_cc_batch(f, map, mlen, CAP, rays, 0, cc, N), HF_ERR_INVALID_SIZE, cc, 512);
+    CHECK_BAD(hf_trace_cc_batch(f, map, mlen, CAP, rays, 4, cc, 3), HF_ERR_BUFFER_TOO_SMALL, cc,
+              512);
+    CHECK_BAD(hf_trace_cc_batch(NULL, map, mlen, CAP, rays, 4, cc, 4), HF_ERR_NULL_POINTER, cc,
+              512);
+    free(rays);
+    free(exact);
+    free(cc);
+    free(map);
+    free(nbmap);
+    free(rows);
+    free(scratch);
+    free(nb);
+    free(heights);
+    hf_field_destroy(f);
+}
+
+/* ---- row bakes from several threads at once ------------------------------------------- */
+
+typedef struct rows_job {
+    const hf_field *field;
+    uint32_t level, r0, r1;
+    float *pyramid;
+    size_t len;
+    const float *scratch;
+    size_t scratch_len;
+    unsigned char *map;
+    size_t map_len;
+    hf_result result;
+} rows_job;
+
+static void *bake_rows_thread(void *arg) {
+    rows_job *j = (rows_job *)arg;
+    if (j->pyramid) {
+        j->result = hf_maxmip_bake_rows(j->field, j->level, j->r0, j->r1, j->pyramid, j->len);
+    } else {
+        hf_safety_options o = {HF_SAFETY_DIRECTIONAL, 0, 255};
+        j->result = hf_safety_bake_rows(j->field, j->scratch, j->scratch_len, &o, j->r0, j->r1,
+                                        j->map, j->map_len);
+    }
+    return NULL;
+}
+
+/* Disjoint row ranges of one level (or of the safety map) baked by four threads at once
+ * into one buffer: what a job system does. Equals the single-threaded bake. */
+static void test_concurrent_rows(void) {
+    enum { W = 203, H = 117, T = 4 };
+    float *hs = (float *)malloc(sizeof(float) * W * H);
+    for (int k = 0; k < W * H; k++) hs[k] = 50.0f * frand();
+    hf_field *f = NULL;
+    CHECK_OK(hf_field_create_f32(hs, W * H, W, H, W, &f));
+    size_t len = 0;
+    CHECK_OK(hf_maxmip_len(W, H, &len));
+    float *p1 = (float *)malloc(sizeof(float) * len), *p2 = (float *)calloc(len, sizeof(float));
+    CHECK_OK(hf_maxmip_bake(f, p1, len));
+    hf_level levels[HF_MAX_LEVELS];
+    uint32_t count = 0;
+    CHECK_OK(hf_maxmip_levels(W, H, levels, HF_MAX_LEVELS, &count));
+    pthread_t th[T];
+    rows_job jobs[T];
+    for (uint32_t l = 0; l < count; l++) {
+        uint32_t h = levels[l].height, per = (h + T - 1) / T;
+        for (int t = 0; t < T; t++) {
+            uint32_t r0 = per * (uint32_t)t < h ? per * (uint32_t)t : h;
+            uint32_t r1 = r0 + per < h ? r0 + per : h;
+            rows_job j = {f, l, r0, r1, p2, len, NULL, 0, NULL, 0, HF_ERR_PANIC};
+            jobs[t] = j;
+            CHECK(pthread_create(&th[t], NULL, bake_rows_thread, &jobs[t]) == 0);
+        }
+        for (int t = 0; t < T; t++) {
+            pthread_join(th[t], NULL);
+            CHECK(jobs[t].result == HF_OK);
+        }
+    }
+    CHECK(memcmp(p1, p2, sizeof(float) * len) == 0);
+
+    size_t slen = 0, mlen = 0;
+    CHECK_OK(hf_safety_scratch_len(W, H, &slen));
+    CHECK_OK(hf_safety_map_len(W, H, HF_SAFETY_DIRECTIONAL, &mlen));
+    float *scratch = (float *)malloc(sizeof(float) * slen);
+    unsigned char *m1 = (unsigned char *)malloc(mlen), *m2 = (unsigned char *)calloc(mlen, 1);
+    hf_safety_options o = {HF_SAFETY_DIRECTIONAL, 0, 255};
+    CHECK_OK(hf_safety_bake(f, &o, 1, m1, mlen));
+    CHECK_OK(hf_safety_prepare(f, scratch, slen));
+    uint32_t per = (H + T - 1) / T;
+    for (int t = 0; t < T; t++) {
+        uint32_t r0 = per * (uint32_t)t, r1 = r0 + per < H ? r0 + per : H;
+        rows_job j = {f, 0, r0, r1, NULL, 0, scratch, slen, m2, mlen, HF_ERR_PANIC};
+        jobs[t] = j;
+        CHECK(pthread_create(&th[t], NULL, bake_rows_thread, &jobs[t]) == 0);
+    }
+    for (int t = 0; t < T; t++) {
+        pthread_join(th[t], NULL);
+        CHECK(jobs[t].result == HF_OK);
+    }
+    CHECK(memcmp(m1, m2, mlen) == 0);
+    free(scratch);
+    free(m1);
+    free(m2);
+    free(p1);
+    free(p2);
+    free(hs);
+    hf_field_destroy(f);
+}
+
+/* ---- shader sources -------------------------------------------------------------- */
+
+static void test_shader_source(void) {
+    for (uint32_t m = HF_METHOD_EXACT; m <= HF_METHOD_CC; m++) {
+        size_t len = 0, written = 0;
+        CHECK_OK(hf_shader_source_len(m, &len));
+        CHECK(len > 100);
+        char *buf = (char *)malloc(len);
+        CHECK_BAD(hf_shader_source(m, buf, len - 1, &written), HF_ERR_BUFFER_TOO_SMALL, &written,
+                  sizeof written);
+        CHECK_OK(hf_shader_source(m, buf, len, &written));
+        CHECK(written == len - 1 && buf[written] == 0 && strlen(buf) == written);
+        CHECK(strstr(buf, "Trace hf_trace(Query q)") != NULL);
+        CHECK(strstr(buf, "#version") == NULL);
+        free(buf);
+    }
+    size_t len = 5, written = 5;
+    char buf[8];
+    memset(buf, 'x', sizeof buf);
+    CHECK_BAD(hf_shader_source_len(HF_METHOD_CC + 1, &len), HF_ERR_INVALID_ENUM, &len,
+              sizeof len);
+    CHECK_BAD(hf_shader_source_len(0, NULL), HF_ERR_NULL_POINTER, nothing, 0);
+    CHECK_BAD(hf_shader_source(77, buf, sizeof buf, &written), HF_ERR_INVALID_ENUM, &written,
+              sizeof written);
+    CHECK_BAD(hf_shader_source(0, NULL, 100, &written), HF_ERR_NULL_POINTER, &written,
+              sizeof written);
+    CHECK_BAD(hf_shader_source(0, buf, sizeof buf, NULL), HF_ERR_NULL_POINTER, buf, sizeof buf);
+}
+
+int main(void) {
+    test_version_and_messages();
+    test_field_constructors();
+    test_known_hits();
+    test_bad_queries();
+    test_methods_agree();
+    test_bake_and_update();
+    test_safety();
+    test_cones();
+    test_cc();
+    test_concurrent_rows();
+    test_shader_source();
+    printf("c api: %d checks, %d bad inputs tried\n", checks, bad_inputs);
+    printf("c-api: %d passed, %d failed\n", checks - failures, failures);
+    return failures == 0 ? 0 : 1;
+}

@@ -1,0 +1,367 @@
+//! Cylinder–cone safety shapes (Baboud, Eisemann, Seidel 2011, §6.3): sizes, bake
+//! (whole, by rows, threaded), the frame the GPU port decodes base heights with, and
+//! the march, for the triangle surface.
+
+use crate::hf_result::{self, *};
+use crate::trace::{hf_hit, hf_ray};
+use crate::{guard, hf_field, ptr};
+use hfcore::safety::cc::{self, CcMap, CcOptions, Slope};
+use hfcore::safety::{self, SafetyError};
+use hfcore::{HeightField, Query, Trace};
+
+/// How the cone slope of a cylinder–cone bake is computed. Passed as `uint32_t`.
+#[repr(u32)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum hf_cc_slope {
+    /// Over the limiting triangles only, exactly (larger steps, slower bake).
+    HF_CC_SLOPE_EXACT = 0,
+    /// Every triangle limiting, column maxima from the N-buffer (conservative, faster).
+    HF_CC_SLOPE_NBUFFER = 1,
+}
+
+/// What a cylinder–cone bake computes.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct hf_cc_options {
+    /// An `hf_cc_slope`.
+    pub slope: u32,
+    /// Longest cone step in centerlines, 0..=255 (64 is the core's default); the march
+    /// must be given the same value.
+    pub cap: u32,
+}
+
+/// Checks a cap passed as `uint32_t`.
+fn cap_of(cap: u32) -> Result<u8, hf_result> {
+    u8::try_from(cap).map_err(|_| HF_ERR_INVALID_ARGUMENT)
+}
+
+/// Checks bake options.
+fn options_of(o: &hf_cc_options) -> Result<CcOptions, hf_result> {
+    let slope = match o.slope {
+        0 => Slope::Exact,
+        1 => Slope::NBuffer,
+        _ => return Err(HF_ERR_INVALID_ENUM),
+    };
+    Ok(CcOptions {
+        slope,
+        cap: cap_of(o.cap)?,
+    })
+}
+
+/// Checks field sizes for the size queries.
+fn check_size(width: u32, height: u32) -> Result<(), hf_result> {
+    let ok = |n: u32| (2..=crate::HF_MAX_SIDE).contains(&n);
+    if !ok(width) || !ok(height) {
+        return Err(HF_ERR_INVALID_SIZE);
+    }
+    Ok(())
+}
+
+/// Writes the size in bytes of the packed cylinder–cone map of a `width × height`
+/// field to `*out_len`: 16 per texel, four per ray class in class order (x+, x−, y+,
+/// y−), `[r, s, z_lo, z_hi]` (cylinder radius, slope code, base-height code): upload
+/// as an `RGBA8UI` texture of 4W × H texels, texel (4 i + class, j). Thread safe.
+///
+/// # Safety
+/// `out_len` is NULL (an error) or valid for writing one `size_t`.
+#[no_mangle]
+pub unsafe extern "C" fn hf_cc_map_len(width: u32, height: u32, out_len: *mut usize) -> hf_result {
+    guard(|| {
+        let out = ptr::out(out_len)?;
+        check_size(width, height)?;
+        // SAFETY: the caller promises `out_len` is writable.
+        unsafe { out.set(cc::map_len(width, height)) };
+        Ok(())
+    })
+}
+
+/// Writes the number of floats of the N-buffers of a `width × height` field for cone
+/// reach `cap` (0..=255) to `*out_len`. Thread safe.
+///
+/// # Safety
+/// `out_len` is NULL (an error) or valid for writing one `size_t`.
+#[no_mangle]
+pub unsafe extern "C" fn hf_cc_nbuffer_len(
+    width: u32,
+    height: u32,
+    cap: u32,
+    out_len: *mut usize,
+) -> hf_result {
+    guard(|| {
+        let out = ptr::out(out_len)?;
+        check_size(width, height)?;
+        let cap = cap_of(cap)?;
+        // SAFETY: the caller promises `out_len` is writable.
+        unsafe { out.set(cc::nbuffer_len(width, height, cap)) };
+        Ok(())
+    })
+}
+
+/// Fills `out_nbuffer` (`out_nbuffer_len ≥ hf_cc_nbuffer_len(W, H, cap)` floats) with
+/// the N-buffers the cone slopes of `hf_cc_bake_rows` read. O(cells · levels), one
+/// thread.
+///
+/// # Safety
+/// `field` is NULL (an error) or a live handle; `out_nbuffer` NULL (an error) or valid
+/// for writing `out_nbuffer_len` floats.
+#[no_mangle]
+pub unsafe extern "C" fn hf_cc_prepare_nbuffer(
+    field: *const hf_field,
+    cap: u32,
+    out_nbuffer: *mut f32,
+    out_nbuffer_len: usize,
+) -> hf_result {
+    guard(|| {
+        // SAFETY: the caller's promises.
+        let (f, nb) = unsafe {
+            (
+                ptr::get(field)?,
+                ptr::slice_mut(out_nbuffer, out_nbuffer_len)?,
+            )
+        };
+        let cap = cap_of(cap)?;
+        Ok(cc::prepare_nbuffer(f.view(), cap, nb)?)
+    })
+}
+
+/// Bakes the cylinder–cone shapes of texel rows `[row_begin, row_end)` (0 ≤ begin ≤
+/// end ≤ H) into `map` (the whole map buffer, `map_len ≥ hf_cc_map_len`), reading
+/// `scratch` (from `hf_safety_prepare`) and `nbuffer` (from `hf_cc_prepare_nbuffer`
+/// with `options->cap`). Writes only those rows: threads may bake disjoint rows at
+/// once, sharing both scratches.
+///
+/// # Safety
+/// `field` is NULL (an error) or a live handle; `scratch`, `nbuffer` NULL (an error)
+/// or valid for reading their lengths in floats; `options` NULL (an error) or valid;
+/// `map` NULL (an error) or valid for writing `map_len` bytes; concurrent calls must
+/// bake disjoint rows.
+#[no_mangle]
+#[allow(clippy::too_many_arguments)]
+pub unsafe extern "C" fn hf_cc_bake_rows(
+    field: *const hf_field,
+    scratch: *const f32,
+    scratch_len: usize,
+    nbuffer: *const f32,
+    nbuffer_len: usize,
+    options: *const hf_cc_options,
+    row_begin: u32,
+    row_end: u32,
+    map: *mut u8,
+    map_len: usize,
+) -> hf_result {
+    guard(|| {
+        // SAFETY: the caller's promises.
+        let (f, scratch, nb, o) = unsafe {
+            (
+                ptr::get(field)?,
+                ptr::slice(scratch, scratch_len)?,
+                ptr::slice(nbuffer, nbuffer_len)?,
+                ptr::get(options)?,
+            )
+        };
+        if map.is_null() {
+            return Err(HF_ERR_NULL_POINTER);
+        }
+        let opts = options_of(o)?;
+        let hf = f.view();
+        if map_len < cc::map_len(hf.width(), hf.height()) {
+            return Err(HF_ERR_BUFFER_TOO_SMALL);
+        }
+        if row_begin > row_end || row_end > hf.height() {
+            return Err(HF_ERR_INVALID_ARGUMENT);
+        }
+        let row = hf.width() as usize * cc::BYTES_PER_TEXEL;
+        // Only the rows baked become a slice, so concurrent calls never alias.
+        // SAFETY: inside the caller's buffer (length checked), this call's alone (the
+        // documented contract).
+        let out = unsafe {
+            ptr::slice_mut(
+                map.add(row_begin as usize * row),
+                (row_end - row_begin) as usize * row,
+            )
+        }?;
+        Ok(cc::bake_rows(
+            hf,
+            scratch,
+            nb,
+            row_begin..row_end,
+            opts,
+            out,
+        )?)
+    })
+}
+
+/// Bakes the whole cylinder–cone map of `field` into `out_map` (`out_map_len ≥
+/// hf_cc_map_len`) on `threads` threads (0: one per available core), allocating both
+/// scratches itself. Same result for any thread count.
+///
+/// # Safety
+/// `field` is NULL (an error) or a live handle; `options` NULL (an error) or valid;
+/// `out_map` NULL (an error) or valid for writing `out_map_len` bytes.
+#[no_mangle]
+pub unsafe extern "C" fn hf_cc_bake(
+    field: *const hf_field,
+    options: *const hf_cc_options,
+    threads: u32,
+    out_map: *mut u8,
+    out_map_len: usize,
+) -> hf_result {
+    guard(|| {
+        // SAFETY: the caller's promises.
+        let (f, o, out) = unsafe {
+            (
+                ptr::get(field)?,
+                ptr::get(options)?,
+                ptr::slice_mut(out_map, out_map_len)?,
+            )
+        };
+        let opts = options_of(o)?;
+        let hf = f.view();
+        if out.len() < cc::map_len(hf.width(), hf.height()) {
+            return Err(HF_ERR_BUFFER_TOO_SMALL);
+        }
+        let alloc = |n: usize| -> Result<Vec<f32>, hf_result> {
+            let mut v = Vec::new();
+            v.try_reserve_exact(n).map_err(|_| HF_ERR_OUT_OF_MEMORY)?;
+            v.resize(n, 0.0);
+            Ok(v)
+        };
+        let mut scratch = alloc(safety::scratch_len(hf.width(), hf.height()))?;
+        let mut nb = alloc(cc::nbuffer_len(hf.width(), hf.height(), opts.cap))?;
+        safety::prepare(hf, &mut scratch)?;
+        cc::prepare_nbuffer(hf, opts.cap, &mut nb)?;
+        let threads = crate::par::thread_count(threads, hf.height());
+        let (scratch, nb) = (&scratch, &nb);
+        Ok(crate::par::bake_bands(
+            hf.height(),
+            hf.width() as usize * cc::BYTES_PER_TEXEL,
+            8,
+            threads,
+            out,
+            |rows, chunk| -> Result<(), SafetyError> {
+                cc::bake_rows(hf, scratch, nb, rows, opts, chunk)
+            },
+        )?)
+    })
+}
+
+/// Writes the frame the packed base heights are decoded with, as the march uses it in
+/// `float`: `z_c = zmin + code * zstep`, and `zspan = zstep * 65535` (for the rounding
+/// bound): the uniforms `hf_cc_zmin`, `hf_cc_zstep`, `hf_cc_zspan` of the GLSL port.
+/// Thread safe.
+///
+/// # Safety
+/// `field` is NULL (an error) or a live handle; each output NULL (an error) or valid
+/// for writing one `float`.
+#[no_mangle]
+pub unsafe extern "C" fn hf_cc_frame(
+    field: *const hf_field,
+    out_zmin: *mut f32,
+    out_zstep: *mut f32,
+    out_zspan: *mut f32,
+) -> hf_result {
+    guard(|| {
+        // SAFETY: the caller promises a live handle.
+        let f = unsafe { ptr::get(field) }?;
+        let (a, b, c) = (
+            ptr::out(out_zmin)?,
+            ptr::out(out_zstep)?,
+            ptr::out(out_zspan)?,
+        );
+        let hf = f.view();
+        // As `cc::z_frame`, then converted as `CcMap`'s step does (`R::from_f64`).
+        let (lo, hi) = (f64::from(hf.min_height()), f64::from(hf.max_height()));
+        let step = (hi - lo) / 65535.0;
+        // SAFETY: the caller promises the outputs are writable.
+        unsafe {
+            a.set(lo as f32);
+            b.set(step as f32);
+            c.set((step * 65535.0) as f32);
+        }
+        Ok(())
+    })
+}
+
+/// One cylinder–cone trace.
+fn trace_one(hf: &HeightField, map: &CcMap, r: &hf_ray) -> Result<Trace<f32>, hf_result> {
+    let q = Query::from_arrays(r.origin, r.dir, r.t_min, r.t_max)?;
+    Ok(cc::trace(map, hf, &q))
+}
+
+/// Traces one ray on the triangle surface with the cylinder–cone map `map` (from
+/// `hf_cc_bake` with the same `cap`): exact, the hit of `hf_trace_exact` with
+/// `HF_SURFACE_TRIANGLES` (up to rounding on grazing rays). Costs one fetch per shape
+/// read, two per centerline clearance, four per cell walked. Thread safe.
+///
+/// # Safety
+/// `field` is NULL (an error) or a live handle; `map` NULL (an error) or valid for
+/// reading `map_len` bytes; `ray` NULL (an error) or valid; `out_hit` NULL (an error)
+/// or valid for writing one `hf_hit`.
+#[no_mangle]
+pub unsafe extern "C" fn hf_trace_cc(
+    field: *const hf_field,
+    map: *const u8,
+    map_len: usize,
+    cap: u32,
+    ray: *const hf_ray,
+    out_hit: *mut hf_hit,
+) -> hf_result {
+    guard(|| {
+        // SAFETY: the caller's promises.
+        let (f, data, r) = unsafe { (ptr::get(field)?, ptr::slice(map, map_len)?, ptr::get(ray)?) };
+        let out = ptr::out(out_hit)?;
+        let hf = f.view();
+        let m = CcMap::new(hf, data, cap_of(cap)?)?;
+        let hit = hf_hit::from(trace_one(hf, &m, r)?);
+        // SAFETY: the caller promises `out_hit` is writable.
+        unsafe { out.set(hit) };
+        Ok(())
+    })
+}
+
+/// `hf_trace_cc` for a batch, with the conventions of `hf_trace_exact_batch`.
+/// Thread safe.
+///
+/// # Safety
+/// As `hf_trace_cc`; `rays` valid for reading `rays_len` rays, `out_hits` for writing
+/// `out_hits_len` hits, not overlapping.
+#[no_mangle]
+#[allow(clippy::too_many_arguments)]
+pub unsafe extern "C" fn hf_trace_cc_batch(
+    field: *const hf_field,
+    map: *const u8,
+    map_len: usize,
+    cap: u32,
+    rays: *const hf_ray,
+    rays_len: usize,
+    out_hits: *mut hf_hit,
+    out_hits_len: usize,
+) -> hf_result {
+    guard(|| {
+        // SAFETY: the caller's promises.
+        let (f, data, rays) = unsafe {
+            (
+                ptr::get(field)?,
+                ptr::slice(map, map_len)?,
+                ptr::slice(rays, rays_len)?,
+            )
+        };
+        // SAFETY: the caller promises `out_hits` is writable for its length.
+        let hits = unsafe { ptr::slice_mut(out_hits, out_hits_len) }?;
+        if rays.is_empty() {
+            return Err(HF_ERR_INVALID_SIZE);
+        }
+        if hits.len() < rays.len() {
+            return Err(HF_ERR_BUFFER_TOO_SMALL);
+        }
+        let hf = f.view();
+        let m = CcMap::new(hf, data, cap_of(cap)?)?;
+        for r in rays {
+            Query::from_arrays(r.origin, r.dir, r.t_min, r.t_max)?;
+        }
+        for (r, h) in rays.iter().zip(hits.iter_mut()) {
+            *h = hf_hit::from(trace_one(hf, &m, r)?);
+        }
+        Ok(())
+    })
+}

@@ -1,0 +1,687 @@
+//! The cone family: conservative cone step mapping (`hfcast::cone`), relaxed cone
+//! stepping (`hfcast::relaxed`) and quadratic displacement maps (`hfcast::qdm`). All
+//! three bake from the maximum-mipmap pyramid (the scratch) into a float map, in rows.
+
+use crate::hf_result::{self, *};
+use crate::trace::{batch, hf_hit, hf_ray, one, pyramid_slice};
+use crate::{guard, hf_field, ptr};
+use hfcore::cone::{self, BakeError, ConeMap};
+use hfcore::qdm::{self, QdmMap};
+use hfcore::relaxed;
+use hfcore::HeightField;
+use std::ops::Range;
+
+impl From<BakeError> for hf_result {
+    fn from(e: BakeError) -> Self {
+        match e {
+            BakeError::TooShort { .. } => HF_ERR_BUFFER_TOO_SMALL,
+            BakeError::BadRows => HF_ERR_INVALID_ARGUMENT,
+        }
+    }
+}
+
+/// The core's row bake of one family.
+type BakeRows = fn(&HeightField, &[f32], Range<u32>, &mut [f32]) -> Result<(), BakeError>;
+
+/// What differs between the three bakes.
+#[derive(Clone, Copy)]
+struct Family {
+    /// Floats of the whole map.
+    map_len: fn(u32, u32) -> usize,
+    /// Rows the bake iterates: cell rows (H − 1) or sample rows (H).
+    rows: fn(&HeightField) -> u32,
+    /// Floats per row.
+    row_len: fn(&HeightField) -> usize,
+    /// The core's row bake.
+    bake_rows: BakeRows,
+}
+
+fn cell_rows(hf: &HeightField) -> u32 {
+    hf.height() - 1
+}
+fn sample_rows(hf: &HeightField) -> u32 {
+    hf.height()
+}
+fn cone_row(hf: &HeightField) -> usize {
+    cone::CHANNELS * (hf.width() as usize - 1)
+}
+fn qdm_row(hf: &HeightField) -> usize {
+    qdm::CHANNELS * (hf.width() as usize - 1)
+}
+fn relaxed_row(hf: &HeightField) -> usize {
+    hf.width() as usize
+}
+
+const CONE: Family = Family {
+    map_len: cone::map_len,
+    rows: cell_rows,
+    row_len: cone_row,
+    bake_rows: cone::bake_rows,
+};
+const RELAXED: Family = Family {
+    map_len: relaxed::map_len,
+    rows: sample_rows,
+    row_len: relaxed_row,
+    bake_rows: relaxed::bake_rows,
+};
+const QDM: Family = Family {
+    map_len: qdm::map_len,
+    rows: cell_rows,
+    row_len: qdm_row,
+    bake_rows: qdm::bake_rows,
+};
+
+/// Checks field sizes for the size queries.
+fn check_size(width: u32, height: u32) -> Result<(), hf_result> {
+    let ok = |n: u32| (2..=crate::HF_MAX_SIDE).contains(&n);
+    if !ok(width) || !ok(height) {
+        return Err(HF_ERR_INVALID_SIZE);
+    }
+    Ok(())
+}
+
+/// Body of the `*_map_len` queries.
+///
+/// # Safety
+/// `out_len` NULL or writable.
+unsafe fn map_len(fam: Family, width: u32, height: u32, out_len: *mut usize) -> hf_result {
+    guard(|| {
+        let out = ptr::out(out_len)?;
+        check_size(width, height)?;
+        // SAFETY: the caller promises `out_len` is writable.
+        unsafe { out.set((fam.map_len)(width, height)) };
+        Ok(())
+    })
+}
+
+/// Body of the `*_bake_rows` functions.
+///
+/// # Safety
+/// As `hf_cone_bake_rows`.
+#[allow(clippy::too_many_arguments)]
+unsafe fn bake_rows(
+    fam: Family,
+    field: *const hf_field,
+    scratch: *const f32,
+    scratch_len: usize,
+    row_begin: u32,
+    row_end: u32,
+    map: *mut f32,
+    map_len: usize,
+) -> hf_result {
+    guard(|| {
+        // SAFETY: the caller's promises.
+        let (f, scratch) = unsafe { (ptr::get(field)?, ptr::slice(scratch, scratch_len)?) };
+        if map.is_null() {
+            return Err(HF_ERR_NULL_POINTER);
+        }
+        let hf = f.view();
+        if map_len < (fam.map_len)(hf.width(), hf.height()) {
+            return Err(HF_ERR_BUFFER_TOO_SMALL);
+        }
+        if scratch.len() < cone::scratch_len(hf.width(), hf.height()) {
+            return Err(HF_ERR_BUFFER_TOO_SMALL);
+        }
+        if row_begin > row_end || row_end > (fam.rows)(hf) {
+            return Err(HF_ERR_INVALID_ARGUMENT);
+        }
+        let row = (fam.row_len)(hf);
+        // Only the rows baked become a slice, so concurrent calls never alias.
+        // SAFETY: inside the caller's buffer (length checked), this call's alone (the
+        // documented contract).
+        let out = unsafe {
+            ptr::slice_mut(
+                map.add(row_begin as usize * row),
+                (row_end - row_begin) as usize * row,
+            )
+        }?;
+        Ok((fam.bake_rows)(hf, scratch, row_begin..row_end, out)?)
+    })
+}
+
+/// Body of the whole-map bakes.
+///
+/// # Safety
+/// As `hf_cone_bake`.
+unsafe fn bake(
+    fam: Family,
+    field: *const hf_field,
+    threads: u32,
+    out_map: *mut f32,
+    out_map_len: usize,
+) -> hf_result {
+    guard(|| {
+        // SAFETY: the caller's promises.
+        let (f, out) = unsafe { (ptr::get(field)?, ptr::slice_mut(out_map, out_map_len)?) };
+        let hf = f.view();
+        if out.len() < (fam.map_len)(hf.width(), hf.height()) {
+            return Err(HF_ERR_BUFFER_TOO_SMALL);
+        }
+        let n = cone::scratch_len(hf.width(), hf.height());
+        let mut scratch = Vec::new();
+        scratch
+            .try_reserve_exact(n)
+            .map_err(|_| HF_ERR_OUT_OF_MEMORY)?;
+        scratch.resize(n, 0.0);
+        cone::prepare(hf, &mut scratch)?;
+        let rows = (fam.rows)(hf);
+        let threads = crate::par::thread_count(threads, rows);
+        let scratch = &scratch;
+        Ok(crate::par::bake_bands(
+            rows,
+            (fam.row_len)(hf),
+            8,
+            threads,
+            out,
+            |r, chunk| (fam.bake_rows)(hf, scratch, r, chunk),
+        )?)
+    })
+}
+
+/// A map buffer, checked against the family's length for `hf`.
+fn check_map(fam: Family, hf: &HeightField, map: &[f32]) -> Result<(), hf_result> {
+    if map.len() < (fam.map_len)(hf.width(), hf.height()) {
+        return Err(HF_ERR_BUFFER_TOO_SMALL);
+    }
+    Ok(())
+}
+
+/// Checks an iteration budget.
+fn budget(n: u32) -> Result<u32, hf_result> {
+    if n == 0 {
+        return Err(HF_ERR_INVALID_ARGUMENT);
+    }
+    Ok(n)
+}
+
+/// Writes the number of floats of the bake scratch of a `width × height` field to
+/// `*out_len`: the maximum-mipmap pyramid (`hf_maxmip_len`) the cone, relaxed-cone
+/// and QDM bakes search. Thread safe.
+///
+/// # Safety
+/// `out_len` is NULL (an error) or valid for writing one `size_t`.
+#[no_mangle]
+pub unsafe extern "C" fn hf_cone_scratch_len(
+    width: u32,
+    height: u32,
+    out_len: *mut usize,
+) -> hf_result {
+    guard(|| {
+        let out = ptr::out(out_len)?;
+        check_size(width, height)?;
+        // SAFETY: the caller promises `out_len` is writable.
+        unsafe { out.set(cone::scratch_len(width, height)) };
+        Ok(())
+    })
+}
+
+/// Fills `out_scratch` (`out_scratch_len ≥ hf_cone_scratch_len`) with what the row
+/// bakes of the cone family (`hf_cone_bake_rows`, `hf_relaxed_bake_rows`,
+/// `hf_qdm_bake_rows`) read: the maximum-mipmap pyramid of `field`. Thread safe for
+/// distinct buffers.
+///
+/// # Safety
+/// `field` is NULL (an error) or a live handle; `out_scratch` NULL (an error) or valid
+/// for writing `out_scratch_len` floats.
+#[no_mangle]
+pub unsafe extern "C" fn hf_cone_prepare(
+    field: *const hf_field,
+    out_scratch: *mut f32,
+    out_scratch_len: usize,
+) -> hf_result {
+    guard(|| {
+        // SAFETY: the caller's promises.
+        let (f, s) = unsafe {
+            (
+                ptr::get(field)?,
+                ptr::slice_mut(out_scratch, out_scratch_len)?,
+            )
+        };
+        Ok(cone::prepare(f.view(), s)?)
+    })
+}
+
+/// Writes the number of floats of the cone map of a `width × height` field to
+/// `*out_len`: two per cell, `[top, ratio]` (the cell's highest corner, the cone's
+/// horizontal/vertical opening), cell (i, j) at `map[2 * (j * (W − 1) + i)]`: upload as
+/// an `RG32F` texture of (W − 1) × (H − 1) texels. Thread safe.
+///
+/// # Safety
+/// `out_len` is NULL (an error) or valid for writing one `size_t`.
+#[no_mangle]
+pub unsafe extern "C" fn hf_cone_map_len(
+    width: u32,
+    height: u32,
+    out_len: *mut usize,
+) -> hf_result {
+    // SAFETY: the caller's promise, passed on.
+    unsafe { map_len(CONE, width, height, out_len) }
+}
+
+/// Bakes cell rows `[row_begin, row_end)` (0 ≤ begin ≤ end ≤ H − 1) of the
+/// conservative cone map of `field` into `map` (the whole map buffer, `map_len ≥
+/// hf_cone_map_len`), reading `scratch` from `hf_cone_prepare`. Writes only those
+/// rows: threads may bake disjoint rows of one map at once, sharing one scratch.
+///
+/// # Safety
+/// `field` is NULL (an error) or a live handle; `scratch` NULL (an error) or valid for
+/// reading `scratch_len` floats; `map` NULL (an error) or valid for writing `map_len`
+/// floats; concurrent calls must bake disjoint rows.
+#[no_mangle]
+pub unsafe extern "C" fn hf_cone_bake_rows(
+    field: *const hf_field,
+    scratch: *const f32,
+    scratch_len: usize,
+    row_begin: u32,
+    row_end: u32,
+    map: *mut f32,
+    map_len: usize,
+) -> hf_result {
+    // SAFETY: the caller's promises, passed on.
+    unsafe {
+        bake_rows(
+            CONE,
+            field,
+            scratch,
+            scratch_len,
+            row_begin,
+            row_end,
+            map,
+            map_len,
+        )
+    }
+}
+
+/// Bakes the whole conservative cone map of `field` (cone step mapping made exact for
+/// the triangle surface) into `out_map` (`out_map_len ≥ hf_cone_map_len`) on `threads`
+/// threads (0: one per available core), allocating the scratch itself.
+///
+/// # Safety
+/// `field` is NULL (an error) or a live handle; `out_map` NULL (an error) or valid for
+/// writing `out_map_len` floats.
+#[no_mangle]
+pub unsafe extern "C" fn hf_cone_bake(
+    field: *const hf_field,
+    threads: u32,
+    out_map: *mut f32,
+    out_map_len: usize,
+) -> hf_result {
+    // SAFETY: the caller's promises, passed on.
+    unsafe { bake(CONE, field, threads, out_map, out_map_len) }
+}
+
+/// Traces one ray on the triangle surface with conservative cone steps over `map`
+/// (from `hf_cone_bake`), at most `max_iter ≥ 1` iterations (cone step or exact cell
+/// test; when they run out the current point is returned, flagged
+/// `HF_FLAG_BUDGET_EXHAUSTED`). Within the budget the hit is the exact one. Costs one
+/// fetch per cone texel, four per exact cell test. Thread safe.
+///
+/// # Safety
+/// `field` is NULL (an error) or a live handle; `map` NULL (an error) or valid for
+/// reading `map_len` floats; `ray` NULL (an error) or valid; `out_hit` NULL (an error)
+/// or valid for writing one `hf_hit`.
+#[no_mangle]
+pub unsafe extern "C" fn hf_trace_cone(
+    field: *const hf_field,
+    map: *const f32,
+    map_len: usize,
+    max_iter: u32,
+    ray: *const hf_ray,
+    out_hit: *mut hf_hit,
+) -> hf_result {
+    // SAFETY: the caller's promise.
+    let data = match unsafe { pyramid_slice(map, map_len) } {
+        Ok(d) => d,
+        Err(e) => return e,
+    };
+    let n = match budget(max_iter) {
+        Ok(n) => n,
+        Err(e) => return e,
+    };
+    // SAFETY: the caller's promises, passed on.
+    unsafe {
+        one(
+            field,
+            ray,
+            out_hit,
+            |hf| check_map(CONE, hf, data),
+            |hf, q| match ConeMap::new(hf, data) {
+                Ok(m) => cone::trace(&m, hf, q, n),
+                Err(_) => hfcore::Trace::MISS,
+            },
+        )
+    }
+}
+
+/// `hf_trace_cone` for a batch, with the conventions of `hf_trace_exact_batch`.
+/// Thread safe.
+///
+/// # Safety
+/// As `hf_trace_cone`; `rays` valid for reading `rays_len` rays, `out_hits` for writing
+/// `out_hits_len` hits, not overlapping.
+#[no_mangle]
+#[allow(clippy::too_many_arguments)]
+pub unsafe extern "C" fn hf_trace_cone_batch(
+    field: *const hf_field,
+    map: *const f32,
+    map_len: usize,
+    max_iter: u32,
+    rays: *const hf_ray,
+    rays_len: usize,
+    out_hits: *mut hf_hit,
+    out_hits_len: usize,
+) -> hf_result {
+    // SAFETY: the caller's promise.
+    let data = match unsafe { pyramid_slice(map, map_len) } {
+        Ok(d) => d,
+        Err(e) => return e,
+    };
+    let n = match budget(max_iter) {
+        Ok(n) => n,
+        Err(e) => return e,
+    };
+    // SAFETY: the caller's promises, passed on.
+    unsafe {
+        batch(
+            field,
+            rays,
+            rays_len,
+            out_hits,
+            out_hits_len,
+            |hf| check_map(CONE, hf, data),
+            |hf, q| match ConeMap::new(hf, data) {
+                Ok(m) => cone::trace(&m, hf, q, n),
+                Err(_) => hfcore::Trace::MISS,
+            },
+        )
+    }
+}
+
+/// Writes the number of floats of the relaxed cone map of a `width × height` field to
+/// `*out_len`: one ratio per sample, sample (i, j) at `map[j * W + i]` (an `R32F`
+/// texture of W × H texels). Thread safe.
+///
+/// # Safety
+/// `out_len` is NULL (an error) or valid for writing one `size_t`.
+#[no_mangle]
+pub unsafe extern "C" fn hf_relaxed_map_len(
+    width: u32,
+    height: u32,
+    out_len: *mut usize,
+) -> hf_result {
+    // SAFETY: the caller's promise, passed on.
+    unsafe { map_len(RELAXED, width, height, out_len) }
+}
+
+/// Bakes sample rows `[row_begin, row_end)` (0 ≤ begin ≤ end ≤ H) of the relaxed cone
+/// map (Policarpo & Oliveira 2007) into `map`, as `hf_cone_bake_rows`.
+///
+/// # Safety
+/// As `hf_cone_bake_rows`.
+#[no_mangle]
+pub unsafe extern "C" fn hf_relaxed_bake_rows(
+    field: *const hf_field,
+    scratch: *const f32,
+    scratch_len: usize,
+    row_begin: u32,
+    row_end: u32,
+    map: *mut f32,
+    map_len: usize,
+) -> hf_result {
+    // SAFETY: the caller's promises, passed on.
+    unsafe {
+        bake_rows(
+            RELAXED,
+            field,
+            scratch,
+            scratch_len,
+            row_begin,
+            row_end,
+            map,
+            map_len,
+        )
+    }
+}
+
+/// Bakes the whole relaxed cone map of `field` into `out_map` (`out_map_len ≥
+/// hf_relaxed_map_len`) on `threads` threads (0: one per available core).
+///
+/// # Safety
+/// As `hf_cone_bake`.
+#[no_mangle]
+pub unsafe extern "C" fn hf_relaxed_bake(
+    field: *const hf_field,
+    threads: u32,
+    out_map: *mut f32,
+    out_map_len: usize,
+) -> hf_result {
+    // SAFETY: the caller's promises, passed on.
+    unsafe { bake(RELAXED, field, threads, out_map, out_map_len) }
+}
+
+/// Traces one ray with relaxed cone stepping (approximate: a relaxed cone lets a ray
+/// cross the surface once, so thin peaks can be missed): at most `cone_steps ≥ 1` cone
+/// steps, then `binary_steps` bisections. Costs four fetches per surface height, one
+/// per ratio. Thread safe.
+///
+/// # Safety
+/// As `hf_trace_cone`.
+#[no_mangle]
+pub unsafe extern "C" fn hf_trace_relaxed(
+    field: *const hf_field,
+    map: *const f32,
+    map_len: usize,
+    cone_steps: u32,
+    binary_steps: u32,
+    ray: *const hf_ray,
+    out_hit: *mut hf_hit,
+) -> hf_result {
+    // SAFETY: the caller's promise.
+    let data = match unsafe { pyramid_slice(map, map_len) } {
+        Ok(d) => d,
+        Err(e) => return e,
+    };
+    let steps = match budget(cone_steps) {
+        Ok(cone) => relaxed::Steps {
+            cone,
+            binary: binary_steps,
+        },
+        Err(e) => return e,
+    };
+    // SAFETY: the caller's promises, passed on.
+    unsafe {
+        one(
+            field,
+            ray,
+            out_hit,
+            |hf| check_map(RELAXED, hf, data),
+            |hf, q| relaxed::trace(data, hf, q, steps),
+        )
+    }
+}
+
+/// `hf_trace_relaxed` for a batch, with the conventions of `hf_trace_exact_batch`.
+/// Thread safe.
+///
+/// # Safety
+/// As `hf_trace_cone_batch`.
+#[no_mangle]
+#[allow(clippy::too_many_arguments)]
+pub unsafe extern "C" fn hf_trace_relaxed_batch(
+    field: *const hf_field,
+    map: *const f32,
+    map_len: usize,
+    cone_steps: u32,
+    binary_steps: u32,
+    rays: *const hf_ray,
+    rays_len: usize,
+    out_hits: *mut hf_hit,
+    out_hits_len: usize,
+) -> hf_result {
+    // SAFETY: the caller's promise.
+    let data = match unsafe { pyramid_slice(map, map_len) } {
+        Ok(d) => d,
+        Err(e) => return e,
+    };
+    let steps = match budget(cone_steps) {
+        Ok(cone) => relaxed::Steps {
+            cone,
+            binary: binary_steps,
+        },
+        Err(e) => return e,
+    };
+    // SAFETY: the caller's promises, passed on.
+    unsafe {
+        batch(
+            field,
+            rays,
+            rays_len,
+            out_hits,
+            out_hits_len,
+            |hf| check_map(RELAXED, hf, data),
+            |hf, q| relaxed::trace(data, hf, q, steps),
+        )
+    }
+}
+
+/// Writes the number of floats of the quadratic displacement map of a `width ×
+/// height` field to `*out_len`: four per cell, `[a, b, c, h]` (cone ratio, cone
+/// height, parabola curvature, the cell's top), cell (i, j) at
+/// `map[4 * (j * (W − 1) + i)]` (an `RGBA32F` texture of (W − 1) × (H − 1) texels).
+/// Thread safe.
+///
+/// # Safety
+/// `out_len` is NULL (an error) or valid for writing one `size_t`.
+#[no_mangle]
+pub unsafe extern "C" fn hf_qdm_map_len(width: u32, height: u32, out_len: *mut usize) -> hf_result {
+    // SAFETY: the caller's promise, passed on.
+    unsafe { map_len(QDM, width, height, out_len) }
+}
+
+/// Bakes cell rows `[row_begin, row_end)` (0 ≤ begin ≤ end ≤ H − 1) of the quadratic
+/// displacement map (after Kiglics et al.) into `map`, as `hf_cone_bake_rows`.
+///
+/// # Safety
+/// As `hf_cone_bake_rows`.
+#[no_mangle]
+pub unsafe extern "C" fn hf_qdm_bake_rows(
+    field: *const hf_field,
+    scratch: *const f32,
+    scratch_len: usize,
+    row_begin: u32,
+    row_end: u32,
+    map: *mut f32,
+    map_len: usize,
+) -> hf_result {
+    // SAFETY: the caller's promises, passed on.
+    unsafe {
+        bake_rows(
+            QDM,
+            field,
+            scratch,
+            scratch_len,
+            row_begin,
+            row_end,
+            map,
+            map_len,
+        )
+    }
+}
+
+/// Bakes the whole quadratic displacement map of `field` into `out_map` (`out_map_len
+/// ≥ hf_qdm_map_len`) on `threads` threads (0: one per available core).
+///
+/// # Safety
+/// As `hf_cone_bake`.
+#[no_mangle]
+pub unsafe extern "C" fn hf_qdm_bake(
+    field: *const hf_field,
+    threads: u32,
+    out_map: *mut f32,
+    out_map_len: usize,
+) -> hf_result {
+    // SAFETY: the caller's promises, passed on.
+    unsafe { bake(QDM, field, threads, out_map, out_map_len) }
+}
+
+/// Traces one ray on the triangle surface with quadratic displacement steps over `map`
+/// (from `hf_qdm_bake`), at most `max_iter ≥ 1` iterations, as `hf_trace_cone`: within
+/// the budget the hit is the exact one. Thread safe.
+///
+/// # Safety
+/// As `hf_trace_cone`.
+#[no_mangle]
+pub unsafe extern "C" fn hf_trace_qdm(
+    field: *const hf_field,
+    map: *const f32,
+    map_len: usize,
+    max_iter: u32,
+    ray: *const hf_ray,
+    out_hit: *mut hf_hit,
+) -> hf_result {
+    // SAFETY: the caller's promise.
+    let data = match unsafe { pyramid_slice(map, map_len) } {
+        Ok(d) => d,
+        Err(e) => return e,
+    };
+    let n = match budget(max_iter) {
+        Ok(n) => n,
+        Err(e) => return e,
+    };
+    // SAFETY: the caller's promises, passed on.
+    unsafe {
+        one(
+            field,
+            ray,
+            out_hit,
+            |hf| check_map(QDM, hf, data),
+            |hf, q| match QdmMap::new(hf, data) {
+                Ok(m) => qdm::trace(&m, hf, q, n),
+                Err(_) => hfcore::Trace::MISS,
+            },
+        )
+    }
+}
+
+/// `hf_trace_qdm` for a batch, with the conventions of `hf_trace_exact_batch`.
+/// Thread safe.
+///
+/// # Safety
+/// As `hf_trace_cone_batch`.
+#[no_mangle]
+#[allow(clippy::too_many_arguments)]
+pub unsafe extern "C" fn hf_trace_qdm_batch(
+    field: *const hf_field,
+    map: *const f32,
+    map_len: usize,
+    max_iter: u32,
+    rays: *const hf_ray,
+    rays_len: usize,
+    out_hits: *mut hf_hit,
+    out_hits_len: usize,
+) -> hf_result {
+    // SAFETY: the caller's promise.
+    let data = match unsafe { pyramid_slice(map, map_len) } {
+        Ok(d) => d,
+        Err(e) => return e,
+    };
+    let n = match budget(max_iter) {
+        Ok(n) => n,
+        Err(e) => return e,
+    };
+    // SAFETY: the caller's promises, passed on.
+    unsafe {
+        batch(
+            field,
+            rays,
+            rays_len,
+            out_hits,
+            out_hits_len,
+            |hf| check_map(QDM, hf, data),
+            |hf, q| match QdmMap::new(hf, data) {
+                Ok(m) => qdm::trace(&m, hf, q, n),
+                Err(_) => hfcore::Trace::MISS,
+            },
+        )
+    }
+}

@@ -1,0 +1,357 @@
+//! # hfcast C API
+//!
+//! The C ABI of the `hfcast` core, built as `libhfcast.a` and `libhfcast.so`; the
+//! header `include/hfcast.h` is generated from this crate by cbindgen and checked for
+//! drift by `tests/header.rs` (regenerate with `HFCAST_BLESS=1 cargo test -p hfcast-capi`).
+//!
+//! Conventions (as rustls-ffi and meshoptimizer): every symbol starts with `hf_`; every
+//! function returns an [`hf_result`] (`HF_OK` = 0); enums cross the boundary as
+//! `uint32_t` and are checked; every pointer is checked for NULL (and alignment);
+//! every function runs behind a panic boundary; outputs come last, each buffer
+//! followed by its length in elements; outputs are written only on success.
+//!
+//! `unsafe` is confined to turning C pointers into references and slices
+//! ([`ptr`]) and to the owned samples of [`hf_field`]; each block says why it holds.
+
+// The C names (`hf_field`, `hf_ray`, …) are the API.
+#![allow(non_camel_case_types)]
+
+pub mod cc;
+pub mod cones;
+pub mod field;
+pub mod maxmip;
+mod par;
+mod ptr;
+pub mod safety;
+pub mod shader;
+pub mod trace;
+
+use std::ffi::c_char;
+use std::panic::{catch_unwind, AssertUnwindSafe};
+
+pub use field::hf_field;
+
+/// Result code of every `hf_` function. `HF_OK` is 0; every other value is an error,
+/// and a function that returns one has written nothing to its outputs.
+#[repr(u32)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum hf_result {
+    /// Success.
+    HF_OK = 0,
+    /// A pointer argument is NULL.
+    HF_ERR_NULL_POINTER = 1,
+    /// A pointer argument is not aligned for its element type.
+    HF_ERR_MISALIGNED_POINTER = 2,
+    /// A size is zero where it must not be, out of range (a width or height below 2 or
+    /// above 2^24, a row stride below the width), or overflows `size_t`.
+    HF_ERR_INVALID_SIZE = 3,
+    /// An input buffer holds fewer elements than the other arguments require, or an
+    /// output buffer is too small for the result (query the size first).
+    HF_ERR_BUFFER_TOO_SMALL = 4,
+    /// A height or a depth scale is NaN or infinite.
+    HF_ERR_NOT_FINITE = 5,
+    /// A ray is invalid: NaN or infinite origin or direction, zero direction, `t_min`
+    /// not finite, `t_max` NaN or −∞, or `t_min > t_max`.
+    HF_ERR_INVALID_RAY = 6,
+    /// An enum argument (surface, method, result code) has no such value.
+    HF_ERR_INVALID_ENUM = 7,
+    /// A rectangle is empty, reversed or reaches outside the field.
+    HF_ERR_INVALID_RECT = 8,
+    /// Another argument is out of range (a pyramid level or row range, a step count
+    /// of zero).
+    HF_ERR_INVALID_ARGUMENT = 9,
+    /// Memory could not be allocated.
+    HF_ERR_OUT_OF_MEMORY = 10,
+    /// The library panicked (a bug); the call had no effect on its outputs.
+    HF_ERR_PANIC = 11,
+}
+
+use hf_result::*;
+
+/// Every result code, in value order.
+const RESULTS: [hf_result; 12] = [
+    HF_OK,
+    HF_ERR_NULL_POINTER,
+    HF_ERR_MISALIGNED_POINTER,
+    HF_ERR_INVALID_SIZE,
+    HF_ERR_BUFFER_TOO_SMALL,
+    HF_ERR_NOT_FINITE,
+    HF_ERR_INVALID_RAY,
+    HF_ERR_INVALID_ENUM,
+    HF_ERR_INVALID_RECT,
+    HF_ERR_INVALID_ARGUMENT,
+    HF_ERR_OUT_OF_MEMORY,
+    HF_ERR_PANIC,
+];
+
+impl hf_result {
+    /// The code with value `v`, if any.
+    pub fn from_u32(v: u32) -> Option<hf_result> {
+        RESULTS.get(v as usize).copied()
+    }
+
+    /// A short English description (ASCII, no trailing period).
+    pub fn message(self) -> &'static str {
+        match self {
+            HF_OK => "success",
+            HF_ERR_NULL_POINTER => "a pointer argument is NULL",
+            HF_ERR_MISALIGNED_POINTER => "a pointer argument is misaligned for its type",
+            HF_ERR_INVALID_SIZE => "a size is zero, out of range or overflows",
+            HF_ERR_BUFFER_TOO_SMALL => "a buffer is too small",
+            HF_ERR_NOT_FINITE => "a height or depth scale is NaN or infinite",
+            HF_ERR_INVALID_RAY => {
+                "invalid ray: NaN or infinite origin or direction, zero direction, or bad t range"
+            }
+            HF_ERR_INVALID_ENUM => "an enum argument has an unknown value",
+            HF_ERR_INVALID_RECT => "a rectangle is empty, reversed or outside the field",
+            HF_ERR_INVALID_ARGUMENT => "an argument is out of range",
+            HF_ERR_OUT_OF_MEMORY => "out of memory",
+            HF_ERR_PANIC => "internal error: the library panicked",
+        }
+    }
+}
+
+impl From<hfcore::FieldError> for hf_result {
+    fn from(e: hfcore::FieldError) -> Self {
+        use hfcore::FieldError as E;
+        match e {
+            E::TooSmall | E::TooLarge | E::StrideTooSmall | E::SizeOverflow => HF_ERR_INVALID_SIZE,
+            E::SliceTooShort { .. } | E::OutputTooShort { .. } => HF_ERR_BUFFER_TOO_SMALL,
+            E::NotFinite { .. } => HF_ERR_NOT_FINITE,
+            E::BadRect => HF_ERR_INVALID_RECT,
+        }
+    }
+}
+
+impl From<hfcore::RayError> for hf_result {
+    fn from(_: hfcore::RayError) -> Self {
+        HF_ERR_INVALID_RAY
+    }
+}
+
+impl From<hfcore::maxmip::PyramidError> for hf_result {
+    fn from(e: hfcore::maxmip::PyramidError) -> Self {
+        match e {
+            hfcore::maxmip::PyramidError::TooShort { .. } => HF_ERR_BUFFER_TOO_SMALL,
+            hfcore::maxmip::PyramidError::BadRect => HF_ERR_INVALID_RECT,
+        }
+    }
+}
+
+/// The panic boundary every export runs behind: `Ok` → `HF_OK`, `Err(code)` → `code`,
+/// a panic → `HF_ERR_PANIC`.
+pub(crate) fn guard(f: impl FnOnce() -> Result<(), hf_result>) -> hf_result {
+    match catch_unwind(AssertUnwindSafe(f)) {
+        Ok(Ok(())) => HF_OK,
+        Ok(Err(code)) => code,
+        Err(_) => HF_ERR_PANIC,
+    }
+}
+
+/// Height reconstruction between samples (DESIGN.md, "Surfaces"). Passed as `uint32_t`.
+#[repr(u32)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum hf_surface {
+    /// Two triangles per cell, split along the lower diagonal (the default).
+    HF_SURFACE_TRIANGLES = 0,
+    /// Bilinear interpolation of the cell's four corners.
+    HF_SURFACE_BILINEAR = 1,
+    /// Piecewise constant: the nearest sample; steps are vertical walls.
+    HF_SURFACE_HEIGHT_PLANES = 2,
+    /// The plane through a cell's base sample and its +x, +y neighbours.
+    HF_SURFACE_LINEAR_PLANES = 3,
+    /// Linear along the ray between centerline crossings (Baboud et al. §7).
+    HF_SURFACE_VIEW_LINEAR = 4,
+}
+
+/// Checks a surface passed as `uint32_t`.
+pub(crate) fn surface_of(v: u32) -> Result<hfcore::Surface, hf_result> {
+    hfcore::Surface::ALL
+        .get(v as usize)
+        .copied()
+        .ok_or(HF_ERR_INVALID_ENUM)
+}
+
+/// The marching methods. Passed as `uint32_t`.
+#[repr(u32)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum hf_method {
+    /// Exact grid traversal (Amanatides–Woo DDA, exact per-cell test). Needs no bake.
+    HF_METHOD_EXACT = 0,
+    /// Linear search then bisection (Policarpo et al. 2005); approximate, no bake.
+    HF_METHOD_LINEAR_BINARY = 1,
+    /// Linear search then one secant step (parallax occlusion mapping); approximate.
+    HF_METHOD_LINEAR_SECANT = 2,
+    /// Maximum mipmaps (Tevs et al. 2008); exact, needs the baked pyramid.
+    HF_METHOD_MAXMIP = 3,
+    /// Safety distances (Baboud et al. 2011); exact on the triangle surface, needs the
+    /// baked safety-distance map.
+    HF_METHOD_SAFETY = 4,
+    /// Conservative cone step mapping (Dummer 2006, made exact for the triangle
+    /// surface); exact within its iteration budget, needs the baked cone map.
+    HF_METHOD_CONE = 5,
+    /// Relaxed cone stepping (Policarpo & Oliveira 2007); approximate, needs the baked
+    /// relaxed cone map.
+    HF_METHOD_RELAXED = 6,
+    /// Quadratic displacement maps (after Kiglics et al.); exact within its iteration
+    /// budget, needs the baked QDM.
+    HF_METHOD_QDM = 7,
+    /// Cylinder–cone safety shapes (Baboud et al. 2011, §6.3); exact on the triangle
+    /// surface, needs the baked cylinder–cone map.
+    HF_METHOD_CC = 8,
+}
+
+/// Every method, in value order.
+pub(crate) const METHODS: [hf_method; 9] = [
+    hf_method::HF_METHOD_EXACT,
+    hf_method::HF_METHOD_LINEAR_BINARY,
+    hf_method::HF_METHOD_LINEAR_SECANT,
+    hf_method::HF_METHOD_MAXMIP,
+    hf_method::HF_METHOD_SAFETY,
+    hf_method::HF_METHOD_CONE,
+    hf_method::HF_METHOD_RELAXED,
+    hf_method::HF_METHOD_QDM,
+    hf_method::HF_METHOD_CC,
+];
+
+impl hf_method {
+    /// Short lower-case name (`exact`, `linear-binary`, `linear-secant`, `maxmip`,
+    /// `safety`, `cone`, `relaxed`, `qdm`, `cc`).
+    pub fn name(self) -> &'static str {
+        match self {
+            hf_method::HF_METHOD_EXACT => "exact",
+            hf_method::HF_METHOD_LINEAR_BINARY => "linear-binary",
+            hf_method::HF_METHOD_LINEAR_SECANT => "linear-secant",
+            hf_method::HF_METHOD_MAXMIP => "maxmip",
+            hf_method::HF_METHOD_SAFETY => "safety",
+            hf_method::HF_METHOD_CONE => "cone",
+            hf_method::HF_METHOD_RELAXED => "relaxed",
+            hf_method::HF_METHOD_QDM => "qdm",
+            hf_method::HF_METHOD_CC => "cc",
+        }
+    }
+}
+
+/// Checks a method passed as `uint32_t`.
+pub(crate) fn method_of(v: u32) -> Result<hf_method, hf_result> {
+    METHODS.get(v as usize).copied().ok_or(HF_ERR_INVALID_ENUM)
+}
+
+/// Hit flag: the ray starts under the surface; the hit is at `t_min`.
+pub const HF_FLAG_ORIGIN_INSIDE: u32 = 1;
+/// Hit flag: the ray enters the footprint through a side wall below the surface.
+pub const HF_FLAG_SIDE: u32 = 2;
+/// Hit flag: the hit is on a vertical step of a discontinuous surface.
+pub const HF_FLAG_WALL: u32 = 4;
+/// Trace flag: an approximate method ran out of its step budget.
+pub const HF_FLAG_BUDGET_EXHAUSTED: u32 = 8;
+
+/// Largest width or height of a field (2^24: grid coordinates stay exact in `float`).
+pub const HF_MAX_SIDE: u32 = 16777216;
+/// Most levels a maximum-mipmap pyramid has.
+pub const HF_MAX_LEVELS: u32 = 25;
+/// Width of the 2D `R32F` texture the GLSL maxmip port reads the pyramid from: pyramid
+/// texel `k` (the index into the `hf_maxmip_bake` buffer) is texel
+/// `(k % HF_PYRAMID_TEX_WIDTH, k / HF_PYRAMID_TEX_WIDTH)`; the last row is padded.
+pub const HF_PYRAMID_TEX_WIDTH: u32 = 4096;
+
+/// Writes the library version. The same numbers as the `HFCAST_VERSION_*` macros of
+/// the header the caller compiled against; compare them to detect a mismatched
+/// library. Thread safe.
+///
+/// # Safety
+/// Each pointer is NULL (an error) or valid for writing one `uint32_t`.
+#[no_mangle]
+pub unsafe extern "C" fn hf_version(
+    out_major: *mut u32,
+    out_minor: *mut u32,
+    out_patch: *mut u32,
+) -> hf_result {
+    guard(|| {
+        let (major, minor, patch) = (
+            ptr::out(out_major)?,
+            ptr::out(out_minor)?,
+            ptr::out(out_patch)?,
+        );
+        let v = |s: &str| s.parse::<u32>().unwrap_or(0);
+        // SAFETY: the caller promises each pointer is valid for one `uint32_t`.
+        unsafe {
+            major.set(v(env!("CARGO_PKG_VERSION_MAJOR")));
+            minor.set(v(env!("CARGO_PKG_VERSION_MINOR")));
+            patch.set(v(env!("CARGO_PKG_VERSION_PATCH")));
+        }
+        Ok(())
+    })
+}
+
+/// Writes the message of result code `code` into `buf` as a NUL-terminated ASCII
+/// string and its length without the NUL into `*out_written`. `buf_len` (bytes) must
+/// be at least the length plus one: 128 bytes always suffice. An unknown `code` is
+/// `HF_ERR_INVALID_ENUM`. Thread safe.
+///
+/// # Safety
+/// `buf` is NULL (an error) or valid for writing `buf_len` bytes; `out_written` is NULL
+/// (an error) or valid for writing one `size_t`.
+#[no_mangle]
+pub unsafe extern "C" fn hf_error_message(
+    code: u32,
+    buf: *mut c_char,
+    buf_len: usize,
+    out_written: *mut usize,
+) -> hf_result {
+    guard(|| {
+        let code = hf_result::from_u32(code).ok_or(HF_ERR_INVALID_ENUM)?;
+        // SAFETY: the caller promises `buf` is valid for `buf_len` bytes.
+        let buf = unsafe { ptr::slice_mut(buf, buf_len) }?;
+        let written = ptr::out(out_written)?;
+        // SAFETY: the caller promises `out_written` is valid for one `size_t`.
+        unsafe { ptr::write_c_string(code.message(), buf, written) }
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn codes_are_dense_and_have_messages() {
+        for (i, code) in RESULTS.iter().enumerate() {
+            assert_eq!(*code as u32, i as u32);
+            assert_eq!(hf_result::from_u32(i as u32), Some(*code));
+            assert!(code.message().len() < 128 && code.message().is_ascii());
+        }
+        assert_eq!(hf_result::from_u32(RESULTS.len() as u32), None);
+    }
+
+    #[test]
+    fn enums_match_the_core() {
+        for (i, s) in hfcore::Surface::ALL.iter().enumerate() {
+            assert_eq!(*s as u32, i as u32);
+            assert_eq!(surface_of(i as u32), Ok(*s));
+        }
+        assert_eq!(
+            hf_surface::HF_SURFACE_VIEW_LINEAR as u32,
+            hfcore::Surface::ViewLinear as u32
+        );
+        assert_eq!(surface_of(5), Err(HF_ERR_INVALID_ENUM));
+        use hfcore::Flags;
+        assert_eq!(HF_FLAG_ORIGIN_INSIDE, Flags::ORIGIN_INSIDE.0);
+        assert_eq!(HF_FLAG_SIDE, Flags::SIDE.0);
+        assert_eq!(HF_FLAG_WALL, Flags::WALL.0);
+        assert_eq!(HF_FLAG_BUDGET_EXHAUSTED, Flags::BUDGET_EXHAUSTED.0);
+        assert_eq!(HF_MAX_SIDE, hfcore::field::MAX_SIDE);
+        assert_eq!(HF_MAX_LEVELS as usize, hfcore::maxmip::MAX_LEVELS);
+        for (i, m) in METHODS.iter().enumerate() {
+            assert_eq!(*m as u32, i as u32);
+        }
+    }
+
+    #[test]
+    fn version_is_the_package_version() {
+        let (mut a, mut b, mut c) = (9, 9, 9);
+        // SAFETY: three valid out pointers.
+        let r = unsafe { hf_version(&mut a, &mut b, &mut c) };
+        assert_eq!(r, HF_OK);
+        assert_eq!(format!("{a}.{b}.{c}"), env!("CARGO_PKG_VERSION"));
+    }
+}

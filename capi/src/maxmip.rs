@@ -1,0 +1,252 @@
+//! Maximum mipmaps: sizes, layout, bake (whole, by rows, threaded) and update.
+
+use crate::hf_result::{self, *};
+use crate::{guard, hf_field, ptr};
+use hfcore::maxmip::{self, Layout};
+use hfcore::HeightField;
+
+/// One level of a maximum-mipmap pyramid: its texels lie at
+/// `pyramid[offset + j * width + i]`, row-major.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct hf_level {
+    /// Texels along x (level 0: W − 1, one per cell; then halved, rounding up).
+    pub width: u32,
+    /// Texels along y (level 0: H − 1).
+    pub height: u32,
+    /// Index of the level's first texel in the pyramid buffer.
+    pub offset: usize,
+}
+
+/// The layout of a `width × height` field, checked.
+fn layout(width: u32, height: u32) -> Result<Layout, hf_result> {
+    Layout::new(width, height).ok_or(HF_ERR_INVALID_SIZE)
+}
+
+/// Writes the number of floats of the maximum-mipmap pyramid of a `width × height`
+/// field (2 ≤ width, height ≤ `HF_MAX_SIDE`) to `*out_len`: the size to allocate for
+/// `hf_maxmip_bake`. Thread safe.
+///
+/// # Safety
+/// `out_len` is NULL (an error) or valid for writing one `size_t`.
+#[no_mangle]
+pub unsafe extern "C" fn hf_maxmip_len(width: u32, height: u32, out_len: *mut usize) -> hf_result {
+    guard(|| {
+        let out = ptr::out(out_len)?;
+        let n = layout(width, height)?.texel_count();
+        // SAFETY: the caller promises `out_len` is writable.
+        unsafe { out.set(n) };
+        Ok(())
+    })
+}
+
+/// Writes the pyramid levels of a `width × height` field, finest (level 0, one texel
+/// per cell: the maximum of its four corners) to coarsest (1 × 1), into `out_levels`
+/// (`out_levels_len ≥` the level count; `HF_MAX_LEVELS` always suffices) and their
+/// count to `*out_count`. The GLSL port takes these as the uniforms
+/// `hf_level_dims` / `hf_level_offset`. Thread safe.
+///
+/// # Safety
+/// `out_levels` is NULL (an error) or valid for writing `out_levels_len` levels;
+/// `out_count` NULL (an error) or valid for writing one `uint32_t`.
+#[no_mangle]
+pub unsafe extern "C" fn hf_maxmip_levels(
+    width: u32,
+    height: u32,
+    out_levels: *mut hf_level,
+    out_levels_len: usize,
+    out_count: *mut u32,
+) -> hf_result {
+    guard(|| {
+        // SAFETY: the caller promises `out_levels` is writable for its length.
+        let levels = unsafe { ptr::slice_mut(out_levels, out_levels_len) }?;
+        let count = ptr::out(out_count)?;
+        let l = layout(width, height)?;
+        if levels.len() < l.levels() as usize {
+            return Err(HF_ERR_BUFFER_TOO_SMALL);
+        }
+        for (k, out) in levels.iter_mut().take(l.levels() as usize).enumerate() {
+            let [w, h] = l.dims(k as u32);
+            *out = hf_level {
+                width: w,
+                height: h,
+                offset: l.offset(k as u32),
+            };
+        }
+        // SAFETY: the caller promises `out_count` is writable.
+        unsafe { count.set(l.levels()) };
+        Ok(())
+    })
+}
+
+/// The field and the pyramid as a mutable slice of at least the pyramid's length.
+///
+/// # Safety
+/// `field` NULL or live; `pyramid` NULL or valid for `pyramid_len` floats, exclusive.
+unsafe fn field_and_pyramid<'a>(
+    field: *const hf_field,
+    pyramid: *mut f32,
+    pyramid_len: usize,
+) -> Result<(&'a HeightField<'a>, &'a mut [f32], Layout), hf_result> {
+    // SAFETY: the caller's promises.
+    let (f, p) = unsafe { (ptr::get(field)?, ptr::slice_mut(pyramid, pyramid_len)?) };
+    let l = Layout::of(f.view());
+    if p.len() < l.texel_count() {
+        return Err(HF_ERR_BUFFER_TOO_SMALL);
+    }
+    Ok((f.view(), p, l))
+}
+
+/// Bakes the whole maximum-mipmap pyramid of `field` into `out_pyramid`, which holds
+/// `out_pyramid_len ≥ hf_maxmip_len(W, H)` floats (heights, grid units; layout from
+/// `hf_maxmip_levels`). Single-threaded. Thread safe for distinct output buffers.
+///
+/// # Safety
+/// `field` is NULL (an error) or a live handle; `out_pyramid` is NULL (an error) or
+/// valid for writing `out_pyramid_len` floats.
+#[no_mangle]
+pub unsafe extern "C" fn hf_maxmip_bake(
+    field: *const hf_field,
+    out_pyramid: *mut f32,
+    out_pyramid_len: usize,
+) -> hf_result {
+    guard(|| {
+        // SAFETY: the caller's promises.
+        let (hf, p, _) = unsafe { field_and_pyramid(field, out_pyramid, out_pyramid_len) }?;
+        Ok(maxmip::bake(hf, p)?)
+    })
+}
+
+/// Bakes rows `[row_begin, row_end)` of pyramid level `level` into `pyramid` (the
+/// whole pyramid buffer, `pyramid_len ≥ hf_maxmip_len(W, H)`), reading level
+/// `level − 1` from the same buffer (level 0 reads the field). Levels must be baked
+/// finest first; the rows of one level may be baked by several threads at once, each
+/// with its own disjoint row range (this call touches only the level's rows it bakes
+/// and the finer level it reads), so any job system can split the work.
+///
+/// # Safety
+/// `field` is NULL (an error) or a live handle; `pyramid` is NULL (an error) or valid
+/// for reading and writing `pyramid_len` floats; concurrent calls must bake disjoint
+/// rows of the same level.
+#[no_mangle]
+pub unsafe extern "C" fn hf_maxmip_bake_rows(
+    field: *const hf_field,
+    level: u32,
+    row_begin: u32,
+    row_end: u32,
+    pyramid: *mut f32,
+    pyramid_len: usize,
+) -> hf_result {
+    guard(|| {
+        // SAFETY: the caller promises a live handle.
+        let f = unsafe { ptr::get(field) }?;
+        if pyramid.is_null() {
+            return Err(HF_ERR_NULL_POINTER);
+        }
+        let hf = f.view();
+        let l = Layout::of(hf);
+        if pyramid_len < l.texel_count() {
+            return Err(HF_ERR_BUFFER_TOO_SMALL);
+        }
+        if level >= l.levels() {
+            return Err(HF_ERR_INVALID_ARGUMENT);
+        }
+        let [w, h] = l.dims(level);
+        if row_begin > row_end || row_end > h {
+            return Err(HF_ERR_INVALID_ARGUMENT);
+        }
+        let finer_range = match level {
+            0 => 0..0,
+            _ => l.offset(level - 1)..l.offset(level),
+        };
+        let start = l.offset(level) + row_begin as usize * w as usize;
+        let len = (row_end - row_begin) as usize * w as usize;
+        // Only the finer level (read) and the rows baked (written) become slices, so
+        // concurrent calls on disjoint rows never alias.
+        // SAFETY: both ranges lie inside the caller's buffer (length checked), the
+        // finer level is not written during this level's bake (the documented order),
+        // and the rows are this call's alone (the documented contract).
+        let (finer, out) = unsafe {
+            (
+                ptr::slice(pyramid.add(finer_range.start), finer_range.len())?,
+                ptr::slice_mut(pyramid.add(start), len)?,
+            )
+        };
+        maxmip::bake_rows(hf, level, row_begin..row_end, finer, out);
+        Ok(())
+    })
+}
+
+/// `hf_maxmip_bake` on `threads` threads (0: one per available core): each level's
+/// rows are split among the threads, levels in order. The result is identical to
+/// `hf_maxmip_bake`.
+///
+/// # Safety
+/// As `hf_maxmip_bake`.
+#[no_mangle]
+pub unsafe extern "C" fn hf_maxmip_bake_threaded(
+    field: *const hf_field,
+    threads: u32,
+    out_pyramid: *mut f32,
+    out_pyramid_len: usize,
+) -> hf_result {
+    guard(|| {
+        // SAFETY: the caller's promises.
+        let (hf, p, l) = unsafe { field_and_pyramid(field, out_pyramid, out_pyramid_len) }?;
+        let threads = match threads {
+            0 => std::thread::available_parallelism().map_or(1, |n| n.get() as u32),
+            n => n,
+        };
+        bake_threaded(hf, &l, threads.max(1), p);
+        Ok(())
+    })
+}
+
+/// Bakes every level, splitting the rows of levels large enough among `threads`.
+fn bake_threaded(hf: &HeightField, l: &Layout, threads: u32, pyramid: &mut [f32]) {
+    /// Below this many texels a level is baked on the calling thread.
+    const SERIAL: usize = 1 << 14;
+    for level in 0..l.levels() {
+        let [w, h] = l.dims(level);
+        let (finer, out) = l.split_level(pyramid, level);
+        let n = threads.min(h);
+        if n <= 1 || out.len() < SERIAL {
+            maxmip::bake_rows(hf, level, 0..h, finer, out);
+            continue;
+        }
+        let rows = h.div_ceil(n);
+        std::thread::scope(|s| {
+            for (k, chunk) in out.chunks_mut((rows * w) as usize).enumerate() {
+                let r0 = k as u32 * rows;
+                let r1 = (r0 + rows).min(h);
+                s.spawn(move || maxmip::bake_rows(hf, level, r0..r1, finer, chunk));
+            }
+        });
+    }
+}
+
+/// Refreshes the texels of `pyramid` (baked for `field` before the change) that
+/// depend on the samples `[x0, x1) × [y0, y1)`, after `hf_field_update_rect` changed
+/// them; the result equals a full bake. `pyramid_len ≥ hf_maxmip_len(W, H)`. An empty
+/// rectangle (x0 = x1 or y0 = y1) does nothing; a reversed one or one outside the
+/// field is `HF_ERR_INVALID_RECT`. Thread safe for distinct pyramids.
+///
+/// # Safety
+/// `field` is NULL (an error) or a live handle; `pyramid` is NULL (an error) or valid
+/// for reading and writing `pyramid_len` floats.
+#[no_mangle]
+pub unsafe extern "C" fn hf_maxmip_update_rect(
+    field: *const hf_field,
+    x0: u32,
+    y0: u32,
+    x1: u32,
+    y1: u32,
+    pyramid: *mut f32,
+    pyramid_len: usize,
+) -> hf_result {
+    guard(|| {
+        // SAFETY: the caller's promises.
+        let (hf, p, _) = unsafe { field_and_pyramid(field, pyramid, pyramid_len) }?;
+        Ok(maxmip::update_rect(hf, p, x0, y0, x1, y1)?)
+    })
+}

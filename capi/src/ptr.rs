@@ -1,0 +1,96 @@
+//! Turning C pointers into references and slices, with the checks every export makes:
+//! NULL, alignment, and a byte size that fits `isize`.
+
+use crate::hf_result::{self, *};
+use core::ptr::NonNull;
+use std::ffi::c_char;
+
+/// Checks a pointer to `len` elements: non-NULL, aligned, and `len · size_of::<T>()`
+/// within `isize::MAX` (what `slice::from_raw_parts` requires).
+fn check<T>(p: *const T, len: usize) -> Result<(), hf_result> {
+    if p.is_null() {
+        return Err(HF_ERR_NULL_POINTER);
+    }
+    if !p.is_aligned() {
+        return Err(HF_ERR_MISALIGNED_POINTER);
+    }
+    match len.checked_mul(size_of::<T>()) {
+        Some(bytes) if bytes <= isize::MAX as usize => Ok(()),
+        _ => Err(HF_ERR_INVALID_SIZE),
+    }
+}
+
+/// A shared slice of `len` elements at `p`.
+///
+/// # Safety
+/// When `p` is non-NULL and aligned it must be valid for reading `len` elements of `T`,
+/// not written by anyone while the slice lives.
+pub unsafe fn slice<'a, T>(p: *const T, len: usize) -> Result<&'a [T], hf_result> {
+    check(p, len)?;
+    // SAFETY: non-NULL, aligned, size within isize::MAX (checked); validity and
+    // the absence of writers are the caller's promise.
+    Ok(unsafe { core::slice::from_raw_parts(p, len) })
+}
+
+/// A mutable slice of `len` elements at `p`.
+///
+/// # Safety
+/// When `p` is non-NULL and aligned it must be valid for reading and writing `len`
+/// elements of `T`, with no other access while the slice lives.
+pub unsafe fn slice_mut<'a, T>(p: *mut T, len: usize) -> Result<&'a mut [T], hf_result> {
+    check(p, len)?;
+    // SAFETY: as in `slice`, plus exclusivity, which is the caller's promise.
+    Ok(unsafe { core::slice::from_raw_parts_mut(p, len) })
+}
+
+/// A shared reference to one `T` at `p`.
+///
+/// # Safety
+/// When `p` is non-NULL and aligned it must point to a valid `T`, not written while the
+/// reference lives.
+pub unsafe fn get<'a, T>(p: *const T) -> Result<&'a T, hf_result> {
+    check(p, 1)?;
+    // SAFETY: non-NULL and aligned (checked); validity is the caller's promise.
+    Ok(unsafe { &*p })
+}
+
+/// A place to write one `T` to, written only by [`Out::set`] (so only on success).
+pub struct Out<T>(NonNull<T>);
+
+/// Checks an output pointer.
+pub fn out<T>(p: *mut T) -> Result<Out<T>, hf_result> {
+    check(p, 1)?;
+    NonNull::new(p).map(Out).ok_or(HF_ERR_NULL_POINTER)
+}
+
+impl<T> Out<T> {
+    /// Writes `v` (without reading or dropping the old contents).
+    ///
+    /// # Safety
+    /// The pointer given to [`out`] must be valid for writing one `T`.
+    pub unsafe fn set(self, v: T) {
+        // SAFETY: non-NULL and aligned (checked by `out`); writable by the caller's promise.
+        unsafe { self.0.as_ptr().write(v) }
+    }
+}
+
+/// Writes `s` and a NUL into `buf` and the length of `s` to `written`.
+///
+/// # Safety
+/// `written` must be valid for writing one `size_t`.
+pub unsafe fn write_c_string(
+    s: &str,
+    buf: &mut [c_char],
+    written: Out<usize>,
+) -> Result<(), hf_result> {
+    if buf.len() <= s.len() {
+        return Err(HF_ERR_BUFFER_TOO_SMALL);
+    }
+    for (o, &b) in buf.iter_mut().zip(s.as_bytes()) {
+        *o = b as c_char;
+    }
+    buf[s.len()] = 0;
+    // SAFETY: the caller's promise.
+    unsafe { written.set(s.len()) };
+    Ok(())
+}

@@ -1,0 +1,356 @@
+//! Safety distances (Baboud, Eisemann, Seidel 2011, §5.2.2 and §6.1): sizes, bake
+//! (whole, by rows, threaded) and the march, for the triangle surface.
+
+use crate::hf_result::{self, *};
+use crate::trace::{hf_hit, hf_ray};
+use crate::{guard, hf_field, ptr};
+use hfcore::safety::{self, Options, SafetyError, SafetyMap, Variant};
+use hfcore::{HeightField, Query, Trace};
+
+/// Layout of a safety-distance map. Passed as `uint32_t`.
+#[repr(u32)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum hf_safety_variant {
+    /// Four bytes per texel, one per ray class (x+, x−, y+, y−):
+    /// `map[(j * W + i) * 4 + class]`. Upload as an `RGBA8UI` texture.
+    HF_SAFETY_DIRECTIONAL = 0,
+    /// One byte per texel, the minimum over the classes: `map[j * W + i]`. Upload as
+    /// an `R8UI` texture.
+    HF_SAFETY_ISOTROPIC = 1,
+}
+
+/// What a safety-distance bake computes.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct hf_safety_options {
+    /// An `hf_safety_variant`.
+    pub variant: u32,
+    /// 1: clamp every distance to at least 1 (the paper's "strictly positive" variant:
+    /// fewer fetches, **not exact**, rays may miss silhouettes); 0: exact.
+    pub positive: u32,
+    /// Largest distance stored, 0..=255 (255 is the default; smaller is conservative).
+    pub cap: u32,
+}
+
+impl From<SafetyError> for hf_result {
+    fn from(e: SafetyError) -> Self {
+        match e {
+            SafetyError::ScratchTooShort { .. } | SafetyError::OutputTooShort { .. } => {
+                HF_ERR_BUFFER_TOO_SMALL
+            }
+            SafetyError::RowsOutOfRange => HF_ERR_INVALID_ARGUMENT,
+        }
+    }
+}
+
+/// Checks a variant passed as `uint32_t`.
+fn variant_of(v: u32) -> Result<Variant, hf_result> {
+    match v {
+        0 => Ok(Variant::Directional),
+        1 => Ok(Variant::Isotropic),
+        _ => Err(HF_ERR_INVALID_ENUM),
+    }
+}
+
+/// Checks bake options.
+fn options_of(o: &hf_safety_options) -> Result<Options, hf_result> {
+    let variant = variant_of(o.variant)?;
+    if o.positive > 1 {
+        return Err(HF_ERR_INVALID_ARGUMENT);
+    }
+    let cap = u8::try_from(o.cap).map_err(|_| HF_ERR_INVALID_ARGUMENT)?;
+    Ok(Options {
+        variant,
+        positive: o.positive == 1,
+        cap,
+    })
+}
+
+/// Checks field sizes (as `hf_field_create_*` does) for the size queries.
+fn check_size(width: u32, height: u32) -> Result<(), hf_result> {
+    let ok = |n: u32| (2..=crate::HF_MAX_SIDE).contains(&n);
+    if !ok(width) || !ok(height) {
+        return Err(HF_ERR_INVALID_SIZE);
+    }
+    Ok(())
+}
+
+/// Writes the size in bytes of the safety-distance map of a `width × height` field
+/// with `variant` (an `hf_safety_variant`) to `*out_len`: `W * H * 4` (directional) or
+/// `W * H` (isotropic). Thread safe.
+///
+/// # Safety
+/// `out_len` is NULL (an error) or valid for writing one `size_t`.
+#[no_mangle]
+pub unsafe extern "C" fn hf_safety_map_len(
+    width: u32,
+    height: u32,
+    variant: u32,
+    out_len: *mut usize,
+) -> hf_result {
+    guard(|| {
+        let out = ptr::out(out_len)?;
+        let variant = variant_of(variant)?;
+        check_size(width, height)?;
+        let n = safety::map_len(width, height, variant);
+        // SAFETY: the caller promises `out_len` is writable.
+        unsafe { out.set(n) };
+        Ok(())
+    })
+}
+
+/// Writes the number of floats of the scratch buffer `hf_safety_prepare` fills and
+/// `hf_safety_bake_rows` reads (per-strip bounds, O(cells / 8)) to `*out_len`.
+/// Thread safe.
+///
+/// # Safety
+/// `out_len` is NULL (an error) or valid for writing one `size_t`.
+#[no_mangle]
+pub unsafe extern "C" fn hf_safety_scratch_len(
+    width: u32,
+    height: u32,
+    out_len: *mut usize,
+) -> hf_result {
+    guard(|| {
+        let out = ptr::out(out_len)?;
+        check_size(width, height)?;
+        // SAFETY: the caller promises `out_len` is writable.
+        unsafe { out.set(safety::scratch_len(width, height)) };
+        Ok(())
+    })
+}
+
+/// Fills `out_scratch` (`out_scratch_len ≥ hf_safety_scratch_len` floats) with the
+/// strip bounds the row bakes of `field` share. O(cells), one thread. Thread safe for
+/// distinct buffers.
+///
+/// # Safety
+/// `field` is NULL (an error) or a live handle; `out_scratch` NULL (an error) or valid
+/// for writing `out_scratch_len` floats.
+#[no_mangle]
+pub unsafe extern "C" fn hf_safety_prepare(
+    field: *const hf_field,
+    out_scratch: *mut f32,
+    out_scratch_len: usize,
+) -> hf_result {
+    guard(|| {
+        // SAFETY: the caller's promises.
+        let (f, scratch) = unsafe {
+            (
+                ptr::get(field)?,
+                ptr::slice_mut(out_scratch, out_scratch_len)?,
+            )
+        };
+        Ok(safety::prepare(f.view(), scratch)?)
+    })
+}
+
+/// Bakes the safety distances of texel rows `[row_begin, row_end)` (0 ≤ begin ≤ end ≤
+/// H) of `field` into `map`, the whole map buffer (`map_len ≥ hf_safety_map_len`),
+/// reading `scratch` from `hf_safety_prepare`. Writes only those rows, so threads may
+/// bake disjoint row ranges of one map at once, sharing one scratch. The costly part
+/// of the bake.
+///
+/// # Safety
+/// `field` is NULL (an error) or a live handle; `scratch` NULL (an error) or valid for
+/// reading `scratch_len` floats; `options` NULL (an error) or valid; `map` NULL (an
+/// error) or valid for writing `map_len` bytes; concurrent calls must bake disjoint
+/// rows.
+#[no_mangle]
+#[allow(clippy::too_many_arguments)]
+pub unsafe extern "C" fn hf_safety_bake_rows(
+    field: *const hf_field,
+    scratch: *const f32,
+    scratch_len: usize,
+    options: *const hf_safety_options,
+    row_begin: u32,
+    row_end: u32,
+    map: *mut u8,
+    map_len: usize,
+) -> hf_result {
+    guard(|| {
+        // SAFETY: the caller's promises.
+        let (f, scratch, o) = unsafe {
+            (
+                ptr::get(field)?,
+                ptr::slice(scratch, scratch_len)?,
+                ptr::get(options)?,
+            )
+        };
+        if map.is_null() {
+            return Err(HF_ERR_NULL_POINTER);
+        }
+        let opts = options_of(o)?;
+        let hf = f.view();
+        let needed = safety::map_len(hf.width(), hf.height(), opts.variant);
+        if map_len < needed {
+            return Err(HF_ERR_BUFFER_TOO_SMALL);
+        }
+        if row_begin > row_end || row_end > hf.height() {
+            return Err(HF_ERR_INVALID_ARGUMENT);
+        }
+        if scratch.len() < safety::scratch_len(hf.width(), hf.height()) {
+            return Err(HF_ERR_BUFFER_TOO_SMALL);
+        }
+        let row = hf.width() as usize * opts.variant.channels();
+        // Only the rows baked become a slice, so concurrent calls never alias.
+        // SAFETY: the range lies inside the caller's buffer (length checked) and is this
+        // call's alone (the documented contract).
+        let out = unsafe {
+            ptr::slice_mut(
+                map.add(row_begin as usize * row),
+                (row_end - row_begin) as usize * row,
+            )
+        }?;
+        Ok(safety::bake_rows(
+            hf,
+            scratch,
+            row_begin..row_end,
+            opts,
+            out,
+        )?)
+    })
+}
+
+/// Bakes the whole safety-distance map of `field` into `out_map` (`out_map_len ≥
+/// hf_safety_map_len` bytes) on `threads` threads (0: one per available core; 1: the
+/// calling thread), allocating the scratch itself. Same result for any thread count.
+///
+/// # Safety
+/// `field` is NULL (an error) or a live handle; `options` NULL (an error) or valid;
+/// `out_map` NULL (an error) or valid for writing `out_map_len` bytes.
+#[no_mangle]
+pub unsafe extern "C" fn hf_safety_bake(
+    field: *const hf_field,
+    options: *const hf_safety_options,
+    threads: u32,
+    out_map: *mut u8,
+    out_map_len: usize,
+) -> hf_result {
+    guard(|| {
+        // SAFETY: the caller's promises.
+        let (f, o, out) = unsafe {
+            (
+                ptr::get(field)?,
+                ptr::get(options)?,
+                ptr::slice_mut(out_map, out_map_len)?,
+            )
+        };
+        let opts = options_of(o)?;
+        let hf = f.view();
+        let needed = safety::map_len(hf.width(), hf.height(), opts.variant);
+        if out.len() < needed {
+            return Err(HF_ERR_BUFFER_TOO_SMALL);
+        }
+        let mut scratch = Vec::new();
+        let n = safety::scratch_len(hf.width(), hf.height());
+        scratch
+            .try_reserve_exact(n)
+            .map_err(|_| HF_ERR_OUT_OF_MEMORY)?;
+        scratch.resize(n, 0.0);
+        safety::prepare(hf, &mut scratch)?;
+        let threads = crate::par::thread_count(threads, hf.height());
+        let row = hf.width() as usize * opts.variant.channels();
+        let scratch = &scratch;
+        Ok(crate::par::bake_bands(
+            hf.height(),
+            row,
+            8,
+            threads,
+            out,
+            |rows, chunk| safety::bake_rows(hf, scratch, rows, opts, chunk),
+        )?)
+    })
+}
+
+/// The map slice and its view, checked for `hf`.
+fn map_of<'a>(hf: &HeightField, data: &'a [u8], variant: u32) -> Result<SafetyMap<'a>, hf_result> {
+    Ok(SafetyMap::new(hf, data, variant_of(variant)?)?)
+}
+
+/// One safety trace.
+fn trace_one(hf: &HeightField, map: &SafetyMap, r: &hf_ray) -> Result<Trace<f32>, hf_result> {
+    let q = Query::from_arrays(r.origin, r.dir, r.t_min, r.t_max)?;
+    Ok(safety::trace(map, hf, &q))
+}
+
+/// Traces one ray on the triangle surface with the safety distances `map` (baked for
+/// this field by `hf_safety_bake`, `map_len ≥ hf_safety_map_len`, layout `variant`):
+/// exact, the hit of `hf_trace_exact` with `HF_SURFACE_TRIANGLES` (up to rounding on
+/// rays that graze the surface) when the map was baked with `positive = 0`. Costs one
+/// fetch per distance read, two per centerline clearance, four per cell walked. A map
+/// that does not belong to the field gives wrong answers, never a crash. Thread safe.
+///
+/// # Safety
+/// `field` is NULL (an error) or a live handle; `map` NULL (an error) or valid for
+/// reading `map_len` bytes; `ray` NULL (an error) or valid; `out_hit` NULL (an error)
+/// or valid for writing one `hf_hit`.
+#[no_mangle]
+pub unsafe extern "C" fn hf_trace_safety(
+    field: *const hf_field,
+    map: *const u8,
+    map_len: usize,
+    variant: u32,
+    ray: *const hf_ray,
+    out_hit: *mut hf_hit,
+) -> hf_result {
+    guard(|| {
+        // SAFETY: the caller's promises.
+        let (f, data, r) = unsafe { (ptr::get(field)?, ptr::slice(map, map_len)?, ptr::get(ray)?) };
+        let out = ptr::out(out_hit)?;
+        let hf = f.view();
+        let m = map_of(hf, data, variant)?;
+        let hit = hf_hit::from(trace_one(hf, &m, r)?);
+        // SAFETY: the caller promises `out_hit` is writable.
+        unsafe { out.set(hit) };
+        Ok(())
+    })
+}
+
+/// `hf_trace_safety` for `rays_len ≥ 1` rays, with the conventions of
+/// `hf_trace_exact_batch` (every ray checked first; an error writes nothing).
+/// Thread safe.
+///
+/// # Safety
+/// As `hf_trace_safety`; `rays` valid for reading `rays_len` rays, `out_hits` for
+/// writing `out_hits_len` hits, not overlapping.
+#[no_mangle]
+#[allow(clippy::too_many_arguments)]
+pub unsafe extern "C" fn hf_trace_safety_batch(
+    field: *const hf_field,
+    map: *const u8,
+    map_len: usize,
+    variant: u32,
+    rays: *const hf_ray,
+    rays_len: usize,
+    out_hits: *mut hf_hit,
+    out_hits_len: usize,
+) -> hf_result {
+    guard(|| {
+        // SAFETY: the caller's promises.
+        let (f, data, rays) = unsafe {
+            (
+                ptr::get(field)?,
+                ptr::slice(map, map_len)?,
+                ptr::slice(rays, rays_len)?,
+            )
+        };
+        // SAFETY: the caller promises `out_hits` is writable for its length.
+        let hits = unsafe { ptr::slice_mut(out_hits, out_hits_len) }?;
+        if rays.is_empty() {
+            return Err(HF_ERR_INVALID_SIZE);
+        }
+        if hits.len() < rays.len() {
+            return Err(HF_ERR_BUFFER_TOO_SMALL);
+        }
+        let hf = f.view();
+        let m = map_of(hf, data, variant)?;
+        for r in rays {
+            Query::from_arrays(r.origin, r.dir, r.t_min, r.t_max)?;
+        }
+        for (r, h) in rays.iter().zip(hits.iter_mut()) {
+            *h = hf_hit::from(trace_one(hf, &m, r)?);
+        }
+        Ok(())
+    })
+}

@@ -1,0 +1,454 @@
+//! Ray queries: one ray or a batch, for every method.
+
+use crate::hf_result::{self, *};
+use crate::{guard, hf_field, ptr, surface_of};
+use hfcore::maxmip::{self, MaxMip};
+use hfcore::search::{self, SearchSteps};
+use hfcore::{dda, HeightField, Query, Surface, Trace};
+
+/// A ray in grid space: the points `origin + t * dir` for `t` in `[t_min, t_max]`.
+/// `dir` need not be normalised (t is then in units of `|dir|`) but must be finite
+/// and non-zero; `t_min` finite; `t_max ≥ t_min`, `INFINITY` allowed. Grid space: x
+/// along sample columns i, y along rows j, z up, all in sample spacings.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct hf_ray {
+    /// Origin (x, y, z) in grid units.
+    pub origin: [f32; 3],
+    /// Direction (x, y, z), finite and non-zero.
+    pub dir: [f32; 3],
+    /// Start of the parameter range (finite).
+    pub t_min: f32,
+    /// End of the parameter range (`INFINITY` allowed).
+    pub t_max: f32,
+}
+
+/// The answer to one query. On a miss `hit` is 0 and every field but `fetches`,
+/// `flags` and `clearance` is 0.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct hf_hit {
+    /// 1 when the ray meets the surface in `[t_min, t_max]`, else 0.
+    pub hit: u32,
+    /// `HF_FLAG_*` bits: those of the hit (`ORIGIN_INSIDE`, `SIDE`, `WALL`) and of the
+    /// trace (`BUDGET_EXHAUSTED`).
+    pub flags: u32,
+    /// Texture fetches used (one per texel read; a cell's four corners are four): the
+    /// hardware-independent cost.
+    pub fetches: u32,
+    /// The cell (i, j) holding the hit: the unit square [i, i+1] × [j, j+1].
+    pub cell: [u32; 2],
+    /// Ray parameter of the hit.
+    pub t: f32,
+    /// Hit point in grid space.
+    pub point: [f32; 3],
+    /// Unit surface normal at the hit (a wall's normal for side and step hits).
+    pub normal: [f32; 3],
+    /// Smallest clearance (ray height − surface height, grid units) seen before the hit
+    /// or along the whole ray for a miss; `INFINITY` when the ray never overlaps the
+    /// field. Exact methods fill it; approximate ones report `INFINITY`.
+    pub clearance: f32,
+}
+
+impl From<Trace<f32>> for hf_hit {
+    fn from(tr: Trace<f32>) -> hf_hit {
+        let mut out = hf_hit {
+            flags: tr.flags.0,
+            fetches: tr.fetches,
+            clearance: tr.clearance,
+            ..hf_hit::default()
+        };
+        if let Some(h) = tr.hit {
+            out.hit = 1;
+            out.flags |= h.flags.0;
+            out.cell = h.cell;
+            out.t = h.t;
+            out.point = h.point.to_array();
+            out.normal = h.normal.to_array();
+        }
+        out
+    }
+}
+
+/// Checks a ray.
+fn query(r: &hf_ray) -> Result<Query<f32>, hf_result> {
+    Ok(Query::from_arrays(r.origin, r.dir, r.t_min, r.t_max)?)
+}
+
+/// Shared body of the single-ray functions: checks the pointers, traces, writes.
+///
+/// # Safety
+/// `field` NULL or live; `ray` NULL or valid; `out_hit` NULL or writable.
+pub(crate) unsafe fn one(
+    field: *const hf_field,
+    ray: *const hf_ray,
+    out_hit: *mut hf_hit,
+    prepare: impl FnOnce(&HeightField) -> Result<(), hf_result>,
+    trace: impl Fn(&HeightField, &Query<f32>) -> Trace<f32>,
+) -> hf_result {
+    guard(|| {
+        // SAFETY: the caller promises a live handle and a valid ray.
+        let (f, r) = unsafe { (ptr::get(field)?, ptr::get(ray)?) };
+        let out = ptr::out(out_hit)?;
+        let hf = f.view();
+        prepare(hf)?;
+        let q = query(r)?;
+        let hit = hf_hit::from(trace(hf, &q));
+        // SAFETY: the caller promises `out_hit` is writable.
+        unsafe { out.set(hit) };
+        Ok(())
+    })
+}
+
+/// Shared body of the batch functions: checks everything (every ray) first, then
+/// traces into the output, so an error writes nothing.
+///
+/// # Safety
+/// `field` NULL or live; `rays` NULL or valid for `rays_len`; `out_hits` NULL or
+/// writable for `out_hits_len`, not overlapping `rays`.
+pub(crate) unsafe fn batch(
+    field: *const hf_field,
+    rays: *const hf_ray,
+    rays_len: usize,
+    out_hits: *mut hf_hit,
+    out_hits_len: usize,
+    prepare: impl FnOnce(&HeightField) -> Result<(), hf_result>,
+    trace: impl Fn(&HeightField, &Query<f32>) -> Trace<f32>,
+) -> hf_result {
+    guard(|| {
+        // SAFETY: the caller promises a live handle and `rays_len` valid rays.
+        let (f, rays) = unsafe { (ptr::get(field)?, ptr::slice(rays, rays_len)?) };
+        // SAFETY: the caller promises `out_hits` is writable for its length.
+        let hits = unsafe { ptr::slice_mut(out_hits, out_hits_len) }?;
+        if rays.is_empty() {
+            return Err(HF_ERR_INVALID_SIZE);
+        }
+        if hits.len() < rays.len() {
+            return Err(HF_ERR_BUFFER_TOO_SMALL);
+        }
+        let hf = f.view();
+        prepare(hf)?;
+        for r in rays {
+            query(r)?;
+        }
+        for (r, h) in rays.iter().zip(hits.iter_mut()) {
+            *h = hf_hit::from(trace(hf, &query(r)?));
+        }
+        Ok(())
+    })
+}
+
+/// The search step counts, checked.
+fn steps(linear: u32, binary: u32) -> Result<SearchSteps, hf_result> {
+    if linear == 0 {
+        return Err(HF_ERR_INVALID_ARGUMENT);
+    }
+    Ok(SearchSteps { linear, binary })
+}
+
+/// Traces one ray with the exact method (grid traversal with the exact per-cell test
+/// of `surface`, an `hf_surface` value): the first hit in `[t_min, t_max]`, watertight
+/// in `float`. Writes `*out_hit` (a miss is success with `hit = 0`). Costs four
+/// fetches per cell visited. Thread safe (reads the field only).
+///
+/// # Safety
+/// `field` is NULL (an error) or a live handle; `ray` is NULL (an error) or valid;
+/// `out_hit` is NULL (an error) or valid for writing one `hf_hit`.
+#[no_mangle]
+pub unsafe extern "C" fn hf_trace_exact(
+    field: *const hf_field,
+    surface: u32,
+    ray: *const hf_ray,
+    out_hit: *mut hf_hit,
+) -> hf_result {
+    let surface = match surface_of(surface) {
+        Ok(s) => s,
+        Err(e) => return e,
+    };
+    // SAFETY: the caller's promises, passed on.
+    unsafe {
+        one(
+            field,
+            ray,
+            out_hit,
+            |_| Ok(()),
+            |hf, q| dda::trace(hf, surface, q),
+        )
+    }
+}
+
+/// `hf_trace_exact` for `rays_len ≥ 1` rays: `out_hits[k]` answers `rays[k]`;
+/// `out_hits_len ≥ rays_len`. Every ray is checked before any is traced: one bad ray
+/// fails the call and writes nothing. Thread safe.
+///
+/// # Safety
+/// `rays` is NULL (an error) or valid for reading `rays_len` rays; `out_hits` NULL (an
+/// error) or valid for writing `out_hits_len` hits, not overlapping `rays`.
+#[no_mangle]
+pub unsafe extern "C" fn hf_trace_exact_batch(
+    field: *const hf_field,
+    surface: u32,
+    rays: *const hf_ray,
+    rays_len: usize,
+    out_hits: *mut hf_hit,
+    out_hits_len: usize,
+) -> hf_result {
+    let surface = match surface_of(surface) {
+        Ok(s) => s,
+        Err(e) => return e,
+    };
+    // SAFETY: the caller's promises, passed on.
+    unsafe {
+        batch(
+            field,
+            rays,
+            rays_len,
+            out_hits,
+            out_hits_len,
+            |_| Ok(()),
+            |hf, q| dda::trace(hf, surface, q),
+        )
+    }
+}
+
+/// Traces one ray with linear search then bisection (Policarpo et al. 2005):
+/// `linear_steps ≥ 1` equal steps through the field's bounding box, then
+/// `binary_steps` bisections of the first step that ends under `surface`.
+/// Approximate: features thinner than a step are missed. Costs four fetches per
+/// height sample. Thread safe.
+///
+/// # Safety
+/// As `hf_trace_exact`.
+#[no_mangle]
+pub unsafe extern "C" fn hf_trace_linear_binary(
+    field: *const hf_field,
+    surface: u32,
+    linear_steps: u32,
+    binary_steps: u32,
+    ray: *const hf_ray,
+    out_hit: *mut hf_hit,
+) -> hf_result {
+    let (surface, steps) = match (surface_of(surface), steps(linear_steps, binary_steps)) {
+        (Ok(s), Ok(n)) => (s, n),
+        (Err(e), _) | (_, Err(e)) => return e,
+    };
+    // SAFETY: the caller's promises, passed on.
+    unsafe {
+        one(
+            field,
+            ray,
+            out_hit,
+            |_| Ok(()),
+            |hf, q| search::linear_binary(hf, surface, q, steps),
+        )
+    }
+}
+
+/// `hf_trace_linear_binary` for a batch, with the conventions of
+/// `hf_trace_exact_batch`. Thread safe.
+///
+/// # Safety
+/// As `hf_trace_exact_batch`.
+#[no_mangle]
+#[allow(clippy::too_many_arguments)]
+pub unsafe extern "C" fn hf_trace_linear_binary_batch(
+    field: *const hf_field,
+    surface: u32,
+    linear_steps: u32,
+    binary_steps: u32,
+    rays: *const hf_ray,
+    rays_len: usize,
+    out_hits: *mut hf_hit,
+    out_hits_len: usize,
+) -> hf_result {
+    let (surface, steps) = match (surface_of(surface), steps(linear_steps, binary_steps)) {
+        (Ok(s), Ok(n)) => (s, n),
+        (Err(e), _) | (_, Err(e)) => return e,
+    };
+    // SAFETY: the caller's promises, passed on.
+    unsafe {
+        batch(
+            field,
+            rays,
+            rays_len,
+            out_hits,
+            out_hits_len,
+            |_| Ok(()),
+            |hf, q| search::linear_binary(hf, surface, q, steps),
+        )
+    }
+}
+
+/// Traces one ray with linear search then one secant step (parallax occlusion
+/// mapping): `linear_steps ≥ 1` equal steps, then the secant of the bracketing step.
+/// Approximate. Costs four fetches per height sample. Thread safe.
+///
+/// # Safety
+/// As `hf_trace_exact`.
+#[no_mangle]
+pub unsafe extern "C" fn hf_trace_linear_secant(
+    field: *const hf_field,
+    surface: u32,
+    linear_steps: u32,
+    ray: *const hf_ray,
+    out_hit: *mut hf_hit,
+) -> hf_result {
+    let (surface, steps) = match (surface_of(surface), steps(linear_steps, 0)) {
+        (Ok(s), Ok(n)) => (s, n),
+        (Err(e), _) | (_, Err(e)) => return e,
+    };
+    // SAFETY: the caller's promises, passed on.
+    unsafe {
+        one(
+            field,
+            ray,
+            out_hit,
+            |_| Ok(()),
+            |hf, q| search::linear_secant(hf, surface, q, steps.linear),
+        )
+    }
+}
+
+/// `hf_trace_linear_secant` for a batch, with the conventions of
+/// `hf_trace_exact_batch`. Thread safe.
+///
+/// # Safety
+/// As `hf_trace_exact_batch`.
+#[no_mangle]
+pub unsafe extern "C" fn hf_trace_linear_secant_batch(
+    field: *const hf_field,
+    surface: u32,
+    linear_steps: u32,
+    rays: *const hf_ray,
+    rays_len: usize,
+    out_hits: *mut hf_hit,
+    out_hits_len: usize,
+) -> hf_result {
+    let (surface, steps) = match (surface_of(surface), steps(linear_steps, 0)) {
+        (Ok(s), Ok(n)) => (s, n),
+        (Err(e), _) | (_, Err(e)) => return e,
+    };
+    // SAFETY: the caller's promises, passed on.
+    unsafe {
+        batch(
+            field,
+            rays,
+            rays_len,
+            out_hits,
+            out_hits_len,
+            |_| Ok(()),
+            |hf, q| search::linear_secant(hf, surface, q, steps.linear),
+        )
+    }
+}
+
+/// Traces one ray with maximum mipmaps (Tevs et al. 2008) over `pyramid`, the buffer
+/// `hf_maxmip_bake` filled for this field (`pyramid_len ≥ hf_maxmip_len`): exact, the
+/// same hit as `hf_trace_exact` (the linear-planes surface is traced by the exact
+/// method). A pyramid that does not belong to the field gives wrong answers, never a
+/// crash. Costs one fetch per pyramid texel, four per exact cell test. Thread safe.
+///
+/// # Safety
+/// As `hf_trace_exact`; `pyramid` is NULL (an error) or valid for reading
+/// `pyramid_len` floats, not written during the call.
+#[no_mangle]
+pub unsafe extern "C" fn hf_trace_maxmip(
+    field: *const hf_field,
+    pyramid: *const f32,
+    pyramid_len: usize,
+    surface: u32,
+    ray: *const hf_ray,
+    out_hit: *mut hf_hit,
+) -> hf_result {
+    let surface = match surface_of(surface) {
+        Ok(s) => s,
+        Err(e) => return e,
+    };
+    // SAFETY: the caller's promises, passed on.
+    let texels = match unsafe { pyramid_slice(pyramid, pyramid_len) } {
+        Ok(t) => t,
+        Err(e) => return e,
+    };
+    // SAFETY: the caller's promises, passed on.
+    unsafe {
+        one(
+            field,
+            ray,
+            out_hit,
+            |hf| check_mip(hf, texels),
+            |hf, q| trace_mip(hf, texels, surface, q),
+        )
+    }
+}
+
+/// `hf_trace_maxmip` for a batch, with the conventions of `hf_trace_exact_batch`.
+/// Thread safe.
+///
+/// # Safety
+/// As `hf_trace_exact_batch` and `hf_trace_maxmip`.
+#[no_mangle]
+#[allow(clippy::too_many_arguments)]
+pub unsafe extern "C" fn hf_trace_maxmip_batch(
+    field: *const hf_field,
+    pyramid: *const f32,
+    pyramid_len: usize,
+    surface: u32,
+    rays: *const hf_ray,
+    rays_len: usize,
+    out_hits: *mut hf_hit,
+    out_hits_len: usize,
+) -> hf_result {
+    let surface = match surface_of(surface) {
+        Ok(s) => s,
+        Err(e) => return e,
+    };
+    // SAFETY: the caller's promises, passed on.
+    let texels = match unsafe { pyramid_slice(pyramid, pyramid_len) } {
+        Ok(t) => t,
+        Err(e) => return e,
+    };
+    // SAFETY: the caller's promises, passed on.
+    unsafe {
+        batch(
+            field,
+            rays,
+            rays_len,
+            out_hits,
+            out_hits_len,
+            |hf| check_mip(hf, texels),
+            |hf, q| trace_mip(hf, texels, surface, q),
+        )
+    }
+}
+
+/// A baked buffer (pyramid or map) as a slice, checked behind the panic boundary.
+///
+/// # Safety
+/// `p` NULL or valid for reading `len` floats.
+pub(crate) unsafe fn pyramid_slice<'a, T>(p: *const T, len: usize) -> Result<&'a [T], hf_result> {
+    let mut out = Err(HF_ERR_PANIC);
+    let r = guard(|| {
+        // SAFETY: the caller's promise.
+        out = Ok(unsafe { ptr::slice(p, len) }?);
+        Ok(())
+    });
+    if r != HF_OK {
+        return Err(r);
+    }
+    out
+}
+
+/// Checks the pyramid length for `hf`.
+fn check_mip(hf: &HeightField, texels: &[f32]) -> Result<(), hf_result> {
+    MaxMip::new(hf, texels)?;
+    Ok(())
+}
+
+/// One maxmip trace with exact options.
+fn trace_mip(hf: &HeightField, texels: &[f32], surface: Surface, q: &Query<f32>) -> Trace<f32> {
+    match MaxMip::new(hf, texels) {
+        Ok(mip) => maxmip::trace(hf, &mip, surface, q, &maxmip::Options::default()),
+        // Checked by `check_mip` before any trace.
+        Err(_) => Trace::MISS,
+    }
+}

@@ -1,0 +1,23 @@
+// Mirror of core/src/field.rs: the height field, read from textures.
+//
+// `hf_heights`: an R32F texture of W x H texels, texel (i, j) = sample (i, j) in grid
+// units, read with texelFetch only (never filtered). `hf_size` = (W, H);
+// `hf_height_range` = (min_height, max_height) as the CPU's HeightField holds them
+// (hf_field_get_info), since the clip to the bounding box uses them.
+
+uniform sampler2D hf_heights;
+uniform ivec2 hf_size;
+uniform vec2 hf_height_range;
+
+uint field_width() { return uint(hf_size.x); }
+uint field_height() { return uint(hf_size.y); }
+float field_min_height() { return hf_height_range.x; }
+float field_max_height() { return hf_height_range.y; }
+
+// `HeightField::at`.
+float field_at(uint i, uint j) { return texelFetch(hf_heights, ivec2(i, j), 0).r; }
+
+// `HeightField::cell_corners`: `[h00, h10, h01, h11]`.
+vec4 field_cell_corners(uint i, uint j) {
+    return vec4(field_at(i, j), field_at(i + 1u, j), field_at(i, j + 1u), field_at(i + 1u, j + 1u));
+}

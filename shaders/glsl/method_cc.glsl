@@ -1,0 +1,9 @@
+// HF_METHOD_CC: hf_trace is safety::cc::trace (triangle surface only).
+
+// The closure of `cc::trace`: the texel's shape for the class, then `cone_step`.
+uint safety_march_jump(SafetyLine l, uint ray_class, uint i, uint j, vec3 d) {
+    vec2 rise = cc_rise(d);
+    return cc_cone_step(cc_texel(ray_class, i, j), l.p[2], l.tol, rise[0], rise[1]);
+}
+
+Trace hf_trace(Query q) { return cc_trace(q); }

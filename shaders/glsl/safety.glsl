@@ -1,0 +1,318 @@
+// Mirror of core/src/safety.rs (the march; the bake stays on the CPU): safety
+// distances (Baboud, Eisemann, Seidel 2011) on the triangle surface. The walk is the
+// one of dda_trace up to the ray's first centerline of its main axis; then at each
+// centerline m: fetch k, evaluate the clearance at m + k from the two samples on that
+// centerline; above, jump; below, bisect on integer centerlines and finish with the
+// exact cell test.
+//
+// Texture layout: the map of hf_safety_bake as `hf_safety_map`, a W x H integer
+// texture: RGBA8UI for HF_SAFETY_DIRECTIONAL (channel = ray ray_class: x+, x-, y+, y-),
+// R8UI for HF_SAFETY_ISOTROPIC; `hf_safety_variant` says which.
+
+uniform usampler2D hf_safety_map;
+uniform uint hf_safety_variant;
+
+// `SafetyMap::distance`: safety distance of texel (i, j) for `ray_class`.
+uint safety_distance(uint ray_class, uint i, uint j) {
+    uvec4 v = texelFetch(hf_safety_map, ivec2(i, j), 0);
+    return hf_safety_variant == HF_SAFETY_DIRECTIONAL ? v[ray_class] : v.r;
+}
+
+// `axis_of`: main axis (0 = x, 1 = y) of a ray_class.
+int safety_axis_of(uint ray_class) {
+    return ray_class == HF_RAY_CLASS_X_POS || ray_class == HF_RAY_CLASS_X_NEG ? 0 : 1;
+}
+
+// `sample`: sample at main index m, minor index n of axis ax.
+float safety_sample(int ax, uint m, uint n) { return ax == 0 ? field_at(m, n) : field_at(n, m); }
+
+// `extents`: samples along (main, minor) of axis ax.
+uvec2 safety_extents(int ax) {
+    return ax == 0 ? uvec2(field_width(), field_height()) : uvec2(field_height(), field_width());
+}
+
+// `Line<f32>`: the ray where it crosses the main-axis centerline m.
+struct SafetyLine {
+    uint m;
+    float t;
+    vec3 p;
+    float c;
+    uint edge;
+    uint texel;
+    float tol;
+};
+
+// `line_at`: evaluates the crossing of centerline m of axis ax; two fetches.
+SafetyLine safety_line_at(Query q, int ax, uint m) {
+    vec3 o = q.origin, d = q.dir;
+    int mi = 1 - ax;
+    uint ln = safety_extents(ax)[1];
+    float t = (float(m) - o[ax]) / d[ax];
+    vec3 p = query_at(q, t);
+    p[ax] = float(m);
+    float y = real_clamp_to(p[mi], 0.0, float(ln - 1u));
+    uint edge = min(uint(floor(y)), ln - 2u);
+    float v = y - float(edge);
+    float h0 = safety_sample(ax, m, edge);
+    float h1 = safety_sample(ax, m, edge + 1u);
+    float c = p[2] - real_lerp(h0, h1, v);
+    uint texel = v < 0.5 ? edge : edge + 1u;
+    float ys = 1.0 + abs(o[mi]) + abs(p[mi]);
+    float zs = 1.0 + abs(o[2]) + abs(p[2]) + abs(h0) + abs(h1 - h0) * ys;
+    float rel = real_max(32.0 * REAL_EPSILON, 9.313225746154785e-10);
+    float tol = 8.0 * REAL_EPSILON * ys > HF_SAFETY_SEG_PAD ? real_infinity() : rel * zs;
+    return SafetyLine(m, t, p, c, edge, texel, tol);
+}
+
+// `Step`: what one stretch of cell-by-cell walking came to.
+const int SAFETY_STEP_HIT = 0;
+const int SAFETY_STEP_LINE = 1;
+const int SAFETY_STEP_END = 2;
+
+// `March`: the state of the march, the cell walk of dda_trace.
+struct SafetyMarch {
+    Span span;
+    int ax;
+    ivec2 step;
+    uvec2 cells;
+    uvec2 ic;
+    vec4 c;
+    bool stale;
+    vec3 a;
+    float ca;
+    float ta;
+    vec3 wall;
+    vec2 tn;
+    uint fetches;
+    float clearance;
+};
+
+// `March::line`: a centerline evaluation, counted.
+SafetyLine safety_march_line(inout SafetyMarch mr, Query q, uint m) {
+    mr.fetches += 2u;
+    SafetyLine l = safety_line_at(q, mr.ax, m);
+    if (l.c > 0.0) {
+        mr.clearance = real_min(mr.clearance, l.c);
+    }
+    return l;
+}
+
+// `March::wall_of`: normal of a wall facing the ray on `axis`.
+vec3 safety_march_wall_of(SafetyMarch mr, int axis) {
+    vec3 n = vec3(0.0);
+    n[axis] = mr.step[axis] > 0 ? -1.0 : 1.0;
+    return n;
+}
+
+// `March::enter`: puts the walk just past the crossing l (above the surface).
+void safety_march_enter(inout SafetyMarch mr, Query q, SafetyLine l) {
+    int ax = mr.ax, mi = 1 - mr.ax;
+    vec3 o = q.origin, d = q.dir;
+    mr.ic[ax] = mr.step[ax] > 0 ? l.m : l.m - 1u;
+    float y = real_clamp_to(l.p[mi], 0.0, float(mr.cells[mi]));
+    mr.ic[mi] = dda_cell_index(y, d[mi], mr.cells[mi]);
+    mr.a[ax] = mr.step[ax] > 0 ? 0.0 : 1.0;
+    mr.a[mi] = real_clamp_to(l.p[mi] - float(mr.ic[mi]), 0.0, 1.0);
+    mr.a[2] = l.p[2];
+    mr.ca = l.c;
+    mr.ta = l.t;
+    mr.wall = safety_march_wall_of(mr, ax);
+    for (int k = 0; k < 2; k++) {
+        mr.tn[k] = dda_next_crossing(mr.ic[k], mr.step[k], o[k], d[k]);
+    }
+    mr.stale = true;
+}
+
+// `March::walk`: walks cell by cell, as dda_trace, up to the next main-axis
+// centerline (SAFETY_STEP_LINE, `line`), the hit (SAFETY_STEP_HIT, `hit`), or the end.
+int safety_march_walk(inout SafetyMarch mr, Query q, out Hit hit, out SafetyLine line) {
+    int ax = mr.ax, mi = 1 - mr.ax;
+    vec3 o = q.origin, d = q.dir;
+    hit = hit_none();
+    line = SafetyLine(0u, 0.0, vec3(0.0), 0.0, 0u, 0u, 0.0);
+    while (true) {
+        if (mr.stale) {
+            mr.c = surface_corners(mr.ic[0], mr.ic[1]);
+            mr.fetches += 4u;
+            mr.stale = false;
+        }
+        float t_next = real_min(mr.tn[0], mr.tn[1]);
+        float tb;
+        bvec2 cross;
+        if (t_next < mr.span.t1) {
+            tb = real_max(t_next, mr.ta);
+            cross = bvec2(mr.tn[0] <= t_next, mr.tn[1] <= t_next);
+        } else {
+            tb = mr.span.t1;
+            cross = bvec2(false);
+        }
+        ivec2 on = ivec2(cross[0] ? int(mr.step[0] > 0) : -1, cross[1] ? int(mr.step[1] > 0) : -1);
+        vec3 p = query_at(q, tb);
+        vec3 b;
+        float cb = dda_local_clearance(HF_SURFACE_TRIANGLES, mr.c, mr.ic, p, on, b);
+        bool has_line = false;
+        if (cross[ax]) {
+            // The clearance the jumps use at this centerline (same samples, same
+            // arithmetic), so walking and jumping agree.
+            uint m = mr.step[ax] > 0 ? mr.ic[ax] + 1u : mr.ic[ax];
+            SafetyLine l = safety_line_at(q, ax, m);
+            if (l.edge != mr.ic[mi]) {
+                mr.fetches += 2u;
+            }
+            cb = l.c;
+            line = l;
+            has_line = true;
+        }
+        SegmentHit seg = surface_segment_hit(HF_SURFACE_TRIANGLES, mr.c, mr.a, b, mr.ca, cb, mr.wall);
+        mr.clearance = real_min(mr.clearance, seg.clearance);
+        if (seg.has_hit) {
+            float s = seg.s;
+            vec3 a = mr.a;
+            uvec2 ic = mr.ic;
+            vec3 point = vec3(float(ic[0]) + (a[0] + s * (b[0] - a[0])),
+                              float(ic[1]) + (a[1] + s * (b[1] - a[1])),
+                              a[2] + s * (b[2] - a[2]));
+            hit = Hit(mr.ta + s * (tb - mr.ta), point, ic, seg.normal, seg.flags);
+            return SAFETY_STEP_HIT;
+        }
+        if (!(cross[0] || cross[1])) {
+            return SAFETY_STEP_END;
+        }
+        for (int k = 0; k < 2; k++) {
+            if (cross[k]) {
+                int next = int(mr.ic[k]) + mr.step[k];
+                if (next < 0 || next >= int(mr.cells[k])) {
+                    return SAFETY_STEP_END;
+                }
+                mr.ic[k] = uint(next);
+                mr.tn[k] = dda_next_crossing(mr.ic[k], mr.step[k], o[k], d[k]);
+            }
+        }
+        mr.wall = safety_march_wall_of(mr, cross[0] ? 0 : 1);
+        mr.a = vec3(cross[0] ? 1.0 - b[0] : b[0], cross[1] ? 1.0 - b[1] : b[1], b[2]);
+        mr.ca = cb;
+        mr.ta = tb;
+        mr.stale = true;
+        if (has_line) {
+            return SAFETY_STEP_LINE;
+        }
+    }
+    return SAFETY_STEP_END;
+}
+
+// `March::done`.
+Trace safety_march_done(SafetyMarch mr, bool has_hit, Hit hit, uint flags) {
+    return Trace(has_hit, hit, mr.fetches, mr.clearance, flags);
+}
+
+// `last_line`: last main-axis centerline the ray crosses strictly before t1 (false
+// when there is none), with the crossing formula of the walk.
+bool safety_last_line(Query q, int ax, int sg, float t1, out uint last) {
+    vec3 o = q.origin, d = q.dir;
+    int lm = int(safety_extents(ax)[0]);
+    float x1 = real_clamp_to(o[ax] + t1 * d[ax], 0.0, float(lm - 1));
+    int m = int(floor(x1)) + int(sg < 0 && floor(x1) != x1);
+    while (m >= 0 && m < lm && (float(uint(m)) - o[ax]) / d[ax] >= t1) {
+        m -= sg;
+    }
+    while (m + sg >= 0 && m + sg < lm && (float(uint(m + sg)) - o[ax]) / d[ax] < t1) {
+        m += sg;
+    }
+    last = uint(max(m, 0));
+    return m >= 0 && m < lm;
+}
+
+// The closure `jump(line, class, i, j)` of `march`: reads the baked data of texel
+// (i, j) (one fetch, counted by the march) and returns how many centerlines the ray
+// crossing `l` above that texel's segment may skip (`d` is the query's direction,
+// which the Rust closures capture). Defined by the method's file (method_safety.glsl,
+// method_cc.glsl).
+uint safety_march_jump(SafetyLine l, uint ray_class, uint i, uint j, vec3 d);
+
+// `march`: the march shared by the safety-shape methods.
+Trace safety_march(Query q) {
+    Span span;
+    if (!dda_clip(q, span)) {
+        return trace_miss(0u, real_infinity());
+    }
+    vec3 o = q.origin, d = q.dir;
+    uint ray_class = ray_class_of(d[0], d[1]);
+    int ax = safety_axis_of(ray_class);
+    uvec2 cells = uvec2(field_width() - 1u, field_height() - 1u);
+    vec3 p0 = query_at(q, span.t0);
+    float x0 = real_clamp_to(p0[0], 0.0, float(cells[0]));
+    float y0 = real_clamp_to(p0[1], 0.0, float(cells[1]));
+    ivec2 step = ivec2(dda_step_of(d[0]), dda_step_of(d[1]));
+    uvec2 ic = uvec2(dda_cell_index(x0, d[0], cells[0]), dda_cell_index(y0, d[1], cells[1]));
+    vec4 c = surface_corners(ic[0], ic[1]);
+    vec3 a;
+    float ca = dda_local_clearance(HF_SURFACE_TRIANGLES, c, ic, vec3(x0, y0, p0[2]), ivec2(-1), a);
+    if (ca <= 0.0) {
+        return trace_hit(dda_start_hit(HF_SURFACE_TRIANGLES, span, c, ic, a, p0), 4u,
+                         dda_start_clearance(span, ca));
+    }
+    SafetyMarch mr = SafetyMarch(span, ax, step, cells, ic, c, false, a, ca, span.t0,
+                                 vec3(0.0, 0.0, 1.0),
+                                 vec2(dda_next_crossing(ic[0], step[0], o[0], d[0]),
+                                      dda_next_crossing(ic[1], step[1], o[1], d[1])),
+                                 4u, ca);
+    int sg = step[ax];
+    uint last = 0u;
+    bool has_last = sg != 0 && safety_last_line(q, ax, sg, span.t1, last);
+    uint budget = safety_extents(ax)[0] + 8u;
+    Hit hit;
+    SafetyLine l;
+    int st = safety_march_walk(mr, q, hit, l);
+    while (true) {
+        if (st == SAFETY_STEP_HIT) {
+            return safety_march_done(mr, true, hit, 0u);
+        } else if (st == SAFETY_STEP_END) {
+            return safety_march_done(mr, false, hit_none(), 0u);
+        }
+        if (budget == 0u) {
+            return safety_march_done(mr, false, hit_none(), HF_FLAG_BUDGET_EXHAUSTED);
+        }
+        budget -= 1u;
+        if (!has_last || last == l.m) {
+            st = safety_march_walk(mr, q, hit, l);
+            continue;
+        }
+        uint k = 0u;
+        if (l.c > l.tol) {
+            mr.fetches += 1u;
+            uvec2 ij = ax == 0 ? uvec2(l.m, l.texel) : uvec2(l.texel, l.m);
+            k = safety_march_jump(l, ray_class, ij[0], ij[1], d);
+        }
+        if (k == 0u) {
+            st = safety_march_walk(mr, q, hit, l);
+            continue;
+        }
+        uint room = uint(abs(int(last) - int(l.m)));
+        uint target = uint(int(l.m) + sg * int(min(k, room)));
+        SafetyLine lt = safety_march_line(mr, q, target);
+        if (lt.c > 0.0) {
+            safety_march_enter(mr, q, lt);
+            l = lt;
+            st = SAFETY_STEP_LINE;
+            continue;
+        }
+        // Below at the target, above at m, and no exit in between: bisect.
+        SafetyLine lo = l;
+        uint hi = target;
+        while (abs(int(hi) - int(lo.m)) > 1) {
+            uint mid = uint((int(hi) + int(lo.m)) / 2);
+            SafetyLine lm = safety_march_line(mr, q, mid);
+            if (lm.c > 0.0) {
+                lo = lm;
+            } else {
+                hi = mid;
+            }
+        }
+        safety_march_enter(mr, q, lo);
+        st = safety_march_walk(mr, q, hit, l);
+    }
+    return safety_march_done(mr, false, hit_none(), 0u);
+}
+
+// `trace`: traces q on the triangle surface with the safety distances.
+Trace safety_trace(Query q) { return safety_march(q); }
