@@ -90,7 +90,7 @@ static void test_version_and_messages(void) {
 
     char buf[128];
     size_t written = 777;
-    for (uint32_t code = 0; code <= HF_ERR_PANIC; code++) {
+    for (uint32_t code = 0; code <= HF_ERR_NOT_BUILT; code++) {
         memset(buf, 'x', sizeof buf);
         CHECK_OK(hf_error_message(code, buf, sizeof buf, &written));
         CHECK(written > 0 && written < sizeof buf && buf[written] == 0 &&
@@ -100,7 +100,7 @@ static void test_version_and_messages(void) {
     CHECK(strcmp(buf, "success") == 0);
     memset(buf, 'x', sizeof buf);
     written = 777;
-    CHECK_BAD(hf_error_message(HF_ERR_PANIC + 1, buf, sizeof buf, &written),
+    CHECK_BAD(hf_error_message(HF_ERR_NOT_BUILT + 1, buf, sizeof buf, &written),
               HF_ERR_INVALID_ENUM, buf, sizeof buf);
     CHECK_BAD(hf_error_message(0xFFFFFFFFu, buf, sizeof buf, &written),
               HF_ERR_INVALID_ENUM, &written, sizeof written);

@@ -57,6 +57,21 @@
 // `(k % HF_PYRAMID_TEX_WIDTH, k / HF_PYRAMID_TEX_WIDTH)`; the last row is padded.
 #define HF_PYRAMID_TEX_WIDTH 4096
 
+// Ray-class bit of `hf_scene::ray_classes`: rays with dx ≥ |dy|.
+#define HF_RAYS_X_POS 1
+
+// Ray-class bit: rays with −dx ≥ |dy|.
+#define HF_RAYS_X_NEG 2
+
+// Ray-class bit: rays with dy > |dx|.
+#define HF_RAYS_Y_POS 4
+
+// Ray-class bit: every other direction (vertical rays included).
+#define HF_RAYS_Y_NEG 8
+
+// Every ray class.
+#define HF_RAYS_ALL 15
+
 // Result code of every `hf_` function. `HF_OK` is 0; every other value is an error,
 // and a function that returns one has written nothing to its outputs.
 enum hf_result
@@ -92,6 +107,9 @@ enum hf_result
   HF_ERR_OUT_OF_MEMORY = 10,
   // The library panicked (a bug); the call had no effect on its outputs.
   HF_ERR_PANIC = 11,
+  // The method (or another part the call needs) was left out of this build of the
+  // library by its cargo features (see `hf_build_has_method`).
+  HF_ERR_NOT_BUILT = 12,
 };
 #ifndef __cplusplus
 #if __STDC_VERSION__ >= 202311L
@@ -204,6 +222,27 @@ typedef uint32_t hf_cc_slope;
 #endif // __STDC_VERSION__ >= 202311L
 #endif // __cplusplus
 
+// Height texture formats (`hf_scene::height_format`). Passed as `uint32_t`.
+enum hf_height_format
+#if defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+  : uint32_t
+#endif // defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+ {
+  // 32-bit float heights in grid units (`R32F`).
+  HF_HEIGHTS_F32 = 0,
+  // 16-bit unsigned normalised samples times a depth scale (`R16`).
+  HF_HEIGHTS_U16 = 1,
+  // 8-bit unsigned normalised samples times a depth scale (`R8`).
+  HF_HEIGHTS_U8 = 2,
+};
+#ifndef __cplusplus
+#if __STDC_VERSION__ >= 202311L
+typedef enum hf_height_format hf_height_format;
+#else
+typedef uint32_t hf_height_format;
+#endif // __STDC_VERSION__ >= 202311L
+#endif // __cplusplus
+
 // A height field: W × H heights in grid units, owned by the library (the constructors
 // copy the caller's samples, so the caller's buffer may be freed at once). Sample
 // (i, j) sits at grid point (x = i, y = j); the surface covers [0, W−1] × [0, H−1].
@@ -295,6 +334,30 @@ typedef struct hf_safety_options {
   // Largest distance stored, 0..=255 (255 is the default; smaller is conservative).
   uint32_t cap;
 } hf_safety_options;
+
+// What a scene uses; shader generation and bakes leave out everything else. Fill it
+// with `hf_scene_general`, then narrow it.
+typedef struct hf_scene {
+  // The one surface (`hf_surface`).
+  uint32_t surface;
+  // The one method (`hf_method`).
+  uint32_t method;
+  // The ray classes that occur: `HF_RAYS_*` bits, not zero.
+  uint32_t ray_classes;
+  // 1 when every ray origin stays outside the field's bounding box, else 0.
+  uint32_t outside_only;
+  // The largest angle between a primary ray and the downward vertical, in degrees,
+  // in (0, 180]: 90 = horizontal at most, 180 = any direction.
+  float max_view_angle_deg;
+  // 1 when shadow rays (upward, towards a light) are traced, else 0.
+  uint32_t shadows;
+  // 1 for level-of-detail marching (maximum mipmaps only; approximate), else 0.
+  uint32_t lod;
+  // 1 when the shader writes the hit depth, else 0.
+  uint32_t depth_output;
+  // The height texture's format (`hf_height_format`).
+  uint32_t height_format;
+} hf_scene;
 
 #ifdef __cplusplus
 extern "C" {
@@ -930,6 +993,16 @@ hf_result hf_trace_safety_batch(const struct hf_field *field,
                                 size_t rays_len,
                                 struct hf_hit *out_hits,
                                 size_t out_hits_len);
+
+// Writes the general scene of `method` on `surface` to `*out`: every ray class,
+// viewpoints anywhere, any direction, shadows, no LOD, depth output, `F32` heights.
+// Thread safe.
+//
+// # Safety
+// `out` is NULL (an error) or valid for writing one `hf_scene`.
+hf_result hf_scene_general(uint32_t method,
+                           uint32_t surface,
+                           struct hf_scene *out);
 
 // Writes the length in bytes of `hf_shader_source(method)`, including its NUL
 // terminator, to `*out_len`: the buffer size to pass. Thread safe.

@@ -23,6 +23,7 @@ pub mod maxmip;
 mod par;
 mod ptr;
 pub mod safety;
+pub mod scene;
 pub mod shader;
 pub mod trace;
 
@@ -64,12 +65,15 @@ pub enum hf_result {
     HF_ERR_OUT_OF_MEMORY = 10,
     /// The library panicked (a bug); the call had no effect on its outputs.
     HF_ERR_PANIC = 11,
+    /// The method (or another part the call needs) was left out of this build of the
+    /// library by its cargo features (see `hf_build_has_method`).
+    HF_ERR_NOT_BUILT = 12,
 }
 
 use hf_result::*;
 
 /// Every result code, in value order.
-const RESULTS: [hf_result; 12] = [
+const RESULTS: [hf_result; 13] = [
     HF_OK,
     HF_ERR_NULL_POINTER,
     HF_ERR_MISALIGNED_POINTER,
@@ -82,6 +86,7 @@ const RESULTS: [hf_result; 12] = [
     HF_ERR_INVALID_ARGUMENT,
     HF_ERR_OUT_OF_MEMORY,
     HF_ERR_PANIC,
+    HF_ERR_NOT_BUILT,
 ];
 
 impl hf_result {
@@ -107,6 +112,7 @@ impl hf_result {
             HF_ERR_INVALID_ARGUMENT => "an argument is out of range",
             HF_ERR_OUT_OF_MEMORY => "out of memory",
             HF_ERR_PANIC => "internal error: the library panicked",
+            HF_ERR_NOT_BUILT => "this build of the library leaves that method out",
         }
     }
 }

@@ -35,6 +35,7 @@ pub mod qdm;
 pub mod ray;
 pub mod relaxed;
 pub mod safety;
+pub mod scene;
 pub mod search;
 pub mod surface;
 
