@@ -1004,6 +1004,15 @@ hf_result hf_scene_general(uint32_t method,
                            uint32_t surface,
                            struct hf_scene *out);
 
+// Checks `*scene`: `HF_OK` when every field is valid, else the code the first bad
+// field gives (`HF_ERR_INVALID_ENUM` for an unknown surface, method or format,
+// `HF_ERR_INVALID_ARGUMENT` for an empty or unknown ray-class set, an angle outside
+// (0, 180] or a flag other than 0 and 1). Thread safe.
+//
+// # Safety
+// `scene` is NULL (an error) or valid for reading one `hf_scene`.
+hf_result hf_scene_check(const struct hf_scene *scene);
+
 // Writes the length in bytes of `hf_shader_source(method)`, including its NUL
 // terminator, to `*out_len`: the buffer size to pass. Thread safe.
 //

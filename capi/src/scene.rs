@@ -124,6 +124,22 @@ pub unsafe extern "C" fn hf_scene_general(
     })
 }
 
+/// Checks `*scene`: `HF_OK` when every field is valid, else the code the first bad
+/// field gives (`HF_ERR_INVALID_ENUM` for an unknown surface, method or format,
+/// `HF_ERR_INVALID_ARGUMENT` for an empty or unknown ray-class set, an angle outside
+/// (0, 180] or a flag other than 0 and 1). Thread safe.
+///
+/// # Safety
+/// `scene` is NULL (an error) or valid for reading one `hf_scene`.
+#[no_mangle]
+pub unsafe extern "C" fn hf_scene_check(scene: *const hf_scene) -> hf_result {
+    guard(|| {
+        // SAFETY: the caller promises `scene` is readable.
+        let s = unsafe { ptr::get(scene) }?;
+        scene_of(s).map(|_| ())
+    })
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
