@@ -7,7 +7,7 @@
 //! most 3). Maps are read from `../shared/data` (or `$HFCAST_DATA`).
 
 mod common;
-use common::{camera_rays, data_dir, median, wall};
+use common::{camera_rays, in_bands, load_png, median, options, parse_size, wall};
 use hfcast::maxmip::{self, Ascent, Layout, MaxMip, Options};
 use hfcast::{dda, HeightField, Query, Surface, Trace};
 use std::hint::black_box;
@@ -61,25 +61,8 @@ impl Rng {
 type Map = (Vec<f32>, u32, u32);
 
 /// A 16-bit grayscale PNG as heights `png / 65535 × 0.1 · max(W, H)`.
-fn load_png(name: &str) -> Option<Map> {
-    let path = data_dir().join(name);
-    let file = std::fs::File::open(&path).ok()?;
-    let limits = png::Limits { bytes: 1 << 31 };
-    let mut reader = png::Decoder::new_with_limits(std::io::BufReader::new(file), limits)
-        .read_info()
-        .ok()?;
-    let mut buf = vec![0u8; reader.output_buffer_size()?];
-    let frame = reader.next_frame(&mut buf).ok()?;
-    assert_eq!(
-        frame.bit_depth,
-        png::BitDepth::Sixteen,
-        "{name}: 16-bit expected"
-    );
-    let (w, h) = (frame.width, frame.height);
-    let v: Vec<u16> = buf[..frame.buffer_size()]
-        .chunks_exact(2)
-        .map(|b| u16::from_be_bytes([b[0], b[1]]))
-        .collect();
+fn load_heights(name: &str) -> Option<Map> {
+    let (v, w, h) = load_png(name)?;
     let mut heights = vec![0f32; (w * h) as usize];
     let depth = 0.1 * w.max(h) as f32;
     HeightField::from_u16(&v, w, h, w as usize, depth, &mut heights).ok()?;
@@ -133,13 +116,8 @@ fn bake_threads(hf: &HeightField, pyramid: &mut [f32], threads: u32) {
             maxmip::bake_rows(hf, level, 0..h, finer, out);
             continue;
         }
-        let band = h.div_ceil(threads);
-        std::thread::scope(|s| {
-            for (k, chunk) in out.chunks_mut((band * w) as usize).enumerate() {
-                let r0 = k as u32 * band;
-                let rows = r0..(r0 + band).min(h);
-                s.spawn(move || maxmip::bake_rows(hf, level, rows, finer, chunk));
-            }
+        in_bands(out, w as usize, h, threads, |rows, part| {
+            maxmip::bake_rows(hf, level, rows, finer, part)
         });
     }
 }
@@ -214,15 +192,10 @@ fn run(
 }
 
 fn main() {
-    let mut args = std::env::args().skip(1);
     let (mut cam, mut n_random, mut reps) = ((640u32, 512u32), 100_000usize, 5usize);
-    while let Some(a) = args.next() {
-        let v = args.next().expect("option value");
+    for (a, v) in options() {
         match a.as_str() {
-            "--size" => {
-                let (w, h) = v.split_once('x').expect("WxH");
-                cam = (w.parse().unwrap(), h.parse().unwrap());
-            }
+            "--size" => cam = parse_size(&v),
             "--random" => n_random = v.parse().unwrap(),
             "--reps" => reps = v.parse().unwrap(),
             _ => panic!("unknown option {a}"),
@@ -236,7 +209,7 @@ fn main() {
     println!("|---|---|---|---|---|");
     let n = 4096;
     let synth = synthetic(n);
-    let world = load_png("dem_etopo5_world_4096x2048.png");
+    let world = load_heights("dem_etopo5_world_4096x2048.png");
     let mut bakes: Vec<(&str, &[f32], u32, u32)> = vec![("synthetic", &synth, n, n)];
     if let Some((h, w, hh)) = &world {
         bakes.push(("etopo5 world", h, *w, *hh));
@@ -322,7 +295,7 @@ fn main() {
     }
 
     // March.
-    let himalaya = load_png("dem_etopo5_himalaya_1024.png");
+    let himalaya = load_heights("dem_etopo5_himalaya_1024.png");
     let maps: Vec<(&str, &Map)> = [("himalaya", &himalaya), ("world", &world)]
         .into_iter()
         .filter_map(|(name, m)| m.as_ref().map(|m| (name, m)))

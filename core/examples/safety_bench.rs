@@ -12,42 +12,11 @@
 //! SD bake table). Maps are read from `../shared/data` (or `$HFCAST_DATA`).
 
 mod common;
-use common::{camera_rays, data_dir, median, wall};
+use common::{camera_rays, downsample, in_bands, load_png, median, options, parse_size, run, wall};
 use hfcast::safety::cc::{self, CcMap, CcOptions, Slope};
 use hfcast::safety::{self, Options, SafetyMap, Variant};
-use hfcast::{dda, HeightField, Query, Surface, Trace};
-use std::hint::black_box;
+use hfcast::{dda, HeightField, Query, Surface};
 use std::time::Instant;
-
-/// A 16-bit PNG as raw values, width, height.
-fn load_png(name: &str) -> Option<(Vec<u16>, u32, u32)> {
-    let file = std::fs::File::open(data_dir().join(name)).ok()?;
-    let limits = png::Limits { bytes: 1 << 31 };
-    let mut reader = png::Decoder::new_with_limits(std::io::BufReader::new(file), limits)
-        .read_info()
-        .ok()?;
-    let mut buf = vec![0u8; reader.output_buffer_size()?];
-    let frame = reader.next_frame(&mut buf).ok()?;
-    assert_eq!(frame.bit_depth, png::BitDepth::Sixteen, "16-bit expected");
-    let v = buf[..frame.buffer_size()]
-        .chunks_exact(2)
-        .map(|b| u16::from_be_bytes([b[0], b[1]]))
-        .collect();
-    Some((v, frame.width, frame.height))
-}
-
-/// Every `step`-th sample of `raw` (`w` wide), as heights `v / 65535 × 0.1 · side`.
-fn downsample(raw: &[u16], w: u32, h: u32, step: u32) -> (Vec<f32>, u32, u32) {
-    let (nw, nh) = (w.div_ceil(step), h.div_ceil(step));
-    let depth = 0.1 * nw.max(nh) as f32;
-    let mut out = Vec::with_capacity((nw * nh) as usize);
-    for j in 0..nh {
-        for i in 0..nw {
-            out.push(raw[(j * step * w + i * step) as usize] as f32 / 65535.0 * depth);
-        }
-    }
-    (out, nw, nh)
-}
 
 /// Bakes with `threads` threads splitting the rows.
 fn bake_threads(
@@ -60,13 +29,8 @@ fn bake_threads(
     safety::prepare(hf, scratch).unwrap();
     let scratch = &*scratch;
     let row = hf.width() as usize * opts.variant.channels();
-    let band = hf.height().div_ceil(threads);
-    std::thread::scope(|s| {
-        for (k, chunk) in out.chunks_mut(band as usize * row).enumerate() {
-            let r0 = k as u32 * band;
-            let rows = r0..(r0 + band).min(hf.height());
-            s.spawn(move || safety::bake_rows(hf, scratch, rows, opts, chunk).unwrap());
-        }
+    in_bands(out, row, hf.height(), threads, |rows, part| {
+        safety::bake_rows(hf, scratch, rows, opts, part).unwrap()
     });
 }
 
@@ -86,14 +50,9 @@ fn bake_cc_threads(
     let tp = t.elapsed().as_secs_f64();
     let (scratch, nb) = (&*scratch, &*nb);
     let row = hf.width() as usize * cc::BYTES_PER_TEXEL;
-    let band = hf.height().div_ceil(threads);
     let t = Instant::now();
-    std::thread::scope(|s| {
-        for (k, chunk) in out.chunks_mut(band as usize * row).enumerate() {
-            let r0 = k as u32 * band;
-            let rows = r0..(r0 + band).min(hf.height());
-            s.spawn(move || cc::bake_rows(hf, scratch, nb, rows, opts, chunk).unwrap());
-        }
+    in_bands(out, row, hf.height(), threads, |rows, part| {
+        cc::bake_rows(hf, scratch, nb, rows, opts, part).unwrap()
     });
     (tp, t.elapsed().as_secs_f64())
 }
@@ -126,37 +85,12 @@ fn random_rays(hf: &HeightField, n: usize, seed: u64) -> Vec<Query<f32>> {
         .collect()
 }
 
-/// Fetches (mean, p99, max), ns per ray (median of `reps`) and the traces.
-fn run(
-    rays: &[Query<f32>],
-    reps: usize,
-    f: impl Fn(&Query<f32>) -> Trace<f32>,
-) -> (f64, u32, u32, f64, Vec<Trace<f32>>) {
-    let traces: Vec<Trace<f32>> = rays.iter().map(&f).collect();
-    let secs = wall(reps, || {
-        for q in rays {
-            black_box(f(black_box(q)));
-        }
-    });
-    let mut fetches: Vec<u32> = traces.iter().map(|t| t.fetches).collect();
-    fetches.sort_unstable();
-    let mean = fetches.iter().map(|&v| v as f64).sum::<f64>() / rays.len() as f64;
-    let p99 = fetches[(fetches.len() * 99 / 100).min(fetches.len() - 1)];
-    let max = *fetches.last().unwrap();
-    (mean, p99, max, secs * 1e9 / rays.len() as f64, traces)
-}
-
 fn main() {
-    let mut args = std::env::args().skip(1);
     let (mut cam, mut reps) = ((640u32, 512u32), 5usize);
     let (mut nmaps, mut cc_only) = (4usize, false);
-    while let Some(a) = args.next() {
-        let v = args.next().expect("option value");
+    for (a, v) in options() {
         match a.as_str() {
-            "--size" => {
-                let (w, h) = v.split_once('x').expect("WxH");
-                cam = (w.parse().unwrap(), h.parse().unwrap());
-            }
+            "--size" => cam = parse_size(&v),
             "--reps" => reps = v.parse().unwrap(),
             "--maps" => nmaps = v.parse().unwrap(),
             "--cc-only" => cc_only = v == "1",
@@ -297,7 +231,7 @@ fn main() {
             let dda_r = run(&rays, reps.min(3), |q| {
                 dda::trace(&hf, Surface::Triangles, q)
             });
-            let base = dda_r.3;
+            let base = dda_r.ns;
             let rows = [
                 ("dda (naive exact)", dda_r),
                 (
@@ -317,11 +251,11 @@ fn main() {
                     run(&rays, reps, |q| cc::trace(&nmap, &hf, q)),
                 ),
             ];
-            let reference = &rows[0].1 .4;
+            let reference = &rows[0].1.traces;
             for (method, r) in &rows {
                 let wrong = reference
                     .iter()
-                    .zip(&r.4)
+                    .zip(&r.traces)
                     .filter(|(a, b)| match (a.hit, b.hit) {
                         (None, None) => false,
                         (Some(a), Some(b)) => (a.point - b.point).length() > 1e-3,
@@ -330,12 +264,12 @@ fn main() {
                     .count();
                 println!(
                     "| {name} | {label} | {method} | {:.1} | {} | {} | {:.0} | {:.2} (×{:.1}) | {wrong} |",
-                    r.0,
-                    r.1,
-                    r.2,
-                    r.3,
-                    1e3 / r.3,
-                    base / r.3
+                    r.mean,
+                    r.p99,
+                    r.max,
+                    r.ns,
+                    1e3 / r.ns,
+                    base / r.ns
                 );
             }
         }

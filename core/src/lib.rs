@@ -4,6 +4,13 @@
 //! reconstructions of `DESIGN.md`, the exact grid traversal (in `f64` the test oracle,
 //! in `f32` the fast path), and the bake-free search baselines.
 //!
+//! Cargo features leave whole methods out (DESIGN.md, "Leave out what a scene does
+//! not need"): `maxmip`, `safety` (safety distances and cylinder–cone shapes),
+//! `cone` (needs `maxmip`), `qdm` and `relaxed` (need `cone`), `search`; the default
+//! `all-methods` enables them all. The exact traversal ([`dda`]), the scene
+//! description ([`scene`]) and, with `alloc`, the brute-force oracle (`brute`) are
+//! always built.
+//!
 //! Grid space: sample (i, j) sits at (x = i, y = j); the surface covers
 //! [0, W−1] × [0, H−1]; heights are in grid units. Everything below the surface is
 //! solid, so a ray starting under it hits at `t_min`.
@@ -26,34 +33,46 @@ extern crate std;
 
 #[cfg(feature = "alloc")]
 pub mod brute;
+#[cfg(feature = "cone")]
 pub mod cone;
 pub mod dda;
 pub mod field;
 pub mod math;
+#[cfg(feature = "maxmip")]
 pub mod maxmip;
+#[cfg(feature = "qdm")]
 pub mod qdm;
+#[cfg(feature = "safety")]
+pub mod radius;
 pub mod ray;
+#[cfg(feature = "relaxed")]
 pub mod relaxed;
+#[cfg(feature = "safety")]
 pub mod safety;
 pub mod scene;
+#[cfg(feature = "search")]
 pub mod search;
 pub mod surface;
 
 pub use field::{FieldError, HeightField};
 pub use math::Real;
 pub use ray::{Flags, Hit, Query, RayClass, RayError, Trace};
+#[cfg(feature = "search")]
 pub use search::SearchSteps;
 pub use surface::Surface;
 
-/// The marching methods that need no baked data, as one value a caller can pass around.
+/// The marching methods that need no baked data, as one value a caller can pass around
+/// (the searches only with the `search` feature).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Method {
     /// Exact grid traversal ([`dda::trace`]).
     Exact,
     /// Linear then binary search ([`search::linear_binary`]); approximate.
+    #[cfg(feature = "search")]
     LinearBinary(SearchSteps),
     /// Linear search then a secant step, parallax-occlusion style
     /// ([`search::linear_secant`]); approximate.
+    #[cfg(feature = "search")]
     LinearSecant(u32),
 }
 
@@ -67,7 +86,9 @@ impl Method {
     pub fn trace<R: Real>(self, hf: &HeightField, surface: Surface, q: &Query<R>) -> Trace<R> {
         match self {
             Method::Exact => dda::trace(hf, surface, q),
+            #[cfg(feature = "search")]
             Method::LinearBinary(steps) => search::linear_binary(hf, surface, q, steps),
+            #[cfg(feature = "search")]
             Method::LinearSecant(n) => search::linear_secant(hf, surface, q, n),
         }
     }

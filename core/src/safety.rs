@@ -44,6 +44,7 @@ use crate::dda::{step_of, Span};
 use crate::field::HeightField;
 use crate::math::Real;
 use crate::ray::{Flags, Hit, Query, RayClass, Trace};
+use crate::scene::RayClasses;
 use crate::surface::{corners, triangle_planes, Surface};
 
 pub mod cc;
@@ -497,35 +498,52 @@ pub fn bake_rows_with<S: RaySet>(
     opts: Options,
     out: &mut [u8],
 ) -> Result<(), SafetyError> {
-    let needed = scratch_len(hf.width(), hf.height());
-    if scratch.len() < needed {
-        return Err(SafetyError::ScratchTooShort { needed });
-    }
-    if rows.end > hf.height() || rows.start > rows.end {
-        return Err(SafetyError::RowsOutOfRange);
-    }
+    bake_rows_classes(hf, scratch, rays, RayClasses::ALL, rows, opts, out)
+}
+
+/// [`bake_rows_with`] for the ray classes of `classes` only (a scene's
+/// [`BakePlan::classes`](crate::scene::BakePlan::classes)); the others are never
+/// computed. Directional: a class left out gets distance 0 in its channel (a zero
+/// jump, always safe, also with `opts.positive`), so the map stays exact for every
+/// ray; the kept channels equal the full bake's. Isotropic: the minimum over the kept
+/// classes only — larger distances, but **valid for rays of those classes only**
+/// (with one class it is that class's channel exactly). An empty set writes 0.
+pub fn bake_rows_classes<S: RaySet>(
+    hf: &HeightField,
+    scratch: &[f32],
+    rays: &S,
+    classes: RayClasses,
+    rows: Range<u32>,
+    opts: Options,
+    out: &mut [u8],
+) -> Result<(), SafetyError> {
     let (w, ch) = (hf.width() as usize, opts.variant.channels());
-    let needed = (rows.end - rows.start) as usize * w * ch;
-    if out.len() < needed {
-        return Err(SafetyError::OutputTooShort { needed });
-    }
+    check_rows(hf, scratch, &rows, ch, out)?;
     let floor = u8::from(opts.positive);
+    let kept = CLASSES.map(|c| classes.contains(c));
     for (r, j) in rows.enumerate() {
         for i in 0..hf.width() {
             let px = &mut out[(r * w + i as usize) * ch..][..ch];
             match opts.variant {
                 Variant::Directional => {
-                    for (v, class) in px.iter_mut().zip(CLASSES) {
-                        *v = texel_distance(hf, scratch, rays, class, i, j, opts.cap).max(floor);
+                    for ((v, class), keep) in px.iter_mut().zip(CLASSES).zip(kept) {
+                        *v = if keep {
+                            texel_distance(hf, scratch, rays, class, i, j, opts.cap).max(floor)
+                        } else {
+                            0
+                        };
                     }
                 }
+                Variant::Isotropic if !kept.contains(&true) => px[0] = 0,
                 Variant::Isotropic => {
                     let mut v = opts.cap;
-                    for class in CLASSES {
+                    for (class, keep) in CLASSES.into_iter().zip(kept) {
                         if v == 0 {
                             break;
                         }
-                        v = texel_distance(hf, scratch, rays, class, i, j, v);
+                        if keep {
+                            v = texel_distance(hf, scratch, rays, class, i, j, v);
+                        }
                     }
                     px[0] = v.max(floor);
                 }
@@ -547,6 +565,51 @@ pub fn bake(
     opts: Options,
     out: &mut [u8],
 ) -> Result<(), SafetyError> {
+    bake_whole(hf, scratch, opts, out, bake_rows)
+}
+
+/// Checks the buffers of a bake of texel rows `rows`, `bytes_per_texel` bytes a texel:
+/// `scratch` holds [`scratch_len`] values, `rows` lie in the field and `out` holds
+/// their bytes, whose count it returns. The checks of [`bake_rows_classes`] and of the
+/// radius bake ([`crate::radius::bake_rows`]).
+pub(crate) fn check_rows(
+    hf: &HeightField,
+    scratch: &[f32],
+    rows: &Range<u32>,
+    bytes_per_texel: usize,
+    out: &[u8],
+) -> Result<usize, SafetyError> {
+    let needed = scratch_len(hf.width(), hf.height());
+    if scratch.len() < needed {
+        return Err(SafetyError::ScratchTooShort { needed });
+    }
+    if rows.end > hf.height() || rows.start > rows.end {
+        return Err(SafetyError::RowsOutOfRange);
+    }
+    let needed = (rows.end - rows.start) as usize * hf.width() as usize * bytes_per_texel;
+    check_len(out, needed)?;
+    Ok(needed)
+}
+
+/// `OutputTooShort` unless `data` holds at least `needed` bytes: a bake's output or
+/// the baked data a map views ([`SafetyMap::new`], [`crate::radius::RadiusMap::new`]).
+pub(crate) fn check_len(data: &[u8], needed: usize) -> Result<(), SafetyError> {
+    if data.len() < needed {
+        return Err(SafetyError::OutputTooShort { needed });
+    }
+    Ok(())
+}
+
+/// [`prepare`]s `scratch`, then bakes all the rows with `bake_rows` into `out`: the
+/// one-thread whole-map bake of the safety distances ([`bake`]) and of the radii
+/// ([`crate::radius::bake`]).
+pub(crate) fn bake_whole<O>(
+    hf: &HeightField,
+    scratch: &mut [f32],
+    opts: O,
+    out: &mut [u8],
+    bake_rows: impl FnOnce(&HeightField, &[f32], Range<u32>, O, &mut [u8]) -> Result<(), SafetyError>,
+) -> Result<(), SafetyError> {
     prepare(hf, scratch)?;
     bake_rows(hf, scratch, 0..hf.height(), opts, out)
 }
@@ -566,10 +629,7 @@ pub struct SafetyMap<'a> {
 impl<'a> SafetyMap<'a> {
     /// Views `data` ([`map_len`] bytes, as [`bake`] wrote it) for `hf`.
     pub fn new(hf: &HeightField, data: &'a [u8], variant: Variant) -> Result<Self, SafetyError> {
-        let needed = map_len(hf.width(), hf.height(), variant);
-        if data.len() < needed {
-            return Err(SafetyError::OutputTooShort { needed });
-        }
+        check_len(data, map_len(hf.width(), hf.height(), variant))?;
         Ok(SafetyMap {
             data,
             width: hf.width(),

@@ -140,3 +140,226 @@ impl Scene {
         }
     }
 }
+
+impl MethodKind {
+    /// Whether this build of the core has the method (its cargo feature is on; the
+    /// exact traversal always is).
+    pub fn built(self) -> bool {
+        match self {
+            MethodKind::Exact => true,
+            MethodKind::LinearBinary | MethodKind::LinearSecant => cfg!(feature = "search"),
+            MethodKind::MaxMip => cfg!(feature = "maxmip"),
+            MethodKind::Safety | MethodKind::Cc => cfg!(feature = "safety"),
+            MethodKind::Cone => cfg!(feature = "cone"),
+            MethodKind::Relaxed => cfg!(feature = "relaxed"),
+            MethodKind::Qdm => cfg!(feature = "qdm"),
+        }
+    }
+}
+
+impl RayClasses {
+    /// No class.
+    pub const NONE: RayClasses = RayClasses(0);
+
+    /// How many of the four classes the set holds (bits above the four are ignored).
+    pub fn count(self) -> u32 {
+        (self.0 & RayClasses::ALL.0).count_ones()
+    }
+}
+
+/// Something a bake can produce: a map the march reads, or an intermediate another
+/// bake reads.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+#[repr(u32)]
+pub enum Product {
+    /// The maximum-mipmap pyramid (`maxmip::bake`): the maxmip march reads it, and the
+    /// cone, relaxed-cone and QDM bakes search it (`cone::prepare`).
+    Pyramid = 0,
+    /// The strip bounds of the safety-shape bakes (`safety::prepare`).
+    SafetyScratch = 1,
+    /// The safety-distance map (`safety::bake_rows_classes`).
+    SafetyMap = 2,
+    /// The packed cylinder–cone map (`safety::cc::bake_rows_classes`).
+    CcMap = 3,
+    /// The N-buffers the cylinder–cone slopes read (`safety::cc::prepare_nbuffer`),
+    /// with either slope: the exact slope culls columns with them too.
+    NBuffer = 4,
+    /// The conservative cone map (`cone::bake_rows`).
+    ConeMap = 5,
+    /// The relaxed cone map (`relaxed::bake_rows`).
+    RelaxedMap = 6,
+    /// The quadratic displacement map (`qdm::bake_rows`).
+    QdmMap = 7,
+}
+
+impl Product {
+    /// Every product, in value order.
+    pub const ALL: [Product; 8] = [
+        Product::Pyramid,
+        Product::SafetyScratch,
+        Product::SafetyMap,
+        Product::CcMap,
+        Product::NBuffer,
+        Product::ConeMap,
+        Product::RelaxedMap,
+        Product::QdmMap,
+    ];
+
+    /// Short lower-case name (`pyramid`, `safety scratch`, …).
+    pub fn name(self) -> &'static str {
+        match self {
+            Product::Pyramid => "pyramid",
+            Product::SafetyScratch => "safety scratch",
+            Product::SafetyMap => "safety map",
+            Product::CcMap => "cc map",
+            Product::NBuffer => "n-buffer",
+            Product::ConeMap => "cone map",
+            Product::RelaxedMap => "relaxed map",
+            Product::QdmMap => "qdm map",
+        }
+    }
+}
+
+/// Whether and how a scene needs a [`Product`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Need {
+    /// Not baked; the reason says why.
+    Skip(&'static str),
+    /// Baked as the input of another bake only: free it once that bake is done.
+    Scratch,
+    /// Baked and read by the march: keep it (upload it).
+    Keep,
+}
+
+/// Skip reason: the method marches the heights alone.
+const NO_BAKE: &str = "the method reads no baked data";
+/// Skip reason: another method's data.
+const NOT_READ: &str = "the scene's method never reads it";
+/// Skip reason: the cylinder–cone map packs its own safety distances.
+const CC_OWN: &str = "the cylinder-cone map packs its own safety distances";
+/// Skip reason: the QDM stores its own cone.
+const QDM_OWN: &str = "the QDM stores its own cone";
+/// Skip reason of a ray class's channel.
+const CLASS_UNUSED: &str = "the scene casts no such ray: channel left 0 (a zero jump)";
+/// The ray classes in channel order, with the name of their channel.
+const CLASS_CHANNELS: [(RayClass, &str); 4] = [
+    (RayClass::XPos, "x+ channel"),
+    (RayClass::XNeg, "x- channel"),
+    (RayClass::YPos, "y+ channel"),
+    (RayClass::YNeg, "y- channel"),
+];
+/// Skip reason of the directional layout.
+const ONE_CLASS: &str = "one ray class: the isotropic byte holds its distances exactly";
+
+/// What to bake for a [`Scene`], from [`Scene::bake_plan`]: per [`Product`] whether it
+/// is needed and how, the ray classes the safety-shape bakes compute, and the safety
+/// map's layout. [`BakePlan::skipped`] lists what is left out and why.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct BakePlan {
+    /// The method the plan serves.
+    pub method: MethodKind,
+    /// Per product, in [`Product::ALL`] order.
+    pub needs: [Need; 8],
+    /// The ray classes the safety-distance and cylinder–cone bakes compute (pass it to
+    /// `safety::bake_rows_classes`, `safety::cc::bake_rows_classes`); the others are
+    /// left 0. [`RayClasses::NONE`] when neither map is baked.
+    pub classes: RayClasses,
+    /// The safety-distance map's layout: isotropic (one byte per texel) when exactly
+    /// one ray class occurs — then it holds that class's distances exactly —,
+    /// directional (four) otherwise. `false` when no safety map is baked.
+    pub isotropic: bool,
+}
+
+impl BakePlan {
+    /// How the scene needs `p`.
+    pub fn need(&self, p: Product) -> Need {
+        self.needs[p as usize]
+    }
+
+    /// Whether `p` is baked (as scratch or kept).
+    pub fn bakes(&self, p: Product) -> bool {
+        !matches!(self.need(p), Need::Skip(_))
+    }
+
+    /// Whether nothing at all is baked (the exact and search methods).
+    pub fn bakes_nothing(&self) -> bool {
+        !Product::ALL.into_iter().any(|p| self.bakes(p))
+    }
+
+    /// What the plan leaves out, as `(item, reason)`: every skipped product, then,
+    /// when a safety-shape map is baked, each ray class it does not compute and the
+    /// directional layout when the isotropic one suffices.
+    pub fn skipped(&self) -> impl Iterator<Item = (&'static str, &'static str)> {
+        let products = Product::ALL
+            .into_iter()
+            .zip(self.needs)
+            .filter_map(|(p, n)| match n {
+                Need::Skip(why) => Some((p.name(), why)),
+                _ => None,
+            });
+        let shapes = self.bakes(Product::SafetyMap) || self.bakes(Product::CcMap);
+        let classes = self.classes;
+        let class_items = CLASS_CHANNELS
+            .into_iter()
+            .filter(move |&(c, _)| shapes && !classes.contains(c))
+            .map(|(_, name)| (name, CLASS_UNUSED));
+        let layout = (self.isotropic && self.bakes(Product::SafetyMap))
+            .then_some(("directional channels", ONE_CLASS));
+        products.chain(class_items).chain(layout)
+    }
+}
+
+impl Scene {
+    /// What to bake for this scene, and what not: only the data its method reads,
+    /// safety-shape channels only for the ray classes that occur. The plan depends on
+    /// the method and the ray classes; the other fields change no bake (the bakes
+    /// assume every ray of a class: exterior-only and narrow-angle ray sets are not
+    /// exploited yet).
+    pub fn bake_plan(&self) -> BakePlan {
+        use Need::{Keep, Scratch, Skip};
+        use Product as P;
+        let mut needs = [Skip(NOT_READ); 8];
+        let mut set = |p: P, n: Need| needs[p as usize] = n;
+        let mut classes = RayClasses::NONE;
+        let mut isotropic = false;
+        match self.method {
+            MethodKind::Exact | MethodKind::LinearBinary | MethodKind::LinearSecant => {
+                for p in P::ALL {
+                    set(p, Skip(NO_BAKE));
+                }
+            }
+            MethodKind::MaxMip => set(P::Pyramid, Keep),
+            MethodKind::Cone | MethodKind::Relaxed | MethodKind::Qdm => {
+                set(P::Pyramid, Scratch);
+                let map = match self.method {
+                    MethodKind::Cone => P::ConeMap,
+                    MethodKind::Relaxed => P::RelaxedMap,
+                    _ => {
+                        set(P::ConeMap, Skip(QDM_OWN));
+                        P::QdmMap
+                    }
+                };
+                set(map, Keep);
+            }
+            MethodKind::Safety => {
+                set(P::SafetyScratch, Scratch);
+                set(P::SafetyMap, Keep);
+                classes = self.ray_classes;
+                isotropic = classes.count() == 1;
+            }
+            MethodKind::Cc => {
+                set(P::SafetyScratch, Scratch);
+                set(P::SafetyMap, Skip(CC_OWN));
+                set(P::NBuffer, Scratch);
+                set(P::CcMap, Keep);
+                classes = self.ray_classes;
+            }
+        }
+        BakePlan {
+            method: self.method,
+            needs,
+            classes: RayClasses(classes.0 & RayClasses::ALL.0),
+            isotropic,
+        }
+    }
+}

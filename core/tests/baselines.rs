@@ -8,6 +8,7 @@
 //!   it falls as the step count grows;
 //! - a thin one-texel spike that the exact method hits is missed by a coarse linear
 //!   search for at least one ray: the oracle catches their failures.
+#![cfg(feature = "search")]
 
 mod common;
 

@@ -3,10 +3,14 @@
 //! past the oracle's hit and either converge or report their budget; the fast bakes
 //! equal their brute-force oracles; the stable quadratic solver beats the textbook one
 //! on stiff cases; relaxed cones miss thin features and the oracle catches it.
+#![cfg(all(feature = "cone", feature = "qdm", feature = "relaxed"))]
 
 mod common;
 
-use common::{eps_f32, fractal_field, random_ray, small_field, Field, RayKind, Rng};
+use common::{
+    checkerboard_field, dist, eps_f32, fractal_fields, needles_field, plateau_field, random_ray,
+    small_fields, Field, RayKind, Rng,
+};
 use hfcast::{cone, dda, qdm, relaxed, Query, Real, Surface, Trace};
 
 const TRI: Surface = Surface::Triangles;
@@ -14,54 +18,19 @@ const TRI: Surface = Surface::Triangles;
 /// Synthetic fields: fractal, thin walls, needles, plateau, checkerboard, small random.
 fn fields() -> Vec<(String, Field)> {
     let mut rng = Rng::new(0xc0de);
-    let mut v = vec![
-        (
-            "fractal 61x47".to_string(),
-            fractal_field(&mut rng, 61, 47, 61, 8.0),
-        ),
-        (
-            "fractal 90x7 stride 95".into(),
-            fractal_field(&mut rng, 90, 7, 95, 3.0),
-        ),
-    ];
-    let mut r2 = Rng::new(7);
-    v.push((
-        "needles 45x38".into(),
-        Field::from_fn(45, 38, 45, |_, _| {
-            if r2.chance(0.04) {
-                r2.range(5.0, 30.0) as f32
-            } else {
-                r2.range(0.0, 0.3) as f32
-            }
-        }),
-    ));
-    v.push((
-        "walls 40x40".into(),
-        Field::from_fn(40, 40, 40, |i, j| {
-            if i % 9 == 4 || j % 11 == 5 {
-                6.0
-            } else {
-                0.0
-            }
-        }),
-    ));
-    v.push((
-        "checkerboard 24x20".into(),
-        Field::from_fn(24, 20, 24, |i, j| ((i + j) % 2) as f32),
-    ));
-    v.push((
-        "plateau 33x29".into(),
-        Field::from_fn(33, 29, 33, |i, j| {
-            if (8..25).contains(&i) && (6..22).contains(&j) {
-                4.0
-            } else {
-                (i % 3) as f32 * 0.1
-            }
-        }),
-    ));
-    for k in 0..8 {
-        v.push((format!("small random #{k}"), small_field(&mut rng)));
-    }
+    let mut v = fractal_fields(&mut rng, "fractal 90x7 stride 95");
+    v.push(("needles 45x38".into(), needles_field(7)));
+    let walls = Field::from_fn(40, 40, 40, |i, j| {
+        if i % 9 == 4 || j % 11 == 5 {
+            6.0
+        } else {
+            0.0
+        }
+    });
+    v.push(("walls 40x40".into(), walls));
+    v.push(("checkerboard 24x20".into(), checkerboard_field(0.0, 1.0)));
+    v.push(("plateau 33x29".into(), plateau_field()));
+    v.extend(small_fields(&mut rng, 8));
     v
 }
 
@@ -89,10 +58,6 @@ impl Counts {
 /// Hit position of a trace as f64.
 fn pos<R: Real>(t: &Trace<R>) -> Option<[f64; 3]> {
     t.hit.map(|h| R::xyz(h.point).map(|v| v.to_f64()))
-}
-
-fn dist(a: [f64; 3], b: [f64; 3]) -> f64 {
-    ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)).sqrt()
 }
 
 /// Runs one conservative method in one precision over the rays and tallies it.

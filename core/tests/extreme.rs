@@ -36,6 +36,12 @@
 //! the pyramid's levels) or the step counts; exact traces never set
 //! `BUDGET_EXHAUSTED`. Numerics: the stable quadratic against the textbook formula,
 //! ray–plane tests with nearly parallel rays, and drift over 10⁴ cells.
+#![cfg(all(
+    feature = "safety",
+    feature = "search",
+    feature = "qdm",
+    feature = "relaxed"
+))]
 
 mod common;
 

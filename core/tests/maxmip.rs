@@ -1,5 +1,6 @@
 //! Maximum mipmaps: the bake against its definition, updates against a full re-bake, and
 //! the march against the f64 exact DDA (zero wrong rays without LOD) on synthetic fields.
+#![cfg(feature = "maxmip")]
 
 mod common;
 

@@ -1,8 +1,12 @@
-//! What the benchmark examples share: timing medians, the shared data folder and the
-//! orbit camera's primary rays (each example includes this file with `mod common;`).
+//! What the benchmark examples share: timing medians, the command line, the shared
+//! data folder and its maps, row bands on threads, the orbit camera's primary rays and
+//! the fetch and time figures of a march (each example includes this file with
+//! `mod common;`).
 #![allow(dead_code)] // each example uses a different part
 
-use hfcast::{HeightField, Query};
+use hfcast::{HeightField, Query, Trace};
+use std::hint::black_box;
+use std::ops::Range;
 use std::path::PathBuf;
 use std::time::Instant;
 
@@ -83,4 +87,106 @@ pub fn camera_rays(
         }
     }
     rays
+}
+
+/// The command line as `--option value` pairs (an option without its value panics).
+pub fn options() -> Vec<(String, String)> {
+    let mut args = std::env::args().skip(1);
+    let mut pairs = Vec::new();
+    while let Some(a) = args.next() {
+        pairs.push((a, args.next().expect("option value")));
+    }
+    pairs
+}
+
+/// A `WxH` option value.
+pub fn parse_size(v: &str) -> (u32, u32) {
+    let (w, h) = v.split_once('x').expect("WxH");
+    (w.parse().unwrap(), h.parse().unwrap())
+}
+
+/// A 16-bit grayscale PNG of the data folder as raw values, width, height.
+pub fn load_png(name: &str) -> Option<(Vec<u16>, u32, u32)> {
+    let file = std::fs::File::open(data_dir().join(name)).ok()?;
+    let limits = png::Limits { bytes: 1 << 31 };
+    let mut reader = png::Decoder::new_with_limits(std::io::BufReader::new(file), limits)
+        .read_info()
+        .ok()?;
+    let mut buf = vec![0u8; reader.output_buffer_size()?];
+    let frame = reader.next_frame(&mut buf).ok()?;
+    assert_eq!(
+        frame.bit_depth,
+        png::BitDepth::Sixteen,
+        "{name}: 16-bit expected"
+    );
+    let v = buf[..frame.buffer_size()]
+        .chunks_exact(2)
+        .map(|b| u16::from_be_bytes([b[0], b[1]]))
+        .collect();
+    Some((v, frame.width, frame.height))
+}
+
+/// Every `step`-th sample of `raw` (`w` wide), as heights `v / 65535 × 0.1 · side`.
+pub fn downsample(raw: &[u16], w: u32, h: u32, step: u32) -> (Vec<f32>, u32, u32) {
+    let (nw, nh) = (w.div_ceil(step), h.div_ceil(step));
+    let depth = 0.1 * nw.max(nh) as f32;
+    let mut out = Vec::with_capacity((nw * nh) as usize);
+    for j in 0..nh {
+        for i in 0..nw {
+            out.push(raw[(j * step * w + i * step) as usize] as f32 / 65535.0 * depth);
+        }
+    }
+    (out, nw, nh)
+}
+
+/// Runs `f(rows, part)` on `threads` threads, each on one band of the `height` rows of
+/// `out` (`row_len` elements a row) and its part of `out`.
+pub fn in_bands<T: Send>(
+    out: &mut [T],
+    row_len: usize,
+    height: u32,
+    threads: u32,
+    f: impl Fn(Range<u32>, &mut [T]) + Sync,
+) {
+    let band = height.div_ceil(threads);
+    let f = &f;
+    std::thread::scope(|s| {
+        for (k, part) in out.chunks_mut(band as usize * row_len).enumerate() {
+            let r0 = k as u32 * band;
+            let rows = r0..(r0 + band).min(height);
+            s.spawn(move || f(rows, part));
+        }
+    });
+}
+
+/// What one method did on one ray set.
+pub struct Run {
+    /// Fetches per ray: mean, 99th percentile and largest.
+    pub mean: f64,
+    pub p99: u32,
+    pub max: u32,
+    /// Nanoseconds per ray (median of the repetitions).
+    pub ns: f64,
+    /// The trace of every ray.
+    pub traces: Vec<Trace<f32>>,
+}
+
+/// Traces every ray with `f` once (the traces and their fetches), then times `reps`
+/// passes over all the rays ([`wall`]).
+pub fn run(rays: &[Query<f32>], reps: usize, f: impl Fn(&Query<f32>) -> Trace<f32>) -> Run {
+    let traces: Vec<Trace<f32>> = rays.iter().map(&f).collect();
+    let secs = wall(reps, || {
+        for q in rays {
+            black_box(f(black_box(q)));
+        }
+    });
+    let mut fetches: Vec<u32> = traces.iter().map(|t| t.fetches).collect();
+    fetches.sort_unstable();
+    Run {
+        mean: fetches.iter().map(|&v| f64::from(v)).sum::<f64>() / rays.len() as f64,
+        p99: fetches[(fetches.len() * 99 / 100).min(fetches.len() - 1)],
+        max: *fetches.last().unwrap(),
+        ns: secs * 1e9 / rays.len() as f64,
+        traces,
+    }
 }

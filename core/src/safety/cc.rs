@@ -26,9 +26,11 @@
 //!
 //! **Slopes.** [`Slope::Exact`] takes `s_c` over the limiting triangles only: each
 //! triangle clipped to the reachable band (a convex polygon of at most five vertices);
-//! `(plane − z_c)/u` is linear-fractional, so its maximum is at a vertex. A column is
-//! skipped when the maximum sample over its reachable range (from the N-buffer, two
-//! lookups) cannot raise `s_c`; the scan stops when the field's maximum cannot.
+//! `(plane − z_c)/u` is linear-fractional, so its maximum is at a vertex. Each
+//! column's maximum sample over its reachable range (from the N-buffer, two lookups)
+//! bounds the slope its triangles can give; columns are scanned highest bound first
+//! (branch and bound: the slope rises early, and a column is skipped once its bound
+//! cannot raise `s_c`); the first pass stops when the field's maximum cannot.
 //! [`Slope::NBuffer`] counts every triangle as limiting and bounds a column `k ≥ 1`
 //! by that maximum sample at `u = k` (or `k + 1` when it is under `z_c`); column 0
 //! is taken exactly (dividing by `u = 0` would leave no cone).
@@ -60,6 +62,7 @@ use super::{
 use crate::field::HeightField;
 use crate::math::Real;
 use crate::ray::{Query, RayClass, Trace};
+use crate::scene::RayClasses;
 
 /// Bytes per texel of the packed map (four per class).
 pub const BYTES_PER_TEXEL: usize = 16;
@@ -249,6 +252,11 @@ pub fn texel_cone<S: RaySet>(
     let hmax = f64::from(hf.max_height());
     let capf = f64::from(opts.cap);
     let mut s = S_MIN;
+    // Pass 1: every column's highest sample over its reachable band bounds the slope
+    // its triangles can give (`(top − z_c)/u` is largest at a vertex). The N-buffer
+    // slope is that bound itself (past column 0).
+    let mut cols = [(f64::NEG_INFINITY, 0u32); 256];
+    let mut count = 0;
     for k in u32::from(r)..u32::from(opts.cap) {
         let kf = f64::from(k);
         if hmax - zc <= (s * kf).min(s * capf) {
@@ -266,14 +274,43 @@ pub fn texel_cone<S: RaySet>(
         let l0 = (i64::from(n) - i64::from(k) - 2).max(0) as u32;
         let l1 = (i64::from(n) + i64::from(k) + 1).min(i64::from(ln) - 2) as u32;
         let top = range_max(hf, nb, opts.cap, ax, cm, l0, l1 + 1) - zc;
-        let lowest = (s * kf).min(s * (kf + 1.0));
-        if top <= lowest {
+        let bound = if top <= 0.0 {
+            top / (kf + 1.0)
+        } else if k == 0 {
+            f64::INFINITY
+        } else {
+            top / kf
+        };
+        if bound <= s {
             continue;
         }
         if opts.slope == Slope::NBuffer && k >= 1 {
-            s = s.max(top / if top > 0.0 { kf } else { kf + 1.0 });
+            s = bound;
             continue;
         }
+        cols[count] = (bound, k);
+        count += 1;
+    }
+    // Pass 2: scan the columns whose bound beats the slope so far, highest bound
+    // first, so that the slope rises early and prunes the rest. (Sorted as integer
+    // keys: the `f32` bound's order-preserving bits, then the column's index.)
+    let mut keys = [0u64; 256];
+    for (idx, (key, col)) in keys.iter_mut().zip(&cols[..count]).enumerate() {
+        let b = (col.0 as f32).to_bits();
+        let ordered = if b >> 31 == 1 { !b } else { b | 1 << 31 };
+        *key = u64::from(ordered) << 32 | idx as u64;
+    }
+    let keys = &mut keys[..count];
+    keys.sort_unstable();
+    for key in keys.iter().rev() {
+        let (bound, k) = cols[(*key & 0xffff_ffff) as usize];
+        if bound <= s {
+            continue;
+        }
+        let kf = f64::from(k);
+        let cm = if sg > 0 { m + k } else { m - k - 1 };
+        let l0 = (i64::from(n) - i64::from(k) - 2).max(0) as u32;
+        let l1 = (i64::from(n) + i64::from(k) + 1).min(i64::from(ln) - 2) as u32;
         let col = Column {
             hf,
             nb,
@@ -419,6 +456,22 @@ pub fn bake_rows(
     opts: CcOptions,
     out: &mut [u8],
 ) -> Result<(), SafetyError> {
+    bake_rows_classes(hf, scratch, nb, RayClasses::ALL, rows, opts, out)
+}
+
+/// [`bake_rows`] for the ray classes of `classes` only (a scene's
+/// [`BakePlan::classes`](crate::scene::BakePlan::classes)): a class left out is never
+/// computed and packs as radius 0 without a cone (`[0, NO_CONE, 0, 0]`: a zero jump,
+/// always safe); the kept classes' bytes equal the full bake's.
+pub fn bake_rows_classes(
+    hf: &HeightField,
+    scratch: &[f32],
+    nb: &[f32],
+    classes: RayClasses,
+    rows: Range<u32>,
+    opts: CcOptions,
+    out: &mut [u8],
+) -> Result<(), SafetyError> {
     let needed = super::scratch_len(hf.width(), hf.height());
     if scratch.len() < needed {
         return Err(SafetyError::ScratchTooShort { needed });
@@ -435,17 +488,23 @@ pub fn bake_rows(
     if out.len() < needed {
         return Err(SafetyError::OutputTooShort { needed });
     }
+    let skipped = pack(hf, 0, 0.0, f64::INFINITY);
     for (row, j) in rows.enumerate() {
         for i in 0..hf.width() {
             let px = &mut out[(row * w + i as usize) * BYTES_PER_TEXEL..][..BYTES_PER_TEXEL];
             for (c, class) in CLASSES.into_iter().enumerate() {
-                let r = texel_distance(hf, scratch, &AllRays, class, i, j, u8::MAX);
-                let (zc, sc) = if r >= opts.cap {
-                    (0.0, f64::INFINITY)
+                let bytes = if classes.contains(class) {
+                    let r = texel_distance(hf, scratch, &AllRays, class, i, j, u8::MAX);
+                    let (zc, sc) = if r >= opts.cap {
+                        (0.0, f64::INFINITY)
+                    } else {
+                        texel_cone(hf, nb, &AllRays, class, i, j, r, opts)
+                    };
+                    pack(hf, r, zc, sc)
                 } else {
-                    texel_cone(hf, nb, &AllRays, class, i, j, r, opts)
+                    skipped
                 };
-                px[c * 4..c * 4 + 4].copy_from_slice(&pack(hf, r, zc, sc));
+                px[c * 4..c * 4 + 4].copy_from_slice(&bytes);
             }
         }
     }

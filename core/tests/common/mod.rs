@@ -2,7 +2,7 @@
 //! ambiguity rule of DESIGN.md, ray generators and a tally that prints per-case counts.
 #![allow(dead_code)] // every test binary uses a different part of this module
 
-use hfcast::{brute, dda, Flags, HeightField, Query, Real, Surface, Trace};
+use hfcast::{brute, dda, Flags, HeightField, Query, RayClass, Real, Surface, Trace};
 
 /// SplitMix64: tiny, seeded, reproducible on every platform.
 pub struct Rng(u64);
@@ -95,6 +95,11 @@ impl Field {
         let (lo, hi) = self.range();
         1f64.max(lo.abs()).max(hi.abs())
     }
+    /// `max − min` height, at least 1e-3.
+    pub fn relief(&self) -> f64 {
+        let (lo, hi) = self.range();
+        (hi - lo).max(1e-3)
+    }
 }
 
 /// Random small field: sizes 2×2 … 12×9, random stride, heights that are integers
@@ -154,6 +159,96 @@ pub fn fractal_field(rng: &mut Rng, w: u32, h: u32, stride: usize, amp: f64) -> 
             .sum();
         (s + noise.range(-0.02, 0.02) * amp) as f32
     })
+}
+
+/// The two fractal fields of the march tests: 61×47 (amplitude 8) and the non-square
+/// 90×7 with stride 95 (amplitude 3), named `"fractal 61x47"` and `wide`.
+pub fn fractal_fields(rng: &mut Rng, wide: &str) -> Vec<(String, Field)> {
+    let square = fractal_field(rng, 61, 47, 61, 8.0);
+    let narrow = fractal_field(rng, 90, 7, 95, 3.0);
+    vec![("fractal 61x47".into(), square), (wide.into(), narrow)]
+}
+
+/// 1-texel walls of height 6 on a flat 40×40 floor, along 5 random rows and columns.
+pub fn random_walls_field(rng: &mut Rng) -> Field {
+    let mut wall_rows = [false; 40];
+    let mut wall_cols = [false; 40];
+    for _ in 0..5 {
+        wall_rows[rng.below(40)] = true;
+        wall_cols[rng.below(40)] = true;
+    }
+    Field::from_fn(40, 40, 40, |i, j| {
+        let wall = wall_rows[j as usize] || wall_cols[i as usize];
+        if wall {
+            6.0
+        } else {
+            0.0
+        }
+    })
+}
+
+/// Needles (one texel in 25, 5 to 30 high) on gentle noise, 45×38, drawn from their
+/// own generator seeded with `seed`.
+pub fn needles_field(seed: u64) -> Field {
+    let mut r = Rng::new(seed);
+    Field::from_fn(45, 38, 45, |_, _| {
+        let needle = r.chance(0.04);
+        let (lo, hi) = if needle { (5.0, 30.0) } else { (0.0, 0.3) };
+        r.range(lo, hi) as f32
+    })
+}
+
+/// A 24×20 checkerboard: `even` where `i + j` is even, `odd` elsewhere.
+pub fn checkerboard_field(even: f32, odd: f32) -> Field {
+    Field::from_fn(24, 20, 24, |i, j| if (i + j) % 2 == 0 { even } else { odd })
+}
+
+/// The smallest field, 2×2.
+pub fn tiny_field() -> Field {
+    Field::from_fn(2, 2, 2, |i, j| [0.3, 1.0, 0.7, 0.1][(i + 2 * j) as usize])
+}
+
+/// A flat-topped plateau of height 4 on a low ridged floor, 33×29.
+pub fn plateau_field() -> Field {
+    Field::from_fn(33, 29, 33, |i, j| {
+        let top = (8..25).contains(&i) && (6..22).contains(&j);
+        if top {
+            4.0
+        } else {
+            (i % 3) as f32 * 0.1
+        }
+    })
+}
+
+/// `n` random small fields ([`small_field`]), named `"small random #k"`.
+pub fn small_fields(rng: &mut Rng, n: usize) -> Vec<(String, Field)> {
+    (0..n)
+        .map(|k| (format!("small random #{k}"), small_field(rng)))
+        .collect()
+}
+
+/// The synthetic fields of the safety-distance and radius tests, in this order: the two
+/// fractals, random walls, needles (from `needles`' own generator), the checkerboard
+/// `checker` (name, even and odd height), 2×2, the `extra` fields, the plateau and
+/// `n_small` small random fields; every random field but the needles is drawn from
+/// one generator seeded with `seed`.
+pub fn march_fields(
+    seed: u64,
+    needles: u64,
+    checker: (&str, f32, f32),
+    extra: Vec<(String, Field)>,
+    n_small: usize,
+) -> Vec<(String, Field)> {
+    let mut rng = Rng::new(seed);
+    let mut v = fractal_fields(&mut rng, "fractal non-square 90x7 stride 95");
+    v.push(("walls 40x40".into(), random_walls_field(&mut rng)));
+    v.push(("needles 45x38".into(), needles_field(needles)));
+    v.push((checker.0.into(), checkerboard_field(checker.1, checker.2)));
+    v.push(("2x2".into(), tiny_field()));
+    v.extend(extra);
+    v.push(("plateau 33x29".into(), plateau_field()));
+    v.extend(small_fields(&mut rng, n_small));
+    v
 }
 
 /// DESIGN.md's ambiguity threshold `2⁻¹³ · max(1, |z|)`.
@@ -838,4 +933,175 @@ impl Judged {
             ));
         }
     }
+}
+
+/// `per_kind` random rays of every [`RayKind`], then `2 · per_kind` grazing rays over
+/// the footprint: up or down at 1e-4 to 0.1 rad, starting up to 0.05 above `surface`.
+pub fn rays_with_grazing(
+    field: &Field,
+    surface: Surface,
+    rng: &mut Rng,
+    per_kind: usize,
+) -> Vec<RaySpec> {
+    let mut v: Vec<RaySpec> = RayKind::ALL
+        .into_iter()
+        .flat_map(|kind| vec![kind; per_kind])
+        .map(|kind| random_ray(rng, field, surface, kind))
+        .collect();
+    let hf = field.hf();
+    let (xm, ym) = ((field.w - 1) as f64, (field.h - 1) as f64);
+    for _ in 0..per_kind * 2 {
+        let (x, y) = (rng.range(0.0, xm), rng.range(0.0, ym));
+        let el = rng.sign() * 10f64.powf(rng.range(-4.0, -1.0));
+        let az = rng.range(0.0, std::f64::consts::TAU);
+        let z = surface.height_at(&hf, x, y) + rng.range(0.0, 0.05);
+        v.push(RaySpec {
+            o: [x, y, z],
+            d: [az.cos() * el.cos(), az.sin() * el.cos(), el.sin()],
+            t_min: 0.0,
+            t_max: f64::INFINITY,
+        });
+    }
+    v
+}
+
+/// Clearance of the ray above `surface` at `t` (negative under it).
+pub fn clearance(field: &Field, surface: Surface, q: &Query<f64>, t: f64) -> f64 {
+    let p = q.at(t);
+    p[2] - surface.height_at(&field.hf(), p[0], p[1])
+}
+
+/// A touch: at the hit `t_hit` the ray meets `surface` without going under it (its
+/// clearance 1e-4, 1e-3 and 1e-2 texel further on is at least `-eps`), so that which
+/// side of the surface it passes by is decided by rounding (ambiguous, DESIGN.md).
+pub fn is_touch(field: &Field, surface: Surface, q: &Query<f64>, t_hit: f64, eps: f64) -> bool {
+    let d = q.dir();
+    let len = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
+    [1e-4, 1e-3, 1e-2]
+        .iter()
+        .all(|s| clearance(field, surface, q, t_hit + s / len) >= -eps)
+}
+
+/// Parameters in `[t0, t1]` between which the clearance above the triangle surface is
+/// linear: the ends and the crossings of the lines x, y, x − y, x + y = integer (cell
+/// edges and both diagonals), sorted.
+pub fn breakpoints(q: &Query<f64>, t0: f64, t1: f64) -> Vec<f64> {
+    let (o, d) = (q.origin(), q.dir());
+    let mut ts = vec![t0, t1];
+    for [a, b] in [[1.0, 0.0], [0.0, 1.0], [1.0, -1.0], [1.0, 1.0]] {
+        let (s0, ds) = (a * o[0] + b * o[1], a * d[0] + b * d[1]);
+        if ds == 0.0 {
+            continue;
+        }
+        let (sa, sb) = (s0 + ds * t0, s0 + ds * t1);
+        for k in sa.min(sb).ceil() as i64..=sa.max(sb).floor() as i64 {
+            let t = (k as f64 - s0) / ds;
+            if t > t0 && t < t1 {
+                ts.push(t);
+            }
+        }
+    }
+    ts.sort_by(f64::total_cmp);
+    ts
+}
+
+/// The main axis (0: x, 1: y) and direction (±1) of a ray class.
+pub fn class_axis(class: RayClass) -> (usize, f64) {
+    match class {
+        RayClass::XPos => (0, 1.0),
+        RayClass::XNeg => (0, -1.0),
+        RayClass::YPos => (1, 1.0),
+        RayClass::YNeg => (1, -1.0),
+    }
+}
+
+/// Where the independent checks of the safety bakes draw their rays: the field's
+/// view, its height scale ([`Field::z_scale`]) and relief ([`Field::relief`]).
+pub struct Probe<'a> {
+    pub hf: HeightField<'a>,
+    pub zs: f64,
+    pub relief: f64,
+}
+
+impl Probe<'_> {
+    pub fn new(field: &Field) -> Probe<'_> {
+        Probe {
+            hf: field.hf(),
+            zs: field.z_scale(),
+            relief: field.relief(),
+        }
+    }
+
+    /// The start of check ray number `r` from texel `(m, n)` (main axis `ax`): over
+    /// the texel's segment across the main axis, at one of its ends, its middle or
+    /// anywhere on it (by `r % 6`); on the triangle surface, 1e-6 · z above it or up
+    /// to 0.3 × the relief above it (by `r % 4`).
+    pub fn start(&self, rng: &mut Rng, ax: usize, [m, n]: [u32; 2], r: u32) -> [f64; 3] {
+        let ln = f64::from(if ax == 0 {
+            self.hf.height()
+        } else {
+            self.hf.width()
+        });
+        let y = match r % 6 {
+            0 => f64::from(n) - 0.5,
+            1 => f64::from(n) + 0.5,
+            2 => f64::from(n),
+            _ => f64::from(n) + rng.range(-0.5, 0.5),
+        }
+        .clamp(0.0, ln - 1.0);
+        let mut p = [0.0; 3];
+        p[ax] = f64::from(m);
+        p[1 - ax] = y;
+        let above = match r % 4 {
+            0 => 0.0,
+            1 => 1e-6 * self.zs,
+            _ => rng.range(0.0, 0.3) * self.relief * rng.f64(),
+        };
+        p[2] = Surface::Triangles.height_at(&self.hf, p[0], p[1]) + above;
+        p
+    }
+
+    /// How far ahead check ray number `r` aims (main-axis distance in `[1e-3, k)`) and
+    /// its sideways slope: ±1, 0 or random in `[-1, 1)` (by `r % 5`).
+    pub fn reach(rng: &mut Rng, k: u32, r: u32) -> (f64, f64) {
+        let dist = rng.range(0.0, f64::from(k)).max(1e-3);
+        let slope = match r % 5 {
+            0 => 1.0,
+            1 => -1.0,
+            2 => 0.0,
+            _ => rng.range(-1.0, 1.0),
+        };
+        (dist, slope)
+    }
+}
+
+/// An independent bake check over `fields`, drawing from one generator seeded with
+/// `seed`: `case(name, field, rng)` checks the field's bakes as they are (asserting no
+/// violation) and returns the violations it finds with every claim inflated by one, of
+/// which there must be some ([`assert_check_bites`]).
+pub fn check_bakes(
+    seed: u64,
+    fields: Vec<(String, Field)>,
+    mut case: impl FnMut(&str, &Field, &mut Rng) -> u64,
+) {
+    let mut rng = Rng::new(seed);
+    let inflated_bad = fields
+        .iter()
+        .map(|(name, field)| case(name, field, &mut rng))
+        .sum();
+    assert_check_bites(inflated_bad);
+}
+
+/// The fractal field of the row-range tests: 23×17, rows padded to a stride of 25.
+pub fn rows_field(seed: u64) -> Field {
+    fractal_field(&mut Rng::new(seed), 23, 17, 25, 5.0)
+}
+
+/// An independent bake check must fail somewhere on the bakes inflated by one (their
+/// `inflated_bad` violations): a check that never fails checks nothing.
+pub fn assert_check_bites(inflated_bad: u64) {
+    assert!(
+        inflated_bad > 0,
+        "the check never fails, even on an inflated bake"
+    );
 }
