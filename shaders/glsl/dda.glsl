@@ -45,18 +45,22 @@ bool dda_clip_surface(uint surface, Query q, out Span span) {
         t1 = real_min(t1, far);
     }
     float zmin = field_min_height(), zmax = field_max_height();
+//#if linear_planes
     if (surface == HF_SURFACE_LINEAR_PLANES) {
         float range = zmax - zmin;
         float lo = zmin - range, hi = zmax + range;
         zmin = lo;
         zmax = hi;
     }
+//#endif
     if (d[2] == 0.0) {
         if (o[2] > zmax) {
             return false;
         }
+//#if upward
     } else if (d[2] > 0.0) {
         t1 = real_min(t1, (zmax - o[2]) / d[2]);
+//#endif
     } else {
         float top = (zmax - o[2]) / d[2];
         if (top > t0) {

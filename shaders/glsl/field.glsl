@@ -5,7 +5,9 @@
 // `hf_height_range` = (min_height, max_height) as the CPU's HeightField holds them
 // (hf_field_get_info), since the clip to the bounding box uses them.
 
+//#if heights_f32
 uniform sampler2D hf_heights;
+//#endif
 uniform ivec2 hf_size;
 uniform vec2 hf_height_range;
 
@@ -14,8 +16,10 @@ uint field_height() { return uint(hf_size.y); }
 float field_min_height() { return hf_height_range.x; }
 float field_max_height() { return hf_height_range.y; }
 
+//#if heights_f32
 // `HeightField::at`.
 float field_at(uint i, uint j) { return texelFetch(hf_heights, ivec2(i, j), 0).r; }
+//#endif
 
 // `HeightField::cell_corners`: `[h00, h10, h01, h11]`.
 vec4 field_cell_corners(uint i, uint j) {

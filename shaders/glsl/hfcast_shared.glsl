@@ -1,7 +1,7 @@
 // hfcast_shared.glsl: the constants and texture layouts the GLSL ports share with
 // the Rust core and the C API. Generated from Rust by glsl_shared() in
-// capi/src/shader.rs: do not edit; regenerate with
-// HFCAST_BLESS=1 cargo test -p hfcast-capi (a test fails when this file drifts).
+// shaders/src/shared.rs: do not edit; regenerate with
+// HFCAST_BLESS=1 cargo test -p hfcast-shaders (a test fails when this file drifts).
 
 // Surfaces (hfcast::Surface, hf_surface).
 const uint HF_SURFACE_TRIANGLES = 0u;

@@ -80,9 +80,16 @@ vec3 maxmip_entry_wall(ivec2 on, ivec2 step) {
 // `trace`: the first hit on `surface`, the one of dda_trace; linear planes are traced
 // by dda_trace.
 Trace maxmip_trace(uint surface, Query q) {
+//#if any_surface
     if (surface == HF_SURFACE_LINEAR_PLANES) {
+//#endif
+//#if linear_planes
         return dda_trace(surface, q);
+//#endif
+//#if any_surface
     }
+//#endif
+//#if triangles|bilinear|height_planes|view_linear
     Span span;
     if (!dda_clip(q, span)) {
         return trace_miss(0u, real_infinity());
@@ -192,4 +199,5 @@ Trace maxmip_trace(uint surface, Query q) {
         start = false;
     }
     return trace_miss(fetches, clearance);
+//#endif
 }

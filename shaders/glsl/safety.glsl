@@ -15,7 +15,16 @@ uniform uint hf_safety_variant;
 // `SafetyMap::distance`: safety distance of texel (i, j) for `ray_class`.
 uint safety_distance(uint ray_class, uint i, uint j) {
     uvec4 v = texelFetch(hf_safety_map, ivec2(i, j), 0);
+//#if any_variant
     return hf_safety_variant == HF_SAFETY_DIRECTIONAL ? v[ray_class] : v.r;
+//#else
+//#if directional
+    return v[ray_class];
+//#endif
+//#if isotropic
+    return v.r;
+//#endif
+//#endif
 }
 
 // `axis_of`: main axis (0 = x, 1 = y) of a ray_class.

@@ -56,33 +56,65 @@ int surface_nearest_corner(float u, float v) {
 
 // `Surface::cell_height`.
 float surface_cell_height(uint surface, vec4 c, float u, float v) {
+//#if any_surface
     if (surface == HF_SURFACE_TRIANGLES) {
+//#endif
+//#if triangles
         vec3 p, q;
         surface_triangle_planes(c, p, q);
         return real_max(surface_plane(p, u, v), surface_plane(q, u, v));
+//#endif
+//#if any_surface
     } else if (surface == HF_SURFACE_BILINEAR || surface == HF_SURFACE_VIEW_LINEAR) {
+//#endif
+//#if bilinear|view_linear
         return surface_bilinear(c, u, v);
+//#endif
+//#if any_surface
     } else if (surface == HF_SURFACE_HEIGHT_PLANES) {
+//#endif
+//#if height_planes
         return c[surface_nearest_corner(u, v)];
+//#endif
+//#if any_surface
     }
+//#endif
+//#if linear_planes
     return surface_plane(surface_linear_plane(c), u, v);
+//#endif
 }
 
 // `Surface::cell_gradient`.
 vec2 surface_cell_gradient(uint surface, vec4 c, float u, float v) {
+//#if any_surface
     if (surface == HF_SURFACE_TRIANGLES) {
+//#endif
+//#if triangles
         vec3 p, q;
         surface_triangle_planes(c, p, q);
         vec3 top = surface_plane(p, u, v) >= surface_plane(q, u, v) ? p : q;
         return vec2(top[1], top[2]);
+//#endif
+//#if any_surface
     } else if (surface == HF_SURFACE_BILINEAR || surface == HF_SURFACE_VIEW_LINEAR) {
+//#endif
+//#if bilinear|view_linear
         float e = c[0] - c[1] - c[2] + c[3];
         return vec2(c[1] - c[0] + e * v, c[2] - c[0] + e * u);
+//#endif
+//#if any_surface
     } else if (surface == HF_SURFACE_HEIGHT_PLANES) {
+//#endif
+//#if height_planes
         return vec2(0.0, 0.0);
+//#endif
+//#if any_surface
     }
+//#endif
+//#if linear_planes
     vec3 p = surface_linear_plane(c);
     return vec2(p[1], p[2]);
+//#endif
 }
 
 // `Surface::cell_normal`.
@@ -309,18 +341,33 @@ SegmentHit surface_height_planes_segment(vec4 c, vec3 a, vec3 b, vec3 entry_wall
 // one cell, from the clearances ca > 0 and cb the caller computed at its ends.
 SegmentHit surface_segment_hit(uint surface, vec4 c, vec3 a, vec3 b, float ca, float cb,
                                vec3 entry_wall) {
+//#if any_surface
     if (surface == HF_SURFACE_TRIANGLES) {
+//#endif
+//#if triangles
         return surface_triangles_segment(c, a, b, ca, cb);
+//#endif
+//#if any_surface
     } else if (surface == HF_SURFACE_BILINEAR) {
+//#endif
+//#if bilinear
         return surface_bilinear_segment(c, a, b, ca, cb);
+//#endif
+//#if any_surface
     } else if (surface == HF_SURFACE_VIEW_LINEAR) {
+//#endif
+//#if view_linear
         if (cb <= 0.0) {
             float s = ca / (ca - cb);
             float u = a[0] + (b[0] - a[0]) * s, v = a[1] + (b[1] - a[1]) * s;
             return segment_some(s, surface_cell_normal(surface, c, u, v), 0u, ca);
         }
         return segment_none(real_min(ca, cb));
+//#endif
+//#if any_surface
     } else if (surface == HF_SURFACE_LINEAR_PLANES) {
+//#endif
+//#if linear_planes
         vec3 p = surface_linear_plane(c);
         float la = a[2] - surface_plane(p, a[0], a[1]);
         float lb = b[2] - surface_plane(p, b[0], b[1]);
@@ -331,6 +378,11 @@ SegmentHit surface_segment_hit(uint surface, vec4 c, vec3 a, vec3 b, float ca, f
             return segment_some(la / (la - lb), n, 0u, la);
         }
         return segment_none(real_min(la, lb));
+//#endif
+//#if any_surface
     }
+//#endif
+//#if height_planes
     return surface_height_planes_segment(c, a, b, entry_wall);
+//#endif
 }

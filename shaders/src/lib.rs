@@ -1,0 +1,685 @@
+//! # hfcast-shaders
+//!
+//! The GLSL (`shaders/glsl`) and WGSL (`shaders/wgsl`) ports of hfcast's marches as
+//! source text, and shader generation from a scene description (DESIGN.md, "Leave
+//! out what a scene does not need"):
+//!
+//! - [`general`]: a method's general shader, its files concatenated: every surface and
+//!   option is a runtime choice (`hf_surface`, `hf_safety_variant`).
+//! - [`generate`]: the shader of one [`Scene`]: one surface, one method, the scene's
+//!   options; the specialisation markers ([`FLAGS`]) drop the branches it never takes,
+//!   then a tree shaker keeps only the top-level items reachable from `hf_trace`, so
+//!   unused functions, uniforms and textures go too, and the scene's choices become
+//!   constants.
+//! - [`all_methods`]: every method in one shader with a runtime `hf_method` switch,
+//!   the size comparison at the other end.
+//! - [`wgsl_layout`]: the fixed `@group(0)` binding numbers of the WGSL resources.
+//!
+//! The markers are comments, the same in both languages (WGSL has no preprocessor):
+//! `//#if a|b`, `//#else`, `//#endif`, nestable; the general shader sets every flag,
+//! so it is exactly the files with the marker lines removed.
+
+mod directive;
+mod shake;
+mod shared;
+pub mod wgsl_layout;
+
+pub use shared::{
+    glsl_shared, wgsl_shared, SafetyVariant, CC_NO_CONE, ENTRY_SIDE, ENTRY_START, ENTRY_TOP,
+    MAX_LEVELS, PYRAMID_TEX_WIDTH, SAFETY_SEG_PAD,
+};
+
+use hfcast::scene::{HeightFormat, MethodKind, Scene};
+use hfcast::Surface;
+use shake::{Item, Kind, Seg};
+use std::collections::{BTreeMap, BTreeSet};
+use std::fmt;
+
+include!(concat!(env!("OUT_DIR"), "/files.rs"));
+
+/// A shading language.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Lang {
+    /// GLSL 3.30 core (no `#version` line: the caller puts it first).
+    Glsl,
+    /// WGSL.
+    Wgsl,
+}
+
+impl Lang {
+    /// Both languages.
+    pub const ALL: [Lang; 2] = [Lang::Glsl, Lang::Wgsl];
+
+    /// The file extension without the dot: `glsl`, `wgsl`; also the name the CLI uses.
+    pub fn ext(self) -> &'static str {
+        match self {
+            Lang::Glsl => "glsl",
+            Lang::Wgsl => "wgsl",
+        }
+    }
+
+    /// The language named `glsl` or `wgsl`.
+    pub fn from_name(name: &str) -> Option<Lang> {
+        Lang::ALL.into_iter().find(|l| l.ext() == name)
+    }
+
+    /// The embedded files of this language.
+    fn files(self) -> &'static [(&'static str, &'static str)] {
+        match self {
+            Lang::Glsl => GLSL_FILES,
+            Lang::Wgsl => WGSL_FILES,
+        }
+    }
+}
+
+/// The text of file `stem` (`math`, `method_cc`, …) of `lang`, if the port has it.
+pub fn file(lang: Lang, stem: &str) -> Option<&'static str> {
+    lang.files().iter().find(|(n, _)| *n == stem).map(|f| f.1)
+}
+
+/// The specialisation flags of the markers, with what each says. A generated shader
+/// sets those of its scene; the general shaders set them all.
+pub const FLAGS: [(&str, &str); 14] = [
+    ("triangles", "the surface is the triangle surface"),
+    ("bilinear", "the surface is bilinear"),
+    ("height_planes", "the surface is height planes"),
+    ("linear_planes", "the surface is linear planes"),
+    ("view_linear", "the surface is view-linear"),
+    (
+        "any_surface",
+        "the surface is the runtime uniform hf_surface (general shaders): the tests that dispatch on it",
+    ),
+    ("directional", "safety distances are per ray class"),
+    ("isotropic", "safety distances are isotropic"),
+    (
+        "any_variant",
+        "the safety-map layout is the runtime uniform hf_safety_variant (general shaders)",
+    ),
+    (
+        "upward",
+        "rays may point upward: shadow rays, or a view angle over 90 degrees",
+    ),
+    ("heights_f32", "heights are an R32F texture in grid units"),
+    (
+        "heights_u16",
+        "heights are an R16UI texture of samples times hf_height_step",
+    ),
+    (
+        "heights_u8",
+        "heights are an R8UI texture of samples times hf_height_step",
+    ),
+    (
+        "lod",
+        "level-of-detail marching (maximum mipmaps; no port yet)",
+    ),
+];
+
+/// Why a shader cannot be generated.
+#[derive(Clone, Debug, PartialEq)]
+pub enum GenError {
+    /// The method traces only the triangle surface (safety, cc, cone, qdm, relaxed).
+    SurfaceNotSupported {
+        /// The method.
+        method: MethodKind,
+        /// The surface asked for.
+        surface: Surface,
+    },
+    /// A file the shader needs is not in this language's port (yet).
+    MissingFile {
+        /// The language.
+        lang: Lang,
+        /// The file's stem.
+        file: &'static str,
+    },
+    /// The scene is invalid (no ray class, an angle outside (0, 180]) or asks for
+    /// something no port does (LOD marching).
+    Scene(&'static str),
+    /// The sources are malformed (a marker or declaration the generator cannot read).
+    Source(String),
+}
+
+impl fmt::Display for GenError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            GenError::SurfaceNotSupported { method, surface } => write!(
+                f,
+                "method {} traces the triangle surface only, not {}",
+                method.name(),
+                surface.name()
+            ),
+            GenError::MissingFile { lang, file } => {
+                write!(f, "the {} port has no {file}.{}", lang.ext(), lang.ext())
+            }
+            GenError::Scene(why) => write!(f, "scene: {why}"),
+            GenError::Source(why) => write!(f, "shader source: {why}"),
+        }
+    }
+}
+
+impl std::error::Error for GenError {}
+
+/// The files (stems, in dependency order) of `method`'s general shader: the shared
+/// constants, the core modules its march uses, and the method's file defining
+/// `hf_trace`.
+pub fn parts(method: MethodKind) -> &'static [&'static str] {
+    const BASE: [&str; 6] = ["hfcast_shared", "math", "ray", "field", "surface", "dda"];
+    macro_rules! with_base {
+        ($($f:literal),*) => {
+            &[BASE[0], BASE[1], BASE[2], BASE[3], BASE[4], BASE[5], $($f),*]
+        };
+    }
+    match method {
+        MethodKind::Exact => with_base!("method_exact"),
+        MethodKind::LinearBinary => with_base!("search", "method_linear_binary"),
+        MethodKind::LinearSecant => with_base!("search", "method_linear_secant"),
+        MethodKind::MaxMip => with_base!("maxmip", "method_maxmip"),
+        MethodKind::Safety => with_base!("safety", "method_safety"),
+        MethodKind::Cone => with_base!("cone", "method_cone"),
+        MethodKind::Relaxed => with_base!("relaxed", "method_relaxed"),
+        MethodKind::Qdm => with_base!("cone", "qdm", "method_qdm"),
+        MethodKind::Cc => with_base!("safety", "cc", "method_cc"),
+    }
+}
+
+/// Whether `method` traces `surface`: the safety, cylinder–cone and cone family
+/// methods trace the triangle surface only.
+pub fn supports(method: MethodKind, surface: Surface) -> bool {
+    surface == Surface::Triangles
+        || matches!(
+            method,
+            MethodKind::Exact
+                | MethodKind::LinearBinary
+                | MethodKind::LinearSecant
+                | MethodKind::MaxMip
+        )
+}
+
+/// The file of 16- and 8-bit heights, used instead of `field`'s `F32` texture.
+const FIELD_INT: &str = "field_int";
+
+/// The flag of `surface`.
+fn surface_flag(surface: Surface) -> &'static str {
+    match surface {
+        Surface::Triangles => "triangles",
+        Surface::Bilinear => "bilinear",
+        Surface::HeightPlanes => "height_planes",
+        Surface::LinearPlanes => "linear_planes",
+        Surface::ViewLinear => "view_linear",
+    }
+}
+
+/// The safety-map layout [`generate`] assumes for `scene`: the one its bake plan
+/// ([`Scene::bake_plan`]) bakes, isotropic when the scene has a single ray class (the
+/// byte then holds that class's distances exactly), directional otherwise.
+pub fn default_safety_variant(scene: &Scene) -> SafetyVariant {
+    if scene.bake_plan().isotropic {
+        SafetyVariant::Isotropic
+    } else {
+        SafetyVariant::Directional
+    }
+}
+
+/// Options of [`generate_with`] that a [`Scene`] does not state.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Options {
+    /// The safety-distance map layout (safety method only).
+    pub safety_variant: SafetyVariant,
+}
+
+/// The flags a generated shader of `scene` sets, after checking the scene.
+pub fn scene_flags(scene: &Scene, opts: &Options) -> Result<Vec<&'static str>, GenError> {
+    if scene.ray_classes.0 == 0 || scene.ray_classes.0 > 15 {
+        return Err(GenError::Scene("the ray-class set is empty or unknown"));
+    }
+    let angle = scene.max_view_angle_deg;
+    if !(angle > 0.0 && angle <= 180.0) {
+        return Err(GenError::Scene("max_view_angle_deg is outside (0, 180]"));
+    }
+    if scene.lod {
+        return Err(GenError::Scene(if scene.method == MethodKind::MaxMip {
+            "LOD marching has no shader port"
+        } else {
+            "LOD marching is for maximum mipmaps only"
+        }));
+    }
+    if !supports(scene.method, scene.surface) {
+        return Err(GenError::SurfaceNotSupported {
+            method: scene.method,
+            surface: scene.surface,
+        });
+    }
+    let mut flags = vec![surface_flag(scene.surface)];
+    flags.push(match opts.safety_variant {
+        SafetyVariant::Directional => "directional",
+        SafetyVariant::Isotropic => "isotropic",
+    });
+    if scene.shadows || angle > 90.0 {
+        flags.push("upward");
+    }
+    flags.push(match scene.heights {
+        HeightFormat::F32 => "heights_f32",
+        HeightFormat::U16 => "heights_u16",
+        HeightFormat::U8 => "heights_u8",
+    });
+    Ok(flags)
+}
+
+/// The files `stems` of `lang` with the markers evaluated for `flags`.
+fn load(
+    lang: Lang,
+    stems: &[&'static str],
+    flags: &dyn Fn(&str) -> bool,
+) -> Result<Vec<(&'static str, String)>, GenError> {
+    stems
+        .iter()
+        .map(|&stem| {
+            let text = file(lang, stem).ok_or(GenError::MissingFile { lang, file: stem })?;
+            let name = format!("{stem}.{}", lang.ext());
+            directive::evaluate(text, &name, flags)
+                .map(|t| (stem, t))
+                .map_err(GenError::Source)
+        })
+        .collect()
+}
+
+/// The file separator line of the composed sources.
+fn separator(stem: &str, lang: Lang) -> String {
+    format!("// ---- {stem}.{}\n", lang.ext())
+}
+
+/// The general shader of `method`: its files concatenated, every marker flag set (so
+/// every surface and option is a runtime choice), marker lines removed. GLSL: the
+/// source `hf_shader_source` returns.
+pub fn general(method: MethodKind, lang: Lang) -> Result<String, GenError> {
+    let mut s = String::new();
+    for (stem, text) in load(lang, parts(method), &|_| true)? {
+        s.push_str(&separator(stem, lang));
+        s.push_str(&text);
+    }
+    Ok(s)
+}
+
+/// Parses evaluated files into segments.
+fn parse_all(lang: Lang, files: &[(&'static str, String)]) -> Result<Vec<Vec<Seg>>, GenError> {
+    files
+        .iter()
+        .map(|(stem, text)| {
+            shake::parse(text, &format!("{stem}.{}", lang.ext())).map_err(GenError::Source)
+        })
+        .collect()
+}
+
+/// Turns the input `name` (a GLSL uniform or WGSL override) into a constant of value
+/// `value` (an expression).
+fn make_const(lang: Lang, item: &mut Item, value: &str) -> Result<(), GenError> {
+    let code = item.text.trim();
+    let bad = || GenError::Source(format!("cannot make a constant of {code:?}"));
+    let text = match lang {
+        // `uniform T name;` -> `const T name = value;`
+        Lang::Glsl => {
+            let decl = code.strip_prefix("uniform ").ok_or_else(bad)?;
+            let decl = decl.strip_suffix(';').ok_or_else(bad)?;
+            format!("const {decl} = {value};\n")
+        }
+        // `override name: T = default;` -> `const name: T = value;`
+        Lang::Wgsl => {
+            let decl = code.strip_prefix("override ").ok_or_else(bad)?;
+            let decl = decl.split('=').next().ok_or_else(bad)?;
+            let decl = decl.trim().trim_end_matches(';');
+            format!("const {decl} = {value};\n")
+        }
+    };
+    item.text = text;
+    item.kind = Kind::Const;
+    item.refs = shake::identifiers(&item.text);
+    Ok(())
+}
+
+/// The shader of `scene` in `lang` with the default [`Options`]: see
+/// [`generate_with`].
+pub fn generate(scene: &Scene, lang: Lang) -> Result<String, GenError> {
+    generate_with(
+        scene,
+        lang,
+        &Options {
+            safety_variant: default_safety_variant(scene),
+        },
+    )
+}
+
+/// The shader of `scene` in `lang`: only the code the scene uses. The markers are
+/// evaluated for the scene's flags ([`scene_flags`]); `hf_surface` and
+/// `hf_safety_variant` become constants; then only the top-level items reachable from
+/// `Trace hf_trace(Query q)` stay. A header comment names the scene and lists the
+/// inputs (uniforms, textures, bindings) left for the caller to set.
+pub fn generate_with(scene: &Scene, lang: Lang, opts: &Options) -> Result<String, GenError> {
+    let flags = scene_flags(scene, opts)?;
+    let mut stems: Vec<&'static str> = parts(scene.method).to_vec();
+    if scene.heights != HeightFormat::F32 {
+        // Before `field`, whose functions read the heights through `field_at`.
+        let at = stems.iter().position(|s| *s == "field").unwrap_or(0);
+        stems.insert(at, FIELD_INT);
+    }
+    let files = load(lang, &stems, &|f| flags.contains(&f))?;
+    let mut segs = parse_all(lang, &files)?;
+    let surface_const = format!("HF_SURFACE_{}", surface_flag(scene.surface).to_uppercase());
+    let variant_const = match opts.safety_variant {
+        SafetyVariant::Directional => "HF_SAFETY_DIRECTIONAL",
+        SafetyVariant::Isotropic => "HF_SAFETY_ISOTROPIC",
+    };
+    for seg in segs.iter_mut().flatten() {
+        if let Seg::Item(it) = seg {
+            match (it.kind, it.name.as_str()) {
+                (Kind::Input, "hf_surface") => make_const(lang, it, &surface_const)?,
+                (Kind::Input, "hf_safety_variant") => make_const(lang, it, variant_const)?,
+                _ => {}
+            }
+        }
+    }
+    let keep = shake::reachable(&segs, &["hf_trace"]);
+    let mut inputs = Vec::new();
+    let body = shake::emit(
+        &segs,
+        |f, k, it| {
+            keep.contains(&(f, k)).then(|| {
+                if it.kind == Kind::Input {
+                    inputs.push(it.name.clone());
+                }
+                it.text.clone()
+            })
+        },
+        |f| separator(files[f].0, lang),
+    );
+    let classes: Vec<&str> = ["x+", "x-", "y+", "y-"]
+        .into_iter()
+        .enumerate()
+        .filter(|(k, _)| scene.ray_classes.0 & (1 << k) != 0)
+        .map(|(_, n)| n)
+        .collect();
+    let mut head = format!(
+        "// hfcast shader generated for one scene by hfcast-shaders (shaders/src/lib.rs).\n\
+         // Scene: method {}, surface {}, rays {}, {}, view angle <= {} deg, {}, {}, heights {:?}{}.\n\
+         // Flags: {}.\n",
+        scene.method.name(),
+        scene.surface.name(),
+        classes.join(","),
+        if scene.outside_only {
+            "viewpoints outside the box"
+        } else {
+            "viewpoints anywhere"
+        },
+        scene.max_view_angle_deg,
+        if scene.shadows { "shadows" } else { "no shadows" },
+        if scene.depth_output {
+            "depth output"
+        } else {
+            "no depth output"
+        },
+        scene.heights,
+        if scene.method == MethodKind::Safety {
+            format!(", safety map {:?}", opts.safety_variant)
+        } else {
+            String::new()
+        },
+        flags.join(" "),
+    );
+    head.push_str(&format!(
+        "// Entry point: Trace hf_trace(Query q). Inputs to set: {}.\n",
+        inputs.join(", ")
+    ));
+    Ok(head + &body)
+}
+
+/// The suffix of `method`'s names in the all-methods shader: `linear_binary`, …
+fn suffix(method: MethodKind) -> String {
+    method.name().replace('-', "_")
+}
+
+/// Every method in one shader: each method's `hf_trace` becomes `hf_trace_<method>`
+/// (`hf_trace_linear_binary`, …), and so does every function that depends on code
+/// the method's file defines (the closures of the shared marches: `cone_march`,
+/// `safety_march`, …), so that the cone and safety marches appear once per method that
+/// uses them; everything else appears once. `Trace hf_trace(Query q)` dispatches on
+/// the runtime `hf_method` (a GLSL uniform, a WGSL override), every marker flag set.
+pub fn all_methods(lang: Lang) -> Result<String, GenError> {
+    let files = load(lang, &FILE_ORDER, &|_| true)?;
+    let segs = parse_all(lang, &files)?;
+    let item = |&(f, k): &(usize, usize)| match &segs[f][k] {
+        Seg::Item(it) => Some(it),
+        _ => None,
+    };
+    let index = |stem: &str| FILE_ORDER.iter().position(|f| *f == stem);
+    // Names the method files declare, with their texts: an input declared differently
+    // by several of them (WGSL's `hf_params` at binding 2) becomes one struct with a
+    // member per method.
+    let mut texts: BTreeMap<&str, BTreeSet<&str>> = BTreeMap::new();
+    for m in MethodKind::ALL {
+        let f = index(parts(m)[parts(m).len() - 1]).unwrap_or_default();
+        for seg in &segs[f] {
+            if let Seg::Item(it) = seg {
+                texts.entry(&it.name).or_default().insert(&it.text);
+            }
+        }
+    }
+    let merged = |it: &Item| {
+        it.kind == Kind::Input && texts.get(it.name.as_str()).is_some_and(|t| t.len() > 1)
+    };
+    // Merged input name -> (its declaration up to the type, [(member, type)]).
+    let mut merged_inputs: BTreeMap<String, (String, Vec<(String, String)>)> = BTreeMap::new();
+    // Per item: the methods that reach it, each with whether it renames it.
+    let mut used: BTreeMap<(usize, usize), Vec<(usize, bool)>> = BTreeMap::new();
+    let mut renames: Vec<BTreeMap<String, String>> = Vec::new();
+    for (mi, m) in MethodKind::ALL.into_iter().enumerate() {
+        let own: BTreeSet<usize> = parts(m).iter().filter_map(|p| index(p)).collect();
+        let visible: Vec<Vec<Seg>> = segs
+            .iter()
+            .enumerate()
+            .map(|(f, s)| {
+                if own.contains(&f) {
+                    s.clone()
+                } else {
+                    Vec::new()
+                }
+            })
+            .collect();
+        // `HF_METHOD_<M>`: the dispatch's test.
+        let id = format!("HF_METHOD_{}", suffix(m).to_uppercase());
+        let keep = shake::reachable(&visible, &["hf_trace", &id]);
+        let method_file = index(parts(m)[parts(m).len() - 1]).unwrap_or_default();
+        let is_fn = |it: &&Item| matches!(it.kind, Kind::Function | Kind::Prototype);
+        // The method file's functions and conflicting names, then every function
+        // that refers to one of them.
+        let mut dep: BTreeSet<String> = keep
+            .iter()
+            .filter(|(f, _)| *f == method_file)
+            .filter_map(item)
+            .filter(is_fn)
+            .map(|it| it.name.clone())
+            .collect();
+        loop {
+            let more: Vec<String> = keep
+                .iter()
+                .filter_map(item)
+                .filter(is_fn)
+                .filter(|it| !dep.contains(&it.name) && it.refs.iter().any(|r| dep.contains(r)))
+                .map(|it| it.name.clone())
+                .collect();
+            if more.is_empty() {
+                break;
+            }
+            dep.extend(more);
+        }
+        for at in &keep {
+            let renamed = item(at).is_some_and(|it| dep.contains(&it.name));
+            used.entry(*at).or_default().push((mi, renamed));
+        }
+        let sfx = suffix(m);
+        let mut names: BTreeMap<String, String> = dep
+            .into_iter()
+            .map(|n| (n.clone(), format!("{n}_{sfx}")))
+            .collect();
+        for &at in &keep {
+            if let Some(it) = item(&at).filter(|it| merged(it)) {
+                names.insert(it.name.clone(), format!("{}.{sfx}", it.name));
+                let (head, ty) = it
+                    .text
+                    .trim()
+                    .rsplit_once(':')
+                    .ok_or_else(|| GenError::Source(format!("cannot merge {:?}", it.text)))?;
+                let ty = ty.trim().trim_end_matches(';').to_string();
+                merged_inputs
+                    .entry(it.name.clone())
+                    .or_insert_with(|| (head.to_string(), Vec::new()))
+                    .1
+                    .push((sfx.clone(), ty));
+            }
+        }
+        renames.push(names);
+    }
+    // Items every method shares appear once (identical declarations by several method
+    // files, such as `hf_surface`, once too); renamed ones once per method.
+    let mut emitted: BTreeSet<String> = BTreeSet::new();
+    let mut body = shake::emit(
+        &segs,
+        |f, k, it| {
+            let users = used.get(&(f, k)).filter(|_| !merged(it))?;
+            let mut text = String::new();
+            if users.iter().any(|u| !u.1) && emitted.insert(it.text.clone()) {
+                text.push_str(&it.text);
+            }
+            for &(mi, renamed) in users {
+                if renamed {
+                    text.push_str(&shake::rename(&it.text, &renames[mi]));
+                }
+            }
+            (!text.is_empty()).then_some(text)
+        },
+        |f| separator(FILE_ORDER[f], lang),
+    );
+    for (name, (head, members)) in &merged_inputs {
+        if lang == Lang::Glsl {
+            return Err(GenError::Source(format!(
+                "{name} is declared differently by two methods"
+            )));
+        }
+        let ty = format!("AllMethods_{name}");
+        body.push_str(&format!(
+            "\n// ---- {name} of every method, one binding (generated)\nstruct {ty} {{\n"
+        ));
+        for (member, mty) in members {
+            body.push_str(&format!("    @align(16) {member}: {mty},\n"));
+        }
+        body.push_str(&format!("}}\n\n{head}: {ty};\n"));
+    }
+    body.push_str(&dispatch(lang));
+    Ok(format!(
+        "// hfcast all-methods shader generated by hfcast-shaders (shaders/src/lib.rs): every\n\
+         // method, selected at run time by hf_method (HF_METHOD_*); every surface and option\n\
+         // a runtime choice as in the general shaders.\n{body}"
+    ))
+}
+
+/// The order of the files in a composed shader.
+const FILE_ORDER: [&str; 22] = [
+    "hfcast_shared",
+    "math",
+    "ray",
+    "field",
+    "surface",
+    "dda",
+    "search",
+    "maxmip",
+    "safety",
+    "cone",
+    "qdm",
+    "relaxed",
+    "cc",
+    "method_exact",
+    "method_linear_binary",
+    "method_linear_secant",
+    "method_maxmip",
+    "method_safety",
+    "method_cone",
+    "method_qdm",
+    "method_relaxed",
+    "method_cc",
+];
+
+/// The `hf_method` input and the dispatching `hf_trace` of the all-methods shader.
+fn dispatch(lang: Lang) -> String {
+    // The input and the entry point's head differ by language; the body is the same.
+    let head = match lang {
+        Lang::Glsl => "uniform uint hf_method;\n\nTrace hf_trace(Query q) {\n",
+        Lang::Wgsl => "override hf_method: u32 = 0u;\n\nfn hf_trace(q: Query) -> Trace {\n",
+    };
+    let mut s = format!("\n// ---- all-methods dispatch (generated)\n{head}");
+    let (last, rest) = MethodKind::ALL.split_last().expect("there are methods");
+    for &m in rest {
+        s.push_str(&format!(
+            "    if (hf_method == HF_METHOD_{}) {{\n        return hf_trace_{}(q);\n    }}\n",
+            suffix(m).to_uppercase(),
+            suffix(m)
+        ));
+    }
+    s.push_str(&format!("    return hf_trace_{}(q);\n}}\n", suffix(*last)));
+    s
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Compares a generated shared file with the committed one (`HFCAST_BLESS=1`
+    /// rewrites it).
+    fn check_shared(lang: Lang, fresh: &str) {
+        let path = format!(
+            "{}/{}/hfcast_shared.{}",
+            env!("CARGO_MANIFEST_DIR"),
+            lang.ext(),
+            lang.ext()
+        );
+        if std::env::var_os("HFCAST_BLESS").is_some() {
+            std::fs::write(&path, fresh).expect("write the shared file");
+            return;
+        }
+        let committed = std::fs::read_to_string(&path).unwrap_or_default();
+        assert!(
+            committed == fresh,
+            "{path} is out of date: regenerate it with \
+             `HFCAST_BLESS=1 cargo test -p hfcast-shaders` and commit it"
+        );
+        // The compiled-in copy is the committed one.
+        assert_eq!(file(lang, "hfcast_shared"), Some(committed.as_str()));
+    }
+
+    #[test]
+    fn shared_files_are_current() {
+        check_shared(Lang::Glsl, &glsl_shared());
+        check_shared(Lang::Wgsl, &wgsl_shared());
+    }
+
+    #[test]
+    fn shared_numbers_are_the_cores() {
+        assert_eq!(MAX_LEVELS, hfcast::maxmip::MAX_LEVELS as u32);
+        assert_eq!(SAFETY_SEG_PAD, hfcast::safety::SEG_PAD as f32);
+        assert_eq!(CC_NO_CONE, u32::from(hfcast::safety::cc::NO_CONE));
+        assert_eq!(
+            SafetyVariant::Isotropic as usize,
+            hfcast::safety::Variant::Isotropic as usize
+        );
+    }
+
+    #[test]
+    fn every_method_has_one_hf_trace_and_no_version_line() {
+        for m in MethodKind::ALL {
+            let s = general(m, Lang::Glsl).unwrap();
+            assert_eq!(
+                s.matches("Trace hf_trace(Query q)").count(),
+                1,
+                "{}",
+                m.name()
+            );
+            assert!(!s.contains("#version") && !s.contains("//#"));
+        }
+    }
+}

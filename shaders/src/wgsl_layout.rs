@@ -1,0 +1,32 @@
+//! The resource layout of the WGSL ports: the fixed `@group(0)` binding numbers of
+//! the resources the files of `shaders/wgsl` declare, a contract with every caller
+//! that binds them (the table at the top of `hfcast_shared.wgsl` is rendered from
+//! these). Any set of files composes without clashes; bindings 11 to 15 of group 0 are
+//! reserved, and a caller's own resources go in `@group(1)` or later.
+
+/// `hf_heights`: `texture_2d<f32>`, R32Float, W × H (field.wgsl); in a shader
+/// generated for 16- or 8-bit heights a `texture_2d<u32>`, R16Uint or R8Uint
+/// (field_int.wgsl).
+pub const HEIGHTS: u32 = 0;
+/// `hf_field`: uniform `FieldParams` (field.wgsl).
+pub const FIELD: u32 = 1;
+/// `hf_params`: uniform, the method's step counts (method_*.wgsl).
+pub const PARAMS: u32 = 2;
+/// `hf_pyramid`: `texture_2d<f32>`, R32Float, the pyramid buffer in rows of
+/// [`PYRAMID_TEX_WIDTH`](crate::PYRAMID_TEX_WIDTH) texels (maxmip.wgsl).
+pub const PYRAMID: u32 = 3;
+/// `hf_maxmip`: uniform `MaxMipParams` (maxmip.wgsl).
+pub const MAXMIP: u32 = 4;
+/// `hf_safety_map`: `texture_2d<u32>`, RGBA8Uint (directional) or R8Uint
+/// (isotropic), W × H (safety.wgsl).
+pub const SAFETY_MAP: u32 = 5;
+/// `hf_cone_map`: `texture_2d<f32>`, RG32Float, (W − 1) × (H − 1) (cone.wgsl).
+pub const CONE_MAP: u32 = 6;
+/// `hf_qdm_map`: `texture_2d<f32>`, RGBA32Float, (W − 1) × (H − 1) (qdm.wgsl).
+pub const QDM_MAP: u32 = 7;
+/// `hf_relaxed_map`: `texture_2d<f32>`, R32Float, W × H (relaxed.wgsl).
+pub const RELAXED_MAP: u32 = 8;
+/// `hf_cc_map`: `texture_2d<u32>`, RGBA8Uint, 4W × H (cc.wgsl).
+pub const CC_MAP: u32 = 9;
+/// `hf_cc`: uniform `CcParams` (cc.wgsl).
+pub const CC: u32 = 10;

@@ -1,0 +1,338 @@
+//! Every shader the generator can make, compiled: GLSL with glslangValidator (CI
+//! installs glslang-tools; the test fails without it), WGSL with naga
+//! (`ValidationFlags::all()`); and properties of the generated text.
+
+use hfcast::scene::{HeightFormat, MethodKind, RayClasses, Scene};
+use hfcast::Surface;
+use hfcast_shaders::{
+    all_methods, general, generate, generate_with, parts, supports, GenError, Lang, Options,
+    SafetyVariant,
+};
+use std::collections::BTreeMap;
+use std::path::PathBuf;
+use std::process::Command;
+
+/// Every scene worth a distinct shader, with its options: method × supported surface ×
+/// shadows × view angle × height format × safety layout, plus the choices that change
+/// no shader code (ray classes, outside-only, depth output).
+fn scenes() -> Vec<(Scene, Options)> {
+    let mut out = Vec::new();
+    for method in MethodKind::ALL {
+        for surface in Surface::ALL {
+            if !supports(method, surface) {
+                continue;
+            }
+            for shadows in [true, false] {
+                for angle in [180.0, 80.0] {
+                    for heights in [HeightFormat::F32, HeightFormat::U16, HeightFormat::U8] {
+                        for variant in [SafetyVariant::Directional, SafetyVariant::Isotropic] {
+                            if variant == SafetyVariant::Isotropic && method != MethodKind::Safety {
+                                continue;
+                            }
+                            let scene = Scene {
+                                shadows,
+                                max_view_angle_deg: angle,
+                                heights,
+                                outside_only: !shadows,
+                                ray_classes: if shadows {
+                                    RayClasses::ALL
+                                } else {
+                                    RayClasses(0b0101)
+                                },
+                                depth_output: shadows,
+                                ..Scene::general(method, surface)
+                            };
+                            out.push((
+                                scene,
+                                Options {
+                                    safety_variant: variant,
+                                },
+                            ));
+                        }
+                    }
+                }
+            }
+        }
+    }
+    out
+}
+
+/// `(label, text)` of every distinct shader of `lang` (shaders that differ only in
+/// their header comment count once): generated, general, all-methods.
+fn shaders(lang: Lang) -> BTreeMap<String, String> {
+    // Code (comments dropped) -> (label, text).
+    let mut by_code: BTreeMap<String, (String, String)> = BTreeMap::new();
+    let mut generated = 0;
+    for (scene, opts) in scenes() {
+        let label = format!(
+            "{}_{}_{}_{}_{:?}_{:?}",
+            scene.method.name(),
+            scene.surface.name(),
+            if scene.shadows {
+                "shadows"
+            } else {
+                "noshadows"
+            },
+            scene.max_view_angle_deg,
+            scene.heights,
+            opts.safety_variant
+        );
+        match generate_with(&scene, lang, &opts) {
+            Ok(text) => {
+                generated += 1;
+                by_code.entry(code(&text)).or_insert((label, text));
+            }
+            // The WGSL port has no 16/8-bit height file.
+            Err(GenError::MissingFile { .. }) if scene.heights != HeightFormat::F32 => {}
+            Err(e) => panic!("{label}: {e}"),
+        }
+    }
+    eprintln!(
+        "{}: {generated} scenes generated, {} distinct shaders",
+        lang.ext(),
+        by_code.len()
+    );
+    for m in MethodKind::ALL {
+        let text = general(m, lang).unwrap();
+        by_code.insert(code(&text), (format!("general_{}", m.name()), text));
+    }
+    let text = all_methods(lang).unwrap();
+    by_code.insert(code(&text), ("all_methods".into(), text));
+    by_code.into_values().collect()
+}
+
+fn tmp_dir(name: &str) -> PathBuf {
+    let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join(name);
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+/// A fragment shader around `src`: the version line and a main that traces one ray.
+fn glsl_fragment(src: &str) -> String {
+    format!(
+        "#version 330 core\n{src}\nout vec4 hf_out;\nvoid main() {{\n    \
+         Trace tr = hf_trace(Query(vec3(gl_FragCoord.xy, 100.0), vec3(0.3, 0.2, -1.0), 0.0, 1e30));\n    \
+         hf_out = vec4(tr.hit.point, tr.has_hit ? tr.hit.t : -1.0);\n}}\n"
+    )
+}
+
+#[test]
+fn every_generated_glsl_shader_compiles_with_glslang() {
+    let dir = tmp_dir("glsl");
+    let all = shaders(Lang::Glsl);
+    let mut failed = Vec::new();
+    for (label, text) in &all {
+        let path = dir.join(format!("{label}.frag"));
+        std::fs::write(&path, glsl_fragment(text)).unwrap();
+        let out = Command::new("glslangValidator")
+            .arg(&path)
+            .output()
+            .expect("glslangValidator must be installed (apt-get install glslang-tools)");
+        if !out.status.success() {
+            failed.push(format!("{label}: {}", String::from_utf8_lossy(&out.stdout)));
+        }
+    }
+    assert!(failed.is_empty(), "{}", failed.join("\n"));
+    eprintln!("glslang: {} distinct GLSL shaders compile", all.len());
+    assert!(all.len() > 50, "only {} shaders", all.len());
+}
+
+#[test]
+fn every_generated_wgsl_shader_validates_with_naga() {
+    if parts(MethodKind::Cc)
+        .iter()
+        .any(|p| hfcast_shaders::file(Lang::Wgsl, p).is_none())
+    {
+        panic!("the WGSL port is incomplete");
+    }
+    let all = shaders(Lang::Wgsl);
+    let mut failed = Vec::new();
+    for (label, text) in &all {
+        // An entry point that calls hf_trace, so that everything is validated as used.
+        let src = format!(
+            "{text}\n@fragment\nfn hf_main(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {{\n    \
+             let tr = hf_trace(Query(vec3<f32>(pos.xy, 100.0), vec3<f32>(0.3, 0.2, -1.0), 0.0, 1e30));\n    \
+             return vec4<f32>(tr.hit.point, tr.hit.t);\n}}\n"
+        );
+        let module = match naga::front::wgsl::parse_str(&src) {
+            Ok(m) => m,
+            Err(e) => {
+                failed.push(format!("{label}: {}", e.emit_to_string(&src)));
+                continue;
+            }
+        };
+        let mut v = naga::valid::Validator::new(
+            naga::valid::ValidationFlags::all(),
+            naga::valid::Capabilities::all(),
+        );
+        if let Err(e) = v.validate(&module) {
+            failed.push(format!("{label}: {}", e.emit_to_string(&src)));
+        }
+    }
+    assert!(failed.is_empty(), "{}", failed.join("\n"));
+    eprintln!("naga: {} distinct WGSL shaders validate", all.len());
+}
+
+/// The general shader with the markers' lines removed by a separate reading: drop the
+/// marker lines and the `//#else` branches (the general shader sets every flag).
+fn marker_free(method: MethodKind, lang: Lang) -> String {
+    let mut s = String::new();
+    for stem in parts(method) {
+        let text = hfcast_shaders::file(lang, stem).unwrap();
+        s.push_str(&format!("// ---- {stem}.{}\n", lang.ext()));
+        let mut skipping: Vec<bool> = Vec::new();
+        for line in text.lines() {
+            match line.trim() {
+                t if t.starts_with("//#if") => skipping.push(false),
+                "//#else" => *skipping.last_mut().unwrap() = true,
+                "//#endif" => {
+                    skipping.pop();
+                }
+                _ if skipping.iter().any(|s| *s) => {}
+                _ => {
+                    s.push_str(line);
+                    s.push('\n');
+                }
+            }
+        }
+    }
+    s
+}
+
+#[test]
+fn general_shaders_are_the_files_without_markers() {
+    for lang in Lang::ALL {
+        for m in MethodKind::ALL {
+            assert!(
+                general(m, lang).unwrap() == marker_free(m, lang),
+                "{}",
+                m.name()
+            );
+        }
+    }
+}
+
+/// The lines of `s` that are not comments.
+fn code(s: &str) -> String {
+    s.lines()
+        .filter(|l| !l.trim_start().starts_with("//"))
+        .map(|l| format!("{l}\n"))
+        .collect()
+}
+
+fn lines(s: &str) -> usize {
+    s.lines().count()
+}
+
+#[test]
+fn a_minimal_shader_leaves_out_what_its_scene_does_not_use() {
+    let scene = Scene {
+        shadows: false,
+        max_view_angle_deg: 80.0,
+        ..Scene::general(MethodKind::Exact, Surface::Triangles)
+    };
+    for lang in Lang::ALL {
+        let (uniform, constant) = match lang {
+            Lang::Glsl => (
+                "uniform uint hf_surface",
+                "const uint hf_surface = HF_SURFACE_TRIANGLES;",
+            ),
+            Lang::Wgsl => (
+                "override hf_surface",
+                "const hf_surface: u32 = HF_SURFACE_TRIANGLES;",
+            ),
+        };
+        let min = code(&generate(&scene, lang).unwrap());
+        let gen = code(&general(MethodKind::Exact, lang).unwrap());
+        // Each is in the general shader and not in the minimal one.
+        for absent in [
+            "surface_bilinear",
+            "HF_SURFACE_BILINEAR",
+            "HF_SURFACE_LINEAR_PLANES",
+            "surface_height_planes_segment",
+            "surface_is_continuous",
+            uniform,
+            "d[2] > 0.0",
+        ] {
+            assert!(!min.contains(absent), "{absent} in\n{min}");
+            assert!(gen.contains(absent), "{absent} not in the general shader");
+        }
+        for absent in ["hf_pyramid", "hf_safety_map", "search_", "hf_method"] {
+            assert!(!min.contains(absent), "{absent} in\n{min}");
+        }
+        assert!(min.contains(constant), "{min}");
+        assert!(min.contains("surface_triangles_segment"));
+        assert!(
+            lines(&min) * 3 < lines(&gen) * 2,
+            "{} vs {}",
+            lines(&min),
+            lines(&gen)
+        );
+        let all = all_methods(lang).unwrap();
+        assert!(lines(&gen) < lines(&all));
+        // With shadows the upward branch stays; another surface keeps only its own.
+        let shadowed =
+            generate(&Scene::general(MethodKind::Exact, Surface::Bilinear), lang).unwrap();
+        assert!(shadowed.contains("d[2] > 0.0") && shadowed.contains("surface_bilinear_segment"));
+        assert!(!shadowed.contains("surface_triangles_segment"));
+    }
+}
+
+#[test]
+fn generated_shaders_keep_only_their_method_inputs() {
+    let cc = generate(
+        &Scene::general(MethodKind::Cc, Surface::Triangles),
+        Lang::Glsl,
+    )
+    .unwrap();
+    assert!(cc.contains("uniform usampler2D hf_cc_map;"));
+    assert!(!cc.contains("uniform usampler2D hf_safety_map") && !cc.contains("hf_safety_variant;"));
+    let sd = |v| {
+        let scene = Scene::general(MethodKind::Safety, Surface::Triangles);
+        generate_with(&scene, Lang::Glsl, &Options { safety_variant: v }).unwrap()
+    };
+    assert!(sd(SafetyVariant::Directional).contains("return v[ray_class];"));
+    // The bake plan's layout: isotropic for one ray class.
+    let one_class = Scene {
+        ray_classes: RayClasses(0b0001),
+        ..Scene::general(MethodKind::Safety, Surface::Triangles)
+    };
+    assert!(generate(&one_class, Lang::Glsl)
+        .unwrap()
+        .contains("return v.r;"));
+    assert!(sd(SafetyVariant::Isotropic).contains("return v.r;"));
+    assert!(!sd(SafetyVariant::Isotropic).contains("v[ray_class]"));
+    let u16 = Scene {
+        heights: HeightFormat::U16,
+        ..Scene::general(MethodKind::MaxMip, Surface::HeightPlanes)
+    };
+    let text = generate(&u16, Lang::Glsl).unwrap();
+    assert!(text.contains("uniform usampler2D hf_heights;") && text.contains("hf_height_step"));
+    assert!(!text.contains("uniform sampler2D hf_heights;"));
+}
+
+#[test]
+fn unsupported_scenes_are_errors() {
+    let bad = Scene::general(MethodKind::Cc, Surface::Bilinear);
+    assert!(matches!(
+        generate(&bad, Lang::Glsl),
+        Err(GenError::SurfaceNotSupported { .. })
+    ));
+    let lod = Scene {
+        lod: true,
+        ..Scene::general(MethodKind::MaxMip, Surface::Triangles)
+    };
+    assert!(matches!(
+        generate(&lod, Lang::Glsl),
+        Err(GenError::Scene(_))
+    ));
+    let none = Scene {
+        ray_classes: RayClasses(0),
+        ..Scene::general(MethodKind::Exact, Surface::Triangles)
+    };
+    assert!(matches!(
+        generate(&none, Lang::Glsl),
+        Err(GenError::Scene(_))
+    ));
+}

@@ -1,0 +1,9 @@
+// HF_METHOD_CC: hf_trace is safety::cc::trace (triangle surface only).
+
+// The closure of `cc::trace`: the texel's shape for the class, then `cone_step`.
+fn safety_march_jump(l: SafetyLine, ray_class: u32, i: u32, j: u32, d: vec3<f32>) -> u32 {
+    let rise = cc_rise(d);
+    return cc_cone_step(cc_texel(ray_class, i, j), l.p[2], l.tol, rise[0], rise[1]);
+}
+
+fn hf_trace(q: Query) -> Trace { return cc_trace(q); }

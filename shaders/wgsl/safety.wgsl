@@ -1,0 +1,343 @@
+// Mirror of core/src/safety.rs (the march; the bake stays on the CPU): safety
+// distances (Baboud, Eisemann, Seidel 2011) on the triangle surface. The walk is the
+// one of dda_trace up to the ray's first centerline of its main axis; then at each
+// centerline m: fetch k, evaluate the clearance at m + k from the two samples on that
+// centerline; above, jump; below, bisect on integer centerlines and finish with the
+// exact cell test.
+//
+// Texture layout: the map of hf_safety_bake as `hf_safety_map`, a W x H integer
+// texture: RGBA8Uint for HF_SAFETY_DIRECTIONAL (channel = ray ray_class: x+, x-, y+,
+// y-), R8Uint for HF_SAFETY_ISOTROPIC; the override `hf_safety_variant` says which.
+
+@group(0) @binding(5) var hf_safety_map: texture_2d<u32>;
+override hf_safety_variant: u32 = 0u;
+
+// `SafetyMap::distance`: safety distance of texel (i, j) for `ray_class`.
+fn safety_distance(ray_class: u32, i: u32, j: u32) -> u32 {
+    let v = textureLoad(hf_safety_map, vec2<u32>(i, j), 0);
+//#if any_variant
+    return select(v.r, v[ray_class], hf_safety_variant == HF_SAFETY_DIRECTIONAL);
+//#else
+//#if directional
+    return v[ray_class];
+//#endif
+//#if isotropic
+    return v.r;
+//#endif
+//#endif
+}
+
+// `axis_of`: main axis (0 = x, 1 = y) of a ray_class.
+fn safety_axis_of(ray_class: u32) -> i32 {
+    return select(1, 0, ray_class == HF_RAY_CLASS_X_POS || ray_class == HF_RAY_CLASS_X_NEG);
+}
+
+// `sample`: sample at main index m, minor index n of axis ax.
+fn safety_sample(ax: i32, m: u32, n: u32) -> f32 {
+    if (ax == 0) {
+        return field_at(m, n);
+    }
+    return field_at(n, m);
+}
+
+// `extents`: samples along (main, minor) of axis ax.
+fn safety_extents(ax: i32) -> vec2<u32> {
+    return select(vec2<u32>(field_height(), field_width()), vec2<u32>(field_width(), field_height()),
+                  ax == 0);
+}
+
+// `Line<f32>`: the ray where it crosses the main-axis centerline m.
+struct SafetyLine {
+    m: u32,
+    t: f32,
+    p: vec3<f32>,
+    c: f32,
+    edge: u32,
+    texel: u32,
+    tol: f32,
+}
+
+// `line_at`: evaluates the crossing of centerline m of axis ax; two fetches.
+fn safety_line_at(q: Query, ax: i32, m: u32) -> SafetyLine {
+    let o = q.origin;
+    let d = q.dir;
+    let mi = 1 - ax;
+    let ln = safety_extents(ax)[1];
+    let t = (f32(m) - o[ax]) / d[ax];
+    var p = query_at(q, t);
+    p[ax] = f32(m);
+    let y = real_clamp_to(p[mi], 0.0, f32(ln - 1u));
+    let edge = min(u32(floor(y)), ln - 2u);
+    let v = y - f32(edge);
+    let h0 = safety_sample(ax, m, edge);
+    let h1 = safety_sample(ax, m, edge + 1u);
+    let c = p[2] - real_lerp(h0, h1, v);
+    let texel = select(edge + 1u, edge, v < 0.5);
+    let ys = 1.0 + abs(o[mi]) + abs(p[mi]);
+    let zs = 1.0 + abs(o[2]) + abs(p[2]) + abs(h0) + abs(h1 - h0) * ys;
+    let rel = real_max(32.0 * REAL_EPSILON, 9.313225746154785e-10);
+    let tol = select(rel * zs, real_infinity(), 8.0 * REAL_EPSILON * ys > HF_SAFETY_SEG_PAD);
+    return SafetyLine(m, t, p, c, edge, texel, tol);
+}
+
+// `Step`: what one stretch of cell-by-cell walking came to.
+const SAFETY_STEP_HIT: i32 = 0;
+const SAFETY_STEP_LINE: i32 = 1;
+const SAFETY_STEP_END: i32 = 2;
+
+// `March`: the state of the march, the cell walk of dda_trace.
+struct SafetyMarch {
+    span: Span,
+    ax: i32,
+    step: vec2<i32>,
+    cells: vec2<u32>,
+    ic: vec2<u32>,
+    c: vec4<f32>,
+    stale: bool,
+    a: vec3<f32>,
+    ca: f32,
+    ta: f32,
+    wall: vec3<f32>,
+    tn: vec2<f32>,
+    fetches: u32,
+    clearance: f32,
+}
+
+// `March::line`: a centerline evaluation, counted.
+fn safety_march_line(mr: ptr<function, SafetyMarch>, q: Query, m: u32) -> SafetyLine {
+    (*mr).fetches += 2u;
+    let l = safety_line_at(q, (*mr).ax, m);
+    if (l.c > 0.0) {
+        (*mr).clearance = real_min((*mr).clearance, l.c);
+    }
+    return l;
+}
+
+// `March::wall_of`: normal of a wall facing the ray on `axis`.
+fn safety_march_wall_of(mr: SafetyMarch, axis: i32) -> vec3<f32> {
+    var n = vec3<f32>(0.0);
+    n[axis] = select(1.0, -1.0, mr.step[axis] > 0);
+    return n;
+}
+
+// `March::enter`: puts the walk just past the crossing l (above the surface).
+fn safety_march_enter(mr: ptr<function, SafetyMarch>, q: Query, l: SafetyLine) {
+    let ax = (*mr).ax;
+    let mi = 1 - (*mr).ax;
+    let o = q.origin;
+    let d = q.dir;
+    (*mr).ic[ax] = select(l.m - 1u, l.m, (*mr).step[ax] > 0);
+    let y = real_clamp_to(l.p[mi], 0.0, f32((*mr).cells[mi]));
+    (*mr).ic[mi] = dda_cell_index(y, d[mi], (*mr).cells[mi]);
+    (*mr).a[ax] = select(1.0, 0.0, (*mr).step[ax] > 0);
+    (*mr).a[mi] = real_clamp_to(l.p[mi] - f32((*mr).ic[mi]), 0.0, 1.0);
+    (*mr).a[2] = l.p[2];
+    (*mr).ca = l.c;
+    (*mr).ta = l.t;
+    (*mr).wall = safety_march_wall_of(*mr, ax);
+    for (var k = 0; k < 2; k++) {
+        (*mr).tn[k] = dda_next_crossing((*mr).ic[k], (*mr).step[k], o[k], d[k]);
+    }
+    (*mr).stale = true;
+}
+
+// `March::walk`: walks cell by cell, as dda_trace, up to the next main-axis
+// centerline (SAFETY_STEP_LINE, `line`), the hit (SAFETY_STEP_HIT, `hit`), or the end.
+fn safety_march_walk(mr: ptr<function, SafetyMarch>, q: Query, hit: ptr<function, Hit>,
+                     line: ptr<function, SafetyLine>) -> i32 {
+    let ax = (*mr).ax;
+    let mi = 1 - (*mr).ax;
+    let o = q.origin;
+    let d = q.dir;
+    *hit = hit_none();
+    *line = SafetyLine(0u, 0.0, vec3<f32>(0.0), 0.0, 0u, 0u, 0.0);
+    loop {
+        if ((*mr).stale) {
+            (*mr).c = surface_corners((*mr).ic[0], (*mr).ic[1]);
+            (*mr).fetches += 4u;
+            (*mr).stale = false;
+        }
+        let t_next = real_min((*mr).tn[0], (*mr).tn[1]);
+        var tb: f32;
+        var cross: vec2<bool>;
+        if (t_next < (*mr).span.t1) {
+            tb = real_max(t_next, (*mr).ta);
+            cross = vec2<bool>((*mr).tn[0] <= t_next, (*mr).tn[1] <= t_next);
+        } else {
+            tb = (*mr).span.t1;
+            cross = vec2<bool>(false);
+        }
+        let on = vec2<i32>(select(-1, i32((*mr).step[0] > 0), cross[0]),
+                           select(-1, i32((*mr).step[1] > 0), cross[1]));
+        let p = query_at(q, tb);
+        var b: vec3<f32>;
+        var cb = dda_local_clearance(HF_SURFACE_TRIANGLES, (*mr).c, (*mr).ic, p, on, &b);
+        var has_line = false;
+        if (cross[ax]) {
+            // The clearance the jumps use at this centerline (same samples, same
+            // arithmetic), so walking and jumping agree.
+            let m = select((*mr).ic[ax], (*mr).ic[ax] + 1u, (*mr).step[ax] > 0);
+            let l = safety_line_at(q, ax, m);
+            if (l.edge != (*mr).ic[mi]) {
+                (*mr).fetches += 2u;
+            }
+            cb = l.c;
+            *line = l;
+            has_line = true;
+        }
+        let seg = surface_segment_hit(HF_SURFACE_TRIANGLES, (*mr).c, (*mr).a, b, (*mr).ca, cb, (*mr).wall);
+        (*mr).clearance = real_min((*mr).clearance, seg.clearance);
+        if (seg.has_hit) {
+            let s = seg.s;
+            let a = (*mr).a;
+            let ic = (*mr).ic;
+            let point = vec3<f32>(f32(ic[0]) + (a[0] + s * (b[0] - a[0])),
+                                  f32(ic[1]) + (a[1] + s * (b[1] - a[1])),
+                                  a[2] + s * (b[2] - a[2]));
+            *hit = Hit((*mr).ta + s * (tb - (*mr).ta), point, ic, seg.normal, seg.flags);
+            return SAFETY_STEP_HIT;
+        }
+        if (!(cross[0] || cross[1])) {
+            return SAFETY_STEP_END;
+        }
+        for (var k = 0; k < 2; k++) {
+            if (cross[k]) {
+                let next = i32((*mr).ic[k]) + (*mr).step[k];
+                if (next < 0 || next >= i32((*mr).cells[k])) {
+                    return SAFETY_STEP_END;
+                }
+                (*mr).ic[k] = u32(next);
+                (*mr).tn[k] = dda_next_crossing((*mr).ic[k], (*mr).step[k], o[k], d[k]);
+            }
+        }
+        (*mr).wall = safety_march_wall_of(*mr, select(1, 0, cross[0]));
+        (*mr).a = vec3<f32>(select(b[0], 1.0 - b[0], cross[0]), select(b[1], 1.0 - b[1], cross[1]), b[2]);
+        (*mr).ca = cb;
+        (*mr).ta = tb;
+        (*mr).stale = true;
+        if (has_line) {
+            return SAFETY_STEP_LINE;
+        }
+    }
+    return SAFETY_STEP_END;
+}
+
+// `March::done`.
+fn safety_march_done(mr: SafetyMarch, has_hit: bool, hit: Hit, flags: u32) -> Trace {
+    return Trace(has_hit, hit, mr.fetches, mr.clearance, flags);
+}
+
+// `last_line`: last main-axis centerline the ray crosses strictly before t1 (false
+// when there is none), with the crossing formula of the walk.
+fn safety_last_line(q: Query, ax: i32, sg: i32, t1: f32, last: ptr<function, u32>) -> bool {
+    let o = q.origin;
+    let d = q.dir;
+    let lm = i32(safety_extents(ax)[0]);
+    let x1 = real_clamp_to(o[ax] + t1 * d[ax], 0.0, f32(lm - 1));
+    var m = i32(floor(x1)) + i32(sg < 0 && floor(x1) != x1);
+    while (m >= 0 && m < lm && (f32(u32(m)) - o[ax]) / d[ax] >= t1) {
+        m -= sg;
+    }
+    while (m + sg >= 0 && m + sg < lm && (f32(u32(m + sg)) - o[ax]) / d[ax] < t1) {
+        m += sg;
+    }
+    *last = u32(max(m, 0));
+    return m >= 0 && m < lm;
+}
+
+// The closure `jump(line, class, i, j)` of `march`: reads the baked data of texel
+// (i, j) (one fetch, counted by the march) and returns how many centerlines the ray
+// crossing `l` above that texel's segment may skip (`d` is the query's direction,
+// which the Rust closures capture). Defined by the method's file (method_safety.wgsl,
+// method_cc.wgsl):
+// fn safety_march_jump(l: SafetyLine, ray_class: u32, i: u32, j: u32, d: vec3<f32>) -> u32
+
+// `march`: the march shared by the safety-shape methods.
+fn safety_march(q: Query) -> Trace {
+    var span: Span;
+    if (!dda_clip(q, &span)) {
+        return trace_miss(0u, real_infinity());
+    }
+    let o = q.origin;
+    let d = q.dir;
+    let ray_class = ray_class_of(d[0], d[1]);
+    let ax = safety_axis_of(ray_class);
+    let cells = vec2<u32>(field_width() - 1u, field_height() - 1u);
+    let p0 = query_at(q, span.t0);
+    let x0 = real_clamp_to(p0[0], 0.0, f32(cells[0]));
+    let y0 = real_clamp_to(p0[1], 0.0, f32(cells[1]));
+    let step = vec2<i32>(dda_step_of(d[0]), dda_step_of(d[1]));
+    let ic = vec2<u32>(dda_cell_index(x0, d[0], cells[0]), dda_cell_index(y0, d[1], cells[1]));
+    let c = surface_corners(ic[0], ic[1]);
+    var a: vec3<f32>;
+    let ca = dda_local_clearance(HF_SURFACE_TRIANGLES, c, ic, vec3<f32>(x0, y0, p0[2]), vec2<i32>(-1), &a);
+    if (ca <= 0.0) {
+        return trace_hit(dda_start_hit(HF_SURFACE_TRIANGLES, span, c, ic, a, p0), 4u,
+                         dda_start_clearance(span, ca));
+    }
+    var mr = SafetyMarch(span, ax, step, cells, ic, c, false, a, ca, span.t0,
+                         vec3<f32>(0.0, 0.0, 1.0),
+                         vec2<f32>(dda_next_crossing(ic[0], step[0], o[0], d[0]),
+                                   dda_next_crossing(ic[1], step[1], o[1], d[1])),
+                         4u, ca);
+    let sg = step[ax];
+    var last = 0u;
+    let has_last = sg != 0 && safety_last_line(q, ax, sg, span.t1, &last);
+    var budget = safety_extents(ax)[0] + 8u;
+    var hit: Hit;
+    var l: SafetyLine;
+    var st = safety_march_walk(&mr, q, &hit, &l);
+    loop {
+        if (st == SAFETY_STEP_HIT) {
+            return safety_march_done(mr, true, hit, 0u);
+        } else if (st == SAFETY_STEP_END) {
+            return safety_march_done(mr, false, hit_none(), 0u);
+        }
+        if (budget == 0u) {
+            return safety_march_done(mr, false, hit_none(), HF_FLAG_BUDGET_EXHAUSTED);
+        }
+        budget -= 1u;
+        if (!has_last || last == l.m) {
+            st = safety_march_walk(&mr, q, &hit, &l);
+            continue;
+        }
+        var k = 0u;
+        if (l.c > l.tol) {
+            mr.fetches += 1u;
+            let ij = select(vec2<u32>(l.texel, l.m), vec2<u32>(l.m, l.texel), ax == 0);
+            k = safety_march_jump(l, ray_class, ij[0], ij[1], d);
+        }
+        if (k == 0u) {
+            st = safety_march_walk(&mr, q, &hit, &l);
+            continue;
+        }
+        let room = u32(abs(i32(last) - i32(l.m)));
+        // `target` in Rust and GLSL, a reserved word in WGSL.
+        let goal = u32(i32(l.m) + sg * i32(min(k, room)));
+        let lt = safety_march_line(&mr, q, goal);
+        if (lt.c > 0.0) {
+            safety_march_enter(&mr, q, lt);
+            l = lt;
+            st = SAFETY_STEP_LINE;
+            continue;
+        }
+        // Below at the target, above at m, and no exit in between: bisect.
+        var lo = l;
+        var hi = goal;
+        while (abs(i32(hi) - i32(lo.m)) > 1) {
+            let mid = u32((i32(hi) + i32(lo.m)) / 2);
+            let lm = safety_march_line(&mr, q, mid);
+            if (lm.c > 0.0) {
+                lo = lm;
+            } else {
+                hi = mid;
+            }
+        }
+        safety_march_enter(&mr, q, lo);
+        st = safety_march_walk(&mr, q, &hit, &l);
+    }
+    return safety_march_done(mr, false, hit_none(), 0u);
+}
+
+// `trace`: traces q on the triangle surface with the safety distances.
+fn safety_trace(q: Query) -> Trace { return safety_march(q); }

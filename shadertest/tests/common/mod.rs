@@ -1,0 +1,1074 @@
+//! The harness both WGSL tests share: the test-side compute entry point, the Vulkan
+//! device (lavapipe in CI), scenes with every bake, their textures and uniforms in
+//! the binding layout of `shaders/wgsl`, the table of cases, the rays, and one call
+//! that runs a case's march over a batch of rays and reads the answers back.
+#![allow(dead_code)] // each test binary uses a different part
+
+use hfcast::cone::{self, ConeMap};
+use hfcast::maxmip::{self, Layout, MaxMip};
+use hfcast::qdm::{self, QdmMap};
+use hfcast::relaxed;
+use hfcast::safety::cc::{self, CcMap, CcOptions, Slope};
+use hfcast::safety::{self, SafetyMap, Variant};
+use hfcast::scene::{HeightFormat, MethodKind};
+use hfcast::{HeightField, Query, SearchSteps, Surface, Trace};
+use hfcast_shaders::{wgsl_layout as binding, Lang, SafetyVariant, PYRAMID_TEX_WIDTH};
+use hfcast_tools::Rng;
+use wgpu::util::DeviceExt;
+
+/// The test-side entry point appended to a method's source: one invocation per ray,
+/// read from a storage buffer, traced with `hf_trace`, the `Trace` written out as
+/// plain numbers (a `bool` is not host-shareable). Its resources are in `@group(1)`.
+pub const WRAPPER: &str = r#"
+// ---- test entry point (shadertest/tests/common/mod.rs)
+struct TestRay {
+    origin: vec4<f32>, // xyz, t_min
+    dir: vec4<f32>,    // xyz, t_max
+}
+
+struct TestOut {
+    head: vec4<u32>,    // has_hit, flags (trace | hit), fetches, 0
+    point: vec4<f32>,   // hit.point, hit.t
+    normal: vec4<f32>,  // hit.normal, clearance
+    cell: vec4<u32>,    // hit.cell, 0, 0
+}
+
+@group(1) @binding(0) var<storage, read> test_rays: array<TestRay>;
+@group(1) @binding(1) var<storage, read_write> test_out: array<TestOut>;
+
+@compute @workgroup_size(64)
+fn test_main(@builtin(global_invocation_id) gid: vec3<u32>) {
+    let k = gid.x;
+    if (k >= arrayLength(&test_rays)) {
+        return;
+    }
+    let r = test_rays[k];
+    let tr = hf_trace(Query(r.origin.xyz, r.dir.xyz, r.origin.w, r.dir.w));
+    var flags = tr.flags;
+    if (tr.has_hit) {
+        flags |= tr.hit.flags;
+    }
+    test_out[k] = TestOut(vec4<u32>(u32(tr.has_hit), flags, tr.fetches, 0u),
+                          vec4<f32>(tr.hit.point, tr.hit.t),
+                          vec4<f32>(tr.hit.normal, tr.clearance),
+                          vec4<u32>(tr.hit.cell, 0u, 0u));
+}
+"#;
+
+/// The general WGSL source of `method` (`hfcast_shaders::general`): every scene
+/// choice an `override`, heights an R32Float texture.
+pub fn general_source(method: MethodKind) -> String {
+    hfcast_shaders::general(method, Lang::Wgsl).unwrap_or_else(|e| panic!("{}: {e}", method.name()))
+}
+
+/// The general scene of `method` on `surface` (every ray class, upward rays), with
+/// heights as 16-bit samples when `int_heights`.
+pub fn scene_of(method: MethodKind, surface: Surface, int_heights: bool) -> hfcast::scene::Scene {
+    let mut scene = hfcast::scene::Scene::general(method, surface);
+    if int_heights {
+        scene.heights = HeightFormat::U16;
+    }
+    scene
+}
+
+/// The WGSL shader `hfcast_shaders::generate_with` makes for `scene` with the safety
+/// layout `variant`.
+pub fn generated_source(scene: &hfcast::scene::Scene, variant: Variant) -> String {
+    let opts = hfcast_shaders::Options {
+        safety_variant: layout(variant),
+    };
+    hfcast_shaders::generate_with(scene, Lang::Wgsl, &opts)
+        .unwrap_or_else(|e| panic!("{} {}: {e}", scene.method.name(), scene.surface.name()))
+}
+
+/// hfcast-shaders' name of the safety-map layout `variant`.
+pub fn layout(variant: Variant) -> SafetyVariant {
+    match variant {
+        Variant::Directional => SafetyVariant::Directional,
+        Variant::Isotropic => SafetyVariant::Isotropic,
+    }
+}
+
+/// The source of `method` for 16-bit heights (`field_int.wgsl`): the shader generated
+/// for its general scene on the triangle surface, which every method traces.
+pub fn int_heights_source(method: MethodKind) -> String {
+    generated_source(
+        &scene_of(method, Surface::Triangles, true),
+        Variant::Directional,
+    )
+}
+
+/// The `override` constants of the general sources (scene-level choices).
+const OVERRIDES: [&str; 2] = ["hf_surface", "hf_safety_variant"];
+
+/// The cylinder–cone cap of the bake and the march (as the C tests).
+pub const CC_CAP: u8 = 64;
+
+/// One march to compare: a method, the scene-level choices and the step counts
+/// (`params` is written as the method's `hf_params` uniform).
+#[derive(Clone, Copy, Debug)]
+pub struct Case {
+    /// The method.
+    pub method: MethodKind,
+    /// `hf_surface` (exact, search and maxmip methods).
+    pub surface: Surface,
+    /// `hf_safety_variant` (safety).
+    pub variant: Variant,
+    /// The method's `hf_params` as `u32`s, in declaration order.
+    pub params: [u32; 4],
+    /// `false` for the approximate methods (reported, held to the same criterion).
+    pub exact: bool,
+    /// Heights as a texture of 16-bit samples (`field_int.wgsl`) instead of R32Float.
+    pub int_heights: bool,
+    /// Runs the shader generated for the case's scene instead of the general source.
+    pub generated: bool,
+}
+
+impl Case {
+    const fn new(method: MethodKind, surface: Surface, params: [u32; 4], exact: bool) -> Case {
+        Case {
+            method,
+            surface,
+            variant: Variant::Directional,
+            params,
+            exact,
+            int_heights: false,
+            generated: false,
+        }
+    }
+
+    /// This case with the heights as 16-bit samples: hfcast-shaders makes shaders for
+    /// 16-bit heights for scenes only, so the case runs its scene's generated shader.
+    const fn u16(self) -> Case {
+        Case {
+            int_heights: true,
+            generated: true,
+            ..self
+        }
+    }
+
+    /// Every case of the parity test: exact on all five surfaces, the search methods,
+    /// maxmip on triangles and bilinear, safety (both layouts), cc, cone, qdm, relaxed
+    /// (step counts of the C tests), a few with 16-bit heights; then all of them again
+    /// as the shaders generated for their scenes.
+    pub fn all() -> Vec<Case> {
+        let tri = Surface::Triangles;
+        let mut cases: Vec<Case> = Surface::ALL
+            .iter()
+            .map(|&s| Case::new(MethodKind::Exact, s, [0; 4], true))
+            .collect();
+        cases.extend([
+            Case::new(MethodKind::LinearBinary, tri, [64, 8, 0, 0], false),
+            Case::new(
+                MethodKind::LinearBinary,
+                Surface::Bilinear,
+                [64, 8, 0, 0],
+                false,
+            ),
+            Case::new(MethodKind::LinearSecant, tri, [64, 0, 0, 0], false),
+            Case::new(MethodKind::MaxMip, tri, [0; 4], true),
+            Case::new(MethodKind::MaxMip, Surface::Bilinear, [0; 4], true),
+            Case::new(MethodKind::Safety, tri, [0; 4], true),
+            Case {
+                variant: Variant::Isotropic,
+                ..Case::new(MethodKind::Safety, tri, [0; 4], true)
+            },
+            Case::new(MethodKind::Cc, tri, [0; 4], true),
+            Case::new(MethodKind::Cone, tri, [512, 0, 0, 0], true),
+            Case::new(MethodKind::Qdm, tri, [512, 0, 0, 0], true),
+            Case::new(MethodKind::Relaxed, tri, [64, 8, 0, 0], false),
+            // 16-bit heights (field_int.wgsl) where the scene has samples.
+            Case::new(MethodKind::Exact, tri, [0; 4], true).u16(),
+            Case::new(MethodKind::Exact, Surface::HeightPlanes, [0; 4], true).u16(),
+            Case::new(MethodKind::MaxMip, Surface::Bilinear, [0; 4], true).u16(),
+            Case::new(MethodKind::Cc, tri, [0; 4], true).u16(),
+            Case::new(MethodKind::Cone, tri, [512, 0, 0, 0], true).u16(),
+        ]);
+        // And every general one generated for its scene (overrides made constants,
+        // unused branches and functions left out).
+        let generated: Vec<Case> = cases
+            .iter()
+            .filter(|c| !c.generated)
+            .map(|c| Case {
+                generated: true,
+                ..*c
+            })
+            .collect();
+        cases.extend(generated);
+        cases
+    }
+
+    /// A short name: method, and the surface or layout where the method has one.
+    pub fn label(&self) -> String {
+        let m = self.method.name();
+        let heights = if self.int_heights { " u16" } else { "" };
+        let generated = if self.generated && !self.int_heights {
+            " generated"
+        } else {
+            ""
+        };
+        let name = match self.method {
+            MethodKind::Exact
+            | MethodKind::LinearBinary
+            | MethodKind::LinearSecant
+            | MethodKind::MaxMip => {
+                format!("{m} {}", self.surface.name())
+            }
+            MethodKind::Safety => format!("{m} {:?}", self.variant).to_lowercase(),
+            _ => m.to_string(),
+        };
+        name + heights + generated
+    }
+
+    /// The source the case runs, with the test entry point: the method's general
+    /// source, or the shader generated for the case's scene (its surface, heights and
+    /// safety layout) when `generated`.
+    pub fn source(&self) -> String {
+        let scene = scene_of(self.method, self.surface, self.int_heights);
+        let src = if self.generated {
+            generated_source(&scene, self.variant)
+        } else {
+            general_source(self.method)
+        };
+        src + WRAPPER
+    }
+
+    /// The values of the `override` constants `src` declares (none in a generated
+    /// shader: its scene choices are constants).
+    pub fn constants(&self, src: &str) -> Vec<(&'static str, f64)> {
+        let value = |name: &str| match name {
+            "hf_surface" => f64::from(self.surface as u32),
+            _ => f64::from(layout(self.variant) as u32),
+        };
+        OVERRIDES
+            .into_iter()
+            .filter(|n| src.contains(&format!("override {n}:")))
+            .map(|n| (n, value(n)))
+            .collect()
+    }
+
+    /// The Rust core's f32 march of this case over `rays` (the dispatch of
+    /// `capi/src/trace.rs`).
+    pub fn cpu(&self, scene: &Scene, rays: &[Ray]) -> Vec<Trace<f32>> {
+        let hf = scene.hf();
+        let p = self.params;
+        let mip = MaxMip::new(&hf, &scene.pyramid).expect("pyramid");
+        let safety_data = match self.variant {
+            Variant::Directional => &scene.safety_dir,
+            Variant::Isotropic => &scene.safety_iso,
+        };
+        let safety_map = SafetyMap::new(&hf, safety_data, self.variant).expect("safety map");
+        let cc_map = CcMap::new(&hf, &scene.cc, CC_CAP).expect("cc map");
+        let cone_map = ConeMap::new(&hf, &scene.cone).expect("cone map");
+        let qdm_map = QdmMap::new(&hf, &scene.qdm).expect("qdm map");
+        let trace = |q: &Query<f32>| match self.method {
+            MethodKind::Exact => hfcast::Method::Exact.trace(&hf, self.surface, q),
+            MethodKind::LinearBinary => {
+                let steps = SearchSteps {
+                    linear: p[0],
+                    binary: p[1],
+                };
+                hfcast::Method::LinearBinary(steps).trace(&hf, self.surface, q)
+            }
+            MethodKind::LinearSecant => {
+                hfcast::Method::LinearSecant(p[0]).trace(&hf, self.surface, q)
+            }
+            MethodKind::MaxMip => {
+                maxmip::trace(&hf, &mip, self.surface, q, &maxmip::Options::default())
+            }
+            MethodKind::Safety => safety::trace(&safety_map, &hf, q),
+            MethodKind::Cc => cc::trace(&cc_map, &hf, q),
+            MethodKind::Cone => cone::trace(&cone_map, &hf, q, p[0]),
+            MethodKind::Qdm => qdm::trace(&qdm_map, &hf, q, p[0]),
+            MethodKind::Relaxed => {
+                let map = scene.relaxed.as_ref().expect("relaxed bake");
+                let steps = relaxed::Steps {
+                    cone: p[0],
+                    binary: p[1],
+                };
+                relaxed::trace(map, &hf, q, steps)
+            }
+        };
+        rays.iter().map(trace).collect()
+    }
+
+    /// The `@group(0)` bindings the method's entry point uses.
+    pub fn bindings(&self) -> &'static [u32] {
+        use binding::*;
+        match self.method {
+            MethodKind::Exact => &[HEIGHTS, FIELD],
+            MethodKind::LinearBinary | MethodKind::LinearSecant => &[HEIGHTS, FIELD, PARAMS],
+            MethodKind::MaxMip => &[HEIGHTS, FIELD, PYRAMID, MAXMIP],
+            MethodKind::Safety => &[HEIGHTS, FIELD, SAFETY_MAP],
+            MethodKind::Cone => &[HEIGHTS, FIELD, PARAMS, CONE_MAP],
+            MethodKind::Qdm => &[HEIGHTS, FIELD, PARAMS, QDM_MAP],
+            MethodKind::Relaxed => &[HEIGHTS, FIELD, PARAMS, RELAXED_MAP],
+            MethodKind::Cc => &[HEIGHTS, FIELD, CC_MAP, CC],
+        }
+    }
+}
+
+// ---------------------------------------------------------------------------------
+// Scenes
+// ---------------------------------------------------------------------------------
+
+/// A height field and every bake the cases read (relaxed only on small fields: its
+/// bake is Θ(N⁴)).
+pub struct Scene {
+    /// Name for the report.
+    pub name: String,
+    /// Samples along x.
+    pub w: u32,
+    /// Samples along y.
+    pub h: u32,
+    /// `w × h` heights, row-major.
+    pub heights: Vec<f32>,
+    /// The maximum-mipmap pyramid.
+    pub pyramid: Vec<f32>,
+    /// Directional safety distances (4 bytes per texel).
+    pub safety_dir: Vec<u8>,
+    /// Isotropic safety distances (1 byte per texel).
+    pub safety_iso: Vec<u8>,
+    /// Cone map, `[top, ratio]` per cell.
+    pub cone: Vec<f32>,
+    /// QDM map, `[a, b, c, h]` per cell.
+    pub qdm: Vec<f32>,
+    /// Relaxed cone ratios per sample, when baked.
+    pub relaxed: Option<Vec<f32>>,
+    /// Packed cylinder–cone map (16 bytes per texel).
+    pub cc: Vec<u8>,
+    /// The 16-bit samples the heights came from and the height of one sample step
+    /// (`depth / 65535` in f32), for maps read from PNG.
+    pub samples: Option<(Vec<u16>, f32)>,
+}
+
+impl Scene {
+    /// Bakes everything for `heights` (`w × h`, row-major); relaxed when `relaxed`.
+    pub fn new(name: &str, w: u32, h: u32, heights: Vec<f32>, relaxed: bool) -> Scene {
+        let hf = HeightField::new(&heights, w, h, w as usize).expect("valid field");
+        let mut pyramid = vec![0f32; maxmip::pyramid_len(w, h)];
+        maxmip::bake(&hf, &mut pyramid).expect("maxmip bake");
+        let mut scratch = vec![0f32; safety::scratch_len(w, h)];
+        let safety_bake = |variant: Variant, scratch: &mut [f32]| {
+            let opts = safety::Options {
+                variant,
+                positive: false,
+                cap: u8::MAX,
+            };
+            let mut out = vec![0u8; safety::map_len(w, h, variant)];
+            safety::bake(&hf, scratch, opts, &mut out).expect("safety bake");
+            out
+        };
+        let safety_dir = safety_bake(Variant::Directional, &mut scratch);
+        let safety_iso = safety_bake(Variant::Isotropic, &mut scratch);
+        // The slow bakes (cc, cone, qdm) by row ranges on every core; `scratch` holds
+        // what safety::prepare filled (safety::bake prepares it).
+        let mut nb = vec![0f32; cc::nbuffer_len(w, h, CC_CAP)];
+        cc::prepare_nbuffer(&hf, CC_CAP, &mut nb).expect("n-buffer");
+        let opts = CcOptions {
+            slope: Slope::Exact,
+            cap: CC_CAP,
+        };
+        let mut cc_map = vec![0u8; cc::map_len(w, h)];
+        in_row_ranges(h, 16 * w as usize, &mut cc_map, |rows, out| {
+            cc::bake_rows(&hf, &scratch, &nb, rows, opts, out).expect("cc bake");
+        });
+        let mut cone_scratch = vec![0f32; cone::scratch_len(w, h)];
+        cone::prepare(&hf, &mut cone_scratch).expect("cone pyramid");
+        let mut cone_map = vec![0f32; cone::map_len(w, h)];
+        in_row_ranges(h - 1, 2 * (w - 1) as usize, &mut cone_map, |rows, out| {
+            cone::bake_rows(&hf, &cone_scratch, rows, out).expect("cone bake");
+        });
+        let mut qdm_scratch = vec![0f32; qdm::scratch_len(w, h)];
+        qdm::prepare(&hf, &mut qdm_scratch).expect("qdm pyramid");
+        let mut qdm_map = vec![0f32; qdm::map_len(w, h)];
+        in_row_ranges(h - 1, 4 * (w - 1) as usize, &mut qdm_map, |rows, out| {
+            qdm::bake_rows(&hf, &qdm_scratch, rows, out).expect("qdm bake");
+        });
+        let relaxed_map = relaxed.then(|| {
+            let mut s = vec![0f32; relaxed::scratch_len(w, h)];
+            let mut out = vec![0f32; relaxed::map_len(w, h)];
+            relaxed::bake(&hf, &mut s, &mut out).expect("relaxed bake");
+            out
+        });
+        Scene {
+            name: name.to_string(),
+            w,
+            h,
+            pyramid,
+            safety_dir,
+            safety_iso,
+            cone: cone_map,
+            qdm: qdm_map,
+            relaxed: relaxed_map,
+            cc: cc_map,
+            heights,
+            samples: None,
+        }
+    }
+
+    /// The scene with the 16-bit `samples` its heights were converted from with
+    /// `HeightField::from_u16` and relief `depth`.
+    pub fn with_samples(mut self, samples: Vec<u16>, depth: f32) -> Scene {
+        assert_eq!(samples.len(), self.heights.len());
+        self.samples = Some((samples, depth / 65535.0));
+        self
+    }
+
+    /// The height field over [`Scene::heights`].
+    pub fn hf(&self) -> HeightField<'_> {
+        HeightField::new(&self.heights, self.w, self.h, self.w as usize).expect("valid field")
+    }
+
+    /// The `cw × ch` corner (origin at sample (0, 0)) of the row-major `w`-wide `values`.
+    pub fn crop<T: Copy>(values: &[T], w: u32, cw: u32, ch: u32) -> Vec<T> {
+        (0..ch)
+            .flat_map(|j| {
+                let row = (j * w) as usize;
+                values[row..row + cw as usize].iter().copied()
+            })
+            .collect()
+    }
+}
+
+/// Runs `bake(rows, out)` over `rows` rows of `row_len` values of `out`, split into
+/// one contiguous range per core.
+fn in_row_ranges<T: Send>(
+    rows: u32,
+    row_len: usize,
+    out: &mut [T],
+    bake: impl Fn(std::ops::Range<u32>, &mut [T]) + Sync,
+) {
+    let threads = std::thread::available_parallelism().map_or(1, |n| n.get()) as u32;
+    let per = rows.div_ceil(threads.max(1)).max(1);
+    std::thread::scope(|s| {
+        for (k, chunk) in out[..rows as usize * row_len]
+            .chunks_mut(per as usize * row_len)
+            .enumerate()
+        {
+            let start = k as u32 * per;
+            let range = start..(start + per).min(rows);
+            let bake = &bake;
+            s.spawn(move || bake(range, chunk));
+        }
+    });
+}
+
+/// The bundled map `data/dem_jacksboro_fault_403x344.png` loaded by the tools
+/// (`hfcast_tools::maps`: heights `png / 65535 × depth`, depth 0.1 × max(W, H)), with
+/// the 16-bit samples its heights were made of. Returns `(w, h, samples, depth,
+/// heights)`.
+pub fn load_bundled_map() -> (u32, u32, Vec<u16>, f32, Vec<f32>) {
+    let path = hfcast_tools::maps::bundled_map();
+    let map = hfcast_tools::maps::load_map(&path, None)
+        .unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    let (w, h, depth) = (map.width, map.height, map.depth);
+    // Each height is the f32 product sample × (depth / 65535), so dividing by the step
+    // and rounding gives the sample back; checked by converting again.
+    let step = depth / 65535.0;
+    let samples: Vec<u16> = map
+        .heights
+        .iter()
+        .map(|&z| (z / step).round() as u16)
+        .collect();
+    let mut again = vec![0f32; map.heights.len()];
+    HeightField::from_u16(&samples, w, h, w as usize, depth, &mut again).expect("heights");
+    assert!(again == map.heights, "the map's samples are not recovered");
+    (w, h, samples, depth, map.heights)
+}
+
+/// The tools' seeded SplitMix64 generator with `seed` mixed with the golden-ratio
+/// increment (so the fields and rays are those the tests were calibrated with).
+fn rng(seed: u64) -> Rng {
+    Rng::new(seed ^ 0x9E37_79B9_7F4A_7C15)
+}
+
+/// A synthetic `w × h` field: a fractal-ish sum of sines with a little noise, plus
+/// single-sample needles three times the relief high and 1-texel walls (a column, a
+/// row and a diagonal) at twice the relief, as the core's tests build them.
+pub fn spiky_fractal(seed: u64, w: u32, h: u32, amp: f64) -> Vec<f32> {
+    let mut rng = rng(seed);
+    let waves: Vec<[f64; 4]> = (0..8)
+        .map(|k| {
+            let f = 0.05 * 1.9f64.powi(k);
+            let a = rng.range(0.0, std::f64::consts::TAU);
+            let ph = rng.range(0.0, std::f64::consts::TAU);
+            [f * a.cos(), f * a.sin(), ph, amp / 1.8f64.powi(k)]
+        })
+        .collect();
+    let mut out = Vec::with_capacity((w * h) as usize);
+    for j in 0..h {
+        for i in 0..w {
+            let (x, y) = (f64::from(i), f64::from(j));
+            let mut z: f64 = waves
+                .iter()
+                .map(|[fx, fy, ph, a]| a * (fx * x + fy * y + ph).sin())
+                .sum();
+            z += rng.range(-0.02, 0.02) * amp;
+            if rng.next_u64() % 37 == 0 {
+                z += 3.0 * amp;
+            }
+            if i == w / 3 || j == 2 * h / 3 || i == j {
+                z += 2.0 * amp;
+            }
+            out.push(z as f32);
+        }
+    }
+    out
+}
+
+// ---------------------------------------------------------------------------------
+// Rays
+// ---------------------------------------------------------------------------------
+
+/// A ray: the validated f32 query the core traces and the wrapper reads (origin, unit
+/// direction so t is in texels, range).
+pub type Ray = Query<f32>;
+
+fn unit(d: [f64; 3]) -> [f32; 3] {
+    let l = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
+    [(d[0] / l) as f32, (d[1] / l) as f32, (d[2] / l) as f32]
+}
+
+fn ray(o: [f64; 3], d: [f64; 3], t_min: f64, t_max: f64) -> Ray {
+    Query::from_arrays(o.map(|v| v as f32), unit(d), t_min as f32, t_max as f32).expect("valid ray")
+}
+
+/// `n × n` pinhole-camera rays looking at the field's centre from `elevation` degrees
+/// above the horizon at `azimuth` degrees, from 1.25 × max(W, H) away, field of view
+/// 0.7 rad (the C renderer's camera).
+pub fn camera_rays(scene: &Scene, elevation: f64, azimuth: f64, n: u32) -> Vec<Ray> {
+    let hf = scene.hf();
+    let size = f64::from(scene.w.max(scene.h));
+    let target = [
+        0.5 * f64::from(scene.w - 1),
+        0.5 * f64::from(scene.h - 1),
+        0.5 * (f64::from(hf.min_height()) + f64::from(hf.max_height())),
+    ];
+    let (el, az) = (elevation.to_radians(), azimuth.to_radians());
+    let dist = 1.25 * size;
+    let eye = [
+        target[0] + dist * el.cos() * az.cos(),
+        target[1] + dist * el.cos() * az.sin(),
+        target[2] + dist * el.sin(),
+    ];
+    let f = unit([target[0] - eye[0], target[1] - eye[1], target[2] - eye[2]]).map(f64::from);
+    let right = unit([-f[1], f[0], 0.0]).map(f64::from);
+    let up = [
+        right[1] * f[2] - right[2] * f[1],
+        right[2] * f[0] - right[0] * f[2],
+        right[0] * f[1] - right[1] * f[0],
+    ];
+    let th = (0.5f64 * 0.7).tan();
+    let mut rays = Vec::new();
+    for y in 0..n {
+        for x in 0..n {
+            let sx = (2.0 * (f64::from(x) + 0.5) / f64::from(n) - 1.0) * th;
+            let sy = (2.0 * (f64::from(y) + 0.5) / f64::from(n) - 1.0) * th;
+            let d = [0, 1, 2].map(|k| f[k] + sx * right[k] + sy * up[k]);
+            rays.push(ray(eye, d, 0.0, f64::INFINITY));
+        }
+    }
+    rays
+}
+
+/// `n` random rays in and around the field's box: origins above, inside (some under
+/// the surface) and beside it; directions anywhere, upward, grazing (a few hundredths
+/// off horizontal), axis-parallel, vertical; mostly `[0, ∞)`, some with a negative or
+/// positive `t_min` and a finite `t_max`.
+pub fn random_rays(scene: &Scene, seed: u64, n: usize) -> Vec<Ray> {
+    let hf = scene.hf();
+    let (xm, ym) = (f64::from(scene.w - 1), f64::from(scene.h - 1));
+    let (zlo, zhi) = (f64::from(hf.min_height()), f64::from(hf.max_height()));
+    let zr = (zhi - zlo).max(1.0);
+    let mut rng = rng(seed);
+    (0..n)
+        .map(|_| {
+            let o = [
+                rng.range(-0.1 * xm, 1.1 * xm),
+                rng.range(-0.1 * ym, 1.1 * ym),
+                rng.range(zlo - 0.2 * zr, zhi + 0.5 * zr),
+            ];
+            let az = rng.range(0.0, std::f64::consts::TAU);
+            let d = match rng.next_u64() % 6 {
+                // Anywhere, a third of them upward.
+                0 | 1 => {
+                    let dz = rng.range(-1.0, 0.5);
+                    [az.cos(), az.sin(), dz]
+                }
+                // Grazing.
+                2 => [az.cos(), az.sin(), rng.range(-0.03, 0.01)],
+                // Along x or y.
+                3 => {
+                    let s = if rng.next_u64() % 2 == 0 { 1.0 } else { -1.0 };
+                    let dz = rng.range(-0.3, 0.05);
+                    if rng.next_u64() % 2 == 0 {
+                        [s, 0.0, dz]
+                    } else {
+                        [0.0, s, dz]
+                    }
+                }
+                // Vertical (down, sometimes up).
+                4 => [0.0, 0.0, if rng.next_u64() % 8 == 0 { 1.0 } else { -1.0 }],
+                // Steep.
+                _ => [az.cos(), az.sin(), -rng.range(1.0, 8.0)],
+            };
+            let (t_min, t_max) = match rng.next_u64() % 8 {
+                0 => (rng.range(-5.0, 5.0), f64::INFINITY),
+                1 => {
+                    let a = rng.range(0.0, 10.0);
+                    (a, a + rng.range(0.0, 0.5 * (xm + ym)))
+                }
+                _ => (0.0, f64::INFINITY),
+            };
+            ray(o, d, t_min, t_max)
+        })
+        .collect()
+}
+
+// ---------------------------------------------------------------------------------
+// GPU
+// ---------------------------------------------------------------------------------
+
+/// The device and queue of the Vulkan adapter.
+pub struct Gpu {
+    /// The device.
+    pub device: wgpu::Device,
+    /// Its queue.
+    pub queue: wgpu::Queue,
+    /// What the adapter is (lavapipe: "llvmpipe", type Cpu).
+    pub info: wgpu::AdapterInfo,
+}
+
+impl Gpu {
+    /// Opens the first Vulkan adapter, a CPU one (lavapipe) included. Panics with a
+    /// message naming the package to install when there is none: the tests must not
+    /// pass without running the shaders.
+    pub fn new() -> Gpu {
+        quiet_runtime_dir();
+        let instance = wgpu::Instance::new(wgpu::InstanceDescriptor {
+            backends: wgpu::Backends::VULKAN,
+            ..wgpu::InstanceDescriptor::new_without_display_handle()
+        });
+        let adapter = pollster::block_on(instance.request_adapter(&wgpu::RequestAdapterOptions {
+            power_preference: wgpu::PowerPreference::default(),
+            force_fallback_adapter: false,
+            compatible_surface: None,
+            apply_limit_buckets: false,
+        }))
+        .unwrap_or_else(|e| {
+            panic!(
+                "no Vulkan adapter ({e}): the WGSL tests run the shaders through wgpu on \
+                 Vulkan; install a driver, e.g. lavapipe: apt-get install mesa-vulkan-drivers \
+                 libvulkan1"
+            )
+        });
+        let info = adapter.get_info();
+        let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
+            label: Some("hfcast-shadertest"),
+            required_limits: adapter.limits(),
+            ..wgpu::DeviceDescriptor::default()
+        }))
+        .unwrap_or_else(|e| panic!("cannot open {}: {e}", info.name));
+        Gpu {
+            device,
+            queue,
+            info,
+        }
+    }
+
+    fn texture(
+        &self,
+        w: u32,
+        h: u32,
+        format: wgpu::TextureFormat,
+        data: &[u8],
+    ) -> wgpu::TextureView {
+        let tex = self.device.create_texture_with_data(
+            &self.queue,
+            &wgpu::TextureDescriptor {
+                label: None,
+                size: wgpu::Extent3d {
+                    width: w,
+                    height: h,
+                    depth_or_array_layers: 1,
+                },
+                mip_level_count: 1,
+                sample_count: 1,
+                dimension: wgpu::TextureDimension::D2,
+                format,
+                usage: wgpu::TextureUsages::TEXTURE_BINDING,
+                view_formats: &[],
+            },
+            wgpu::util::TextureDataOrder::LayerMajor,
+            data,
+        );
+        tex.create_view(&wgpu::TextureViewDescriptor::default())
+    }
+
+    fn buffer(&self, usage: wgpu::BufferUsages, data: &[u8]) -> wgpu::Buffer {
+        self.device
+            .create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: None,
+                contents: data,
+                usage,
+            })
+    }
+
+    fn uniform(&self, data: &[u8]) -> wgpu::Buffer {
+        self.buffer(wgpu::BufferUsages::UNIFORM, data)
+    }
+}
+
+/// Points `XDG_RUNTIME_DIR` at a private 0700 directory when it is unset, which
+/// silences lavapipe's warning.
+fn quiet_runtime_dir() {
+    if std::env::var_os("XDG_RUNTIME_DIR").is_some() {
+        return;
+    }
+    let dir = std::env::temp_dir().join(format!("hfcast-shadertest-{}", std::process::id()));
+    if std::fs::create_dir_all(&dir).is_ok() {
+        use std::os::unix::fs::PermissionsExt;
+        let _ = std::fs::set_permissions(&dir, std::fs::Permissions::from_mode(0o700));
+        std::env::set_var("XDG_RUNTIME_DIR", &dir);
+    }
+}
+
+fn f32_bytes(v: &[f32]) -> Vec<u8> {
+    v.iter().flat_map(|x| x.to_le_bytes()).collect()
+}
+
+fn u32_bytes(v: &[u32]) -> Vec<u8> {
+    v.iter().flat_map(|x| x.to_le_bytes()).collect()
+}
+
+/// A scene's textures and uniform buffers in the layout of `shaders/wgsl`.
+pub struct SceneGpu {
+    heights: wgpu::TextureView,
+    heights_u16: Option<wgpu::TextureView>,
+    field: wgpu::Buffer,
+    pyramid: wgpu::TextureView,
+    maxmip: wgpu::Buffer,
+    safety_dir: wgpu::TextureView,
+    safety_iso: wgpu::TextureView,
+    cone: wgpu::TextureView,
+    qdm: wgpu::TextureView,
+    relaxed: Option<wgpu::TextureView>,
+    cc_map: wgpu::TextureView,
+    cc: wgpu::Buffer,
+}
+
+impl SceneGpu {
+    /// Uploads `scene` (the C renderer's texture formats and uniform values).
+    pub fn new(gpu: &Gpu, s: &Scene) -> SceneGpu {
+        use wgpu::TextureFormat as F;
+        let hf = s.hf();
+        let (w, h) = (s.w, s.h);
+        // FieldParams: size, height_range, height_step (then padding to 32 bytes).
+        let step = s.samples.as_ref().map_or(0.0, |(_, step)| *step);
+        let mut field = u32_bytes(&[w, h]);
+        field.extend(f32_bytes(&[hf.min_height(), hf.max_height(), step, 0.0]));
+        field.resize(32, 0);
+        // The pyramid buffer in rows of PYRAMID_TEX_WIDTH texels, the last row padded.
+        let rows = s.pyramid.len().div_ceil(PYRAMID_TEX_WIDTH as usize);
+        let mut padded = s.pyramid.clone();
+        padded.resize(rows * PYRAMID_TEX_WIDTH as usize, 0.0);
+        // MaxMipParams: levels (i32, padded to 16 bytes), then (width, height, offset, 0)
+        // per level.
+        let layout = Layout::new(w, h).expect("layout");
+        let mut levels = vec![0i32; 4 + 4 * maxmip::MAX_LEVELS];
+        levels[0] = layout.levels() as i32;
+        for l in 0..layout.levels() {
+            let [lw, lh] = layout.dims(l);
+            let k = 4 + 4 * l as usize;
+            levels[k] = lw as i32;
+            levels[k + 1] = lh as i32;
+            levels[k + 2] = layout.offset(l) as i32;
+        }
+        let levels: Vec<u8> = levels.iter().flat_map(|v| v.to_le_bytes()).collect();
+        // CcParams: cap, and the frame of hf_cc_frame (capi/src/cc.rs).
+        let (lo, hi) = (f64::from(hf.min_height()), f64::from(hf.max_height()));
+        let step = (hi - lo) / 65535.0;
+        let mut cc = u32_bytes(&[u32::from(CC_CAP)]);
+        cc.extend(f32_bytes(&[
+            lo as f32,
+            step as f32,
+            (step * 65535.0) as f32,
+        ]));
+        SceneGpu {
+            heights: gpu.texture(w, h, F::R32Float, &f32_bytes(&s.heights)),
+            heights_u16: s.samples.as_ref().map(|(samples, _)| {
+                let bytes: Vec<u8> = samples.iter().flat_map(|v| v.to_le_bytes()).collect();
+                gpu.texture(w, h, F::R16Uint, &bytes)
+            }),
+            field: gpu.uniform(&field),
+            pyramid: gpu.texture(
+                PYRAMID_TEX_WIDTH,
+                rows as u32,
+                F::R32Float,
+                &f32_bytes(&padded),
+            ),
+            maxmip: gpu.uniform(&levels),
+            safety_dir: gpu.texture(w, h, F::Rgba8Uint, &s.safety_dir),
+            safety_iso: gpu.texture(w, h, F::R8Uint, &s.safety_iso),
+            cone: gpu.texture(w - 1, h - 1, F::Rg32Float, &f32_bytes(&s.cone)),
+            qdm: gpu.texture(w - 1, h - 1, F::Rgba32Float, &f32_bytes(&s.qdm)),
+            relaxed: s
+                .relaxed
+                .as_ref()
+                .map(|r| gpu.texture(w, h, F::R32Float, &f32_bytes(r))),
+            cc_map: gpu.texture(4 * w, h, F::Rgba8Uint, &s.cc),
+            cc: gpu.uniform(&cc),
+        }
+    }
+}
+
+/// One ray's answer from the GPU, as `hf_hit` holds it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct GpuHit {
+    /// `Trace::hit.is_some()`.
+    pub hit: bool,
+    /// Trace flags or'ed with the hit's.
+    pub flags: u32,
+    /// Texture fetches.
+    pub fetches: u32,
+    /// Ray parameter of the hit.
+    pub t: f32,
+    /// Hit point.
+    pub point: [f32; 3],
+    /// Normal at the hit.
+    pub normal: [f32; 3],
+    /// `Trace::clearance`.
+    pub clearance: f32,
+    /// The hit's cell.
+    pub cell: [u32; 2],
+}
+
+/// Bytes of one `TestOut`.
+const OUT_BYTES: u64 = 64;
+
+/// The bind group layout entry of binding `b` of group 0 (`int_heights`: the heights
+/// are a `texture_2d<u32>`).
+fn layout_entry(b: u32, int_heights: bool) -> wgpu::BindGroupLayoutEntry {
+    let float = wgpu::TextureSampleType::Float { filterable: false };
+    let texture = |sample_type| wgpu::BindingType::Texture {
+        sample_type,
+        view_dimension: wgpu::TextureViewDimension::D2,
+        multisampled: false,
+    };
+    let ty = match b {
+        binding::HEIGHTS if int_heights => texture(wgpu::TextureSampleType::Uint),
+        binding::HEIGHTS
+        | binding::PYRAMID
+        | binding::CONE_MAP
+        | binding::QDM_MAP
+        | binding::RELAXED_MAP => texture(float),
+        binding::SAFETY_MAP | binding::CC_MAP => texture(wgpu::TextureSampleType::Uint),
+        _ => wgpu::BindingType::Buffer {
+            ty: wgpu::BufferBindingType::Uniform,
+            has_dynamic_offset: false,
+            min_binding_size: None,
+        },
+    };
+    wgpu::BindGroupLayoutEntry {
+        binding: b,
+        visibility: wgpu::ShaderStages::COMPUTE,
+        ty,
+        count: None,
+    }
+}
+
+fn storage_entry(b: u32, read_only: bool) -> wgpu::BindGroupLayoutEntry {
+    wgpu::BindGroupLayoutEntry {
+        binding: b,
+        visibility: wgpu::ShaderStages::COMPUTE,
+        ty: wgpu::BindingType::Buffer {
+            ty: wgpu::BufferBindingType::Storage { read_only },
+            has_dynamic_offset: false,
+            min_binding_size: None,
+        },
+        count: None,
+    }
+}
+
+/// A case's compiled pipeline and its bind group layouts.
+pub struct Kernel {
+    pipeline: wgpu::ComputePipeline,
+    layout0: wgpu::BindGroupLayout,
+    layout1: wgpu::BindGroupLayout,
+}
+
+impl Kernel {
+    /// Compiles `case`'s source with the test entry point and its override values,
+    /// panicking with wgpu's message when the module or the pipeline is refused.
+    pub fn new(gpu: &Gpu, case: &Case) -> Kernel {
+        let dev = &gpu.device;
+        let src = case.source();
+        let scope = dev.push_error_scope(wgpu::ErrorFilter::Validation);
+        let module = dev.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some(case.method.name()),
+            source: wgpu::ShaderSource::Wgsl(src.as_str().into()),
+        });
+        let entries0: Vec<_> = case
+            .bindings()
+            .iter()
+            .map(|&b| layout_entry(b, case.int_heights))
+            .collect();
+        let layout0 = dev.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: None,
+            entries: &entries0,
+        });
+        let layout1 = dev.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: None,
+            entries: &[storage_entry(0, true), storage_entry(1, false)],
+        });
+        let pipeline_layout = dev.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: None,
+            bind_group_layouts: &[Some(&layout0), Some(&layout1)],
+            immediate_size: 0,
+        });
+        let constants = case.constants(&src);
+        let pipeline = dev.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+            label: Some(case.method.name()),
+            layout: Some(&pipeline_layout),
+            module: &module,
+            entry_point: Some("test_main"),
+            compilation_options: wgpu::PipelineCompilationOptions {
+                constants: &constants,
+                zero_initialize_workgroup_memory: true,
+            },
+            cache: None,
+        });
+        if let Some(e) = pollster::block_on(scope.pop()) {
+            panic!("{}: wgpu refused the shader or pipeline: {e}", case.label());
+        }
+        Kernel {
+            pipeline,
+            layout0,
+            layout1,
+        }
+    }
+}
+
+/// Runs `kernel` (compiled for `case`) over `rays` on the scene `sg` and reads the
+/// answers back.
+pub fn run_kernel(
+    gpu: &Gpu,
+    kernel: &Kernel,
+    sg: &SceneGpu,
+    case: &Case,
+    rays: &[Ray],
+) -> Vec<GpuHit> {
+    let dev = &gpu.device;
+    let bindings = case.bindings();
+    let params = gpu.uniform(&u32_bytes(&case.params));
+    let resource = |b: u32| -> wgpu::BindingResource<'_> {
+        match b {
+            binding::HEIGHTS if case.int_heights => {
+                wgpu::BindingResource::TextureView(sg.heights_u16.as_ref().expect("16-bit samples"))
+            }
+            binding::HEIGHTS => wgpu::BindingResource::TextureView(&sg.heights),
+            binding::FIELD => sg.field.as_entire_binding(),
+            binding::PARAMS => params.as_entire_binding(),
+            binding::PYRAMID => wgpu::BindingResource::TextureView(&sg.pyramid),
+            binding::MAXMIP => sg.maxmip.as_entire_binding(),
+            binding::SAFETY_MAP => wgpu::BindingResource::TextureView(match case.variant {
+                Variant::Directional => &sg.safety_dir,
+                Variant::Isotropic => &sg.safety_iso,
+            }),
+            binding::CONE_MAP => wgpu::BindingResource::TextureView(&sg.cone),
+            binding::QDM_MAP => wgpu::BindingResource::TextureView(&sg.qdm),
+            binding::RELAXED_MAP => {
+                wgpu::BindingResource::TextureView(sg.relaxed.as_ref().expect("relaxed bake"))
+            }
+            binding::CC_MAP => wgpu::BindingResource::TextureView(&sg.cc_map),
+            binding::CC => sg.cc.as_entire_binding(),
+            other => panic!("no resource for binding {other}"),
+        }
+    };
+    let group0 = dev.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: None,
+        layout: &kernel.layout0,
+        entries: &bindings
+            .iter()
+            .map(|&b| wgpu::BindGroupEntry {
+                binding: b,
+                resource: resource(b),
+            })
+            .collect::<Vec<_>>(),
+    });
+
+    let ray_data: Vec<f32> = rays
+        .iter()
+        .flat_map(|r| {
+            let (o, d) = (r.origin(), r.dir());
+            [o[0], o[1], o[2], r.t_min(), d[0], d[1], d[2], r.t_max()]
+        })
+        .collect();
+    let ray_buf = gpu.buffer(wgpu::BufferUsages::STORAGE, &f32_bytes(&ray_data));
+    let size = OUT_BYTES * rays.len() as u64;
+    let out = dev.create_buffer(&wgpu::BufferDescriptor {
+        label: None,
+        size,
+        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+        mapped_at_creation: false,
+    });
+    let staging = dev.create_buffer(&wgpu::BufferDescriptor {
+        label: None,
+        size,
+        usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+        mapped_at_creation: false,
+    });
+    let group1 = dev.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: None,
+        layout: &kernel.layout1,
+        entries: &[
+            wgpu::BindGroupEntry {
+                binding: 0,
+                resource: ray_buf.as_entire_binding(),
+            },
+            wgpu::BindGroupEntry {
+                binding: 1,
+                resource: out.as_entire_binding(),
+            },
+        ],
+    });
+    let mut enc = dev.create_command_encoder(&wgpu::CommandEncoderDescriptor::default());
+    {
+        let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor::default());
+        pass.set_pipeline(&kernel.pipeline);
+        pass.set_bind_group(0, &group0, &[]);
+        pass.set_bind_group(1, &group1, &[]);
+        pass.dispatch_workgroups((rays.len() as u32).div_ceil(64), 1, 1);
+    }
+    enc.copy_buffer_to_buffer(&out, 0, &staging, 0, size);
+    gpu.queue.submit([enc.finish()]);
+    staging.map_async(wgpu::MapMode::Read, .., |r| r.expect("map the results"));
+    dev.poll(wgpu::PollType::wait_indefinitely())
+        .expect("wait for the dispatch");
+    let bytes = staging
+        .get_mapped_range(..)
+        .expect("mapped results")
+        .to_vec();
+    staging.unmap();
+    bytes
+        .chunks_exact(OUT_BYTES as usize)
+        .map(|c| {
+            let w: Vec<u32> = c
+                .chunks_exact(4)
+                .map(|b| u32::from_le_bytes([b[0], b[1], b[2], b[3]]))
+                .collect();
+            let f = |k: usize| f32::from_bits(w[k]);
+            GpuHit {
+                hit: w[0] != 0,
+                flags: w[1],
+                fetches: w[2],
+                t: f(7),
+                point: [f(4), f(5), f(6)],
+                normal: [f(8), f(9), f(10)],
+                clearance: f(11),
+                cell: [w[12], w[13]],
+            }
+        })
+        .collect()
+}

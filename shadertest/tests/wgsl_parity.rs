@@ -1,0 +1,249 @@
+//! The WGSL marches (`shaders/wgsl`) executed on a Vulkan device through wgpu
+//! (lavapipe in CI: `mesa-vulkan-drivers`) against the Rust core's f32 marches, ray by
+//! ray: for every method (exact on all five surfaces, linear-binary, linear-secant,
+//! maxmip on triangles and bilinear, safety in both layouts, cc, cone, qdm, relaxed) on
+//! the bundled map, a synthetic field with needles and thin walls, and two small fields
+//! where relaxed (a Θ(N⁴) bake) is baked too: a 64 × 64 crop of the map and a smaller
+//! synthetic field; over 45° and 5° camera rays and random rays (upward,
+//! grazing, axis-parallel, vertical, under the surface, finite ranges). Every case runs
+//! twice: `hfcast-shaders`' general source (scene choices as `override`s), and the
+//! shader it generates for the case's scene (constants, unused code left out). A few
+//! cases read the heights as 16-bit samples (`field_int.wgsl`), which only generated
+//! shaders do: both runs of those are generated (`generate`, then `generate_with`).
+//!
+//! A ray agrees when hit/miss is the same and, for a hit, |t_gpu − t_cpu| ≤ 1e-3 texel
+//! (directions are unit). Every case must agree on at least 99.99 % of its rays; the
+//! approximate methods (linear-binary, linear-secant, relaxed) are deterministic and
+//! are held to the same rate. Differences in fetches, flags, cells and points are
+//! counted and reported too. No Vulkan adapter is a failure, not a skip.
+
+mod common;
+
+use common::{
+    camera_rays, load_bundled_map, random_rays, run_kernel, spiky_fractal, Case, Gpu, GpuHit,
+    Kernel, Ray, Scene, SceneGpu,
+};
+use std::fmt::Write as _;
+use std::time::Instant;
+
+/// Largest |t_gpu − t_cpu| (texels) of an agreeing hit.
+const T_TOL: f64 = 1e-3;
+/// Smallest agreeing fraction of the rays of a case.
+const MIN_AGREE: f64 = 0.9999;
+
+/// Counts of one case over the scenes.
+#[derive(Default)]
+struct Tally {
+    rays: u64,
+    agree: u64,
+    hits: u64,
+    max_dt: f64,
+    fetches_differ: u64,
+    flags_differ: u64,
+    cell_differ: u64,
+    point_differ: u64,
+    /// Every ray that does not agree, described.
+    wrong: Vec<String>,
+    /// A few rays that agree but not bit for bit (t, fetches or flags differ).
+    other: Vec<String>,
+}
+
+fn describe(r: &Ray, cpu: &hfcast::Trace<f32>, g: &GpuHit) -> String {
+    let c = match cpu.hit {
+        Some(h) => format!(
+            "hit t {} point {:?} cell {:?} flags {} fetches {}",
+            h.t,
+            h.point.to_array(),
+            h.cell,
+            cpu.flags.0 | h.flags.0,
+            cpu.fetches
+        ),
+        None => format!("miss flags {} fetches {}", cpu.flags.0, cpu.fetches),
+    };
+    let gs = if g.hit {
+        format!(
+            "hit t {} point {:?} cell {:?} flags {} fetches {}",
+            g.t, g.point, g.cell, g.flags, g.fetches
+        )
+    } else {
+        format!("miss flags {} fetches {}", g.flags, g.fetches)
+    };
+    format!(
+        "origin {:?} dir {:?} t [{}, {}]: cpu {c}; gpu {gs}",
+        r.origin(),
+        r.dir(),
+        r.t_min(),
+        r.t_max()
+    )
+}
+
+impl Tally {
+    fn add(&mut self, scene: &str, r: &Ray, cpu: &hfcast::Trace<f32>, g: &GpuHit) {
+        self.rays += 1;
+        let cpu_flags = cpu.flags.0 | cpu.hit.map_or(0, |h| h.flags.0);
+        let agree = match cpu.hit {
+            None => !g.hit,
+            Some(h) => {
+                let dt = (f64::from(g.t) - f64::from(h.t)).abs();
+                if g.hit && dt <= T_TOL {
+                    self.hits += 1;
+                    self.max_dt = self.max_dt.max(dt);
+                    if g.cell != h.cell {
+                        self.cell_differ += 1;
+                    }
+                    let p = h.point.to_array();
+                    if (0..3).any(|k| f64::from((p[k] - g.point[k]).abs()) > T_TOL) {
+                        self.point_differ += 1;
+                    }
+                    true
+                } else {
+                    false
+                }
+            }
+        };
+        if !agree {
+            self.wrong.push(format!("{scene}: {}", describe(r, cpu, g)));
+            return;
+        }
+        self.agree += 1;
+        let fetches = cpu.fetches != g.fetches;
+        let flags = cpu_flags != g.flags;
+        let inexact = cpu.hit.is_some_and(|h| h.t != g.t);
+        self.fetches_differ += u64::from(fetches);
+        self.flags_differ += u64::from(flags);
+        if (fetches || flags || inexact) && self.other.len() < 3 {
+            self.other.push(format!("{scene}: {}", describe(r, cpu, g)));
+        }
+    }
+
+    fn rate(&self) -> f64 {
+        self.agree as f64 / self.rays.max(1) as f64
+    }
+}
+
+/// The rays of a scene: 45° and 5° camera rays from two azimuths each, and random rays.
+fn rays_for(scene: &Scene, seed: u64) -> Vec<Ray> {
+    let mut rays = Vec::new();
+    for (el, az) in [(45.0, 34.0), (45.0, 215.0), (5.0, 71.0), (5.0, 290.0)] {
+        rays.extend(camera_rays(scene, el, az, 16));
+    }
+    rays.extend(random_rays(scene, seed, 800));
+    rays
+}
+
+#[test]
+fn wgsl_marches_match_the_rust_core_ray_by_ray() {
+    let start = Instant::now();
+    let gpu = Gpu::new();
+    println!(
+        "adapter: {} ({:?}, {:?}, driver {} {})",
+        gpu.info.name,
+        gpu.info.device_type,
+        gpu.info.backend,
+        gpu.info.driver,
+        gpu.info.driver_info
+    );
+    let (w, h, samples, depth, heights) = load_bundled_map();
+    let scenes = [
+        Scene::new("jacksboro 403x344", w, h, heights.clone(), false)
+            .with_samples(samples.clone(), depth),
+        Scene::new(
+            "jacksboro crop 64x64",
+            64,
+            64,
+            Scene::crop(&heights, w, 64, 64),
+            true,
+        )
+        .with_samples(Scene::crop(&samples, w, 64, 64), depth),
+        Scene::new(
+            "spiky fractal 96x80",
+            96,
+            80,
+            spiky_fractal(7, 96, 80, 6.0),
+            false,
+        ),
+        Scene::new(
+            "spiky fractal 40x36",
+            40,
+            36,
+            spiky_fractal(11, 40, 36, 6.0),
+            true,
+        ),
+    ];
+    let uploaded: Vec<SceneGpu> = scenes.iter().map(|s| SceneGpu::new(&gpu, s)).collect();
+    let rays: Vec<Vec<Ray>> = scenes
+        .iter()
+        .enumerate()
+        .map(|(k, s)| rays_for(s, 1000 + k as u64))
+        .collect();
+    println!(
+        "scenes baked and uploaded in {:.1} s",
+        start.elapsed().as_secs_f64()
+    );
+
+    let mut report = String::new();
+    let mut failures = String::new();
+    // HFCAST_WGSL_CASE=text runs only the cases whose label contains it (debugging).
+    let only = std::env::var("HFCAST_WGSL_CASE").unwrap_or_default();
+    for case in Case::all() {
+        if !case.label().contains(&only) {
+            continue;
+        }
+        let t0 = Instant::now();
+        let kernel = Kernel::new(&gpu, &case);
+        let compile_s = t0.elapsed().as_secs_f64();
+        let mut tally = Tally::default();
+        for ((scene, sg), rays) in scenes.iter().zip(&uploaded).zip(&rays) {
+            let relaxed = case.method == hfcast::scene::MethodKind::Relaxed;
+            if (relaxed && scene.relaxed.is_none()) || (case.int_heights && scene.samples.is_none())
+            {
+                continue;
+            }
+            let got = run_kernel(&gpu, &kernel, sg, &case, rays);
+            let want = case.cpu(scene, rays);
+            for ((r, g), cpu) in rays.iter().zip(&got).zip(&want) {
+                tally.add(&scene.name, r, cpu, g);
+            }
+        }
+        let kind = if case.exact { "exact" } else { "approximate" };
+        let _ = writeln!(
+            report,
+            "{:<26} {kind:<11} rays {:>6}  agree {:>6} ({:.4} %)  hits {:>6}  max |dt| {:.2e}  \
+             fetches differ {}  flags differ {}  cell differ {}  point > 1e-3 {}  (compile {:.1} s, total {:.1} s)",
+            case.label(),
+            tally.rays,
+            tally.agree,
+            100.0 * tally.rate(),
+            tally.hits,
+            tally.max_dt,
+            tally.fetches_differ,
+            tally.flags_differ,
+            tally.cell_differ,
+            tally.point_differ,
+            compile_s,
+            t0.elapsed().as_secs_f64()
+        );
+        for o in &tally.other {
+            let _ = writeln!(report, "    agrees, but not bit for bit: {o}");
+        }
+        if tally.rate() < MIN_AGREE {
+            let _ = writeln!(
+                failures,
+                "{}: {} of {} rays differ:",
+                case.label(),
+                tally.wrong.len(),
+                tally.rays
+            );
+            for wr in &tally.wrong {
+                let _ = writeln!(failures, "    {wr}");
+            }
+        } else {
+            for wr in &tally.wrong {
+                let _ = writeln!(report, "    differs (within the allowed rate): {wr}");
+            }
+        }
+    }
+    println!("{report}");
+    println!("total {:.1} s", start.elapsed().as_secs_f64());
+    assert!(failures.is_empty(), "WGSL and Rust disagree:\n{failures}");
+}
