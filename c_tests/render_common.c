@@ -178,8 +178,11 @@ int scene_load_ex(scene *s, const char *png_path, uint32_t crop, int relaxed) {
     size_t n = (size_t)s->w * s->h;
     size_t avail = (size_t)stride * (s->h - 1) + s->w;
     hf_result r = hf_field_create_u16(samples, avail, s->w, s->h, stride, s->depth, &s->field);
-    free(samples);
     if (r != HF_OK) die_hf("hf_field_create_u16", r);
+    s->samples16 = (uint16_t *)malloc(sizeof(uint16_t) * n);
+    for (uint32_t j = 0; j < s->h; j++)
+        memcpy(s->samples16 + (size_t)j * s->w, samples + (size_t)j * stride, sizeof(uint16_t) * s->w);
+    free(samples);
     if ((r = hf_field_get_info(s->field, &s->info)) != HF_OK) die_hf("hf_field_get_info", r);
     s->heights = (float *)malloc(sizeof(float) * n);
     if ((r = hf_field_copy_heights(s->field, s->heights, n)) != HF_OK) die_hf("copy_heights", r);
@@ -233,6 +236,7 @@ int scene_load_ex(scene *s, const char *png_path, uint32_t crop, int relaxed) {
 void scene_free(scene *s) {
     hf_field_destroy(s->field);
     free(s->heights);
+    free(s->samples16);
     free(s->pyramid);
     free(s->safety);
     free(s->safety_iso);
@@ -402,6 +406,20 @@ char *fragment_source(uint32_t method) {
     return src;
 }
 
+char *generated_fragment_source(const hf_scene *sc) {
+    size_t len = 0, written = 0;
+    hf_result r = hf_shader_generate_len(sc, HF_SHADER_GLSL, &len);
+    if (r != HF_OK) die_hf("hf_shader_generate_len", r);
+    const char *head = "#version 330 core\n";
+    size_t total = strlen(head) + len + strlen(FRAGMENT_MAIN) + 1;
+    char *src = (char *)malloc(total);
+    strcpy(src, head);
+    r = hf_shader_generate(sc, HF_SHADER_GLSL, src + strlen(head), len, &written);
+    if (r != HF_OK) die_hf("hf_shader_generate", r);
+    strcat(src, FRAGMENT_MAIN);
+    return src;
+}
+
 /* ---- GL ------------------------------------------------------------------------- */
 
 static GLuint compile(GLenum type, const char *src) {
@@ -421,9 +439,14 @@ static GLuint compile(GLenum type, const char *src) {
 
 static GLuint link_program(uint32_t method) {
     char *fs_src = fragment_source(method);
+    GLuint p = link_fragment(fs_src);
+    free(fs_src);
+    return p;
+}
+
+GLuint link_fragment(const char *fs_src) {
     GLuint vs = compile(GL_VERTEX_SHADER, VERTEX_SOURCE);
     GLuint fs = compile(GL_FRAGMENT_SHADER, fs_src);
-    free(fs_src);
     GLuint p = glCreateProgram();
     glAttachShader(p, vs);
     glAttachShader(p, fs);
@@ -462,6 +485,11 @@ int gpu_init(gpu *g, const scene *s, int w, int h) {
     glGenVertexArrays(1, &g->vao);
     glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
     g->tex_heights = make_texture(GL_R32F, (int)s->w, (int)s->h, GL_RED, GL_FLOAT, s->heights);
+    /* The 16-bit samples as an integer texture (rows of 2W bytes: alignment 2). */
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 2);
+    g->tex_heights16 = make_texture(GL_R16UI, (int)s->w, (int)s->h, GL_RED_INTEGER,
+                                    GL_UNSIGNED_SHORT, s->samples16);
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
     /* The pyramid buffer as rows of HF_PYRAMID_TEX_WIDTH texels (last row padded). */
     size_t rows = (s->pyramid_len + HF_PYRAMID_TEX_WIDTH - 1) / HF_PYRAMID_TEX_WIDTH;
     float *padded = (float *)calloc(rows * HF_PYRAMID_TEX_WIDTH, sizeof(float));
@@ -527,7 +555,11 @@ void gpu_upload_rays(gpu *g, const hf_ray *rays) {
 }
 
 void gpu_render(gpu *g, const scene *s, method_cfg cfg, float depth_far) {
-    GLuint p = g->prog[cfg.method];
+    gpu_render_program(g, g->prog[cfg.method], s, cfg, depth_far, 0);
+}
+
+void gpu_render_program(gpu *g, GLuint p, const scene *s, method_cfg cfg, float depth_far,
+                        int u16) {
     glUseProgram(p);
     glBindFramebuffer(GL_FRAMEBUFFER, g->fbo);
     glViewport(0, 0, g->w, g->h);
@@ -536,7 +568,7 @@ void gpu_render(gpu *g, const scene *s, method_cfg cfg, float depth_far) {
     glClearDepth(1.0);
     glClear(GL_DEPTH_BUFFER_BIT);
     GLuint safety = cfg.variant == HF_SAFETY_ISOTROPIC ? g->tex_safety_iso : g->tex_safety;
-    GLuint tex[9] = {g->tex_heights, g->tex_pyramid, g->tex_origin,  g->tex_dir, safety,
+    GLuint tex[9] = {u16 ? g->tex_heights16 : g->tex_heights, g->tex_pyramid, g->tex_origin,  g->tex_dir, safety,
                      g->tex_cone,    g->tex_qdm,     g->tex_relaxed, g->tex_cc};
     const char *names[9] = {"hf_heights",  "hf_pyramid", "hf_ray_origin",  "hf_ray_dir",
                             "hf_safety_map", "hf_cone_map", "hf_qdm_map", "hf_relaxed_map",
@@ -548,6 +580,10 @@ void gpu_render(gpu *g, const scene *s, method_cfg cfg, float depth_far) {
         if (loc >= 0) glUniform1i(loc, k);
     }
     glUniform2i(glGetUniformLocation(p, "hf_size"), (GLint)s->w, (GLint)s->h);
+    /* Generated shaders of 16-bit heights: height = sample x depth / 65535 (in float, as
+     * hf_field_create_u16 computes it). */
+    GLint hloc = glGetUniformLocation(p, "hf_height_step");
+    if (hloc >= 0) glUniform1f(hloc, s->depth / 65535.0f);
     glUniform2f(glGetUniformLocation(p, "hf_height_range"), s->info.min_height,
                 s->info.max_height);
     GLint sloc = glGetUniformLocation(p, "hf_surface");
@@ -616,11 +652,11 @@ void gpu_read(gpu *g, frame *f) {
 
 void gpu_free(gpu *g) {
     for (int m = 0; m < NUM_METHODS; m++) glDeleteProgram(g->prog[m]);
-    GLuint tex[13] = {g->tex_heights, g->tex_pyramid, g->tex_safety, g->tex_safety_iso,
+    GLuint tex[14] = {g->tex_heights, g->tex_pyramid, g->tex_safety, g->tex_safety_iso,
                       g->tex_origin,  g->tex_dir,     g->tex_point,  g->tex_normal,
                       g->tex_color,   g->tex_cone,    g->tex_qdm,    g->tex_relaxed,
-                      g->tex_cc};
-    glDeleteTextures(13, tex);
+                      g->tex_cc,      g->tex_heights16};
+    glDeleteTextures(14, tex);
     glDeleteRenderbuffers(1, &g->rb_depth);
     glDeleteFramebuffers(1, &g->fbo);
     glDeleteVertexArrays(1, &g->vao);

@@ -37,6 +37,7 @@ typedef struct scene {
     hf_field *field;
     hf_field_info info;
     float *heights;    /* W x H, for the texture */
+    uint16_t *samples16; /* W x H, the PNG's 16-bit samples (generated u16-height shaders) */
     float *pyramid;
     size_t pyramid_len;
     hf_level levels[HF_MAX_LEVELS];
@@ -67,6 +68,7 @@ typedef struct gpu {
     GLuint vao;
     GLuint tex_heights, tex_pyramid, tex_safety, tex_safety_iso, tex_origin, tex_dir;
     GLuint tex_cone, tex_relaxed, tex_qdm, tex_cc;
+    GLuint tex_heights16; /* R16UI samples, for generated shaders of HF_HEIGHTS_U16 scenes */
     GLuint fbo, tex_point, tex_normal, tex_color, rb_depth;
 } gpu;
 
@@ -104,9 +106,19 @@ hf_result cpu_trace(const scene *s, method_cfg cfg, const hf_ray *rays, size_t n
 char *fragment_source(uint32_t method);
 extern const char *VERTEX_SOURCE;
 
+/* The fragment shader hf_shader_generate writes for `sc`: #version, the generated
+ * GLSL, the renderer's main. */
+char *generated_fragment_source(const hf_scene *sc);
+/* A program of the full-screen vertex shader and the fragment shader `fs_src`. */
+GLuint link_fragment(const char *fs_src);
+
 int gpu_init(gpu *g, const scene *s, int w, int h);
 void gpu_upload_rays(gpu *g, const hf_ray *rays);
 void gpu_render(gpu *g, const scene *s, method_cfg cfg, float depth_far);
+/* gpu_render with program `p` (a general or generated shader of cfg.method); `u16`:
+ * the heights are the R16UI samples times hf_height_step (a HF_HEIGHTS_U16 scene). */
+void gpu_render_program(gpu *g, GLuint p, const scene *s, method_cfg cfg, float depth_far,
+                        int u16);
 void gpu_read(gpu *g, frame *f);
 void gpu_free(gpu *g);
 

@@ -4,6 +4,10 @@
  *   render_osmesa test OUTDIR MAP.png...        parity of every method, images in OUTDIR
  *   render_osmesa bench W H FRAMES MAP.png...   frame time per method and map (software)
  *   render_osmesa shaders OUTDIR                the composed shaders, for glslangValidator
+ *   render_osmesa generated MAP.png...          generated (hf_shader_generate) vs general
+ *                                               shaders: identical frames, CPU parity
+ *   render_osmesa bench-generated W H FRAMES MAP.png...
+ *                                               median frame time, generated vs general
  */
 #define _POSIX_C_SOURCE 200112L
 #include "render_common.h"
@@ -147,182 +151,474 @@ static parity compare(const scene *s, method_cfg cfg, const hf_ray *rays, const 
     return p;
 }
 
-static int run_tests(const char *outdir, int nmaps, char **maps) {
-    if (gl_start(TEST_W, TEST_H) != 0) return 2;
-    printf("renderer: %s / %s\n", (const char *)glGetString(GL_RENDERER),
-           (const char *)glGetString(GL_VERSION));
-    int failed = 0, passed = 0, loaded = 0;
-    /* Every map with every method but relaxed cones, whose bake (the book's, Θ(N⁴) pruned)
-     * takes minutes on a full map; then relaxed cones on a 64 x 64 crop of the first. */
-    for (int m = 0; m <= nmaps; m++) {
-        int crop_job = m == nmaps;
-        scene s;
-        if (scene_load_ex(&s, maps[crop_job ? 0 : m], crop_job ? 64 : 0, crop_job) != 0) {
-            printf("skip %s: cannot read it\n", maps[crop_job ? 0 : m]);
+/* ---- shared by the runs ------------------------------------------------------------ */
+
+/* The configuration of `method` on `surface` the tests and benchmarks use: 64 search
+ * steps and 8 bisections (linear + binary), 64 steps (secant), an iteration budget of
+ * 512 (cones, QDM), 64 cone steps and 8 bisections (relaxed); directional safety map. */
+static method_cfg cfg_of(uint32_t method, uint32_t surface) {
+    static const uint32_t steps[NUM_METHODS][2] = {{0, 0},   {64, 8}, {64, 0},  {0, 0}, {0, 0},
+                                                   {512, 0}, {64, 8}, {512, 0}, {0, 0}};
+    method_cfg c = {method, surface, steps[method][0], steps[method][1],
+                    HF_SAFETY_DIRECTIONAL};
+    return c;
+}
+
+/* Appends to `out[n..]` the parity configurations that follow exact traversal and
+ * maximum mipmaps: linear + binary search on triangles and bilinear, linear + secant,
+ * safety (then its isotropic layout when `isotropic`), cones, QDM and cylinder-cones on
+ * triangles. Returns the new count. */
+static int search_to_cc_cfgs(method_cfg *out, int n, int isotropic) {
+    static const uint32_t list[][2] = {
+        {HF_METHOD_LINEAR_BINARY, HF_SURFACE_TRIANGLES},
+        {HF_METHOD_LINEAR_BINARY, HF_SURFACE_BILINEAR},
+        {HF_METHOD_LINEAR_SECANT, HF_SURFACE_TRIANGLES},
+        {HF_METHOD_SAFETY, HF_SURFACE_TRIANGLES},
+        {HF_METHOD_CONE, HF_SURFACE_TRIANGLES},
+        {HF_METHOD_QDM, HF_SURFACE_TRIANGLES},
+        {HF_METHOD_CC, HF_SURFACE_TRIANGLES},
+    };
+    for (size_t k = 0; k < sizeof list / sizeof list[0]; k++) {
+        out[n++] = cfg_of(list[k][0], list[k][1]);
+        if (isotropic && list[k][0] == HF_METHOD_SAFETY) {
+            out[n] = out[n - 1];
+            out[n++].variant = HF_SAFETY_ISOTROPIC;
+        }
+    }
+    return n;
+}
+
+/* Whether `method` answers exactly (the searches and relaxed cones have step budgets). */
+static int method_exact(uint32_t method) {
+    return method != HF_METHOD_LINEAR_BINARY && method != HF_METHOD_LINEAR_SECANT &&
+           method != HF_METHOD_RELAXED;
+}
+
+/* Whether a parity count passes. Exact methods: at least 99.99 % of pixels within 1e-3
+ * texel; approximate ones run the same algorithm, so they must agree nearly as well
+ * (99.9 %). Shadows: 99.9 %; depth: 99.99 %. */
+static int parity_ok(const parity *p, uint32_t method) {
+    int allowed = method_exact(method) ? p->pixels / 10000 : p->pixels / 1000;
+    return p->differ <= allowed && p->shadow_differ <= p->shadow_checked / 1000 &&
+           p->depth_differ <= p->pixels / 10000;
+}
+
+/* "METHOD/SURFACE". */
+static void cfg_name(char *buf, size_t len, method_cfg c) {
+    snprintf(buf, len, "%s/%s", method_name(c.method), surface_name(c.surface));
+}
+
+/* A map set up for rendering: its scene, GPU state and the default camera's rays. */
+typedef struct map_job {
+    scene s;
+    gpu g;
+    float depth_far;
+    hf_ray *rays; /* w x h, uploaded */
+    int crop;     /* the relaxed-cone job: a 64 x 64 crop of the first map */
+} map_job;
+
+typedef void (*map_fn)(map_job *j, int w, int h, void *ctx);
+
+/* Runs `fn` on every map of `maps` set up for a w x h image, a map it cannot read
+ * skipped with a line "skip MAP" and `skip_note`; then, when `with_crop`, on a 64 x 64
+ * crop of the first with the relaxed cone map (whose bake, the book's, takes minutes on
+ * a full map). Returns the number of maps loaded, -1 when the GPU setup failed. */
+static int for_each_map(int w, int h, int nmaps, char **maps, int with_crop,
+                        const char *skip_note, map_fn fn, void *ctx) {
+    int loaded = 0;
+    for (int m = 0; m < nmaps + (with_crop != 0); m++) {
+        map_job j;
+        j.crop = m == nmaps;
+        const char *path = maps[j.crop ? 0 : m];
+        if (scene_load_ex(&j.s, path, j.crop ? 64 : 0, j.crop) != 0) {
+            printf("skip %s%s\n", path, skip_note);
             continue;
         }
         loaded++;
-        gpu g;
-        if (gpu_init(&g, &s, TEST_W, TEST_H) != 0) {
+        if (gpu_init(&j.g, &j.s, w, h) != 0) {
             fprintf(stderr, "gpu_init failed\n");
-            return 2;
+            return -1;
         }
         camera cam = default_camera();
-        float depth_far = scene_depth_far(&s, &cam);
-        size_t n = (size_t)TEST_W * TEST_H;
-        hf_ray *rays = (hf_ray *)malloc(sizeof(hf_ray) * n);
-        make_rays(&s, &cam, TEST_W, TEST_H, rays);
-        gpu_upload_rays(&g, rays);
-        frame f;
-        frame_alloc(&f, TEST_W, TEST_H);
-        method_cfg cfgs[24];
-        int ncfg = 0;
-        for (uint32_t sf = 0; sf <= HF_SURFACE_VIEW_LINEAR; sf++) {
-            method_cfg c = {HF_METHOD_EXACT, sf, 0, 0, HF_SAFETY_DIRECTIONAL};
-            cfgs[ncfg++] = c;
-        }
-        for (uint32_t sf = 0; sf <= HF_SURFACE_VIEW_LINEAR; sf++) {
-            method_cfg c = {HF_METHOD_MAXMIP, sf, 0, 0, HF_SAFETY_DIRECTIONAL};
-            cfgs[ncfg++] = c;
-        }
-        method_cfg lb = {HF_METHOD_LINEAR_BINARY, HF_SURFACE_TRIANGLES, 64, 8, HF_SAFETY_DIRECTIONAL};
-        method_cfg lbb = {HF_METHOD_LINEAR_BINARY, HF_SURFACE_BILINEAR, 64, 8, HF_SAFETY_DIRECTIONAL};
-        method_cfg ls = {HF_METHOD_LINEAR_SECANT, HF_SURFACE_TRIANGLES, 64, 0, HF_SAFETY_DIRECTIONAL};
-        method_cfg sd = {HF_METHOD_SAFETY, HF_SURFACE_TRIANGLES, 0, 0, HF_SAFETY_DIRECTIONAL};
-        cfgs[ncfg++] = lb;
-        cfgs[ncfg++] = lbb;
-        cfgs[ncfg++] = ls;
-        cfgs[ncfg++] = sd;
-        sd.variant = HF_SAFETY_ISOTROPIC;
-        cfgs[ncfg++] = sd;
-        method_cfg cone = {HF_METHOD_CONE, HF_SURFACE_TRIANGLES, 512, 0, HF_SAFETY_DIRECTIONAL};
-        method_cfg relaxed = {HF_METHOD_RELAXED, HF_SURFACE_TRIANGLES, 64, 8, HF_SAFETY_DIRECTIONAL};
-        method_cfg qdm = {HF_METHOD_QDM, HF_SURFACE_TRIANGLES, 512, 0, HF_SAFETY_DIRECTIONAL};
-        method_cfg ccc = {HF_METHOD_CC, HF_SURFACE_TRIANGLES, 0, 0, HF_SAFETY_DIRECTIONAL};
-        cfgs[ncfg++] = cone;
-        cfgs[ncfg++] = qdm;
-        cfgs[ncfg++] = ccc;
-        if (crop_job) {
-            ncfg = 1; /* exact/triangles (cfgs[0]) for reference, then relaxed */
-            cfgs[ncfg++] = relaxed;
-        }
-        for (int k = 0; k < ncfg; k++) {
-            method_cfg c = cfgs[k];
-            int exact = c.method == HF_METHOD_EXACT || c.method == HF_METHOD_MAXMIP ||
-                        c.method == HF_METHOD_SAFETY || c.method == HF_METHOD_CONE ||
-                        c.method == HF_METHOD_QDM || c.method == HF_METHOD_CC;
-            double t0 = now_seconds();
-            gpu_render(&g, &s, c, depth_far);
-            glFinish();
-            double t1 = now_seconds();
-            gpu_read(&g, &f);
-            char label[160];
-            snprintf(label, sizeof label, "%s %s%s/%s", s.name, method_name(c.method),
-                     c.method == HF_METHOD_SAFETY && c.variant == HF_SAFETY_ISOTROPIC
-                         ? "-isotropic"
-                         : "",
-                     surface_name(c.surface));
-            parity p = compare(&s, c, rays, &f, depth_far, TEST_W, TEST_H, 0, label);
-            /* Exact methods: at least 99.99 % of pixels within 1e-3 texel; approximate
-             * ones run the same algorithm, so they must agree nearly as well (99.9 %). */
-            int allowed = exact ? p.pixels / 10000 : p.pixels / 1000;
-            int shadow_allowed = p.shadow_checked / 1000;
-            int depth_allowed = p.pixels / 10000;
-            int ok = p.differ <= allowed && p.shadow_differ <= shadow_allowed &&
-                     p.depth_differ <= depth_allowed;
-            printf("parity %-40s %d pixels, %d cpu hits, %d differ (%d hit/miss, %d > 1e-3), max "
-                   "err %.2e; shadows %d/%d differ; depth %d differ; gpu %.0f ms  %s\n",
-                   label, p.pixels, p.hits, p.differ, p.differ_hit, p.differ_pos, p.max_err,
-                   p.shadow_differ, p.shadow_checked, p.depth_differ, 1e3 * (t1 - t0),
-                   ok ? "ok" : "FAILED");
-            if (!ok || p.differ > 0) compare(&s, c, rays, &f, depth_far, TEST_W, TEST_H, 1, label);
-            if (ok) passed++; else failed++;
-            if (c.surface == HF_SURFACE_TRIANGLES && exact && c.variant == HF_SAFETY_DIRECTIONAL &&
-                !crop_job) {
-                char path[512];
-                snprintf(path, sizeof path, "%s/%s_%s_triangles.png", outdir, s.name,
-                         method_name(c.method));
-                if (write_png_rgba(path, f.color, TEST_W, TEST_H) != 0) {
-                    fprintf(stderr, "cannot write %s\n", path);
-                    failed++;
-                }
-            }
-        }
-        frame_free(&f);
-        free(rays);
-        gpu_free(&g);
-        scene_free(&s);
+        j.depth_far = scene_depth_far(&j.s, &cam);
+        j.rays = (hf_ray *)malloc(sizeof(hf_ray) * (size_t)w * h);
+        make_rays(&j.s, &cam, w, h, j.rays);
+        gpu_upload_rays(&j.g, j.rays);
+        fn(&j, w, h, ctx);
+        free(j.rays);
+        gpu_free(&j.g);
+        scene_free(&j.s);
     }
+    return loaded;
+}
+
+/* Renders a frame of `c` with program `prog` (0: the general shader of the method;
+ * `u16` as gpu_render_program) and waits for it; returns its time in ms. */
+static double render_ms(map_job *j, method_cfg c, GLuint prog, int u16) {
+    double t0 = now_seconds();
+    if (prog)
+        gpu_render_program(&j->g, prog, &j->s, c, j->depth_far, u16);
+    else
+        gpu_render(&j->g, &j->s, c, j->depth_far);
+    glFinish();
+    return 1e3 * (now_seconds() - t0);
+}
+
+/* The count of a test run. */
+typedef struct tally {
+    int passed, failed;
+    int identical;      /* generated shaders: frames bit-identical to the general one's */
+    const char *outdir; /* parity: where the images go */
+} tally;
+
+/* Starts the renderer of the tests (TEST_W x TEST_H) and names it. */
+static int tests_start(void) {
+    if (gl_start(TEST_W, TEST_H) != 0) return -1;
+    printf("renderer: %s / %s\n", (const char *)glGetString(GL_RENDERER),
+           (const char *)glGetString(GL_VERSION));
+    return 0;
+}
+
+/* Stops the renderer after a test run over `loaded` maps (for_each_map's count): 0, or
+ * 2 when the GPU setup failed or no map could be loaded. */
+static int tests_stop(int loaded) {
     gl_stop();
+    if (loaded < 0) return 2;
     if (loaded == 0) {
         fprintf(stderr, "no map could be loaded\n");
         return 2;
     }
-    printf("osmesa-parity: %d passed, %d failed\n", passed, failed);
-    return failed == 0 ? 0 : 1;
+    return 0;
+}
+
+/* The last line of a test run, "NAME: N passed, M failed", and its exit status. */
+static int tests_result(const char *name, const tally *t) {
+    printf("%s: %d passed, %d failed\n", name, t->passed, t->failed);
+    return t->failed == 0 ? 0 : 1;
+}
+
+/* ---- parity test ------------------------------------------------------------------- */
+
+/* Every configuration on one map (the crop job: exact/triangles for reference, then
+ * relaxed cones) against the CPU; the images of the exact methods on triangles (safety:
+ * directional) of the full maps go to the outdir. */
+static void parity_map(map_job *j, int w, int h, void *ctx) {
+    tally *t = (tally *)ctx;
+    frame f;
+    frame_alloc(&f, w, h);
+    method_cfg cfgs[24];
+    int ncfg = 0;
+    for (uint32_t sf = 0; sf <= HF_SURFACE_VIEW_LINEAR; sf++)
+        cfgs[ncfg++] = cfg_of(HF_METHOD_EXACT, sf);
+    for (uint32_t sf = 0; sf <= HF_SURFACE_VIEW_LINEAR; sf++)
+        cfgs[ncfg++] = cfg_of(HF_METHOD_MAXMIP, sf);
+    ncfg = search_to_cc_cfgs(cfgs, ncfg, 1);
+    if (j->crop) {
+        ncfg = 1; /* exact/triangles (cfgs[0]) for reference, then relaxed */
+        cfgs[ncfg++] = cfg_of(HF_METHOD_RELAXED, HF_SURFACE_TRIANGLES);
+    }
+    for (int k = 0; k < ncfg; k++) {
+        method_cfg c = cfgs[k];
+        double ms = render_ms(j, c, 0, 0);
+        gpu_read(&j->g, &f);
+        char label[160];
+        snprintf(label, sizeof label, "%s %s%s/%s", j->s.name, method_name(c.method),
+                 c.method == HF_METHOD_SAFETY && c.variant == HF_SAFETY_ISOTROPIC
+                     ? "-isotropic"
+                     : "",
+                 surface_name(c.surface));
+        parity p = compare(&j->s, c, j->rays, &f, j->depth_far, w, h, 0, label);
+        int ok = parity_ok(&p, c.method);
+        printf("parity %-40s %d pixels, %d cpu hits, %d differ (%d hit/miss, %d > 1e-3), max "
+               "err %.2e; shadows %d/%d differ; depth %d differ; gpu %.0f ms  %s\n",
+               label, p.pixels, p.hits, p.differ, p.differ_hit, p.differ_pos, p.max_err,
+               p.shadow_differ, p.shadow_checked, p.depth_differ, ms, ok ? "ok" : "FAILED");
+        if (!ok || p.differ > 0) compare(&j->s, c, j->rays, &f, j->depth_far, w, h, 1, label);
+        if (ok) t->passed++; else t->failed++;
+        if (c.surface == HF_SURFACE_TRIANGLES && method_exact(c.method) &&
+            c.variant == HF_SAFETY_DIRECTIONAL && !j->crop) {
+            char path[512];
+            snprintf(path, sizeof path, "%s/%s_%s_triangles.png", t->outdir, j->s.name,
+                     method_name(c.method));
+            if (write_png_rgba(path, f.color, w, h) != 0) {
+                fprintf(stderr, "cannot write %s\n", path);
+                t->failed++;
+            }
+        }
+    }
+    frame_free(&f);
+}
+
+static int run_tests(const char *outdir, int nmaps, char **maps) {
+    if (tests_start() != 0) return 2;
+    tally t = {0, 0, 0, outdir};
+    int loaded = for_each_map(TEST_W, TEST_H, nmaps, maps, 1, ": cannot read it", parity_map, &t);
+    if (tests_stop(loaded) != 0) return 2;
+    return tests_result("osmesa-parity", &t);
 }
 
 /* ---- benchmark --------------------------------------------------------------------- */
+
+/* The frame time of every method but relaxed cones (its bake takes minutes) on one
+ * map, and the time and texel fetches of its primary rays on the CPU. */
+static void bench_map(map_job *j, int w, int h, void *ctx) {
+    int frames = *(const int *)ctx;
+    size_t n = (size_t)w * h;
+    hf_hit *hits = (hf_hit *)malloc(sizeof(hf_hit) * n);
+    printf("%-36s bakes (all cores): safety %.0f ms, cone %.0f ms, qdm %.0f ms, cc %.0f ms\n",
+           j->s.name, j->s.safety_bake_ms, j->s.cone_bake_ms, j->s.qdm_bake_ms,
+           j->s.cc_bake_ms);
+    for (uint32_t m = 0; m < NUM_METHODS; m++) {
+        if (m == HF_METHOD_RELAXED) continue;
+        method_cfg c = cfg_of(m, HF_SURFACE_TRIANGLES);
+        render_ms(j, c, 0, 0); /* warm-up: shader compile */
+        double gpu_ms = 0;
+        for (int i = 0; i < frames; i++) gpu_ms += render_ms(j, c, 0, 0);
+        gpu_ms /= frames;
+        double t0 = now_seconds();
+        cpu_trace(&j->s, c, j->rays, n, hits);
+        double cpu_ms = 1e3 * (now_seconds() - t0);
+        double fetches = 0;
+        for (size_t i = 0; i < n; i++) fetches += hits[i].fetches;
+        char mname[64];
+        cfg_name(mname, sizeof mname, c);
+        printf("%-36s %-24s %10.1f %10.1f %12.1f\n", j->s.name, mname, gpu_ms, cpu_ms,
+               fetches / (double)n);
+    }
+    free(hits);
+}
 
 static int run_bench(int w, int h, int frames, int nmaps, char **maps) {
     if (gl_start(w, h) != 0) return 2;
     printf("frame time, %d x %d, primary + shadow ray per pixel, %s (software)\n", w, h,
            (const char *)glGetString(GL_RENDERER));
     printf("%-36s %-24s %10s %10s %12s\n", "map", "method", "gpu ms", "cpu ms", "fetches/ray");
-    for (int m = 0; m < nmaps; m++) {
-        scene s;
-        if (scene_load(&s, maps[m]) != 0) {
-            printf("skip %s\n", maps[m]);
-            continue;
-        }
-        gpu g;
-        if (gpu_init(&g, &s, w, h) != 0) return 2;
-        camera cam = default_camera();
-        float depth_far = scene_depth_far(&s, &cam);
-        size_t n = (size_t)w * h;
-        hf_ray *rays = (hf_ray *)malloc(sizeof(hf_ray) * n);
-        hf_hit *hits = (hf_hit *)malloc(sizeof(hf_hit) * n);
-        make_rays(&s, &cam, w, h, rays);
-        gpu_upload_rays(&g, rays);
-        method_cfg cfgs[NUM_METHODS] = {{HF_METHOD_EXACT, HF_SURFACE_TRIANGLES, 0, 0, HF_SAFETY_DIRECTIONAL},
-                                        {HF_METHOD_LINEAR_BINARY, HF_SURFACE_TRIANGLES, 64, 8, HF_SAFETY_DIRECTIONAL},
-                                        {HF_METHOD_LINEAR_SECANT, HF_SURFACE_TRIANGLES, 64, 0, HF_SAFETY_DIRECTIONAL},
-                                        {HF_METHOD_MAXMIP, HF_SURFACE_TRIANGLES, 0, 0, HF_SAFETY_DIRECTIONAL},
-                                        {HF_METHOD_SAFETY, HF_SURFACE_TRIANGLES, 0, 0, HF_SAFETY_DIRECTIONAL},
-                                        {HF_METHOD_CONE, HF_SURFACE_TRIANGLES, 512, 0, HF_SAFETY_DIRECTIONAL},
-                                        {HF_METHOD_RELAXED, HF_SURFACE_TRIANGLES, 64, 8, HF_SAFETY_DIRECTIONAL},
-                                        {HF_METHOD_QDM, HF_SURFACE_TRIANGLES, 512, 0, HF_SAFETY_DIRECTIONAL},
-                                        {HF_METHOD_CC, HF_SURFACE_TRIANGLES, 0, 0, HF_SAFETY_DIRECTIONAL}};
-        printf("%-36s bakes (all cores): safety %.0f ms, cone %.0f ms, qdm %.0f ms, cc %.0f ms\n",
-               s.name, s.safety_bake_ms, s.cone_bake_ms, s.qdm_bake_ms, s.cc_bake_ms);
-        for (int k = 0; k < NUM_METHODS; k++) {
-            if (cfgs[k].method == HF_METHOD_RELAXED) continue; /* its bake takes minutes */
-            gpu_render(&g, &s, cfgs[k], depth_far); /* warm-up: shader compile */
-            glFinish();
-            double t0 = now_seconds();
-            for (int i = 0; i < frames; i++) {
-                gpu_render(&g, &s, cfgs[k], depth_far);
-                glFinish();
-            }
-            double gpu_ms = 1e3 * (now_seconds() - t0) / frames;
-            t0 = now_seconds();
-            cpu_trace(&s, cfgs[k], rays, n, hits);
-            double cpu_ms = 1e3 * (now_seconds() - t0);
-            double fetches = 0;
-            for (size_t i = 0; i < n; i++) fetches += hits[i].fetches;
-            char mname[64];
-            snprintf(mname, sizeof mname, "%s/%s", method_name(cfgs[k].method),
-                     surface_name(cfgs[k].surface));
-            printf("%-36s %-24s %10.1f %10.1f %12.1f\n", s.name, mname, gpu_ms, cpu_ms,
-                   fetches / (double)n);
-        }
-        free(rays);
-        free(hits);
-        gpu_free(&g);
-        scene_free(&s);
-    }
+    if (for_each_map(w, h, nmaps, maps, 0, "", bench_map, &frames) < 0) return 2;
     printf("(gpu ms: llvmpipe, whole frame with shadow rays; cpu ms: primary rays only, one "
            "thread, C API batch)\n");
+    gl_stop();
+    return 0;
+}
+
+/* ---- generated shaders --------------------------------------------------------------- */
+
+/* The scene description of a renderer configuration: the general scene of its method
+ * and surface (the renderer traces shadow rays, so upward rays stay), with 16-bit
+ * heights when `u16`. */
+static hf_scene scene_of_cfg(method_cfg c, int u16) {
+    hf_scene sc;
+    hf_result r = hf_scene_general(c.method, c.surface, &sc);
+    if (r != HF_OK) {
+        fprintf(stderr, "hf_scene_general failed (%u)\n", (unsigned)r);
+        exit(2);
+    }
+    sc.depth_output = 1;
+    sc.height_format = u16 ? HF_HEIGHTS_U16 : HF_HEIGHTS_F32;
+    return sc;
+}
+
+static size_t count_lines(const char *src) {
+    size_t n = 0;
+    for (; *src; src++) n += *src == '\n';
+    return n;
+}
+
+/* The program of the shader generated for `c` (`u16`: 16-bit heights), and the line
+ * counts of its fragment shader and of the general one of the method. */
+static GLuint generated_program(method_cfg c, int u16, size_t *lines_min, size_t *lines_gen) {
+    hf_scene sc = scene_of_cfg(c, u16);
+    char *src = generated_fragment_source(&sc);
+    char *gen_src = fragment_source(c.method);
+    *lines_min = count_lines(src);
+    *lines_gen = count_lines(gen_src);
+    free(gen_src);
+    GLuint prog = link_fragment(src);
+    free(src);
+    return prog;
+}
+
+/* How two frames of the same rays compare: 2 when every hit, normal, shadow, depth and
+ * colour is the same bit for bit; 1 when they hold the same hits (hit or miss, shadow,
+ * hit points within 1e-3 texel: the shader compiler may fuse a multiply-add differently
+ * in different code); 0 otherwise, listing up to 5 such pixels. `*rounded`: pixels
+ * not bit-identical. */
+static int frames_compare(const frame *a, const frame *b, int w, int h, int *rounded) {
+    size_t n = (size_t)w * h;
+    int listed = 0;
+    *rounded = 0;
+    for (size_t k = 0; k < n; k++) {
+        const float *pa = a->point + 4 * k, *pb = b->point + 4 * k;
+        if (memcmp(pa, pb, sizeof(float) * 4) == 0 &&
+            memcmp(a->normal + 4 * k, b->normal + 4 * k, sizeof(float) * 4) == 0 &&
+            memcmp(a->depth + k, b->depth + k, sizeof(float)) == 0 &&
+            memcmp(a->color + 4 * k, b->color + 4 * k, 4) == 0)
+            continue;
+        (*rounded)++;
+        int ha = pa[3] >= 0.0f, hb = pb[3] >= 0.0f;
+        int sa = a->normal[4 * k + 3] > 0.5f, sb = b->normal[4 * k + 3] > 0.5f;
+        if (ha == hb && sa == sb && (!ha || dist3(pa, pb) <= 1e-3f)) continue;
+        if (listed++ < 5)
+            fprintf(stderr,
+                    "  pixel (%d, %d): general (%.9g, %.9g, %.9g) t=%.9g shadow %d, generated "
+                    "(%.9g, %.9g, %.9g) t=%.9g shadow %d\n",
+                    (int)(k % w), (int)(k / w), pa[0], pa[1], pa[2], pa[3], sa, pb[0], pb[1],
+                    pb[2], pb[3], sb);
+    }
+    return listed > 0 ? 0 : *rounded > 0 ? 1 : 2;
+}
+
+/* The configurations the generated-shader test uses. */
+typedef struct gen_case {
+    method_cfg cfg;
+    int u16;
+} gen_case;
+
+static int generated_cases(gen_case *out) {
+    method_cfg cfgs[24];
+    int n = 0;
+    for (uint32_t sf = 0; sf <= HF_SURFACE_VIEW_LINEAR; sf++) {
+        cfgs[n++] = cfg_of(HF_METHOD_EXACT, sf);
+        cfgs[n++] = cfg_of(HF_METHOD_MAXMIP, sf);
+    }
+    n = search_to_cc_cfgs(cfgs, n, 0);
+    for (int k = 0; k < n; k++) {
+        out[k].cfg = cfgs[k];
+        out[k].u16 = 0;
+    }
+    /* 16-bit heights: an R16UI texture of the samples, the generated field_at. */
+    static const uint32_t u16[][2] = {{HF_METHOD_EXACT, HF_SURFACE_TRIANGLES},
+                                      {HF_METHOD_MAXMIP, HF_SURFACE_BILINEAR},
+                                      {HF_METHOD_CC, HF_SURFACE_TRIANGLES}};
+    for (size_t k = 0; k < sizeof u16 / sizeof u16[0]; k++) {
+        out[n].cfg = cfg_of(u16[k][0], u16[k][1]);
+        out[n++].u16 = 1;
+    }
+    return n;
+}
+
+/* Every case on one map (the crop job: relaxed cones) with the general and the
+ * generated shader: the frames must be identical (16-bit heights: the general shader
+ * reads the same heights as floats), and the generated one must agree with the CPU as
+ * the parity test demands. */
+static void generated_map(map_job *j, int w, int h, void *ctx) {
+    tally *t = (tally *)ctx;
+    frame fg, fm;
+    frame_alloc(&fg, w, h);
+    frame_alloc(&fm, w, h);
+    gen_case cases[32];
+    int ncases = generated_cases(cases);
+    if (j->crop) {
+        cases[0].cfg = cfg_of(HF_METHOD_RELAXED, HF_SURFACE_TRIANGLES);
+        cases[0].u16 = 0;
+        ncases = 1;
+    }
+    for (int k = 0; k < ncases; k++) {
+        method_cfg c = cases[k].cfg;
+        size_t lines_min, lines_gen;
+        GLuint prog = generated_program(c, cases[k].u16, &lines_min, &lines_gen);
+        render_ms(j, c, 0, 0);
+        gpu_read(&j->g, &fg);
+        render_ms(j, c, prog, cases[k].u16);
+        gpu_read(&j->g, &fm);
+        glDeleteProgram(prog);
+        int rounded = 0;
+        int same = frames_compare(&fg, &fm, w, h, &rounded);
+        t->identical += same == 2;
+        char label[160];
+        snprintf(label, sizeof label, "%s %s/%s%s", j->s.name, method_name(c.method),
+                 surface_name(c.surface), cases[k].u16 ? " u16" : "");
+        parity p = compare(&j->s, c, j->rays, &fm, j->depth_far, w, h, 0, label);
+        int ok = same && parity_ok(&p, c.method);
+        char how[64];
+        if (same == 2) snprintf(how, sizeof how, "bit-identical");
+        else if (same == 1) snprintf(how, sizeof how, "same hits (%d px rounded)", rounded);
+        else snprintf(how, sizeof how, "DIFFER");
+        printf("generated %-44s %4zu lines (general %4zu): frames %s; vs cpu %d differ, "
+               "shadows %d/%d differ  %s\n",
+               label, lines_min, lines_gen, how, p.differ, p.shadow_differ, p.shadow_checked,
+               ok ? "ok" : "FAILED");
+        if (ok) t->passed++; else t->failed++;
+    }
+    frame_free(&fg);
+    frame_free(&fm);
+}
+
+static int run_generated(int nmaps, char **maps) {
+    if (tests_start() != 0) return 2;
+    tally t = {0, 0, 0, NULL};
+    int loaded =
+        for_each_map(TEST_W, TEST_H, nmaps, maps, 1, ": cannot read it", generated_map, &t);
+    if (tests_stop(loaded) != 0) return 2;
+    printf("generated shaders bit-identical to the general shader: %d of %d\n", t.identical,
+           t.passed + t.failed);
+    return tests_result("osmesa-generated", &t);
+}
+
+static int cmp_double(const void *a, const void *b) {
+    double x = *(const double *)a, y = *(const double *)b;
+    return x < y ? -1 : x > y;
+}
+
+static double median(double *v, int n) {
+    qsort(v, (size_t)n, sizeof *v, cmp_double);
+    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+/* What the generated-shader benchmark times: frames per case, and room for their
+ * times with the general (`tg`) and the generated (`tm`) shader. */
+typedef struct gen_bench {
+    int frames;
+    double *tg, *tm;
+} gen_bench;
+
+/* The median frame times of the general and the generated shader of a few
+ * configurations on one map, frames alternating between the two so that both see the
+ * same machine load. */
+static void bench_generated_map(map_job *j, int w, int h, void *ctx) {
+    (void)w;
+    (void)h;
+    gen_bench *b = (gen_bench *)ctx;
+    static const uint32_t cases[][2] = {
+        {HF_METHOD_EXACT, HF_SURFACE_TRIANGLES},         {HF_METHOD_EXACT, HF_SURFACE_BILINEAR},
+        {HF_METHOD_LINEAR_BINARY, HF_SURFACE_TRIANGLES}, {HF_METHOD_MAXMIP, HF_SURFACE_TRIANGLES},
+        {HF_METHOD_SAFETY, HF_SURFACE_TRIANGLES},        {HF_METHOD_CONE, HF_SURFACE_TRIANGLES},
+        {HF_METHOD_CC, HF_SURFACE_TRIANGLES},
+    };
+    for (size_t k = 0; k < sizeof cases / sizeof cases[0]; k++) {
+        method_cfg c = cfg_of(cases[k][0], cases[k][1]);
+        size_t lines_min, lines_gen;
+        GLuint prog = generated_program(c, 0, &lines_min, &lines_gen);
+        /* Warm-up: llvmpipe compiles on first use. */
+        render_ms(j, c, 0, 0);
+        render_ms(j, c, prog, 0);
+        for (int i = 0; i < b->frames; i++) {
+            b->tg[i] = render_ms(j, c, 0, 0);
+            b->tm[i] = render_ms(j, c, prog, 0);
+        }
+        glDeleteProgram(prog);
+        double mg = median(b->tg, b->frames), mm = median(b->tm, b->frames);
+        char mname[64];
+        cfg_name(mname, sizeof mname, c);
+        printf("%-30s %-22s %7zu %7zu %10.1f %10.1f %7.3f\n", j->s.name, mname, lines_min,
+               lines_gen, mg, mm, mm / mg);
+    }
+}
+
+static int run_bench_generated(int w, int h, int frames, int nmaps, char **maps) {
+    if (gl_start(w, h) != 0) return 2;
+    if (frames < 1) frames = 1;
+    printf("median frame time of %d, %d x %d, primary + shadow ray per pixel, %s (software)\n",
+           frames, w, h, (const char *)glGetString(GL_RENDERER));
+    printf("%-30s %-22s %7s %7s %10s %10s %7s\n", "map", "method", "lines", "(gen.)",
+           "general ms", "minimal ms", "ratio");
+    gen_bench b = {frames, (double *)malloc(sizeof(double) * (size_t)frames),
+                   (double *)malloc(sizeof(double) * (size_t)frames)};
+    int loaded = for_each_map(w, h, nmaps, maps, 0, "", bench_generated_map, &b);
+    free(b.tg);
+    free(b.tm);
+    if (loaded < 0) return 2;
+    printf("(lines: generated minimal shader, then the general one, renderer main included; "
+           "ratio = minimal / general)\n");
     gl_stop();
     return 0;
 }
@@ -354,10 +650,16 @@ int main(int argc, char **argv) {
     if (argc >= 6 && strcmp(argv[1], "bench") == 0)
         return run_bench(atoi(argv[2]), atoi(argv[3]), atoi(argv[4]), argc - 5, argv + 5);
     if (argc == 3 && strcmp(argv[1], "shaders") == 0) return dump_shaders(argv[2]);
+    if (argc >= 3 && strcmp(argv[1], "generated") == 0) return run_generated(argc - 2, argv + 2);
+    if (argc >= 6 && strcmp(argv[1], "bench-generated") == 0)
+        return run_bench_generated(atoi(argv[2]), atoi(argv[3]), atoi(argv[4]), argc - 5,
+                                   argv + 5);
     fprintf(stderr,
             "usage: %s test OUTDIR MAP.png...\n"
             "       %s bench W H FRAMES MAP.png...\n"
-            "       %s shaders OUTDIR\n",
-            argv[0], argv[0], argv[0]);
+            "       %s shaders OUTDIR\n"
+            "       %s generated MAP.png...\n"
+            "       %s bench-generated W H FRAMES MAP.png...\n",
+            argv[0], argv[0], argv[0], argv[0], argv[0]);
     return 2;
 }

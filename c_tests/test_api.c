@@ -5,6 +5,8 @@
 #define _POSIX_C_SOURCE 200112L
 #include "hfcast.h"
 
+#include "check.h"
+
 #include <math.h>
 #include <pthread.h>
 #include <stdint.h>
@@ -12,18 +14,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-static int failures = 0;
-static int checks = 0;
 static int bad_inputs = 0;
-
-#define CHECK(cond)                                                                \
-    do {                                                                           \
-        checks++;                                                                  \
-        if (!(cond)) {                                                             \
-            failures++;                                                            \
-            fprintf(stderr, "%s:%d: check failed: %s\n", __FILE__, __LINE__, #cond); \
-        }                                                                          \
-    } while (0)
 
 #define CHECK_OK(call)                                                             \
     do {                                                                           \
@@ -696,6 +687,22 @@ static void test_safety(void) {
     }
     CHECK(iso_ok);
 
+    /* Two ray classes (x+, y-): the kept channels equal the full bake's, the others
+     * are 0 (a zero jump); the row bake with the same classes agrees. */
+    uint32_t two = HF_RAYS_X_POS | HF_RAYS_Y_NEG;
+    CHECK_BAD(hf_safety_bake_classes(f, &good, 0, 1, rows, dlen), HF_ERR_INVALID_ARGUMENT, rows,
+              64);
+    CHECK_BAD(hf_safety_bake_classes(f, &good, 16, 1, rows, dlen), HF_ERR_INVALID_ARGUMENT,
+              rows, 64);
+    CHECK_OK(hf_safety_bake_classes(f, &good, two, 2, rows, dlen));
+    int mask_ok = 1;
+    for (size_t k = 0; k < dlen; k++) mask_ok &= rows[k] == (((two >> (k % 4)) & 1) ? dmap[k] : 0);
+    CHECK(mask_ok);
+    unsigned char *rows2 = (unsigned char *)malloc(dlen);
+    CHECK_OK(hf_safety_bake_rows_classes(f, scratch, slen, &good, two, 0, H, rows2, dlen));
+    CHECK(memcmp(rows, rows2, dlen) == 0);
+    free(rows2);
+
     /* Exact: the safety march finds the exact method's hits on the triangle surface. */
     hf_ray *rays = (hf_ray *)malloc(sizeof(hf_ray) * N);
     for (int k = 0; k < N; k++) {
@@ -983,6 +990,22 @@ static void test_cc(void) {
     unsigned char *nbmap = (unsigned char *)malloc(mlen);
     CHECK_OK(hf_cc_bake(f, &nbo, 0, nbmap, mlen));
 
+    /* One ray class (y+): its bytes equal the full bake's, the others are radius 0
+     * without a cone; the row bake agrees. */
+    CHECK_BAD(hf_cc_bake_classes(f, &good, 0, 1, rows, mlen), HF_ERR_INVALID_ARGUMENT, rows, 64);
+    CHECK_OK(hf_cc_bake_classes(f, &good, HF_RAYS_Y_POS, 2, rows, mlen));
+    int cc_mask_ok = 1;
+    for (size_t k = 0; k < mlen; k++) {
+        static const unsigned char skipped[4] = {0, 255, 0, 0};
+        cc_mask_ok &= rows[k] == ((k / 4) % 4 == 2 ? map[k] : skipped[k % 4]);
+    }
+    CHECK(cc_mask_ok);
+    unsigned char *rows2 = (unsigned char *)malloc(mlen);
+    CHECK_OK(hf_cc_bake_rows_classes(f, scratch, slen, nb, nlen, &good, HF_RAYS_Y_POS, 0, H, rows2,
+                                     mlen));
+    CHECK(memcmp(rows, rows2, mlen) == 0);
+    free(rows2);
+
     float fr[3] = {0, 0, 0};
     CHECK_OK(hf_cc_frame(f, &fr[0], &fr[1], &fr[2]));
     CHECK(fr[1] > 0.0f && near(fr[2], fr[1] * 65535.0f, 1e-3f * fr[2]));
@@ -1136,6 +1159,59 @@ static void test_concurrent_rows(void) {
 
 /* ---- shader sources -------------------------------------------------------------- */
 
+/* The full build has every method; bake plans follow the scene. */
+static void test_build_and_plan(void) {
+    for (uint32_t m = 0; m <= HF_METHOD_CC; m++) {
+        uint32_t has = 7;
+        CHECK_OK(hf_build_has_method(m, &has));
+        CHECK(has == 1);
+    }
+    uint32_t has = 7;
+    CHECK_BAD(hf_build_has_method(HF_METHOD_CC + 1, &has), HF_ERR_INVALID_ENUM, &has, sizeof has);
+    CHECK_BAD(hf_build_has_method(0, NULL), HF_ERR_NULL_POINTER, nothing, 0);
+
+    hf_scene scene;
+    hf_bake_plan plan;
+    char text[1024];
+    size_t n = 0;
+    CHECK_OK(hf_scene_general(HF_METHOD_EXACT, HF_SURFACE_TRIANGLES, &scene));
+    CHECK_OK(hf_scene_bake_plan(&scene, &plan));
+    CHECK(plan.pyramid == HF_NEED_SKIP && plan.safety_map == HF_NEED_SKIP &&
+          plan.cone_map == HF_NEED_SKIP && plan.ray_classes == 0);
+    CHECK_OK(hf_scene_bake_plan_skipped(&scene, text, sizeof text, &n));
+    CHECK(n == strlen(text) && strstr(text, "pyramid: ") != NULL);
+
+    CHECK_OK(hf_scene_general(HF_METHOD_SAFETY, HF_SURFACE_TRIANGLES, &scene));
+    scene.ray_classes = HF_RAYS_X_POS | HF_RAYS_Y_NEG;
+    CHECK_OK(hf_scene_bake_plan(&scene, &plan));
+    CHECK(plan.safety_scratch == HF_NEED_SCRATCH && plan.safety_map == HF_NEED_KEEP);
+    CHECK(plan.cc_map == HF_NEED_SKIP && plan.pyramid == HF_NEED_SKIP);
+    CHECK(plan.ray_classes == scene.ray_classes && plan.safety_variant == HF_SAFETY_DIRECTIONAL);
+    CHECK_OK(hf_scene_bake_plan_skipped(&scene, text, sizeof text, &n));
+    CHECK(strstr(text, "x- channel: ") != NULL && strstr(text, "x+ channel") == NULL);
+    scene.ray_classes = HF_RAYS_Y_POS;
+    CHECK_OK(hf_scene_bake_plan(&scene, &plan));
+    CHECK(plan.safety_variant == HF_SAFETY_ISOTROPIC);
+
+    CHECK_OK(hf_scene_general(HF_METHOD_CC, HF_SURFACE_TRIANGLES, &scene));
+    CHECK_OK(hf_scene_bake_plan(&scene, &plan));
+    CHECK(plan.cc_map == HF_NEED_KEEP && plan.nbuffer == HF_NEED_SCRATCH &&
+          plan.safety_map == HF_NEED_SKIP && plan.ray_classes == HF_RAYS_ALL);
+    CHECK_OK(hf_scene_general(HF_METHOD_QDM, HF_SURFACE_TRIANGLES, &scene));
+    CHECK_OK(hf_scene_bake_plan(&scene, &plan));
+    CHECK(plan.qdm_map == HF_NEED_KEEP && plan.pyramid == HF_NEED_SCRATCH &&
+          plan.cone_map == HF_NEED_SKIP);
+
+    hf_bake_plan before = plan;
+    scene.ray_classes = 0;
+    CHECK_BAD(hf_scene_bake_plan(&scene, &plan), HF_ERR_INVALID_ARGUMENT, &plan, sizeof plan);
+    CHECK(memcmp(&before, &plan, sizeof plan) == 0);
+    CHECK_BAD(hf_scene_bake_plan(NULL, &plan), HF_ERR_NULL_POINTER, &plan, sizeof plan);
+    scene.ray_classes = HF_RAYS_ALL;
+    CHECK_BAD(hf_scene_bake_plan(&scene, NULL), HF_ERR_NULL_POINTER, nothing, 0);
+    CHECK_BAD(hf_scene_bake_plan_skipped(&scene, text, 3, &n), HF_ERR_BUFFER_TOO_SMALL, text, 3);
+}
+
 static void test_shader_source(void) {
     for (uint32_t m = HF_METHOD_EXACT; m <= HF_METHOD_CC; m++) {
         size_t len = 0, written = 0;
@@ -1174,6 +1250,7 @@ int main(void) {
     test_cones();
     test_cc();
     test_concurrent_rows();
+    test_build_and_plan();
     test_shader_source();
     printf("c api: %d checks, %d bad inputs tried\n", checks, bad_inputs);
     printf("c-api: %d passed, %d failed\n", checks - failures, failures);

@@ -15,6 +15,9 @@
  * ray coordinates are in grid units (one sample spacing). Everything below the surface
  * is solid: a ray starting under it hits at t_min (HF_FLAG_ORIGIN_INSIDE).
  *
+ * Builds: cargo features leave whole methods out of the library; this header then
+ * declares only what the build has (HF_HAVE_* below, hf_build_has_method).
+ *
  * Thread safety: an hf_field is immutable except through hf_field_update_rect and
  * hf_field_destroy; every other function may be called from any thread concurrently.
  */
@@ -34,6 +37,18 @@
 #define HFCAST_VERSION_PATCH 0
 #define HFCAST_VERSION_STRING "0.1.0"
 
+/* The methods this build of the library has (cargo features of hfcast-capi; see
+   hf_build_has_method). The declarations of each are inside
+   #if defined(HF_HAVE_<METHOD>); the header of a build with fewer methods, printed by
+   `cargo run -p hfcast-capi --no-default-features --features <methods> --example
+   header`, defines fewer and has the others' declarations removed. */
+#define HF_HAVE_MAXMIP 1
+#define HF_HAVE_SAFETY 1
+#define HF_HAVE_CONE 1
+#define HF_HAVE_QDM 1
+#define HF_HAVE_RELAXED 1
+#define HF_HAVE_SEARCH 1
+
 // Hit flag: the ray starts under the surface; the hit is at `t_min`.
 #define HF_FLAG_ORIGIN_INSIDE 1
 
@@ -49,13 +64,17 @@
 // Largest width or height of a field (2^24: grid coordinates stay exact in `float`).
 #define HF_MAX_SIDE 16777216
 
+#if defined(HF_HAVE_MAXMIP)
 // Most levels a maximum-mipmap pyramid has.
 #define HF_MAX_LEVELS 25
+#endif
 
+#if defined(HF_HAVE_MAXMIP)
 // Width of the 2D `R32F` texture the GLSL maxmip port reads the pyramid from: pyramid
 // texel `k` (the index into the `hf_maxmip_bake` buffer) is texel
 // `(k % HF_PYRAMID_TEX_WIDTH, k / HF_PYRAMID_TEX_WIDTH)`; the last row is padded.
 #define HF_PYRAMID_TEX_WIDTH 4096
+#endif
 
 // Ray-class bit of `hf_scene::ray_classes`: rays with dx ≥ |dy|.
 #define HF_RAYS_X_POS 1
@@ -71,6 +90,12 @@
 
 // Every ray class.
 #define HF_RAYS_ALL 15
+
+// Shader language of `hf_shader_generate`: GLSL 3.30 core (no `#version` line).
+#define HF_SHADER_GLSL 0
+
+// Shader language of `hf_shader_generate`: WGSL.
+#define HF_SHADER_WGSL 1
 
 // Result code of every `hf_` function. `HF_OK` is 0; every other value is an error,
 // and a function that returns one has written nothing to its outputs.
@@ -182,18 +207,23 @@ typedef uint32_t hf_method;
 #endif // __STDC_VERSION__ >= 202311L
 #endif // __cplusplus
 
+#if defined(HF_HAVE_SAFETY)
 // Layout of a safety-distance map. Passed as `uint32_t`.
 enum hf_safety_variant
 #if defined(__cplusplus) || __STDC_VERSION__ >= 202311L
   : uint32_t
 #endif // defined(__cplusplus) || __STDC_VERSION__ >= 202311L
  {
+#if defined(HF_HAVE_SAFETY)
   // Four bytes per texel, one per ray class (x+, x−, y+, y−):
   // `map[(j * W + i) * 4 + class]`. Upload as an `RGBA8UI` texture.
   HF_SAFETY_DIRECTIONAL = 0,
+#endif
+#if defined(HF_HAVE_SAFETY)
   // One byte per texel, the minimum over the classes: `map[j * W + i]`. Upload as
   // an `R8UI` texture.
   HF_SAFETY_ISOTROPIC = 1,
+#endif
 };
 #ifndef __cplusplus
 #if __STDC_VERSION__ >= 202311L
@@ -202,17 +232,23 @@ typedef enum hf_safety_variant hf_safety_variant;
 typedef uint32_t hf_safety_variant;
 #endif // __STDC_VERSION__ >= 202311L
 #endif // __cplusplus
+#endif
 
+#if defined(HF_HAVE_SAFETY)
 // How the cone slope of a cylinder–cone bake is computed. Passed as `uint32_t`.
 enum hf_cc_slope
 #if defined(__cplusplus) || __STDC_VERSION__ >= 202311L
   : uint32_t
 #endif // defined(__cplusplus) || __STDC_VERSION__ >= 202311L
  {
+#if defined(HF_HAVE_SAFETY)
   // Over the limiting triangles only, exactly (larger steps, slower bake).
   HF_CC_SLOPE_EXACT = 0,
+#endif
+#if defined(HF_HAVE_SAFETY)
   // Every triangle limiting, column maxima from the N-buffer (conservative, faster).
   HF_CC_SLOPE_NBUFFER = 1,
+#endif
 };
 #ifndef __cplusplus
 #if __STDC_VERSION__ >= 202311L
@@ -221,6 +257,7 @@ typedef enum hf_cc_slope hf_cc_slope;
 typedef uint32_t hf_cc_slope;
 #endif // __STDC_VERSION__ >= 202311L
 #endif // __cplusplus
+#endif
 
 // Height texture formats (`hf_scene::height_format`). Passed as `uint32_t`.
 enum hf_height_format
@@ -243,6 +280,28 @@ typedef uint32_t hf_height_format;
 #endif // __STDC_VERSION__ >= 202311L
 #endif // __cplusplus
 
+// How a scene needs one baked product (the fields of `hf_bake_plan`). Passed as
+// `uint32_t`.
+enum hf_need
+#if defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+  : uint32_t
+#endif // defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+ {
+  // Not baked: the scene's method never reads it (`hf_scene_bake_plan_skipped` says why).
+  HF_NEED_SKIP = 0,
+  // Baked as the input of another bake only: free it once that bake is done.
+  HF_NEED_SCRATCH = 1,
+  // Baked and read by the march: keep it (upload it).
+  HF_NEED_KEEP = 2,
+};
+#ifndef __cplusplus
+#if __STDC_VERSION__ >= 202311L
+typedef enum hf_need hf_need;
+#else
+typedef uint32_t hf_need;
+#endif // __STDC_VERSION__ >= 202311L
+#endif // __cplusplus
+
 // A height field: W × H heights in grid units, owned by the library (the constructors
 // copy the caller's samples, so the caller's buffer may be freed at once). Sample
 // (i, j) sits at grid point (x = i, y = j); the surface covers [0, W−1] × [0, H−1].
@@ -252,6 +311,7 @@ typedef uint32_t hf_height_format;
 // `hf_field_destroy` need exclusive access.
 typedef struct hf_field hf_field;
 
+#if defined(HF_HAVE_SAFETY)
 // What a cylinder–cone bake computes.
 typedef struct hf_cc_options {
   // An `hf_cc_slope`.
@@ -260,6 +320,7 @@ typedef struct hf_cc_options {
   // must be given the same value.
   uint32_t cap;
 } hf_cc_options;
+#endif
 
 // A ray in grid space: the points `origin + t * dir` for `t` in `[t_min, t_max]`.
 // `dir` need not be normalised (t is then in units of `|dir|`) but must be finite
@@ -313,6 +374,7 @@ typedef struct hf_field_info {
   float max_height;
 } hf_field_info;
 
+#if defined(HF_HAVE_MAXMIP)
 // One level of a maximum-mipmap pyramid: its texels lie at
 // `pyramid[offset + j * width + i]`, row-major.
 typedef struct hf_level {
@@ -323,7 +385,9 @@ typedef struct hf_level {
   // Index of the level's first texel in the pyramid buffer.
   size_t offset;
 } hf_level;
+#endif
 
+#if defined(HF_HAVE_SAFETY)
 // What a safety-distance bake computes.
 typedef struct hf_safety_options {
   // An `hf_safety_variant`.
@@ -334,6 +398,7 @@ typedef struct hf_safety_options {
   // Largest distance stored, 0..=255 (255 is the default; smaller is conservative).
   uint32_t cap;
 } hf_safety_options;
+#endif
 
 // What a scene uses; shader generation and bakes leave out everything else. Fill it
 // with `hf_scene_general`, then narrow it.
@@ -359,9 +424,51 @@ typedef struct hf_scene {
   uint32_t height_format;
 } hf_scene;
 
+// What to bake for a scene (`hf_scene_bake_plan`): an `hf_need` per product, the ray
+// classes the safety-shape bakes compute and the safety map's layout.
+typedef struct hf_bake_plan {
+  // The maximum-mipmap pyramid (`hf_maxmip_bake`): kept for maxmip; scratch of the
+  // cone, relaxed-cone and QDM bakes (`hf_cone_prepare`).
+  uint32_t pyramid;
+  // The strip bounds of the safety-shape bakes (`hf_safety_prepare`).
+  uint32_t safety_scratch;
+  // The safety-distance map (`hf_safety_bake_classes`).
+  uint32_t safety_map;
+  // The cylinder–cone map (`hf_cc_bake_classes`).
+  uint32_t cc_map;
+  // The N-buffers of the cylinder–cone bake (`hf_cc_prepare_nbuffer`), with either
+  // slope.
+  uint32_t nbuffer;
+  // The conservative cone map (`hf_cone_bake`).
+  uint32_t cone_map;
+  // The relaxed cone map (`hf_relaxed_bake`).
+  uint32_t relaxed_map;
+  // The quadratic displacement map (`hf_qdm_bake`).
+  uint32_t qdm_map;
+  // `HF_RAYS_*` bits of the classes the safety-distance and cylinder–cone bakes
+  // compute (pass them to `hf_safety_bake_classes`, `hf_cc_bake_classes`); the
+  // other classes' channels are left 0 (a zero jump). 0 when neither is baked.
+  uint32_t ray_classes;
+  // The safety map's layout, an `hf_safety_variant`: `HF_SAFETY_ISOTROPIC` (one
+  // byte per texel, that class's distances exactly) when one ray class occurs,
+  // else `HF_SAFETY_DIRECTIONAL`.
+  uint32_t safety_variant;
+} hf_bake_plan;
+
 #ifdef __cplusplus
 extern "C" {
 #endif // __cplusplus
+
+// Writes 1 to `*out` when this build of the library has `method` (an `hf_method`),
+// else 0: cargo features leave whole methods out (`--no-default-features --features
+// cone`), their functions are then not exported and not declared in the header of
+// that build, and the functions that take a method number answer
+// `HF_ERR_NOT_BUILT` for it. An unknown method is `HF_ERR_INVALID_ENUM`. Thread safe.
+//
+// # Safety
+// `out` is NULL (an error) or valid for writing one `uint32_t`.
+hf_result hf_build_has_method(uint32_t method,
+                              uint32_t *out);
 
 // Writes the library version. The same numbers as the `HFCAST_VERSION_*` macros of
 // the header the caller compiled against; compare them to detect a mismatched
@@ -386,6 +493,7 @@ hf_result hf_error_message(uint32_t code,
                            size_t buf_len,
                            size_t *out_written);
 
+#if defined(HF_HAVE_SAFETY)
 // Writes the size in bytes of the packed cylinder–cone map of a `width × height`
 // field to `*out_len`: 16 per texel, four per ray class in class order (x+, x−, y+,
 // y−), `[r, s, z_lo, z_hi]` (cylinder radius, slope code, base-height code): upload
@@ -396,7 +504,9 @@ hf_result hf_error_message(uint32_t code,
 hf_result hf_cc_map_len(uint32_t width,
                         uint32_t height,
                         size_t *out_len);
+#endif
 
+#if defined(HF_HAVE_SAFETY)
 // Writes the number of floats of the N-buffers of a `width × height` field for cone
 // reach `cap` (0..=255) to `*out_len`. Thread safe.
 //
@@ -406,7 +516,9 @@ hf_result hf_cc_nbuffer_len(uint32_t width,
                             uint32_t height,
                             uint32_t cap,
                             size_t *out_len);
+#endif
 
+#if defined(HF_HAVE_SAFETY)
 // Fills `out_nbuffer` (`out_nbuffer_len ≥ hf_cc_nbuffer_len(W, H, cap)` floats) with
 // the N-buffers the cone slopes of `hf_cc_bake_rows` read. O(cells · levels), one
 // thread.
@@ -418,7 +530,9 @@ hf_result hf_cc_prepare_nbuffer(const struct hf_field *field,
                                 uint32_t cap,
                                 float *out_nbuffer,
                                 size_t out_nbuffer_len);
+#endif
 
+#if defined(HF_HAVE_SAFETY)
 // Bakes the cylinder–cone shapes of texel rows `[row_begin, row_end)` (0 ≤ begin ≤
 // end ≤ H) into `map` (the whole map buffer, `map_len ≥ hf_cc_map_len`), reading
 // `scratch` (from `hf_safety_prepare`) and `nbuffer` (from `hf_cc_prepare_nbuffer`
@@ -440,7 +554,30 @@ hf_result hf_cc_bake_rows(const struct hf_field *field,
                           uint32_t row_end,
                           uint8_t *map,
                           size_t map_len);
+#endif
 
+#if defined(HF_HAVE_SAFETY)
+// `hf_cc_bake_rows` for the ray classes `ray_classes` only (`HF_RAYS_*` bits, not 0;
+// `hf_scene_bake_plan` gives a scene's): the other classes are not computed and pack as
+// radius 0 without a cone (a zero jump: the map stays exact for every ray); the kept
+// classes' bytes equal the full bake's.
+//
+// # Safety
+// As `hf_cc_bake_rows`.
+hf_result hf_cc_bake_rows_classes(const struct hf_field *field,
+                                  const float *scratch,
+                                  size_t scratch_len,
+                                  const float *nbuffer,
+                                  size_t nbuffer_len,
+                                  const struct hf_cc_options *options,
+                                  uint32_t ray_classes,
+                                  uint32_t row_begin,
+                                  uint32_t row_end,
+                                  uint8_t *map,
+                                  size_t map_len);
+#endif
+
+#if defined(HF_HAVE_SAFETY)
 // Bakes the whole cylinder–cone map of `field` into `out_map` (`out_map_len ≥
 // hf_cc_map_len`) on `threads` threads (0: one per available core), allocating both
 // scratches itself. Same result for any thread count.
@@ -453,7 +590,23 @@ hf_result hf_cc_bake(const struct hf_field *field,
                      uint32_t threads,
                      uint8_t *out_map,
                      size_t out_map_len);
+#endif
 
+#if defined(HF_HAVE_SAFETY)
+// `hf_cc_bake` for the ray classes `ray_classes` only (`HF_RAYS_*` bits, not 0), as
+// `hf_cc_bake_rows_classes`.
+//
+// # Safety
+// As `hf_cc_bake`.
+hf_result hf_cc_bake_classes(const struct hf_field *field,
+                             const struct hf_cc_options *options,
+                             uint32_t ray_classes,
+                             uint32_t threads,
+                             uint8_t *out_map,
+                             size_t out_map_len);
+#endif
+
+#if defined(HF_HAVE_SAFETY)
 // Writes the frame the packed base heights are decoded with, as the march uses it in
 // `float`: `z_c = zmin + code * zstep`, and `zspan = zstep * 65535` (for the rounding
 // bound): the uniforms `hf_cc_zmin`, `hf_cc_zstep`, `hf_cc_zspan` of the GLSL port.
@@ -466,7 +619,9 @@ hf_result hf_cc_frame(const struct hf_field *field,
                       float *out_zmin,
                       float *out_zstep,
                       float *out_zspan);
+#endif
 
+#if defined(HF_HAVE_SAFETY)
 // Traces one ray on the triangle surface with the cylinder–cone map `map` (from
 // `hf_cc_bake` with the same `cap`): exact, the hit of `hf_trace_exact` with
 // `HF_SURFACE_TRIANGLES` (up to rounding on grazing rays). Costs one fetch per shape
@@ -482,7 +637,9 @@ hf_result hf_trace_cc(const struct hf_field *field,
                       uint32_t cap,
                       const struct hf_ray *ray,
                       struct hf_hit *out_hit);
+#endif
 
+#if defined(HF_HAVE_SAFETY)
 // `hf_trace_cc` for a batch, with the conventions of `hf_trace_exact_batch`.
 // Thread safe.
 //
@@ -497,7 +654,9 @@ hf_result hf_trace_cc_batch(const struct hf_field *field,
                             size_t rays_len,
                             struct hf_hit *out_hits,
                             size_t out_hits_len);
+#endif
 
+#if defined(HF_HAVE_CONE)
 // Writes the number of floats of the bake scratch of a `width × height` field to
 // `*out_len`: the maximum-mipmap pyramid (`hf_maxmip_len`) the cone, relaxed-cone
 // and QDM bakes search. Thread safe.
@@ -507,7 +666,9 @@ hf_result hf_trace_cc_batch(const struct hf_field *field,
 hf_result hf_cone_scratch_len(uint32_t width,
                               uint32_t height,
                               size_t *out_len);
+#endif
 
+#if defined(HF_HAVE_CONE)
 // Fills `out_scratch` (`out_scratch_len ≥ hf_cone_scratch_len`) with what the row
 // bakes of the cone family (`hf_cone_bake_rows`, `hf_relaxed_bake_rows`,
 // `hf_qdm_bake_rows`) read: the maximum-mipmap pyramid of `field`. Thread safe for
@@ -519,7 +680,9 @@ hf_result hf_cone_scratch_len(uint32_t width,
 hf_result hf_cone_prepare(const struct hf_field *field,
                           float *out_scratch,
                           size_t out_scratch_len);
+#endif
 
+#if defined(HF_HAVE_CONE)
 // Writes the number of floats of the cone map of a `width × height` field to
 // `*out_len`: two per cell, `[top, ratio]` (the cell's highest corner, the cone's
 // horizontal/vertical opening), cell (i, j) at `map[2 * (j * (W − 1) + i)]`: upload as
@@ -530,7 +693,9 @@ hf_result hf_cone_prepare(const struct hf_field *field,
 hf_result hf_cone_map_len(uint32_t width,
                           uint32_t height,
                           size_t *out_len);
+#endif
 
+#if defined(HF_HAVE_CONE)
 // Bakes cell rows `[row_begin, row_end)` (0 ≤ begin ≤ end ≤ H − 1) of the
 // conservative cone map of `field` into `map` (the whole map buffer, `map_len ≥
 // hf_cone_map_len`), reading `scratch` from `hf_cone_prepare`. Writes only those
@@ -547,7 +712,9 @@ hf_result hf_cone_bake_rows(const struct hf_field *field,
                             uint32_t row_end,
                             float *map,
                             size_t map_len);
+#endif
 
+#if defined(HF_HAVE_CONE)
 // Bakes the whole conservative cone map of `field` (cone step mapping made exact for
 // the triangle surface) into `out_map` (`out_map_len ≥ hf_cone_map_len`) on `threads`
 // threads (0: one per available core), allocating the scratch itself.
@@ -559,7 +726,9 @@ hf_result hf_cone_bake(const struct hf_field *field,
                        uint32_t threads,
                        float *out_map,
                        size_t out_map_len);
+#endif
 
+#if defined(HF_HAVE_CONE)
 // Traces one ray on the triangle surface with conservative cone steps over `map`
 // (from `hf_cone_bake`), at most `max_iter ≥ 1` iterations (cone step or exact cell
 // test; when they run out the current point is returned, flagged
@@ -576,7 +745,9 @@ hf_result hf_trace_cone(const struct hf_field *field,
                         uint32_t max_iter,
                         const struct hf_ray *ray,
                         struct hf_hit *out_hit);
+#endif
 
+#if defined(HF_HAVE_CONE)
 // `hf_trace_cone` for a batch, with the conventions of `hf_trace_exact_batch`.
 // Thread safe.
 //
@@ -591,7 +762,9 @@ hf_result hf_trace_cone_batch(const struct hf_field *field,
                               size_t rays_len,
                               struct hf_hit *out_hits,
                               size_t out_hits_len);
+#endif
 
+#if (defined(HF_HAVE_CONE) && defined(HF_HAVE_RELAXED))
 // Writes the number of floats of the relaxed cone map of a `width × height` field to
 // `*out_len`: one ratio per sample, sample (i, j) at `map[j * W + i]` (an `R32F`
 // texture of W × H texels). Thread safe.
@@ -601,7 +774,9 @@ hf_result hf_trace_cone_batch(const struct hf_field *field,
 hf_result hf_relaxed_map_len(uint32_t width,
                              uint32_t height,
                              size_t *out_len);
+#endif
 
+#if (defined(HF_HAVE_CONE) && defined(HF_HAVE_RELAXED))
 // Bakes sample rows `[row_begin, row_end)` (0 ≤ begin ≤ end ≤ H) of the relaxed cone
 // map (Policarpo & Oliveira 2007) into `map`, as `hf_cone_bake_rows`.
 //
@@ -614,7 +789,9 @@ hf_result hf_relaxed_bake_rows(const struct hf_field *field,
                                uint32_t row_end,
                                float *map,
                                size_t map_len);
+#endif
 
+#if (defined(HF_HAVE_CONE) && defined(HF_HAVE_RELAXED))
 // Bakes the whole relaxed cone map of `field` into `out_map` (`out_map_len ≥
 // hf_relaxed_map_len`) on `threads` threads (0: one per available core).
 //
@@ -624,7 +801,9 @@ hf_result hf_relaxed_bake(const struct hf_field *field,
                           uint32_t threads,
                           float *out_map,
                           size_t out_map_len);
+#endif
 
+#if (defined(HF_HAVE_CONE) && defined(HF_HAVE_RELAXED))
 // Traces one ray with relaxed cone stepping (approximate: a relaxed cone lets a ray
 // cross the surface once, so thin peaks can be missed): at most `cone_steps ≥ 1` cone
 // steps, then `binary_steps` bisections. Costs four fetches per surface height, one
@@ -639,7 +818,9 @@ hf_result hf_trace_relaxed(const struct hf_field *field,
                            uint32_t binary_steps,
                            const struct hf_ray *ray,
                            struct hf_hit *out_hit);
+#endif
 
+#if (defined(HF_HAVE_CONE) && defined(HF_HAVE_RELAXED))
 // `hf_trace_relaxed` for a batch, with the conventions of `hf_trace_exact_batch`.
 // Thread safe.
 //
@@ -654,7 +835,9 @@ hf_result hf_trace_relaxed_batch(const struct hf_field *field,
                                  size_t rays_len,
                                  struct hf_hit *out_hits,
                                  size_t out_hits_len);
+#endif
 
+#if (defined(HF_HAVE_CONE) && defined(HF_HAVE_QDM))
 // Writes the number of floats of the quadratic displacement map of a `width ×
 // height` field to `*out_len`: four per cell, `[a, b, c, h]` (cone ratio, cone
 // height, parabola curvature, the cell's top), cell (i, j) at
@@ -666,7 +849,9 @@ hf_result hf_trace_relaxed_batch(const struct hf_field *field,
 hf_result hf_qdm_map_len(uint32_t width,
                          uint32_t height,
                          size_t *out_len);
+#endif
 
+#if (defined(HF_HAVE_CONE) && defined(HF_HAVE_QDM))
 // Bakes cell rows `[row_begin, row_end)` (0 ≤ begin ≤ end ≤ H − 1) of the quadratic
 // displacement map (after Kiglics et al.) into `map`, as `hf_cone_bake_rows`.
 //
@@ -679,7 +864,9 @@ hf_result hf_qdm_bake_rows(const struct hf_field *field,
                            uint32_t row_end,
                            float *map,
                            size_t map_len);
+#endif
 
+#if (defined(HF_HAVE_CONE) && defined(HF_HAVE_QDM))
 // Bakes the whole quadratic displacement map of `field` into `out_map` (`out_map_len
 // ≥ hf_qdm_map_len`) on `threads` threads (0: one per available core).
 //
@@ -689,7 +876,9 @@ hf_result hf_qdm_bake(const struct hf_field *field,
                       uint32_t threads,
                       float *out_map,
                       size_t out_map_len);
+#endif
 
+#if (defined(HF_HAVE_CONE) && defined(HF_HAVE_QDM))
 // Traces one ray on the triangle surface with quadratic displacement steps over `map`
 // (from `hf_qdm_bake`), at most `max_iter ≥ 1` iterations, as `hf_trace_cone`: within
 // the budget the hit is the exact one. Thread safe.
@@ -702,7 +891,9 @@ hf_result hf_trace_qdm(const struct hf_field *field,
                        uint32_t max_iter,
                        const struct hf_ray *ray,
                        struct hf_hit *out_hit);
+#endif
 
+#if (defined(HF_HAVE_CONE) && defined(HF_HAVE_QDM))
 // `hf_trace_qdm` for a batch, with the conventions of `hf_trace_exact_batch`.
 // Thread safe.
 //
@@ -716,6 +907,7 @@ hf_result hf_trace_qdm_batch(const struct hf_field *field,
                              size_t rays_len,
                              struct hf_hit *out_hits,
                              size_t out_hits_len);
+#endif
 
 // Creates a field from `float` heights in grid units (one grid unit = one sample
 // spacing): sample (i, j) is `heights[j * stride + i]`, for i < `width`, j < `height`.
@@ -813,6 +1005,7 @@ hf_result hf_field_update_rect(struct hf_field *field,
                                size_t values_len,
                                size_t values_stride);
 
+#if defined(HF_HAVE_MAXMIP)
 // Writes the number of floats of the maximum-mipmap pyramid of a `width × height`
 // field (2 ≤ width, height ≤ `HF_MAX_SIDE`) to `*out_len`: the size to allocate for
 // `hf_maxmip_bake`. Thread safe.
@@ -822,7 +1015,9 @@ hf_result hf_field_update_rect(struct hf_field *field,
 hf_result hf_maxmip_len(uint32_t width,
                         uint32_t height,
                         size_t *out_len);
+#endif
 
+#if defined(HF_HAVE_MAXMIP)
 // Writes the pyramid levels of a `width × height` field, finest (level 0, one texel
 // per cell: the maximum of its four corners) to coarsest (1 × 1), into `out_levels`
 // (`out_levels_len ≥` the level count; `HF_MAX_LEVELS` always suffices) and their
@@ -837,7 +1032,9 @@ hf_result hf_maxmip_levels(uint32_t width,
                            struct hf_level *out_levels,
                            size_t out_levels_len,
                            uint32_t *out_count);
+#endif
 
+#if defined(HF_HAVE_MAXMIP)
 // Bakes the whole maximum-mipmap pyramid of `field` into `out_pyramid`, which holds
 // `out_pyramid_len ≥ hf_maxmip_len(W, H)` floats (heights, grid units; layout from
 // `hf_maxmip_levels`). Single-threaded. Thread safe for distinct output buffers.
@@ -848,7 +1045,9 @@ hf_result hf_maxmip_levels(uint32_t width,
 hf_result hf_maxmip_bake(const struct hf_field *field,
                          float *out_pyramid,
                          size_t out_pyramid_len);
+#endif
 
+#if defined(HF_HAVE_MAXMIP)
 // Bakes rows `[row_begin, row_end)` of pyramid level `level` into `pyramid` (the
 // whole pyramid buffer, `pyramid_len ≥ hf_maxmip_len(W, H)`), reading level
 // `level − 1` from the same buffer (level 0 reads the field). Levels must be baked
@@ -866,7 +1065,9 @@ hf_result hf_maxmip_bake_rows(const struct hf_field *field,
                               uint32_t row_end,
                               float *pyramid,
                               size_t pyramid_len);
+#endif
 
+#if defined(HF_HAVE_MAXMIP)
 // `hf_maxmip_bake` on `threads` threads (0: one per available core): each level's
 // rows are split among the threads, levels in order. The result is identical to
 // `hf_maxmip_bake`.
@@ -877,7 +1078,9 @@ hf_result hf_maxmip_bake_threaded(const struct hf_field *field,
                                   uint32_t threads,
                                   float *out_pyramid,
                                   size_t out_pyramid_len);
+#endif
 
+#if defined(HF_HAVE_MAXMIP)
 // Refreshes the texels of `pyramid` (baked for `field` before the change) that
 // depend on the samples `[x0, x1) × [y0, y1)`, after `hf_field_update_rect` changed
 // them; the result equals a full bake. `pyramid_len ≥ hf_maxmip_len(W, H)`. An empty
@@ -894,7 +1097,9 @@ hf_result hf_maxmip_update_rect(const struct hf_field *field,
                                 uint32_t y1,
                                 float *pyramid,
                                 size_t pyramid_len);
+#endif
 
+#if defined(HF_HAVE_SAFETY)
 // Writes the size in bytes of the safety-distance map of a `width × height` field
 // with `variant` (an `hf_safety_variant`) to `*out_len`: `W * H * 4` (directional) or
 // `W * H` (isotropic). Thread safe.
@@ -905,7 +1110,9 @@ hf_result hf_safety_map_len(uint32_t width,
                             uint32_t height,
                             uint32_t variant,
                             size_t *out_len);
+#endif
 
+#if defined(HF_HAVE_SAFETY)
 // Writes the number of floats of the scratch buffer `hf_safety_prepare` fills and
 // `hf_safety_bake_rows` reads (per-strip bounds, O(cells / 8)) to `*out_len`.
 // Thread safe.
@@ -915,7 +1122,9 @@ hf_result hf_safety_map_len(uint32_t width,
 hf_result hf_safety_scratch_len(uint32_t width,
                                 uint32_t height,
                                 size_t *out_len);
+#endif
 
+#if defined(HF_HAVE_SAFETY)
 // Fills `out_scratch` (`out_scratch_len ≥ hf_safety_scratch_len` floats) with the
 // strip bounds the row bakes of `field` share. O(cells), one thread. Thread safe for
 // distinct buffers.
@@ -926,7 +1135,9 @@ hf_result hf_safety_scratch_len(uint32_t width,
 hf_result hf_safety_prepare(const struct hf_field *field,
                             float *out_scratch,
                             size_t out_scratch_len);
+#endif
 
+#if defined(HF_HAVE_SAFETY)
 // Bakes the safety distances of texel rows `[row_begin, row_end)` (0 ≤ begin ≤ end ≤
 // H) of `field` into `map`, the whole map buffer (`map_len ≥ hf_safety_map_len`),
 // reading `scratch` from `hf_safety_prepare`. Writes only those rows, so threads may
@@ -946,7 +1157,29 @@ hf_result hf_safety_bake_rows(const struct hf_field *field,
                               uint32_t row_end,
                               uint8_t *map,
                               size_t map_len);
+#endif
 
+#if defined(HF_HAVE_SAFETY)
+// `hf_safety_bake_rows` for the ray classes `ray_classes` only (`HF_RAYS_*` bits, not
+// 0; `hf_scene_bake_plan` gives a scene's): the other classes are not computed. Directional:
+// their channels are 0 (a zero jump: the map stays exact for every ray), the kept
+// channels equal the full bake's. Isotropic: the minimum over the kept classes
+// (larger distances, valid for rays of those classes only).
+//
+// # Safety
+// As `hf_safety_bake_rows`.
+hf_result hf_safety_bake_rows_classes(const struct hf_field *field,
+                                      const float *scratch,
+                                      size_t scratch_len,
+                                      const struct hf_safety_options *options,
+                                      uint32_t ray_classes,
+                                      uint32_t row_begin,
+                                      uint32_t row_end,
+                                      uint8_t *map,
+                                      size_t map_len);
+#endif
+
+#if defined(HF_HAVE_SAFETY)
 // Bakes the whole safety-distance map of `field` into `out_map` (`out_map_len ≥
 // hf_safety_map_len` bytes) on `threads` threads (0: one per available core; 1: the
 // calling thread), allocating the scratch itself. Same result for any thread count.
@@ -959,7 +1192,24 @@ hf_result hf_safety_bake(const struct hf_field *field,
                          uint32_t threads,
                          uint8_t *out_map,
                          size_t out_map_len);
+#endif
 
+#if defined(HF_HAVE_SAFETY)
+// `hf_safety_bake` for the ray classes `ray_classes` only (`HF_RAYS_*` bits, not 0),
+// as `hf_safety_bake_rows_classes`: a scene that casts two of the four classes
+// bakes in about half the time.
+//
+// # Safety
+// As `hf_safety_bake`.
+hf_result hf_safety_bake_classes(const struct hf_field *field,
+                                 const struct hf_safety_options *options,
+                                 uint32_t ray_classes,
+                                 uint32_t threads,
+                                 uint8_t *out_map,
+                                 size_t out_map_len);
+#endif
+
+#if defined(HF_HAVE_SAFETY)
 // Traces one ray on the triangle surface with the safety distances `map` (baked for
 // this field by `hf_safety_bake`, `map_len ≥ hf_safety_map_len`, layout `variant`):
 // exact, the hit of `hf_trace_exact` with `HF_SURFACE_TRIANGLES` (up to rounding on
@@ -977,7 +1227,9 @@ hf_result hf_trace_safety(const struct hf_field *field,
                           uint32_t variant,
                           const struct hf_ray *ray,
                           struct hf_hit *out_hit);
+#endif
 
+#if defined(HF_HAVE_SAFETY)
 // `hf_trace_safety` for `rays_len ≥ 1` rays, with the conventions of
 // `hf_trace_exact_batch` (every ray checked first; an error writes nothing).
 // Thread safe.
@@ -993,6 +1245,7 @@ hf_result hf_trace_safety_batch(const struct hf_field *field,
                                 size_t rays_len,
                                 struct hf_hit *out_hits,
                                 size_t out_hits_len);
+#endif
 
 // Writes the general scene of `method` on `surface` to `*out`: every ray class,
 // viewpoints anywhere, any direction, shadows, no LOD, depth output, `F32` heights.
@@ -1012,6 +1265,32 @@ hf_result hf_scene_general(uint32_t method,
 // # Safety
 // `scene` is NULL (an error) or valid for reading one `hf_scene`.
 hf_result hf_scene_check(const struct hf_scene *scene);
+
+// Writes what to bake for `*scene` to `*out_plan`: only the data its method reads
+// (nothing for the exact and search methods), safety-shape channels only for the ray
+// classes that occur. Any method, built or not (a plan is data). A bad scene gives
+// the code of `hf_scene_check`. Thread safe.
+//
+// # Safety
+// `scene` is NULL (an error) or valid for reading one `hf_scene`; `out_plan` NULL (an
+// error) or valid for writing one `hf_bake_plan`.
+hf_result hf_scene_bake_plan(const struct hf_scene *scene,
+                             struct hf_bake_plan *out_plan);
+
+// Writes what the bake plan of `*scene` leaves out, and why, into `buf` as a
+// NUL-terminated ASCII string of lines `item: reason\n` (empty when nothing is
+// skipped), and its length without the NUL to `*out_written`. 1024 bytes always
+// suffice; a smaller buffer that is too small is `HF_ERR_BUFFER_TOO_SMALL`. Thread
+// safe.
+//
+// # Safety
+// `scene` is NULL (an error) or valid for reading one `hf_scene`; `buf` NULL (an
+// error) or valid for writing `buf_len` bytes; `out_written` NULL (an error) or valid
+// for writing one `size_t`.
+hf_result hf_scene_bake_plan_skipped(const struct hf_scene *scene,
+                                     char *buf,
+                                     size_t buf_len,
+                                     size_t *out_written);
 
 // Writes the length in bytes of `hf_shader_source(method)`, including its NUL
 // terminator, to `*out_len`: the buffer size to pass. Thread safe.
@@ -1049,6 +1328,46 @@ hf_result hf_shader_source(uint32_t method,
                            size_t buf_len,
                            size_t *out_written);
 
+// Writes the length in bytes of `hf_shader_generate(scene, lang)`, including its NUL
+// terminator, to `*out_len`: the buffer size to pass. Errors as `hf_shader_generate`.
+// Thread safe.
+//
+// # Safety
+// `scene` is NULL (an error) or valid for reading one `hf_scene`; `out_len` NULL (an
+// error) or valid for writing one `size_t`.
+hf_result hf_shader_generate_len(const struct hf_scene *scene,
+                                 uint32_t lang,
+                                 size_t *out_len);
+
+// Writes the shader generated for `*scene` in `lang` (`HF_SHADER_GLSL`: GLSL 3.30 core
+// without a `#version` line; `HF_SHADER_WGSL`: WGSL) into `buf` as a NUL-terminated
+// string and its length without the NUL to `*out_written`; `buf_len` must be at least
+// `hf_shader_generate_len`. The shader holds only the code the scene uses: the
+// scene's surface and method, no branch for another surface, no upward-ray code
+// without shadows and with a view angle of at most 90°, and only the uniforms and
+// textures its march reads; `hf_surface` and `hf_safety_variant` are constants
+// (safety: the layout `hf_bake_plan` picks, isotropic for a single ray class, else
+// directional). Its entry point and its remaining inputs are those of
+// `hf_shader_source` for the method, less what it does not read (a header comment
+// lists them): GLSL `hf_heights` (`R32F`; for `HF_HEIGHTS_U16` / `HF_HEIGHTS_U8` an
+// `R16UI` / `R8UI` texture of the samples and `hf_height_step` = depth / 65535 or
+// depth / 255), `hf_size`, `hf_height_range`, then the method's own (step counts,
+// maps); WGSL the fixed bindings of `hfcast_shared.wgsl` it uses. Errors:
+// `HF_ERR_INVALID_ENUM` (lang, or a field of the scene), `HF_ERR_INVALID_ARGUMENT` (an
+// invalid scene, a surface the method does not trace, LOD marching, which has no shader
+// port), `HF_ERR_NOT_BUILT` (a method left out of this build, or a file the language's
+// port lacks). Thread safe.
+//
+// # Safety
+// `scene` is NULL (an error) or valid for reading one `hf_scene`; `buf` NULL (an error)
+// or valid for writing `buf_len` bytes; `out_written` NULL (an error) or valid for
+// writing one `size_t`.
+hf_result hf_shader_generate(const struct hf_scene *scene,
+                             uint32_t lang,
+                             char *buf,
+                             size_t buf_len,
+                             size_t *out_written);
+
 // Traces one ray with the exact method (grid traversal with the exact per-cell test
 // of `surface`, an `hf_surface` value): the first hit in `[t_min, t_max]`, watertight
 // in `float`. Writes `*out_hit` (a miss is success with `hit = 0`). Costs four
@@ -1076,6 +1395,7 @@ hf_result hf_trace_exact_batch(const struct hf_field *field,
                                struct hf_hit *out_hits,
                                size_t out_hits_len);
 
+#if defined(HF_HAVE_SEARCH)
 // Traces one ray with linear search then bisection (Policarpo et al. 2005):
 // `linear_steps ≥ 1` equal steps through the field's bounding box, then
 // `binary_steps` bisections of the first step that ends under `surface`.
@@ -1090,7 +1410,9 @@ hf_result hf_trace_linear_binary(const struct hf_field *field,
                                  uint32_t binary_steps,
                                  const struct hf_ray *ray,
                                  struct hf_hit *out_hit);
+#endif
 
+#if defined(HF_HAVE_SEARCH)
 // `hf_trace_linear_binary` for a batch, with the conventions of
 // `hf_trace_exact_batch`. Thread safe.
 //
@@ -1104,7 +1426,9 @@ hf_result hf_trace_linear_binary_batch(const struct hf_field *field,
                                        size_t rays_len,
                                        struct hf_hit *out_hits,
                                        size_t out_hits_len);
+#endif
 
+#if defined(HF_HAVE_SEARCH)
 // Traces one ray with linear search then one secant step (parallax occlusion
 // mapping): `linear_steps ≥ 1` equal steps, then the secant of the bracketing step.
 // Approximate. Costs four fetches per height sample. Thread safe.
@@ -1116,7 +1440,9 @@ hf_result hf_trace_linear_secant(const struct hf_field *field,
                                  uint32_t linear_steps,
                                  const struct hf_ray *ray,
                                  struct hf_hit *out_hit);
+#endif
 
+#if defined(HF_HAVE_SEARCH)
 // `hf_trace_linear_secant` for a batch, with the conventions of
 // `hf_trace_exact_batch`. Thread safe.
 //
@@ -1129,7 +1455,9 @@ hf_result hf_trace_linear_secant_batch(const struct hf_field *field,
                                        size_t rays_len,
                                        struct hf_hit *out_hits,
                                        size_t out_hits_len);
+#endif
 
+#if defined(HF_HAVE_MAXMIP)
 // Traces one ray with maximum mipmaps (Tevs et al. 2008) over `pyramid`, the buffer
 // `hf_maxmip_bake` filled for this field (`pyramid_len ≥ hf_maxmip_len`): exact, the
 // same hit as `hf_trace_exact` (the linear-planes surface is traced by the exact
@@ -1145,7 +1473,9 @@ hf_result hf_trace_maxmip(const struct hf_field *field,
                           uint32_t surface,
                           const struct hf_ray *ray,
                           struct hf_hit *out_hit);
+#endif
 
+#if defined(HF_HAVE_MAXMIP)
 // `hf_trace_maxmip` for a batch, with the conventions of `hf_trace_exact_batch`.
 // Thread safe.
 //
@@ -1159,6 +1489,7 @@ hf_result hf_trace_maxmip_batch(const struct hf_field *field,
                                 size_t rays_len,
                                 struct hf_hit *out_hits,
                                 size_t out_hits_len);
+#endif
 
 #ifdef __cplusplus
 }  // extern "C"

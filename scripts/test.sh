@@ -11,6 +11,8 @@ APT_PACKAGES=()
 # OSMesa (GL 4.5 core offscreen), GLFW + Xvfb (window test), glslangValidator,
 # valgrind, libpng (the renderers read the PNG maps and write images).
 APT_PACKAGES+=(gcc g++ make libosmesa6-dev libglfw3-dev xvfb xauth glslang-tools valgrind libpng-dev)
+# WGSL ports executed through wgpu on lavapipe, the software Vulkan driver (issue 8).
+APT_PACKAGES+=(mesa-vulkan-drivers libvulkan1)
 missing=()
 for p in "${APT_PACKAGES[@]}"; do
   dpkg -s "$p" >/dev/null 2>&1 || missing+=("$p")
@@ -29,6 +31,18 @@ cargo clippy --workspace --all-targets --all-features -- -D warnings
 
 echo "== no_std build of the core (a second panic handler from std would fail it)"
 CARGO_TARGET_DIR=target/nostd cargo build --manifest-path nostd-check/Cargo.toml
+echo "== no_std build of the core with every method (the core's default features)"
+CARGO_TARGET_DIR=target/nostd cargo build --manifest-path nostd-check/Cargo.toml --features hfcast/all-methods
+
+# ---- Feature matrix (issue 8): each method builds alone, in the core and the C API ----
+echo "== feature matrix: cargo check of the core with no method and with each alone"
+for f in "" maxmip safety cone qdm relaxed search; do
+  cargo check -q -p hfcast --no-default-features ${f:+--features "$f"}
+done
+echo "== feature matrix: cargo check of the C API without methods, with cone, safety, search"
+for f in "" cone safety search; do
+  cargo check -q -p hfcast-capi --no-default-features ${f:+--features "$f"}
+done
 
 echo "== hfcast report --quick (smoke test of the error-against-time report, < 2 min)"
 cargo run --release -p hfcast-tools --bin hfcast -- report --quick --out target/report-quick
@@ -51,12 +65,16 @@ fi
 : > target/c_tests.log
 echo "== C tests: header alone (C99, C++11, .a and .so), API tests plain and with ASan+UBSan"
 "${C_MAKE[@]}" test 2>&1 | tee -a target/c_tests.log
+echo "== C tests: a library built with cone step mapping only, its header, and a C program"
+"${C_MAKE[@]}" one-method 2>&1 | tee -a target/c_tests.log
 echo "== C tests under valgrind"
 "${C_MAKE[@]}" valgrind 2>&1 | tee -a target/c_tests.log
 echo "== GLSL: glslangValidator on every composed shader"
 "${C_MAKE[@]}" shaders
 echo "== OSMesa (llvmpipe): GPU/CPU parity of every method, 256 x 192"
 "${C_MAKE[@]}" render-test MAPS="$C_MAPS" 2>&1 | tee -a target/c_tests.log
+echo "== OSMesa (llvmpipe): generated minimal shaders against the general ones and the CPU"
+"${C_MAKE[@]}" render-generated-test MAPS="$C_MAPS" 2>&1 | tee -a target/c_tests.log
 echo "== GLFW under Xvfb: the window's screenshot against the OSMesa image"
 "${C_MAKE[@]}" glfw-test 2>&1 | tee -a target/c_tests.log
 

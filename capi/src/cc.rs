@@ -3,8 +3,9 @@
 //! the march, for the triangle surface.
 
 use crate::hf_result::{self, *};
+use crate::scene::{classes_of, HF_RAYS_ALL};
 use crate::trace::{hf_hit, hf_ray};
-use crate::{guard, hf_field, ptr};
+use crate::{guard, hf_field, par, ptr};
 use hfcore::safety::cc::{self, CcMap, CcOptions, Slope};
 use hfcore::safety::{self, SafetyError};
 use hfcore::{HeightField, Query, Trace};
@@ -149,6 +150,46 @@ pub unsafe extern "C" fn hf_cc_bake_rows(
     map: *mut u8,
     map_len: usize,
 ) -> hf_result {
+    // SAFETY: the caller's promises, passed on.
+    unsafe {
+        hf_cc_bake_rows_classes(
+            field,
+            scratch,
+            scratch_len,
+            nbuffer,
+            nbuffer_len,
+            options,
+            HF_RAYS_ALL,
+            row_begin,
+            row_end,
+            map,
+            map_len,
+        )
+    }
+}
+
+/// `hf_cc_bake_rows` for the ray classes `ray_classes` only (`HF_RAYS_*` bits, not 0;
+/// `hf_scene_bake_plan` gives a scene's): the other classes are not computed and pack as
+/// radius 0 without a cone (a zero jump: the map stays exact for every ray); the kept
+/// classes' bytes equal the full bake's.
+///
+/// # Safety
+/// As `hf_cc_bake_rows`.
+#[no_mangle]
+#[allow(clippy::too_many_arguments)]
+pub unsafe extern "C" fn hf_cc_bake_rows_classes(
+    field: *const hf_field,
+    scratch: *const f32,
+    scratch_len: usize,
+    nbuffer: *const f32,
+    nbuffer_len: usize,
+    options: *const hf_cc_options,
+    ray_classes: u32,
+    row_begin: u32,
+    row_end: u32,
+    map: *mut u8,
+    map_len: usize,
+) -> hf_result {
     guard(|| {
         // SAFETY: the caller's promises.
         let (f, scratch, nb, o) = unsafe {
@@ -159,34 +200,16 @@ pub unsafe extern "C" fn hf_cc_bake_rows(
                 ptr::get(options)?,
             )
         };
-        if map.is_null() {
-            return Err(HF_ERR_NULL_POINTER);
-        }
-        let opts = options_of(o)?;
+        let map = par::RowsOut::new(map, map_len, row_begin, row_end)?;
+        let (opts, classes) = (options_of(o)?, classes_of(ray_classes)?);
         let hf = f.view();
-        if map_len < cc::map_len(hf.width(), hf.height()) {
-            return Err(HF_ERR_BUFFER_TOO_SMALL);
-        }
-        if row_begin > row_end || row_end > hf.height() {
-            return Err(HF_ERR_INVALID_ARGUMENT);
-        }
         let row = hf.width() as usize * cc::BYTES_PER_TEXEL;
-        // Only the rows baked become a slice, so concurrent calls never alias.
-        // SAFETY: inside the caller's buffer (length checked), this call's alone (the
-        // documented contract).
-        let out = unsafe {
-            ptr::slice_mut(
-                map.add(row_begin as usize * row),
-                (row_end - row_begin) as usize * row,
-            )
-        }?;
-        Ok(cc::bake_rows(
-            hf,
-            scratch,
-            nb,
-            row_begin..row_end,
-            opts,
-            out,
+        let needed = cc::map_len(hf.width(), hf.height());
+        // SAFETY: `map` is writable for `map_len` bytes and the rows are this call's alone
+        // (the caller's promises).
+        let (rows, out) = unsafe { map.rows(hf.height(), row, needed) }?;
+        Ok(cc::bake_rows_classes(
+            hf, scratch, nb, classes, rows, opts, out,
         )?)
     })
 }
@@ -206,6 +229,24 @@ pub unsafe extern "C" fn hf_cc_bake(
     out_map: *mut u8,
     out_map_len: usize,
 ) -> hf_result {
+    // SAFETY: the caller's promises, passed on.
+    unsafe { hf_cc_bake_classes(field, options, HF_RAYS_ALL, threads, out_map, out_map_len) }
+}
+
+/// `hf_cc_bake` for the ray classes `ray_classes` only (`HF_RAYS_*` bits, not 0), as
+/// `hf_cc_bake_rows_classes`.
+///
+/// # Safety
+/// As `hf_cc_bake`.
+#[no_mangle]
+pub unsafe extern "C" fn hf_cc_bake_classes(
+    field: *const hf_field,
+    options: *const hf_cc_options,
+    ray_classes: u32,
+    threads: u32,
+    out_map: *mut u8,
+    out_map_len: usize,
+) -> hf_result {
     guard(|| {
         // SAFETY: the caller's promises.
         let (f, o, out) = unsafe {
@@ -215,33 +256,25 @@ pub unsafe extern "C" fn hf_cc_bake(
                 ptr::slice_mut(out_map, out_map_len)?,
             )
         };
-        let opts = options_of(o)?;
+        let (opts, classes) = (options_of(o)?, classes_of(ray_classes)?);
         let hf = f.view();
-        if out.len() < cc::map_len(hf.width(), hf.height()) {
-            return Err(HF_ERR_BUFFER_TOO_SMALL);
-        }
-        let alloc = |n: usize| -> Result<Vec<f32>, hf_result> {
-            let mut v = Vec::new();
-            v.try_reserve_exact(n).map_err(|_| HF_ERR_OUT_OF_MEMORY)?;
-            v.resize(n, 0.0);
-            Ok(v)
-        };
-        let mut scratch = alloc(safety::scratch_len(hf.width(), hf.height()))?;
-        let mut nb = alloc(cc::nbuffer_len(hf.width(), hf.height(), opts.cap))?;
-        safety::prepare(hf, &mut scratch)?;
-        cc::prepare_nbuffer(hf, opts.cap, &mut nb)?;
-        let threads = crate::par::thread_count(threads, hf.height());
-        let (scratch, nb) = (&scratch, &nb);
-        Ok(crate::par::bake_bands(
+        par::bake_map(
             hf.height(),
             hf.width() as usize * cc::BYTES_PER_TEXEL,
-            8,
+            cc::map_len(hf.width(), hf.height()),
             threads,
             out,
-            |rows, chunk| -> Result<(), SafetyError> {
-                cc::bake_rows(hf, scratch, nb, rows, opts, chunk)
+            || {
+                let mut scratch = par::zeroed(safety::scratch_len(hf.width(), hf.height()))?;
+                let mut nb = par::zeroed(cc::nbuffer_len(hf.width(), hf.height(), opts.cap))?;
+                safety::prepare(hf, &mut scratch)?;
+                cc::prepare_nbuffer(hf, opts.cap, &mut nb)?;
+                Ok((scratch, nb))
             },
-        )?)
+            |(scratch, nb), rows, chunk| -> Result<(), SafetyError> {
+                cc::bake_rows_classes(hf, scratch, nb, classes, rows, opts, chunk)
+            },
+        )
     })
 }
 

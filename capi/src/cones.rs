@@ -6,7 +6,9 @@ use crate::hf_result::{self, *};
 use crate::trace::{batch, hf_hit, hf_ray, one, pyramid_slice};
 use crate::{guard, hf_field, ptr};
 use hfcore::cone::{self, BakeError, ConeMap};
+#[cfg(feature = "qdm")]
 use hfcore::qdm::{self, QdmMap};
+#[cfg(feature = "relaxed")]
 use hfcore::relaxed;
 use hfcore::HeightField;
 use std::ops::Range;
@@ -39,15 +41,18 @@ struct Family {
 fn cell_rows(hf: &HeightField) -> u32 {
     hf.height() - 1
 }
+#[cfg(feature = "relaxed")]
 fn sample_rows(hf: &HeightField) -> u32 {
     hf.height()
 }
 fn cone_row(hf: &HeightField) -> usize {
     cone::CHANNELS * (hf.width() as usize - 1)
 }
+#[cfg(feature = "qdm")]
 fn qdm_row(hf: &HeightField) -> usize {
     qdm::CHANNELS * (hf.width() as usize - 1)
 }
+#[cfg(feature = "relaxed")]
 fn relaxed_row(hf: &HeightField) -> usize {
     hf.width() as usize
 }
@@ -58,12 +63,14 @@ const CONE: Family = Family {
     row_len: cone_row,
     bake_rows: cone::bake_rows,
 };
+#[cfg(feature = "relaxed")]
 const RELAXED: Family = Family {
     map_len: relaxed::map_len,
     rows: sample_rows,
     row_len: relaxed_row,
     bake_rows: relaxed::bake_rows,
 };
+#[cfg(feature = "qdm")]
 const QDM: Family = Family {
     map_len: qdm::map_len,
     rows: cell_rows,
@@ -397,6 +404,7 @@ pub unsafe extern "C" fn hf_trace_cone_batch(
     }
 }
 
+#[cfg(feature = "relaxed")]
 /// Writes the number of floats of the relaxed cone map of a `width × height` field to
 /// `*out_len`: one ratio per sample, sample (i, j) at `map[j * W + i]` (an `R32F`
 /// texture of W × H texels). Thread safe.
@@ -413,6 +421,7 @@ pub unsafe extern "C" fn hf_relaxed_map_len(
     unsafe { map_len(RELAXED, width, height, out_len) }
 }
 
+#[cfg(feature = "relaxed")]
 /// Bakes sample rows `[row_begin, row_end)` (0 ≤ begin ≤ end ≤ H) of the relaxed cone
 /// map (Policarpo & Oliveira 2007) into `map`, as `hf_cone_bake_rows`.
 ///
@@ -443,6 +452,7 @@ pub unsafe extern "C" fn hf_relaxed_bake_rows(
     }
 }
 
+#[cfg(feature = "relaxed")]
 /// Bakes the whole relaxed cone map of `field` into `out_map` (`out_map_len ≥
 /// hf_relaxed_map_len`) on `threads` threads (0: one per available core).
 ///
@@ -459,6 +469,7 @@ pub unsafe extern "C" fn hf_relaxed_bake(
     unsafe { bake(RELAXED, field, threads, out_map, out_map_len) }
 }
 
+#[cfg(feature = "relaxed")]
 /// Traces one ray with relaxed cone stepping (approximate: a relaxed cone lets a ray
 /// cross the surface once, so thin peaks can be missed): at most `cone_steps ≥ 1` cone
 /// steps, then `binary_steps` bisections. Costs four fetches per surface height, one
@@ -500,6 +511,7 @@ pub unsafe extern "C" fn hf_trace_relaxed(
     }
 }
 
+#[cfg(feature = "relaxed")]
 /// `hf_trace_relaxed` for a batch, with the conventions of `hf_trace_exact_batch`.
 /// Thread safe.
 ///
@@ -544,6 +556,7 @@ pub unsafe extern "C" fn hf_trace_relaxed_batch(
     }
 }
 
+#[cfg(feature = "qdm")]
 /// Writes the number of floats of the quadratic displacement map of a `width ×
 /// height` field to `*out_len`: four per cell, `[a, b, c, h]` (cone ratio, cone
 /// height, parabola curvature, the cell's top), cell (i, j) at
@@ -558,6 +571,7 @@ pub unsafe extern "C" fn hf_qdm_map_len(width: u32, height: u32, out_len: *mut u
     unsafe { map_len(QDM, width, height, out_len) }
 }
 
+#[cfg(feature = "qdm")]
 /// Bakes cell rows `[row_begin, row_end)` (0 ≤ begin ≤ end ≤ H − 1) of the quadratic
 /// displacement map (after Kiglics et al.) into `map`, as `hf_cone_bake_rows`.
 ///
@@ -588,6 +602,7 @@ pub unsafe extern "C" fn hf_qdm_bake_rows(
     }
 }
 
+#[cfg(feature = "qdm")]
 /// Bakes the whole quadratic displacement map of `field` into `out_map` (`out_map_len
 /// ≥ hf_qdm_map_len`) on `threads` threads (0: one per available core).
 ///
@@ -604,6 +619,7 @@ pub unsafe extern "C" fn hf_qdm_bake(
     unsafe { bake(QDM, field, threads, out_map, out_map_len) }
 }
 
+#[cfg(feature = "qdm")]
 /// Traces one ray on the triangle surface with quadratic displacement steps over `map`
 /// (from `hf_qdm_bake`), at most `max_iter ≥ 1` iterations, as `hf_trace_cone`: within
 /// the budget the hit is the exact one. Thread safe.
@@ -643,6 +659,7 @@ pub unsafe extern "C" fn hf_trace_qdm(
     }
 }
 
+#[cfg(feature = "qdm")]
 /// `hf_trace_qdm` for a batch, with the conventions of `hf_trace_exact_batch`.
 /// Thread safe.
 ///

@@ -10,18 +10,29 @@
 //! every function runs behind a panic boundary; outputs come last, each buffer
 //! followed by its length in elements; outputs are written only on success.
 //!
+//! Cargo features (`maxmip`, `safety`, `cone`, `qdm`, `relaxed`, `search`; default
+//! `all-methods`) leave whole methods out: their functions are not built, the header
+//! of that build (`cargo run -p hfcast-capi --no-default-features --features … --example
+//! header`) does not declare them, [`hf_build_has_method`] says 0, and functions taking
+//! a method number return `HF_ERR_NOT_BUILT` for them.
+//!
 //! `unsafe` is confined to turning C pointers into references and slices
 //! ([`ptr`]) and to the owned samples of [`hf_field`]; each block says why it holds.
 
 // The C names (`hf_field`, `hf_ray`, …) are the API.
 #![allow(non_camel_case_types)]
 
+#[cfg(feature = "safety")]
 pub mod cc;
+#[cfg(feature = "cone")]
 pub mod cones;
 pub mod field;
+#[cfg(feature = "maxmip")]
 pub mod maxmip;
+#[cfg(any(feature = "safety", feature = "cone"))]
 mod par;
 mod ptr;
+#[cfg(feature = "safety")]
 pub mod safety;
 pub mod scene;
 pub mod shader;
@@ -135,6 +146,7 @@ impl From<hfcore::RayError> for hf_result {
     }
 }
 
+#[cfg(feature = "maxmip")]
 impl From<hfcore::maxmip::PyramidError> for hf_result {
     fn from(e: hfcore::maxmip::PyramidError) -> Self {
         match e {
@@ -243,6 +255,53 @@ pub(crate) fn method_of(v: u32) -> Result<hf_method, hf_result> {
     METHODS.get(v as usize).copied().ok_or(HF_ERR_INVALID_ENUM)
 }
 
+impl hf_method {
+    /// Whether this build of the library has the method (its cargo feature was on).
+    pub fn built(self) -> bool {
+        match self {
+            hf_method::HF_METHOD_EXACT => true,
+            hf_method::HF_METHOD_LINEAR_BINARY | hf_method::HF_METHOD_LINEAR_SECANT => {
+                cfg!(feature = "search")
+            }
+            hf_method::HF_METHOD_MAXMIP => cfg!(feature = "maxmip"),
+            hf_method::HF_METHOD_SAFETY | hf_method::HF_METHOD_CC => cfg!(feature = "safety"),
+            hf_method::HF_METHOD_CONE => cfg!(feature = "cone"),
+            hf_method::HF_METHOD_RELAXED => cfg!(feature = "relaxed"),
+            hf_method::HF_METHOD_QDM => cfg!(feature = "qdm"),
+        }
+    }
+}
+
+/// Checks a method passed as `uint32_t` and that this build has it: an unknown value
+/// is `HF_ERR_INVALID_ENUM`, a method left out of the build `HF_ERR_NOT_BUILT`.
+pub(crate) fn built_method_of(v: u32) -> Result<hf_method, hf_result> {
+    let m = method_of(v)?;
+    if m.built() {
+        Ok(m)
+    } else {
+        Err(HF_ERR_NOT_BUILT)
+    }
+}
+
+/// Writes 1 to `*out` when this build of the library has `method` (an `hf_method`),
+/// else 0: cargo features leave whole methods out (`--no-default-features --features
+/// cone`), their functions are then not exported and not declared in the header of
+/// that build, and the functions that take a method number answer
+/// `HF_ERR_NOT_BUILT` for it. An unknown method is `HF_ERR_INVALID_ENUM`. Thread safe.
+///
+/// # Safety
+/// `out` is NULL (an error) or valid for writing one `uint32_t`.
+#[no_mangle]
+pub unsafe extern "C" fn hf_build_has_method(method: u32, out: *mut u32) -> hf_result {
+    guard(|| {
+        let out = ptr::out(out)?;
+        let m = method_of(method)?;
+        // SAFETY: the caller promises `out` is writable.
+        unsafe { out.set(u32::from(m.built())) };
+        Ok(())
+    })
+}
+
 /// Hit flag: the ray starts under the surface; the hit is at `t_min`.
 pub const HF_FLAG_ORIGIN_INSIDE: u32 = 1;
 /// Hit flag: the ray enters the footprint through a side wall below the surface.
@@ -254,8 +313,10 @@ pub const HF_FLAG_BUDGET_EXHAUSTED: u32 = 8;
 
 /// Largest width or height of a field (2^24: grid coordinates stay exact in `float`).
 pub const HF_MAX_SIDE: u32 = 16777216;
+#[cfg(feature = "maxmip")]
 /// Most levels a maximum-mipmap pyramid has.
 pub const HF_MAX_LEVELS: u32 = 25;
+#[cfg(feature = "maxmip")]
 /// Width of the 2D `R32F` texture the GLSL maxmip port reads the pyramid from: pyramid
 /// texel `k` (the index into the `hf_maxmip_bake` buffer) is texel
 /// `(k % HF_PYRAMID_TEX_WIDTH, k / HF_PYRAMID_TEX_WIDTH)`; the last row is padded.
@@ -346,10 +407,41 @@ mod tests {
         assert_eq!(HF_FLAG_WALL, Flags::WALL.0);
         assert_eq!(HF_FLAG_BUDGET_EXHAUSTED, Flags::BUDGET_EXHAUSTED.0);
         assert_eq!(HF_MAX_SIDE, hfcore::field::MAX_SIDE);
+        #[cfg(feature = "maxmip")]
         assert_eq!(HF_MAX_LEVELS as usize, hfcore::maxmip::MAX_LEVELS);
         for (i, m) in METHODS.iter().enumerate() {
             assert_eq!(*m as u32, i as u32);
         }
+    }
+
+    #[test]
+    fn build_has_the_methods_of_its_features() {
+        for m in METHODS {
+            let mut out = 7;
+            // SAFETY: a valid out pointer.
+            assert_eq!(unsafe { hf_build_has_method(m as u32, &mut out) }, HF_OK);
+            assert_eq!(out, u32::from(m.built()));
+            let expect = if m.built() {
+                Ok(m)
+            } else {
+                Err(HF_ERR_NOT_BUILT)
+            };
+            assert_eq!(built_method_of(m as u32), expect);
+        }
+        assert!(hf_method::HF_METHOD_EXACT.built());
+        assert_eq!(
+            hf_method::HF_METHOD_CC.built(),
+            cfg!(feature = "safety"),
+            "{}",
+            hf_method::HF_METHOD_CC.name()
+        );
+        let mut out = 0;
+        // SAFETY: a valid out pointer; the method is unknown.
+        let r = unsafe { hf_build_has_method(9, &mut out) };
+        assert_eq!(r, HF_ERR_INVALID_ENUM);
+        // SAFETY: NULL is reported.
+        let r = unsafe { hf_build_has_method(0, std::ptr::null_mut()) };
+        assert_eq!(r, HF_ERR_NULL_POINTER);
     }
 
     #[test]

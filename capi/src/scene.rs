@@ -2,7 +2,8 @@
 
 use crate::hf_result::{self, *};
 use crate::{guard, method_of, ptr, surface_of};
-use hfcore::scene::{HeightFormat, MethodKind, RayClasses, Scene};
+use hfcore::scene::{BakePlan, HeightFormat, MethodKind, Need, RayClasses, Scene};
+use std::ffi::c_char;
 
 /// Ray-class bit of `hf_scene::ray_classes`: rays with dx ≥ |dy|.
 pub const HF_RAYS_X_POS: u32 = 1;
@@ -53,6 +54,14 @@ pub struct hf_scene {
     pub height_format: u32,
 }
 
+/// Checks a ray-class set passed as `uint32_t`: `HF_RAYS_*` bits, not 0.
+pub(crate) fn classes_of(v: u32) -> Result<RayClasses, hf_result> {
+    if v == 0 || v > HF_RAYS_ALL {
+        return Err(HF_ERR_INVALID_ARGUMENT);
+    }
+    Ok(RayClasses(v as u8))
+}
+
 /// Checks an `hf_scene` and turns it into the core's [`Scene`].
 pub(crate) fn scene_of(s: &hf_scene) -> Result<Scene, hf_result> {
     let flag = |v: u32| match v {
@@ -66,9 +75,7 @@ pub(crate) fn scene_of(s: &hf_scene) -> Result<Scene, hf_result> {
         2 => HeightFormat::U8,
         _ => return Err(HF_ERR_INVALID_ENUM),
     };
-    if s.ray_classes == 0 || s.ray_classes > HF_RAYS_ALL {
-        return Err(HF_ERR_INVALID_ARGUMENT);
-    }
+    let ray_classes = classes_of(s.ray_classes)?;
     let angle = s.max_view_angle_deg;
     if !(angle > 0.0 && angle <= 180.0) {
         return Err(HF_ERR_INVALID_ARGUMENT);
@@ -77,7 +84,7 @@ pub(crate) fn scene_of(s: &hf_scene) -> Result<Scene, hf_result> {
     Ok(Scene {
         surface: surface_of(s.surface)?,
         method: MethodKind::from_u32(method as u32).ok_or(HF_ERR_INVALID_ENUM)?,
-        ray_classes: RayClasses(s.ray_classes as u8),
+        ray_classes,
         outside_only: flag(s.outside_only)?,
         max_view_angle_deg: angle,
         shadows: flag(s.shadows)?,
@@ -140,6 +147,138 @@ pub unsafe extern "C" fn hf_scene_check(scene: *const hf_scene) -> hf_result {
     })
 }
 
+/// How a scene needs one baked product (the fields of `hf_bake_plan`). Passed as
+/// `uint32_t`.
+#[repr(u32)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum hf_need {
+    /// Not baked: the scene's method never reads it (`hf_scene_bake_plan_skipped` says why).
+    HF_NEED_SKIP = 0,
+    /// Baked as the input of another bake only: free it once that bake is done.
+    HF_NEED_SCRATCH = 1,
+    /// Baked and read by the march: keep it (upload it).
+    HF_NEED_KEEP = 2,
+}
+
+/// What to bake for a scene (`hf_scene_bake_plan`): an `hf_need` per product, the ray
+/// classes the safety-shape bakes compute and the safety map's layout.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct hf_bake_plan {
+    /// The maximum-mipmap pyramid (`hf_maxmip_bake`): kept for maxmip; scratch of the
+    /// cone, relaxed-cone and QDM bakes (`hf_cone_prepare`).
+    pub pyramid: u32,
+    /// The strip bounds of the safety-shape bakes (`hf_safety_prepare`).
+    pub safety_scratch: u32,
+    /// The safety-distance map (`hf_safety_bake_classes`).
+    pub safety_map: u32,
+    /// The cylinder–cone map (`hf_cc_bake_classes`).
+    pub cc_map: u32,
+    /// The N-buffers of the cylinder–cone bake (`hf_cc_prepare_nbuffer`), with either
+    /// slope.
+    pub nbuffer: u32,
+    /// The conservative cone map (`hf_cone_bake`).
+    pub cone_map: u32,
+    /// The relaxed cone map (`hf_relaxed_bake`).
+    pub relaxed_map: u32,
+    /// The quadratic displacement map (`hf_qdm_bake`).
+    pub qdm_map: u32,
+    /// `HF_RAYS_*` bits of the classes the safety-distance and cylinder–cone bakes
+    /// compute (pass them to `hf_safety_bake_classes`, `hf_cc_bake_classes`); the
+    /// other classes' channels are left 0 (a zero jump). 0 when neither is baked.
+    pub ray_classes: u32,
+    /// The safety map's layout, an `hf_safety_variant`: `HF_SAFETY_ISOTROPIC` (one
+    /// byte per texel, that class's distances exactly) when one ray class occurs,
+    /// else `HF_SAFETY_DIRECTIONAL`.
+    pub safety_variant: u32,
+}
+
+/// The C form of a `Need`.
+fn need_of(n: Need) -> u32 {
+    let v = match n {
+        Need::Skip(_) => hf_need::HF_NEED_SKIP,
+        Need::Scratch => hf_need::HF_NEED_SCRATCH,
+        Need::Keep => hf_need::HF_NEED_KEEP,
+    };
+    v as u32
+}
+
+/// The C form of a core [`BakePlan`].
+fn c_plan(p: &BakePlan) -> hf_bake_plan {
+    let [pyramid, safety_scratch, safety_map, cc_map, nbuffer, cone_map, relaxed_map, qdm_map] =
+        p.needs.map(need_of);
+    hf_bake_plan {
+        pyramid,
+        safety_scratch,
+        safety_map,
+        cc_map,
+        nbuffer,
+        cone_map,
+        relaxed_map,
+        qdm_map,
+        ray_classes: u32::from(p.classes.0),
+        safety_variant: u32::from(p.isotropic),
+    }
+}
+
+/// Writes what to bake for `*scene` to `*out_plan`: only the data its method reads
+/// (nothing for the exact and search methods), safety-shape channels only for the ray
+/// classes that occur. Any method, built or not (a plan is data). A bad scene gives
+/// the code of `hf_scene_check`. Thread safe.
+///
+/// # Safety
+/// `scene` is NULL (an error) or valid for reading one `hf_scene`; `out_plan` NULL (an
+/// error) or valid for writing one `hf_bake_plan`.
+#[no_mangle]
+pub unsafe extern "C" fn hf_scene_bake_plan(
+    scene: *const hf_scene,
+    out_plan: *mut hf_bake_plan,
+) -> hf_result {
+    guard(|| {
+        // SAFETY: the caller promises `scene` is readable.
+        let s = unsafe { ptr::get(scene) }?;
+        let out = ptr::out(out_plan)?;
+        let plan = scene_of(s)?.bake_plan();
+        // SAFETY: the caller promises `out_plan` is writable.
+        unsafe { out.set(c_plan(&plan)) };
+        Ok(())
+    })
+}
+
+/// The text of `hf_scene_bake_plan_skipped`: one `item: reason` line per skipped item.
+fn skipped_text(plan: &BakePlan) -> String {
+    plan.skipped()
+        .map(|(what, why)| format!("{what}: {why}\n"))
+        .collect()
+}
+
+/// Writes what the bake plan of `*scene` leaves out, and why, into `buf` as a
+/// NUL-terminated ASCII string of lines `item: reason\n` (empty when nothing is
+/// skipped), and its length without the NUL to `*out_written`. 1024 bytes always
+/// suffice; a smaller buffer that is too small is `HF_ERR_BUFFER_TOO_SMALL`. Thread
+/// safe.
+///
+/// # Safety
+/// `scene` is NULL (an error) or valid for reading one `hf_scene`; `buf` NULL (an
+/// error) or valid for writing `buf_len` bytes; `out_written` NULL (an error) or valid
+/// for writing one `size_t`.
+#[no_mangle]
+pub unsafe extern "C" fn hf_scene_bake_plan_skipped(
+    scene: *const hf_scene,
+    buf: *mut c_char,
+    buf_len: usize,
+    out_written: *mut usize,
+) -> hf_result {
+    guard(|| {
+        // SAFETY: the caller promises `scene` is readable, `buf` writable.
+        let (s, buf) = unsafe { (ptr::get(scene)?, ptr::slice_mut(buf, buf_len)?) };
+        let written = ptr::out(out_written)?;
+        let text = skipped_text(&scene_of(s)?.bake_plan());
+        // SAFETY: the caller promises `out_written` is writable.
+        unsafe { ptr::write_c_string(&text, buf, written) }
+    })
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -194,5 +333,62 @@ mod tests {
             unsafe { hf_scene_general(0, 0, std::ptr::null_mut()) },
             HF_ERR_NULL_POINTER
         );
+    }
+
+    #[test]
+    fn bake_plans_mirror_the_core() {
+        for m in MethodKind::ALL {
+            for classes in [HF_RAYS_ALL, HF_RAYS_X_POS | HF_RAYS_Y_NEG, HF_RAYS_Y_POS] {
+                let mut s = std::mem::MaybeUninit::<hf_scene>::uninit();
+                // SAFETY: `s` is writable.
+                assert_eq!(
+                    unsafe { hf_scene_general(m as u32, 0, s.as_mut_ptr()) },
+                    HF_OK
+                );
+                // SAFETY: written on HF_OK.
+                let s = hf_scene {
+                    ray_classes: classes,
+                    ..unsafe { s.assume_init() }
+                };
+                let core = scene_of(&s).unwrap().bake_plan();
+                let mut plan = std::mem::MaybeUninit::<hf_bake_plan>::uninit();
+                // SAFETY: valid pointers.
+                assert_eq!(unsafe { hf_scene_bake_plan(&s, plan.as_mut_ptr()) }, HF_OK);
+                // SAFETY: written on HF_OK.
+                let plan = unsafe { plan.assume_init() };
+                assert_eq!(plan, c_plan(&core));
+                let needs = [
+                    plan.pyramid,
+                    plan.safety_scratch,
+                    plan.safety_map,
+                    plan.cc_map,
+                    plan.nbuffer,
+                    plan.cone_map,
+                    plan.relaxed_map,
+                    plan.qdm_map,
+                ];
+                assert_eq!(needs, core.needs.map(need_of));
+                let mut buf = [0 as c_char; 1024];
+                let mut n = 0;
+                // SAFETY: valid pointers and length.
+                let r =
+                    unsafe { hf_scene_bake_plan_skipped(&s, buf.as_mut_ptr(), buf.len(), &mut n) };
+                assert_eq!(r, HF_OK);
+                let text = skipped_text(&core);
+                assert_eq!(n, text.len());
+                assert!(text.is_ascii() && text.lines().count() == core.skipped().count());
+                // SAFETY: a buffer one byte short is refused.
+                let r = unsafe { hf_scene_bake_plan_skipped(&s, buf.as_mut_ptr(), n, &mut n) };
+                assert_eq!(r, HF_ERR_BUFFER_TOO_SMALL);
+            }
+        }
+        let mut plan = std::mem::MaybeUninit::<hf_bake_plan>::uninit();
+        let bad = hf_scene {
+            ray_classes: 0,
+            ..c_scene(&Scene::general(MethodKind::Cc, hfcore::Surface::Triangles))
+        };
+        // SAFETY: valid pointers; the scene is invalid.
+        let r = unsafe { hf_scene_bake_plan(&bad, plan.as_mut_ptr()) };
+        assert_eq!(r, HF_ERR_INVALID_ARGUMENT);
     }
 }

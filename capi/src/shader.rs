@@ -1,257 +1,82 @@
-//! The GLSL ports of the marches, as source text the caller compiles.
+//! The GLSL and WGSL ports of the marches (crate `hfcast-shaders`), as source text the
+//! caller compiles: a method's general GLSL source, or the shader generated for a scene.
 
-use crate::hf_result;
-use crate::{guard, hf_method, method_of, ptr};
+use crate::hf_result::{self, *};
+use crate::scene::{hf_scene, scene_of};
+use crate::{built_method_of, guard, hf_method, ptr};
+use hfcast_shaders::{general, generate, GenError, Lang};
+use hfcore::scene::MethodKind;
 use std::ffi::c_char;
 
-/// `(name, text)` of files of `shaders/glsl`, compiled in.
-macro_rules! glsl_files {
-    ($($name:literal),* $(,)?) => {
-        [$(($name, include_str!(concat!("../../shaders/glsl/", $name)))),*]
-    };
-}
+/// Shader language of `hf_shader_generate`: GLSL 3.30 core (no `#version` line).
+pub const HF_SHADER_GLSL: u32 = 0;
+/// Shader language of `hf_shader_generate`: WGSL.
+pub const HF_SHADER_WGSL: u32 = 1;
 
-/// The files of `shaders/glsl`, in the order a method's source concatenates them.
-pub(crate) const FILES: [(&str, &str); 22] = glsl_files![
-    "hfcast_shared.glsl",
-    "math.glsl",
-    "ray.glsl",
-    "field.glsl",
-    "surface.glsl",
-    "dda.glsl",
-    "search.glsl",
-    "maxmip.glsl",
-    "safety.glsl",
-    "cone.glsl",
-    "qdm.glsl",
-    "relaxed.glsl",
-    "cc.glsl",
-    "method_exact.glsl",
-    "method_linear_binary.glsl",
-    "method_linear_secant.glsl",
-    "method_maxmip.glsl",
-    "method_safety.glsl",
-    "method_cone.glsl",
-    "method_qdm.glsl",
-    "method_relaxed.glsl",
-    "method_cc.glsl",
-];
-
-/// The file names making up the source of `method`: the shared constants, the core
-/// modules the march uses (in dependency order), and the method's `hf_trace`.
-pub fn parts(method: hf_method) -> &'static [&'static str] {
-    match method {
-        hf_method::HF_METHOD_EXACT => &[
-            "hfcast_shared.glsl",
-            "math.glsl",
-            "ray.glsl",
-            "field.glsl",
-            "surface.glsl",
-            "dda.glsl",
-            "method_exact.glsl",
-        ],
-        hf_method::HF_METHOD_LINEAR_BINARY => &[
-            "hfcast_shared.glsl",
-            "math.glsl",
-            "ray.glsl",
-            "field.glsl",
-            "surface.glsl",
-            "dda.glsl",
-            "search.glsl",
-            "method_linear_binary.glsl",
-        ],
-        hf_method::HF_METHOD_LINEAR_SECANT => &[
-            "hfcast_shared.glsl",
-            "math.glsl",
-            "ray.glsl",
-            "field.glsl",
-            "surface.glsl",
-            "dda.glsl",
-            "search.glsl",
-            "method_linear_secant.glsl",
-        ],
-        hf_method::HF_METHOD_MAXMIP => &[
-            "hfcast_shared.glsl",
-            "math.glsl",
-            "ray.glsl",
-            "field.glsl",
-            "surface.glsl",
-            "dda.glsl",
-            "maxmip.glsl",
-            "method_maxmip.glsl",
-        ],
-        hf_method::HF_METHOD_SAFETY => &[
-            "hfcast_shared.glsl",
-            "math.glsl",
-            "ray.glsl",
-            "field.glsl",
-            "surface.glsl",
-            "dda.glsl",
-            "safety.glsl",
-            "method_safety.glsl",
-        ],
-        hf_method::HF_METHOD_CONE => &[
-            "hfcast_shared.glsl",
-            "math.glsl",
-            "ray.glsl",
-            "field.glsl",
-            "surface.glsl",
-            "dda.glsl",
-            "cone.glsl",
-            "method_cone.glsl",
-        ],
-        hf_method::HF_METHOD_RELAXED => &[
-            "hfcast_shared.glsl",
-            "math.glsl",
-            "ray.glsl",
-            "field.glsl",
-            "surface.glsl",
-            "dda.glsl",
-            "relaxed.glsl",
-            "method_relaxed.glsl",
-        ],
-        hf_method::HF_METHOD_QDM => &[
-            "hfcast_shared.glsl",
-            "math.glsl",
-            "ray.glsl",
-            "field.glsl",
-            "surface.glsl",
-            "dda.glsl",
-            "cone.glsl",
-            "qdm.glsl",
-            "method_qdm.glsl",
-        ],
-        hf_method::HF_METHOD_CC => &[
-            "hfcast_shared.glsl",
-            "math.glsl",
-            "ray.glsl",
-            "field.glsl",
-            "surface.glsl",
-            "dda.glsl",
-            "safety.glsl",
-            "cc.glsl",
-            "method_cc.glsl",
-        ],
-    }
-}
-
-/// The GLSL source of `method`: its files concatenated (no `#version` line).
+/// The general GLSL source of `method`: its files concatenated (no `#version` line).
 pub fn source(method: hf_method) -> String {
-    let mut s = String::new();
-    for name in parts(method) {
-        let (_, text) = FILES.iter().find(|(n, _)| n == name).expect("listed file");
-        s.push_str(&format!("// ---- {name}\n"));
-        s.push_str(text);
-        if !text.ends_with('\n') {
-            s.push('\n');
-        }
-    }
-    s
+    let kind = MethodKind::from_u32(method as u32).expect("every hf_method is a MethodKind");
+    general(kind, Lang::Glsl).expect("the GLSL port is complete")
 }
 
-/// How the GLSL ports encode `dda::Entry` (a Rust enum with data): `Span::entry`.
-pub(crate) const ENTRY_START: u32 = 0;
-/// `Entry::Side`; the normal is in `Span::entry_normal`.
-pub(crate) const ENTRY_SIDE: u32 = 1;
-/// `Entry::Top`.
-pub(crate) const ENTRY_TOP: u32 = 2;
+/// The shader of `*scene` in language `lang` (an `HF_SHADER_*`).
+///
+/// # Safety
+/// `scene` is NULL (an error) or valid for reading one `hf_scene`.
+unsafe fn generated(scene: *const hf_scene, lang: u32) -> Result<String, hf_result> {
+    // SAFETY: the caller's promise.
+    let s = unsafe { ptr::get(scene) }?;
+    let scene = scene_of(s)?;
+    built_method_of(s.method)?;
+    let lang = match lang {
+        HF_SHADER_GLSL => Lang::Glsl,
+        HF_SHADER_WGSL => Lang::Wgsl,
+        _ => return Err(HF_ERR_INVALID_ENUM),
+    };
+    generate(&scene, lang).map_err(|e| match e {
+        GenError::SurfaceNotSupported { .. } | GenError::Scene(_) => HF_ERR_INVALID_ARGUMENT,
+        GenError::MissingFile { .. } | GenError::Source(_) => HF_ERR_NOT_BUILT,
+    })
+}
 
-/// The text of `shaders/glsl/hfcast_shared.glsl`: every constant and texture-layout
-/// number the GLSL ports share with the Rust core and the C API, generated from the
-/// Rust values (the unit test `glsl_shared_is_current` fails when the committed file
-/// differs; `HFCAST_BLESS=1 cargo test -p hfcast-capi` rewrites it).
-pub fn glsl_shared() -> String {
-    use hfcore::{Flags, RayClass, Surface};
-    let upper = |s: &str| s.to_uppercase().replace('-', "_");
-    let mut s = String::from(
-        "// hfcast_shared.glsl: the constants and texture layouts the GLSL ports share with\n\
-         // the Rust core and the C API. Generated from Rust by glsl_shared() in\n\
-         // capi/src/shader.rs: do not edit; regenerate with\n\
-         // HFCAST_BLESS=1 cargo test -p hfcast-capi (a test fails when this file drifts).\n",
-    );
-    s.push_str("\n// Surfaces (hfcast::Surface, hf_surface).\n");
-    for surface in Surface::ALL {
-        let name = upper(surface.name());
-        s.push_str(&format!(
-            "const uint HF_SURFACE_{name} = {}u;\n",
-            surface as u32
-        ));
-    }
-    s.push_str("\n// Hit and trace flags (hfcast::Flags, HF_FLAG_*).\n");
-    for (name, flag) in [
-        ("ORIGIN_INSIDE", Flags::ORIGIN_INSIDE),
-        ("SIDE", Flags::SIDE),
-        ("WALL", Flags::WALL),
-        ("BUDGET_EXHAUSTED", Flags::BUDGET_EXHAUSTED),
-    ] {
-        s.push_str(&format!("const uint HF_FLAG_{name} = {}u;\n", flag.0));
-    }
-    s.push_str("\n// Ray classes (hfcast::RayClass).\n");
-    for (name, class) in [
-        ("X_POS", RayClass::XPos),
-        ("X_NEG", RayClass::XNeg),
-        ("Y_POS", RayClass::YPos),
-        ("Y_NEG", RayClass::YNeg),
-    ] {
-        s.push_str(&format!(
-            "const uint HF_RAY_CLASS_{name} = {}u;\n",
-            class as u8
-        ));
-    }
-    s.push_str("\n// Methods (hf_method).\n");
-    for m in crate::METHODS {
-        let name = upper(m.name());
-        s.push_str(&format!("const uint HF_METHOD_{name} = {}u;\n", m as u32));
-    }
-    s.push_str("\n// Safety-distance map layouts (hf_safety_variant, hfcast::safety::Variant).\n");
-    for (name, v) in [
-        (
-            "DIRECTIONAL",
-            crate::safety::hf_safety_variant::HF_SAFETY_DIRECTIONAL,
-        ),
-        (
-            "ISOTROPIC",
-            crate::safety::hf_safety_variant::HF_SAFETY_ISOTROPIC,
-        ),
-    ] {
-        s.push_str(&format!("const uint HF_SAFETY_{name} = {}u;\n", v as u32));
-    }
-    s.push_str(&format!(
-        "// Texel segment widening of the bake (hfcast::safety::SEG_PAD).\n\
-         const float HF_SAFETY_SEG_PAD = {:?};\n",
-        hfcore::safety::SEG_PAD as f32
-    ));
-    s.push_str(&format!(
-        "// Cylinder-cone slope code meaning \"no cone\" (hfcast::safety::cc::NO_CONE).\n\
-         const uint HF_CC_NO_CONE = {}u;\n",
-        hfcore::safety::cc::NO_CONE
-    ));
-    s.push_str("\n// How a traced span begins (hfcast::dda::Entry): Span.entry.\n");
-    for (name, v) in [
-        ("START", ENTRY_START),
-        ("SIDE", ENTRY_SIDE),
-        ("TOP", ENTRY_TOP),
-    ] {
-        s.push_str(&format!("const uint HF_ENTRY_{name} = {v}u;\n"));
-    }
-    s.push_str("\n// Sizes and texture layouts.\n");
-    s.push_str(&format!(
-        "// Largest width or height of a field (hfcast::field::MAX_SIDE).\n\
-         const uint HF_MAX_SIDE = {}u;\n",
-        hfcore::field::MAX_SIDE
-    ));
-    s.push_str(&format!(
-        "// Most levels of a maximum-mipmap pyramid (hfcast::maxmip::MAX_LEVELS).\n\
-         const int HF_MAX_LEVELS = {};\n",
-        hfcore::maxmip::MAX_LEVELS
-    ));
-    s.push_str(&format!(
-        "// Width of the R32F texture holding the pyramid buffer: texel k at\n\
-         // (k % HF_PYRAMID_TEX_WIDTH, k / HF_PYRAMID_TEX_WIDTH).\n\
-         const int HF_PYRAMID_TEX_WIDTH = {};\n",
-        crate::HF_PYRAMID_TEX_WIDTH
-    ));
-    s
+/// Writes the length of `text()` plus one (its NUL terminator) to `*out_len`, checked
+/// first: the `*_len` query of `write_text`.
+///
+/// # Safety
+/// `out_len` is NULL (an error) or valid for writing one `size_t`.
+unsafe fn write_len(
+    out_len: *mut usize,
+    text: impl FnOnce() -> Result<String, hf_result>,
+) -> hf_result {
+    guard(|| {
+        let out = ptr::out(out_len)?;
+        let n = text()?.len() + 1;
+        // SAFETY: the caller promises `out_len` is writable.
+        unsafe { out.set(n) };
+        Ok(())
+    })
+}
+
+/// Writes `text()` into `buf` as a NUL-terminated string and its length without the
+/// NUL to `*out_written`, both checked first.
+///
+/// # Safety
+/// `buf` is NULL (an error) or valid for writing `buf_len` bytes; `out_written` NULL
+/// (an error) or valid for writing one `size_t`.
+unsafe fn write_text(
+    buf: *mut c_char,
+    buf_len: usize,
+    out_written: *mut usize,
+    text: impl FnOnce() -> Result<String, hf_result>,
+) -> hf_result {
+    guard(|| {
+        // SAFETY: the caller promises `buf` is writable for `buf_len` bytes.
+        let buf = unsafe { ptr::slice_mut(buf, buf_len) }?;
+        let written = ptr::out(out_written)?;
+        let text = text()?;
+        // SAFETY: the caller promises `out_written` is writable.
+        unsafe { ptr::write_c_string(&text, buf, written) }
+    })
 }
 
 /// Writes the length in bytes of `hf_shader_source(method)`, including its NUL
@@ -261,13 +86,8 @@ pub fn glsl_shared() -> String {
 /// `out_len` is NULL (an error) or valid for writing one `size_t`.
 #[no_mangle]
 pub unsafe extern "C" fn hf_shader_source_len(method: u32, out_len: *mut usize) -> hf_result {
-    guard(|| {
-        let out = ptr::out(out_len)?;
-        let m = method_of(method)?;
-        // SAFETY: the caller promises `out_len` is writable.
-        unsafe { out.set(source(m).len() + 1) };
-        Ok(())
-    })
+    // SAFETY: the caller's promise.
+    unsafe { write_len(out_len, || Ok(source(built_method_of(method)?))) }
 }
 
 /// Writes the GLSL 3.30 source of `method` (an `hf_method`) into `buf` as a
@@ -300,39 +120,82 @@ pub unsafe extern "C" fn hf_shader_source(
     buf_len: usize,
     out_written: *mut usize,
 ) -> hf_result {
-    guard(|| {
-        // SAFETY: the caller promises `buf` is writable for `buf_len` bytes.
-        let buf = unsafe { ptr::slice_mut(buf, buf_len) }?;
-        let written = ptr::out(out_written)?;
-        let m = method_of(method)?;
-        // SAFETY: the caller promises `out_written` is writable.
-        unsafe { ptr::write_c_string(&source(m), buf, written) }
-    })
+    // SAFETY: the caller's promises.
+    unsafe {
+        write_text(buf, buf_len, out_written, || {
+            Ok(source(built_method_of(method)?))
+        })
+    }
+}
+
+/// Writes the length in bytes of `hf_shader_generate(scene, lang)`, including its NUL
+/// terminator, to `*out_len`: the buffer size to pass. Errors as `hf_shader_generate`.
+/// Thread safe.
+///
+/// # Safety
+/// `scene` is NULL (an error) or valid for reading one `hf_scene`; `out_len` NULL (an
+/// error) or valid for writing one `size_t`.
+#[no_mangle]
+pub unsafe extern "C" fn hf_shader_generate_len(
+    scene: *const hf_scene,
+    lang: u32,
+    out_len: *mut usize,
+) -> hf_result {
+    // SAFETY: the caller's promises.
+    unsafe { write_len(out_len, || generated(scene, lang)) }
+}
+
+/// Writes the shader generated for `*scene` in `lang` (`HF_SHADER_GLSL`: GLSL 3.30 core
+/// without a `#version` line; `HF_SHADER_WGSL`: WGSL) into `buf` as a NUL-terminated
+/// string and its length without the NUL to `*out_written`; `buf_len` must be at least
+/// `hf_shader_generate_len`. The shader holds only the code the scene uses: the
+/// scene's surface and method, no branch for another surface, no upward-ray code
+/// without shadows and with a view angle of at most 90°, and only the uniforms and
+/// textures its march reads; `hf_surface` and `hf_safety_variant` are constants
+/// (safety: the layout `hf_bake_plan` picks, isotropic for a single ray class, else
+/// directional). Its entry point and its remaining inputs are those of
+/// `hf_shader_source` for the method, less what it does not read (a header comment
+/// lists them): GLSL `hf_heights` (`R32F`; for `HF_HEIGHTS_U16` / `HF_HEIGHTS_U8` an
+/// `R16UI` / `R8UI` texture of the samples and `hf_height_step` = depth / 65535 or
+/// depth / 255), `hf_size`, `hf_height_range`, then the method's own (step counts,
+/// maps); WGSL the fixed bindings of `hfcast_shared.wgsl` it uses. Errors:
+/// `HF_ERR_INVALID_ENUM` (lang, or a field of the scene), `HF_ERR_INVALID_ARGUMENT` (an
+/// invalid scene, a surface the method does not trace, LOD marching, which has no shader
+/// port), `HF_ERR_NOT_BUILT` (a method left out of this build, or a file the language's
+/// port lacks). Thread safe.
+///
+/// # Safety
+/// `scene` is NULL (an error) or valid for reading one `hf_scene`; `buf` NULL (an error)
+/// or valid for writing `buf_len` bytes; `out_written` NULL (an error) or valid for
+/// writing one `size_t`.
+#[no_mangle]
+pub unsafe extern "C" fn hf_shader_generate(
+    scene: *const hf_scene,
+    lang: u32,
+    buf: *mut c_char,
+    buf_len: usize,
+    out_written: *mut usize,
+) -> hf_result {
+    // SAFETY: the caller's promises.
+    unsafe { write_text(buf, buf_len, out_written, || generated(scene, lang)) }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::scene::hf_scene_general;
 
     #[test]
-    fn glsl_shared_is_current() {
-        let path = concat!(
-            env!("CARGO_MANIFEST_DIR"),
-            "/../shaders/glsl/hfcast_shared.glsl"
+    #[cfg(all(feature = "maxmip", feature = "safety"))]
+    fn layout_numbers_agree_with_the_shaders() {
+        assert_eq!(
+            crate::HF_PYRAMID_TEX_WIDTH,
+            hfcast_shaders::PYRAMID_TEX_WIDTH
         );
-        let fresh = glsl_shared();
-        if std::env::var_os("HFCAST_BLESS").is_some() {
-            std::fs::write(path, &fresh).expect("write hfcast_shared.glsl");
-            return;
-        }
-        let committed = std::fs::read_to_string(path).unwrap_or_default();
-        assert!(
-            committed == fresh,
-            "shaders/glsl/hfcast_shared.glsl is out of date: regenerate it with \
-             `HFCAST_BLESS=1 cargo test -p hfcast-capi` and commit it"
+        assert_eq!(
+            crate::safety::hf_safety_variant::HF_SAFETY_ISOTROPIC as u32,
+            hfcast_shaders::SafetyVariant::Isotropic as u32
         );
-        // The compiled-in copy is the committed one.
-        assert_eq!(FILES[0].1, committed);
     }
 
     #[test]
@@ -347,5 +210,65 @@ mod tests {
             );
             assert!(!s.contains("#version"));
         }
+    }
+
+    #[test]
+    fn generate_sizes_then_writes_and_rejects_bad_input() {
+        let mut scene = std::mem::MaybeUninit::<hf_scene>::uninit();
+        // SAFETY: `scene` is writable.
+        assert_eq!(unsafe { hf_scene_general(0, 0, scene.as_mut_ptr()) }, HF_OK);
+        // SAFETY: written on HF_OK.
+        let mut scene = unsafe { scene.assume_init() };
+        scene.shadows = 0;
+        scene.max_view_angle_deg = 60.0;
+        let mut len = 0usize;
+        // SAFETY: valid pointers.
+        let r = unsafe { hf_shader_generate_len(&scene, HF_SHADER_GLSL, &mut len) };
+        assert_eq!(r, HF_OK);
+        assert!(len > 100 && len < source(hf_method::HF_METHOD_EXACT).len());
+        let mut buf = vec![0 as c_char; len];
+        let mut written = 0usize;
+        // SAFETY: `buf` holds `len` bytes.
+        let r = unsafe {
+            hf_shader_generate(&scene, HF_SHADER_GLSL, buf.as_mut_ptr(), len, &mut written)
+        };
+        assert_eq!((r, written + 1), (HF_OK, len));
+        // SAFETY: one byte short.
+        let r = unsafe {
+            hf_shader_generate(
+                &scene,
+                HF_SHADER_GLSL,
+                buf.as_mut_ptr(),
+                len - 1,
+                &mut written,
+            )
+        };
+        assert_eq!(r, HF_ERR_BUFFER_TOO_SMALL);
+        // SAFETY: valid pointers; bad language.
+        assert_eq!(
+            unsafe { hf_shader_generate_len(&scene, 2, &mut len) },
+            HF_ERR_INVALID_ENUM
+        );
+        let cc_bilinear = hf_scene {
+            method: 8,
+            surface: 1,
+            ..scene
+        };
+        // SAFETY: valid pointers; an unsupported surface (or, in a build without
+        // cylinder–cone shapes, a method the build lacks).
+        let expected = if cfg!(feature = "safety") {
+            HF_ERR_INVALID_ARGUMENT
+        } else {
+            HF_ERR_NOT_BUILT
+        };
+        assert_eq!(
+            unsafe { hf_shader_generate_len(&cc_bilinear, HF_SHADER_GLSL, &mut len) },
+            expected
+        );
+        // SAFETY: a NULL scene is reported.
+        assert_eq!(
+            unsafe { hf_shader_generate_len(std::ptr::null(), HF_SHADER_GLSL, &mut len) },
+            HF_ERR_NULL_POINTER
+        );
     }
 }

@@ -2,9 +2,13 @@
 
 use crate::hf_result::{self, *};
 use crate::{guard, hf_field, ptr, surface_of};
+#[cfg(feature = "maxmip")]
 use hfcore::maxmip::{self, MaxMip};
+#[cfg(feature = "search")]
 use hfcore::search::{self, SearchSteps};
-use hfcore::{dda, HeightField, Query, Surface, Trace};
+#[cfg(feature = "maxmip")]
+use hfcore::Surface;
+use hfcore::{dda, HeightField, Query, Trace};
 
 /// A ray in grid space: the points `origin + t * dir` for `t` in `[t_min, t_max]`.
 /// `dir` need not be normalised (t is then in units of `|dir|`) but must be finite
@@ -138,6 +142,7 @@ pub(crate) unsafe fn batch(
     })
 }
 
+#[cfg(feature = "search")]
 /// The search step counts, checked.
 fn steps(linear: u32, binary: u32) -> Result<SearchSteps, hf_result> {
     if linear == 0 {
@@ -211,6 +216,7 @@ pub unsafe extern "C" fn hf_trace_exact_batch(
     }
 }
 
+#[cfg(feature = "search")]
 /// Traces one ray with linear search then bisection (Policarpo et al. 2005):
 /// `linear_steps ≥ 1` equal steps through the field's bounding box, then
 /// `binary_steps` bisections of the first step that ends under `surface`.
@@ -244,6 +250,7 @@ pub unsafe extern "C" fn hf_trace_linear_binary(
     }
 }
 
+#[cfg(feature = "search")]
 /// `hf_trace_linear_binary` for a batch, with the conventions of
 /// `hf_trace_exact_batch`. Thread safe.
 ///
@@ -279,6 +286,7 @@ pub unsafe extern "C" fn hf_trace_linear_binary_batch(
     }
 }
 
+#[cfg(feature = "search")]
 /// Traces one ray with linear search then one secant step (parallax occlusion
 /// mapping): `linear_steps ≥ 1` equal steps, then the secant of the bracketing step.
 /// Approximate. Costs four fetches per height sample. Thread safe.
@@ -309,6 +317,7 @@ pub unsafe extern "C" fn hf_trace_linear_secant(
     }
 }
 
+#[cfg(feature = "search")]
 /// `hf_trace_linear_secant` for a batch, with the conventions of
 /// `hf_trace_exact_batch`. Thread safe.
 ///
@@ -342,6 +351,7 @@ pub unsafe extern "C" fn hf_trace_linear_secant_batch(
     }
 }
 
+#[cfg(feature = "maxmip")]
 /// Traces one ray with maximum mipmaps (Tevs et al. 2008) over `pyramid`, the buffer
 /// `hf_maxmip_bake` filled for this field (`pyramid_len ≥ hf_maxmip_len`): exact, the
 /// same hit as `hf_trace_exact` (the linear-planes surface is traced by the exact
@@ -381,6 +391,7 @@ pub unsafe extern "C" fn hf_trace_maxmip(
     }
 }
 
+#[cfg(feature = "maxmip")]
 /// `hf_trace_maxmip` for a batch, with the conventions of `hf_trace_exact_batch`.
 /// Thread safe.
 ///
@@ -421,6 +432,7 @@ pub unsafe extern "C" fn hf_trace_maxmip_batch(
     }
 }
 
+#[cfg(any(feature = "maxmip", feature = "cone"))]
 /// A baked buffer (pyramid or map) as a slice, checked behind the panic boundary.
 ///
 /// # Safety
@@ -438,12 +450,14 @@ pub(crate) unsafe fn pyramid_slice<'a, T>(p: *const T, len: usize) -> Result<&'a
     out
 }
 
+#[cfg(feature = "maxmip")]
 /// Checks the pyramid length for `hf`.
 fn check_mip(hf: &HeightField, texels: &[f32]) -> Result<(), hf_result> {
     MaxMip::new(hf, texels)?;
     Ok(())
 }
 
+#[cfg(feature = "maxmip")]
 /// One maxmip trace with exact options.
 fn trace_mip(hf: &HeightField, texels: &[f32], surface: Surface, q: &Query<f32>) -> Trace<f32> {
     match MaxMip::new(hf, texels) {

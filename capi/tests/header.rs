@@ -1,7 +1,22 @@
 //! The header drift check: regenerates `include/hfcast.h` with cbindgen (pinned
 //! 0.29.4) and fails when the committed header differs. `HFCAST_BLESS=1` writes it.
+//! Also checks the headers of smaller builds (`examples/header.rs`).
 
 use std::path::PathBuf;
+
+#[path = "../examples/header.rs"]
+#[allow(dead_code)]
+mod header_example;
+
+/// The `HF_HAVE_*` macro of each method feature of the crate, in Cargo.toml order.
+const FEATURES: [(&str, &str); 6] = [
+    ("maxmip", "HF_HAVE_MAXMIP"),
+    ("safety", "HF_HAVE_SAFETY"),
+    ("cone", "HF_HAVE_CONE"),
+    ("qdm", "HF_HAVE_QDM"),
+    ("relaxed", "HF_HAVE_RELAXED"),
+    ("search", "HF_HAVE_SEARCH"),
+];
 
 /// The generated header text: cbindgen's output for this crate, with the version
 /// macros of Cargo.toml.
@@ -18,6 +33,17 @@ fn generate() -> String {
         env!("CARGO_PKG_VERSION_PATCH"),
         env!("CARGO_PKG_VERSION"),
     ));
+    let after = config.after_includes.get_or_insert_with(String::new);
+    after.push_str(
+        "\n\n/* The methods this build of the library has (cargo features of hfcast-capi; see\n   \
+         hf_build_has_method). The declarations of each are inside\n   \
+         #if defined(HF_HAVE_<METHOD>); the header of a build with fewer methods, printed by\n   \
+         `cargo run -p hfcast-capi --no-default-features --features <methods> --example\n   \
+         header`, defines fewer and has the others' declarations removed. */",
+    );
+    for (_, name) in FEATURES {
+        after.push_str(&format!("\n#define {name} 1"));
+    }
     let mut out = Vec::new();
     cbindgen::Builder::new()
         .with_crate(&crate_dir)
@@ -70,5 +96,82 @@ fn version_macros_match_cargo_toml() {
     ] {
         let line = format!("#define {name} {value}");
         assert!(header.contains(&line), "header lacks `{line}`");
+    }
+}
+
+#[test]
+fn cbindgen_defines_every_method_feature() {
+    let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR"));
+    let toml = std::fs::read_to_string(dir.join("cbindgen.toml")).expect("read cbindgen.toml");
+    let manifest = std::fs::read_to_string(dir.join("Cargo.toml")).expect("read Cargo.toml");
+    for (feature, name) in FEATURES {
+        let line = format!("\"feature = {feature}\" = \"{name}\"");
+        assert!(toml.contains(&line), "cbindgen.toml lacks `{line}`");
+        assert!(
+            manifest.contains(&format!("\n{feature} = [")),
+            "no feature {feature}"
+        );
+    }
+}
+
+#[test]
+fn smaller_builds_declare_only_their_methods() {
+    use header_example::strip;
+    let full = generate();
+    let all: Vec<&str> = FEATURES.iter().map(|(_, n)| *n).collect();
+    assert_eq!(
+        strip(&full, &all),
+        full,
+        "every feature on: the full header"
+    );
+    // The header of this very build.
+    let this = strip(&full, &header_example::this_build());
+    assert_eq!(
+        this.matches("#define HF_HAVE_").count(),
+        header_example::this_build().len()
+    );
+    let cone = strip(&full, &["HF_HAVE_CONE"]);
+    // Declarations only: the documentation of what stays may name what is gone.
+    let code = |h: &str| -> String {
+        h.lines()
+            .filter(|l| !l.trim_start().starts_with("//"))
+            .collect::<Vec<_>>()
+            .join("\n")
+    };
+    let cone_code = code(&cone);
+    for gone in [
+        "hf_maxmip_bake",
+        "hf_trace_maxmip",
+        "hf_safety_bake",
+        "hf_safety_options",
+        "hf_cc_bake",
+        "hf_trace_qdm",
+        "hf_relaxed_bake",
+        "hf_trace_linear_binary",
+        "HF_HAVE_SAFETY",
+        "HF_MAX_LEVELS",
+    ] {
+        assert!(
+            !cone_code.contains(gone),
+            "the cone build's header declares {gone}"
+        );
+    }
+    for kept in [
+        "hf_cone_bake(",
+        "hf_trace_cone(",
+        "hf_trace_exact(",
+        "hf_build_has_method(",
+        "hf_scene_bake_plan(",
+        "#define HF_HAVE_CONE 1",
+    ] {
+        assert!(cone.contains(kept), "the cone build's header lacks {kept}");
+    }
+    let none = strip(&full, &[]);
+    assert!(!none.contains("HF_HAVE_CONE") && none.contains("hf_trace_exact("));
+    for h in [&cone, &none] {
+        let opens = h.lines().filter(|l| l.starts_with("#if")).count();
+        let closes = h.lines().filter(|l| l.starts_with("#endif")).count();
+        assert_eq!(opens, closes);
+        assert!(!h.contains("\n\n\n"), "no runs of blank lines");
     }
 }

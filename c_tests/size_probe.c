@@ -1,0 +1,31 @@
+/* The C program scripts/sizes.sh links against libhfcast builds of different features
+ * to measure what an application ships: a field, the exact trace, and where the build
+ * has it (HF_HAVE_CONE) a cone bake and trace. Compiled against the header of the
+ * build it links. */
+#include "hfcast.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+
+int main(int argc, char **argv) {
+    (void)argv;
+    enum { W = 16, H = 16 };
+    float heights[W * H];
+    for (int k = 0; k < W * H; k++) heights[k] = (float)((k * 37 + argc) % 11);
+    hf_field *field = NULL;
+    if (hf_field_create_f32(heights, W * H, W, H, W, &field) != HF_OK) return 1;
+    hf_ray ray = {{0.5f, 0.5f, 20.0f}, {1.0f, 0.7f, -1.0f}, 0.0f, 1e30f};
+    hf_hit hit;
+    int ok = hf_trace_exact(field, HF_SURFACE_TRIANGLES, &ray, &hit) == HF_OK;
+#if defined(HF_HAVE_CONE)
+    size_t len = 0;
+    ok &= hf_cone_map_len(W, H, &len) == HF_OK;
+    float *map = malloc(len * sizeof *map);
+    ok &= map && hf_cone_bake(field, 1, map, len) == HF_OK;
+    ok &= hf_trace_cone(field, map, len, 256, &ray, &hit) == HF_OK;
+    free(map);
+#endif
+    hf_field_destroy(field);
+    printf("%d %u %.3f\n", ok, hit.hit, (double)hit.t);
+    return !ok;
+}
