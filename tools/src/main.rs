@@ -34,12 +34,21 @@ commands:
            --reps N (3) --size WxH (160x120; quick 64x48) --synthetic N (512;
            quick 128) --threads N (oracle only; timing is single-threaded)
            --scenes WORD,WORD (keep scenes whose name contains a word)
+  shader   the GLSL or WGSL shader of one scene: only the code it uses
+           --method M (exact | linear-binary | linear-secant | maxmip | safety | cone |
+           relaxed | qdm | cc; default exact) --surface S (triangles) --lang glsl|wgsl
+           (glsl) --rays x+,x-,y+,y- (all) --max-view-angle DEG (180) --heights
+           f32|u16|u8 (f32) --safety-variant directional|isotropic (directional)
+           --no-shadows --outside-only --no-depth --lod --all-methods (every method
+           in one shader, hf_method chosen at run time) --out FILE (default stdout)
 
 methods: exact | linear-binary:N:M | secant:N (default exact)
 surfaces: triangles | bilinear | height-planes | linear-planes | view-linear
 angles: compass degrees (azimuth 0 = north = image top of the map, 90 = east)
 maps: grayscale PNG, heights = png/65535 * depth; depth defaults to 0.1 * max(W, H);
       default map: the bundled data/dem_jacksboro_fault_403x344.png";
+
+mod shader;
 
 /// Options that take no value (`--quick` is `--quick=true`).
 const FLAGS: [&str; 1] = ["quick"];
@@ -62,7 +71,9 @@ impl Args {
             };
             let (name, value) = match name.split_once('=') {
                 Some((n, v)) => (n.to_string(), v.to_string()),
-                None if FLAGS.contains(&name) => (name.to_string(), "true".to_string()),
+                None if FLAGS.contains(&name) || shader::FLAGS.contains(&name) => {
+                    (name.to_string(), "true".to_string())
+                }
                 None => {
                     let v = words.next().ok_or(format!("--{name} needs a value"))?;
                     (name.to_string(), v)
@@ -290,6 +301,7 @@ fn main() -> ExitCode {
         "trace" => run(cmd_trace),
         "bench" => run(cmd_bench),
         "report" => run(cmd_report),
+        "shader" => run(shader::cmd_shader),
         "help" | "--help" | "-h" => {
             println!("{USAGE}");
             return ExitCode::SUCCESS;

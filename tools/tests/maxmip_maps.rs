@@ -2,49 +2,25 @@
 //! f64 exact DDA, for camera rays at 45° and 5° and random rays inside the box, on the
 //! triangle and bilinear surfaces, in f32 and f64.
 
-use hfcast::maxmip::{self, Ascent, MaxMip, Options};
-use hfcast::{dda, HeightField, Query, Real, Surface, Trace};
-use hfcast_tools::bench::random_rays;
-use hfcast_tools::maps::{list_maps, load_map};
-use hfcast_tools::render::Camera;
+mod common;
 
-/// Wrong: hit/miss, flags or the hit point (by more than 1e-3 texel) differ.
-fn differs<R: Real>(a: &Trace<R>, oracle: &Trace<f64>) -> bool {
-    match (&a.hit, &oracle.hit) {
-        (None, None) => false,
-        (Some(a), Some(b)) => {
-            let p = R::xyz(a.point).map(|v| v.to_f64());
-            let d = [0, 1, 2].map(|k| p[k] - [b.point.x, b.point.y, b.point.z][k]);
-            (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt() > 1e-3 || a.flags != b.flags
-        }
-        _ => true,
-    }
-}
+use common::{ambiguity_eps, differs, maps, test_rays};
+use hfcast::maxmip::{self, Ascent, MaxMip, Options};
+use hfcast::{dda, HeightField, Surface};
+use hfcast_tools::maps::load_map;
 
 #[test]
 fn maxmip_exact_on_every_map() {
-    let maps = list_maps();
-    if maps.is_empty() {
-        println!("no maps found in the shared data folder: nothing to check");
-        return;
-    }
     let mut total_wrong = 0;
-    for info in &maps {
+    for info in &maps() {
         let map = load_map(&info.path, None).expect("map loads");
         let hf: HeightField = map.field();
         let mut pyr = vec![0f32; maxmip::pyramid_len(hf.width(), hf.height())];
         maxmip::bake(&hf, &mut pyr).unwrap();
         let mip = MaxMip::new(&hf, &pyr).unwrap();
         // DESIGN.md's ambiguity threshold 2⁻¹³ · max(1, |z|), |z| over the whole map.
-        let z = 1f64
-            .max(hf.max_height().abs().into())
-            .max(hf.min_height().abs().into());
-        let eps = z / 8192.0;
-        let mut rays: Vec<Query<f32>> = Vec::new();
-        for elevation in [45.0, 5.0] {
-            rays.extend(Camera::orbit(&hf, elevation, 200.0, 40, 32).rays());
-        }
-        rays.extend(random_rays(&hf, 1500, 11));
+        let eps = ambiguity_eps(&hf);
+        let rays = test_rays(&hf);
         for surface in [Surface::Triangles, Surface::Bilinear] {
             let (mut wrong, mut ambiguous, mut differ_amb, mut hits) = (0, 0, 0, 0);
             let (mut f_dda, mut f_mm) = (0u64, 0u64);

@@ -4,43 +4,15 @@
 //! the box, directional and isotropic, marched in f32 and f64; and the same for the
 //! cylinder–cone maps (exact and N-buffer slopes).
 
+mod common;
+
+use common::{ambiguity_eps, bake_halves, differs, maps, oracle_traces, test_rays, touch, window};
 use hfcast::safety::cc::{self, CcMap, CcOptions, Slope};
 use hfcast::safety::{self, Options, SafetyMap, Variant};
-use hfcast::{dda, HeightField, Query, Real, Surface, Trace};
-use hfcast_tools::bench::random_rays;
-use hfcast_tools::maps::{list_maps, load_map};
-use hfcast_tools::render::Camera;
+use hfcast::{dda, HeightField, Query, Surface};
+use hfcast_tools::maps::load_map;
 
 const TRI: Surface = Surface::Triangles;
-
-/// Largest side of the window of each map that the test bakes.
-const WINDOW: u32 = 256;
-
-/// Wrong: hit/miss, flags or the hit point (by more than 1e-3 texel) differ.
-fn differs<R: Real>(a: &Trace<R>, oracle: &Trace<f64>) -> bool {
-    match (&a.hit, &oracle.hit) {
-        (None, None) => false,
-        (Some(a), Some(b)) => {
-            let p = R::xyz(a.point).map(|v| v.to_f64());
-            let d = [0, 1, 2].map(|k| p[k] - [b.point.x, b.point.y, b.point.z][k]);
-            (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt() > 1e-3 || a.flags != b.flags
-        }
-        _ => true,
-    }
-}
-
-/// The oracle's hit is a touch: the ray meets the surface without going under it.
-fn touch(hf: &HeightField, q: &Query<f64>, oracle: &Trace<f64>, eps: f64) -> bool {
-    let Some(hit) = oracle.hit else {
-        return false;
-    };
-    let d = q.dir();
-    let len = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
-    [1e-4, 1e-3, 1e-2].iter().all(|s| {
-        let p = q.at(hit.t + s / len);
-        p[2] - TRI.height_at(hf, p[0], p[1]) >= -eps
-    })
-}
 
 /// Bakes on two threads (row halves).
 fn bake(hf: &HeightField, scratch: &[f32], variant: Variant) -> Vec<u8> {
@@ -50,11 +22,8 @@ fn bake(hf: &HeightField, scratch: &[f32], variant: Variant) -> Vec<u8> {
     };
     let mut out = vec![0u8; safety::map_len(hf.width(), hf.height(), variant)];
     let row = hf.width() as usize * variant.channels();
-    let half = hf.height() / 2;
-    let (a, b) = out.split_at_mut(half as usize * row);
-    std::thread::scope(|s| {
-        s.spawn(|| safety::bake_rows(hf, scratch, 0..half, opts, a).unwrap());
-        safety::bake_rows(hf, scratch, half..hf.height(), opts, b).unwrap();
+    bake_halves(&mut out, row, hf.height(), |rows, part| {
+        safety::bake_rows(hf, scratch, rows, opts, part).unwrap()
     });
     out
 }
@@ -63,24 +32,16 @@ fn bake(hf: &HeightField, scratch: &[f32], variant: Variant) -> Vec<u8> {
 fn bake_cc(hf: &HeightField, scratch: &[f32], nb: &[f32], opts: CcOptions) -> Vec<u8> {
     let mut out = vec![0u8; cc::map_len(hf.width(), hf.height())];
     let row = hf.width() as usize * cc::BYTES_PER_TEXEL;
-    let half = hf.height() / 2;
-    let (a, b) = out.split_at_mut(half as usize * row);
-    std::thread::scope(|s| {
-        s.spawn(|| cc::bake_rows(hf, scratch, nb, 0..half, opts, a).unwrap());
-        cc::bake_rows(hf, scratch, nb, half..hf.height(), opts, b).unwrap();
+    bake_halves(&mut out, row, hf.height(), |rows, part| {
+        cc::bake_rows(hf, scratch, nb, rows, opts, part).unwrap()
     });
     out
 }
 
 #[test]
 fn safety_exact_on_every_map() {
-    let maps = list_maps();
-    if maps.is_empty() {
-        println!("no maps found in the shared data folder: nothing to check");
-        return;
-    }
     let mut total_wrong = 0;
-    for info in &maps {
+    for info in &maps() {
         for depth_frac in [0.1f32, 0.05] {
             let depth = depth_frac * info.width.max(info.height) as f32;
             let map = load_map(&info.path, Some(depth)).expect("map loads");
@@ -88,27 +49,12 @@ fn safety_exact_on_every_map() {
             // data (a view with the full row stride): whole-map bakes of the exact
             // cylinder-cone slope take seconds each and belong to the benchmark, which
             // also counts wrong rays on the full maps.
-            let (w, h) = (map.width.min(WINDOW), map.height.min(WINDOW));
-            let (x0, y0) = ((map.width - w) as usize / 2, (map.height - h) as usize / 2);
-            let stride = map.width as usize;
-            let hf =
-                HeightField::new(&map.heights[y0 * stride + x0..], w, h, stride).expect("window");
+            let hf = window(&map);
             let mut scratch = vec![0f32; safety::scratch_len(hf.width(), hf.height())];
             safety::prepare(&hf, &mut scratch).unwrap();
-            let z = 1f64
-                .max(hf.max_height().abs().into())
-                .max(hf.min_height().abs().into());
-            let eps = z / 8192.0;
-            let mut rays: Vec<Query<f32>> = Vec::new();
-            let (cw, ch, nr) = (40, 32, 1500);
-            for elevation in [45.0, 5.0] {
-                rays.extend(Camera::orbit(&hf, elevation, 200.0, cw, ch).rays());
-            }
-            rays.extend(random_rays(&hf, nr, 11));
-            let oracles: Vec<Trace<f64>> = rays
-                .iter()
-                .map(|q| dda::trace(&hf, TRI, &q.cast::<f64>()))
-                .collect();
+            let eps = ambiguity_eps(&hf);
+            let rays = test_rays(&hf);
+            let oracles = oracle_traces(&hf, &rays);
             // A short cone reach keeps the test's bake time down (the march is exact
             // for any reach; the benchmark uses the default).
             let cap = 16;
