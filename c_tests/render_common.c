@@ -22,6 +22,7 @@ const char *method_name(uint32_t method) {
     case HF_METHOD_RELAXED: return "relaxed";
     case HF_METHOD_QDM: return "qdm";
     case HF_METHOD_CC: return "cc";
+    case HF_METHOD_RADIUS: return "radius";
     default: return "?";
     }
 }
@@ -206,6 +207,13 @@ int scene_load_ex(scene *s, const char *png_path, uint32_t crop, int relaxed) {
     s->safety_iso = (unsigned char *)malloc(s->safety_iso_len);
     if ((r = hf_safety_bake(s->field, &iso, 0, s->safety_iso, s->safety_iso_len)) != HF_OK)
         die_hf("hf_safety_bake (isotropic)", r);
+    hf_radius_options ropts = {0.0f, 255};
+    if ((r = hf_radius_map_len(s->w, s->h, &s->radius_len)) != HF_OK) die_hf("radius_len", r);
+    s->radius = (unsigned char *)malloc(s->radius_len);
+    t0 = now_seconds();
+    if ((r = hf_radius_bake(s->field, &ropts, 0, s->radius, s->radius_len)) != HF_OK)
+        die_hf("hf_radius_bake", r);
+    s->radius_bake_ms = 1e3 * (now_seconds() - t0);
     if ((r = hf_cone_map_len(s->w, s->h, &s->cone_len)) != HF_OK) die_hf("hf_cone_map_len", r);
     if ((r = hf_relaxed_map_len(s->w, s->h, &s->relaxed_len)) != HF_OK) die_hf("relaxed_len", r);
     if ((r = hf_qdm_map_len(s->w, s->h, &s->qdm_len)) != HF_OK) die_hf("hf_qdm_map_len", r);
@@ -240,6 +248,7 @@ void scene_free(scene *s) {
     free(s->pyramid);
     free(s->safety);
     free(s->safety_iso);
+    free(s->radius);
     free(s->cone);
     free(s->relaxed);
     free(s->qdm);
@@ -329,6 +338,9 @@ hf_result cpu_trace(const scene *s, method_cfg cfg, const hf_ray *rays, size_t n
         return hf_trace_qdm_batch(s->field, s->qdm, s->qdm_len, cfg.linear, rays, n, hits, n);
     case HF_METHOD_CC:
         return hf_trace_cc_batch(s->field, s->cc, s->cc_len, CC_CAP, rays, n, hits, n);
+    case HF_METHOD_RADIUS:
+        return hf_trace_radius_batch(s->field, s->radius, s->radius_len, cfg.zero, rays, n, hits,
+                                     n);
     default: return HF_ERR_INVALID_ENUM;
     }
 }
@@ -504,6 +516,9 @@ int gpu_init(gpu *g, const scene *s, int w, int h) {
     glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
     g->tex_safety_iso = make_texture(GL_R8UI, (int)s->w, (int)s->h, GL_RED_INTEGER,
                                      GL_UNSIGNED_BYTE, s->safety_iso);
+    /* Safety radii: one byte per texel, an R8UI texture. */
+    g->tex_radius = make_texture(GL_R8UI, (int)s->w, (int)s->h, GL_RED_INTEGER,
+                                 GL_UNSIGNED_BYTE, s->radius);
     glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
     /* The cone family: per cell [top, ratio] (RG32F), per cell [a, b, c, h] (RGBA32F),
      * per sample the relaxed ratio (R32F). */
@@ -568,12 +583,12 @@ void gpu_render_program(gpu *g, GLuint p, const scene *s, method_cfg cfg, float 
     glClearDepth(1.0);
     glClear(GL_DEPTH_BUFFER_BIT);
     GLuint safety = cfg.variant == HF_SAFETY_ISOTROPIC ? g->tex_safety_iso : g->tex_safety;
-    GLuint tex[9] = {u16 ? g->tex_heights16 : g->tex_heights, g->tex_pyramid, g->tex_origin,  g->tex_dir, safety,
-                     g->tex_cone,    g->tex_qdm,     g->tex_relaxed, g->tex_cc};
-    const char *names[9] = {"hf_heights",  "hf_pyramid", "hf_ray_origin",  "hf_ray_dir",
-                            "hf_safety_map", "hf_cone_map", "hf_qdm_map", "hf_relaxed_map",
-                            "hf_cc_map"};
-    for (int k = 0; k < 9; k++) {
+    GLuint tex[10] = {u16 ? g->tex_heights16 : g->tex_heights, g->tex_pyramid, g->tex_origin,  g->tex_dir, safety,
+                      g->tex_cone,    g->tex_qdm,     g->tex_relaxed, g->tex_cc, g->tex_radius};
+    const char *names[10] = {"hf_heights",  "hf_pyramid", "hf_ray_origin",  "hf_ray_dir",
+                             "hf_safety_map", "hf_cone_map", "hf_qdm_map", "hf_relaxed_map",
+                             "hf_cc_map", "hf_radius_map"};
+    for (int k = 0; k < 10; k++) {
         glActiveTexture(GL_TEXTURE0 + (GLenum)k);
         glBindTexture(GL_TEXTURE_2D, tex[k]);
         GLint loc = glGetUniformLocation(p, names[k]);
@@ -598,6 +613,8 @@ void gpu_render_program(gpu *g, GLuint p, const scene *s, method_cfg cfg, float 
     if (loc >= 0) glUniform1ui(loc, cfg.linear);
     loc = glGetUniformLocation(p, "hf_cone_steps");
     if (loc >= 0) glUniform1ui(loc, cfg.linear);
+    loc = glGetUniformLocation(p, "hf_radius_clamp");
+    if (loc >= 0) glUniform1ui(loc, cfg.zero == HF_RADIUS_CLAMP ? 1u : 0u);
     if (cfg.method == HF_METHOD_CC) {
         glUniform1ui(glGetUniformLocation(p, "hf_cc_cap"), CC_CAP);
         glUniform1f(glGetUniformLocation(p, "hf_cc_zmin"), s->cc_frame[0]);
@@ -652,11 +669,11 @@ void gpu_read(gpu *g, frame *f) {
 
 void gpu_free(gpu *g) {
     for (int m = 0; m < NUM_METHODS; m++) glDeleteProgram(g->prog[m]);
-    GLuint tex[14] = {g->tex_heights, g->tex_pyramid, g->tex_safety, g->tex_safety_iso,
+    GLuint tex[15] = {g->tex_heights, g->tex_pyramid, g->tex_safety, g->tex_safety_iso,
                       g->tex_origin,  g->tex_dir,     g->tex_point,  g->tex_normal,
                       g->tex_color,   g->tex_cone,    g->tex_qdm,    g->tex_relaxed,
-                      g->tex_cc,      g->tex_heights16};
-    glDeleteTextures(14, tex);
+                      g->tex_cc,      g->tex_heights16, g->tex_radius};
+    glDeleteTextures(15, tex);
     glDeleteRenderbuffers(1, &g->rb_depth);
     glDeleteFramebuffers(1, &g->fbo);
     glDeleteVertexArrays(1, &g->vao);

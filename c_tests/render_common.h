@@ -16,18 +16,19 @@
 
 #include "hfcast.h"
 
-#define NUM_METHODS 9 /* HF_METHOD_EXACT .. HF_METHOD_CC */
+#define NUM_METHODS 10 /* HF_METHOD_EXACT .. HF_METHOD_RADIUS */
 #define CC_CAP 64     /* the cylinder-cone bake's (and march's) cap */
 
 /* One method configuration: an hf_method, an hf_surface, the step counts (`linear`:
  * search steps, or the cone/QDM iteration budget, or relaxed cone steps; `binary`:
- * bisections) and the safety map layout. */
+ * bisections), the safety map layout and what the radius march does at a zero radius. */
 typedef struct method_cfg {
     uint32_t method;
     uint32_t surface;
     uint32_t linear;
     uint32_t binary;
     uint32_t variant; /* safety: an hf_safety_variant */
+    uint32_t zero;    /* radius: an hf_radius_zero */
 } method_cfg;
 
 typedef struct scene {
@@ -54,6 +55,9 @@ typedef struct scene {
     float cc_frame[3]; /* zmin, zstep, zspan */
     double cc_bake_ms;
     double safety_bake_ms;
+    unsigned char *radius; /* safety radii (tolerance 0), W x H */
+    size_t radius_len;
+    double radius_bake_ms;
 } scene;
 
 typedef struct camera {
@@ -67,7 +71,7 @@ typedef struct gpu {
     GLuint prog[NUM_METHODS]; /* one program per hf_method */
     GLuint vao;
     GLuint tex_heights, tex_pyramid, tex_safety, tex_safety_iso, tex_origin, tex_dir;
-    GLuint tex_cone, tex_relaxed, tex_qdm, tex_cc;
+    GLuint tex_cone, tex_relaxed, tex_qdm, tex_cc, tex_radius;
     GLuint tex_heights16; /* R16UI samples, for generated shaders of HF_HEIGHTS_U16 scenes */
     GLuint fbo, tex_point, tex_normal, tex_color, rb_depth;
 } gpu;

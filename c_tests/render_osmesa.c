@@ -155,20 +155,22 @@ static parity compare(const scene *s, method_cfg cfg, const hf_ray *rays, const 
 
 /* The configuration of `method` on `surface` the tests and benchmarks use: 64 search
  * steps and 8 bisections (linear + binary), 64 steps (secant), an iteration budget of
- * 512 (cones, QDM), 64 cone steps and 8 bisections (relaxed); directional safety map. */
+ * 512 (cones, QDM), 64 cone steps and 8 bisections (relaxed); directional safety map;
+ * zero radii walked. */
 static method_cfg cfg_of(uint32_t method, uint32_t surface) {
     static const uint32_t steps[NUM_METHODS][2] = {{0, 0},   {64, 8}, {64, 0},  {0, 0}, {0, 0},
-                                                   {512, 0}, {64, 8}, {512, 0}, {0, 0}};
+                                                   {512, 0}, {64, 8}, {512, 0}, {0, 0}, {0, 0}};
     method_cfg c = {method, surface, steps[method][0], steps[method][1],
-                    HF_SAFETY_DIRECTIONAL};
+                    HF_SAFETY_DIRECTIONAL, HF_RADIUS_WALK};
     return c;
 }
 
 /* Appends to `out[n..]` the parity configurations that follow exact traversal and
  * maximum mipmaps: linear + binary search on triangles and bilinear, linear + secant,
- * safety (then its isotropic layout when `isotropic`), cones, QDM and cylinder-cones on
- * triangles. Returns the new count. */
-static int search_to_cc_cfgs(method_cfg *out, int n, int isotropic) {
+ * safety (then its isotropic layout when `variants`), cones, QDM, cylinder-cones and
+ * safety radii (then zero radii clamped when `variants`) on triangles. Returns the new
+ * count. */
+static int search_to_cc_cfgs(method_cfg *out, int n, int variants) {
     static const uint32_t list[][2] = {
         {HF_METHOD_LINEAR_BINARY, HF_SURFACE_TRIANGLES},
         {HF_METHOD_LINEAR_BINARY, HF_SURFACE_BILINEAR},
@@ -177,12 +179,17 @@ static int search_to_cc_cfgs(method_cfg *out, int n, int isotropic) {
         {HF_METHOD_CONE, HF_SURFACE_TRIANGLES},
         {HF_METHOD_QDM, HF_SURFACE_TRIANGLES},
         {HF_METHOD_CC, HF_SURFACE_TRIANGLES},
+        {HF_METHOD_RADIUS, HF_SURFACE_TRIANGLES},
     };
     for (size_t k = 0; k < sizeof list / sizeof list[0]; k++) {
         out[n++] = cfg_of(list[k][0], list[k][1]);
-        if (isotropic && list[k][0] == HF_METHOD_SAFETY) {
+        if (variants && list[k][0] == HF_METHOD_SAFETY) {
             out[n] = out[n - 1];
             out[n++].variant = HF_SAFETY_ISOTROPIC;
+        }
+        if (variants && list[k][0] == HF_METHOD_RADIUS) {
+            out[n] = out[n - 1];
+            out[n++].zero = HF_RADIUS_CLAMP;
         }
     }
     return n;
@@ -323,9 +330,9 @@ static void parity_map(map_job *j, int w, int h, void *ctx) {
         gpu_read(&j->g, &f);
         char label[160];
         snprintf(label, sizeof label, "%s %s%s/%s", j->s.name, method_name(c.method),
-                 c.method == HF_METHOD_SAFETY && c.variant == HF_SAFETY_ISOTROPIC
-                     ? "-isotropic"
-                     : "",
+                 c.method == HF_METHOD_SAFETY && c.variant == HF_SAFETY_ISOTROPIC ? "-isotropic"
+                 : c.method == HF_METHOD_RADIUS && c.zero == HF_RADIUS_CLAMP   ? "-clamp"
+                                                                               : "",
                  surface_name(c.surface));
         parity p = compare(&j->s, c, j->rays, &f, j->depth_far, w, h, 0, label);
         int ok = parity_ok(&p, c.method);
@@ -336,7 +343,7 @@ static void parity_map(map_job *j, int w, int h, void *ctx) {
         if (!ok || p.differ > 0) compare(&j->s, c, j->rays, &f, j->depth_far, w, h, 1, label);
         if (ok) t->passed++; else t->failed++;
         if (c.surface == HF_SURFACE_TRIANGLES && method_exact(c.method) &&
-            c.variant == HF_SAFETY_DIRECTIONAL && !j->crop) {
+            c.variant == HF_SAFETY_DIRECTIONAL && c.zero == HF_RADIUS_WALK && !j->crop) {
             char path[512];
             snprintf(path, sizeof path, "%s/%s_%s_triangles.png", t->outdir, j->s.name,
                      method_name(c.method));
@@ -365,9 +372,10 @@ static void bench_map(map_job *j, int w, int h, void *ctx) {
     int frames = *(const int *)ctx;
     size_t n = (size_t)w * h;
     hf_hit *hits = (hf_hit *)malloc(sizeof(hf_hit) * n);
-    printf("%-36s bakes (all cores): safety %.0f ms, cone %.0f ms, qdm %.0f ms, cc %.0f ms\n",
-           j->s.name, j->s.safety_bake_ms, j->s.cone_bake_ms, j->s.qdm_bake_ms,
-           j->s.cc_bake_ms);
+    printf("%-36s bakes (all cores): safety %.0f ms, cone %.0f ms, qdm %.0f ms, cc %.0f ms, "
+           "radius %.0f ms\n",
+           j->s.name, j->s.safety_bake_ms, j->s.cone_bake_ms, j->s.qdm_bake_ms, j->s.cc_bake_ms,
+           j->s.radius_bake_ms);
     for (uint32_t m = 0; m < NUM_METHODS; m++) {
         if (m == HF_METHOD_RELAXED) continue;
         method_cfg c = cfg_of(m, HF_SURFACE_TRIANGLES);
@@ -582,7 +590,7 @@ static void bench_generated_map(map_job *j, int w, int h, void *ctx) {
         {HF_METHOD_EXACT, HF_SURFACE_TRIANGLES},         {HF_METHOD_EXACT, HF_SURFACE_BILINEAR},
         {HF_METHOD_LINEAR_BINARY, HF_SURFACE_TRIANGLES}, {HF_METHOD_MAXMIP, HF_SURFACE_TRIANGLES},
         {HF_METHOD_SAFETY, HF_SURFACE_TRIANGLES},        {HF_METHOD_CONE, HF_SURFACE_TRIANGLES},
-        {HF_METHOD_CC, HF_SURFACE_TRIANGLES},
+        {HF_METHOD_CC, HF_SURFACE_TRIANGLES},           {HF_METHOD_RADIUS, HF_SURFACE_TRIANGLES},
     };
     for (size_t k = 0; k < sizeof cases / sizeof cases[0]; k++) {
         method_cfg c = cfg_of(cases[k][0], cases[k][1]);

@@ -772,6 +772,130 @@ static void test_safety(void) {
     hf_field_destroy(f);
 }
 
+/* ---- safety radius ------------------------------------------------------------------ */
+
+static void test_radius(void) {
+    enum { W = 37, H = 23, N = 2000 };
+    float *heights = (float *)malloc(sizeof(float) * W * H);
+    for (int k = 0; k < W * H; k++) heights[k] = 8.0f * frand() * frand();
+    heights[11 * W + 17] = 30.0f; /* a needle */
+    hf_field *f = NULL;
+    CHECK_OK(hf_field_create_f32(heights, W * H, W, H, W, &f));
+
+    size_t len = 0, slen = 0, junk = 77;
+    CHECK_OK(hf_radius_map_len(W, H, &len));
+    CHECK(len == (size_t)W * H);
+    CHECK_OK(hf_radius_scratch_len(W, H, &slen));
+    CHECK_BAD(hf_radius_map_len(1, H, &junk), HF_ERR_INVALID_SIZE, &junk, sizeof junk);
+    CHECK_BAD(hf_radius_map_len(W, H, NULL), HF_ERR_NULL_POINTER, nothing, 0);
+    CHECK_BAD(hf_radius_scratch_len(W, 0, &junk), HF_ERR_INVALID_SIZE, &junk, sizeof junk);
+    CHECK_BAD(hf_radius_scratch_len(W, H, NULL), HF_ERR_NULL_POINTER, nothing, 0);
+
+    unsigned char *map = (unsigned char *)malloc(len);
+    unsigned char *rows = (unsigned char *)malloc(len);
+    float *scratch = (float *)malloc(sizeof(float) * slen);
+    hf_radius_options good = {0.0f, 255};
+    hf_radius_options bad_tol = {-1.0f, 255}, nan_tol = {NAN, 255}, bad_cap = {0.0f, 256};
+    CHECK_BAD(hf_radius_bake(NULL, &good, 1, map, len), HF_ERR_NULL_POINTER, map, 64);
+    CHECK_BAD(hf_radius_bake(f, NULL, 1, map, len), HF_ERR_NULL_POINTER, map, 64);
+    CHECK_BAD(hf_radius_bake(f, &good, 1, NULL, len), HF_ERR_NULL_POINTER, nothing, 0);
+    CHECK_BAD(hf_radius_bake(f, &good, 1, map, len - 1), HF_ERR_BUFFER_TOO_SMALL, map, 64);
+    CHECK_BAD(hf_radius_bake(f, &bad_tol, 1, map, len), HF_ERR_INVALID_ARGUMENT, map, 64);
+    CHECK_BAD(hf_radius_bake(f, &nan_tol, 1, map, len), HF_ERR_INVALID_ARGUMENT, map, 64);
+    CHECK_BAD(hf_radius_bake(f, &bad_cap, 1, map, len), HF_ERR_INVALID_ARGUMENT, map, 64);
+    CHECK_BAD(hf_radius_prepare(f, scratch, slen - 1), HF_ERR_BUFFER_TOO_SMALL, nothing, 0);
+    CHECK_BAD(hf_radius_prepare(f, NULL, slen), HF_ERR_NULL_POINTER, nothing, 0);
+    CHECK_BAD(hf_radius_prepare(NULL, scratch, slen), HF_ERR_NULL_POINTER, nothing, 0);
+
+    /* Whole, by rows and threaded bakes agree. */
+    CHECK_OK(hf_radius_bake(f, &good, 1, map, len));
+    CHECK_OK(hf_radius_prepare(f, scratch, slen));
+    CHECK_BAD(hf_radius_bake_rows(f, scratch, slen, &good, 5, 4, rows, len),
+              HF_ERR_INVALID_ARGUMENT, rows, 64);
+    CHECK_BAD(hf_radius_bake_rows(f, scratch, slen, &good, 0, H + 1, rows, len),
+              HF_ERR_INVALID_ARGUMENT, rows, 64);
+    CHECK_BAD(hf_radius_bake_rows(f, scratch, slen - 1, &good, 0, 1, rows, len),
+              HF_ERR_BUFFER_TOO_SMALL, rows, 64);
+    CHECK_BAD(hf_radius_bake_rows(f, scratch, slen, &good, 0, 1, rows, len - 1),
+              HF_ERR_BUFFER_TOO_SMALL, rows, 64);
+    CHECK_BAD(hf_radius_bake_rows(f, NULL, slen, &good, 0, 1, rows, len), HF_ERR_NULL_POINTER,
+              rows, 64);
+    CHECK_BAD(hf_radius_bake_rows(f, scratch, slen, NULL, 0, 1, rows, len), HF_ERR_NULL_POINTER,
+              rows, 64);
+    CHECK_BAD(hf_radius_bake_rows(f, scratch, slen, &bad_cap, 0, 1, rows, len),
+              HF_ERR_INVALID_ARGUMENT, rows, 64);
+    CHECK_OK(hf_radius_bake_rows(f, scratch, slen, &good, 9, H, rows, len));
+    CHECK_OK(hf_radius_bake_rows(f, scratch, slen, &good, 0, 9, rows, len));
+    CHECK(memcmp(map, rows, len) == 0);
+    for (uint32_t t = 0; t <= 3; t++) {
+        memset(rows, 0xAA, len);
+        CHECK_OK(hf_radius_bake(f, &good, t, rows, len));
+        CHECK(memcmp(map, rows, len) == 0);
+    }
+
+    /* Exact with zero radii walked: the exact method's hits on the triangle surface;
+       clamped: the batch equals one-by-one traces. */
+    hf_ray *rays = (hf_ray *)malloc(sizeof(hf_ray) * N);
+    for (int k = 0; k < N; k++) {
+        rays[k] = ray(-5.0f + (W + 10) * frand(), -5.0f + (H + 10) * frand(), 25.0f * frand(),
+                      frand() - 0.5f, frand() - 0.5f, -0.05f - 0.5f * frand());
+        if (k % 13 == 0) rays[k].dir[1] = 0.0f;
+        if (k % 31 == 0) rays[k].dir[0] = rays[k].dir[1] = 0.0f;
+    }
+    hf_hit *exact = (hf_hit *)malloc(sizeof(hf_hit) * N);
+    hf_hit *rd = (hf_hit *)malloc(sizeof(hf_hit) * N);
+    CHECK_OK(hf_trace_exact_batch(f, HF_SURFACE_TRIANGLES, rays, N, exact, N));
+    CHECK_OK(hf_trace_radius_batch(f, map, len, HF_RADIUS_WALK, rays, N, rd, N));
+    int same = 0, hits = 0;
+    for (int k = 0; k < N; k++) {
+        hits += exact[k].hit;
+        same += exact[k].hit == rd[k].hit &&
+                (!exact[k].hit || (fabsf(exact[k].point[0] - rd[k].point[0]) <= 1e-3f &&
+                                   fabsf(exact[k].point[1] - rd[k].point[1]) <= 1e-3f &&
+                                   fabsf(exact[k].point[2] - rd[k].point[2]) <= 1e-3f));
+    }
+    CHECK(same == N);
+    for (uint32_t z = HF_RADIUS_WALK; z <= HF_RADIUS_CLAMP; z++) {
+        hf_hit one;
+        CHECK_OK(hf_trace_radius_batch(f, map, len, z, rays, N, rd, N));
+        CHECK_OK(hf_trace_radius(f, map, len, z, &rays[7], &one));
+        CHECK(memcmp(&one, &rd[7], sizeof one) == 0);
+    }
+    printf("radius: %d rays, %d exact hits; walk agrees on %d\n", N, hits, same);
+
+    /* Bad trace inputs. */
+    hf_hit h;
+    memset(&h, 0x5A, sizeof h);
+    hf_ray nan_ray = rays[0];
+    nan_ray.dir[2] = NAN;
+    CHECK_BAD(hf_trace_radius(NULL, map, len, 0, &rays[0], &h), HF_ERR_NULL_POINTER, &h, sizeof h);
+    CHECK_BAD(hf_trace_radius(f, NULL, len, 0, &rays[0], &h), HF_ERR_NULL_POINTER, &h, sizeof h);
+    CHECK_BAD(hf_trace_radius(f, map, len, 0, NULL, &h), HF_ERR_NULL_POINTER, &h, sizeof h);
+    CHECK_BAD(hf_trace_radius(f, map, len, 0, &rays[0], NULL), HF_ERR_NULL_POINTER, nothing, 0);
+    CHECK_BAD(hf_trace_radius(f, map, len - 1, 0, &rays[0], &h), HF_ERR_BUFFER_TOO_SMALL, &h,
+              sizeof h);
+    CHECK_BAD(hf_trace_radius(f, map, len, 2, &rays[0], &h), HF_ERR_INVALID_ENUM, &h, sizeof h);
+    CHECK_BAD(hf_trace_radius(f, map, len, 0, &nan_ray, &h), HF_ERR_INVALID_RAY, &h, sizeof h);
+    memset(rd, 0x5A, sizeof(hf_hit) * N);
+    rays[N - 1] = nan_ray;
+    CHECK_BAD(hf_trace_radius_batch(f, map, len, 0, rays, N, rd, N), HF_ERR_INVALID_RAY, rd, 512);
+    CHECK_BAD(hf_trace_radius_batch(f, map, len, 0, rays, 0, rd, N), HF_ERR_INVALID_SIZE, rd, 512);
+    CHECK_BAD(hf_trace_radius_batch(f, map, len, 0, rays, 2, rd, 1), HF_ERR_BUFFER_TOO_SMALL, rd,
+              512);
+    CHECK_BAD(hf_trace_radius_batch(f, map, len, 9, rays, 2, rd, 2), HF_ERR_INVALID_ENUM, rd, 512);
+    CHECK_BAD(hf_trace_radius_batch(f, map, len, 0, NULL, 2, rd, 2), HF_ERR_NULL_POINTER, rd, 512);
+    CHECK_BAD(hf_trace_radius_batch(f, map, len, 0, rays, 2, NULL, 2), HF_ERR_NULL_POINTER,
+              nothing, 0);
+    free(rays);
+    free(exact);
+    free(rd);
+    free(map);
+    free(rows);
+    free(scratch);
+    free(heights);
+    hf_field_destroy(f);
+}
+
 /* ---- the cone family: cone step mapping, relaxed cones, QDM ----------------------------- */
 
 static void test_cones(void) {
@@ -1161,13 +1285,14 @@ static void test_concurrent_rows(void) {
 
 /* The full build has every method; bake plans follow the scene. */
 static void test_build_and_plan(void) {
-    for (uint32_t m = 0; m <= HF_METHOD_CC; m++) {
+    for (uint32_t m = 0; m <= HF_METHOD_RADIUS; m++) {
         uint32_t has = 7;
         CHECK_OK(hf_build_has_method(m, &has));
         CHECK(has == 1);
     }
     uint32_t has = 7;
-    CHECK_BAD(hf_build_has_method(HF_METHOD_CC + 1, &has), HF_ERR_INVALID_ENUM, &has, sizeof has);
+    CHECK_BAD(hf_build_has_method(HF_METHOD_RADIUS + 1, &has), HF_ERR_INVALID_ENUM, &has,
+              sizeof has);
     CHECK_BAD(hf_build_has_method(0, NULL), HF_ERR_NULL_POINTER, nothing, 0);
 
     hf_scene scene;
@@ -1197,6 +1322,10 @@ static void test_build_and_plan(void) {
     CHECK_OK(hf_scene_bake_plan(&scene, &plan));
     CHECK(plan.cc_map == HF_NEED_KEEP && plan.nbuffer == HF_NEED_SCRATCH &&
           plan.safety_map == HF_NEED_SKIP && plan.ray_classes == HF_RAYS_ALL);
+    CHECK_OK(hf_scene_general(HF_METHOD_RADIUS, HF_SURFACE_TRIANGLES, &scene));
+    CHECK_OK(hf_scene_bake_plan(&scene, &plan));
+    CHECK(plan.radius_map == HF_NEED_KEEP && plan.safety_scratch == HF_NEED_SCRATCH &&
+          plan.safety_map == HF_NEED_SKIP && plan.ray_classes == 0);
     CHECK_OK(hf_scene_general(HF_METHOD_QDM, HF_SURFACE_TRIANGLES, &scene));
     CHECK_OK(hf_scene_bake_plan(&scene, &plan));
     CHECK(plan.qdm_map == HF_NEED_KEEP && plan.pyramid == HF_NEED_SCRATCH &&
@@ -1213,7 +1342,7 @@ static void test_build_and_plan(void) {
 }
 
 static void test_shader_source(void) {
-    for (uint32_t m = HF_METHOD_EXACT; m <= HF_METHOD_CC; m++) {
+    for (uint32_t m = HF_METHOD_EXACT; m <= HF_METHOD_RADIUS; m++) {
         size_t len = 0, written = 0;
         CHECK_OK(hf_shader_source_len(m, &len));
         CHECK(len > 100);
@@ -1229,7 +1358,7 @@ static void test_shader_source(void) {
     size_t len = 5, written = 5;
     char buf[8];
     memset(buf, 'x', sizeof buf);
-    CHECK_BAD(hf_shader_source_len(HF_METHOD_CC + 1, &len), HF_ERR_INVALID_ENUM, &len,
+    CHECK_BAD(hf_shader_source_len(HF_METHOD_RADIUS + 1, &len), HF_ERR_INVALID_ENUM, &len,
               sizeof len);
     CHECK_BAD(hf_shader_source_len(0, NULL), HF_ERR_NULL_POINTER, nothing, 0);
     CHECK_BAD(hf_shader_source(77, buf, sizeof buf, &written), HF_ERR_INVALID_ENUM, &written,
@@ -1247,6 +1376,7 @@ int main(void) {
     test_methods_agree();
     test_bake_and_update();
     test_safety();
+    test_radius();
     test_cones();
     test_cc();
     test_concurrent_rows();

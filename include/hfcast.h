@@ -198,6 +198,9 @@ enum hf_method
   // Cylinder–cone safety shapes (Baboud et al. 2011, §6.3); exact on the triangle
   // surface, needs the baked cylinder–cone map.
   HF_METHOD_CC = 8,
+  // Safety radius (Baboud & Décoret 2006); exact on the triangle surface with zero
+  // radii walked (`HF_RADIUS_WALK`), needs the baked radius map.
+  HF_METHOD_RADIUS = 9,
 };
 #ifndef __cplusplus
 #if __STDC_VERSION__ >= 202311L
@@ -230,6 +233,32 @@ enum hf_safety_variant
 typedef enum hf_safety_variant hf_safety_variant;
 #else
 typedef uint32_t hf_safety_variant;
+#endif // __STDC_VERSION__ >= 202311L
+#endif // __cplusplus
+#endif
+
+#if defined(HF_HAVE_SAFETY)
+// What the radius march does at a texel of radius zero. Passed as `uint32_t`.
+enum hf_radius_zero
+#if defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+  : uint32_t
+#endif // defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+ {
+#if defined(HF_HAVE_SAFETY)
+  // Walk to the next centerline cell by cell with the exact test (exact).
+  HF_RADIUS_WALK = 0,
+#endif
+#if defined(HF_HAVE_SAFETY)
+  // Jump one centerline as if the radius were 1: fewer fetches, **not exact** (a
+  // dip under the surface between two centerlines may be skipped).
+  HF_RADIUS_CLAMP = 1,
+#endif
+};
+#ifndef __cplusplus
+#if __STDC_VERSION__ >= 202311L
+typedef enum hf_radius_zero hf_radius_zero;
+#else
+typedef uint32_t hf_radius_zero;
 #endif // __STDC_VERSION__ >= 202311L
 #endif // __cplusplus
 #endif
@@ -388,6 +417,17 @@ typedef struct hf_level {
 #endif
 
 #if defined(HF_HAVE_SAFETY)
+// What a radius bake computes.
+typedef struct hf_radius_options {
+  // Error tolerance in grid units, finite and ≥ 0 (0: the exact radius; larger
+  // gives larger radii and rays may pass under the surface by up to that depth).
+  float tolerance;
+  // Largest radius stored, 0..=255 (255 is the default; smaller is conservative).
+  uint32_t cap;
+} hf_radius_options;
+#endif
+
+#if defined(HF_HAVE_SAFETY)
 // What a safety-distance bake computes.
 typedef struct hf_safety_options {
   // An `hf_safety_variant`.
@@ -453,6 +493,8 @@ typedef struct hf_bake_plan {
   // byte per texel, that class's distances exactly) when one ray class occurs,
   // else `HF_SAFETY_DIRECTIONAL`.
   uint32_t safety_variant;
+  // The safety-radius map (`hf_radius_bake`; its scratch is `safety_scratch`).
+  uint32_t radius_map;
 } hf_bake_plan;
 
 #ifdef __cplusplus
@@ -1097,6 +1139,118 @@ hf_result hf_maxmip_update_rect(const struct hf_field *field,
                                 uint32_t y1,
                                 float *pyramid,
                                 size_t pyramid_len);
+#endif
+
+#if defined(HF_HAVE_SAFETY)
+// Writes the size in bytes of the radius map of a `width × height` field to
+// `*out_len`: `W * H`, one radius per texel at `map[j * W + i]` (an `R8UI` texture).
+// Thread safe.
+//
+// # Safety
+// `out_len` is NULL (an error) or valid for writing one `size_t`.
+hf_result hf_radius_map_len(uint32_t width,
+                            uint32_t height,
+                            size_t *out_len);
+#endif
+
+#if defined(HF_HAVE_SAFETY)
+// Writes the number of floats of the scratch `hf_radius_prepare` fills and
+// `hf_radius_bake_rows` reads to `*out_len`: the strip bounds of the safety
+// distances, `hf_safety_scratch_len`. Thread safe.
+//
+// # Safety
+// `out_len` is NULL (an error) or valid for writing one `size_t`.
+hf_result hf_radius_scratch_len(uint32_t width,
+                                uint32_t height,
+                                size_t *out_len);
+#endif
+
+#if defined(HF_HAVE_SAFETY)
+// Fills `out_scratch` (`out_scratch_len ≥ hf_radius_scratch_len` floats) with the
+// strip bounds the row bakes of `field` share, whatever the options: what
+// `hf_safety_prepare` fills (one scratch serves both bakes). O(cells), one thread.
+// Thread safe for distinct buffers.
+//
+// # Safety
+// `field` is NULL (an error) or a live handle; `out_scratch` NULL (an error) or valid
+// for writing `out_scratch_len` floats.
+hf_result hf_radius_prepare(const struct hf_field *field,
+                            float *out_scratch,
+                            size_t out_scratch_len);
+#endif
+
+#if defined(HF_HAVE_SAFETY)
+// Bakes the radii of texel rows `[row_begin, row_end)` (0 ≤ begin ≤ end ≤ H) of
+// `field` into `map`, the whole map buffer (`map_len ≥ hf_radius_map_len`), reading
+// `scratch` from `hf_radius_prepare`. Writes only those rows, so threads may bake
+// disjoint row ranges of one map at once, sharing one scratch.
+//
+// # Safety
+// `field` is NULL (an error) or a live handle; `scratch` NULL (an error) or valid for
+// reading `scratch_len` floats; `options` NULL (an error) or valid; `map` NULL (an
+// error) or valid for writing `map_len` bytes; concurrent calls must bake disjoint
+// rows.
+hf_result hf_radius_bake_rows(const struct hf_field *field,
+                              const float *scratch,
+                              size_t scratch_len,
+                              const struct hf_radius_options *options,
+                              uint32_t row_begin,
+                              uint32_t row_end,
+                              uint8_t *map,
+                              size_t map_len);
+#endif
+
+#if defined(HF_HAVE_SAFETY)
+// Bakes the whole radius map of `field` into `out_map` (`out_map_len ≥
+// hf_radius_map_len` bytes) on `threads` threads (0: one per available core; 1: the
+// calling thread), allocating the scratch itself. Same result for any thread count.
+//
+// # Safety
+// `field` is NULL (an error) or a live handle; `options` NULL (an error) or valid;
+// `out_map` NULL (an error) or valid for writing `out_map_len` bytes.
+hf_result hf_radius_bake(const struct hf_field *field,
+                         const struct hf_radius_options *options,
+                         uint32_t threads,
+                         uint8_t *out_map,
+                         size_t out_map_len);
+#endif
+
+#if defined(HF_HAVE_SAFETY)
+// Traces one ray on the triangle surface with the radii `map` (baked for this field
+// by `hf_radius_bake`, `map_len ≥ hf_radius_map_len`); `zero` (an `hf_radius_zero`)
+// says what a zero radius does. Exact, the hit of `hf_trace_exact` with
+// `HF_SURFACE_TRIANGLES` (up to rounding on rays that graze the surface), when the
+// map was baked with tolerance 0 and `zero` is `HF_RADIUS_WALK`. Costs one fetch per
+// radius read, two per centerline clearance, four per cell walked. A map that does
+// not belong to the field gives wrong answers, never a crash. Thread safe.
+//
+// # Safety
+// `field` is NULL (an error) or a live handle; `map` NULL (an error) or valid for
+// reading `map_len` bytes; `ray` NULL (an error) or valid; `out_hit` NULL (an error)
+// or valid for writing one `hf_hit`.
+hf_result hf_trace_radius(const struct hf_field *field,
+                          const uint8_t *map,
+                          size_t map_len,
+                          uint32_t zero,
+                          const struct hf_ray *ray,
+                          struct hf_hit *out_hit);
+#endif
+
+#if defined(HF_HAVE_SAFETY)
+// `hf_trace_radius` for a batch, with the conventions of `hf_trace_exact_batch`
+// (every ray checked first; an error writes nothing). Thread safe.
+//
+// # Safety
+// As `hf_trace_radius`; `rays` valid for reading `rays_len` rays, `out_hits` for
+// writing `out_hits_len` hits, not overlapping.
+hf_result hf_trace_radius_batch(const struct hf_field *field,
+                                const uint8_t *map,
+                                size_t map_len,
+                                uint32_t zero,
+                                const struct hf_ray *rays,
+                                size_t rays_len,
+                                struct hf_hit *out_hits,
+                                size_t out_hits_len);
 #endif
 
 #if defined(HF_HAVE_SAFETY)

@@ -33,6 +33,8 @@ pub mod maxmip;
 mod par;
 mod ptr;
 #[cfg(feature = "safety")]
+pub mod radius;
+#[cfg(feature = "safety")]
 pub mod safety;
 pub mod scene;
 pub mod shader;
@@ -217,10 +219,13 @@ pub enum hf_method {
     /// Cylinder–cone safety shapes (Baboud et al. 2011, §6.3); exact on the triangle
     /// surface, needs the baked cylinder–cone map.
     HF_METHOD_CC = 8,
+    /// Safety radius (Baboud & Décoret 2006); exact on the triangle surface with zero
+    /// radii walked (`HF_RADIUS_WALK`), needs the baked radius map.
+    HF_METHOD_RADIUS = 9,
 }
 
 /// Every method, in value order.
-pub(crate) const METHODS: [hf_method; 9] = [
+pub(crate) const METHODS: [hf_method; 10] = [
     hf_method::HF_METHOD_EXACT,
     hf_method::HF_METHOD_LINEAR_BINARY,
     hf_method::HF_METHOD_LINEAR_SECANT,
@@ -230,11 +235,12 @@ pub(crate) const METHODS: [hf_method; 9] = [
     hf_method::HF_METHOD_RELAXED,
     hf_method::HF_METHOD_QDM,
     hf_method::HF_METHOD_CC,
+    hf_method::HF_METHOD_RADIUS,
 ];
 
 impl hf_method {
     /// Short lower-case name (`exact`, `linear-binary`, `linear-secant`, `maxmip`,
-    /// `safety`, `cone`, `relaxed`, `qdm`, `cc`).
+    /// `safety`, `cone`, `relaxed`, `qdm`, `cc`, `radius`).
     pub fn name(self) -> &'static str {
         match self {
             hf_method::HF_METHOD_EXACT => "exact",
@@ -246,6 +252,7 @@ impl hf_method {
             hf_method::HF_METHOD_RELAXED => "relaxed",
             hf_method::HF_METHOD_QDM => "qdm",
             hf_method::HF_METHOD_CC => "cc",
+            hf_method::HF_METHOD_RADIUS => "radius",
         }
     }
 }
@@ -264,7 +271,9 @@ impl hf_method {
                 cfg!(feature = "search")
             }
             hf_method::HF_METHOD_MAXMIP => cfg!(feature = "maxmip"),
-            hf_method::HF_METHOD_SAFETY | hf_method::HF_METHOD_CC => cfg!(feature = "safety"),
+            hf_method::HF_METHOD_SAFETY | hf_method::HF_METHOD_CC | hf_method::HF_METHOD_RADIUS => {
+                cfg!(feature = "safety")
+            }
             hf_method::HF_METHOD_CONE => cfg!(feature = "cone"),
             hf_method::HF_METHOD_RELAXED => cfg!(feature = "relaxed"),
             hf_method::HF_METHOD_QDM => cfg!(feature = "qdm"),
@@ -437,7 +446,7 @@ mod tests {
         );
         let mut out = 0;
         // SAFETY: a valid out pointer; the method is unknown.
-        let r = unsafe { hf_build_has_method(9, &mut out) };
+        let r = unsafe { hf_build_has_method(10, &mut out) };
         assert_eq!(r, HF_ERR_INVALID_ENUM);
         // SAFETY: NULL is reported.
         let r = unsafe { hf_build_has_method(0, std::ptr::null_mut()) };

@@ -68,7 +68,7 @@ fn options_of(o: &hf_safety_options) -> Result<Options, hf_result> {
 }
 
 /// Checks field sizes (as `hf_field_create_*` does) for the size queries.
-fn check_size(width: u32, height: u32) -> Result<(), hf_result> {
+pub(crate) fn check_size(width: u32, height: u32) -> Result<(), hf_result> {
     let ok = |n: u32| (2..=crate::HF_MAX_SIDE).contains(&n);
     if !ok(width) || !ok(height) {
         return Err(HF_ERR_INVALID_SIZE);
@@ -283,16 +283,20 @@ pub unsafe extern "C" fn hf_safety_bake_classes(
             safety::map_len(hf.width(), hf.height(), opts.variant),
             threads,
             out,
-            || {
-                let mut scratch = par::zeroed(safety::scratch_len(hf.width(), hf.height()))?;
-                safety::prepare(hf, &mut scratch)?;
-                Ok(scratch)
-            },
+            || strip_scratch(hf),
             |scratch, rows, chunk| {
                 safety::bake_rows_classes(hf, scratch, &AllRays, classes, rows, opts, chunk)
             },
         )
     })
+}
+
+/// The strip bounds of `hf` (`safety::prepare`) in a buffer of their own: the scratch
+/// the whole-map bakes allocate.
+pub(crate) fn strip_scratch(hf: &HeightField) -> Result<Vec<f32>, hf_result> {
+    let mut scratch = par::zeroed(safety::scratch_len(hf.width(), hf.height()))?;
+    safety::prepare(hf, &mut scratch)?;
+    Ok(scratch)
 }
 
 /// The map slice and its view, checked for `hf`.

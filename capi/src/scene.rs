@@ -191,6 +191,8 @@ pub struct hf_bake_plan {
     /// byte per texel, that class's distances exactly) when one ray class occurs,
     /// else `HF_SAFETY_DIRECTIONAL`.
     pub safety_variant: u32,
+    /// The safety-radius map (`hf_radius_bake`; its scratch is `safety_scratch`).
+    pub radius_map: u32,
 }
 
 /// The C form of a `Need`.
@@ -205,7 +207,7 @@ fn need_of(n: Need) -> u32 {
 
 /// The C form of a core [`BakePlan`].
 fn c_plan(p: &BakePlan) -> hf_bake_plan {
-    let [pyramid, safety_scratch, safety_map, cc_map, nbuffer, cone_map, relaxed_map, qdm_map] =
+    let [pyramid, safety_scratch, safety_map, cc_map, nbuffer, cone_map, relaxed_map, qdm_map, radius_map] =
         p.needs.map(need_of);
     hf_bake_plan {
         pyramid,
@@ -218,6 +220,7 @@ fn c_plan(p: &BakePlan) -> hf_bake_plan {
         qdm_map,
         ray_classes: u32::from(p.classes.0),
         safety_variant: u32::from(p.isotropic),
+        radius_map,
     }
 }
 
@@ -318,7 +321,7 @@ mod tests {
             assert_eq!(scene_of(&bad), Err(HF_ERR_INVALID_ARGUMENT));
         }
         assert_eq!(
-            scene_of(&hf_scene { method: 9, ..s }),
+            scene_of(&hf_scene { method: 10, ..s }),
             Err(HF_ERR_INVALID_ENUM)
         );
         assert_eq!(
@@ -366,6 +369,7 @@ mod tests {
                     plan.cone_map,
                     plan.relaxed_map,
                     plan.qdm_map,
+                    plan.radius_map,
                 ];
                 assert_eq!(needs, core.needs.map(need_of));
                 let mut buf = [0 as c_char; 1024];

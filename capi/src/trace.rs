@@ -432,7 +432,7 @@ pub unsafe extern "C" fn hf_trace_maxmip_batch(
     }
 }
 
-#[cfg(any(feature = "maxmip", feature = "cone"))]
+#[cfg(any(feature = "maxmip", feature = "cone", feature = "safety"))]
 /// A baked buffer (pyramid or map) as a slice, checked behind the panic boundary.
 ///
 /// # Safety

@@ -31,11 +31,14 @@ pub enum MethodKind {
     Qdm = 7,
     /// Cylinder–cone safety shapes; exact on triangles; needs the CC map.
     Cc = 8,
+    /// Safety radius (Baboud & Décoret 2006); exact on triangles with zero radii
+    /// walked; needs the radius map.
+    Radius = 9,
 }
 
 impl MethodKind {
     /// Every method, in value order.
-    pub const ALL: [MethodKind; 9] = [
+    pub const ALL: [MethodKind; 10] = [
         MethodKind::Exact,
         MethodKind::LinearBinary,
         MethodKind::LinearSecant,
@@ -45,9 +48,11 @@ impl MethodKind {
         MethodKind::Relaxed,
         MethodKind::Qdm,
         MethodKind::Cc,
+        MethodKind::Radius,
     ];
 
-    /// Short lower-case name (`exact`, `linear-binary`, …, `cc`), as the CLI spells it.
+    /// Short lower-case name (`exact`, `linear-binary`, …, `radius`), as the CLI spells
+    /// it.
     pub fn name(self) -> &'static str {
         match self {
             MethodKind::Exact => "exact",
@@ -59,6 +64,7 @@ impl MethodKind {
             MethodKind::Relaxed => "relaxed",
             MethodKind::Qdm => "qdm",
             MethodKind::Cc => "cc",
+            MethodKind::Radius => "radius",
         }
     }
 
@@ -149,7 +155,9 @@ impl MethodKind {
             MethodKind::Exact => true,
             MethodKind::LinearBinary | MethodKind::LinearSecant => cfg!(feature = "search"),
             MethodKind::MaxMip => cfg!(feature = "maxmip"),
-            MethodKind::Safety | MethodKind::Cc => cfg!(feature = "safety"),
+            MethodKind::Safety | MethodKind::Cc | MethodKind::Radius => {
+                cfg!(feature = "safety")
+            }
             MethodKind::Cone => cfg!(feature = "cone"),
             MethodKind::Relaxed => cfg!(feature = "relaxed"),
             MethodKind::Qdm => cfg!(feature = "qdm"),
@@ -190,11 +198,13 @@ pub enum Product {
     RelaxedMap = 6,
     /// The quadratic displacement map (`qdm::bake_rows`).
     QdmMap = 7,
+    /// The safety-radius map (`radius::bake_rows`).
+    RadiusMap = 8,
 }
 
 impl Product {
     /// Every product, in value order.
-    pub const ALL: [Product; 8] = [
+    pub const ALL: [Product; 9] = [
         Product::Pyramid,
         Product::SafetyScratch,
         Product::SafetyMap,
@@ -203,6 +213,7 @@ impl Product {
         Product::ConeMap,
         Product::RelaxedMap,
         Product::QdmMap,
+        Product::RadiusMap,
     ];
 
     /// Short lower-case name (`pyramid`, `safety scratch`, …).
@@ -216,6 +227,7 @@ impl Product {
             Product::ConeMap => "cone map",
             Product::RelaxedMap => "relaxed map",
             Product::QdmMap => "qdm map",
+            Product::RadiusMap => "radius map",
         }
     }
 }
@@ -259,7 +271,7 @@ pub struct BakePlan {
     /// The method the plan serves.
     pub method: MethodKind,
     /// Per product, in [`Product::ALL`] order.
-    pub needs: [Need; 8],
+    pub needs: [Need; 9],
     /// The ray classes the safety-distance and cylinder–cone bakes compute (pass it to
     /// `safety::bake_rows_classes`, `safety::cc::bake_rows_classes`); the others are
     /// left 0. [`RayClasses::NONE`] when neither map is baked.
@@ -318,7 +330,7 @@ impl Scene {
     pub fn bake_plan(&self) -> BakePlan {
         use Need::{Keep, Scratch, Skip};
         use Product as P;
-        let mut needs = [Skip(NOT_READ); 8];
+        let mut needs = [Skip(NOT_READ); 9];
         let mut set = |p: P, n: Need| needs[p as usize] = n;
         let mut classes = RayClasses::NONE;
         let mut isotropic = false;
@@ -353,6 +365,10 @@ impl Scene {
                 set(P::NBuffer, Scratch);
                 set(P::CcMap, Keep);
                 classes = self.ray_classes;
+            }
+            MethodKind::Radius => {
+                set(P::SafetyScratch, Scratch);
+                set(P::RadiusMap, Keep);
             }
         }
         BakePlan {

@@ -38,6 +38,7 @@ fn every_method_bakes_what_its_march_reads() {
             MethodKind::Qdm => (&[P::QdmMap], &[P::Pyramid]),
             MethodKind::Safety => (&[P::SafetyMap], &[P::SafetyScratch]),
             MethodKind::Cc => (&[P::CcMap], &[P::SafetyScratch, P::NBuffer]),
+            MethodKind::Radius => (&[P::RadiusMap], &[P::SafetyScratch]),
         };
         assert_eq!(kept, want_kept, "{}", m.name());
         assert_eq!(scratch, want_scratch, "{}", m.name());
@@ -45,7 +46,7 @@ fn every_method_bakes_what_its_march_reads() {
         // Every product not baked is listed with a reason, and nothing else is (all
         // classes occur, so no channel is skipped).
         let skipped: Vec<_> = plan.skipped().collect();
-        assert_eq!(skipped.len(), 8 - kept.len() - scratch.len(), "{skipped:?}");
+        assert_eq!(skipped.len(), 9 - kept.len() - scratch.len(), "{skipped:?}");
         assert!(skipped.iter().all(|(what, why)| {
             P::ALL.iter().any(|p| p.name() == *what && !plan.bakes(*p)) && !why.is_empty()
         }));
@@ -72,6 +73,7 @@ fn built_methods_follow_the_features() {
         (MethodKind::Relaxed, cfg!(feature = "relaxed")),
         (MethodKind::Qdm, cfg!(feature = "qdm")),
         (MethodKind::Cc, cfg!(feature = "safety")),
+        (MethodKind::Radius, cfg!(feature = "safety")),
     ] {
         assert_eq!(m.built(), on, "{}", m.name());
     }
@@ -99,10 +101,13 @@ fn ray_classes_narrow_the_safety_shape_bakes() {
             m == MethodKind::Safety
         );
     }
-    // Methods without safety shapes ignore the classes.
-    let plan = scene(MethodKind::MaxMip, one).bake_plan();
-    assert_eq!(plan.classes, RayClasses::NONE);
-    assert!(plan.skipped().all(|(what, _)| !what.ends_with("channel")));
+    // Methods without safety shapes ignore the classes (the radius is isotropic: one
+    // byte for every class).
+    for m in [MethodKind::MaxMip, MethodKind::Radius] {
+        let plan = scene(m, one).bake_plan();
+        assert_eq!(plan.classes, RayClasses::NONE);
+        assert!(plan.skipped().all(|(what, _)| !what.ends_with("channel")));
+    }
 }
 
 #[cfg(feature = "safety")]

@@ -117,7 +117,8 @@ pub const FLAGS: [(&str, &str); 14] = [
 /// Why a shader cannot be generated.
 #[derive(Clone, Debug, PartialEq)]
 pub enum GenError {
-    /// The method traces only the triangle surface (safety, cc, cone, qdm, relaxed).
+    /// The method traces only the triangle surface (safety, cc, radius, cone, qdm,
+    /// relaxed).
     SurfaceNotSupported {
         /// The method.
         method: MethodKind,
@@ -178,11 +179,12 @@ pub fn parts(method: MethodKind) -> &'static [&'static str] {
         MethodKind::Relaxed => with_base!("relaxed", "method_relaxed"),
         MethodKind::Qdm => with_base!("cone", "qdm", "method_qdm"),
         MethodKind::Cc => with_base!("safety", "cc", "method_cc"),
+        MethodKind::Radius => with_base!("safety", "radius", "method_radius"),
     }
 }
 
-/// Whether `method` traces `surface`: the safety, cylinder–cone and cone family
-/// methods trace the triangle surface only.
+/// Whether `method` traces `surface`: the safety, cylinder–cone, radius and cone
+/// family methods trace the triangle surface only.
 pub fn supports(method: MethodKind, surface: Surface) -> bool {
     surface == Surface::Triangles
         || matches!(
@@ -580,7 +582,7 @@ pub fn all_methods(lang: Lang) -> Result<String, GenError> {
 }
 
 /// The order of the files in a composed shader.
-const FILE_ORDER: [&str; 22] = [
+const FILE_ORDER: [&str; 24] = [
     "hfcast_shared",
     "math",
     "ray",
@@ -594,6 +596,7 @@ const FILE_ORDER: [&str; 22] = [
     "qdm",
     "relaxed",
     "cc",
+    "radius",
     "method_exact",
     "method_linear_binary",
     "method_linear_secant",
@@ -603,6 +606,7 @@ const FILE_ORDER: [&str; 22] = [
     "method_qdm",
     "method_relaxed",
     "method_cc",
+    "method_radius",
 ];
 
 /// The `hf_method` input and the dispatching `hf_trace` of the all-methods shader.

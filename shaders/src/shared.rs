@@ -56,7 +56,7 @@ enum Line {
 
 /// WGSL resource bindings of group 0 ([`crate::wgsl_layout`]): `(binding, name, type,
 /// declared in)`.
-const WGSL_BINDINGS: [(u32, &str, &str, &str); 11] = [
+const WGSL_BINDINGS: [(u32, &str, &str, &str); 12] = [
     (
         b::HEIGHTS,
         "hf_heights",
@@ -113,6 +113,12 @@ const WGSL_BINDINGS: [(u32, &str, &str, &str); 11] = [
         "cc.wgsl",
     ),
     (b::CC, "hf_cc", "uniform CcParams", "cc.wgsl"),
+    (
+        b::RADIUS_MAP,
+        "hf_radius_map",
+        "texture_2d<u32>, R8Uint",
+        "radius.wgsl",
+    ),
 ];
 
 /// A `u32` constant.

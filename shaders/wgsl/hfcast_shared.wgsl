@@ -16,7 +16,8 @@
 //   8        hf_relaxed_map  texture_2d<f32>, R32Float              relaxed.wgsl
 //   9        hf_cc_map       texture_2d<u32>, RGBA8Uint             cc.wgsl
 //   10       hf_cc           uniform CcParams                       cc.wgsl
-// Bindings 11 to 15 of group 0 are reserved; a caller's own resources go in group 1
+//   11       hf_radius_map   texture_2d<u32>, R8Uint                radius.wgsl
+// Bindings 12 to 15 of group 0 are reserved; a caller's own resources go in group 1
 // or later. Textures are read with textureLoad only (never sampled). Scene-level
 // choices are override constants: hf_surface, hf_safety_variant.
 
@@ -49,6 +50,7 @@ const HF_METHOD_CONE: u32 = 5u;
 const HF_METHOD_RELAXED: u32 = 6u;
 const HF_METHOD_QDM: u32 = 7u;
 const HF_METHOD_CC: u32 = 8u;
+const HF_METHOD_RADIUS: u32 = 9u;
 
 // Safety-distance map layouts (hf_safety_variant, hfcast::safety::Variant).
 const HF_SAFETY_DIRECTIONAL: u32 = 0u;

@@ -7,6 +7,7 @@
 use hfcast::cone::{self, ConeMap};
 use hfcast::maxmip::{self, Layout, MaxMip};
 use hfcast::qdm::{self, QdmMap};
+use hfcast::radius::{self, RadiusMap, Zero};
 use hfcast::relaxed;
 use hfcast::safety::cc::{self, CcMap, CcOptions, Slope};
 use hfcast::safety::{self, SafetyMap, Variant};
@@ -149,7 +150,7 @@ impl Case {
 
     /// Every case of the parity test: exact on all five surfaces, the search methods,
     /// maxmip on triangles and bilinear, safety (both layouts), cc, cone, qdm, relaxed
-    /// (step counts of the C tests), a few with 16-bit heights; then all of them again
+    /// (step counts of the C tests), radius (zero radii walked and clamped), a few with 16-bit heights; then all of them again
     /// as the shaders generated for their scenes.
     pub fn all() -> Vec<Case> {
         let tri = Surface::Triangles;
@@ -177,6 +178,9 @@ impl Case {
             Case::new(MethodKind::Cone, tri, [512, 0, 0, 0], true),
             Case::new(MethodKind::Qdm, tri, [512, 0, 0, 0], true),
             Case::new(MethodKind::Relaxed, tri, [64, 8, 0, 0], false),
+            // hf_params.clamp: 0 walks zero radii (exact), 1 clamps them to 1.
+            Case::new(MethodKind::Radius, tri, [0; 4], true),
+            Case::new(MethodKind::Radius, tri, [1, 0, 0, 0], false),
             // 16-bit heights (field_int.wgsl) where the scene has samples.
             Case::new(MethodKind::Exact, tri, [0; 4], true).u16(),
             Case::new(MethodKind::Exact, Surface::HeightPlanes, [0; 4], true).u16(),
@@ -215,6 +219,7 @@ impl Case {
                 format!("{m} {}", self.surface.name())
             }
             MethodKind::Safety => format!("{m} {:?}", self.variant).to_lowercase(),
+            MethodKind::Radius => format!("{m} {:?}", self.zero()).to_lowercase(),
             _ => m.to_string(),
         };
         name + heights + generated
@@ -247,6 +252,15 @@ impl Case {
             .collect()
     }
 
+    /// What the radius march does at a zero radius (`params[0]`, `hf_params.clamp`).
+    pub fn zero(&self) -> Zero {
+        if self.params[0] == 1 {
+            Zero::Clamp
+        } else {
+            Zero::Walk
+        }
+    }
+
     /// The Rust core's f32 march of this case over `rays` (the dispatch of
     /// `capi/src/trace.rs`).
     pub fn cpu(&self, scene: &Scene, rays: &[Ray]) -> Vec<Trace<f32>> {
@@ -261,6 +275,8 @@ impl Case {
         let cc_map = CcMap::new(&hf, &scene.cc, CC_CAP).expect("cc map");
         let cone_map = ConeMap::new(&hf, &scene.cone).expect("cone map");
         let qdm_map = QdmMap::new(&hf, &scene.qdm).expect("qdm map");
+        let radius_map = RadiusMap::new(&hf, &scene.radius).expect("radius map");
+        let radius_opts = radius::Options { zero: self.zero() };
         let trace = |q: &Query<f32>| match self.method {
             MethodKind::Exact => hfcast::Method::Exact.trace(&hf, self.surface, q),
             MethodKind::LinearBinary => {
@@ -278,6 +294,7 @@ impl Case {
             }
             MethodKind::Safety => safety::trace(&safety_map, &hf, q),
             MethodKind::Cc => cc::trace(&cc_map, &hf, q),
+            MethodKind::Radius => radius::trace(&radius_map, &hf, q, &radius_opts),
             MethodKind::Cone => cone::trace(&cone_map, &hf, q, p[0]),
             MethodKind::Qdm => qdm::trace(&qdm_map, &hf, q, p[0]),
             MethodKind::Relaxed => {
@@ -304,6 +321,7 @@ impl Case {
             MethodKind::Qdm => &[HEIGHTS, FIELD, PARAMS, QDM_MAP],
             MethodKind::Relaxed => &[HEIGHTS, FIELD, PARAMS, RELAXED_MAP],
             MethodKind::Cc => &[HEIGHTS, FIELD, CC_MAP, CC],
+            MethodKind::Radius => &[HEIGHTS, FIELD, PARAMS, RADIUS_MAP],
         }
     }
 }
@@ -337,6 +355,8 @@ pub struct Scene {
     pub relaxed: Option<Vec<f32>>,
     /// Packed cylinder–cone map (16 bytes per texel).
     pub cc: Vec<u8>,
+    /// Safety radii, tolerance 0 (1 byte per texel).
+    pub radius: Vec<u8>,
     /// The 16-bit samples the heights came from and the height of one sample step
     /// (`depth / 65535` in f32), for maps read from PNG.
     pub samples: Option<(Vec<u16>, f32)>,
@@ -373,6 +393,11 @@ impl Scene {
         in_row_ranges(h, 16 * w as usize, &mut cc_map, |rows, out| {
             cc::bake_rows(&hf, &scratch, &nb, rows, opts, out).expect("cc bake");
         });
+        let mut radius_map = vec![0u8; radius::map_len(w, h)];
+        in_row_ranges(h, w as usize, &mut radius_map, |rows, out| {
+            radius::bake_rows(&hf, &scratch, rows, radius::BakeOptions::default(), out)
+                .expect("radius bake");
+        });
         let mut cone_scratch = vec![0f32; cone::scratch_len(w, h)];
         cone::prepare(&hf, &mut cone_scratch).expect("cone pyramid");
         let mut cone_map = vec![0f32; cone::map_len(w, h)];
@@ -402,6 +427,7 @@ impl Scene {
             qdm: qdm_map,
             relaxed: relaxed_map,
             cc: cc_map,
+            radius: radius_map,
             heights,
             samples: None,
         }
@@ -756,6 +782,7 @@ pub struct SceneGpu {
     relaxed: Option<wgpu::TextureView>,
     cc_map: wgpu::TextureView,
     cc: wgpu::Buffer,
+    radius: wgpu::TextureView,
 }
 
 impl SceneGpu {
@@ -819,6 +846,7 @@ impl SceneGpu {
                 .map(|r| gpu.texture(w, h, F::R32Float, &f32_bytes(r))),
             cc_map: gpu.texture(4 * w, h, F::Rgba8Uint, &s.cc),
             cc: gpu.uniform(&cc),
+            radius: gpu.texture(w, h, F::R8Uint, &s.radius),
         }
     }
 }
@@ -863,7 +891,9 @@ fn layout_entry(b: u32, int_heights: bool) -> wgpu::BindGroupLayoutEntry {
         | binding::CONE_MAP
         | binding::QDM_MAP
         | binding::RELAXED_MAP => texture(float),
-        binding::SAFETY_MAP | binding::CC_MAP => texture(wgpu::TextureSampleType::Uint),
+        binding::SAFETY_MAP | binding::CC_MAP | binding::RADIUS_MAP => {
+            texture(wgpu::TextureSampleType::Uint)
+        }
         _ => wgpu::BindingType::Buffer {
             ty: wgpu::BufferBindingType::Uniform,
             has_dynamic_offset: false,
@@ -983,6 +1013,7 @@ pub fn run_kernel(
             }
             binding::CC_MAP => wgpu::BindingResource::TextureView(&sg.cc_map),
             binding::CC => sg.cc.as_entire_binding(),
+            binding::RADIUS_MAP => wgpu::BindingResource::TextureView(&sg.radius),
             other => panic!("no resource for binding {other}"),
         }
     };

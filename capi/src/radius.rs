@@ -1,0 +1,293 @@
+//! Safety radius (Baboud & Décoret 2006, §3.4–3.5): sizes, bake (whole, by rows,
+//! threaded) and the march, for the triangle surface. The bake shares the strip bounds
+//! of the safety distances (`hf_safety_prepare`).
+
+use crate::hf_result::{self, *};
+use crate::safety::{self, check_size};
+use crate::trace::{batch, hf_hit, hf_ray, one, pyramid_slice};
+use crate::{guard, hf_field, par, ptr};
+use hfcore::radius::{self, BakeOptions, Options, RadiusMap, Zero};
+use hfcore::{HeightField, Query, Trace};
+
+/// What the radius march does at a texel of radius zero. Passed as `uint32_t`.
+#[repr(u32)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum hf_radius_zero {
+    /// Walk to the next centerline cell by cell with the exact test (exact).
+    HF_RADIUS_WALK = 0,
+    /// Jump one centerline as if the radius were 1: fewer fetches, **not exact** (a
+    /// dip under the surface between two centerlines may be skipped).
+    HF_RADIUS_CLAMP = 1,
+}
+
+/// What a radius bake computes.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct hf_radius_options {
+    /// Error tolerance in grid units, finite and ≥ 0 (0: the exact radius; larger
+    /// gives larger radii and rays may pass under the surface by up to that depth).
+    pub tolerance: f32,
+    /// Largest radius stored, 0..=255 (255 is the default; smaller is conservative).
+    pub cap: u32,
+}
+
+/// Checks bake options.
+fn options_of(o: &hf_radius_options) -> Result<BakeOptions, hf_result> {
+    if !o.tolerance.is_finite() || o.tolerance < 0.0 {
+        return Err(HF_ERR_INVALID_ARGUMENT);
+    }
+    let cap = u8::try_from(o.cap).map_err(|_| HF_ERR_INVALID_ARGUMENT)?;
+    Ok(BakeOptions {
+        tolerance: o.tolerance,
+        cap,
+    })
+}
+
+/// Checks a zero mode passed as `uint32_t`.
+fn zero_of(v: u32) -> Result<Options, hf_result> {
+    let zero = match v {
+        0 => Zero::Walk,
+        1 => Zero::Clamp,
+        _ => return Err(HF_ERR_INVALID_ENUM),
+    };
+    Ok(Options { zero })
+}
+
+/// Writes the size in bytes of the radius map of a `width × height` field to
+/// `*out_len`: `W * H`, one radius per texel at `map[j * W + i]` (an `R8UI` texture).
+/// Thread safe.
+///
+/// # Safety
+/// `out_len` is NULL (an error) or valid for writing one `size_t`.
+#[no_mangle]
+pub unsafe extern "C" fn hf_radius_map_len(
+    width: u32,
+    height: u32,
+    out_len: *mut usize,
+) -> hf_result {
+    guard(|| {
+        let out = ptr::out(out_len)?;
+        check_size(width, height)?;
+        // SAFETY: the caller promises `out_len` is writable.
+        unsafe { out.set(radius::map_len(width, height)) };
+        Ok(())
+    })
+}
+
+/// Writes the number of floats of the scratch `hf_radius_prepare` fills and
+/// `hf_radius_bake_rows` reads to `*out_len`: the strip bounds of the safety
+/// distances, `hf_safety_scratch_len`. Thread safe.
+///
+/// # Safety
+/// `out_len` is NULL (an error) or valid for writing one `size_t`.
+#[no_mangle]
+pub unsafe extern "C" fn hf_radius_scratch_len(
+    width: u32,
+    height: u32,
+    out_len: *mut usize,
+) -> hf_result {
+    // SAFETY: the caller's promise, passed on.
+    unsafe { safety::hf_safety_scratch_len(width, height, out_len) }
+}
+
+/// Fills `out_scratch` (`out_scratch_len ≥ hf_radius_scratch_len` floats) with the
+/// strip bounds the row bakes of `field` share, whatever the options: what
+/// `hf_safety_prepare` fills (one scratch serves both bakes). O(cells), one thread.
+/// Thread safe for distinct buffers.
+///
+/// # Safety
+/// `field` is NULL (an error) or a live handle; `out_scratch` NULL (an error) or valid
+/// for writing `out_scratch_len` floats.
+#[no_mangle]
+pub unsafe extern "C" fn hf_radius_prepare(
+    field: *const hf_field,
+    out_scratch: *mut f32,
+    out_scratch_len: usize,
+) -> hf_result {
+    // SAFETY: the caller's promises, passed on.
+    unsafe { safety::hf_safety_prepare(field, out_scratch, out_scratch_len) }
+}
+
+/// Bakes the radii of texel rows `[row_begin, row_end)` (0 ≤ begin ≤ end ≤ H) of
+/// `field` into `map`, the whole map buffer (`map_len ≥ hf_radius_map_len`), reading
+/// `scratch` from `hf_radius_prepare`. Writes only those rows, so threads may bake
+/// disjoint row ranges of one map at once, sharing one scratch.
+///
+/// # Safety
+/// `field` is NULL (an error) or a live handle; `scratch` NULL (an error) or valid for
+/// reading `scratch_len` floats; `options` NULL (an error) or valid; `map` NULL (an
+/// error) or valid for writing `map_len` bytes; concurrent calls must bake disjoint
+/// rows.
+#[no_mangle]
+#[allow(clippy::too_many_arguments)]
+pub unsafe extern "C" fn hf_radius_bake_rows(
+    field: *const hf_field,
+    scratch: *const f32,
+    scratch_len: usize,
+    options: *const hf_radius_options,
+    row_begin: u32,
+    row_end: u32,
+    map: *mut u8,
+    map_len: usize,
+) -> hf_result {
+    guard(|| {
+        // SAFETY: the caller's promises.
+        let (f, scratch, o) = unsafe {
+            (
+                ptr::get(field)?,
+                ptr::slice(scratch, scratch_len)?,
+                ptr::get(options)?,
+            )
+        };
+        let map = par::RowsOut::new(map, map_len, row_begin, row_end)?;
+        let opts = options_of(o)?;
+        let hf = f.view();
+        let needed = radius::map_len(hf.width(), hf.height());
+        // SAFETY: `map` is writable for `map_len` bytes and the rows are this call's alone
+        // (the caller's promises).
+        let (rows, out) = unsafe { map.rows(hf.height(), hf.width() as usize, needed) }?;
+        Ok(radius::bake_rows(hf, scratch, rows, opts, out)?)
+    })
+}
+
+/// Bakes the whole radius map of `field` into `out_map` (`out_map_len ≥
+/// hf_radius_map_len` bytes) on `threads` threads (0: one per available core; 1: the
+/// calling thread), allocating the scratch itself. Same result for any thread count.
+///
+/// # Safety
+/// `field` is NULL (an error) or a live handle; `options` NULL (an error) or valid;
+/// `out_map` NULL (an error) or valid for writing `out_map_len` bytes.
+#[no_mangle]
+pub unsafe extern "C" fn hf_radius_bake(
+    field: *const hf_field,
+    options: *const hf_radius_options,
+    threads: u32,
+    out_map: *mut u8,
+    out_map_len: usize,
+) -> hf_result {
+    guard(|| {
+        // SAFETY: the caller's promises.
+        let (f, o, out) = unsafe {
+            (
+                ptr::get(field)?,
+                ptr::get(options)?,
+                ptr::slice_mut(out_map, out_map_len)?,
+            )
+        };
+        let opts = options_of(o)?;
+        let hf = f.view();
+        par::bake_map(
+            hf.height(),
+            hf.width() as usize,
+            radius::map_len(hf.width(), hf.height()),
+            threads,
+            out,
+            || safety::strip_scratch(hf),
+            |scratch, rows, chunk| radius::bake_rows(hf, scratch, rows, opts, chunk),
+        )
+    })
+}
+
+/// Checks the map length for `hf`.
+fn check_map(hf: &HeightField, data: &[u8]) -> Result<(), hf_result> {
+    RadiusMap::new(hf, data)?;
+    Ok(())
+}
+
+/// One radius trace (the map was checked by `check_map`).
+fn trace_map(hf: &HeightField, data: &[u8], opts: &Options, q: &Query<f32>) -> Trace<f32> {
+    match RadiusMap::new(hf, data) {
+        Ok(m) => radius::trace(&m, hf, q, opts),
+        Err(_) => Trace::MISS,
+    }
+}
+
+/// The map slice and the march options of a trace call, checked behind the panic
+/// boundary.
+///
+/// # Safety
+/// `map` NULL or valid for reading `map_len` bytes.
+unsafe fn trace_inputs<'a>(
+    map: *const u8,
+    map_len: usize,
+    zero: u32,
+) -> Result<(&'a [u8], Options), hf_result> {
+    // SAFETY: the caller's promise.
+    let data = unsafe { pyramid_slice(map, map_len) }?;
+    Ok((data, zero_of(zero)?))
+}
+
+/// Traces one ray on the triangle surface with the radii `map` (baked for this field
+/// by `hf_radius_bake`, `map_len ≥ hf_radius_map_len`); `zero` (an `hf_radius_zero`)
+/// says what a zero radius does. Exact, the hit of `hf_trace_exact` with
+/// `HF_SURFACE_TRIANGLES` (up to rounding on rays that graze the surface), when the
+/// map was baked with tolerance 0 and `zero` is `HF_RADIUS_WALK`. Costs one fetch per
+/// radius read, two per centerline clearance, four per cell walked. A map that does
+/// not belong to the field gives wrong answers, never a crash. Thread safe.
+///
+/// # Safety
+/// `field` is NULL (an error) or a live handle; `map` NULL (an error) or valid for
+/// reading `map_len` bytes; `ray` NULL (an error) or valid; `out_hit` NULL (an error)
+/// or valid for writing one `hf_hit`.
+#[no_mangle]
+pub unsafe extern "C" fn hf_trace_radius(
+    field: *const hf_field,
+    map: *const u8,
+    map_len: usize,
+    zero: u32,
+    ray: *const hf_ray,
+    out_hit: *mut hf_hit,
+) -> hf_result {
+    // SAFETY: the caller's promise, passed on.
+    let (data, opts) = match unsafe { trace_inputs(map, map_len, zero) } {
+        Ok(v) => v,
+        Err(e) => return e,
+    };
+    // SAFETY: the caller's promises, passed on.
+    unsafe {
+        one(
+            field,
+            ray,
+            out_hit,
+            |hf| check_map(hf, data),
+            |hf, q| trace_map(hf, data, &opts, q),
+        )
+    }
+}
+
+/// `hf_trace_radius` for a batch, with the conventions of `hf_trace_exact_batch`
+/// (every ray checked first; an error writes nothing). Thread safe.
+///
+/// # Safety
+/// As `hf_trace_radius`; `rays` valid for reading `rays_len` rays, `out_hits` for
+/// writing `out_hits_len` hits, not overlapping.
+#[no_mangle]
+#[allow(clippy::too_many_arguments)]
+pub unsafe extern "C" fn hf_trace_radius_batch(
+    field: *const hf_field,
+    map: *const u8,
+    map_len: usize,
+    zero: u32,
+    rays: *const hf_ray,
+    rays_len: usize,
+    out_hits: *mut hf_hit,
+    out_hits_len: usize,
+) -> hf_result {
+    // SAFETY: the caller's promise, passed on.
+    let (data, opts) = match unsafe { trace_inputs(map, map_len, zero) } {
+        Ok(v) => v,
+        Err(e) => return e,
+    };
+    // SAFETY: the caller's promises, passed on.
+    unsafe {
+        batch(
+            field,
+            rays,
+            rays_len,
+            out_hits,
+            out_hits_len,
+            |hf| check_map(hf, data),
+            |hf, q| trace_map(hf, data, &opts, q),
+        )
+    }
+}

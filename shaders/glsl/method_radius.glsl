@@ -1,0 +1,11 @@
+// HF_METHOD_RADIUS: hf_trace is radius::trace (triangle surface only); `hf_radius_clamp`
+// is 1 for Zero::Clamp (a zero radius jumps one centerline), 0 for Zero::Walk.
+uniform uint hf_radius_clamp;
+
+// The closure of `radius::trace_steps`: the texel's radius, at least `floor`.
+uint safety_march_jump(SafetyLine l, uint ray_class, uint i, uint j, vec3 d) {
+    uint floor_ = hf_radius_clamp == 1u ? 1u : 0u;
+    return max(radius_at(i, j), floor_);
+}
+
+Trace hf_trace(Query q) { return safety_march(q); }

@@ -1,0 +1,13 @@
+// Mirror of core/src/radius.rs (the march; the bake stays on the CPU): the safety
+// radius (Baboud & Decoret 2006) on the triangle surface, stepping with the safety
+// march of safety.glsl.
+//
+// Texture layout: the map of hf_radius_bake as `hf_radius_map`, an R8UI texture of
+// W x H texels: the radius of texel (i, j).
+
+uniform usampler2D hf_radius_map;
+
+// `RadiusMap::radius`: radius of texel (i, j).
+uint radius_at(uint i, uint j) {
+    return texelFetch(hf_radius_map, ivec2(i, j), 0).r;
+}

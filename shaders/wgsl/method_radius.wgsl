@@ -1,0 +1,16 @@
+// HF_METHOD_RADIUS: hf_trace is radius::trace (triangle surface only); `hf_params.clamp`
+// is 1 for Zero::Clamp (a zero radius jumps one centerline), 0 for Zero::Walk.
+
+struct RadiusParams {
+    clamp: u32,
+}
+
+@group(0) @binding(2) var<uniform> hf_params: RadiusParams;
+
+// The closure of `radius::trace_steps`: the texel's radius, at least `floor`.
+fn safety_march_jump(l: SafetyLine, ray_class: u32, i: u32, j: u32, d: vec3<f32>) -> u32 {
+    let floor_ = select(0u, 1u, hf_params.clamp == 1u);
+    return max(radius_at(i, j), floor_);
+}
+
+fn hf_trace(q: Query) -> Trace { return safety_march(q); }
