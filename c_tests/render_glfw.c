@@ -18,7 +18,7 @@
 
 static camera cam;
 /* `linear`: search steps, or the cone/QDM iteration budget. */
-static method_cfg cfg = {HF_METHOD_EXACT, HF_SURFACE_TRIANGLES, 64, 8, HF_SAFETY_DIRECTIONAL};
+static method_cfg cfg = {HF_METHOD_EXACT, HF_SURFACE_TRIANGLES, 64, 8, HF_SAFETY_DIRECTIONAL, HF_RADIUS_WALK};
 static int dirty = 1;
 
 static void on_key(GLFWwindow *win, int key, int scancode, int action, int mods) {

@@ -794,6 +794,8 @@ static void test_radius(void) {
     unsigned char *map = (unsigned char *)malloc(len);
     unsigned char *rows = (unsigned char *)malloc(len);
     float *scratch = (float *)malloc(sizeof(float) * slen);
+    memset(map, 0xEE, len); /* defined bytes: the bad-input checks compare them */
+    memset(rows, 0xEE, len);
     hf_radius_options good = {0.0f, 255};
     hf_radius_options bad_tol = {-1.0f, 255}, nan_tol = {NAN, 255}, bad_cap = {0.0f, 256};
     CHECK_BAD(hf_radius_bake(NULL, &good, 1, map, len), HF_ERR_NULL_POINTER, map, 64);
