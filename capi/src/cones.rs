@@ -185,7 +185,9 @@ unsafe fn bake(
     })
 }
 
-/// A map buffer, checked against the family's length for `hf`.
+#[cfg(feature = "relaxed")]
+/// A map buffer, checked against the family's length for `hf` (the relaxed march
+/// reads the raw buffer; cone and QDM check through their map views).
 fn check_map(fam: Family, hf: &HeightField, map: &[f32]) -> Result<(), hf_result> {
     if map.len() < (fam.map_len)(hf.width(), hf.height()) {
         return Err(HF_ERR_BUFFER_TOO_SMALL);
@@ -351,11 +353,8 @@ pub unsafe extern "C" fn hf_trace_cone(
             field,
             ray,
             out_hit,
-            |hf| check_map(CONE, hf, data),
-            |hf, q| match ConeMap::new(hf, data) {
-                Ok(m) => cone::trace(&m, hf, q, n),
-                Err(_) => hfcore::Trace::MISS,
-            },
+            |hf| Ok(ConeMap::new(hf, data)?),
+            |hf, m, q| cone::trace(m, hf, q, n),
         )
     }
 }
@@ -395,11 +394,8 @@ pub unsafe extern "C" fn hf_trace_cone_batch(
             rays_len,
             out_hits,
             out_hits_len,
-            |hf| check_map(CONE, hf, data),
-            |hf, q| match ConeMap::new(hf, data) {
-                Ok(m) => cone::trace(&m, hf, q, n),
-                Err(_) => hfcore::Trace::MISS,
-            },
+            |hf| Ok(ConeMap::new(hf, data)?),
+            |hf, m, q| cone::trace(m, hf, q, n),
         )
     }
 }
@@ -506,7 +502,7 @@ pub unsafe extern "C" fn hf_trace_relaxed(
             ray,
             out_hit,
             |hf| check_map(RELAXED, hf, data),
-            |hf, q| relaxed::trace(data, hf, q, steps),
+            |hf, _, q| relaxed::trace(data, hf, q, steps),
         )
     }
 }
@@ -551,7 +547,7 @@ pub unsafe extern "C" fn hf_trace_relaxed_batch(
             out_hits,
             out_hits_len,
             |hf| check_map(RELAXED, hf, data),
-            |hf, q| relaxed::trace(data, hf, q, steps),
+            |hf, _, q| relaxed::trace(data, hf, q, steps),
         )
     }
 }
@@ -650,11 +646,8 @@ pub unsafe extern "C" fn hf_trace_qdm(
             field,
             ray,
             out_hit,
-            |hf| check_map(QDM, hf, data),
-            |hf, q| match QdmMap::new(hf, data) {
-                Ok(m) => qdm::trace(&m, hf, q, n),
-                Err(_) => hfcore::Trace::MISS,
-            },
+            |hf| Ok(QdmMap::new(hf, data)?),
+            |hf, m, q| qdm::trace(m, hf, q, n),
         )
     }
 }
@@ -694,11 +687,8 @@ pub unsafe extern "C" fn hf_trace_qdm_batch(
             rays_len,
             out_hits,
             out_hits_len,
-            |hf| check_map(QDM, hf, data),
-            |hf, q| match QdmMap::new(hf, data) {
-                Ok(m) => qdm::trace(&m, hf, q, n),
-                Err(_) => hfcore::Trace::MISS,
-            },
+            |hf| Ok(QdmMap::new(hf, data)?),
+            |hf, m, q| qdm::trace(m, hf, q, n),
         )
     }
 }

@@ -7,7 +7,7 @@ use crate::safety::{self, check_size};
 use crate::trace::{batch, hf_hit, hf_ray, one, pyramid_slice};
 use crate::{guard, hf_field, par, ptr};
 use hfcore::radius::{self, BakeOptions, Options, RadiusMap, Zero};
-use hfcore::{HeightField, Query, Trace};
+use hfcore::HeightField;
 
 /// What the radius march does at a texel of radius zero. Passed as `uint32_t`.
 #[repr(u32)]
@@ -188,18 +188,9 @@ pub unsafe extern "C" fn hf_radius_bake(
     })
 }
 
-/// Checks the map length for `hf`.
-fn check_map(hf: &HeightField, data: &[u8]) -> Result<(), hf_result> {
-    RadiusMap::new(hf, data)?;
-    Ok(())
-}
-
-/// One radius trace (the map was checked by `check_map`).
-fn trace_map(hf: &HeightField, data: &[u8], opts: &Options, q: &Query<f32>) -> Trace<f32> {
-    match RadiusMap::new(hf, data) {
-        Ok(m) => radius::trace(&m, hf, q, opts),
-        Err(_) => Trace::MISS,
-    }
+/// The radius map over `data`, checked for `hf`.
+fn map_of<'a>(hf: &HeightField, data: &'a [u8]) -> Result<RadiusMap<'a>, hf_result> {
+    Ok(RadiusMap::new(hf, data)?)
 }
 
 /// The map slice and the march options of a trace call, checked behind the panic
@@ -249,8 +240,8 @@ pub unsafe extern "C" fn hf_trace_radius(
             field,
             ray,
             out_hit,
-            |hf| check_map(hf, data),
-            |hf, q| trace_map(hf, data, &opts, q),
+            |hf| map_of(hf, data),
+            |hf, m, q| radius::trace(m, hf, q, &opts),
         )
     }
 }
@@ -286,8 +277,8 @@ pub unsafe extern "C" fn hf_trace_radius_batch(
             rays_len,
             out_hits,
             out_hits_len,
-            |hf| check_map(hf, data),
-            |hf, q| trace_map(hf, data, &opts, q),
+            |hf| map_of(hf, data),
+            |hf, m, q| radius::trace(m, hf, q, &opts),
         )
     }
 }

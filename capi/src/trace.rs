@@ -79,45 +79,47 @@ fn query(r: &hf_ray) -> Result<Query<f32>, hf_result> {
     Ok(Query::from_arrays(r.origin, r.dir, r.t_min, r.t_max)?)
 }
 
-/// Shared body of the single-ray functions: checks the pointers, traces, writes.
+/// Shared body of the single-ray functions: checks the pointers, prepares what the
+/// method reads (its map, checked against the field, once), traces, writes.
 ///
 /// # Safety
 /// `field` NULL or live; `ray` NULL or valid; `out_hit` NULL or writable.
-pub(crate) unsafe fn one(
+pub(crate) unsafe fn one<P>(
     field: *const hf_field,
     ray: *const hf_ray,
     out_hit: *mut hf_hit,
-    prepare: impl FnOnce(&HeightField) -> Result<(), hf_result>,
-    trace: impl Fn(&HeightField, &Query<f32>) -> Trace<f32>,
+    prepare: impl FnOnce(&HeightField) -> Result<P, hf_result>,
+    trace: impl Fn(&HeightField, &P, &Query<f32>) -> Trace<f32>,
 ) -> hf_result {
     guard(|| {
         // SAFETY: the caller promises a live handle and a valid ray.
         let (f, r) = unsafe { (ptr::get(field)?, ptr::get(ray)?) };
         let out = ptr::out(out_hit)?;
         let hf = f.view();
-        prepare(hf)?;
+        let prepared = prepare(hf)?;
         let q = query(r)?;
-        let hit = hf_hit::from(trace(hf, &q));
+        let hit = hf_hit::from(trace(hf, &prepared, &q));
         // SAFETY: the caller promises `out_hit` is writable.
         unsafe { out.set(hit) };
         Ok(())
     })
 }
 
-/// Shared body of the batch functions: checks everything (every ray) first, then
-/// traces into the output, so an error writes nothing.
+/// Shared body of the batch functions: checks everything (every ray) first and
+/// prepares what the method reads once, then traces into the output, so an error
+/// writes nothing.
 ///
 /// # Safety
 /// `field` NULL or live; `rays` NULL or valid for `rays_len`; `out_hits` NULL or
 /// writable for `out_hits_len`, not overlapping `rays`.
-pub(crate) unsafe fn batch(
+pub(crate) unsafe fn batch<P>(
     field: *const hf_field,
     rays: *const hf_ray,
     rays_len: usize,
     out_hits: *mut hf_hit,
     out_hits_len: usize,
-    prepare: impl FnOnce(&HeightField) -> Result<(), hf_result>,
-    trace: impl Fn(&HeightField, &Query<f32>) -> Trace<f32>,
+    prepare: impl FnOnce(&HeightField) -> Result<P, hf_result>,
+    trace: impl Fn(&HeightField, &P, &Query<f32>) -> Trace<f32>,
 ) -> hf_result {
     guard(|| {
         // SAFETY: the caller promises a live handle and `rays_len` valid rays.
@@ -131,12 +133,12 @@ pub(crate) unsafe fn batch(
             return Err(HF_ERR_BUFFER_TOO_SMALL);
         }
         let hf = f.view();
-        prepare(hf)?;
+        let prepared = prepare(hf)?;
         for r in rays {
             query(r)?;
         }
         for (r, h) in rays.iter().zip(hits.iter_mut()) {
-            *h = hf_hit::from(trace(hf, &query(r)?));
+            *h = hf_hit::from(trace(hf, &prepared, &query(r)?));
         }
         Ok(())
     })
@@ -177,7 +179,7 @@ pub unsafe extern "C" fn hf_trace_exact(
             ray,
             out_hit,
             |_| Ok(()),
-            |hf, q| dda::trace(hf, surface, q),
+            |hf, _, q| dda::trace(hf, surface, q),
         )
     }
 }
@@ -211,7 +213,7 @@ pub unsafe extern "C" fn hf_trace_exact_batch(
             out_hits,
             out_hits_len,
             |_| Ok(()),
-            |hf, q| dda::trace(hf, surface, q),
+            |hf, _, q| dda::trace(hf, surface, q),
         )
     }
 }
@@ -245,7 +247,7 @@ pub unsafe extern "C" fn hf_trace_linear_binary(
             ray,
             out_hit,
             |_| Ok(()),
-            |hf, q| search::linear_binary(hf, surface, q, steps),
+            |hf, _, q| search::linear_binary(hf, surface, q, steps),
         )
     }
 }
@@ -281,7 +283,7 @@ pub unsafe extern "C" fn hf_trace_linear_binary_batch(
             out_hits,
             out_hits_len,
             |_| Ok(()),
-            |hf, q| search::linear_binary(hf, surface, q, steps),
+            |hf, _, q| search::linear_binary(hf, surface, q, steps),
         )
     }
 }
@@ -312,7 +314,7 @@ pub unsafe extern "C" fn hf_trace_linear_secant(
             ray,
             out_hit,
             |_| Ok(()),
-            |hf, q| search::linear_secant(hf, surface, q, steps.linear),
+            |hf, _, q| search::linear_secant(hf, surface, q, steps.linear),
         )
     }
 }
@@ -346,7 +348,7 @@ pub unsafe extern "C" fn hf_trace_linear_secant_batch(
             out_hits,
             out_hits_len,
             |_| Ok(()),
-            |hf, q| search::linear_secant(hf, surface, q, steps.linear),
+            |hf, _, q| search::linear_secant(hf, surface, q, steps.linear),
         )
     }
 }
@@ -385,8 +387,8 @@ pub unsafe extern "C" fn hf_trace_maxmip(
             field,
             ray,
             out_hit,
-            |hf| check_mip(hf, texels),
-            |hf, q| trace_mip(hf, texels, surface, q),
+            |hf| mip_of(hf, texels),
+            |hf, mip, q| trace_mip(hf, mip, surface, q),
         )
     }
 }
@@ -426,8 +428,8 @@ pub unsafe extern "C" fn hf_trace_maxmip_batch(
             rays_len,
             out_hits,
             out_hits_len,
-            |hf| check_mip(hf, texels),
-            |hf, q| trace_mip(hf, texels, surface, q),
+            |hf| mip_of(hf, texels),
+            |hf, mip, q| trace_mip(hf, mip, surface, q),
         )
     }
 }
@@ -451,18 +453,13 @@ pub(crate) unsafe fn pyramid_slice<'a, T>(p: *const T, len: usize) -> Result<&'a
 }
 
 #[cfg(feature = "maxmip")]
-/// Checks the pyramid length for `hf`.
-fn check_mip(hf: &HeightField, texels: &[f32]) -> Result<(), hf_result> {
-    MaxMip::new(hf, texels)?;
-    Ok(())
+/// The pyramid over `texels`, checked for `hf`.
+fn mip_of<'a>(hf: &HeightField, texels: &'a [f32]) -> Result<MaxMip<'a>, hf_result> {
+    Ok(MaxMip::new(hf, texels)?)
 }
 
 #[cfg(feature = "maxmip")]
 /// One maxmip trace with exact options.
-fn trace_mip(hf: &HeightField, texels: &[f32], surface: Surface, q: &Query<f32>) -> Trace<f32> {
-    match MaxMip::new(hf, texels) {
-        Ok(mip) => maxmip::trace(hf, &mip, surface, q, &maxmip::Options::default()),
-        // Checked by `check_mip` before any trace.
-        Err(_) => Trace::MISS,
-    }
+fn trace_mip(hf: &HeightField, mip: &MaxMip, surface: Surface, q: &Query<f32>) -> Trace<f32> {
+    maxmip::trace(hf, mip, surface, q, &maxmip::Options::default())
 }
