@@ -4,11 +4,10 @@
 
 use crate::hf_result::{self, *};
 use crate::scene::{classes_of, HF_RAYS_ALL};
-use crate::trace::{hf_hit, hf_ray};
+use crate::trace::{batch, hf_hit, hf_ray, one, pyramid_slice};
 use crate::{guard, hf_field, par, ptr};
 use hfcore::safety::cc::{self, CcMap, CcOptions, Slope};
 use hfcore::safety::{self, SafetyError};
-use hfcore::{HeightField, Query, Trace};
 
 /// How the cone slope of a cylinder–cone bake is computed. Passed as `uint32_t`.
 #[repr(u32)]
@@ -315,12 +314,6 @@ pub unsafe extern "C" fn hf_cc_frame(
     })
 }
 
-/// One cylinder–cone trace.
-fn trace_one(hf: &HeightField, map: &CcMap, r: &hf_ray) -> Result<Trace<f32>, hf_result> {
-    let q = Query::from_arrays(r.origin, r.dir, r.t_min, r.t_max)?;
-    Ok(cc::trace(map, hf, &q))
-}
-
 /// Traces one ray on the triangle surface with the cylinder–cone map `map` (from
 /// `hf_cc_bake` with the same `cap`): exact, the hit of `hf_trace_exact` with
 /// `HF_SURFACE_TRIANGLES` (up to rounding on grazing rays). Costs one fetch per shape
@@ -339,17 +332,21 @@ pub unsafe extern "C" fn hf_trace_cc(
     ray: *const hf_ray,
     out_hit: *mut hf_hit,
 ) -> hf_result {
-    guard(|| {
-        // SAFETY: the caller's promises.
-        let (f, data, r) = unsafe { (ptr::get(field)?, ptr::slice(map, map_len)?, ptr::get(ray)?) };
-        let out = ptr::out(out_hit)?;
-        let hf = f.view();
-        let m = CcMap::new(hf, data, cap_of(cap)?)?;
-        let hit = hf_hit::from(trace_one(hf, &m, r)?);
-        // SAFETY: the caller promises `out_hit` is writable.
-        unsafe { out.set(hit) };
-        Ok(())
-    })
+    // SAFETY: the caller's promise, passed on.
+    let data = match unsafe { pyramid_slice(map, map_len) } {
+        Ok(d) => d,
+        Err(e) => return e,
+    };
+    // SAFETY: the caller's promises, passed on.
+    unsafe {
+        one(
+            field,
+            ray,
+            out_hit,
+            |hf| Ok(CcMap::new(hf, data, cap_of(cap)?)?),
+            |hf, m, q| cc::trace(m, hf, q),
+        )
+    }
 }
 
 /// `hf_trace_cc` for a batch, with the conventions of `hf_trace_exact_batch`.
@@ -370,31 +367,21 @@ pub unsafe extern "C" fn hf_trace_cc_batch(
     out_hits: *mut hf_hit,
     out_hits_len: usize,
 ) -> hf_result {
-    guard(|| {
-        // SAFETY: the caller's promises.
-        let (f, data, rays) = unsafe {
-            (
-                ptr::get(field)?,
-                ptr::slice(map, map_len)?,
-                ptr::slice(rays, rays_len)?,
-            )
-        };
-        // SAFETY: the caller promises `out_hits` is writable for its length.
-        let hits = unsafe { ptr::slice_mut(out_hits, out_hits_len) }?;
-        if rays.is_empty() {
-            return Err(HF_ERR_INVALID_SIZE);
-        }
-        if hits.len() < rays.len() {
-            return Err(HF_ERR_BUFFER_TOO_SMALL);
-        }
-        let hf = f.view();
-        let m = CcMap::new(hf, data, cap_of(cap)?)?;
-        for r in rays {
-            Query::from_arrays(r.origin, r.dir, r.t_min, r.t_max)?;
-        }
-        for (r, h) in rays.iter().zip(hits.iter_mut()) {
-            *h = hf_hit::from(trace_one(hf, &m, r)?);
-        }
-        Ok(())
-    })
+    // SAFETY: the caller's promise, passed on.
+    let data = match unsafe { pyramid_slice(map, map_len) } {
+        Ok(d) => d,
+        Err(e) => return e,
+    };
+    // SAFETY: the caller's promises, passed on.
+    unsafe {
+        batch(
+            field,
+            rays,
+            rays_len,
+            out_hits,
+            out_hits_len,
+            |hf| Ok(CcMap::new(hf, data, cap_of(cap)?)?),
+            |hf, m, q| cc::trace(m, hf, q),
+        )
+    }
 }

@@ -3,10 +3,10 @@
 
 use crate::hf_result::{self, *};
 use crate::scene::{classes_of, HF_RAYS_ALL};
-use crate::trace::{hf_hit, hf_ray};
+use crate::trace::{batch, hf_hit, hf_ray, one, pyramid_slice};
 use crate::{guard, hf_field, par, ptr};
 use hfcore::safety::{self, AllRays, Options, SafetyError, SafetyMap, Variant};
-use hfcore::{HeightField, Query, Trace};
+use hfcore::HeightField;
 
 /// Layout of a safety-distance map. Passed as `uint32_t`.
 #[repr(u32)]
@@ -304,12 +304,6 @@ fn map_of<'a>(hf: &HeightField, data: &'a [u8], variant: u32) -> Result<SafetyMa
     Ok(SafetyMap::new(hf, data, variant_of(variant)?)?)
 }
 
-/// One safety trace.
-fn trace_one(hf: &HeightField, map: &SafetyMap, r: &hf_ray) -> Result<Trace<f32>, hf_result> {
-    let q = Query::from_arrays(r.origin, r.dir, r.t_min, r.t_max)?;
-    Ok(safety::trace(map, hf, &q))
-}
-
 /// Traces one ray on the triangle surface with the safety distances `map` (baked for
 /// this field by `hf_safety_bake`, `map_len ≥ hf_safety_map_len`, layout `variant`):
 /// exact, the hit of `hf_trace_exact` with `HF_SURFACE_TRIANGLES` (up to rounding on
@@ -330,17 +324,21 @@ pub unsafe extern "C" fn hf_trace_safety(
     ray: *const hf_ray,
     out_hit: *mut hf_hit,
 ) -> hf_result {
-    guard(|| {
-        // SAFETY: the caller's promises.
-        let (f, data, r) = unsafe { (ptr::get(field)?, ptr::slice(map, map_len)?, ptr::get(ray)?) };
-        let out = ptr::out(out_hit)?;
-        let hf = f.view();
-        let m = map_of(hf, data, variant)?;
-        let hit = hf_hit::from(trace_one(hf, &m, r)?);
-        // SAFETY: the caller promises `out_hit` is writable.
-        unsafe { out.set(hit) };
-        Ok(())
-    })
+    // SAFETY: the caller's promise, passed on.
+    let data = match unsafe { pyramid_slice(map, map_len) } {
+        Ok(d) => d,
+        Err(e) => return e,
+    };
+    // SAFETY: the caller's promises, passed on.
+    unsafe {
+        one(
+            field,
+            ray,
+            out_hit,
+            |hf| map_of(hf, data, variant),
+            |hf, m, q| safety::trace(m, hf, q),
+        )
+    }
 }
 
 /// `hf_trace_safety` for `rays_len ≥ 1` rays, with the conventions of
@@ -362,31 +360,21 @@ pub unsafe extern "C" fn hf_trace_safety_batch(
     out_hits: *mut hf_hit,
     out_hits_len: usize,
 ) -> hf_result {
-    guard(|| {
-        // SAFETY: the caller's promises.
-        let (f, data, rays) = unsafe {
-            (
-                ptr::get(field)?,
-                ptr::slice(map, map_len)?,
-                ptr::slice(rays, rays_len)?,
-            )
-        };
-        // SAFETY: the caller promises `out_hits` is writable for its length.
-        let hits = unsafe { ptr::slice_mut(out_hits, out_hits_len) }?;
-        if rays.is_empty() {
-            return Err(HF_ERR_INVALID_SIZE);
-        }
-        if hits.len() < rays.len() {
-            return Err(HF_ERR_BUFFER_TOO_SMALL);
-        }
-        let hf = f.view();
-        let m = map_of(hf, data, variant)?;
-        for r in rays {
-            Query::from_arrays(r.origin, r.dir, r.t_min, r.t_max)?;
-        }
-        for (r, h) in rays.iter().zip(hits.iter_mut()) {
-            *h = hf_hit::from(trace_one(hf, &m, r)?);
-        }
-        Ok(())
-    })
+    // SAFETY: the caller's promise, passed on.
+    let data = match unsafe { pyramid_slice(map, map_len) } {
+        Ok(d) => d,
+        Err(e) => return e,
+    };
+    // SAFETY: the caller's promises, passed on.
+    unsafe {
+        batch(
+            field,
+            rays,
+            rays_len,
+            out_hits,
+            out_hits_len,
+            |hf| map_of(hf, data, variant),
+            |hf, m, q| safety::trace(m, hf, q),
+        )
+    }
 }
