@@ -5,6 +5,7 @@
 use crate::hf_result::{self, *};
 use crate::scene::{classes_of, HF_RAYS_ALL};
 use crate::trace::{batch, hf_hit, hf_ray, one, pyramid_slice};
+use crate::{check_size, size_query};
 use crate::{guard, hf_field, par, ptr};
 use hfcore::safety::cc::{self, CcMap, CcOptions, Slope};
 use hfcore::safety::{self, SafetyError};
@@ -48,15 +49,6 @@ fn options_of(o: &hf_cc_options) -> Result<CcOptions, hf_result> {
     })
 }
 
-/// Checks field sizes for the size queries.
-fn check_size(width: u32, height: u32) -> Result<(), hf_result> {
-    let ok = |n: u32| (2..=crate::HF_MAX_SIDE).contains(&n);
-    if !ok(width) || !ok(height) {
-        return Err(HF_ERR_INVALID_SIZE);
-    }
-    Ok(())
-}
-
 /// Writes the size in bytes of the packed cylinder–cone map of a `width × height`
 /// field to `*out_len`: 16 per texel, four per ray class in class order (x+, x−, y+,
 /// y−), `[r, s, z_lo, z_hi]` (cylinder radius, slope code, base-height code): upload
@@ -66,13 +58,12 @@ fn check_size(width: u32, height: u32) -> Result<(), hf_result> {
 /// `out_len` is NULL (an error) or valid for writing one `size_t`.
 #[no_mangle]
 pub unsafe extern "C" fn hf_cc_map_len(width: u32, height: u32, out_len: *mut usize) -> hf_result {
-    guard(|| {
-        let out = ptr::out(out_len)?;
-        check_size(width, height)?;
-        // SAFETY: the caller promises `out_len` is writable.
-        unsafe { out.set(cc::map_len(width, height)) };
-        Ok(())
-    })
+    // SAFETY: the caller's promise, passed on.
+    unsafe {
+        size_query(width, height, out_len, |width, height| {
+            cc::map_len(width, height)
+        })
+    }
 }
 
 /// Writes the number of floats of the N-buffers of a `width × height` field for cone

@@ -3,6 +3,7 @@
 //! three bake from the maximum-mipmap pyramid (the scratch) into a float map, in rows.
 
 use crate::hf_result::{self, *};
+use crate::size_query;
 use crate::trace::{batch, hf_hit, hf_ray, one, pyramid_slice};
 use crate::{guard, hf_field, ptr};
 use hfcore::cone::{self, BakeError, ConeMap};
@@ -78,27 +79,17 @@ const QDM: Family = Family {
     bake_rows: qdm::bake_rows,
 };
 
-/// Checks field sizes for the size queries.
-fn check_size(width: u32, height: u32) -> Result<(), hf_result> {
-    let ok = |n: u32| (2..=crate::HF_MAX_SIDE).contains(&n);
-    if !ok(width) || !ok(height) {
-        return Err(HF_ERR_INVALID_SIZE);
-    }
-    Ok(())
-}
-
 /// Body of the `*_map_len` queries.
 ///
 /// # Safety
 /// `out_len` NULL or writable.
 unsafe fn map_len(fam: Family, width: u32, height: u32, out_len: *mut usize) -> hf_result {
-    guard(|| {
-        let out = ptr::out(out_len)?;
-        check_size(width, height)?;
-        // SAFETY: the caller promises `out_len` is writable.
-        unsafe { out.set((fam.map_len)(width, height)) };
-        Ok(())
-    })
+    // SAFETY: the caller's promise, passed on.
+    unsafe {
+        size_query(width, height, out_len, |width, height| {
+            (fam.map_len)(width, height)
+        })
+    }
 }
 
 /// Body of the `*_bake_rows` functions.
@@ -215,13 +206,12 @@ pub unsafe extern "C" fn hf_cone_scratch_len(
     height: u32,
     out_len: *mut usize,
 ) -> hf_result {
-    guard(|| {
-        let out = ptr::out(out_len)?;
-        check_size(width, height)?;
-        // SAFETY: the caller promises `out_len` is writable.
-        unsafe { out.set(cone::scratch_len(width, height)) };
-        Ok(())
-    })
+    // SAFETY: the caller's promise, passed on.
+    unsafe {
+        size_query(width, height, out_len, |width, height| {
+            cone::scratch_len(width, height)
+        })
+    }
 }
 
 /// Fills `out_scratch` (`out_scratch_len ≥ hf_cone_scratch_len`) with what the row

@@ -168,6 +168,37 @@ pub(crate) fn guard(f: impl FnOnce() -> Result<(), hf_result>) -> hf_result {
     }
 }
 
+/// Shared body of the size queries: checks `width` and `height` (2 to `HF_MAX_SIDE`,
+/// else `HF_ERR_INVALID_SIZE`) and writes `len(width, height)` to `*out_len`.
+///
+/// # Safety
+/// `out_len` NULL (an error) or valid for writing one `size_t`.
+#[cfg(any(feature = "safety", feature = "cone"))]
+pub(crate) unsafe fn size_query(
+    width: u32,
+    height: u32,
+    out_len: *mut usize,
+    len: impl FnOnce(u32, u32) -> usize,
+) -> hf_result {
+    guard(|| {
+        let out = ptr::out(out_len)?;
+        check_size(width, height)?;
+        // SAFETY: the caller promises `out_len` is writable.
+        unsafe { out.set(len(width, height)) };
+        Ok(())
+    })
+}
+
+/// Checks a field size given to a size query: 2 to `HF_MAX_SIDE` on both sides.
+#[cfg(any(feature = "safety", feature = "cone"))]
+pub(crate) fn check_size(width: u32, height: u32) -> Result<(), hf_result> {
+    let ok = |n: u32| (2..=HF_MAX_SIDE).contains(&n);
+    if !ok(width) || !ok(height) {
+        return Err(HF_ERR_INVALID_SIZE);
+    }
+    Ok(())
+}
+
 /// Height reconstruction between samples (DESIGN.md, "Surfaces"). Passed as `uint32_t`.
 #[repr(u32)]
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

@@ -3,7 +3,8 @@
 //! of the safety distances (`hf_safety_prepare`).
 
 use crate::hf_result::{self, *};
-use crate::safety::{self, check_size};
+use crate::safety;
+use crate::size_query;
 use crate::trace::{batch, hf_hit, hf_ray, one, pyramid_slice};
 use crate::{guard, hf_field, par, ptr};
 use hfcore::radius::{self, BakeOptions, Options, RadiusMap, Zero};
@@ -65,13 +66,12 @@ pub unsafe extern "C" fn hf_radius_map_len(
     height: u32,
     out_len: *mut usize,
 ) -> hf_result {
-    guard(|| {
-        let out = ptr::out(out_len)?;
-        check_size(width, height)?;
-        // SAFETY: the caller promises `out_len` is writable.
-        unsafe { out.set(radius::map_len(width, height)) };
-        Ok(())
-    })
+    // SAFETY: the caller's promise, passed on.
+    unsafe {
+        size_query(width, height, out_len, |width, height| {
+            radius::map_len(width, height)
+        })
+    }
 }
 
 /// Writes the number of floats of the scratch `hf_radius_prepare` fills and

@@ -4,6 +4,7 @@
 use crate::hf_result::{self, *};
 use crate::scene::{classes_of, HF_RAYS_ALL};
 use crate::trace::{batch, hf_hit, hf_ray, one, pyramid_slice};
+use crate::{check_size, size_query};
 use crate::{guard, hf_field, par, ptr};
 use hfcore::safety::{self, AllRays, Options, SafetyError, SafetyMap, Variant};
 use hfcore::HeightField;
@@ -67,15 +68,6 @@ fn options_of(o: &hf_safety_options) -> Result<Options, hf_result> {
     })
 }
 
-/// Checks field sizes (as `hf_field_create_*` does) for the size queries.
-pub(crate) fn check_size(width: u32, height: u32) -> Result<(), hf_result> {
-    let ok = |n: u32| (2..=crate::HF_MAX_SIDE).contains(&n);
-    if !ok(width) || !ok(height) {
-        return Err(HF_ERR_INVALID_SIZE);
-    }
-    Ok(())
-}
-
 /// Writes the size in bytes of the safety-distance map of a `width × height` field
 /// with `variant` (an `hf_safety_variant`) to `*out_len`: `W * H * 4` (directional) or
 /// `W * H` (isotropic). Thread safe.
@@ -112,13 +104,12 @@ pub unsafe extern "C" fn hf_safety_scratch_len(
     height: u32,
     out_len: *mut usize,
 ) -> hf_result {
-    guard(|| {
-        let out = ptr::out(out_len)?;
-        check_size(width, height)?;
-        // SAFETY: the caller promises `out_len` is writable.
-        unsafe { out.set(safety::scratch_len(width, height)) };
-        Ok(())
-    })
+    // SAFETY: the caller's promise, passed on.
+    unsafe {
+        size_query(width, height, out_len, |width, height| {
+            safety::scratch_len(width, height)
+        })
+    }
 }
 
 /// Fills `out_scratch` (`out_scratch_len ≥ hf_safety_scratch_len` floats) with the
