@@ -51,7 +51,10 @@ fn zero_of(v: u32) -> Result<Options, hf_result> {
         1 => Zero::Clamp,
         _ => return Err(HF_ERR_INVALID_ENUM),
     };
-    Ok(Options { zero })
+    Ok(Options {
+        zero,
+        ..Options::default()
+    })
 }
 
 /// Writes the size in bytes of the radius map of a `width × height` field to

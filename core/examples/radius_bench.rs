@@ -170,7 +170,10 @@ fn main() {
                 &[Zero::Walk]
             };
             for &zero in zeros {
-                let opts = MarchOptions { zero };
+                let opts = MarchOptions {
+                    zero,
+                    ..MarchOptions::default()
+                };
                 let name = match zero {
                     Zero::Walk if k == 0 => "radius exact".to_string(),
                     Zero::Walk => format!("radius {label}"),

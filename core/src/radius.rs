@@ -50,7 +50,7 @@ use core::ops::Range;
 use crate::field::HeightField;
 use crate::math::Real;
 use crate::ray::{Query, Trace};
-use crate::safety::{self, AllRays, RaySet, SafetyError, Sigma, Tri};
+use crate::safety::{self, AllRays, MarchSurface, RaySet, SafetyError, Sigma, Tri};
 
 /// Bytes of baked data per texel: one radius.
 pub const BYTES_PER_TEXEL: usize = 1;
@@ -70,6 +70,11 @@ impl RaySet for Lowered {
             ..*tri
         };
         AllRays.limiting(sigma, &lowered)
+    }
+
+    #[inline]
+    fn lowering(&self) -> f64 {
+        self.0
     }
 }
 
@@ -202,6 +207,8 @@ pub enum Zero {
 pub struct Options {
     /// Zero radii.
     pub zero: Zero,
+    /// The surface the march finishes on (the radii bound both; see [`MarchSurface`]).
+    pub surface: MarchSurface,
 }
 
 /// Traces `q` on the triangle surface with the radii of `map` (baked for `hf`).
@@ -226,7 +233,7 @@ pub fn trace_steps<R: Real>(
 ) -> Trace<R> {
     let floor = u32::from(opts.zero == Zero::Clamp);
     let on_step = RefCell::new(on_step);
-    safety::march(hf, q, |l, _, i, j| {
+    safety::march(hf, opts.surface, q, |l, _, i, j| {
         (on_step.borrow_mut())(l.t);
         u32::from(map.radius(i, j)).max(floor)
     })

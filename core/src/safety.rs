@@ -315,6 +315,14 @@ pub trait RaySet {
     /// above `sigma`, may cross the plane of `tri` upwards inside `tri`. Must never
     /// answer `false` wrongly; `true` wrongly only costs speed.
     fn limiting(&self, sigma: &Sigma, tri: &Tri) -> bool;
+
+    /// How far (`≥ 0`) the set lowers every plane before [`RaySet::limiting`] compares
+    /// it with the surface: no triangle limits unless its plane, lowered by this much,
+    /// rises above the surface somewhere on the segment. The bake's strip bound
+    /// ([`texel_distance`]) subtracts it. Default `0` (always safe).
+    fn lowering(&self) -> f64 {
+        0.0
+    }
 }
 
 /// Every ray of the class (any vertical angle, up or down).
@@ -394,6 +402,12 @@ pub fn texel_distance<S: RaySet>(
         let xlen = 3 * (hf.width() as usize - 1) * sx;
         (sy, xlen, if sg > 0 { 1 } else { 2 })
     };
+    // A strip is skipped when no plane in it, lowered by `e`, rises above `floor`:
+    // `top + rise ≤ floor + e`. The bound keeps `e·2⁻²⁰` back, far above the
+    // rounding of the lowered planes' heights, so it skips only strips the ray set
+    // itself would pass (`e = 0`: the plain bound).
+    let e = rays.lowering();
+    let floor = floor + (e - e * (1.0 / 1_048_576.0));
     let st = STRIP as i64;
     for k in 0..u32::from(cap) {
         let cm = if sg > 0 {
@@ -721,6 +735,7 @@ enum Step<R: Real> {
 /// State of the march: the query, and the cell walk of [`dda::trace`](crate::dda::trace).
 struct March<'a, R: Real> {
     hf: &'a HeightField<'a>,
+    surface: Surface,
     q: &'a Query<R>,
     span: Span<R>,
     ax: usize,
@@ -800,7 +815,7 @@ impl<R: Real> March<'_, R> {
                 cross[1].then_some(self.step[1] > 0),
             ];
             let p = self.q.at(tb);
-            let (b, mut cb) = local_clearance(Surface::Triangles, self.c, self.ic, p, on);
+            let (b, mut cb) = local_clearance(self.surface, self.c, self.ic, p, on);
             let mut line = None;
             if cross[ax] {
                 // The clearance the jumps use at this centerline (same samples, same
@@ -817,7 +832,9 @@ impl<R: Real> March<'_, R> {
                 cb = l.c;
                 line = Some(l);
             }
-            let seg = Surface::Triangles.segment_hit(self.c, self.a, b, self.ca, cb, self.wall);
+            let seg = self
+                .surface
+                .segment_hit(self.c, self.a, b, self.ca, cb, self.wall);
             self.clearance = self.clearance.min(seg.clearance);
             if let Some((s, normal, flags)) = seg.hit {
                 let (a, ic) = (self.a, self.ic);
@@ -901,14 +918,70 @@ fn last_line<R: Real>(hf: &HeightField, q: &Query<R>, ax: usize, sg: i64, t1: R)
 /// (not the whole ray's). The march takes at most one step per centerline; a step
 /// bound guards it ([`Flags::BUDGET_EXHAUSTED`], never expected).
 pub fn trace<R: Real>(map: &SafetyMap, hf: &HeightField, q: &Query<R>) -> Trace<R> {
-    march(hf, q, |_, class, i, j| u32::from(map.distance(class, i, j)))
+    trace_on(map, hf, MarchSurface::Triangles, q)
+}
+
+/// [`trace`] finishing on `surface`: with [`MarchSurface::ViewLinear`], the same hit
+/// as [`dda::trace`](crate::dda::trace) with [`Surface::ViewLinear`], from the same
+/// map.
+pub fn trace_on<R: Real>(
+    map: &SafetyMap,
+    hf: &HeightField,
+    surface: MarchSurface,
+    q: &Query<R>,
+) -> Trace<R> {
+    march(hf, surface, q, |_, class, i, j| {
+        u32::from(map.distance(class, i, j))
+    })
+}
+
+/// The surfaces a safety-shape march can finish on, from maps baked for the triangle
+/// surface (§7 of the paper).
+///
+/// Why one map serves both: on every grid line the two surfaces have the same height
+/// (the edge interpolation of its two samples), and between consecutive grid-line
+/// crossings of a ray the view-linear surface is linear along the ray. A jump is
+/// taken only when the baked shape says the ray, above the surface where it starts,
+/// cannot leave the triangle solid before the target; above at both ends, it then
+/// stays above the triangle surface all the way, so its clearance is positive at
+/// every grid-line crossing in between, hence above the view-linear surface too. The
+/// final test in the one or two cells left is then a segment intersection: the ray
+/// and the surface are both linear between crossings.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum MarchSurface {
+    /// The triangle surface ([`Surface::Triangles`]), for which the maps are baked.
+    #[default]
+    Triangles,
+    /// The view-linear surface ([`Surface::ViewLinear`]).
+    ViewLinear,
+}
+
+impl MarchSurface {
+    /// The march surface for `surface`, `None` for a surface the maps do not bound.
+    pub fn of(surface: Surface) -> Option<Self> {
+        match surface {
+            Surface::Triangles => Some(MarchSurface::Triangles),
+            Surface::ViewLinear => Some(MarchSurface::ViewLinear),
+            _ => None,
+        }
+    }
+
+    /// The surface it is.
+    pub fn surface(self) -> Surface {
+        match self {
+            MarchSurface::Triangles => Surface::Triangles,
+            MarchSurface::ViewLinear => Surface::ViewLinear,
+        }
+    }
 }
 
 /// The march shared by the safety-shape methods: `jump(line, class, i, j)` reads the
 /// baked data of texel `(i, j)` (one fetch, counted here) and returns how many
-/// centerlines the ray crossing `line` above that texel's segment may skip.
+/// centerlines the ray crossing `line` above that texel's segment may skip; the walk
+/// between jumps and the final test use `surface`.
 pub(crate) fn march<R: Real>(
     hf: &HeightField,
+    surface: MarchSurface,
     q: &Query<R>,
     jump: impl Fn(&Line<R>, RayClass, u32, u32) -> u32,
 ) -> Trace<R> {
@@ -928,10 +1001,11 @@ pub(crate) fn march<R: Real>(
         cell_index(y0, d[1], cells[1]),
     ];
     let c: [R; 4] = corners(hf, ic[0], ic[1]);
-    let (a, ca) = local_clearance(Surface::Triangles, c, ic, [x0, y0, p0[2]], [None; 2]);
+    let surface = surface.surface();
+    let (a, ca) = local_clearance(surface, c, ic, [x0, y0, p0[2]], [None; 2]);
     if ca <= R::ZERO {
         return Trace {
-            hit: Some(start_hit(Surface::Triangles, &span, c, ic, a, p0)),
+            hit: Some(start_hit(surface, &span, c, ic, a, p0)),
             fetches: 4,
             clearance: start_clearance(&span.entry, ca),
             flags: Flags::default(),
@@ -939,6 +1013,7 @@ pub(crate) fn march<R: Real>(
     }
     let mut mr = March {
         hf,
+        surface,
         q,
         span,
         ax,

@@ -408,7 +408,10 @@ fn approximate_variants_measured() {
                 bake(&field, tolerant(*e))
             };
             let map = RadiusMap::new(&hf, &data).unwrap();
-            let opts = Options { zero: *zero };
+            let opts = Options {
+                zero: *zero,
+                ..Options::default()
+            };
             for (s, oracle) in specs.iter().zip(&oracles) {
                 let q = s.q32();
                 let q64 = s.q64();

@@ -11,10 +11,11 @@ use common::{
     rows_field, Field, Probe, RaySpec, Rng, Tally,
 };
 use hfcast::safety::cc::{self, CcMap, CcOptions, Slope};
-use hfcast::safety::{self, Options, SafetyMap, Variant, CLASSES};
+use hfcast::safety::{self, MarchSurface, Options, SafetyMap, Variant, CLASSES};
 use hfcast::{dda, Flags, Query, Real, Surface, Trace};
 
 const TRI: Surface = Surface::Triangles;
+const VL: Surface = Surface::ViewLinear;
 
 /// The synthetic fields of the brief.
 fn fields() -> Vec<(String, Field)> {
@@ -29,9 +30,16 @@ fn bake(field: &Field, opts: Options) -> Vec<u8> {
     out
 }
 
-/// Judges one ray: `Some(true)` right, `Some(false)` wrong, `None` ambiguous.
-fn judge<R: Real>(field: &Field, got: &Trace<R>, q: &Query<R>, zs: f64) -> Option<bool> {
-    let oracle = dda::trace(&field.hf(), TRI, &q.cast::<f64>());
+/// Judges one ray on `surface`: `Some(true)` right, `Some(false)` wrong, `None`
+/// ambiguous.
+fn judge<R: Real>(
+    field: &Field,
+    surface: Surface,
+    got: &Trace<R>,
+    q: &Query<R>,
+    zs: f64,
+) -> Option<bool> {
+    let oracle = dda::trace(&field.hf(), surface, &q.cast::<f64>());
     if oracle.clearance < eps_f32(zs) {
         return None;
     }
@@ -48,7 +56,7 @@ fn judge<R: Real>(field: &Field, got: &Trace<R>, q: &Query<R>, zs: f64) -> Optio
     // A touch (the ray meets the surface at zero clearance without going under it,
     // e.g. level with a ridge) is decided by rounding: ambiguous, as in DESIGN.md.
     match oracle.hit {
-        Some(hit) if !right && is_touch(field, TRI, &q.cast(), hit.t, eps_f32(zs)) => None,
+        Some(hit) if !right && is_touch(field, surface, &q.cast(), hit.t, eps_f32(zs)) => None,
         _ => Some(right),
     }
 }
@@ -66,7 +74,7 @@ fn run_case<R: Real>(
     specs: &[RaySpec],
     to_q: impl Fn(&RaySpec) -> Query<R>,
 ) -> Tally {
-    run_with(name, field, specs, to_q, |q| {
+    run_with(name, field, TRI, specs, to_q, |q| {
         safety::trace(map, &field.hf(), q)
     })
 }
@@ -80,9 +88,11 @@ fn bake_cc(field: &Field, opts: CcOptions) -> Vec<u8> {
     out
 }
 
+/// Traces every ray of `specs` with `tracer` and judges it on `surface`.
 fn run_with<R: Real>(
     name: &str,
     field: &Field,
+    surface: Surface,
     specs: &[RaySpec],
     to_q: impl Fn(&RaySpec) -> Query<R>,
     tracer: impl Fn(&Query<R>) -> Trace<R>,
@@ -99,11 +109,11 @@ fn run_with<R: Real>(
         );
         t.tried += 1;
         t.hits += u64::from(got.hit.is_some());
-        match judge(field, &got, &q, zs) {
+        match judge(field, surface, &got, &q, zs) {
             None => t.ambiguous += 1,
             Some(true) => {}
             Some(false) => t.wrong(|| {
-                let o = dda::trace(&hf, TRI, &q.cast::<f64>());
+                let o = dda::trace(&hf, surface, &q.cast::<f64>());
                 format!("{q:?} got {:?} oracle {:?}", got.hit, o.hit)
             }),
         }
@@ -158,6 +168,7 @@ fn zero_wrong_rays() {
             let t32 = run_with(
                 &format!("{name} CC {slope:?} f32"),
                 &field,
+                TRI,
                 &specs,
                 |s| s.q32(),
                 |q| cc::trace(&map, &hf, q),
@@ -165,6 +176,7 @@ fn zero_wrong_rays() {
             let t64 = run_with(
                 &format!("{name} CC {slope:?} f64"),
                 &field,
+                TRI,
                 &specs,
                 |s| s.q64(),
                 |q| cc::trace(&map, &hf, q),
@@ -196,6 +208,79 @@ fn zero_wrong_rays() {
         "strictly positive variant (approximate): {positive_wrong} wrong of {positive_tried} rays"
     );
     assert_eq!(wrong, 0, "wrong rays");
+}
+
+/// §7: the maps baked for the triangle surface, marched to the view-linear surface,
+/// against the exact `f64` traversal of that surface.
+#[test]
+fn view_linear_zero_wrong_rays() {
+    let mut rng = Rng::new(7);
+    let mut out = String::new();
+    let (mut wrong, mut tried, mut triangles_wrong) = (0, 0, 0);
+    let vl = MarchSurface::ViewLinear;
+    for (name, field) in fields() {
+        let hf = field.hf();
+        let per_kind = if field.w * field.h > 200 { 200 } else { 40 };
+        let specs = rays(&field, &mut rng, per_kind);
+        let sd = bake(&field, Options::default());
+        let sd = SafetyMap::new(&hf, &sd, Variant::Directional).unwrap();
+        let ccd = bake_cc(&field, CcOptions::default());
+        let ccm = CcMap::new(&hf, &ccd, CcOptions::default().cap).unwrap();
+        let tallies = [
+            run_with(
+                &format!("{name} SD view-linear f32"),
+                &field,
+                VL,
+                &specs,
+                |s| s.q32(),
+                |q| safety::trace_on(&sd, &hf, vl, q),
+            ),
+            run_with(
+                &format!("{name} SD view-linear f64"),
+                &field,
+                VL,
+                &specs,
+                |s| s.q64(),
+                |q| safety::trace_on(&sd, &hf, vl, q),
+            ),
+            run_with(
+                &format!("{name} CC view-linear f32"),
+                &field,
+                VL,
+                &specs,
+                |s| s.q32(),
+                |q| cc::trace_on(&ccm, &hf, vl, q),
+            ),
+            run_with(
+                &format!("{name} CC view-linear f64"),
+                &field,
+                VL,
+                &specs,
+                |s| s.q64(),
+                |q| cc::trace_on(&ccm, &hf, vl, q),
+            ),
+        ];
+        for t in &tallies {
+            wrong += t.wrong;
+            tried += t.tried;
+            t.report(&mut out);
+        }
+        // The test tells the surfaces apart: the triangle march fails it.
+        let tri = run_with(
+            "triangles",
+            &field,
+            VL,
+            &specs,
+            |s| s.q64(),
+            |q| safety::trace(&sd, &hf, q),
+        );
+        triangles_wrong += tri.wrong;
+    }
+    println!("{out}");
+    println!("the triangle march judged on the view-linear surface: {triangles_wrong} wrong");
+    assert!(tried > 10_000, "{tried} rays");
+    assert!(triangles_wrong > 100, "the surfaces should differ");
+    assert_eq!(wrong, 0, "wrong rays on the view-linear surface");
 }
 
 /// Surface clearance of the ray at `t`.

@@ -70,7 +70,10 @@ fn radius_on_every_map() {
                 ),
             };
             let rm = RadiusMap::new(&hf, &data).unwrap();
-            let opts = Options { zero: *zero };
+            let opts = Options {
+                zero: *zero,
+                ..Options::default()
+            };
             let exact = *e == 0.0 && *zero == Zero::Walk;
             let (mut wrong, mut amb, mut h2m, mut m2h, mut early) = (0, 0, 0, 0, 0);
             let (mut n_err, mut sum_err, mut max_err, mut fetches) = (0, 0.0, 0f64, 0u64);

@@ -6,9 +6,11 @@
 
 mod common;
 
-use common::{ambiguity_eps, bake_halves, differs, maps, oracle_traces, test_rays, touch, window};
+use common::{
+    ambiguity_eps, bake_halves, differs, maps, oracle_traces, test_rays, touch, touch_on, window,
+};
 use hfcast::safety::cc::{self, CcMap, CcOptions, Slope};
-use hfcast::safety::{self, Options, SafetyMap, Variant};
+use hfcast::safety::{self, MarchSurface, Options, SafetyMap, Variant};
 use hfcast::{dda, HeightField, Query, Surface};
 use hfcast_tools::maps::load_map;
 
@@ -133,4 +135,63 @@ fn safety_exact_on_every_map() {
         }
     }
     assert_eq!(total_wrong, 0, "wrong rays");
+}
+
+/// §7 on the real maps: the same maps marched to the view-linear surface (directional
+/// SD, CC with N-buffer slopes) against the f64 exact DDA on that surface, depth 0.1.
+#[test]
+fn view_linear_exact_on_every_map() {
+    let vl = Surface::ViewLinear;
+    let mut total_wrong = 0;
+    for info in &maps() {
+        let depth = 0.1 * info.width.max(info.height) as f32;
+        let map = load_map(&info.path, Some(depth)).expect("map loads");
+        let hf = window(&map);
+        let mut scratch = vec![0f32; safety::scratch_len(hf.width(), hf.height())];
+        safety::prepare(&hf, &mut scratch).unwrap();
+        let cap = 16;
+        let mut nb = vec![0f32; cc::nbuffer_len(hf.width(), hf.height(), cap)];
+        cc::prepare_nbuffer(&hf, cap, &mut nb).unwrap();
+        let sd_data = bake(&hf, &scratch, Variant::Directional);
+        let sd = SafetyMap::new(&hf, &sd_data, Variant::Directional).unwrap();
+        let opts = CcOptions {
+            slope: Slope::NBuffer,
+            cap,
+        };
+        let cc_data = bake_cc(&hf, &scratch, &nb, opts);
+        let ccm = CcMap::new(&hf, &cc_data, cap).unwrap();
+        let eps = ambiguity_eps(&hf);
+        let rays = test_rays(&hf);
+        let (mut wrong, mut ambiguous, mut differ_amb) = (0, 0, 0);
+        for q in &rays {
+            let q64 = q.cast::<f64>();
+            let oracle = dda::trace(&hf, vl, &q64);
+            let amb = oracle.clearance.abs() < eps || touch_on(&hf, vl, &q64, &oracle, eps);
+            ambiguous += usize::from(amb);
+            let m = MarchSurface::ViewLinear;
+            let got = [
+                safety::trace_on(&sd, &hf, m, q).hit.is_some(),
+                cc::trace_on(&ccm, &hf, m, q).hit.is_some(),
+            ];
+            let bad = differs(&safety::trace_on(&sd, &hf, m, q), &oracle)
+                || differs(&safety::trace_on(&sd, &hf, m, &q64), &oracle)
+                || differs(&cc::trace_on(&ccm, &hf, m, q), &oracle)
+                || differs(&cc::trace_on(&ccm, &hf, m, &q64), &oracle);
+            differ_amb += usize::from(bad && amb);
+            if bad && !amb {
+                wrong += 1;
+                if wrong <= 3 {
+                    println!("    wrong: {q:?} got {got:?} oracle {:?}", oracle.hit);
+                }
+            }
+        }
+        println!(
+            "{:<34} view-linear  tried {:>5}  wrong {wrong}  ambiguous {ambiguous} (differ \
+             {differ_amb})",
+            info.name,
+            rays.len()
+        );
+        total_wrong += wrong;
+    }
+    assert_eq!(total_wrong, 0, "wrong rays on the view-linear surface");
 }

@@ -57,7 +57,7 @@ use core::ops::Range;
 
 use super::{
     axis_of, cell_tris, extents, march, sample, sigma_of, sign_of, texel_distance, AllRays, Line,
-    RaySet, SafetyError, Sigma, Tri, CLASSES,
+    MarchSurface, RaySet, SafetyError, Sigma, Tri, CLASSES,
 };
 use crate::field::HeightField;
 use crate::math::Real;
@@ -159,18 +159,47 @@ pub fn prepare_nbuffer(hf: &HeightField, cap: u8, nb: &mut [f32]) -> Result<(), 
     Ok(())
 }
 
-/// Highest sample of cell column `c` (axis `ax`) over cross samples `a..=b`.
+/// The N-buffers of one axis, as [`range_max`] reads them (the offsets of
+/// [`nb_index`], computed once).
+#[derive(Clone, Copy)]
+struct NbView<'a> {
+    nb: &'a [f32],
+    /// Index of level 0, column 0, sample 0 of the axis.
+    base: usize,
+    /// Elements per level (`(columns) · ln`).
+    level: usize,
+    /// Elements per column (`ln`).
+    column: usize,
+    /// Highest level.
+    top: u32,
+}
+
+impl<'a> NbView<'a> {
+    fn new(hf: &HeightField, nb: &'a [f32], cap: u8, ax: usize) -> Self {
+        let (lm, ln) = extents(hf, ax);
+        NbView {
+            nb,
+            base: nb_index(hf, cap, ax, 0, 0, 0),
+            level: (lm as usize - 1) * ln as usize,
+            column: ln as usize,
+            top: levels(cap) - 1,
+        }
+    }
+}
+
+/// Highest sample of cell column `c` over cross samples `a..=b` (the view's axis).
 #[inline]
-fn range_max(hf: &HeightField, nb: &[f32], cap: u8, ax: usize, c: u32, a: u32, b: u32) -> f64 {
+fn range_max(v: &NbView, c: u32, a: u32, b: u32) -> f64 {
     let len = b - a + 1;
-    let l = (31 - len.leading_zeros()).min(levels(cap) - 1);
+    let l = (31 - len.leading_zeros()).min(v.top);
     let w = 1u32 << l;
+    let row = v.base + l as usize * v.level + c as usize * v.column;
     // Cover [a, b] with windows of `w` (two when l is the top level and `len ≤ 2w`).
     let mut m = f32::NEG_INFINITY;
     let mut y = a;
     loop {
         let s = y.min(b + 1 - w);
-        m = m.max(nb[nb_index(hf, cap, ax, l, c, s)]);
+        m = m.max(v.nb[row + s as usize]);
         if s + w > b {
             break;
         }
@@ -190,6 +219,9 @@ fn tri_slope(sigma: &Sigma, tri: &Tri, zc: f64) -> f64 {
     for (a, b, c) in planes {
         // keep a·u + b·y + c ≥ 0
         let f = |p: [f64; 2]| a * p[0] + b * p[1] + c;
+        if poly[..n].iter().all(|&p| f(p) >= 0.0) {
+            continue; // nothing clipped: the loop below would copy `poly` as it is
+        }
         let mut out = [[0f64; 2]; 8];
         let mut k = 0;
         for e in 0..n {
@@ -255,8 +287,9 @@ pub fn texel_cone<S: RaySet>(
     // Pass 1: every column's highest sample over its reachable band bounds the slope
     // its triangles can give (`(top − z_c)/u` is largest at a vertex). The N-buffer
     // slope is that bound itself (past column 0).
-    let mut cols = [(f64::NEG_INFINITY, 0u32); 256];
-    let mut count = 0;
+    let nbv = NbView::new(hf, nb, opts.cap, ax);
+    // At most one column per `k < cap ≤ 255`: pushes cannot fail.
+    let mut cols: heapless::Vec<(f64, u32), 256> = heapless::Vec::new();
     for k in u32::from(r)..u32::from(opts.cap) {
         let kf = f64::from(k);
         if hmax - zc <= (s * kf).min(s * capf) {
@@ -273,7 +306,7 @@ pub fn texel_cone<S: RaySet>(
         let cm = cm as u32;
         let l0 = (i64::from(n) - i64::from(k) - 2).max(0) as u32;
         let l1 = (i64::from(n) + i64::from(k) + 1).min(i64::from(ln) - 2) as u32;
-        let top = range_max(hf, nb, opts.cap, ax, cm, l0, l1 + 1) - zc;
+        let top = range_max(&nbv, cm, l0, l1 + 1) - zc;
         let bound = if top <= 0.0 {
             top / (kf + 1.0)
         } else if k == 0 {
@@ -288,19 +321,20 @@ pub fn texel_cone<S: RaySet>(
             s = bound;
             continue;
         }
-        cols[count] = (bound, k);
-        count += 1;
+        cols.push((bound, k)).ok();
     }
     // Pass 2: scan the columns whose bound beats the slope so far, highest bound
     // first, so that the slope rises early and prunes the rest. (Sorted as integer
     // keys: the `f32` bound's order-preserving bits, then the column's index.)
-    let mut keys = [0u64; 256];
-    for (idx, (key, col)) in keys.iter_mut().zip(&cols[..count]).enumerate() {
-        let b = (col.0 as f32).to_bits();
-        let ordered = if b >> 31 == 1 { !b } else { b | 1 << 31 };
-        *key = u64::from(ordered) << 32 | idx as u64;
-    }
-    let keys = &mut keys[..count];
+    let mut keys: heapless::Vec<u64, 256> = cols
+        .iter()
+        .enumerate()
+        .map(|(idx, col)| {
+            let b = (col.0 as f32).to_bits();
+            let ordered = if b >> 31 == 1 { !b } else { b | 1 << 31 };
+            u64::from(ordered) << 32 | idx as u64
+        })
+        .collect();
     keys.sort_unstable();
     for key in keys.iter().rev() {
         let (bound, k) = cols[(*key & 0xffff_ffff) as usize];
@@ -313,13 +347,12 @@ pub fn texel_cone<S: RaySet>(
         let l1 = (i64::from(n) + i64::from(k) + 1).min(i64::from(ln) - 2) as u32;
         let col = Column {
             hf,
-            nb,
+            nb: &nbv,
             rays,
             sigma: &sigma,
             ax,
             sg,
             cm,
-            cap: opts.cap,
             kf,
             zc,
             all: opts.slope == Slope::NBuffer,
@@ -332,16 +365,18 @@ pub fn texel_cone<S: RaySet>(
     (zc, s)
 }
 
+/// Cells per range below which [`Column::scan`] stops halving.
+const FLAT: u32 = 8;
+
 /// One column of cells ahead of a texel, as the exact slope scans it.
 struct Column<'a, S: RaySet> {
     hf: &'a HeightField<'a>,
-    nb: &'a [f32],
+    nb: &'a NbView<'a>,
     rays: &'a S,
     sigma: &'a Sigma,
     ax: usize,
     sg: i64,
     cm: u32,
-    cap: u8,
     kf: f64,
     zc: f64,
     all: bool,
@@ -349,20 +384,35 @@ struct Column<'a, S: RaySet> {
 
 impl<S: RaySet> Column<'_, S> {
     /// Raises `s` over the cells `c0..=c1` of the column, skipping (by halves, with
-    /// the N-buffer) every range whose highest sample cannot raise it.
+    /// the N-buffer) every range whose highest sample cannot raise it. Ranges of
+    /// [`FLAT`] cells or fewer are tested cell by cell, which skips exactly the same
+    /// cells: `s` only rises and `lowest` rises with it, so a cell under a skipped
+    /// range's top is also skipped on its own, and cells are visited in the same order.
     fn scan(&self, c0: u32, c1: u32, s: &mut f64) {
+        if c1 - c0 < FLAT {
+            for c in c0..=c1 {
+                self.cell(c, s);
+            }
+            return;
+        }
         let lowest = (*s * self.kf).min(*s * (self.kf + 1.0));
-        let top = range_max(self.hf, self.nb, self.cap, self.ax, self.cm, c0, c1 + 1) - self.zc;
+        let top = range_max(self.nb, self.cm, c0, c1 + 1) - self.zc;
         if top <= lowest || *s == f64::INFINITY {
             return;
         }
-        if c0 < c1 {
-            let mid = c0 + (c1 - c0) / 2;
-            self.scan(c0, mid, s);
-            self.scan(mid + 1, c1, s);
+        let mid = c0 + (c1 - c0) / 2;
+        self.scan(c0, mid, s);
+        self.scan(mid + 1, c1, s);
+    }
+
+    /// Raises `s` over cell `c` of the column unless its highest corner cannot.
+    fn cell(&self, c: u32, s: &mut f64) {
+        let lowest = (*s * self.kf).min(*s * (self.kf + 1.0));
+        let top = range_max(self.nb, self.cm, c, c + 1) - self.zc;
+        if top <= lowest || *s == f64::INFINITY {
             return;
         }
-        for tri in cell_tris(self.hf, self.sigma, self.ax, self.sg, self.cm, c0) {
+        for tri in cell_tris(self.hf, self.sigma, self.ax, self.sg, self.cm, c) {
             if self.all || self.rays.limiting(self.sigma, &tri) {
                 *s = s.max(tri_slope(self.sigma, &tri, self.zc));
             }
@@ -634,13 +684,24 @@ fn cone_step<R: Real>(map: &CcMap, b: [u8; 4], pz: R, tol: R, sd: R, sd_err: R) 
 /// walked. Upward rays use the same data. The step bound of the shared march flags
 /// [`Flags::BUDGET_EXHAUSTED`](crate::ray::Flags::BUDGET_EXHAUSTED) (never expected).
 pub fn trace<R: Real>(map: &CcMap, hf: &HeightField, q: &Query<R>) -> Trace<R> {
+    trace_on(map, hf, MarchSurface::Triangles, q)
+}
+
+/// [`trace`] finishing on `surface` (the same map bounds the view-linear surface:
+/// see [`MarchSurface`]).
+pub fn trace_on<R: Real>(
+    map: &CcMap,
+    hf: &HeightField,
+    surface: MarchSurface,
+    q: &Query<R>,
+) -> Trace<R> {
     let d = q.dir();
     let class = RayClass::of(d[0], d[1]);
     let ax = axis_of(class);
     let dm = d[ax].abs();
     let sd = if dm > R::ZERO { d[2] / dm } else { R::ZERO };
     let sd_err = R::from_f32(2.0) * R::EPSILON * sd.abs();
-    march(hf, q, |l: &Line<R>, class, i, j| {
+    march(hf, surface, q, |l: &Line<R>, class, i, j| {
         cone_step(map, map.texel(class, i, j), l.p[2], l.tol, sd, sd_err)
     })
 }

@@ -276,7 +276,10 @@ impl Case {
         let cone_map = ConeMap::new(&hf, &scene.cone).expect("cone map");
         let qdm_map = QdmMap::new(&hf, &scene.qdm).expect("qdm map");
         let radius_map = RadiusMap::new(&hf, &scene.radius).expect("radius map");
-        let radius_opts = radius::Options { zero: self.zero() };
+        let radius_opts = radius::Options {
+            zero: self.zero(),
+            ..radius::Options::default()
+        };
         let trace = |q: &Query<f32>| match self.method {
             MethodKind::Exact => hfcast::Method::Exact.trace(&hf, self.surface, q),
             MethodKind::LinearBinary => {

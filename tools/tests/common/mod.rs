@@ -77,6 +77,17 @@ pub fn differs<R: Real>(a: &Trace<R>, oracle: &Trace<f64>) -> bool {
 /// The oracle's hit is a touch: the ray meets the triangle surface without going
 /// under it.
 pub fn touch(hf: &HeightField, q: &Query<f64>, oracle: &Trace<f64>, eps: f64) -> bool {
+    touch_on(hf, Surface::Triangles, q, oracle, eps)
+}
+
+/// [`touch`] on `surface`.
+pub fn touch_on(
+    hf: &HeightField,
+    surface: Surface,
+    q: &Query<f64>,
+    oracle: &Trace<f64>,
+    eps: f64,
+) -> bool {
     let Some(hit) = oracle.hit else {
         return false;
     };
@@ -84,7 +95,7 @@ pub fn touch(hf: &HeightField, q: &Query<f64>, oracle: &Trace<f64>, eps: f64) ->
     let len = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
     [1e-4, 1e-3, 1e-2].iter().all(|s| {
         let p = q.at(hit.t + s / len);
-        p[2] - Surface::Triangles.height_at(hf, p[0], p[1]) >= -eps
+        p[2] - surface.height_at(hf, p[0], p[1]) >= -eps
     })
 }
 
