@@ -95,7 +95,7 @@ pub trait Real:
 }
 
 macro_rules! impl_real {
-    ($t:ty, $v3:ty, $floor:path, $sqrt:path) => {
+    ($t:ty, $v3:ty, $int:ty, $sqrt:path) => {
         impl Real for $t {
             type V3 = $v3;
             const ZERO: Self = 0.0;
@@ -123,9 +123,27 @@ macro_rules! impl_real {
             fn from_u32(v: u32) -> Self {
                 v as $t
             }
+            /// By truncation through an integer, without a call into `libm`; the
+            /// same value as `libm`'s floor for every input: at and beyond
+            /// `2^(mantissa bits)` every value is integral (returned as is, as are
+            /// NaN and ±∞), below it truncation is exact; integral values (`−0.0`
+            /// included) come back unchanged, negative others one lower.
             #[inline]
             fn floor(self) -> Self {
-                $floor(self)
+                const INTEGRAL: $t = (1u64 << (<$t>::MANTISSA_DIGITS - 1)) as $t;
+                // NaN and ±∞ fail the test too.
+                let small = self.abs() < INTEGRAL;
+                if !small {
+                    return self;
+                }
+                let t = self as $int as $t;
+                if t == self {
+                    self
+                } else if self < 0.0 {
+                    t - 1.0
+                } else {
+                    t
+                }
             }
             #[inline]
             fn sqrt(self) -> Self {
@@ -147,12 +165,58 @@ macro_rules! impl_real {
     };
 }
 
-impl_real!(f32, glam::Vec3, libm::floorf, libm::sqrtf);
-impl_real!(f64, glam::DVec3, libm::floor, libm::sqrt);
+impl_real!(f32, glam::Vec3, i32, libm::sqrtf);
+impl_real!(f64, glam::DVec3, i64, libm::sqrt);
 
 /// Unit normal of the height function with gradient `(gx, gy)`: `(−gx, −gy, 1) / |…|`.
 #[inline]
 pub fn normal_from_gradient<R: Real>(gx: R, gy: R) -> [R; 3] {
     let len = (gx * gx + gy * gy + R::ONE).sqrt();
     [-gx / len, -gy / len, R::ONE / len]
+}
+
+#[cfg(test)]
+mod tests {
+    use super::Real;
+
+    /// The shim's floor equals `libm`'s bit for bit: edge values and a sweep of bit
+    /// patterns (every exponent, both signs, NaN and infinities included).
+    #[test]
+    fn floor_is_libm_floor() {
+        let edges: [f32; 10] = [
+            0.0, -0.0, 0.5, -0.5, 1.0, -1.0, 1.5, -1.5, 8388607.5, -8388607.5,
+        ];
+        for v in edges {
+            assert_eq!(
+                <f32 as Real>::floor(v).to_bits(),
+                libm::floorf(v).to_bits(),
+                "{v}"
+            );
+            let d = f64::from(v);
+            assert_eq!(
+                <f64 as Real>::floor(d).to_bits(),
+                libm::floor(d).to_bits(),
+                "{d}"
+            );
+        }
+        let mut x = 0x9e37_79b9_7f4a_7c15u64;
+        for _ in 0..2_000_000 {
+            x ^= x << 13;
+            x ^= x >> 7;
+            x ^= x << 17;
+            let f = f32::from_bits(x as u32);
+            let a = Real::floor(f);
+            let b = libm::floorf(f);
+            assert!(
+                a.to_bits() == b.to_bits() || (a.is_nan() && b.is_nan()),
+                "{f:e}"
+            );
+            let d = f64::from_bits(x);
+            let (a, b) = (Real::floor(d), libm::floor(d));
+            assert!(
+                a.to_bits() == b.to_bits() || (a.is_nan() && b.is_nan()),
+                "{d:e}"
+            );
+        }
+    }
 }
