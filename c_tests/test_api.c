@@ -65,6 +65,40 @@ static hf_ray ray(float ox, float oy, float oz, float dx, float dy, float dz) {
     return r;
 }
 
+/* Rays of `got` that agree with `want`: same hit or miss, points within 1e-3. */
+static int agreeing(const hf_hit *want, const hf_hit *got, int n) {
+    int same = 0;
+    for (int k = 0; k < n; k++)
+        same += want[k].hit == got[k].hit &&
+                (!want[k].hit || (near(want[k].point[0], got[k].point[0], 1e-3f) &&
+                                  near(want[k].point[1], got[k].point[1], 1e-3f) &&
+                                  near(want[k].point[2], got[k].point[2], 1e-3f)));
+    return same;
+}
+
+/* The view-linear surface (Baboud et al. §7) from maps baked for triangles: `trace`
+ * fills `out` for all `n` rays on `surface`; on the view-linear surface it must give
+ * the exact method's hits there, which differ from the triangle surface's. */
+static int view_linear_agrees(hf_field *f, const hf_ray *rays, int n, hf_hit *out,
+                              hf_result (*trace)(void *, uint32_t, const hf_ray *, int,
+                                                 hf_hit *),
+                              void *ctx) {
+    hf_hit *tri = (hf_hit *)malloc(sizeof(hf_hit) * n);
+    hf_hit *vl = (hf_hit *)malloc(sizeof(hf_hit) * n);
+    CHECK_OK(hf_trace_exact_batch(f, HF_SURFACE_TRIANGLES, rays, n, tri, n));
+    CHECK_OK(hf_trace_exact_batch(f, HF_SURFACE_VIEW_LINEAR, rays, n, vl, n));
+    CHECK_OK(trace(ctx, HF_SURFACE_VIEW_LINEAR, rays, n, out));
+    int same = agreeing(vl, out, n);
+    CHECK(same == n);
+    CHECK(agreeing(tri, vl, n) < n);
+    /* Surfaces the maps do not bound are refused; unknown ones are bad enums. */
+    CHECK(trace(ctx, HF_SURFACE_BILINEAR, rays, n, out) == HF_ERR_INVALID_ARGUMENT);
+    CHECK(trace(ctx, 99, rays, n, out) == HF_ERR_INVALID_ENUM);
+    free(tri);
+    free(vl);
+    return same;
+}
+
 /* ---- version and messages ---------------------------------------------------- */
 
 static void test_version_and_messages(void) {
@@ -611,6 +645,34 @@ static void test_bake_and_update(void) {
 
 /* ---- safety distances -------------------------------------------------------------- */
 
+/* A map and its field (and the cylinder–cone reach), for the view-linear
+ * trampolines below. */
+struct safety_ctx {
+    hf_field *f;
+    const unsigned char *map;
+    size_t len;
+    uint32_t cap;
+};
+
+static hf_result trace_safety_vl(void *ctx, uint32_t surface, const hf_ray *rays, int n,
+                                 hf_hit *out) {
+    struct safety_ctx *c = (struct safety_ctx *)ctx;
+    return hf_trace_safety_on_batch(c->f, c->map, c->len, 0, surface, rays, n, out, n);
+}
+
+static hf_result trace_cc_vl(void *ctx, uint32_t surface, const hf_ray *rays, int n,
+                             hf_hit *out) {
+    struct safety_ctx *c = (struct safety_ctx *)ctx;
+    return hf_trace_cc_on_batch(c->f, c->map, c->len, c->cap, surface, rays, n, out, n);
+}
+
+static hf_result trace_radius_vl(void *ctx, uint32_t surface, const hf_ray *rays, int n,
+                                 hf_hit *out) {
+    struct safety_ctx *c = (struct safety_ctx *)ctx;
+    return hf_trace_radius_on_batch(c->f, c->map, c->len, HF_RADIUS_WALK, surface, rays, n, out,
+                                    n);
+}
+
 static void test_safety(void) {
     enum { W = 41, H = 29, N = 3000 };
     float *heights = (float *)malloc(sizeof(float) * W * H);
@@ -733,6 +795,12 @@ static void test_safety(void) {
     CHECK(same[0] == N && same[1] == N);
     printf("safety: %d rays, %d exact hits; directional agrees on %d, isotropic on %d\n", N, hits,
            same[0], same[1]);
+    struct safety_ctx sctx = {f, dmap, dlen, 0};
+    int vl = view_linear_agrees(f, rays, N, sd, trace_safety_vl, &sctx);
+    hf_hit one_vl;
+    CHECK_OK(hf_trace_safety_on(f, dmap, dlen, 0, HF_SURFACE_VIEW_LINEAR, &rays[7], &one_vl));
+    CHECK(memcmp(&one_vl, &sd[7], sizeof one_vl) == 0);
+    printf("safety on the view-linear surface: agrees on %d of %d\n", vl, N);
 
     /* Bad trace inputs. */
     hf_hit h;
@@ -864,6 +932,13 @@ static void test_radius(void) {
         CHECK(memcmp(&one, &rd[7], sizeof one) == 0);
     }
     printf("radius: %d rays, %d exact hits; walk agrees on %d\n", N, hits, same);
+    struct safety_ctx rctx = {f, map, len, 0};
+    int vl = view_linear_agrees(f, rays, N, rd, trace_radius_vl, &rctx);
+    hf_hit one_vl;
+    CHECK_OK(hf_trace_radius_on(f, map, len, HF_RADIUS_WALK, HF_SURFACE_VIEW_LINEAR, &rays[7],
+                                &one_vl));
+    CHECK(memcmp(&one_vl, &rd[7], sizeof one_vl) == 0);
+    printf("radius on the view-linear surface: agrees on %d of %d\n", vl, N);
 
     /* Bad trace inputs. */
     hf_hit h;
@@ -1161,6 +1236,9 @@ static void test_cc(void) {
     CHECK(same[0] == N && same[1] == N);
     printf("cc: %d rays, %d exact hits; exact slopes agree on %d, n-buffer slopes on %d\n", N, hits,
            same[0], same[1]);
+    struct safety_ctx cctx = {f, map, mlen, CAP};
+    int vl = view_linear_agrees(f, rays, N, cc, trace_cc_vl, &cctx);
+    printf("cc on the view-linear surface: agrees on %d of %d\n", vl, N);
     hf_hit one, h;
     CHECK_OK(hf_trace_cc(f, map, mlen, CAP, &rays[5], &one));
     CHECK_OK(hf_trace_cc_batch(f, map, mlen, CAP, &rays[5], 1, &h, 1));

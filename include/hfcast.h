@@ -682,6 +682,23 @@ hf_result hf_trace_cc(const struct hf_field *field,
 #endif
 
 #if defined(HF_HAVE_SAFETY)
+// `hf_trace_cc` finishing on `surface` (an `hf_surface`): `HF_SURFACE_TRIANGLES`, or
+// `HF_SURFACE_VIEW_LINEAR` (Baboud et al. §7), whose hit is then that of
+// `hf_trace_exact` on the view-linear surface, from the same map. Other surfaces:
+// `HF_ERR_INVALID_ARGUMENT`. Thread safe.
+//
+// # Safety
+// As `hf_trace_cc`.
+hf_result hf_trace_cc_on(const struct hf_field *field,
+                         const uint8_t *map,
+                         size_t map_len,
+                         uint32_t cap,
+                         uint32_t surface,
+                         const struct hf_ray *ray,
+                         struct hf_hit *out_hit);
+#endif
+
+#if defined(HF_HAVE_SAFETY)
 // `hf_trace_cc` for a batch, with the conventions of `hf_trace_exact_batch`.
 // Thread safe.
 //
@@ -696,6 +713,23 @@ hf_result hf_trace_cc_batch(const struct hf_field *field,
                             size_t rays_len,
                             struct hf_hit *out_hits,
                             size_t out_hits_len);
+#endif
+
+#if defined(HF_HAVE_SAFETY)
+// `hf_trace_cc_on` for a batch, with the conventions of `hf_trace_exact_batch`.
+// Thread safe.
+//
+// # Safety
+// As `hf_trace_cc_batch`.
+hf_result hf_trace_cc_on_batch(const struct hf_field *field,
+                               const uint8_t *map,
+                               size_t map_len,
+                               uint32_t cap,
+                               uint32_t surface,
+                               const struct hf_ray *rays,
+                               size_t rays_len,
+                               struct hf_hit *out_hits,
+                               size_t out_hits_len);
 #endif
 
 #if defined(HF_HAVE_CONE)
@@ -1237,6 +1271,23 @@ hf_result hf_trace_radius(const struct hf_field *field,
 #endif
 
 #if defined(HF_HAVE_SAFETY)
+// `hf_trace_radius` finishing on `surface` (an `hf_surface`): `HF_SURFACE_TRIANGLES`,
+// or `HF_SURFACE_VIEW_LINEAR` (Baboud et al. 2011 §7), whose hit is then (exact map,
+// `HF_RADIUS_WALK`) that of `hf_trace_exact` on the view-linear surface, from the
+// same map. Other surfaces: `HF_ERR_INVALID_ARGUMENT`. Thread safe.
+//
+// # Safety
+// As `hf_trace_radius`.
+hf_result hf_trace_radius_on(const struct hf_field *field,
+                             const uint8_t *map,
+                             size_t map_len,
+                             uint32_t zero,
+                             uint32_t surface,
+                             const struct hf_ray *ray,
+                             struct hf_hit *out_hit);
+#endif
+
+#if defined(HF_HAVE_SAFETY)
 // `hf_trace_radius` for a batch, with the conventions of `hf_trace_exact_batch`
 // (every ray checked first; an error writes nothing). Thread safe.
 //
@@ -1251,6 +1302,23 @@ hf_result hf_trace_radius_batch(const struct hf_field *field,
                                 size_t rays_len,
                                 struct hf_hit *out_hits,
                                 size_t out_hits_len);
+#endif
+
+#if defined(HF_HAVE_SAFETY)
+// `hf_trace_radius_on` for a batch, with the conventions of `hf_trace_exact_batch`.
+// Thread safe.
+//
+// # Safety
+// As `hf_trace_radius_batch`.
+hf_result hf_trace_radius_on_batch(const struct hf_field *field,
+                                   const uint8_t *map,
+                                   size_t map_len,
+                                   uint32_t zero,
+                                   uint32_t surface,
+                                   const struct hf_ray *rays,
+                                   size_t rays_len,
+                                   struct hf_hit *out_hits,
+                                   size_t out_hits_len);
 #endif
 
 #if defined(HF_HAVE_SAFETY)
@@ -1384,6 +1452,23 @@ hf_result hf_trace_safety(const struct hf_field *field,
 #endif
 
 #if defined(HF_HAVE_SAFETY)
+// `hf_trace_safety` finishing on `surface` (an `hf_surface`): `HF_SURFACE_TRIANGLES`,
+// or `HF_SURFACE_VIEW_LINEAR` (Baboud et al. §7), whose hit is then that of
+// `hf_trace_exact` on the view-linear surface, from the same map. Other surfaces:
+// `HF_ERR_INVALID_ARGUMENT`. Thread safe.
+//
+// # Safety
+// As `hf_trace_safety`.
+hf_result hf_trace_safety_on(const struct hf_field *field,
+                             const uint8_t *map,
+                             size_t map_len,
+                             uint32_t variant,
+                             uint32_t surface,
+                             const struct hf_ray *ray,
+                             struct hf_hit *out_hit);
+#endif
+
+#if defined(HF_HAVE_SAFETY)
 // `hf_trace_safety` for `rays_len ≥ 1` rays, with the conventions of
 // `hf_trace_exact_batch` (every ray checked first; an error writes nothing).
 // Thread safe.
@@ -1399,6 +1484,23 @@ hf_result hf_trace_safety_batch(const struct hf_field *field,
                                 size_t rays_len,
                                 struct hf_hit *out_hits,
                                 size_t out_hits_len);
+#endif
+
+#if defined(HF_HAVE_SAFETY)
+// `hf_trace_safety_on` for a batch, with the conventions of `hf_trace_exact_batch`.
+// Thread safe.
+//
+// # Safety
+// As `hf_trace_safety_batch`.
+hf_result hf_trace_safety_on_batch(const struct hf_field *field,
+                                   const uint8_t *map,
+                                   size_t map_len,
+                                   uint32_t variant,
+                                   uint32_t surface,
+                                   const struct hf_ray *rays,
+                                   size_t rays_len,
+                                   struct hf_hit *out_hits,
+                                   size_t out_hits_len);
 #endif
 
 // Writes the general scene of `method` on `surface` to `*out`: every ray class,

@@ -3,10 +3,11 @@
 //! the march, for the triangle surface.
 
 use crate::hf_result::{self, *};
+use crate::safety::trace_inputs;
 use crate::scene::{classes_of, HF_RAYS_ALL};
-use crate::trace::{batch, hf_hit, hf_ray, one, pyramid_slice};
+use crate::trace::{batch, hf_hit, hf_ray, one};
 use crate::{check_size, size_query};
-use crate::{guard, hf_field, par, ptr};
+use crate::{guard, hf_field, hf_surface, par, ptr};
 use hfcore::safety::cc::{self, CcMap, CcOptions, Slope};
 use hfcore::safety::{self, SafetyError};
 
@@ -323,9 +324,31 @@ pub unsafe extern "C" fn hf_trace_cc(
     ray: *const hf_ray,
     out_hit: *mut hf_hit,
 ) -> hf_result {
+    let tri = hf_surface::HF_SURFACE_TRIANGLES as u32;
+    // SAFETY: the caller's promises, passed on.
+    unsafe { hf_trace_cc_on(field, map, map_len, cap, tri, ray, out_hit) }
+}
+
+/// `hf_trace_cc` finishing on `surface` (an `hf_surface`): `HF_SURFACE_TRIANGLES`, or
+/// `HF_SURFACE_VIEW_LINEAR` (Baboud et al. §7), whose hit is then that of
+/// `hf_trace_exact` on the view-linear surface, from the same map. Other surfaces:
+/// `HF_ERR_INVALID_ARGUMENT`. Thread safe.
+///
+/// # Safety
+/// As `hf_trace_cc`.
+#[no_mangle]
+pub unsafe extern "C" fn hf_trace_cc_on(
+    field: *const hf_field,
+    map: *const u8,
+    map_len: usize,
+    cap: u32,
+    surface: u32,
+    ray: *const hf_ray,
+    out_hit: *mut hf_hit,
+) -> hf_result {
     // SAFETY: the caller's promise, passed on.
-    let data = match unsafe { pyramid_slice(map, map_len) } {
-        Ok(d) => d,
+    let (data, surface) = match unsafe { trace_inputs(map, map_len, surface) } {
+        Ok(v) => v,
         Err(e) => return e,
     };
     // SAFETY: the caller's promises, passed on.
@@ -335,7 +358,7 @@ pub unsafe extern "C" fn hf_trace_cc(
             ray,
             out_hit,
             |hf| Ok(CcMap::new(hf, data, cap_of(cap)?)?),
-            |hf, m, q| cc::trace(m, hf, q),
+            |hf, m, q| cc::trace_on(m, hf, surface, q),
         )
     }
 }
@@ -358,9 +381,44 @@ pub unsafe extern "C" fn hf_trace_cc_batch(
     out_hits: *mut hf_hit,
     out_hits_len: usize,
 ) -> hf_result {
+    let tri = hf_surface::HF_SURFACE_TRIANGLES as u32;
+    // SAFETY: the caller's promises, passed on.
+    unsafe {
+        hf_trace_cc_on_batch(
+            field,
+            map,
+            map_len,
+            cap,
+            tri,
+            rays,
+            rays_len,
+            out_hits,
+            out_hits_len,
+        )
+    }
+}
+
+/// `hf_trace_cc_on` for a batch, with the conventions of `hf_trace_exact_batch`.
+/// Thread safe.
+///
+/// # Safety
+/// As `hf_trace_cc_batch`.
+#[no_mangle]
+#[allow(clippy::too_many_arguments)]
+pub unsafe extern "C" fn hf_trace_cc_on_batch(
+    field: *const hf_field,
+    map: *const u8,
+    map_len: usize,
+    cap: u32,
+    surface: u32,
+    rays: *const hf_ray,
+    rays_len: usize,
+    out_hits: *mut hf_hit,
+    out_hits_len: usize,
+) -> hf_result {
     // SAFETY: the caller's promise, passed on.
-    let data = match unsafe { pyramid_slice(map, map_len) } {
-        Ok(d) => d,
+    let (data, surface) = match unsafe { trace_inputs(map, map_len, surface) } {
+        Ok(v) => v,
         Err(e) => return e,
     };
     // SAFETY: the caller's promises, passed on.
@@ -372,7 +430,7 @@ pub unsafe extern "C" fn hf_trace_cc_batch(
             out_hits,
             out_hits_len,
             |hf| Ok(CcMap::new(hf, data, cap_of(cap)?)?),
-            |hf, m, q| cc::trace(m, hf, q),
+            |hf, m, q| cc::trace_on(m, hf, surface, q),
         )
     }
 }

@@ -5,8 +5,8 @@
 use crate::hf_result::{self, *};
 use crate::safety;
 use crate::size_query;
-use crate::trace::{batch, hf_hit, hf_ray, one, pyramid_slice};
-use crate::{guard, hf_field, par, ptr};
+use crate::trace::{batch, hf_hit, hf_ray, one};
+use crate::{guard, hf_field, hf_surface, par, ptr};
 use hfcore::radius::{self, BakeOptions, Options, RadiusMap, Zero};
 use hfcore::HeightField;
 
@@ -205,10 +205,17 @@ unsafe fn trace_inputs<'a>(
     map: *const u8,
     map_len: usize,
     zero: u32,
+    surface: u32,
 ) -> Result<(&'a [u8], Options), hf_result> {
     // SAFETY: the caller's promise.
-    let data = unsafe { pyramid_slice(map, map_len) }?;
-    Ok((data, zero_of(zero)?))
+    let (data, surface) = unsafe { safety::trace_inputs(map, map_len, surface) }?;
+    Ok((
+        data,
+        Options {
+            surface,
+            ..zero_of(zero)?
+        },
+    ))
 }
 
 /// Traces one ray on the triangle surface with the radii `map` (baked for this field
@@ -232,8 +239,30 @@ pub unsafe extern "C" fn hf_trace_radius(
     ray: *const hf_ray,
     out_hit: *mut hf_hit,
 ) -> hf_result {
+    let tri = hf_surface::HF_SURFACE_TRIANGLES as u32;
+    // SAFETY: the caller's promises, passed on.
+    unsafe { hf_trace_radius_on(field, map, map_len, zero, tri, ray, out_hit) }
+}
+
+/// `hf_trace_radius` finishing on `surface` (an `hf_surface`): `HF_SURFACE_TRIANGLES`,
+/// or `HF_SURFACE_VIEW_LINEAR` (Baboud et al. 2011 §7), whose hit is then (exact map,
+/// `HF_RADIUS_WALK`) that of `hf_trace_exact` on the view-linear surface, from the
+/// same map. Other surfaces: `HF_ERR_INVALID_ARGUMENT`. Thread safe.
+///
+/// # Safety
+/// As `hf_trace_radius`.
+#[no_mangle]
+pub unsafe extern "C" fn hf_trace_radius_on(
+    field: *const hf_field,
+    map: *const u8,
+    map_len: usize,
+    zero: u32,
+    surface: u32,
+    ray: *const hf_ray,
+    out_hit: *mut hf_hit,
+) -> hf_result {
     // SAFETY: the caller's promise, passed on.
-    let (data, opts) = match unsafe { trace_inputs(map, map_len, zero) } {
+    let (data, opts) = match unsafe { trace_inputs(map, map_len, zero, surface) } {
         Ok(v) => v,
         Err(e) => return e,
     };
@@ -267,8 +296,43 @@ pub unsafe extern "C" fn hf_trace_radius_batch(
     out_hits: *mut hf_hit,
     out_hits_len: usize,
 ) -> hf_result {
+    let tri = hf_surface::HF_SURFACE_TRIANGLES as u32;
+    // SAFETY: the caller's promises, passed on.
+    unsafe {
+        hf_trace_radius_on_batch(
+            field,
+            map,
+            map_len,
+            zero,
+            tri,
+            rays,
+            rays_len,
+            out_hits,
+            out_hits_len,
+        )
+    }
+}
+
+/// `hf_trace_radius_on` for a batch, with the conventions of `hf_trace_exact_batch`.
+/// Thread safe.
+///
+/// # Safety
+/// As `hf_trace_radius_batch`.
+#[no_mangle]
+#[allow(clippy::too_many_arguments)]
+pub unsafe extern "C" fn hf_trace_radius_on_batch(
+    field: *const hf_field,
+    map: *const u8,
+    map_len: usize,
+    zero: u32,
+    surface: u32,
+    rays: *const hf_ray,
+    rays_len: usize,
+    out_hits: *mut hf_hit,
+    out_hits_len: usize,
+) -> hf_result {
     // SAFETY: the caller's promise, passed on.
-    let (data, opts) = match unsafe { trace_inputs(map, map_len, zero) } {
+    let (data, opts) = match unsafe { trace_inputs(map, map_len, zero, surface) } {
         Ok(v) => v,
         Err(e) => return e,
     };

@@ -5,8 +5,8 @@ use crate::hf_result::{self, *};
 use crate::scene::{classes_of, HF_RAYS_ALL};
 use crate::trace::{batch, hf_hit, hf_ray, one, pyramid_slice};
 use crate::{check_size, size_query};
-use crate::{guard, hf_field, par, ptr};
-use hfcore::safety::{self, AllRays, Options, SafetyError, SafetyMap, Variant};
+use crate::{guard, hf_field, hf_surface, par, ptr};
+use hfcore::safety::{self, AllRays, MarchSurface, Options, SafetyError, SafetyMap, Variant};
 use hfcore::HeightField;
 
 /// Layout of a safety-distance map. Passed as `uint32_t`.
@@ -295,6 +295,14 @@ fn map_of<'a>(hf: &HeightField, data: &'a [u8], variant: u32) -> Result<SafetyMa
     Ok(SafetyMap::new(hf, data, variant_of(variant)?)?)
 }
 
+/// Checks the surface (an `hf_surface`, as `uint32_t`) a safety-shape march finishes
+/// on: `HF_SURFACE_TRIANGLES` or `HF_SURFACE_VIEW_LINEAR` (the maps bound both);
+/// another surface is `HF_ERR_INVALID_ARGUMENT`, an unknown value
+/// `HF_ERR_INVALID_ENUM`.
+pub(crate) fn march_surface_of(v: u32) -> Result<MarchSurface, hf_result> {
+    MarchSurface::of(crate::surface_of(v)?).ok_or(HF_ERR_INVALID_ARGUMENT)
+}
+
 /// Traces one ray on the triangle surface with the safety distances `map` (baked for
 /// this field by `hf_safety_bake`, `map_len ≥ hf_safety_map_len`, layout `variant`):
 /// exact, the hit of `hf_trace_exact` with `HF_SURFACE_TRIANGLES` (up to rounding on
@@ -315,9 +323,31 @@ pub unsafe extern "C" fn hf_trace_safety(
     ray: *const hf_ray,
     out_hit: *mut hf_hit,
 ) -> hf_result {
+    let tri = hf_surface::HF_SURFACE_TRIANGLES as u32;
+    // SAFETY: the caller's promises, passed on.
+    unsafe { hf_trace_safety_on(field, map, map_len, variant, tri, ray, out_hit) }
+}
+
+/// `hf_trace_safety` finishing on `surface` (an `hf_surface`): `HF_SURFACE_TRIANGLES`,
+/// or `HF_SURFACE_VIEW_LINEAR` (Baboud et al. §7), whose hit is then that of
+/// `hf_trace_exact` on the view-linear surface, from the same map. Other surfaces:
+/// `HF_ERR_INVALID_ARGUMENT`. Thread safe.
+///
+/// # Safety
+/// As `hf_trace_safety`.
+#[no_mangle]
+pub unsafe extern "C" fn hf_trace_safety_on(
+    field: *const hf_field,
+    map: *const u8,
+    map_len: usize,
+    variant: u32,
+    surface: u32,
+    ray: *const hf_ray,
+    out_hit: *mut hf_hit,
+) -> hf_result {
     // SAFETY: the caller's promise, passed on.
-    let data = match unsafe { pyramid_slice(map, map_len) } {
-        Ok(d) => d,
+    let (data, surface) = match unsafe { trace_inputs(map, map_len, surface) } {
+        Ok(v) => v,
         Err(e) => return e,
     };
     // SAFETY: the caller's promises, passed on.
@@ -327,9 +357,23 @@ pub unsafe extern "C" fn hf_trace_safety(
             ray,
             out_hit,
             |hf| map_of(hf, data, variant),
-            |hf, m, q| safety::trace(m, hf, q),
+            |hf, m, q| safety::trace_on(m, hf, surface, q),
         )
     }
+}
+
+/// The map slice and the march surface of a trace call, checked.
+///
+/// # Safety
+/// `map` NULL or valid for reading `map_len` bytes.
+pub(crate) unsafe fn trace_inputs<'a, T>(
+    map: *const T,
+    map_len: usize,
+    surface: u32,
+) -> Result<(&'a [T], MarchSurface), hf_result> {
+    // SAFETY: the caller's promise.
+    let data = unsafe { pyramid_slice(map, map_len) }?;
+    Ok((data, march_surface_of(surface)?))
 }
 
 /// `hf_trace_safety` for `rays_len ≥ 1` rays, with the conventions of
@@ -351,9 +395,44 @@ pub unsafe extern "C" fn hf_trace_safety_batch(
     out_hits: *mut hf_hit,
     out_hits_len: usize,
 ) -> hf_result {
+    let tri = hf_surface::HF_SURFACE_TRIANGLES as u32;
+    // SAFETY: the caller's promises, passed on.
+    unsafe {
+        hf_trace_safety_on_batch(
+            field,
+            map,
+            map_len,
+            variant,
+            tri,
+            rays,
+            rays_len,
+            out_hits,
+            out_hits_len,
+        )
+    }
+}
+
+/// `hf_trace_safety_on` for a batch, with the conventions of `hf_trace_exact_batch`.
+/// Thread safe.
+///
+/// # Safety
+/// As `hf_trace_safety_batch`.
+#[no_mangle]
+#[allow(clippy::too_many_arguments)]
+pub unsafe extern "C" fn hf_trace_safety_on_batch(
+    field: *const hf_field,
+    map: *const u8,
+    map_len: usize,
+    variant: u32,
+    surface: u32,
+    rays: *const hf_ray,
+    rays_len: usize,
+    out_hits: *mut hf_hit,
+    out_hits_len: usize,
+) -> hf_result {
     // SAFETY: the caller's promise, passed on.
-    let data = match unsafe { pyramid_slice(map, map_len) } {
-        Ok(d) => d,
+    let (data, surface) = match unsafe { trace_inputs(map, map_len, surface) } {
+        Ok(v) => v,
         Err(e) => return e,
     };
     // SAFETY: the caller's promises, passed on.
@@ -365,7 +444,7 @@ pub unsafe extern "C" fn hf_trace_safety_batch(
             out_hits,
             out_hits_len,
             |hf| map_of(hf, data, variant),
-            |hf, m, q| safety::trace(m, hf, q),
+            |hf, m, q| safety::trace_on(m, hf, surface, q),
         )
     }
 }
