@@ -165,11 +165,14 @@ static method_cfg cfg_of(uint32_t method, uint32_t surface) {
     return c;
 }
 
+/* Most configurations search_to_cc_cfgs adds: 11, and 2 variants. */
+enum { SEARCH_TO_CC_CFGS = 13 };
+
 /* Appends to `out[n..]` the parity configurations that follow exact traversal and
  * maximum mipmaps: linear + binary search on triangles and bilinear, linear + secant,
  * safety (then its isotropic layout when `variants`), cones, QDM, cylinder-cones and
- * safety radii (then zero radii clamped when `variants`) on triangles. Returns the new
- * count. */
+ * safety radii (then zero radii clamped when `variants`) on triangles, then safety,
+ * cylinder-cones and radii on the view-linear surface. Returns the new count. */
 static int search_to_cc_cfgs(method_cfg *out, int n, int variants) {
     static const uint32_t list[][2] = {
         {HF_METHOD_LINEAR_BINARY, HF_SURFACE_TRIANGLES},
@@ -180,14 +183,20 @@ static int search_to_cc_cfgs(method_cfg *out, int n, int variants) {
         {HF_METHOD_QDM, HF_SURFACE_TRIANGLES},
         {HF_METHOD_CC, HF_SURFACE_TRIANGLES},
         {HF_METHOD_RADIUS, HF_SURFACE_TRIANGLES},
+        /* The same maps finishing on the view-linear surface (Baboud et al. §7). */
+        {HF_METHOD_SAFETY, HF_SURFACE_VIEW_LINEAR},
+        {HF_METHOD_CC, HF_SURFACE_VIEW_LINEAR},
+        {HF_METHOD_RADIUS, HF_SURFACE_VIEW_LINEAR},
     };
+    _Static_assert(sizeof list / sizeof list[0] + 2 <= SEARCH_TO_CC_CFGS, "callers' arrays");
     for (size_t k = 0; k < sizeof list / sizeof list[0]; k++) {
         out[n++] = cfg_of(list[k][0], list[k][1]);
-        if (variants && list[k][0] == HF_METHOD_SAFETY) {
+        int tri = list[k][1] == HF_SURFACE_TRIANGLES;
+        if (variants && tri && list[k][0] == HF_METHOD_SAFETY) {
             out[n] = out[n - 1];
             out[n++].variant = HF_SAFETY_ISOTROPIC;
         }
-        if (variants && list[k][0] == HF_METHOD_RADIUS) {
+        if (variants && tri && list[k][0] == HF_METHOD_RADIUS) {
             out[n] = out[n - 1];
             out[n++].zero = HF_RADIUS_CLAMP;
         }
@@ -313,7 +322,7 @@ static void parity_map(map_job *j, int w, int h, void *ctx) {
     tally *t = (tally *)ctx;
     frame f;
     frame_alloc(&f, w, h);
-    method_cfg cfgs[24];
+    method_cfg cfgs[10 + SEARCH_TO_CC_CFGS];
     int ncfg = 0;
     for (uint32_t sf = 0; sf <= HF_SURFACE_VIEW_LINEAR; sf++)
         cfgs[ncfg++] = cfg_of(HF_METHOD_EXACT, sf);
@@ -482,7 +491,7 @@ typedef struct gen_case {
 } gen_case;
 
 static int generated_cases(gen_case *out) {
-    method_cfg cfgs[24];
+    method_cfg cfgs[10 + SEARCH_TO_CC_CFGS];
     int n = 0;
     for (uint32_t sf = 0; sf <= HF_SURFACE_VIEW_LINEAR; sf++) {
         cfgs[n++] = cfg_of(HF_METHOD_EXACT, sf);

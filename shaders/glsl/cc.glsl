@@ -1,6 +1,7 @@
 // Mirror of core/src/safety/cc.rs (the march; the bake stays on the CPU): cylinder-cone
 // safety shapes (Baboud, Eisemann, Seidel 2011, section 6.3) on the triangle surface,
-// stepping with the safety march of safety.glsl.
+// or the view-linear one from the same map, stepping with the safety march of
+// safety.glsl.
 //
 // Texture layout: the map of hf_cc_bake as `hf_cc_map`, an RGBA8UI texture of 4W x H
 // texels: texel (4 i + class, j) = [r, s, z_lo, z_hi] of texel (i, j) for that ray
@@ -65,5 +66,9 @@ vec2 cc_rise(vec3 d) {
     return vec2(sd, sd_err);
 }
 
-// `trace`: the safety march with cylinder-cone steps.
-Trace cc_trace(Query q) { return safety_march(q); }
+// `trace_on`: `trace` finishing on `surface` (HF_SURFACE_TRIANGLES or
+// HF_SURFACE_VIEW_LINEAR; the same map bounds both, see safety_march_surface).
+Trace cc_trace_on(uint surface, Query q) { return safety_march(surface, q); }
+
+// `trace`: the safety march with cylinder-cone steps, on the triangle surface.
+Trace cc_trace(Query q) { return cc_trace_on(HF_SURFACE_TRIANGLES, q); }

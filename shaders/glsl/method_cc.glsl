@@ -1,4 +1,6 @@
-// HF_METHOD_CC: hf_trace is safety::cc::trace (triangle surface only).
+// HF_METHOD_CC: hf_trace is safety::cc::trace_on on the surface `hf_surface`:
+// triangles or view-linear (any other falls back to triangles: safety_march_surface).
+uniform uint hf_surface;
 
 // The closure of `cc::trace`: the texel's shape for the class, then `cone_step`.
 uint safety_march_jump(SafetyLine l, uint ray_class, uint i, uint j, vec3 d) {
@@ -6,4 +8,4 @@ uint safety_march_jump(SafetyLine l, uint ray_class, uint i, uint j, vec3 d) {
     return cc_cone_step(cc_texel(ray_class, i, j), l.p[2], l.tol, rise[0], rise[1]);
 }
 
-Trace hf_trace(Query q) { return cc_trace(q); }
+Trace hf_trace(Query q) { return cc_trace_on(hf_surface, q); }

@@ -1,5 +1,8 @@
-// HF_METHOD_RADIUS: hf_trace is radius::trace (triangle surface only); `hf_radius_clamp`
-// is 1 for Zero::Clamp (a zero radius jumps one centerline), 0 for Zero::Walk.
+// HF_METHOD_RADIUS: hf_trace is radius::trace on the surface `hf_surface` (the
+// `surface` of radius::Options): triangles or view-linear (any other falls back to
+// triangles: safety_march_surface). `hf_radius_clamp` is 1 for Zero::Clamp (a zero
+// radius jumps one centerline), 0 for Zero::Walk.
+uniform uint hf_surface;
 uniform uint hf_radius_clamp;
 
 // The closure of `radius::trace_steps`: the texel's radius, at least `floor`.
@@ -8,4 +11,4 @@ uint safety_march_jump(SafetyLine l, uint ray_class, uint i, uint j, vec3 d) {
     return max(radius_at(i, j), floor_);
 }
 
-Trace hf_trace(Query q) { return safety_march(q); }
+Trace hf_trace(Query q) { return safety_march(hf_surface, q); }

@@ -1,8 +1,10 @@
-// HF_METHOD_SAFETY: hf_trace is safety::trace (triangle surface only).
+// HF_METHOD_SAFETY: hf_trace is safety::trace_on on the surface `hf_surface`:
+// triangles or view-linear (any other falls back to triangles: safety_march_surface).
+uniform uint hf_surface;
 
 // The closure of `safety::trace`: the texel's safety distance.
 uint safety_march_jump(SafetyLine l, uint ray_class, uint i, uint j, vec3 d) {
     return safety_distance(ray_class, i, j);
 }
 
-Trace hf_trace(Query q) { return safety_trace(q); }
+Trace hf_trace(Query q) { return safety_trace_on(hf_surface, q); }

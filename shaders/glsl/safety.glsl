@@ -1,9 +1,10 @@
 // Mirror of core/src/safety.rs (the march; the bake stays on the CPU): safety
-// distances (Baboud, Eisemann, Seidel 2011) on the triangle surface. The walk is the
-// one of dda_trace up to the ray's first centerline of its main axis; then at each
-// centerline m: fetch k, evaluate the clearance at m + k from the two samples on that
-// centerline; above, jump; below, bisect on integer centerlines and finish with the
-// exact cell test.
+// distances (Baboud, Eisemann, Seidel 2011) on the triangle surface, or (§7 of the
+// paper, `MarchSurface`) on the view-linear surface from the same triangle-baked maps.
+// The walk is the one of dda_trace up to the ray's first centerline of its main axis;
+// then at each centerline m: fetch k, evaluate the clearance at m + k from the two
+// samples on that centerline; above, jump; below, bisect on integer centerlines and
+// finish with the exact cell test of the march's surface.
 //
 // Texture layout: the map of hf_safety_bake as `hf_safety_map`, a W x H integer
 // texture: RGBA8UI for HF_SAFETY_DIRECTIONAL (channel = ray ray_class: x+, x-, y+, y-),
@@ -78,8 +79,9 @@ const int SAFETY_STEP_HIT = 0;
 const int SAFETY_STEP_LINE = 1;
 const int SAFETY_STEP_END = 2;
 
-// `March`: the state of the march, the cell walk of dda_trace.
+// `March`: the state of the march, the cell walk of dda_trace on `surface`.
 struct SafetyMarch {
+    uint surface;
     Span span;
     int ax;
     ivec2 step;
@@ -158,7 +160,7 @@ int safety_march_walk(inout SafetyMarch mr, Query q, out Hit hit, out SafetyLine
         ivec2 on = ivec2(cross[0] ? int(mr.step[0] > 0) : -1, cross[1] ? int(mr.step[1] > 0) : -1);
         vec3 p = query_at(q, tb);
         vec3 b;
-        float cb = dda_local_clearance(HF_SURFACE_TRIANGLES, mr.c, mr.ic, p, on, b);
+        float cb = dda_local_clearance(mr.surface, mr.c, mr.ic, p, on, b);
         bool has_line = false;
         if (cross[ax]) {
             // The clearance the jumps use at this centerline (same samples, same
@@ -172,7 +174,7 @@ int safety_march_walk(inout SafetyMarch mr, Query q, out Hit hit, out SafetyLine
             line = l;
             has_line = true;
         }
-        SegmentHit seg = surface_segment_hit(HF_SURFACE_TRIANGLES, mr.c, mr.a, b, mr.ca, cb, mr.wall);
+        SegmentHit seg = surface_segment_hit(mr.surface, mr.c, mr.a, b, mr.ca, cb, mr.wall);
         mr.clearance = real_min(mr.clearance, seg.clearance);
         if (seg.has_hit) {
             float s = seg.s;
@@ -238,8 +240,22 @@ bool safety_last_line(Query q, int ax, int sg, float t1, out uint last) {
 // method_cc.glsl).
 uint safety_march_jump(SafetyLine l, uint ray_class, uint i, uint j, vec3 d);
 
-// `march`: the march shared by the safety-shape methods.
-Trace safety_march(Query q) {
+// `MarchSurface::of(surface)` then `MarchSurface::surface`: the surface a safety-shape
+// march finishes on, HF_SURFACE_TRIANGLES or HF_SURFACE_VIEW_LINEAR (the surfaces the
+// triangle-baked maps bound). Any other surface (where Rust has no MarchSurface) falls
+// back to the triangles; only a general shader's runtime `hf_surface` can ask for one,
+// since a generated shader of another surface is refused (`supports`).
+uint safety_march_surface(uint surface) {
+//#if any_surface
+    return surface == HF_SURFACE_VIEW_LINEAR ? HF_SURFACE_VIEW_LINEAR : HF_SURFACE_TRIANGLES;
+//#else
+    return surface;
+//#endif
+}
+
+// `march`: the march shared by the safety-shape methods; the walk between jumps and
+// the final test use `march_surface` (see safety_march_surface).
+Trace safety_march(uint march_surface, Query q) {
     Span span;
     if (!dda_clip(q, span)) {
         return trace_miss(0u, real_infinity());
@@ -254,13 +270,14 @@ Trace safety_march(Query q) {
     ivec2 step = ivec2(dda_step_of(d[0]), dda_step_of(d[1]));
     uvec2 ic = uvec2(dda_cell_index(x0, d[0], cells[0]), dda_cell_index(y0, d[1], cells[1]));
     vec4 c = surface_corners(ic[0], ic[1]);
+    uint surface = safety_march_surface(march_surface);
     vec3 a;
-    float ca = dda_local_clearance(HF_SURFACE_TRIANGLES, c, ic, vec3(x0, y0, p0[2]), ivec2(-1), a);
+    float ca = dda_local_clearance(surface, c, ic, vec3(x0, y0, p0[2]), ivec2(-1), a);
     if (ca <= 0.0) {
-        return trace_hit(dda_start_hit(HF_SURFACE_TRIANGLES, span, c, ic, a, p0), 4u,
+        return trace_hit(dda_start_hit(surface, span, c, ic, a, p0), 4u,
                          dda_start_clearance(span, ca));
     }
-    SafetyMarch mr = SafetyMarch(span, ax, step, cells, ic, c, false, a, ca, span.t0,
+    SafetyMarch mr = SafetyMarch(surface, span, ax, step, cells, ic, c, false, a, ca, span.t0,
                                  vec3(0.0, 0.0, 1.0),
                                  vec2(dda_next_crossing(ic[0], step[0], o[0], d[0]),
                                       dda_next_crossing(ic[1], step[1], o[1], d[1])),
@@ -323,5 +340,9 @@ Trace safety_march(Query q) {
     return safety_march_done(mr, false, hit_none(), 0u);
 }
 
+// `trace_on`: `trace` finishing on `surface` (HF_SURFACE_TRIANGLES or
+// HF_SURFACE_VIEW_LINEAR; see safety_march_surface), from the same map.
+Trace safety_trace_on(uint surface, Query q) { return safety_march(surface, q); }
+
 // `trace`: traces q on the triangle surface with the safety distances.
-Trace safety_trace(Query q) { return safety_march(q); }
+Trace safety_trace(Query q) { return safety_trace_on(HF_SURFACE_TRIANGLES, q); }

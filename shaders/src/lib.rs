@@ -117,8 +117,9 @@ pub const FLAGS: [(&str, &str); 14] = [
 /// Why a shader cannot be generated.
 #[derive(Clone, Debug, PartialEq)]
 pub enum GenError {
-    /// The method traces only the triangle surface (safety, cc, radius, cone, qdm,
-    /// relaxed).
+    /// The method does not trace the surface ([`supports`]): the safety-shape methods
+    /// (safety, cc, radius) trace the triangle and view-linear surfaces only, the cone
+    /// family (cone, qdm, relaxed) the triangle surface only.
     SurfaceNotSupported {
         /// The method.
         method: MethodKind,
@@ -144,8 +145,13 @@ impl fmt::Display for GenError {
         match self {
             GenError::SurfaceNotSupported { method, surface } => write!(
                 f,
-                "method {} traces the triangle surface only, not {}",
+                "method {} traces {} only, not {}",
                 method.name(),
+                if supports(*method, Surface::ViewLinear) {
+                    "the view-linear and the triangle surface"
+                } else {
+                    "the triangle surface"
+                },
                 surface.name()
             ),
             GenError::MissingFile { lang, file } => {
@@ -183,17 +189,27 @@ pub fn parts(method: MethodKind) -> &'static [&'static str] {
     }
 }
 
-/// Whether `method` traces `surface`: the safety, cylinder–cone, radius and cone
-/// family methods trace the triangle surface only.
+/// Whether `method` traces `surface`: the exact, search and maxmip methods trace
+/// every surface; the safety-shape methods (safety, cylinder–cone, radius) the
+/// triangle and view-linear surfaces (their maps are baked for the triangles and bound
+/// the view-linear surface too: `hfcast::safety::MarchSurface`); the cone family
+/// (cone, qdm, relaxed) the triangle surface only.
+///
+/// In a general shader `hf_surface` is a runtime choice: a safety-shape march given a
+/// surface it does not trace falls back to the triangle surface
+/// (`safety_march_surface`).
 pub fn supports(method: MethodKind, surface: Surface) -> bool {
-    surface == Surface::Triangles
-        || matches!(
-            method,
-            MethodKind::Exact
-                | MethodKind::LinearBinary
-                | MethodKind::LinearSecant
-                | MethodKind::MaxMip
-        )
+    match method {
+        MethodKind::Exact
+        | MethodKind::LinearBinary
+        | MethodKind::LinearSecant
+        | MethodKind::MaxMip => true,
+        // `MarchSurface::of(surface).is_some()` (the safety module is not built here).
+        MethodKind::Safety | MethodKind::Cc | MethodKind::Radius => {
+            matches!(surface, Surface::Triangles | Surface::ViewLinear)
+        }
+        MethodKind::Cone | MethodKind::Qdm | MethodKind::Relaxed => surface == Surface::Triangles,
+    }
 }
 
 /// The file of 16- and 8-bit heights, used instead of `field`'s `F32` texture.
@@ -671,6 +687,25 @@ mod tests {
             SafetyVariant::Isotropic as usize,
             hfcast::safety::Variant::Isotropic as usize
         );
+    }
+
+    #[test]
+    fn safety_shape_surfaces_are_the_cores() {
+        use hfcast::safety::MarchSurface;
+        for surface in Surface::ALL {
+            for m in [MethodKind::Safety, MethodKind::Cc, MethodKind::Radius] {
+                assert_eq!(
+                    supports(m, surface),
+                    MarchSurface::of(surface).is_some(),
+                    "{} {}",
+                    m.name(),
+                    surface.name()
+                );
+            }
+            for m in [MethodKind::Cone, MethodKind::Qdm, MethodKind::Relaxed] {
+                assert_eq!(supports(m, surface), surface == Surface::Triangles);
+            }
+        }
     }
 
     #[test]

@@ -313,12 +313,76 @@ fn generated_shaders_keep_only_their_method_inputs() {
 }
 
 #[test]
+fn safety_shape_shaders_finish_on_the_view_linear_surface() {
+    for lang in Lang::ALL {
+        let (constant, uniform) = match lang {
+            Lang::Glsl => (
+                "const uint hf_surface = HF_SURFACE_VIEW_LINEAR;",
+                "uniform uint hf_surface",
+            ),
+            Lang::Wgsl => (
+                "const hf_surface: u32 = HF_SURFACE_VIEW_LINEAR;",
+                "override hf_surface",
+            ),
+        };
+        for m in [MethodKind::Safety, MethodKind::Cc, MethodKind::Radius] {
+            let text = code(&generate(&Scene::general(m, Surface::ViewLinear), lang).unwrap());
+            assert!(text.contains(constant), "{}: {text}", m.name());
+            assert!(
+                !text.contains("surface_triangles_segment")
+                    && !text.contains("HF_SURFACE_BILINEAR"),
+                "{}: {text}",
+                m.name()
+            );
+            // The general shader: the runtime surface, with the fallback to triangles.
+            let gen = general(m, lang).unwrap();
+            assert!(gen.contains(uniform) && gen.contains("safety_march_surface(march_surface)"));
+            let tri = code(&generate(&Scene::general(m, Surface::Triangles), lang).unwrap());
+            assert!(
+                tri.contains("surface_triangles_segment")
+                    && !tri.contains("HF_SURFACE_VIEW_LINEAR"),
+                "{}: {tri}",
+                m.name()
+            );
+        }
+    }
+}
+
+#[test]
 fn unsupported_scenes_are_errors() {
     let bad = Scene::general(MethodKind::Cc, Surface::Bilinear);
     assert!(matches!(
         generate(&bad, Lang::Glsl),
         Err(GenError::SurfaceNotSupported { .. })
     ));
+    for (m, s) in [
+        (MethodKind::Safety, Surface::HeightPlanes),
+        (MethodKind::Radius, Surface::LinearPlanes),
+        (MethodKind::Cone, Surface::ViewLinear),
+        (MethodKind::Qdm, Surface::ViewLinear),
+        (MethodKind::Relaxed, Surface::ViewLinear),
+    ] {
+        let e = generate(&Scene::general(m, s), Lang::Wgsl).unwrap_err();
+        assert!(matches!(e, GenError::SurfaceNotSupported { .. }), "{e}");
+    }
+    let e = generate(
+        &Scene::general(MethodKind::Safety, Surface::Bilinear),
+        Lang::Glsl,
+    )
+    .unwrap_err();
+    assert_eq!(
+        e.to_string(),
+        "method safety traces the view-linear and the triangle surface only, not bilinear"
+    );
+    let e = generate(
+        &Scene::general(MethodKind::Cone, Surface::Bilinear),
+        Lang::Glsl,
+    )
+    .unwrap_err();
+    assert_eq!(
+        e.to_string(),
+        "method cone traces the triangle surface only, not bilinear"
+    );
     let lod = Scene {
         lod: true,
         ..Scene::general(MethodKind::MaxMip, Surface::Triangles)

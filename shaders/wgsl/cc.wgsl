@@ -1,6 +1,7 @@
 // Mirror of core/src/safety/cc.rs (the march; the bake stays on the CPU): cylinder-cone
 // safety shapes (Baboud, Eisemann, Seidel 2011, section 6.3) on the triangle surface,
-// stepping with the safety march of safety.wgsl.
+// or the view-linear one from the same map, stepping with the safety march of
+// safety.wgsl.
 //
 // Texture layout: the map of hf_cc_bake as `hf_cc_map`, an RGBA8Uint texture of
 // 4W x H texels: texel (4 i + class, j) = [r, s, z_lo, z_hi] of texel (i, j) for that
@@ -69,5 +70,9 @@ fn cc_rise(d: vec3<f32>) -> vec2<f32> {
     return vec2<f32>(sd, sd_err);
 }
 
-// `trace`: the safety march with cylinder-cone steps.
-fn cc_trace(q: Query) -> Trace { return safety_march(q); }
+// `trace_on`: `trace` finishing on `surface` (HF_SURFACE_TRIANGLES or
+// HF_SURFACE_VIEW_LINEAR; the same map bounds both, see safety_march_surface).
+fn cc_trace_on(surface: u32, q: Query) -> Trace { return safety_march(surface, q); }
+
+// `trace`: the safety march with cylinder-cone steps, on the triangle surface.
+fn cc_trace(q: Query) -> Trace { return cc_trace_on(HF_SURFACE_TRIANGLES, q); }

@@ -1,4 +1,6 @@
-// HF_METHOD_CC: hf_trace is safety::cc::trace (triangle surface only).
+// HF_METHOD_CC: hf_trace is safety::cc::trace_on on the surface `hf_surface`:
+// triangles or view-linear (any other falls back to triangles: safety_march_surface).
+override hf_surface: u32 = 0u;
 
 // The closure of `cc::trace`: the texel's shape for the class, then `cone_step`.
 fn safety_march_jump(l: SafetyLine, ray_class: u32, i: u32, j: u32, d: vec3<f32>) -> u32 {
@@ -6,4 +8,4 @@ fn safety_march_jump(l: SafetyLine, ray_class: u32, i: u32, j: u32, d: vec3<f32>
     return cc_cone_step(cc_texel(ray_class, i, j), l.p[2], l.tol, rise[0], rise[1]);
 }
 
-fn hf_trace(q: Query) -> Trace { return cc_trace(q); }
+fn hf_trace(q: Query) -> Trace { return cc_trace_on(hf_surface, q); }

@@ -1,5 +1,8 @@
-// HF_METHOD_RADIUS: hf_trace is radius::trace (triangle surface only); `hf_params.clamp`
-// is 1 for Zero::Clamp (a zero radius jumps one centerline), 0 for Zero::Walk.
+// HF_METHOD_RADIUS: hf_trace is radius::trace on the surface `hf_surface` (the
+// `surface` of radius::Options): triangles or view-linear (any other falls back to
+// triangles: safety_march_surface). `hf_params.clamp` is 1 for Zero::Clamp (a zero
+// radius jumps one centerline), 0 for Zero::Walk.
+override hf_surface: u32 = 0u;
 
 struct RadiusParams {
     clamp: u32,
@@ -13,4 +16,4 @@ fn safety_march_jump(l: SafetyLine, ray_class: u32, i: u32, j: u32, d: vec3<f32>
     return max(radius_at(i, j), floor_);
 }
 
-fn hf_trace(q: Query) -> Trace { return safety_march(q); }
+fn hf_trace(q: Query) -> Trace { return safety_march(hf_surface, q); }

@@ -1,6 +1,6 @@
 // Mirror of core/src/radius.rs (the march; the bake stays on the CPU): the safety
-// radius (Baboud & Decoret 2006) on the triangle surface, stepping with the safety
-// march of safety.wgsl.
+// radius (Baboud & Decoret 2006) on the triangle surface, or the view-linear one from
+// the same map, stepping with the safety march of safety.wgsl.
 //
 // Texture layout: the map of hf_radius_bake as `hf_radius_map`, an R8Uint texture of
 // W x H texels: the radius of texel (i, j).

@@ -1,9 +1,10 @@
 // Mirror of core/src/safety.rs (the march; the bake stays on the CPU): safety
-// distances (Baboud, Eisemann, Seidel 2011) on the triangle surface. The walk is the
-// one of dda_trace up to the ray's first centerline of its main axis; then at each
-// centerline m: fetch k, evaluate the clearance at m + k from the two samples on that
-// centerline; above, jump; below, bisect on integer centerlines and finish with the
-// exact cell test.
+// distances (Baboud, Eisemann, Seidel 2011) on the triangle surface, or (§7 of the
+// paper, `MarchSurface`) on the view-linear surface from the same triangle-baked maps.
+// The walk is the one of dda_trace up to the ray's first centerline of its main axis;
+// then at each centerline m: fetch k, evaluate the clearance at m + k from the two
+// samples on that centerline; above, jump; below, bisect on integer centerlines and
+// finish with the exact cell test of the march's surface.
 //
 // Texture layout: the map of hf_safety_bake as `hf_safety_map`, a W x H integer
 // texture: RGBA8Uint for HF_SAFETY_DIRECTIONAL (channel = ray ray_class: x+, x-, y+,
@@ -85,8 +86,9 @@ const SAFETY_STEP_HIT: i32 = 0;
 const SAFETY_STEP_LINE: i32 = 1;
 const SAFETY_STEP_END: i32 = 2;
 
-// `March`: the state of the march, the cell walk of dda_trace.
+// `March`: the state of the march, the cell walk of dda_trace on `surface`.
 struct SafetyMarch {
+    surface: u32,
     span: Span,
     ax: i32,
     step: vec2<i32>,
@@ -171,7 +173,7 @@ fn safety_march_walk(mr: ptr<function, SafetyMarch>, q: Query, hit: ptr<function
                            select(-1, i32((*mr).step[1] > 0), cross[1]));
         let p = query_at(q, tb);
         var b: vec3<f32>;
-        var cb = dda_local_clearance(HF_SURFACE_TRIANGLES, (*mr).c, (*mr).ic, p, on, &b);
+        var cb = dda_local_clearance((*mr).surface, (*mr).c, (*mr).ic, p, on, &b);
         var has_line = false;
         if (cross[ax]) {
             // The clearance the jumps use at this centerline (same samples, same
@@ -185,7 +187,7 @@ fn safety_march_walk(mr: ptr<function, SafetyMarch>, q: Query, hit: ptr<function
             *line = l;
             has_line = true;
         }
-        let seg = surface_segment_hit(HF_SURFACE_TRIANGLES, (*mr).c, (*mr).a, b, (*mr).ca, cb, (*mr).wall);
+        let seg = surface_segment_hit((*mr).surface, (*mr).c, (*mr).a, b, (*mr).ca, cb, (*mr).wall);
         (*mr).clearance = real_min((*mr).clearance, seg.clearance);
         if (seg.has_hit) {
             let s = seg.s;
@@ -252,8 +254,22 @@ fn safety_last_line(q: Query, ax: i32, sg: i32, t1: f32, last: ptr<function, u32
 // method_cc.wgsl):
 // fn safety_march_jump(l: SafetyLine, ray_class: u32, i: u32, j: u32, d: vec3<f32>) -> u32
 
-// `march`: the march shared by the safety-shape methods.
-fn safety_march(q: Query) -> Trace {
+// `MarchSurface::of(surface)` then `MarchSurface::surface`: the surface a safety-shape
+// march finishes on, HF_SURFACE_TRIANGLES or HF_SURFACE_VIEW_LINEAR (the surfaces the
+// triangle-baked maps bound). Any other surface (where Rust has no MarchSurface) falls
+// back to the triangles; only a general shader's runtime `hf_surface` can ask for one,
+// since a generated shader of another surface is refused (`supports`).
+fn safety_march_surface(surface: u32) -> u32 {
+//#if any_surface
+    return select(HF_SURFACE_TRIANGLES, HF_SURFACE_VIEW_LINEAR, surface == HF_SURFACE_VIEW_LINEAR);
+//#else
+    return surface;
+//#endif
+}
+
+// `march`: the march shared by the safety-shape methods; the walk between jumps and
+// the final test use `march_surface` (see safety_march_surface).
+fn safety_march(march_surface: u32, q: Query) -> Trace {
     var span: Span;
     if (!dda_clip(q, &span)) {
         return trace_miss(0u, real_infinity());
@@ -269,13 +285,14 @@ fn safety_march(q: Query) -> Trace {
     let step = vec2<i32>(dda_step_of(d[0]), dda_step_of(d[1]));
     let ic = vec2<u32>(dda_cell_index(x0, d[0], cells[0]), dda_cell_index(y0, d[1], cells[1]));
     let c = surface_corners(ic[0], ic[1]);
+    let surface = safety_march_surface(march_surface);
     var a: vec3<f32>;
-    let ca = dda_local_clearance(HF_SURFACE_TRIANGLES, c, ic, vec3<f32>(x0, y0, p0[2]), vec2<i32>(-1), &a);
+    let ca = dda_local_clearance(surface, c, ic, vec3<f32>(x0, y0, p0[2]), vec2<i32>(-1), &a);
     if (ca <= 0.0) {
-        return trace_hit(dda_start_hit(HF_SURFACE_TRIANGLES, span, c, ic, a, p0), 4u,
+        return trace_hit(dda_start_hit(surface, span, c, ic, a, p0), 4u,
                          dda_start_clearance(span, ca));
     }
-    var mr = SafetyMarch(span, ax, step, cells, ic, c, false, a, ca, span.t0,
+    var mr = SafetyMarch(surface, span, ax, step, cells, ic, c, false, a, ca, span.t0,
                          vec3<f32>(0.0, 0.0, 1.0),
                          vec2<f32>(dda_next_crossing(ic[0], step[0], o[0], d[0]),
                                    dda_next_crossing(ic[1], step[1], o[1], d[1])),
@@ -339,5 +356,9 @@ fn safety_march(q: Query) -> Trace {
     return safety_march_done(mr, false, hit_none(), 0u);
 }
 
+// `trace_on`: `trace` finishing on `surface` (HF_SURFACE_TRIANGLES or
+// HF_SURFACE_VIEW_LINEAR; see safety_march_surface), from the same map.
+fn safety_trace_on(surface: u32, q: Query) -> Trace { return safety_march(surface, q); }
+
 // `trace`: traces q on the triangle surface with the safety distances.
-fn safety_trace(q: Query) -> Trace { return safety_march(q); }
+fn safety_trace(q: Query) -> Trace { return safety_trace_on(HF_SURFACE_TRIANGLES, q); }

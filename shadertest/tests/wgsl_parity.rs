@@ -1,7 +1,8 @@
 //! The WGSL marches (`shaders/wgsl`) executed on a Vulkan device through wgpu
 //! (lavapipe in CI: `mesa-vulkan-drivers`) against the Rust core's f32 marches, ray by
 //! ray: for every method (exact on all five surfaces, linear-binary, linear-secant,
-//! maxmip on triangles and bilinear, safety in both layouts, cc, cone, qdm, relaxed) on
+//! maxmip on triangles and bilinear, safety in both layouts, cc, cone, qdm, relaxed,
+//! radius; safety, cc and radius also on the view-linear surface, §7) on
 //! the bundled map, a synthetic field with needles and thin walls, and two small fields
 //! where relaxed (a Θ(N⁴) bake) is baked too: a 64 × 64 crop of the map and a smaller
 //! synthetic field; over 45° and 5° camera rays and random rays (upward,

@@ -10,7 +10,7 @@ use hfcast::qdm::{self, QdmMap};
 use hfcast::radius::{self, RadiusMap, Zero};
 use hfcast::relaxed;
 use hfcast::safety::cc::{self, CcMap, CcOptions, Slope};
-use hfcast::safety::{self, SafetyMap, Variant};
+use hfcast::safety::{self, MarchSurface, SafetyMap, Variant};
 use hfcast::scene::{HeightFormat, MethodKind};
 use hfcast::{HeightField, Query, SearchSteps, Surface, Trace};
 use hfcast_shaders::{wgsl_layout as binding, Lang, SafetyVariant, PYRAMID_TEX_WIDTH};
@@ -111,7 +111,8 @@ pub const CC_CAP: u8 = 64;
 pub struct Case {
     /// The method.
     pub method: MethodKind,
-    /// `hf_surface` (exact, search and maxmip methods).
+    /// `hf_surface` (exact, search and maxmip methods; triangles or view-linear for the
+    /// safety-shape methods safety, cc and radius).
     pub surface: Surface,
     /// `hf_safety_variant` (safety).
     pub variant: Variant,
@@ -150,8 +151,9 @@ impl Case {
 
     /// Every case of the parity test: exact on all five surfaces, the search methods,
     /// maxmip on triangles and bilinear, safety (both layouts), cc, cone, qdm, relaxed
-    /// (step counts of the C tests), radius (zero radii walked and clamped), a few with 16-bit heights; then all of them again
-    /// as the shaders generated for their scenes.
+    /// (step counts of the C tests), radius (zero radii walked and clamped), safety
+    /// (directional), cc and radius (walked) again on the view-linear surface, a few with
+    /// 16-bit heights; then all of them again as the shaders generated for their scenes.
     pub fn all() -> Vec<Case> {
         let tri = Surface::Triangles;
         let mut cases: Vec<Case> = Surface::ALL
@@ -181,6 +183,11 @@ impl Case {
             // hf_params.clamp: 0 walks zero radii (exact), 1 clamps them to 1.
             Case::new(MethodKind::Radius, tri, [0; 4], true),
             Case::new(MethodKind::Radius, tri, [1, 0, 0, 0], false),
+            // The safety-shape marches finishing on the view-linear surface (§7) from the
+            // same triangle-baked maps.
+            Case::new(MethodKind::Safety, Surface::ViewLinear, [0; 4], true),
+            Case::new(MethodKind::Cc, Surface::ViewLinear, [0; 4], true),
+            Case::new(MethodKind::Radius, Surface::ViewLinear, [0; 4], true),
             // 16-bit heights (field_int.wgsl) where the scene has samples.
             Case::new(MethodKind::Exact, tri, [0; 4], true).u16(),
             Case::new(MethodKind::Exact, Surface::HeightPlanes, [0; 4], true).u16(),
@@ -222,7 +229,16 @@ impl Case {
             MethodKind::Radius => format!("{m} {:?}", self.zero()).to_lowercase(),
             _ => m.to_string(),
         };
-        name + heights + generated
+        // The safety-shape methods on a surface other than their default triangles.
+        let surface = match self.method {
+            MethodKind::Safety | MethodKind::Cc | MethodKind::Radius
+                if self.surface != Surface::Triangles =>
+            {
+                format!(" {}", self.surface.name())
+            }
+            _ => String::new(),
+        };
+        name + &surface + heights + generated
     }
 
     /// The source the case runs, with the test entry point: the method's general
@@ -276,9 +292,17 @@ impl Case {
         let cone_map = ConeMap::new(&hf, &scene.cone).expect("cone map");
         let qdm_map = QdmMap::new(&hf, &scene.qdm).expect("qdm map");
         let radius_map = RadiusMap::new(&hf, &scene.radius).expect("radius map");
+        // The surface the safety-shape marches finish on.
+        let march_surface = || {
+            MarchSurface::of(self.surface)
+                .unwrap_or_else(|| panic!("no safety-shape march on {}", self.surface.name()))
+        };
         let radius_opts = radius::Options {
             zero: self.zero(),
-            ..radius::Options::default()
+            surface: match self.method {
+                MethodKind::Radius => march_surface(),
+                _ => MarchSurface::Triangles,
+            },
         };
         let trace = |q: &Query<f32>| match self.method {
             MethodKind::Exact => hfcast::Method::Exact.trace(&hf, self.surface, q),
@@ -295,8 +319,8 @@ impl Case {
             MethodKind::MaxMip => {
                 maxmip::trace(&hf, &mip, self.surface, q, &maxmip::Options::default())
             }
-            MethodKind::Safety => safety::trace(&safety_map, &hf, q),
-            MethodKind::Cc => cc::trace(&cc_map, &hf, q),
+            MethodKind::Safety => safety::trace_on(&safety_map, &hf, march_surface(), q),
+            MethodKind::Cc => cc::trace_on(&cc_map, &hf, march_surface(), q),
             MethodKind::Radius => radius::trace(&radius_map, &hf, q, &radius_opts),
             MethodKind::Cone => cone::trace(&cone_map, &hf, q, p[0]),
             MethodKind::Qdm => qdm::trace(&qdm_map, &hf, q, p[0]),
