@@ -14,11 +14,12 @@
 //! rise with `b`, so the bound is monotone in `b`). Empty space above `h + F(ρ)` is a
 //! solid of revolution that opens up near the top of the field, where cones stay thin.
 //!
-//! **Bake.** `a` from [`crate::cone::texel_ratio`]; then `b` by the pyramid search of
-//! [`crate::cone::bnb`]: a node of height `M` at box distance `d` (directional lower
+//! **Bake.** `a` from [`crate::cone::ratio_search`]; then `b` by the pyramid search of
+//! [`crate::cone::bnb_by`]: a node of height `M` at box distance `d` (directional lower
 //! bound) needs `b ≥ M − h` or `F_b(d) ≥ M − h`; below `a b` the cone certifies every
 //! point. The least such `b` per node comes from bisection in `f64`; `b` is rounded up,
-//! `c` (from the rounded `b`) down: both only raise `F`. [`bake_brute`] visits every
+//! `c` (from the rounded `b`) down: both only raise `F`. Both searches start from the
+//! cells that set the previous texel ([`texel_search`]). [`bake_brute`] visits every
 //! cell (the test oracle).
 //!
 //! **March** ([`trace`]). Above `h`, the ray may advance until it meets `h + F(ρ)`
@@ -33,7 +34,9 @@
 
 use core::ops::Range;
 
-use crate::cone::{self, bnb, check, f32_down, f32_up, march, margin, BakeError, Step};
+use core::cell::Cell;
+
+use crate::cone::{self, bnb_by, check, f32_down, f32_up, march, margin, BakeError, Step};
 use crate::field::HeightField;
 use crate::math::Real;
 use crate::maxmip::MaxMip;
@@ -134,8 +137,27 @@ fn pack(hf: &HeightField, top: f32, a: f32, b: f64) -> [f32; 4] {
 
 /// The texel of cell `c`, searched over the pyramid.
 pub fn texel(hf: &HeightField, mip: &MaxMip, c: [u32; 2]) -> [f32; 4] {
+    texel_search(hf, mip, c, [c, c]).0
+}
+
+/// [`texel`] of cell `c`, and the cells that set its `a` and its `b` (for the next
+/// texel's `hints`: any cells, a neighbour's are good guesses). `a` comes from
+/// [`cone::ratio_search`]; `b` is the largest [`required`] height over the cells, and
+/// the search starts from the `b` that cell `hints[1]` requires: one of the terms of
+/// the maximum, so it changes no result. A node is skipped when it cannot raise `b`:
+/// its excess `e = max − h` is at most `b` (a cell below needs at most its own excess),
+/// or `F_b` already covers `e` at the node's distance (the pruning of the module notes,
+/// unchanged). Nodes highest above the cone line `d / a` go first.
+pub fn texel_search(
+    hf: &HeightField,
+    mip: &MaxMip,
+    c: [u32; 2],
+    hints: [[u32; 2]; 2],
+) -> ([f32; 4], [[u32; 2]; 2]) {
     let top = mip.texel(0, c[0], c[1]);
-    let a = f32_down(cone::texel_ratio(hf, mip, c));
+    let (ratio, arg_a) = cone::ratio_search(hf, mip, c, hints[0]);
+    let a = f32_down(ratio);
+    let a64 = a as f64;
     let p = hf.max_height() as f64 - top as f64;
     let src = [
         c[0] as f64,
@@ -143,18 +165,29 @@ pub fn texel(hf: &HeightField, mip: &MaxMip, c: [u32; 2]) -> [f32; 4] {
         c[1] as f64,
         c[1] as f64 + 1.0,
     ];
-    let mut best = 0.0f64;
-    bnb(mip, src, |d, m, leaf| {
-        let e = m as f64 - top as f64;
-        if e <= best || (a > 0.0 && bound_b(a as f64, p, best, d) >= e) {
-            return false;
+    let need = |d: f64, m: f32| required(a64, p, d, m as f64 - top as f64);
+    let h = hints[1];
+    let d = cone::box_dist(src, [h[0], h[0] + 1], [h[1], h[1] + 1]);
+    let best = Cell::new(need(d, mip.texel(0, h[0], h[1])));
+    let mut arg = h;
+    let key = |d: f64, m: f32| {
+        let (e, b) = (m as f64 - top as f64, best.get());
+        if e <= b || (a > 0.0 && bound_b(a64, p, b, d) >= e) {
+            f64::INFINITY
+        } else if a > 0.0 {
+            d / a64 - e
+        } else {
+            -e
         }
-        if leaf.is_some() {
-            best = best.max(required(a as f64, p, d, e));
+    };
+    bnb_by(mip, src, key, |cell, d, m| {
+        let r = need(d, m);
+        if r > best.get() {
+            best.set(r);
+            arg = cell;
         }
-        true
     });
-    pack(hf, top, a, best)
+    (pack(hf, top, a, best.get()), [arg_a, arg])
 }
 
 /// Bakes the cone pyramid into `scratch` (see [`crate::cone::prepare`]).
@@ -179,10 +212,14 @@ pub fn bake_rows(
         return Err(BakeError::BadRows);
     }
     check(CHANNELS * rows.len() * cw as usize, out.len())?;
+    // Each search starts from the cells that set the previous texel.
+    let mut hints = [[0, rows.start]; 2];
     for (r, j) in rows.enumerate() {
         for i in 0..cw {
             let k = CHANNELS * (r * cw as usize + i as usize);
-            out[k..k + 4].copy_from_slice(&texel(hf, &mip, [i, j]));
+            let (tex, arg) = texel_search(hf, &mip, [i, j], hints);
+            hints = arg;
+            out[k..k + 4].copy_from_slice(&tex);
         }
     }
     Ok(())
