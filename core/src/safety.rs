@@ -466,28 +466,33 @@ pub(crate) fn cell_tris(
     let (ci, cj) = if ax == 0 { (cm, l) } else { (l, cm) };
     let c: [f64; 4] = corners(hf, ci, cj);
     let planes = triangle_planes(c);
-    // Vertices (u, v) of the two triangles, as in `triangle_planes`.
-    let verts: [[[u8; 2]; 3]; 2] = if c[0] + c[3] <= c[1] + c[2] {
-        [[[0, 0], [1, 0], [1, 1]], [[0, 0], [0, 1], [1, 1]]]
-    } else {
-        [[[0, 0], [1, 0], [0, 1]], [[1, 0], [0, 1], [1, 1]]]
-    };
     let (mf, lf, cmf) = (f64::from(sigma.m), f64::from(l), f64::from(cm));
     let sgf = sg as f64;
-    [0, 1].map(|k| {
+    // Corner (u, v) in the frame (exact: small integers).
+    let fwd = [sgf * (cmf - mf), sgf * (cmf + 1.0 - mf)];
+    let p = |u: usize, v: usize| {
+        let (a, b) = if ax == 0 { (u, v) } else { (v, u) };
+        [fwd[a], lf + b as f64]
+    };
+    let [p00, p10, p01, p11] = [p(0, 0), p(1, 0), p(0, 1), p(1, 1)];
+    // The two triangles' vertices, as in `triangle_planes`.
+    let verts = if c[0] + c[3] <= c[1] + c[2] {
+        [[p00, p10, p11], [p00, p01, p11]]
+    } else {
+        [[p00, p10, p01], [p10, p01, p11]]
+    };
+    let tri = |k: usize| {
         let [h0, gu, gv] = planes[k];
         let (g_main, g_minor) = if ax == 0 { (gu, gv) } else { (gv, gu) };
         Tri {
-            verts: verts[k].map(|[u, v]| {
-                let (a, b) = if ax == 0 { (u, v) } else { (v, u) };
-                [sgf * (cmf + f64::from(a) - mf), lf + f64::from(b)]
-            }),
+            verts: verts[k],
             base: h0 + g_main * (mf - cmf),
             at: lf,
             minor_slope: g_minor,
             forward_slope: sgf * g_main,
         }
-    })
+    };
+    [tri(0), tri(1)]
 }
 
 /// Bakes texel rows `rows` into `out` (`rows.len() · W · channels` bytes, the rows'

@@ -33,12 +33,22 @@
 //! cannot raise `s_c`); the first pass stops when the field's maximum cannot.
 //! [`Slope::NBuffer`] counts every triangle as limiting and bounds a column `k ≥ 1`
 //! by that maximum sample at `u = k` (or `k + 1` when it is under `z_c`); column 0
-//! is taken exactly (dividing by `u = 0` would leave no cone).
+//! is taken exactly (dividing by `u = 0` would leave no cone). The slope is the
+//! largest of these bounds, found block by block of [`BLOCK`] columns, highest block
+//! bound first, skipping the blocks whose bound cannot raise it.
 //!
 //! **N-buffers** ([`nbuffer_len`], [`prepare_nbuffer`]): per axis, per cell column
 //! (the two sample columns on its sides) and level `L`, the maximum over `2^L`
 //! consecutive samples along the cross axis; any range is two lookups at level
-//! `⌊log₂ len⌋`. Levels up to the widest reachable range, `2·cap + 5` samples.
+//! `⌊log₂ len⌋`. Levels up to the widest reachable range, `2·cap + 5` samples. After
+//! them, the same per block of [`BLOCK`] consecutive cell columns (their maximum).
+//!
+//! **Pruning.** A skipped block or column of the N-buffer slope only leaves out
+//! bounds that cannot exceed the slope so far, and the slope is their maximum, so
+//! the order of visits does not change it. The exact slope visits the columns and
+//! their cells in a fixed order (bound, then column) and skips a cell only on the
+//! test of its own range, so its result does not depend on how the skipping is
+//! organised either.
 //!
 //! **Packing** (the GPU layout, [`map_len`]): 16 bytes per texel, four per class in
 //! class order, `data[(t·4 + class)·4 ..]` = `[r, s, z_lo, z_hi]` (one RGBA8UI texel
@@ -54,6 +64,8 @@
 //! step only shrinks.
 
 use core::ops::Range;
+
+use heapless::binary_heap::{BinaryHeap, Max};
 
 use super::{
     axis_of, cell_tris, extents, march, sample, sigma_of, sign_of, texel_distance, AllRays, Line,
@@ -115,10 +127,15 @@ fn levels(cap: u8) -> u32 {
     32 - span.leading_zeros()
 }
 
+/// Cell columns per block of the block N-buffers.
+const BLOCK: u32 = 8;
+
 /// `f32` elements of the N-buffers for a `width × height` field and reach `cap`.
 pub fn nbuffer_len(width: u32, height: u32, cap: u8) -> usize {
     let (w, h) = (width.max(2) as usize, height.max(2) as usize);
-    levels(cap) as usize * ((w - 1) * h + (h - 1) * w)
+    let b = BLOCK as usize;
+    let blocks = (w - 1).div_ceil(b) * h + (h - 1).div_ceil(b) * w;
+    levels(cap) as usize * ((w - 1) * h + (h - 1) * w + blocks)
 }
 
 /// Index of level `l`, cell column `c` (along axis `ax`), cross sample `y`.
@@ -156,6 +173,32 @@ pub fn prepare_nbuffer(hf: &HeightField, cap: u8, nb: &mut [f32]) -> Result<(), 
             }
         }
     }
+    // The blocks' entries: level 0 the maximum of their columns' level 0, the next
+    // levels doubled as the columns' (the same windows, so the maximum of their
+    // columns' entries).
+    for ax in 0..2 {
+        let cols = NbView::new(hf, &[], cap, ax, false);
+        let blocks = NbView::new(hf, &[], cap, ax, true);
+        let (lm, ln) = (extents(hf, ax).0, extents(hf, ax).1 as usize);
+        for c in 0..lm - 1 {
+            let from = cols.base + c as usize * cols.column;
+            let to = blocks.base + (c / BLOCK) as usize * blocks.column;
+            for y in 0..ln {
+                let v = nb[from + y];
+                nb[to + y] = if c % BLOCK == 0 { v } else { nb[to + y].max(v) };
+            }
+        }
+        for l in 1..levels(cap) as usize {
+            let half = 1usize << (l - 1);
+            for b in 0..(lm - 1).div_ceil(BLOCK) as usize {
+                let below = blocks.base + (l - 1) * blocks.level + b * blocks.column;
+                let to = below + blocks.level;
+                for y in 0..ln {
+                    nb[to + y] = nb[below + y].max(nb[below + (y + half).min(ln - 1)]);
+                }
+            }
+        }
+    }
     Ok(())
 }
 
@@ -175,14 +218,30 @@ struct NbView<'a> {
 }
 
 impl<'a> NbView<'a> {
-    fn new(hf: &HeightField, nb: &'a [f32], cap: u8, ax: usize) -> Self {
-        let (lm, ln) = extents(hf, ax);
+    /// The N-buffers of axis `ax`: of its cell columns, or (`blocks`) of its blocks of
+    /// [`BLOCK`] cell columns, stored after all the columns' (the maximum over the
+    /// block's columns of their entries).
+    fn new(hf: &HeightField, nb: &'a [f32], cap: u8, ax: usize, blocks: bool) -> Self {
+        let levels = levels(cap) as usize;
+        // Elements per level of axis `a`, for groups of `g` cell columns.
+        let per_level = |a: usize, g: usize| {
+            let (lm, ln) = extents(hf, a);
+            (lm as usize - 1).div_ceil(g) * ln as usize
+        };
+        let b = BLOCK as usize;
+        let base = if !blocks {
+            nb_index(hf, cap, ax, 0, 0, 0)
+        } else if ax == 0 {
+            levels * (per_level(0, 1) + per_level(1, 1))
+        } else {
+            levels * (per_level(0, 1) + per_level(1, 1) + per_level(0, b))
+        };
         NbView {
             nb,
-            base: nb_index(hf, cap, ax, 0, 0, 0),
-            level: (lm as usize - 1) * ln as usize,
-            column: ln as usize,
-            top: levels(cap) - 1,
+            base,
+            level: per_level(ax, if blocks { b } else { 1 }),
+            column: extents(hf, ax).1 as usize,
+            top: levels as u32 - 1,
         }
     }
 }
@@ -208,6 +267,63 @@ fn range_max(v: &NbView, c: u32, a: u32, b: u32) -> f64 {
     f64::from(m)
 }
 
+/// The blocks of [`BLOCK`] cell columns (in the field's block grid) that hold the
+/// columns `k ∈ ks` (`k ≥ 1`) ahead of texel `(m, n)` (main, minor indices of axis
+/// `ax`, direction `sg`), as `(bound, ka, kb)` (the block's first and last such `k`),
+/// into `out`, those whose bound exceeds `s` only. `bound` is at least the N-buffer
+/// bound of each of these columns: the block's highest sample over the band of `kb`
+/// (the widest) gives `top ≥` each column's `top`; and (`f64` division being
+/// monotone in both operands) `top/ka ≥ top_k/k` when `top > 0` (a column's bound is
+/// then `≤ top/ka` whatever its sign), `top/(kb + 1) ≥ top_k/(k + 1)` when
+/// `top ≤ 0`. Blocks go by increasing `k`; they stop once `(hmax − z_c)/ka ≤ s` with
+/// `hmax − z_c > 0`, which bounds every block further (then `s ≥ 0 ≥` the bound of
+/// a block under `z_c`).
+#[allow(clippy::too_many_arguments)]
+fn block_bounds(
+    hf: &HeightField,
+    nb: &[f32],
+    cap: u8,
+    ax: usize,
+    sg: i64,
+    (m, n): (u32, u32),
+    zc: f64,
+    ks: Range<u32>,
+    (s, hmax): (f64, f64),
+    out: &mut Blocks,
+) {
+    let v = NbView::new(hf, nb, cap, ax, true);
+    let ln = extents(hf, ax).1;
+    let reach = hmax - zc;
+    let mut ka = ks.start;
+    // At most 254 columns: 33 blocks.
+    while ka < ks.end {
+        if reach > 0.0 && reach / f64::from(ka) <= s {
+            break;
+        }
+        let b = if sg > 0 { m + ka } else { m - ka - 1 } / BLOCK;
+        let last = if sg > 0 {
+            b * BLOCK + BLOCK - 1 - m
+        } else {
+            m - 1 - b * BLOCK
+        };
+        let kb = last.min(ks.end - 1);
+        let (l0, l1) = (n.saturating_sub(kb + 2), (n + kb + 1).min(ln - 2));
+        let top = range_max(&v, b, l0, l1 + 1) - zc;
+        let bound = if top > 0.0 {
+            top / f64::from(ka)
+        } else {
+            top / (f64::from(kb) + 1.0)
+        };
+        if bound > s {
+            out.push((bound, ka, kb)).ok();
+        }
+        ka = kb + 1;
+    }
+}
+
+/// Blocks of columns as [`block_bounds`] lists them: `(bound, ka, kb)`.
+type Blocks = heapless::Vec<(f64, u32, u32), 40>;
+
 /// Largest `(plane − zc) / u` over the part of `tri` a ray from the segment reaches;
 /// `+∞` when that part touches the centerline above `zc`.
 fn tri_slope(sigma: &Sigma, tri: &Tri, zc: f64) -> f64 {
@@ -225,7 +341,7 @@ fn tri_slope(sigma: &Sigma, tri: &Tri, zc: f64) -> f64 {
         let mut out = [[0f64; 2]; 8];
         let mut k = 0;
         for e in 0..n {
-            let (p, q) = (poly[e], poly[(e + 1) % n]);
+            let (p, q) = (poly[e], poly[if e + 1 == n { 0 } else { e + 1 }]);
             let (fp, fq) = (f(p), f(q));
             if fp >= 0.0 {
                 out[k] = p;
@@ -282,69 +398,30 @@ pub fn texel_cone<S: RaySet>(
         .max(sigma.h)
         .max(sigma.height(sigma.hi));
     let hmax = f64::from(hf.max_height());
-    let capf = f64::from(opts.cap);
     let mut s = S_MIN;
-    // Pass 1: every column's highest sample over its reachable band bounds the slope
-    // its triangles can give (`(top − z_c)/u` is largest at a vertex). The N-buffer
-    // slope is that bound itself (past column 0).
-    let nbv = NbView::new(hf, nb, opts.cap, ax);
-    // At most one column per `k < cap ≤ 255`: pushes cannot fail.
-    let mut cols: heapless::Vec<(f64, u32), 256> = heapless::Vec::new();
-    for k in u32::from(r)..u32::from(opts.cap) {
+    // Every column's highest sample over its reachable band bounds the slope its
+    // triangles can give (`(top − z_c)/u` is largest at a vertex). The N-buffer slope
+    // is that bound itself (past column 0).
+    let nbv = NbView::new(hf, nb, opts.cap, ax, false);
+    // Columns `k < kend` lie in the field.
+    let kend = u32::from(opts.cap).min(if sg > 0 { lm - 1 - m } else { m });
+    let column = |k: u32| if sg > 0 { m + k } else { m - k - 1 };
+    let band = |k: u32| (n.saturating_sub(k + 2), (n + k + 1).min(ln - 2));
+    let bound_of = |k: u32| {
+        let (l0, l1) = band(k);
+        let top = range_max(&nbv, column(k), l0, l1 + 1) - zc;
         let kf = f64::from(k);
-        if hmax - zc <= (s * kf).min(s * capf) {
-            break;
-        }
-        let cm = if sg > 0 {
-            i64::from(m) + i64::from(k)
-        } else {
-            i64::from(m) - i64::from(k) - 1
-        };
-        if cm < 0 || cm > i64::from(lm) - 2 {
-            break;
-        }
-        let cm = cm as u32;
-        let l0 = (i64::from(n) - i64::from(k) - 2).max(0) as u32;
-        let l1 = (i64::from(n) + i64::from(k) + 1).min(i64::from(ln) - 2) as u32;
-        let top = range_max(&nbv, cm, l0, l1 + 1) - zc;
-        let bound = if top <= 0.0 {
+        if top <= 0.0 {
             top / (kf + 1.0)
         } else if k == 0 {
             f64::INFINITY
         } else {
             top / kf
-        };
-        if bound <= s {
-            continue;
         }
-        if opts.slope == Slope::NBuffer && k >= 1 {
-            s = bound;
-            continue;
-        }
-        cols.push((bound, k)).ok();
-    }
-    // Pass 2: scan the columns whose bound beats the slope so far, highest bound
-    // first, so that the slope rises early and prunes the rest. (Sorted as integer
-    // keys: the `f32` bound's order-preserving bits, then the column's index.)
-    let mut keys: heapless::Vec<u64, 256> = cols
-        .iter()
-        .enumerate()
-        .map(|(idx, col)| {
-            let b = (col.0 as f32).to_bits();
-            let ordered = if b >> 31 == 1 { !b } else { b | 1 << 31 };
-            u64::from(ordered) << 32 | idx as u64
-        })
-        .collect();
-    keys.sort_unstable();
-    for key in keys.iter().rev() {
-        let (bound, k) = cols[(*key & 0xffff_ffff) as usize];
-        if bound <= s {
-            continue;
-        }
-        let kf = f64::from(k);
-        let cm = if sg > 0 { m + k } else { m - k - 1 };
-        let l0 = (i64::from(n) - i64::from(k) - 2).max(0) as u32;
-        let l1 = (i64::from(n) + i64::from(k) + 1).min(i64::from(ln) - 2) as u32;
+    };
+    // Raises `s` over the triangles of column `k` (exactly).
+    let scan = |k: u32, s: &mut f64| {
+        let (l0, l1) = band(k);
         let col = Column {
             hf,
             nb: &nbv,
@@ -352,14 +429,127 @@ pub fn texel_cone<S: RaySet>(
             sigma: &sigma,
             ax,
             sg,
-            cm,
-            kf,
+            cm: column(k),
+            kf: f64::from(k),
             zc,
             all: opts.slope == Slope::NBuffer,
         };
-        col.scan(l0, l1, &mut s);
-        if s == f64::INFINITY {
-            return (zc, s);
+        col.scan(l0, l1, s);
+    };
+    let mut blocks = Blocks::new();
+    let k0 = u32::from(r).max(1);
+    if opts.slope == Slope::NBuffer {
+        // The slope is the largest bound of the columns `k ≥ max(r, 1)` (the
+        // exact slope's stop on `hmax` below would only leave out bounds `≤ s`);
+        // the order of visits does not change a maximum: blocks of columns are
+        // visited highest bound first, and one whose bound does not exceed `s` is
+        // skipped with all its columns (the rest are lower still). The nearest
+        // [`BLOCK`] columns (the likeliest maximum) are taken first. Then column 0.
+        let near = kend.min(k0 + BLOCK);
+        for k in k0..near {
+            s = s.max(bound_of(k));
+        }
+        let ks = near..kend;
+        block_bounds(
+            hf,
+            nb,
+            opts.cap,
+            ax,
+            sg,
+            (m, n),
+            zc,
+            ks,
+            (s, hmax),
+            &mut blocks,
+        );
+        while let Some(at) = (0..blocks.len()).max_by(|&a, &b| blocks[a].0.total_cmp(&blocks[b].0))
+        {
+            let (bb, ka, kb) = blocks.swap_remove(at);
+            if bb <= s {
+                break;
+            }
+            for k in ka..=kb {
+                s = s.max(bound_of(k));
+            }
+        }
+        if r == 0 && kend > 0 && bound_of(0) > s {
+            scan(0, &mut s);
+        }
+        return (zc, s);
+    }
+    // The exact slope scans the columns whose bound exceeds `S_MIN` (none when
+    // `hmax − z_c ≤ S_MIN·cap`), highest bound first, so that the slope rises early
+    // and prunes the rest: a column whose bound does not exceed `s` is skipped. The
+    // order is that of integer keys, the `f32` bound's order-preserving bits, then
+    // `k`. They are popped from a heap that starts with column 0 and the blocks of
+    // [`block_bounds`], keyed by their bound above every column key of the same
+    // `f32` bound: a block pops before its columns and is only then expanded into
+    // them (or dropped, when its bound does not exceed `s`, as all its columns would
+    // be), so columns pop in exactly the key order. Once a popped `f32` bound is
+    // below `f32(s)`, so are all the rest (rounding to `f32` is monotone) and none of
+    // their bounds exceeds `s`: the scan stops.
+    if u32::from(r) >= kend || hmax - zc <= S_MIN * f64::from(opts.cap) {
+        return (zc, s);
+    }
+    let key = |bound: f64, low: u32| {
+        let b = (bound as f32).to_bits();
+        let ordered = if b >> 31 == 1 { !b } else { b | 1 << 31 };
+        u64::from(ordered) << 32 | u64::from(low)
+    };
+    let ks = k0..kend;
+    block_bounds(
+        hf,
+        nb,
+        opts.cap,
+        ax,
+        sg,
+        (m, n),
+        zc,
+        ks,
+        (s, hmax),
+        &mut blocks,
+    );
+    const BLOCK_KEY: u32 = 0xffff_ff00;
+    // At most 255 columns and 33 blocks: pushes cannot fail.
+    let mut heap: BinaryHeap<u64, Max, 320> = BinaryHeap::new();
+    if r == 0 {
+        let b0 = bound_of(0);
+        if b0 > S_MIN {
+            heap.push(key(b0, 0)).ok();
+        }
+    }
+    for (idx, &(bb, _, _)) in blocks.iter().enumerate() {
+        heap.push(key(bb, BLOCK_KEY | idx as u32)).ok();
+    }
+    while let Some(top) = heap.pop() {
+        let low = top as u32;
+        let (bound, block) = if low >= BLOCK_KEY {
+            let (bb, ka, kb) = blocks[(low - BLOCK_KEY) as usize];
+            (bb, Some((ka, kb)))
+        } else {
+            (bound_of(low), None)
+        };
+        if (bound as f32) < s as f32 {
+            break;
+        }
+        if bound <= s {
+            continue;
+        }
+        match block {
+            Some((ka, kb)) => {
+                for k in ka..=kb {
+                    let b = bound_of(k);
+                    if b > S_MIN {
+                        heap.push(key(b, k)).ok();
+                    }
+                }
+            }
+            None => {
+                scan(low, &mut s);
+                if s == f64::INFINITY {
+                    return (zc, s);
+                }
+            }
         }
     }
     (zc, s)
