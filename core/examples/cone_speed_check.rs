@@ -18,26 +18,6 @@ use hfcast::{cone, qdm, HeightField};
 use std::time::Instant;
 
 #[cfg(all(feature = "cone", feature = "qdm"))]
-/// The synthetic fractal field of `cones_bench` (depth 0.1 × n).
-fn synth(n: u32) -> Vec<f32> {
-    let mut v = Vec::with_capacity((n * n) as usize);
-    let depth = 0.1 * n as f64;
-    for j in 0..n {
-        for i in 0..n {
-            let (x, y) = (i as f64, j as f64);
-            let mut s = 0.0;
-            for k in 0..7 {
-                let f = 0.02 * 1.9f64.powi(k);
-                let a = k as f64 * 1.7;
-                s += (f * (x * a.cos() + y * a.sin()) + k as f64).sin() / 1.8f64.powi(k);
-            }
-            v.push((depth * (0.5 + 0.25 * s)) as f32);
-        }
-    }
-    v
-}
-
-#[cfg(all(feature = "cone", feature = "qdm"))]
 /// The Himalaya map downsampled to `n` per side (depth 0.1 × n).
 fn himalaya(n: u32) -> Vec<f32> {
     let (raw, w, h) = common::load_png("dem_etopo5_himalaya_1024.png").expect("himalaya map");
@@ -80,7 +60,7 @@ fn bake(hf: &HeightField, which: &str, threads: u32) -> Vec<f32> {
 fn fields() -> Vec<(String, tcommon::Field)> {
     let mut v = Vec::new();
     for n in [256, 512] {
-        v.push((format!("synth {n}"), (n, synth(n))));
+        v.push((format!("synth {n}"), (n, common::fractal_field(n))));
         v.push((format!("himalaya {n}"), (n, himalaya(n))));
     }
     let mut v: Vec<(String, tcommon::Field)> = v
@@ -122,7 +102,10 @@ fn main() {
         }
         Some("time") => {
             let n: u32 = args[1].parse().unwrap();
-            for (name, s) in [("synth", synth(n)), ("himalaya", himalaya(n))] {
+            for (name, s) in [
+                ("synth", common::fractal_field(n)),
+                ("himalaya", himalaya(n)),
+            ] {
                 let hf = HeightField::new(&s, n, n, n as usize).unwrap();
                 for which in ["cone", "qdm"] {
                     let t = Instant::now();
@@ -135,7 +118,7 @@ fn main() {
         Some("one") => {
             let n: u32 = args[3].parse().unwrap();
             let s = if args[2] == "synth" {
-                synth(n)
+                common::fractal_field(n)
             } else {
                 himalaya(n)
             };

@@ -5,27 +5,10 @@
 //!
 //! `cargo run --release -p hfcast --example cones_bench [--relaxed-all]  (SIZES=256,512 to choose sizes)`
 
+mod common;
+
 use hfcast::{cone, dda, qdm, relaxed, HeightField, Query, Surface};
 use std::time::Instant;
-
-/// A smooth fractal-ish field of sines (deterministic).
-fn field(n: u32) -> Vec<f32> {
-    let mut v = Vec::with_capacity((n * n) as usize);
-    let depth = 0.1 * n as f64;
-    for j in 0..n {
-        for i in 0..n {
-            let (x, y) = (i as f64, j as f64);
-            let mut s = 0.0;
-            for k in 0..7 {
-                let f = 0.02 * 1.9f64.powi(k);
-                let a = k as f64 * 1.7;
-                s += (f * (x * a.cos() + y * a.sin()) + k as f64).sin() / 1.8f64.powi(k);
-            }
-            v.push((depth * (0.5 + 0.25 * s)) as f32);
-        }
-    }
-    v
-}
 
 /// Bakes `rows` of a map with `texel` channels per row unit over two threads.
 fn bake2(
@@ -58,7 +41,7 @@ fn main() {
         s.split(',').map(|v| v.parse().unwrap()).collect()
     });
     for n in sizes {
-        let s = field(n);
+        let s = common::fractal_field(n);
         let hf = HeightField::new(&s, n, n, n as usize).unwrap();
         let mut scratch = vec![0.0; cone::scratch_len(n, n)];
         cone::prepare(&hf, &mut scratch).unwrap();

@@ -23,30 +23,10 @@ use hfcast::{relaxed, HeightField};
 use std::time::Instant;
 
 #[cfg(feature = "relaxed")]
-/// The smooth fractal-ish field of sines of `cones_bench` (deterministic).
-fn synth(n: u32) -> Vec<f32> {
-    let mut v = Vec::with_capacity((n * n) as usize);
-    let depth = 0.1 * n as f64;
-    for j in 0..n {
-        for i in 0..n {
-            let (x, y) = (i as f64, j as f64);
-            let mut s = 0.0;
-            for k in 0..7 {
-                let f = 0.02 * 1.9f64.powi(k);
-                let a = k as f64 * 1.7;
-                s += (f * (x * a.cos() + y * a.sin()) + k as f64).sin() / 1.8f64.powi(k);
-            }
-            v.push((depth * (0.5 + 0.25 * s)) as f32);
-        }
-    }
-    v
-}
-
-#[cfg(feature = "relaxed")]
 /// The `n × n` heights of map `name`, or `None` when its PNG is missing.
 fn heights(name: &str, n: u32) -> Option<Vec<f32>> {
     match name {
-        "synth" => Some(synth(n)),
+        "synth" => Some(common::fractal_field(n)),
         "himalaya" => {
             let (raw, w, h) = common::load_png("dem_etopo5_himalaya_1024.png")?;
             let (v, nw, _) = common::downsample(&raw, w, h, (w / n).max(1));

@@ -190,3 +190,23 @@ pub fn run(rays: &[Query<f32>], reps: usize, f: impl Fn(&Query<f32>) -> Trace<f3
         traces,
     }
 }
+
+/// The synthetic fractal field of the cone-family benchmarks: an `n × n` sum of seven
+/// sines (deterministic), heights in `[0, 0.1·n]` roughly.
+pub fn fractal_field(n: u32) -> Vec<f32> {
+    let mut v = Vec::with_capacity((n * n) as usize);
+    let depth = 0.1 * n as f64;
+    for j in 0..n {
+        for i in 0..n {
+            let (x, y) = (i as f64, j as f64);
+            let mut s = 0.0;
+            for k in 0..7 {
+                let f = 0.02 * 1.9f64.powi(k);
+                let a = k as f64 * 1.7;
+                s += (f * (x * a.cos() + y * a.sin()) + k as f64).sin() / 1.8f64.powi(k);
+            }
+            v.push((depth * (0.5 + 0.25 * s)) as f32);
+        }
+    }
+    v
+}
