@@ -154,26 +154,18 @@ int read_png_rgb(const char *path, unsigned char **rgb, int *w, int *h) {
 
 /* ---- scene ------------------------------------------------------------------------ */
 
-int scene_load(scene *s, const char *png_path) { return scene_load_ex(s, png_path, 0, 0); }
+int scene_load(scene *s, const char *png_path) { return scene_load_ex(s, png_path, 0); }
 
-int scene_load_ex(scene *s, const char *png_path, uint32_t crop, int relaxed) {
+int scene_load_ex(scene *s, const char *png_path, int relaxed) {
     memset(s, 0, sizeof *s);
     uint16_t *samples = read_png_gray16(png_path, &s->w, &s->h);
     if (!samples) return -1;
     uint32_t stride = s->w;
-    if (crop > 0) {
-        s->w = s->w < crop ? s->w : crop;
-        s->h = s->h < crop ? s->h : crop;
-    }
     const char *base = strrchr(png_path, '/');
     base = base ? base + 1 : png_path;
     snprintf(s->name, sizeof s->name, "%s", base);
     char *dot = strrchr(s->name, '.');
     if (dot) *dot = 0;
-    if (crop > 0) {
-        size_t len = strlen(s->name);
-        snprintf(s->name + len, sizeof s->name - len, "_crop%u", (unsigned)crop);
-    }
     /* The tools' default relief depth: 0.1 x max(W, H) grid units. */
     s->depth = 0.1f * (float)(s->w > s->h ? s->w : s->h);
     size_t n = (size_t)s->w * s->h;

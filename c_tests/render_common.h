@@ -92,9 +92,8 @@ const char *method_name(uint32_t method);
 const char *surface_name(uint32_t surface);
 
 int scene_load(scene *s, const char *png_path);
-/* scene_load with options: `crop` > 0 keeps only the top-left crop x crop samples;
- * `relaxed` bakes the relaxed cone map too (the book's bake: minutes on a full map). */
-int scene_load_ex(scene *s, const char *png_path, uint32_t crop, int relaxed);
+/* scene_load, and when `relaxed` the relaxed cone map too (seconds on a test map). */
+int scene_load_ex(scene *s, const char *png_path, int relaxed);
 void scene_free(scene *s);
 /* The fixed view of the tests: both renderers' images of it are compared. */
 camera default_camera(void);

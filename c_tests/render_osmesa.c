@@ -230,23 +230,22 @@ typedef struct map_job {
     gpu g;
     float depth_far;
     hf_ray *rays; /* w x h, uploaded */
-    int crop;     /* the relaxed-cone job: a 64 x 64 crop of the first map */
+    int relaxed;  /* the scene has its relaxed cone map (test runs) */
 } map_job;
 
 typedef void (*map_fn)(map_job *j, int w, int h, void *ctx);
 
-/* Runs `fn` on every map of `maps` set up for a w x h image, a map it cannot read
- * skipped with a line "skip MAP" and `skip_note`; then, when `with_crop`, on a 64 x 64
- * crop of the first with the relaxed cone map (whose bake, the book's, takes minutes on
- * a full map). Returns the number of maps loaded, -1 when the GPU setup failed. */
-static int for_each_map(int w, int h, int nmaps, char **maps, int with_crop,
+/* Runs `fn` on every map of `maps` set up for a w x h image (with the relaxed cone map
+ * when `with_relaxed`), a map it cannot read skipped with a line "skip MAP" and
+ * `skip_note`. Returns the number of maps loaded, -1 when the GPU setup failed. */
+static int for_each_map(int w, int h, int nmaps, char **maps, int with_relaxed,
                         const char *skip_note, map_fn fn, void *ctx) {
     int loaded = 0;
-    for (int m = 0; m < nmaps + (with_crop != 0); m++) {
+    for (int m = 0; m < nmaps; m++) {
         map_job j;
-        j.crop = m == nmaps;
-        const char *path = maps[j.crop ? 0 : m];
-        if (scene_load_ex(&j.s, path, j.crop ? 64 : 0, j.crop) != 0) {
+        j.relaxed = with_relaxed;
+        const char *path = maps[m];
+        if (scene_load_ex(&j.s, path, with_relaxed) != 0) {
             printf("skip %s%s\n", path, skip_note);
             continue;
         }
@@ -315,24 +314,21 @@ static int tests_result(const char *name, const tally *t) {
 
 /* ---- parity test ------------------------------------------------------------------- */
 
-/* Every configuration on one map (the crop job: exact/triangles for reference, then
- * relaxed cones) against the CPU; the images of the exact methods on triangles (safety:
- * directional) of the full maps go to the outdir. */
+/* Every configuration on one map (relaxed cones too when the job has their map)
+ * against the CPU; the images of the exact methods on triangles (safety: directional)
+ * go to the outdir. */
 static void parity_map(map_job *j, int w, int h, void *ctx) {
     tally *t = (tally *)ctx;
     frame f;
     frame_alloc(&f, w, h);
-    method_cfg cfgs[10 + SEARCH_TO_CC_CFGS];
+    method_cfg cfgs[11 + SEARCH_TO_CC_CFGS];
     int ncfg = 0;
     for (uint32_t sf = 0; sf <= HF_SURFACE_VIEW_LINEAR; sf++)
         cfgs[ncfg++] = cfg_of(HF_METHOD_EXACT, sf);
     for (uint32_t sf = 0; sf <= HF_SURFACE_VIEW_LINEAR; sf++)
         cfgs[ncfg++] = cfg_of(HF_METHOD_MAXMIP, sf);
     ncfg = search_to_cc_cfgs(cfgs, ncfg, 1);
-    if (j->crop) {
-        ncfg = 1; /* exact/triangles (cfgs[0]) for reference, then relaxed */
-        cfgs[ncfg++] = cfg_of(HF_METHOD_RELAXED, HF_SURFACE_TRIANGLES);
-    }
+    if (j->relaxed) cfgs[ncfg++] = cfg_of(HF_METHOD_RELAXED, HF_SURFACE_TRIANGLES);
     for (int k = 0; k < ncfg; k++) {
         method_cfg c = cfgs[k];
         double ms = render_ms(j, c, 0, 0);
@@ -352,7 +348,7 @@ static void parity_map(map_job *j, int w, int h, void *ctx) {
         if (!ok || p.differ > 0) compare(&j->s, c, j->rays, &f, j->depth_far, w, h, 1, label);
         if (ok) t->passed++; else t->failed++;
         if (c.surface == HF_SURFACE_TRIANGLES && method_exact(c.method) &&
-            c.variant == HF_SAFETY_DIRECTIONAL && c.zero == HF_RADIUS_WALK && !j->crop) {
+            c.variant == HF_SAFETY_DIRECTIONAL && c.zero == HF_RADIUS_WALK) {
             char path[512];
             snprintf(path, sizeof path, "%s/%s_%s_triangles.png", t->outdir, j->s.name,
                      method_name(c.method));
@@ -513,8 +509,8 @@ static int generated_cases(gen_case *out) {
     return n;
 }
 
-/* Every case on one map (the crop job: relaxed cones) with the general and the
- * generated shader: the frames must be identical (16-bit heights: the general shader
+/* Every case on one map (relaxed cones too when the job has their map) with the
+ * general and the generated shader: the frames must be identical (16-bit heights: the general shader
  * reads the same heights as floats), and the generated one must agree with the CPU as
  * the parity test demands. */
 static void generated_map(map_job *j, int w, int h, void *ctx) {
@@ -524,10 +520,9 @@ static void generated_map(map_job *j, int w, int h, void *ctx) {
     frame_alloc(&fm, w, h);
     gen_case cases[32];
     int ncases = generated_cases(cases);
-    if (j->crop) {
-        cases[0].cfg = cfg_of(HF_METHOD_RELAXED, HF_SURFACE_TRIANGLES);
-        cases[0].u16 = 0;
-        ncases = 1;
+    if (j->relaxed) {
+        cases[ncases].cfg = cfg_of(HF_METHOD_RELAXED, HF_SURFACE_TRIANGLES);
+        cases[ncases++].u16 = 0;
     }
     for (int k = 0; k < ncases; k++) {
         method_cfg c = cases[k].cfg;
