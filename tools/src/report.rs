@@ -104,7 +104,7 @@ pub fn build_scenes(opts: &ReportOptions) -> Result<Vec<Scene>, String> {
     for kind in Synthetic::ALL {
         list.push(kind.scene(n, hfcast::Surface::Triangles));
     }
-    // A small field for the slow bakes (relaxed cone stepping is Θ(N⁴)).
+    // A small field for the bakes too slow for `--quick` on the others.
     let mut small = Synthetic::Fractal.scene(opts.small_size, hfcast::Surface::Triangles);
     small.name = format!("{}-{}", small.name, opts.small_size);
     list.push(small);

@@ -484,7 +484,7 @@ fn definitions(opts: &ReportOptions, sweep: &Sweep, w: u32, h: u32) -> String {
          that runs out returns its current point, flagged as out of budget, so they are not \
          counted as exact) on fields of at most {} samples; relaxed cone stepping \
          (approximate; cone:binary steps {:?}) on fields of at most {} samples (its bake is \
-         Θ(N⁴) in the side). The settings of one of these families share one bake per \
+         the book's Θ(N⁴) preprocess, pruned to the same result). The settings of one of these families share one bake per \
          scene; its time is reported on each. parry3d {} \
          `HeightField::cast_local_ray` (`f32`).\n",
         sweep.lod_pixels,
