@@ -48,6 +48,7 @@ pub fn clip<R: Real>(hf: &HeightField, q: &Query<R>) -> Option<Span<R>> {
 /// `z`, widened for linear planes, whose plane reaches `h10 + h01 − h00` at a cell's far
 /// corner and so may leave the sample range by up to its width; `None` when the ray
 /// misses it.
+#[inline]
 pub fn clip_surface<R: Real>(hf: &HeightField, surface: Surface, q: &Query<R>) -> Option<Span<R>> {
     let (o, d) = (q.origin(), q.dir());
     let lim = [R::from_u32(hf.width() - 1), R::from_u32(hf.height() - 1)];

@@ -693,37 +693,64 @@ pub struct Line<R: Real> {
     pub tol: R,
 }
 
-/// Evaluates the crossing of centerline `m` of axis `ax`; two fetches.
-fn line_at<R: Real>(hf: &HeightField, q: &Query<R>, ax: usize, m: u32) -> Line<R> {
-    let (o, d) = (q.origin(), q.dir());
-    let mi = 1 - ax;
-    let (_, ln) = extents(hf, ax);
-    let t = (R::from_u32(m) - o[ax]) / d[ax];
-    let mut p = q.at(t);
-    p[ax] = R::from_u32(m);
-    let y = p[mi].clamp_to(R::ZERO, R::from_u32(ln - 1));
-    let edge = (y.floor().to_f64() as u32).min(ln - 2);
-    let v = y - R::from_u32(edge);
-    let h0 = R::from_f32(sample(hf, ax, m, edge));
-    let h1 = R::from_f32(sample(hf, ax, m, edge + 1));
-    let c = p[2] - R::lerp(h0, h1, v);
-    let texel = if v < R::HALF { edge } else { edge + 1 };
-    let ys = R::ONE + o[mi].abs() + p[mi].abs();
-    let zs = R::ONE + o[2].abs() + p[2].abs() + h0.abs() + (h1 - h0).abs() * ys;
-    let rel = (R::from_f32(32.0) * R::EPSILON).max(R::from_f64(1.0 / (1u64 << 30) as f64));
-    let tol = if R::from_f32(8.0) * R::EPSILON * ys > R::from_f64(SEG_PAD) {
-        R::INFINITY
-    } else {
-        rel * zs
-    };
-    Line {
-        m,
-        t,
-        p,
-        c,
-        edge,
-        texel,
-        tol,
+/// The parts of [`Frame::line_at`] that depend only on the ray and its main axis.
+#[derive(Clone, Copy, Debug)]
+struct Frame<R: Real> {
+    /// Main axis.
+    ax: usize,
+    /// Samples along the minor axis.
+    ln: u32,
+    /// `1 + |o[minor]|`, the start of the minor coordinate's error scale.
+    ys0: R,
+    /// `1 + |o[2]|`, the start of the height's error scale.
+    zs0: R,
+}
+
+impl<R: Real> Frame<R> {
+    /// The constants of main axis `ax` for `q`.
+    fn new(hf: &HeightField, q: &Query<R>, ax: usize) -> Self {
+        let o = q.origin();
+        Frame {
+            ax,
+            ln: extents(hf, ax).1,
+            ys0: R::ONE + o[1 - ax].abs(),
+            zs0: R::ONE + o[2].abs(),
+        }
+    }
+
+    /// Evaluates the crossing of centerline `m` by `q`; two fetches.
+    #[inline(always)]
+    fn line_at(&self, hf: &HeightField, q: &Query<R>, m: u32) -> Line<R> {
+        let (ax, mi, ln) = (self.ax, 1 - self.ax, self.ln);
+        let (o, d) = (q.origin(), q.dir());
+        let t = (R::from_u32(m) - o[ax]) / d[ax];
+        let mut p = q.at(t);
+        p[ax] = R::from_u32(m);
+        let y = p[mi].clamp_to(R::ZERO, R::from_u32(ln - 1));
+        // `y` is `≥ 0` (or NaN, read as 0 either way): truncation is its floor.
+        let edge = (y.to_f64() as u32).min(ln - 2);
+        let v = y - R::from_u32(edge);
+        let h0 = R::from_f32(sample(hf, ax, m, edge));
+        let h1 = R::from_f32(sample(hf, ax, m, edge + 1));
+        let c = p[2] - R::lerp(h0, h1, v);
+        let texel = if v < R::HALF { edge } else { edge + 1 };
+        let ys = self.ys0 + p[mi].abs();
+        let zs = self.zs0 + p[2].abs() + h0.abs() + (h1 - h0).abs() * ys;
+        let rel = (R::from_f32(32.0) * R::EPSILON).max(R::from_f64(1.0 / (1u64 << 30) as f64));
+        let tol = if R::from_f32(8.0) * R::EPSILON * ys > R::from_f64(SEG_PAD) {
+            R::INFINITY
+        } else {
+            rel * zs
+        };
+        Line {
+            m,
+            t,
+            p,
+            c,
+            edge,
+            texel,
+            tol,
+        }
     }
 }
 
@@ -743,6 +770,7 @@ struct March<'a, R: Real> {
     surface: Surface,
     q: &'a Query<R>,
     span: Span<R>,
+    frame: Frame<R>,
     ax: usize,
     step: [i64; 2],
     cells: [u32; 2],
@@ -760,9 +788,10 @@ struct March<'a, R: Real> {
 
 impl<R: Real> March<'_, R> {
     /// A centerline evaluation, counted.
+    #[inline(always)]
     fn line(&mut self, m: u32) -> Line<R> {
         self.fetches += 2;
-        let l = line_at(self.hf, self.q, self.ax, m);
+        let l = self.frame.line_at(self.hf, self.q, m);
         if l.c > R::ZERO {
             self.clearance = self.clearance.min(l.c);
         }
@@ -830,7 +859,7 @@ impl<R: Real> March<'_, R> {
                 } else {
                     self.ic[ax]
                 };
-                let l = line_at(self.hf, self.q, ax, m);
+                let l = self.frame.line_at(self.hf, self.q, m);
                 if l.edge != self.ic[mi] {
                     self.fetches += 2;
                 }
@@ -1021,6 +1050,7 @@ pub(crate) fn march<R: Real>(
         surface,
         q,
         span,
+        frame: Frame::new(hf, q, ax),
         ax,
         step,
         cells,
@@ -1046,6 +1076,9 @@ pub(crate) fn march<R: Real>(
     };
     let mut budget = extents(hf, ax).0 + 8;
     let mut st = mr.walk();
+    // A jump landed on the crossing `st` holds, and the walk has not been put past it
+    // yet: [`March::enter`] waits until a walk follows (the next jump needs none).
+    let mut landed = false;
     loop {
         let l = match st {
             Step::Hit(h) => return mr.done(Some(h), Flags::default()),
@@ -1057,6 +1090,10 @@ pub(crate) fn march<R: Real>(
         }
         budget -= 1;
         let Some(last) = last.filter(|&e| e != l.m) else {
+            if landed {
+                mr.enter(&l);
+                landed = false;
+            }
             st = mr.walk();
             continue;
         };
@@ -1072,6 +1109,10 @@ pub(crate) fn march<R: Real>(
             0
         };
         if k == 0 {
+            if landed {
+                mr.enter(&l);
+                landed = false;
+            }
             st = mr.walk();
             continue;
         }
@@ -1079,8 +1120,8 @@ pub(crate) fn march<R: Real>(
         let target = (i64::from(l.m) + sg * i64::from(k.min(room))) as u32;
         let lt = mr.line(target);
         if lt.c > R::ZERO {
-            mr.enter(&lt);
             st = Step::Line(lt);
+            landed = true;
             continue;
         }
         // Below at the target, above at `m`, and no exit in between: bisect.
@@ -1095,6 +1136,7 @@ pub(crate) fn march<R: Real>(
             }
         }
         mr.enter(&lo);
+        landed = false;
         st = mr.walk();
     }
 }
