@@ -781,13 +781,8 @@ static void test_safety(void) {
         const unsigned char *map = v == 0 ? dmap : imap;
         size_t len = v == 0 ? dlen : ilen;
         CHECK_OK(hf_trace_safety_batch(f, map, len, (uint32_t)v, rays, N, sd, N));
-        for (int k = 0; k < N; k++) {
-            if (v == 0) hits += exact[k].hit;
-            same[v] += exact[k].hit == sd[k].hit &&
-                       (!exact[k].hit || (fabsf(exact[k].point[0] - sd[k].point[0]) <= 1e-3f &&
-                                          fabsf(exact[k].point[1] - sd[k].point[1]) <= 1e-3f &&
-                                          fabsf(exact[k].point[2] - sd[k].point[2]) <= 1e-3f));
-        }
+        for (int k = 0; v == 0 && k < N; k++) hits += exact[k].hit;
+        same[v] = agreeing(exact, sd, N);
         hf_hit one;
         CHECK_OK(hf_trace_safety(f, map, len, (uint32_t)v, &rays[7], &one));
         CHECK(memcmp(&one, &sd[7], sizeof one) == 0);
@@ -916,14 +911,8 @@ static void test_radius(void) {
     hf_hit *rd = (hf_hit *)malloc(sizeof(hf_hit) * N);
     CHECK_OK(hf_trace_exact_batch(f, HF_SURFACE_TRIANGLES, rays, N, exact, N));
     CHECK_OK(hf_trace_radius_batch(f, map, len, HF_RADIUS_WALK, rays, N, rd, N));
-    int same = 0, hits = 0;
-    for (int k = 0; k < N; k++) {
-        hits += exact[k].hit;
-        same += exact[k].hit == rd[k].hit &&
-                (!exact[k].hit || (fabsf(exact[k].point[0] - rd[k].point[0]) <= 1e-3f &&
-                                   fabsf(exact[k].point[1] - rd[k].point[1]) <= 1e-3f &&
-                                   fabsf(exact[k].point[2] - rd[k].point[2]) <= 1e-3f));
-    }
+    int same = agreeing(exact, rd, N), hits = 0;
+    for (int k = 0; k < N; k++) hits += exact[k].hit;
     CHECK(same == N);
     for (uint32_t z = HF_RADIUS_WALK; z <= HF_RADIUS_CLAMP; z++) {
         hf_hit one;
@@ -1056,13 +1045,8 @@ static void test_cones(void) {
         if (m == 0) CHECK_OK(hf_trace_cone_batch(f, cmap, clen, 1000, rays, N, other, N));
         if (m == 1) CHECK_OK(hf_trace_qdm_batch(f, qmap, qlen, 1000, rays, N, other, N));
         if (m == 2) CHECK_OK(hf_trace_relaxed_batch(f, rmap, rlen, 64, 16, rays, N, other, N));
-        for (int k = 0; k < N; k++) {
-            if (m == 0) hits += exact[k].hit;
-            same[m] += exact[k].hit == other[k].hit &&
-                       (!exact[k].hit || (fabsf(exact[k].point[0] - other[k].point[0]) <= 1e-3f &&
-                                          fabsf(exact[k].point[1] - other[k].point[1]) <= 1e-3f &&
-                                          fabsf(exact[k].point[2] - other[k].point[2]) <= 1e-3f));
-        }
+        for (int k = 0; m == 0 && k < N; k++) hits += exact[k].hit;
+        same[m] = agreeing(exact, other, N);
     }
     CHECK(same[0] == N && same[1] == N && same[2] > N * 9 / 10);
     printf("cones: %d rays, %d exact hits; agree with the exact method: cone %d, qdm %d, relaxed "
@@ -1225,13 +1209,8 @@ static void test_cc(void) {
     int same[2] = {0, 0}, hits = 0;
     for (int v = 0; v < 2; v++) {
         CHECK_OK(hf_trace_cc_batch(f, v == 0 ? map : nbmap, mlen, CAP, rays, N, cc, N));
-        for (int k = 0; k < N; k++) {
-            if (v == 0) hits += exact[k].hit;
-            same[v] += exact[k].hit == cc[k].hit &&
-                       (!exact[k].hit || (fabsf(exact[k].point[0] - cc[k].point[0]) <= 1e-3f &&
-                                          fabsf(exact[k].point[1] - cc[k].point[1]) <= 1e-3f &&
-                                          fabsf(exact[k].point[2] - cc[k].point[2]) <= 1e-3f));
-        }
+        for (int k = 0; v == 0 && k < N; k++) hits += exact[k].hit;
+        same[v] = agreeing(exact, cc, N);
     }
     CHECK(same[0] == N && same[1] == N);
     printf("cc: %d rays, %d exact hits; exact slopes agree on %d, n-buffer slopes on %d\n", N, hits,

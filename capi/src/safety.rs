@@ -362,15 +362,16 @@ pub unsafe extern "C" fn hf_trace_safety_on(
     }
 }
 
-/// The map slice and the march surface of a trace call, checked.
+/// The map slice and the march surface of a safety-shape trace call (safety, cc,
+/// radius), checked.
 ///
 /// # Safety
 /// `map` NULL or valid for reading `map_len` bytes.
-pub(crate) unsafe fn trace_inputs<'a, T>(
-    map: *const T,
+pub(crate) unsafe fn trace_inputs<'a>(
+    map: *const u8,
     map_len: usize,
     surface: u32,
-) -> Result<(&'a [T], MarchSurface), hf_result> {
+) -> Result<(&'a [u8], MarchSurface), hf_result> {
     // SAFETY: the caller's promise.
     let data = unsafe { pyramid_slice(map, map_len) }?;
     Ok((data, march_surface_of(surface)?))

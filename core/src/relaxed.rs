@@ -35,7 +35,7 @@ use crate::field::HeightField;
 use crate::math::Real;
 use crate::maxmip::MaxMip;
 use crate::ray::{Flags, Hit, Query, Trace};
-use crate::surface::{triangle_planes, Surface};
+use crate::surface::{plane, triangle_planes, Surface};
 
 const TRI: Surface = Surface::Triangles;
 
@@ -197,17 +197,8 @@ impl<'h, 'a> TriCell<'h, 'a> {
     #[inline]
     fn height(&mut self, x: f64, y: f64) -> f64 {
         let (w, h) = (self.hf.width(), self.hf.height());
-        // `Real::clamp_to`.
-        let clamp = |v: f64, hi: f64| {
-            let v = if 0.0 > v { 0.0 } else { v };
-            if hi < v {
-                hi
-            } else {
-                v
-            }
-        };
-        let x = clamp(x, (w - 1) as f64);
-        let y = clamp(y, (h - 1) as f64);
+        let x = x.clamp_to(0.0, (w - 1) as f64);
+        let y = y.clamp_to(0.0, (h - 1) as f64);
         if !(x >= self.lo[0] && x < self.hi[0] && y >= self.lo[1] && y < self.hi[1]) {
             // `locate`'s cell: `floor` (the values are ≥ 0, so truncation is floor),
             // the last cell taking the far edge.
@@ -226,12 +217,8 @@ impl<'h, 'a> TriCell<'h, 'a> {
         }
         let (u, v) = (x - self.lo[0], y - self.lo[1]);
         let [p, q] = self.planes;
-        let (a, b) = (p[0] + p[1] * u + p[2] * v, q[0] + q[1] * u + q[2] * v);
-        if b > a {
-            b
-        } else {
-            a
-        }
+        // `Surface::cell_height` of the triangles.
+        Real::max(plane(p, u, v), plane(q, u, v))
     }
 }
 

@@ -239,7 +239,7 @@ pub fn locate<R: Real>(hf: &HeightField, x: R, y: R) -> ([R; 4], R, R, [u32; 2])
 
 /// A plane `h0 + gu·u + gv·v` as `[h0, gu, gv]`.
 #[inline]
-fn plane<R: Real>(p: [R; 3], u: R, v: R) -> R {
+pub(crate) fn plane<R: Real>(p: [R; 3], u: R, v: R) -> R {
     p[0] + p[1] * u + p[2] * v
 }
 
