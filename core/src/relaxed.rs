@@ -171,9 +171,9 @@ impl<'h, 'a> Source<'h, 'a> {
     }
 }
 
-/// [`Surface::height_at`] of [`Surface::Triangles`] in f64, written out with the same
-/// operations in the same order (so the same bits), keeping the last cell and its
-/// planes: consecutive steps of a march often stay in one cell (about half of them on
+/// [`Surface::height_at`] of [`Surface::Triangles`] in f64 from the same steps
+/// (`clamp_to`, `locate`'s cell, `triangle_planes`, the larger plane: the same bits),
+/// keeping the last cell and its planes: consecutive steps of a march often stay in one cell (about half of them on
 /// the test maps), which is then found by comparing the point with the cell's bounds
 /// instead of converting it.
 struct TriCell<'h, 'a> {
