@@ -43,12 +43,16 @@
 //! `⌊log₂ len⌋`. Levels up to the widest reachable range, `2·cap + 5` samples. After
 //! them, the same per block of [`BLOCK`] consecutive cell columns (their maximum).
 //!
-//! **Pruning.** A skipped block or column of the N-buffer slope only leaves out
-//! bounds that cannot exceed the slope so far, and the slope is their maximum, so
-//! the order of visits does not change it. The exact slope visits the columns and
-//! their cells in a fixed order (bound, then column) and skips a cell only on the
-//! test of its own range, so its result does not depend on how the skipping is
-//! organised either.
+//! **Pruning.** Only the slope's code is stored, so the bake keeps the slope so far
+//! rounded up to a code's value (`C(s)`, [`code_ceiling`]): `C` is monotone and
+//! `C(max(a, C(b))) = C(max(a, b))`, so the result is the code of the maximum, and a
+//! bound `≤ C(s)` cannot change it (a wider skip than `≤ s`). A skipped block or
+//! column of the N-buffer slope only leaves out bounds that cannot exceed the slope
+//! so far, and the slope is their maximum, so the order of visits does not change
+//! it. The exact slope skips a cell when neither its highest sample (the N-buffer's
+//! level 1) nor its highest corners on the near and far side (over `u = k` and
+//! `u = k + 1`: a triangle's slope is largest at a corner) can raise the slope, so
+//! its result does not depend on how the skipping is organised either.
 //!
 //! **Packing** (the GPU layout, [`map_len`]): 16 bytes per texel, four per class in
 //! class order, `data[(t·4 + class)·4 ..]` = `[r, s, z_lo, z_hi]` (one RGBA8UI texel
@@ -375,8 +379,9 @@ fn tri_slope(sigma: &Sigma, tri: &Tri, zc: f64) -> f64 {
 }
 
 /// The cone `(z_c, s_c)` of texel `(i, j)` for `class`, beyond the cylinder `r`, in
-/// `f64` (`s_c` at least [`S_MIN`]; `+∞` when no cone is possible). `nb` is what
-/// [`prepare_nbuffer`] filled for `opts.cap`.
+/// `f64`, `s_c` rounded up to the value of its code ([`encode_slope`]; at least
+/// [`S_MIN`]; `+∞` when no cone is possible or the slope is past [`S_MAX`]). `nb` is
+/// what [`prepare_nbuffer`] filled for `opts.cap`.
 #[allow(clippy::too_many_arguments)]
 pub fn texel_cone<S: RaySet>(
     hf: &HeightField,
@@ -449,6 +454,7 @@ pub fn texel_cone<S: RaySet>(
         for k in k0..near {
             s = s.max(bound_of(k));
         }
+        s = code_ceiling(s);
         let ks = near..kend;
         block_bounds(
             hf,
@@ -471,6 +477,7 @@ pub fn texel_cone<S: RaySet>(
             for k in ka..=kb {
                 s = s.max(bound_of(k));
             }
+            s = code_ceiling(s);
         }
         if r == 0 && kend > 0 && bound_of(0) > s {
             scan(0, &mut s);
@@ -555,9 +562,6 @@ pub fn texel_cone<S: RaySet>(
     (zc, s)
 }
 
-/// Cells per range below which [`Column::scan`] stops halving.
-const FLAT: u32 = 8;
-
 /// One column of cells ahead of a texel, as the exact slope scans it.
 struct Column<'a, S: RaySet> {
     hf: &'a HeightField<'a>,
@@ -573,40 +577,64 @@ struct Column<'a, S: RaySet> {
 }
 
 impl<S: RaySet> Column<'_, S> {
-    /// Raises `s` over the cells `c0..=c1` of the column, skipping (by halves, with
-    /// the N-buffer) every range whose highest sample cannot raise it. Ranges of
-    /// [`FLAT`] cells or fewer are tested cell by cell, which skips exactly the same
-    /// cells: `s` only rises and `lowest` rises with it, so a cell under a skipped
-    /// range's top is also skipped on its own, and cells are visited in the same order.
+    /// Raises `s` over the cells `c0..=c1` of the column, skipping every cell whose
+    /// highest corner (the N-buffer's level 1: one read per cell, in a row) cannot
+    /// raise it.
     fn scan(&self, c0: u32, c1: u32, s: &mut f64) {
-        if c1 - c0 < FLAT {
-            for c in c0..=c1 {
-                self.cell(c, s);
+        let row = self.nb.base + self.nb.level + self.cm as usize * self.nb.column;
+        let tops = &self.nb.nb[row + c0 as usize..=row + c1 as usize];
+        let mut lowest = (*s * self.kf).min(*s * (self.kf + 1.0));
+        for (c, &top) in (c0..).zip(tops) {
+            if f64::from(top) - self.zc <= lowest || self.below(c, *s) {
+                continue;
             }
-            return;
+            for tri in cell_tris(self.hf, self.sigma, self.ax, self.sg, self.cm, c) {
+                if self.all || self.rays.limiting(self.sigma, &tri) {
+                    raise(s, tri_slope(self.sigma, &tri, self.zc));
+                }
+            }
+            if *s == f64::INFINITY {
+                return;
+            }
+            lowest = (*s * self.kf).min(*s * (self.kf + 1.0));
         }
-        let lowest = (*s * self.kf).min(*s * (self.kf + 1.0));
-        let top = range_max(self.nb, self.cm, c0, c1 + 1) - self.zc;
-        if top <= lowest || *s == f64::INFINITY {
-            return;
-        }
-        let mid = c0 + (c1 - c0) / 2;
-        self.scan(c0, mid, s);
-        self.scan(mid + 1, c1, s);
     }
 
-    /// Raises `s` over cell `c` of the column unless its highest corner cannot.
-    fn cell(&self, c: u32, s: &mut f64) {
-        let lowest = (*s * self.kf).min(*s * (self.kf + 1.0));
-        let top = range_max(self.nb, self.cm, c, c + 1) - self.zc;
-        if top <= lowest || *s == f64::INFINITY {
-            return;
-        }
-        for tri in cell_tris(self.hf, self.sigma, self.ax, self.sg, self.cm, c) {
-            if self.all || self.rays.limiting(self.sigma, &tri) {
-                *s = s.max(tri_slope(self.sigma, &tri, self.zc));
-            }
-        }
+    /// Whether no triangle of cell `c` can raise `s`: its slope is largest at a
+    /// corner (along an edge `(z − z_c)/u` is monotone; a corner at `u = 0` under
+    /// `z_c` only lowers the far one's), so both sides' highest corners under the
+    /// line `z_c + s·u`, by a margin far above rounding, suffice.
+    #[inline]
+    fn below(&self, c: u32, s: f64) -> bool {
+        let (ci, cj) = if self.ax == 0 {
+            (self.cm, c)
+        } else {
+            (c, self.cm)
+        };
+        let h = self.hf.cell_corners(ci, cj);
+        let (a, b) = if self.ax == 0 {
+            (h[0].max(h[2]), h[1].max(h[3]))
+        } else {
+            (h[0].max(h[1]), h[2].max(h[3]))
+        };
+        let (near, far) = if self.sg > 0 { (a, b) } else { (b, a) };
+        let (ln, lf) = (s * self.kf, s * (self.kf + 1.0));
+        let margin = 1e-9 * (1.0 + self.zc.abs() + lf.abs());
+        f64::from(near) - self.zc <= ln - margin && f64::from(far) - self.zc <= lf - margin
+    }
+}
+
+/// The smallest slope a code stands for that is `>= s` (`+∞` past [`S_MAX`]).
+#[inline]
+fn code_ceiling(s: f64) -> f64 {
+    decode_slope(encode_slope(s))
+}
+
+/// Raises `s` (a [`code_ceiling`]) to `code_ceiling(max(s, t))`.
+#[inline]
+fn raise(s: &mut f64, t: f64) {
+    if t > *s {
+        *s = code_ceiling(t);
     }
 }
 
