@@ -393,6 +393,28 @@ pub fn texel_cone<S: RaySet>(
     r: u8,
     opts: CcOptions,
 ) -> (f64, f64) {
+    cone_search(hf, nb, rays, class, (i, j), r, opts, None).0
+}
+
+/// A cell of the field as `(main, minor)` cell indices of a class's axis.
+type Cell = Option<(u32, u32)>;
+
+/// [`texel_cone`], first raising the slope over the cell `seed` when it lies ahead
+/// (for the exact slope: the cell that set a neighbour's slope, whose triangles often
+/// set this one's too, so that the search prunes from the start; the result does
+/// not depend on it, see the module's **Pruning**). Also returns the cell that set
+/// the slope, if any.
+#[allow(clippy::too_many_arguments)]
+fn cone_search<S: RaySet>(
+    hf: &HeightField,
+    nb: &[f32],
+    rays: &S,
+    class: RayClass,
+    (i, j): (u32, u32),
+    r: u8,
+    opts: CcOptions,
+    seed: Cell,
+) -> ((f64, f64), Cell) {
     let ax = axis_of(class);
     let sg = sign_of(class);
     let (lm, ln) = extents(hf, ax);
@@ -424,9 +446,10 @@ pub fn texel_cone<S: RaySet>(
             top / kf
         }
     };
-    // Raises `s` over the triangles of column `k` (exactly).
-    let scan = |k: u32, s: &mut f64| {
-        let (l0, l1) = band(k);
+    // Raises `s` over the triangles of the cells `cells` (all by default) of column `k`
+    // (exactly), noting in `best` the cell that raised it last.
+    let scan = |k: u32, cells: Option<u32>, s: &mut f64, best: &mut Cell| {
+        let (l0, l1) = cells.map_or(band(k), |c| (c, c));
         let col = Column {
             hf,
             nb: &nbv,
@@ -439,8 +462,9 @@ pub fn texel_cone<S: RaySet>(
             zc,
             all: opts.slope == Slope::NBuffer,
         };
-        col.scan(l0, l1, s);
+        col.scan(l0, l1, s, best);
     };
+    let mut best = None;
     let mut blocks = Blocks::new();
     let k0 = u32::from(r).max(1);
     if opts.slope == Slope::NBuffer {
@@ -480,13 +504,14 @@ pub fn texel_cone<S: RaySet>(
             s = code_ceiling(s);
         }
         if r == 0 && kend > 0 && bound_of(0) > s {
-            scan(0, &mut s);
+            scan(0, None, &mut s, &mut best);
         }
-        return (zc, s);
+        return ((zc, s), best);
     }
     // The exact slope scans the columns whose bound exceeds `S_MIN` (none when
-    // `hmax − z_c ≤ S_MIN·cap`), highest bound first, so that the slope rises early
-    // and prunes the rest: a column whose bound does not exceed `s` is skipped. The
+    // `hmax − z_c ≤ S_MIN·cap`), after the seed's cell, highest bound first, so that
+    // the slope rises early and prunes the rest: a column whose bound does not exceed
+    // `s` is skipped (or not even pushed). The
     // order is that of integer keys, the `f32` bound's order-preserving bits, then
     // `k`. They are popped from a heap that starts with column 0 and the blocks of
     // [`block_bounds`], keyed by their bound above every column key of the same
@@ -496,7 +521,18 @@ pub fn texel_cone<S: RaySet>(
     // below `f32(s)`, so are all the rest (rounding to `f32` is monotone) and none of
     // their bounds exceeds `s`: the scan stops.
     if u32::from(r) >= kend || hmax - zc <= S_MIN * f64::from(opts.cap) {
-        return (zc, s);
+        return ((zc, s), None);
+    }
+    if let Some((cm, c)) = seed {
+        let k = if sg > 0 {
+            cm.wrapping_sub(m)
+        } else {
+            m.wrapping_sub(cm + 1)
+        };
+        let (l0, l1) = band(k.min(kend));
+        if k >= u32::from(r) && k < kend && (l0..=l1).contains(&c) {
+            scan(k, Some(c), &mut s, &mut best);
+        }
     }
     let key = |bound: f64, low: u32| {
         let b = (bound as f32).to_bits();
@@ -521,7 +557,7 @@ pub fn texel_cone<S: RaySet>(
     let mut heap: BinaryHeap<u64, Max, 320> = BinaryHeap::new();
     if r == 0 {
         let b0 = bound_of(0);
-        if b0 > S_MIN {
+        if b0 > s {
             heap.push(key(b0, 0)).ok();
         }
     }
@@ -546,20 +582,20 @@ pub fn texel_cone<S: RaySet>(
             Some((ka, kb)) => {
                 for k in ka..=kb {
                     let b = bound_of(k);
-                    if b > S_MIN {
+                    if b > s {
                         heap.push(key(b, k)).ok();
                     }
                 }
             }
             None => {
-                scan(low, &mut s);
+                scan(low, None, &mut s, &mut best);
                 if s == f64::INFINITY {
-                    return (zc, s);
+                    return ((zc, s), best);
                 }
             }
         }
     }
-    (zc, s)
+    ((zc, s), best)
 }
 
 /// One column of cells ahead of a texel, as the exact slope scans it.
@@ -580,7 +616,7 @@ impl<S: RaySet> Column<'_, S> {
     /// Raises `s` over the cells `c0..=c1` of the column, skipping every cell whose
     /// highest corner (the N-buffer's level 1: one read per cell, in a row) cannot
     /// raise it.
-    fn scan(&self, c0: u32, c1: u32, s: &mut f64) {
+    fn scan(&self, c0: u32, c1: u32, s: &mut f64, best: &mut Cell) {
         let row = self.nb.base + self.nb.level + self.cm as usize * self.nb.column;
         let tops = &self.nb.nb[row + c0 as usize..=row + c1 as usize];
         let mut lowest = (*s * self.kf).min(*s * (self.kf + 1.0));
@@ -589,8 +625,10 @@ impl<S: RaySet> Column<'_, S> {
                 continue;
             }
             for tri in cell_tris(self.hf, self.sigma, self.ax, self.sg, self.cm, c) {
-                if self.all || self.rays.limiting(self.sigma, &tri) {
-                    raise(s, tri_slope(self.sigma, &tri, self.zc));
+                if (self.all || self.rays.limiting(self.sigma, &tri))
+                    && raise(s, tri_slope(self.sigma, &tri, self.zc))
+                {
+                    *best = Some((self.cm, c));
                 }
             }
             if *s == f64::INFINITY {
@@ -630,12 +668,14 @@ fn code_ceiling(s: f64) -> f64 {
     decode_slope(encode_slope(s))
 }
 
-/// Raises `s` (a [`code_ceiling`]) to `code_ceiling(max(s, t))`.
+/// Raises `s` (a [`code_ceiling`]) to `code_ceiling(max(s, t))`; whether it rose.
 #[inline]
-fn raise(s: &mut f64, t: f64) {
-    if t > *s {
+fn raise(s: &mut f64, t: f64) -> bool {
+    let rises = t > *s;
+    if rises {
         *s = code_ceiling(t);
     }
+    rises
 }
 
 /// Slope code of `s` rounded up (`NO_CONE` above [`S_MAX`]).
@@ -758,6 +798,8 @@ pub fn bake_rows_classes(
     }
     let skipped = pack(hf, 0, 0.0, f64::INFINITY);
     for (row, j) in rows.enumerate() {
+        // Per class, the cell that set the slope of the texel on the left.
+        let mut seeds: [Cell; 4] = [None; 4];
         for i in 0..hf.width() {
             let px = &mut out[(row * w + i as usize) * BYTES_PER_TEXEL..][..BYTES_PER_TEXEL];
             for (c, class) in CLASSES.into_iter().enumerate() {
@@ -766,7 +808,11 @@ pub fn bake_rows_classes(
                     let (zc, sc) = if r >= opts.cap {
                         (0.0, f64::INFINITY)
                     } else {
-                        texel_cone(hf, nb, &AllRays, class, i, j, r, opts)
+                        let seed = seeds[c];
+                        let (cone, best) =
+                            cone_search(hf, nb, &AllRays, class, (i, j), r, opts, seed);
+                        seeds[c] = best.or(seed);
+                        cone
                     };
                     pack(hf, r, zc, sc)
                 } else {
