@@ -33,7 +33,9 @@
 //! cannot raise `s_c`); the first pass stops when the field's maximum cannot.
 //! [`Slope::NBuffer`] counts every triangle as limiting and bounds a column `k ≥ 1`
 //! by that maximum sample at `u = k` (or `k + 1` when it is under `z_c`); column 0
-//! is taken exactly (dividing by `u = 0` would leave no cone). The slope is the
+//! (when `r = 0`) is taken exactly, like the exact slope does (dividing by `u = 0`
+//! would leave no cone; its non-limiting triangles may be left out there as
+//! anywhere, and testing them is cheaper than clipping them). The slope is the
 //! largest of these bounds, found block by block of [`BLOCK`] columns, highest block
 //! bound first, skipping the blocks whose bound cannot raise it.
 //!
@@ -460,7 +462,6 @@ fn cone_search<S: RaySet>(
             cm: column(k),
             kf: f64::from(k),
             zc,
-            all: opts.slope == Slope::NBuffer,
         };
         col.scan(l0, l1, s, best);
     };
@@ -609,7 +610,6 @@ struct Column<'a, S: RaySet> {
     cm: u32,
     kf: f64,
     zc: f64,
-    all: bool,
 }
 
 impl<S: RaySet> Column<'_, S> {
@@ -625,7 +625,7 @@ impl<S: RaySet> Column<'_, S> {
                 continue;
             }
             for tri in cell_tris(self.hf, self.sigma, self.ax, self.sg, self.cm, c) {
-                if (self.all || self.rays.limiting(self.sigma, &tri))
+                if self.rays.limiting(self.sigma, &tri)
                     && raise(s, tri_slope(self.sigma, &tri, self.zc))
                 {
                     *best = Some((self.cm, c));
