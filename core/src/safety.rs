@@ -45,7 +45,7 @@ use crate::field::HeightField;
 use crate::math::Real;
 use crate::ray::{Flags, Hit, Query, RayClass, Trace};
 use crate::scene::RayClasses;
-use crate::surface::{corners, triangle_planes, Surface};
+use crate::surface::{corners, triangle_planes, SegmentHit, Surface};
 
 pub mod cc;
 
@@ -693,49 +693,87 @@ pub struct Line<R: Real> {
     pub tol: R,
 }
 
-/// The parts of [`Frame::line_at`] that depend only on the ray and its main axis.
+/// The parts of [`Frame::line_at`] that depend only on the ray and its main axis,
+/// split out of the query's arrays by axis so that the evaluation indexes nothing by
+/// the (run-time) axis: the same operations on the same values as [`Query::at`].
 #[derive(Clone, Copy, Debug)]
-struct Frame<R: Real> {
-    /// Main axis.
-    ax: usize,
-    /// Samples along the minor axis.
-    ln: u32,
+struct Frame<R: Real, const AX: usize> {
+    /// Origin and direction on the main axis `AX`.
+    om: R,
+    dm: R,
+    /// Origin and direction on the minor axis.
+    on: R,
+    dn: R,
+    /// Origin and direction in height.
+    oz: R,
+    dz: R,
+    /// Last minor sample index `ln − 1`, as `R`.
+    top: R,
+    /// Last first-sample index of a centerline edge, `ln − 2`.
+    last_edge: u32,
+    /// Slice elements between consecutive samples along the main and the minor axis.
+    ms: usize,
+    ns: usize,
     /// `1 + |o[minor]|`, the start of the minor coordinate's error scale.
     ys0: R,
     /// `1 + |o[2]|`, the start of the height's error scale.
     zs0: R,
 }
 
-impl<R: Real> Frame<R> {
-    /// The constants of main axis `ax` for `q`.
-    fn new(hf: &HeightField, q: &Query<R>, ax: usize) -> Self {
-        let o = q.origin();
+impl<R: Real, const AX: usize> Frame<R, AX> {
+    /// The constants of main axis `AX` for `q`.
+    fn new(hf: &HeightField, q: &Query<R>) -> Self {
+        let (o, d) = (q.origin(), q.dir());
+        let (ax, mi) = (AX, 1 - AX);
+        let ln = extents(hf, ax).1;
+        // `sample(hf, ax, m, n)` is element `m·ms + n·ns`.
+        let (ms, ns) = if ax == 0 {
+            (1, hf.stride())
+        } else {
+            (hf.stride(), 1)
+        };
         Frame {
-            ax,
-            ln: extents(hf, ax).1,
-            ys0: R::ONE + o[1 - ax].abs(),
+            om: o[ax],
+            dm: d[ax],
+            on: o[mi],
+            dn: d[mi],
+            oz: o[2],
+            dz: d[2],
+            top: R::from_u32(ln - 1),
+            last_edge: ln - 2,
+            ms,
+            ns,
+            ys0: R::ONE + o[mi].abs(),
             zs0: R::ONE + o[2].abs(),
         }
     }
 
-    /// Evaluates the crossing of centerline `m` by `q`; two fetches.
+    /// Evaluates the crossing of centerline `m` by the ray; two fetches.
     #[inline(always)]
-    fn line_at(&self, hf: &HeightField, q: &Query<R>, m: u32) -> Line<R> {
-        let (ax, mi, ln) = (self.ax, 1 - self.ax, self.ln);
-        let (o, d) = (q.origin(), q.dir());
-        let t = (R::from_u32(m) - o[ax]) / d[ax];
-        let mut p = q.at(t);
-        p[ax] = R::from_u32(m);
-        let y = p[mi].clamp_to(R::ZERO, R::from_u32(ln - 1));
+    fn line_at(&self, hf: &HeightField, m: u32) -> Line<R> {
+        self.line_through(hf, m, (R::from_u32(m) - self.om) / self.dm)
+    }
+
+    /// [`Frame::line_at`] with the ray parameter of the crossing, `t`, already
+    /// computed (by the same formula).
+    #[inline(always)]
+    fn line_through(&self, hf: &HeightField, m: u32, t: R) -> Line<R> {
+        let mr = R::from_u32(m);
+        // The minor coordinate and the height of `q.at(t)`.
+        let pn = self.on + t * self.dn;
+        let pz = self.oz + t * self.dz;
+        let y = pn.clamp_to(R::ZERO, self.top);
         // `y` is `≥ 0` (or NaN, read as 0 either way): truncation is its floor.
-        let edge = (y.to_f64() as u32).min(ln - 2);
+        let edge = (y.to_f64() as u32).min(self.last_edge);
         let v = y - R::from_u32(edge);
-        let h0 = R::from_f32(sample(hf, ax, m, edge));
-        let h1 = R::from_f32(sample(hf, ax, m, edge + 1));
-        let c = p[2] - R::lerp(h0, h1, v);
+        let s0 = m as usize * self.ms + edge as usize * self.ns;
+        let samples = hf.samples();
+        let h0 = R::from_f32(samples[s0]);
+        let h1 = R::from_f32(samples[s0 + self.ns]);
+        let c = pz - R::lerp(h0, h1, v);
         let texel = if v < R::HALF { edge } else { edge + 1 };
-        let ys = self.ys0 + p[mi].abs();
-        let zs = self.zs0 + p[2].abs() + h0.abs() + (h1 - h0).abs() * ys;
+        let ys = self.ys0 + pn.abs();
+        let zs = self.zs0 + pz.abs() + h0.abs() + (h1 - h0).abs() * ys;
         let rel = (R::from_f32(32.0) * R::EPSILON).max(R::from_f64(1.0 / (1u64 << 30) as f64));
         let tol = if R::from_f32(8.0) * R::EPSILON * ys > R::from_f64(SEG_PAD) {
             R::INFINITY
@@ -745,7 +783,7 @@ impl<R: Real> Frame<R> {
         Line {
             m,
             t,
-            p,
+            p: if AX == 0 { [mr, pn, pz] } else { [pn, mr, pz] },
             c,
             edge,
             texel,
@@ -765,13 +803,12 @@ enum Step<R: Real> {
 }
 
 /// State of the march: the query, and the cell walk of [`dda::trace`](crate::dda::trace).
-struct March<'a, R: Real> {
+struct March<'a, R: Real, const AX: usize> {
     hf: &'a HeightField<'a>,
     surface: Surface,
     q: &'a Query<R>,
     span: Span<R>,
-    frame: Frame<R>,
-    ax: usize,
+    frame: Frame<R, AX>,
     step: [i64; 2],
     cells: [u32; 2],
     ic: [u32; 2],
@@ -786,12 +823,12 @@ struct March<'a, R: Real> {
     clearance: R,
 }
 
-impl<R: Real> March<'_, R> {
+impl<R: Real, const AX: usize> March<'_, R, AX> {
     /// A centerline evaluation, counted.
     #[inline(always)]
     fn line(&mut self, m: u32) -> Line<R> {
         self.fetches += 2;
-        let l = self.frame.line_at(self.hf, self.q, m);
+        let l = self.frame.line_at(self.hf, m);
         if l.c > R::ZERO {
             self.clearance = self.clearance.min(l.c);
         }
@@ -806,8 +843,9 @@ impl<R: Real> March<'_, R> {
     }
 
     /// Puts the walk just past the crossing `l` (above the surface).
+    #[inline(always)]
     fn enter(&mut self, l: &Line<R>) {
-        let (ax, mi) = (self.ax, 1 - self.ax);
+        let (ax, mi) = (AX, 1 - AX);
         let (o, d) = (self.q.origin(), self.q.dir());
         self.ic[ax] = if self.step[ax] > 0 { l.m } else { l.m - 1 };
         let y = l.p[mi].clamp_to(R::ZERO, R::from_u32(self.cells[mi]));
@@ -827,7 +865,7 @@ impl<R: Real> March<'_, R> {
     /// Walks cell by cell, as [`dda::trace`](crate::dda::trace), up to the next
     /// main-axis centerline, the hit, or the end.
     fn walk(&mut self) -> Step<R> {
-        let (ax, mi) = (self.ax, 1 - self.ax);
+        let (ax, mi) = (AX, 1 - AX);
         let (o, d) = (self.q.origin(), self.q.dir());
         loop {
             if self.stale {
@@ -859,16 +897,28 @@ impl<R: Real> March<'_, R> {
                 } else {
                     self.ic[ax]
                 };
-                let l = self.frame.line_at(self.hf, self.q, m);
+                // `tn[ax]` is this crossing's parameter: [`next_crossing`] computes it
+                // as `(m − o[ax]) / d[ax]`, exactly as [`Frame::line_at`] does.
+                let l = self.frame.line_through(self.hf, m, self.tn[ax]);
                 if l.edge != self.ic[mi] {
                     self.fetches += 2;
                 }
                 cb = l.c;
                 line = Some(l);
             }
-            let seg = self
-                .surface
-                .segment_hit(self.c, self.a, b, self.ca, cb, self.wall);
+            // Above the surface at both ends, the ray stays above both march surfaces
+            // over the cell (the triangle clearance is concave along the segment, the
+            // view-linear one linear): `segment_hit` would answer no hit and the
+            // smaller end clearance, which is what this takes without the call.
+            let seg = if cb > R::ZERO {
+                SegmentHit {
+                    hit: None,
+                    clearance: self.ca.min(cb),
+                }
+            } else {
+                self.surface
+                    .segment_hit(self.c, self.a, b, self.ca, cb, self.wall)
+            };
             self.clearance = self.clearance.min(seg.clearance);
             if let Some((s, normal, flags)) = seg.hit {
                 let (a, ic) = (self.a, self.ic);
@@ -1019,12 +1069,23 @@ pub(crate) fn march<R: Real>(
     q: &Query<R>,
     jump: impl Fn(&Line<R>, RayClass, u32, u32) -> u32,
 ) -> Trace<R> {
+    march_with(hf, surface, q, || jump)
+}
+
+/// [`march`] with the step function built by `setup`, called once the ray is known to
+/// march (it meets the field's box and starts above the surface): the per-trace
+/// constants of a step function then cost nothing on the rays that miss the box or
+/// start under the surface.
+pub(crate) fn march_with<R: Real, J: Fn(&Line<R>, RayClass, u32, u32) -> u32>(
+    hf: &HeightField,
+    surface: MarchSurface,
+    q: &Query<R>,
+    setup: impl FnOnce() -> J,
+) -> Trace<R> {
     let Some(span) = clip(hf, q) else {
         return Trace::MISS;
     };
-    let (o, d) = (q.origin(), q.dir());
-    let class = RayClass::of(d[0], d[1]);
-    let ax = axis_of(class);
+    let d = q.dir();
     let cells = [hf.width() - 1, hf.height() - 1];
     let p0 = q.at(span.t0);
     let x0 = p0[0].clamp_to(R::ZERO, R::from_u32(cells[0]));
@@ -1045,13 +1106,64 @@ pub(crate) fn march<R: Real>(
             flags: Flags::default(),
         };
     }
-    let mut mr = March {
+    let start = Start {
+        span,
+        step,
+        cells,
+        ic,
+        c,
+        a,
+        ca,
+    };
+    let jump = setup();
+    let class = RayClass::of(d[0], d[1]);
+    // One instance of the rest per main axis, which indexes the walk's state on every
+    // step: a constant there.
+    if axis_of(class) == 0 {
+        march_from::<R, J, 0>(hf, surface, q, class, start, jump)
+    } else {
+        march_from::<R, J, 1>(hf, surface, q, class, start, jump)
+    }
+}
+
+/// Where the walk of a march begins: the span, the steps and cell counts per axis, the
+/// first cell (its corners `c`), the local start point `a` above the surface by `ca`.
+struct Start<R: Real> {
+    span: Span<R>,
+    step: [i64; 2],
+    cells: [u32; 2],
+    ic: [u32; 2],
+    c: [R; 4],
+    a: [R; 3],
+    ca: R,
+}
+
+/// [`march_with`] from the start, for rays of main axis `AX` (of class `class`).
+fn march_from<R: Real, J: Fn(&Line<R>, RayClass, u32, u32) -> u32, const AX: usize>(
+    hf: &HeightField,
+    surface: Surface,
+    q: &Query<R>,
+    class: RayClass,
+    start: Start<R>,
+    jump: J,
+) -> Trace<R> {
+    let ax = AX;
+    let (o, d) = (q.origin(), q.dir());
+    let Start {
+        span,
+        step,
+        cells,
+        ic,
+        c,
+        a,
+        ca,
+    } = start;
+    let mut mr = March::<R, AX> {
         hf,
         surface,
         q,
         span,
-        frame: Frame::new(hf, q, ax),
-        ax,
+        frame: Frame::new(hf, q),
         step,
         cells,
         ic,
@@ -1075,68 +1187,63 @@ pub(crate) fn march<R: Real>(
         last_line(hf, q, ax, sg, span.t1)
     };
     let mut budget = extents(hf, ax).0 + 8;
-    let mut st = mr.walk();
-    // A jump landed on the crossing `st` holds, and the walk has not been put past it
-    // yet: [`March::enter`] waits until a walk follows (the next jump needs none).
-    let mut landed = false;
+    // One call site of the walk (the outer loop), so that it inlines into the march;
+    // the inner loop jumps from crossing to crossing while the data allows, and hands
+    // back to the walk when it does not.
     loop {
-        let l = match st {
+        let mut l = match mr.walk() {
             Step::Hit(h) => return mr.done(Some(h), Flags::default()),
             Step::End => return mr.done(None, Flags::default()),
             Step::Line(l) => l,
         };
-        if budget == 0 {
-            return mr.done(None, Flags::BUDGET_EXHAUSTED);
-        }
-        budget -= 1;
-        let Some(last) = last.filter(|&e| e != l.m) else {
-            if landed {
-                mr.enter(&l);
-                landed = false;
+        // A jump landed on the crossing `l`, and the walk has not been put past it yet:
+        // [`March::enter`] waits until a walk follows (the next jump needs none).
+        let mut landed = false;
+        loop {
+            if budget == 0 {
+                return mr.done(None, Flags::BUDGET_EXHAUSTED);
             }
-            st = mr.walk();
-            continue;
-        };
-        let k = if l.c > l.tol {
-            mr.fetches += 1;
-            let (i, j) = if ax == 0 {
-                (l.m, l.texel)
-            } else {
-                (l.texel, l.m)
+            budget -= 1;
+            let k = match last {
+                Some(last) if last != l.m && l.c > l.tol => {
+                    mr.fetches += 1;
+                    let (i, j) = if ax == 0 {
+                        (l.m, l.texel)
+                    } else {
+                        (l.texel, l.m)
+                    };
+                    // At most to the last centerline (`room > 0`: a zero step stays zero).
+                    let room = (i64::from(last) - i64::from(l.m)).unsigned_abs() as u32;
+                    jump(&l, class, i, j).min(room)
+                }
+                _ => 0,
             };
-            jump(&l, class, i, j)
-        } else {
-            0
-        };
-        if k == 0 {
-            if landed {
-                mr.enter(&l);
-                landed = false;
+            if k == 0 {
+                if landed {
+                    mr.enter(&l);
+                }
+                break;
             }
-            st = mr.walk();
-            continue;
-        }
-        let room = (i64::from(last) - i64::from(l.m)).unsigned_abs() as u32;
-        let target = (i64::from(l.m) + sg * i64::from(k.min(room))) as u32;
-        let lt = mr.line(target);
-        if lt.c > R::ZERO {
-            st = Step::Line(lt);
-            landed = true;
-            continue;
-        }
-        // Below at the target, above at `m`, and no exit in between: bisect.
-        let (mut lo, mut hi) = (l, target);
-        while (i64::from(hi) - i64::from(lo.m)).abs() > 1 {
-            let mid = ((i64::from(hi) + i64::from(lo.m)) / 2) as u32;
-            let lm = mr.line(mid);
-            if lm.c > R::ZERO {
-                lo = lm;
-            } else {
-                hi = mid;
+            let target = (i64::from(l.m) + sg * i64::from(k)) as u32;
+            let lt = mr.line(target);
+            if lt.c > R::ZERO {
+                l = lt;
+                landed = true;
+                continue;
             }
+            // Below at the target, above at `m`, and no exit in between: bisect.
+            let (mut lo, mut hi) = (l, target);
+            while (i64::from(hi) - i64::from(lo.m)).abs() > 1 {
+                let mid = ((i64::from(hi) + i64::from(lo.m)) / 2) as u32;
+                let lm = mr.line(mid);
+                if lm.c > R::ZERO {
+                    lo = lm;
+                } else {
+                    hi = mid;
+                }
+            }
+            mr.enter(&lo);
+            break;
         }
-        mr.enter(&lo);
-        landed = false;
-        st = mr.walk();
     }
 }

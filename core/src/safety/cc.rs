@@ -74,8 +74,8 @@ use core::ops::Range;
 use heapless::binary_heap::{BinaryHeap, Max};
 
 use super::{
-    axis_of, cell_tris, extents, march, sample, sigma_of, sign_of, texel_distance, AllRays, Line,
-    MarchSurface, RaySet, SafetyError, Sigma, Tri, CLASSES,
+    axis_of, cell_tris, extents, march_with, sample, sigma_of, sign_of, texel_distance, AllRays,
+    Line, MarchSurface, RaySet, SafetyError, Sigma, Tri, CLASSES,
 };
 use crate::field::HeightField;
 use crate::math::Real;
@@ -907,29 +907,26 @@ impl<'a> CcMap<'a> {
     }
 }
 
-/// The step (centerlines) of a ray of rise `sd` per centerline (`sd_err` bounds its
-/// rounding) crossing the centerline at height `pz` (within `tol`) above a texel of
-/// shape `[r, s, z0, z1]`.
+/// The step (centerlines) of a ray of rise at least `sd_lo` per centerline crossing
+/// the centerline at height `pz` (within `tol`) above a texel of shape `[r, s, z0, z1]`,
+/// with the map's longest step `cap` and base-height frame `z = [zmin, zstep, zspan]`
+/// in `R` (`zspan = |zmin| + 65535·zstep`, the part of `zc`'s rounding bound that does
+/// not depend on the texel): per-trace constants, computed once by [`trace_on`].
 #[inline]
-fn cone_step<R: Real>(map: &CcMap, b: [u8; 4], pz: R, tol: R, sd: R, sd_err: R) -> u32 {
+fn cone_step<R: Real>(cap: u32, z: [R; 3], b: [u8; 4], pz: R, tol: R, sd_lo: R) -> u32 {
     let r = u32::from(b[0]);
-    let cap = u32::from(map.cap);
     if b[1] == NO_CONE || r >= cap {
         return r;
     }
-    let zc = R::from_f64(map.zmin)
-        + R::from_u32(u32::from(u16::from_le_bytes([b[2], b[3]]))) * R::from_f64(map.zstep);
+    let zc = z[0] + R::from_u32(u32::from(u16::from_le_bytes([b[2], b[3]]))) * z[1];
     let sc = R::from_f64(decode_slope(b[1]));
     // zc's own rounding: relative EPSILON of the terms.
-    let zerr = R::from_f32(4.0)
-        * R::EPSILON
-        * (R::from_f64(map.zmin).abs() + R::from_f64(map.zstep * 65535.0) + zc.abs());
+    let zerr = R::from_f32(4.0) * R::EPSILON * (z[2] + zc.abs());
     let num = pz - zc - tol - tol - zerr;
     let above = num > R::ZERO; // false for NaN too
     if !above {
         return r;
     }
-    let sd_lo = sd - sd_err;
     if sd_lo >= sc {
         return cap.max(r);
     }
@@ -939,7 +936,9 @@ fn cone_step<R: Real>(map: &CcMap, b: [u8; 4], pz: R, tol: R, sd: R, sd_err: R) 
     if !short {
         return cap.max(r);
     }
-    (x.floor().to_f64() as u32).max(r)
+    // `num > 0` and `den > 0` (`sc > sd_lo`, two distinct values), so `0 ≤ x < cap`:
+    // truncation is the floor.
+    (x.to_f64() as u32).max(r)
 }
 
 /// Traces `q` on the triangle surface with the cylinder–cone map `map` (baked for
@@ -959,13 +958,27 @@ pub fn trace_on<R: Real>(
     surface: MarchSurface,
     q: &Query<R>,
 ) -> Trace<R> {
-    let d = q.dir();
-    let class = RayClass::of(d[0], d[1]);
-    let ax = axis_of(class);
-    let dm = d[ax].abs();
-    let sd = if dm > R::ZERO { d[2] / dm } else { R::ZERO };
-    let sd_err = R::from_f32(2.0) * R::EPSILON * sd.abs();
-    march(hf, surface, q, |l: &Line<R>, class, i, j| {
-        cone_step(map, map.texel(class, i, j), l.p[2], l.tol, sd, sd_err)
+    // The per-trace constants, once the ray is known to march.
+    march_with(hf, surface, q, || {
+        let d = q.dir();
+        let class = RayClass::of(d[0], d[1]);
+        let ax = axis_of(class);
+        let dm = d[ax].abs();
+        let sd = if dm > R::ZERO { d[2] / dm } else { R::ZERO };
+        let sd_err = R::from_f32(2.0) * R::EPSILON * sd.abs();
+        let sd_lo = sd - sd_err;
+        // The map's constants in `R`, once per trace rather than once per step; `z[2]`
+        // is the first partial sum of `|zmin| + 65535·zstep + |zc|` (left to right),
+        // so the bound `cone_step` adds `|zc|` to is bit for bit the same.
+        let cap = u32::from(map.cap);
+        let zmin = R::from_f64(map.zmin);
+        let z = [
+            zmin,
+            R::from_f64(map.zstep),
+            zmin.abs() + R::from_f64(map.zstep * 65535.0),
+        ];
+        move |l: &Line<R>, class, i, j| {
+            cone_step(cap, z, map.texel(class, i, j), l.p[2], l.tol, sd_lo)
+        }
     })
 }
