@@ -519,7 +519,7 @@ int gpu_init(gpu *g, const scene *s, int w, int h) {
     g->tex_qdm = make_texture(GL_RGBA32F, (int)s->w - 1, (int)s->h - 1, GL_RGBA, GL_FLOAT, s->qdm);
     g->tex_relaxed = make_texture(GL_R32F, (int)s->w, (int)s->h, GL_RED, GL_FLOAT, s->relaxed);
     /* Cylinder-cone shapes: four RGBA8UI texels (one per ray class) per map texel. */
-    g->tex_cc = make_texture(GL_RGBA8UI, 4 * (int)s->w, (int)s->h, GL_RGBA_INTEGER,
+    g->tex_cc = make_texture(GL_RGBA8UI, (int)s->w, 4 * (int)s->h, GL_RGBA_INTEGER,
                              GL_UNSIGNED_BYTE, s->cc);
     g->tex_origin = make_texture(GL_RGBA32F, w, h, GL_RGBA, GL_FLOAT, NULL);
     g->tex_dir = make_texture(GL_RGBA32F, w, h, GL_RGBA, GL_FLOAT, NULL);

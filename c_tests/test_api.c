@@ -1176,13 +1176,13 @@ static void test_cc(void) {
     CHECK_OK(hf_cc_bake(f, &nbo, 0, nbmap, mlen));
 
     /* One ray class (y+): its bytes equal the full bake's, the others are radius 0
-     * without a cone; the row bake agrees. */
+     * without a cone; the row bake agrees. Byte k belongs to class (k / 4 / W) % 4. */
     CHECK_BAD(hf_cc_bake_classes(f, &good, 0, 1, rows, mlen), HF_ERR_INVALID_ARGUMENT, rows, 64);
     CHECK_OK(hf_cc_bake_classes(f, &good, HF_RAYS_Y_POS, 2, rows, mlen));
     int cc_mask_ok = 1;
     for (size_t k = 0; k < mlen; k++) {
         static const unsigned char skipped[4] = {0, 255, 0, 0};
-        cc_mask_ok &= rows[k] == ((k / 4) % 4 == 2 ? map[k] : skipped[k % 4]);
+        cc_mask_ok &= rows[k] == ((k / 4 / W) % 4 == 2 ? map[k] : skipped[k % 4]);
     }
     CHECK(cc_mask_ok);
     unsigned char *rows2 = (unsigned char *)malloc(mlen);

@@ -537,9 +537,11 @@ hf_result hf_error_message(uint32_t code,
 
 #if defined(HF_HAVE_SAFETY)
 // Writes the size in bytes of the packed cylinder–cone map of a `width × height`
-// field to `*out_len`: 16 per texel, four per ray class in class order (x+, x−, y+,
-// y−), `[r, s, z_lo, z_hi]` (cylinder radius, slope code, base-height code): upload
-// as an `RGBA8UI` texture of 4W × H texels, texel (4 i + class, j). Thread safe.
+// field to `*out_len`: 16 per texel, four per ray class, `[r, s, z_lo, z_hi]`
+// (cylinder radius, slope code, base-height code), each texel row stored as four rows
+// of W, one per class in class order (x+, x−, y+, y−): the bytes of texel (i, j) for
+// class c start at `((j * 4 + c) * W + i) * 4`; upload as an `RGBA8UI` texture of
+// W × 4H texels, texel (i, 4 j + class). Thread safe.
 //
 // # Safety
 // `out_len` is NULL (an error) or valid for writing one `size_t`.
@@ -1573,7 +1575,7 @@ hf_result hf_shader_source_len(uint32_t method,
 // `hf_maxmip_bake` buffer in rows of `HF_PYRAMID_TEX_WIDTH` texels), `hf_levels`,
 // `hf_level_dims[]`, `hf_level_offset[]` (from `hf_maxmip_levels`); safety:
 // `hf_safety_map` (`RGBA8UI` directional or `R8UI` isotropic, W × H),
-// `hf_safety_variant`; cylinder–cone: `hf_cc_map` (`RGBA8UI`, 4W × H), `hf_cc_cap`,
+// `hf_safety_variant`; cylinder–cone: `hf_cc_map` (`RGBA8UI`, W × 4H), `hf_cc_cap`,
 // `hf_cc_zmin`, `hf_cc_zstep`, `hf_cc_zspan` (from `hf_cc_frame`). Thread safe.
 //
 // # Safety

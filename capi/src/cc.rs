@@ -51,9 +51,11 @@ fn options_of(o: &hf_cc_options) -> Result<CcOptions, hf_result> {
 }
 
 /// Writes the size in bytes of the packed cylinder–cone map of a `width × height`
-/// field to `*out_len`: 16 per texel, four per ray class in class order (x+, x−, y+,
-/// y−), `[r, s, z_lo, z_hi]` (cylinder radius, slope code, base-height code): upload
-/// as an `RGBA8UI` texture of 4W × H texels, texel (4 i + class, j). Thread safe.
+/// field to `*out_len`: 16 per texel, four per ray class, `[r, s, z_lo, z_hi]`
+/// (cylinder radius, slope code, base-height code), each texel row stored as four rows
+/// of W, one per class in class order (x+, x−, y+, y−): the bytes of texel (i, j) for
+/// class c start at `((j * 4 + c) * W + i) * 4`; upload as an `RGBA8UI` texture of
+/// W × 4H texels, texel (i, 4 j + class). Thread safe.
 ///
 /// # Safety
 /// `out_len` is NULL (an error) or valid for writing one `size_t`.

@@ -1,5 +1,5 @@
 //! The cylinder–cone march on the CPU, one thread: himalaya 1024², depth 102.4, the
-//! exact CC map (cached in `$TMPDIR/hfcast_cc_himalaya.bin`: the bake takes seconds),
+//! exact CC map (cached in `$TMPDIR/hfcast_cc_himalaya_rows.bin`: the bake takes seconds),
 //! 640×512 camera rays at 45° and 5°, in scanline order or in 8×8 pixel tiles (the
 //! order a tiled renderer uses); medians of ns/ray and mean fetches next to the DDA's,
 //! and the march finishing on the view-linear surface.
@@ -26,7 +26,7 @@ fn main() {
     let (v, w, h) = downsample(&raw, w, h, 1);
     let hf = HeightField::new(&v, w, h, w as usize).unwrap();
     let opts = CcOptions::default();
-    let cache = std::env::temp_dir().join("hfcast_cc_himalaya.bin");
+    let cache = std::env::temp_dir().join("hfcast_cc_himalaya_rows.bin");
     let data = match std::fs::read(&cache) {
         Ok(d) if d.len() == cc::map_len(w, h) => d,
         _ => {

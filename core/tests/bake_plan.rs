@@ -270,14 +270,16 @@ mod safety_classes {
             let full_map = CcMap::new(&hf, &full, opts.cap).unwrap();
             for classes in kept_and_skipped() {
                 let part = bake_cc(&f, classes, opts);
-                for (t, (a, b)) in full.chunks(16).zip(part.chunks(16)).enumerate() {
-                    for (c, class) in CLASSES.into_iter().enumerate() {
+                for t in 0..(f.w * f.h) as usize {
+                    for class in CLASSES {
+                        let (i, j) = ((t % f.w as usize) as u32, (t / f.w as usize) as u32);
+                        let at = cc::texel_offset(f.w, class, i, j);
                         let want = if classes.contains(class) {
-                            &a[c * 4..c * 4 + 4]
+                            &full[at..at + 4]
                         } else {
                             &[0, cc::NO_CONE, 0, 0]
                         };
-                        assert_eq!(&b[c * 4..c * 4 + 4], want, "texel {t} {class:?}");
+                        assert_eq!(&part[at..at + 4], want, "texel {t} {class:?}");
                     }
                 }
                 if classes == RayClasses::NONE {

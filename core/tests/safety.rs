@@ -567,10 +567,11 @@ fn cc_rows_and_packing() {
             },
         );
         for t in 0..(23 * 17) as usize {
-            for c in 0..4 {
-                let b = &whole[(t * 4 + c) * 4..][..4];
+            for (c, class) in CLASSES.into_iter().enumerate() {
+                let at = cc::texel_offset(23, class, (t % 23) as u32, (t / 23) as u32);
+                let b = &whole[at..][..4];
                 assert_eq!(b[0], sd[t * 4 + c]);
-                let e = &exact[(t * 4 + c) * 4..][..4];
+                let e = &exact[at..][..4];
                 if slope == Slope::NBuffer && e[1] != cc::NO_CONE && b[1] != cc::NO_CONE {
                     assert!(cc::decode_slope(b[1]) >= cc::decode_slope(e[1]));
                     assert_eq!(b[2..4], e[2..4]);

@@ -3,9 +3,9 @@
 // or the view-linear one from the same map, stepping with the safety march of
 // safety.glsl.
 //
-// Texture layout: the map of hf_cc_bake as `hf_cc_map`, an RGBA8UI texture of 4W x H
-// texels: texel (4 i + class, j) = [r, s, z_lo, z_hi] of texel (i, j) for that ray
-// class. `hf_cc_cap` is the bake's cap; `hf_cc_zmin`, `hf_cc_zstep`, `hf_cc_zspan`
+// Texture layout: the map of hf_cc_bake as `hf_cc_map`, an RGBA8UI texture of W x 4H
+// texels: texel (i, 4 j + class) = [r, s, z_lo, z_hi] of texel (i, j) for that ray
+// class (each texel row as four rows, one per class). `hf_cc_cap` is the bake's cap; `hf_cc_zmin`, `hf_cc_zstep`, `hf_cc_zspan`
 // the frame of the base heights (hf_cc_frame).
 
 uniform usampler2D hf_cc_map;
@@ -16,7 +16,7 @@ uniform float hf_cc_zspan;
 
 // `CcMap::texel`: the packed bytes of texel (i, j) for `ray_class`.
 uvec4 cc_texel(uint ray_class, uint i, uint j) {
-    return texelFetch(hf_cc_map, ivec2(4u * i + ray_class, j), 0);
+    return texelFetch(hf_cc_map, ivec2(i, 4u * j + ray_class), 0);
 }
 
 // `decode_slope` (finite codes): `t |t| / 2048` with `t = code - 128`, exact in float.

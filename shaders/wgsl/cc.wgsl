@@ -4,8 +4,8 @@
 // safety.wgsl.
 //
 // Texture layout: the map of hf_cc_bake as `hf_cc_map`, an RGBA8Uint texture of
-// 4W x H texels: texel (4 i + class, j) = [r, s, z_lo, z_hi] of texel (i, j) for that
-// ray class. `hf_cc.cap` is the bake's cap; `hf_cc.zmin`, `hf_cc.zstep`, `hf_cc.zspan`
+// W x 4H texels: texel (i, 4 j + class) = [r, s, z_lo, z_hi] of texel (i, j) for that
+// ray class (each texel row as four rows, one per class). `hf_cc.cap` is the bake's cap; `hf_cc.zmin`, `hf_cc.zstep`, `hf_cc.zspan`
 // the frame of the base heights (hf_cc_frame).
 
 struct CcParams {
@@ -20,7 +20,7 @@ struct CcParams {
 
 // `CcMap::texel`: the packed bytes of texel (i, j) for `ray_class`.
 fn cc_texel(ray_class: u32, i: u32, j: u32) -> vec4<u32> {
-    return textureLoad(hf_cc_map, vec2<u32>(4u * i + ray_class, j), 0);
+    return textureLoad(hf_cc_map, vec2<u32>(i, 4u * j + ray_class), 0);
 }
 
 // `decode_slope` (finite codes): `t |t| / 2048` with `t = code - 128`, exact in float.

@@ -871,7 +871,7 @@ impl SceneGpu {
                 .relaxed
                 .as_ref()
                 .map(|r| gpu.texture(w, h, F::R32Float, &f32_bytes(r))),
-            cc_map: gpu.texture(4 * w, h, F::Rgba8Uint, &s.cc),
+            cc_map: gpu.texture(w, 4 * h, F::Rgba8Uint, &s.cc),
             cc: gpu.uniform(&cc),
             radius: gpu.texture(w, h, F::R8Uint, &s.radius),
         }
