@@ -478,7 +478,9 @@ fn definitions(opts: &ReportOptions, sweep: &Sweep, w: u32, h: u32) -> String {
          highest ascent; approximate: level of detail at {:?} pixels × {:.2e} rad per pixel, \
          and on the bilinear surface iterative cell tests (linear:bisect) {:?}); safety \
          distances (triangles only; four classes and isotropic exact, \"positive\" \
-         approximate); linear + binary search with {:?} linear steps × {:?} bisections; \
+         approximate); cylinder–cone safety shapes (triangles only, cap 64; exact and \
+         N-buffer slopes, both exact marches) on fields of at most {} samples; the exact \
+         safety radius (triangles only); linear + binary search with {:?} linear steps × {:?} bisections; \
          linear + secant with {:?} steps; cone step mapping and quadratic displacement \
          maps (triangles only; conservative but iterative, capped at {:?} iterations: a ray \
          that runs out returns its current point, flagged as out of budget, so they are not \
@@ -490,6 +492,7 @@ fn definitions(opts: &ReportOptions, sweep: &Sweep, w: u32, h: u32) -> String {
         sweep.lod_pixels,
         sweep.pixel_angle,
         sweep.iterative,
+        sweep.cc_max_texels,
         sweep.linear,
         sweep.binary,
         sweep.linear,

@@ -5,9 +5,10 @@
 //! plots, the summary) reads the list.
 
 use hfcast::maxmip::{self, Ascent};
+use hfcast::safety::cc::{self, CcMap, CcOptions, Slope};
 use hfcast::safety::{self, SafetyMap, Variant};
 use hfcast::search::SearchSteps;
-use hfcast::{cone, dda, qdm, relaxed, HeightField, Method, Query, Real, Surface, Trace};
+use hfcast::{cone, dda, qdm, radius, relaxed, HeightField, Method, Query, Real, Surface, Trace};
 use std::sync::{Arc, Mutex};
 use std::time::Instant;
 
@@ -154,6 +155,10 @@ pub enum Family {
     Safety,
     /// Safety distances, approximate settings (strictly positive distances).
     SafetyApprox,
+    /// Cylinder–cone safety shapes (exact and N-buffer slopes: both exact marches).
+    Cc,
+    /// Safety radius (Baboud & Décoret), exact bake and march.
+    Radius,
     /// Cone step mapping, conservative (never passes the first hit) but iterative: a
     /// ray that runs out of its iteration cap returns its current point as a guess.
     Cone,
@@ -180,6 +185,8 @@ impl Family {
             Family::MaxMipApprox => "max mipmap, approx.",
             Family::Safety => "safety distance",
             Family::SafetyApprox => "safety dist., approx.",
+            Family::Cc => "cylinder–cone",
+            Family::Radius => "safety radius",
             Family::Cone => "cone step",
             Family::Qdm => "QDM",
             Family::Relaxed => "relaxed cone, approx.",
@@ -203,6 +210,8 @@ impl Family {
             Family::MaxMipApprox => (140, 190, 230),
             Family::Safety => (44, 160, 44),
             Family::SafetyApprox => (150, 215, 140),
+            Family::Cc => (23, 190, 207),
+            Family::Radius => (127, 127, 127),
             Family::Cone => (140, 86, 75),
             Family::Qdm => (227, 119, 194),
             Family::Relaxed => (188, 189, 34),
@@ -298,6 +307,9 @@ pub struct Sweep {
     /// Largest field (samples) relaxed cone stepping bakes on (the book's Θ(N⁴)
     /// preprocess, pruned: about a second at 300,000 samples).
     pub relaxed_max_texels: usize,
+    /// Largest field (samples) the cylinder–cone shapes bake on (the exact slope takes
+    /// a few seconds at 300,000 samples, one thread).
+    pub cc_max_texels: usize,
 }
 
 impl Sweep {
@@ -313,6 +325,7 @@ impl Sweep {
             relaxed: vec![(32, 8), (64, 8)],
             cone_max_texels: 300_000,
             relaxed_max_texels: 300_000,
+            cc_max_texels: 300_000,
         }
     }
 
@@ -328,6 +341,7 @@ impl Sweep {
             relaxed: vec![(32, 8)],
             cone_max_texels: 5_000,
             relaxed_max_texels: 5_000,
+            cc_max_texels: 5_000,
         }
     }
 }
@@ -376,6 +390,47 @@ fn safety_setting(opts: safety::Options) -> Baker {
             move |rays: &[Query<f32>], out: &mut [Out]| {
                 let map = SafetyMap::new(&hf, &data, opts.variant).expect("baked for hf");
                 each(rays, out, |q| Out::of(&safety::trace(&map, &hf, q)))
+            },
+            bytes,
+        ))
+    })
+}
+
+/// Cylinder–cone safety shapes with `opts` (triangle surface).
+fn cc_setting(opts: CcOptions) -> Baker {
+    baker(move |hf, _surface| {
+        let hf = *hf;
+        let (w, h) = (hf.width(), hf.height());
+        let mut scratch = vec![0f32; safety::scratch_len(w, h)];
+        let mut nb = vec![0f32; cc::nbuffer_len(w, h, opts.cap)];
+        let mut data = vec![0u8; cc::map_len(w, h)];
+        cc::bake(&hf, &mut scratch, &mut nb, opts, &mut data).expect("sized by the module");
+        let bytes = data.len();
+        Box::new(Batch(
+            move |rays: &[Query<f32>], out: &mut [Out]| {
+                let map = CcMap::new(&hf, &data, opts.cap).expect("baked for hf");
+                each(rays, out, |q| Out::of(&cc::trace(&map, &hf, q)))
+            },
+            bytes,
+        ))
+    })
+}
+
+/// Exact safety radii (triangle surface, zero radii walked).
+fn radius_setting() -> Baker {
+    baker(move |hf, _surface| {
+        let hf = *hf;
+        let (w, h) = (hf.width(), hf.height());
+        let mut scratch = vec![0f32; radius::scratch_len(w, h)];
+        let mut data = vec![0u8; radius::map_len(w, h)];
+        radius::bake(&hf, &mut scratch, radius::BakeOptions::default(), &mut data)
+            .expect("sized by the module");
+        let bytes = data.len();
+        Box::new(Batch(
+            move |rays: &[Query<f32>], out: &mut [Out]| {
+                let map = radius::RadiusMap::new(&hf, &data).expect("baked for hf");
+                let opts = radius::Options::default();
+                each(rays, out, |q| Out::of(&radius::trace(&map, &hf, q, &opts)))
             },
             bytes,
         ))
@@ -556,6 +611,32 @@ pub fn settings(sweep: &Sweep) -> Vec<Setting> {
         false,
         TRIANGLES,
         safety_setting(positive),
+    ));
+    for (slope, name) in [
+        (Slope::Exact, "exact slope"),
+        (Slope::NBuffer, "N-buffer slope"),
+    ] {
+        let opts = CcOptions {
+            slope,
+            ..Default::default()
+        };
+        v.push(Setting {
+            max_texels: Some(sweep.cc_max_texels),
+            ..setting(
+                Family::Cc,
+                format!("cc {name}"),
+                true,
+                TRIANGLES,
+                cc_setting(opts),
+            )
+        });
+    }
+    v.push(setting(
+        Family::Radius,
+        "safety radius",
+        true,
+        TRIANGLES,
+        radius_setting(),
     ));
     let (cone_bake, qdm_bake) = (Arc::<SharedBake>::default(), Arc::<SharedBake>::default());
     for (family, name) in [(Family::Cone, "cone"), (Family::Qdm, "qdm")] {
