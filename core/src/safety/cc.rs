@@ -477,6 +477,10 @@ fn cone_search<S: RaySet>(
         col.scan(l0, l1, s, best);
     };
     let mut best = None;
+    // The blocks of columns `ks` whose bound exceeds `s` ([`block_bounds`]).
+    let blocks_above = |ks: Range<u32>, s: f64, out: &mut Blocks| {
+        block_bounds(hf, nb, opts.cap, ax, sg, (m, n), zc, ks, (s, hmax), out)
+    };
     let mut blocks = Blocks::new();
     let k0 = u32::from(r).max(1);
     if opts.slope == Slope::NBuffer {
@@ -491,19 +495,7 @@ fn cone_search<S: RaySet>(
             s = s.max(bound_of(k));
         }
         s = code_ceiling(s);
-        let ks = near..kend;
-        block_bounds(
-            hf,
-            nb,
-            opts.cap,
-            ax,
-            sg,
-            (m, n),
-            zc,
-            ks,
-            (s, hmax),
-            &mut blocks,
-        );
+        blocks_above(near..kend, s, &mut blocks);
         while let Some(at) = (0..blocks.len()).max_by(|&a, &b| blocks[a].0.total_cmp(&blocks[b].0))
         {
             let (bb, ka, kb) = blocks.swap_remove(at);
@@ -551,19 +543,7 @@ fn cone_search<S: RaySet>(
         let ordered = if b >> 31 == 1 { !b } else { b | 1 << 31 };
         u64::from(ordered) << 32 | u64::from(low)
     };
-    let ks = k0..kend;
-    block_bounds(
-        hf,
-        nb,
-        opts.cap,
-        ax,
-        sg,
-        (m, n),
-        zc,
-        ks,
-        (s, hmax),
-        &mut blocks,
-    );
+    blocks_above(k0..kend, s, &mut blocks);
     const BLOCK_KEY: u32 = 0xffff_ff00;
     // At most 255 columns and 33 blocks: pushes cannot fail.
     let mut heap: BinaryHeap<u64, Max, 320> = BinaryHeap::new();
