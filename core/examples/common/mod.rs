@@ -139,8 +139,9 @@ pub fn downsample(raw: &[u16], w: u32, h: u32, step: u32) -> (Vec<f32>, u32, u32
     (out, nw, nh)
 }
 
-/// Runs `f(rows, part)` on `threads` threads, each on one band of the `height` rows of
-/// `out` (`row_len` elements a row) and its part of `out`.
+/// Runs `f(rows, part)` over the `height` rows of `out` (`row_len` elements a row) in
+/// bands of 8 rows taken in turn by `threads` threads, as the C API's threaded bakes
+/// do (costly rows are uneven: one band per thread would leave a thread idle).
 pub fn in_bands<T: Send>(
     out: &mut [T],
     row_len: usize,
@@ -148,13 +149,17 @@ pub fn in_bands<T: Send>(
     threads: u32,
     f: impl Fn(Range<u32>, &mut [T]) + Sync,
 ) {
-    let band = height.div_ceil(threads);
-    let f = &f;
+    const BAND: u32 = 8;
+    let out = &mut out[..height as usize * row_len];
+    let next = std::sync::Mutex::new(out.chunks_mut(BAND as usize * row_len).enumerate());
     std::thread::scope(|s| {
-        for (k, part) in out.chunks_mut(band as usize * row_len).enumerate() {
-            let r0 = k as u32 * band;
-            let rows = r0..(r0 + band).min(height);
-            s.spawn(move || f(rows, part));
+        for _ in 0..threads.max(1) {
+            s.spawn(|| loop {
+                let item = next.lock().expect("a worker panicked").next();
+                let Some((k, part)) = item else { break };
+                let r0 = k as u32 * BAND;
+                f(r0..(r0 + BAND).min(height), part);
+            });
         }
     });
 }
