@@ -269,17 +269,15 @@ fn range_max(v: &NbView, c: u32, a: u32, b: u32) -> f64 {
     let len = b - a + 1;
     let l = (31 - len.leading_zeros()).min(v.top);
     let w = 1u32 << l;
-    let row = v.base + l as usize * v.level + c as usize * v.column;
-    // Cover [a, b] with windows of `w` (two when l is the top level and `len ≤ 2w`).
-    let mut m = f32::NEG_INFINITY;
-    let mut y = a;
-    loop {
-        let s = y.min(b + 1 - w);
-        m = m.max(v.nb[row + s as usize]);
-        if s + w > b {
-            break;
-        }
-        y = s + w;
+    let row = &v.nb[v.base + l as usize * v.level + c as usize * v.column..];
+    // Two windows of `w` from either end cover [a, b] when `len ≤ 2w` (always below
+    // the top level, where `w ≤ len < 2w`); at the top level more may be needed.
+    let last = b + 1 - w;
+    let mut m = row[a as usize].max(row[last as usize]);
+    let mut y = a + w;
+    while y < last {
+        m = m.max(row[y as usize]);
+        y += w;
     }
     f64::from(m)
 }
@@ -491,10 +489,8 @@ fn cone_search<S: RaySet>(
         // skipped with all its columns (the rest are lower still). The nearest
         // [`BLOCK`] columns (the likeliest maximum) are taken first. Then column 0.
         let near = kend.min(k0 + BLOCK);
-        for k in k0..near {
-            s = s.max(bound_of(k));
-        }
-        s = code_ceiling(s);
+        let top = (k0..near).map(bound_of).fold(s, f64::max);
+        raise(&mut s, top);
         blocks_above(near..kend, s, &mut blocks);
         while let Some(at) = (0..blocks.len()).max_by(|&a, &b| blocks[a].0.total_cmp(&blocks[b].0))
         {
@@ -502,10 +498,8 @@ fn cone_search<S: RaySet>(
             if bb <= s {
                 break;
             }
-            for k in ka..=kb {
-                s = s.max(bound_of(k));
-            }
-            s = code_ceiling(s);
+            let top = (ka..=kb).map(bound_of).fold(s, f64::max);
+            raise(&mut s, top);
         }
         if r == 0 && kend > 0 && bound_of(0) > s {
             scan(0, None, &mut s, &mut best);
@@ -674,10 +668,11 @@ pub fn encode_slope(s: f64) -> u8 {
     if s.is_nan() || s > S_MAX {
         return NO_CONE;
     }
+    // Truncation is `floor` (and `ceil_small` is `ceil`) on these non-negative values.
     let mut t = if s >= 0.0 {
-        libm::ceil(libm::sqrt(2048.0 * s)) as i32
+        ceil_small(libm::sqrt(2048.0 * s))
     } else {
-        -(libm::floor(libm::sqrt(-2048.0 * s).min(128.0)) as i32)
+        -(libm::sqrt(-2048.0 * s).min(128.0) as i32)
     };
     while t < 126 && decode_t(t) < s {
         t += 1;
@@ -686,6 +681,13 @@ pub fn encode_slope(s: f64) -> u8 {
         return NO_CONE;
     }
     (t + 128) as u8
+}
+
+/// `⌈x⌉` for `0 ≤ x ≤ 65535` (truncation, then one up when it dropped a fraction).
+#[inline]
+fn ceil_small(x: f64) -> i32 {
+    let t = x as i32;
+    t + i32::from(f64::from(t) < x)
 }
 
 #[inline]
@@ -716,10 +718,11 @@ pub fn encode_base(hf: &HeightField, z: f64) -> Option<u16> {
     if step <= 0.0 {
         return (z <= lo).then_some(0);
     }
-    let mut q = libm::ceil(((z - lo) / step).max(0.0));
-    if q > 65535.0 {
-        return None;
+    let x = ((z - lo) / step).max(0.0);
+    if x > 65535.0 {
+        return None; // ⌈x⌉ > 65535
     }
+    let mut q = f64::from(ceil_small(x));
     while q < 65535.0 && lo + q * step < z {
         q += 1.0;
     }
