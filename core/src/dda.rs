@@ -53,12 +53,11 @@ pub fn clip_surface<R: Real>(hf: &HeightField, surface: Surface, q: &Query<R>) -
     let (o, d) = (q.origin(), q.dir());
     let lim = [R::from_u32(hf.width() - 1), R::from_u32(hf.height() - 1)];
     let (mut t0, mut t1, mut entry) = (q.t_min(), q.t_max(), Entry::Start);
-    for axis in 0..2 {
+    // The two axes in turn, written out (a loop over them indexes the arrays on the
+    // stack).
+    let mut slab = |axis: usize| {
         if d[axis] == R::ZERO {
-            if o[axis] < R::ZERO || o[axis] > lim[axis] {
-                return None;
-            }
-            continue;
+            return !(o[axis] < R::ZERO || o[axis] > lim[axis]);
         }
         let a = (R::ZERO - o[axis]) / d[axis];
         let b = (lim[axis] - o[axis]) / d[axis];
@@ -70,6 +69,10 @@ pub fn clip_surface<R: Real>(hf: &HeightField, surface: Surface, q: &Query<R>) -
             entry = Entry::Side(n);
         }
         t1 = t1.min(far);
+        true
+    };
+    if !(slab(0) && slab(1)) {
+        return None;
     }
     let (mut zmin, mut zmax) = (R::from_f32(hf.min_height()), R::from_f32(hf.max_height()));
     if surface == Surface::LinearPlanes {
@@ -102,9 +105,11 @@ pub fn clip_surface<R: Real>(hf: &HeightField, surface: Surface, q: &Query<R>) -
 /// direction `d`: a point on a cell boundary belongs to the cell the ray moves into.
 #[inline]
 pub(crate) fn cell_index<R: Real>(x: R, d: R, cells: u32) -> u32 {
-    let f = x.floor();
-    let mut i = f.to_f64() as u32;
-    if d < R::ZERO && f == x && i > 0 {
+    // Truncation is the floor for `x >= 0`; below, NaN included, both give 0. `x` lies
+    // on a boundary (`floor(x) == x`) when it is the integer `i`, for `x < 2^32`;
+    // beyond, `i` saturates and either way ends as `cells − 1`.
+    let mut i = x.to_f64() as u32;
+    if d < R::ZERO && R::from_u32(i) == x && i > 0 {
         i -= 1;
     }
     i.min(cells - 1)
@@ -138,7 +143,7 @@ pub(crate) fn next_crossing<R: Real>(i: u32, step: i64, o: R, d: R) -> R {
 /// and the height comes from that edge's two samples only (one at a corner), so both
 /// cells sharing the edge compute the same clearance (watertight). Elsewhere the
 /// surface's own cell height is used.
-#[inline]
+#[inline(always)]
 pub(crate) fn local_clearance<R: Real>(
     surface: Surface,
     c: [R; 4],

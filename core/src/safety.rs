@@ -817,7 +817,6 @@ struct March<'a, R: Real, const AX: usize> {
     a: [R; 3],
     ca: R,
     ta: R,
-    wall: [R; 3],
     tn: [R; 2],
     fetches: u32,
     clearance: R,
@@ -835,13 +834,6 @@ impl<R: Real, const AX: usize> March<'_, R, AX> {
         l
     }
 
-    /// Normal of a wall facing the ray on `axis`.
-    fn wall_of(&self, axis: usize) -> [R; 3] {
-        let mut n = [R::ZERO; 3];
-        n[axis] = if self.step[axis] > 0 { -R::ONE } else { R::ONE };
-        n
-    }
-
     /// Puts the walk just past the crossing `l` (above the surface).
     #[inline(always)]
     fn enter(&mut self, l: &Line<R>) {
@@ -855,7 +847,6 @@ impl<R: Real, const AX: usize> March<'_, R, AX> {
         self.a[2] = l.p[2];
         self.ca = l.c;
         self.ta = l.t;
-        self.wall = self.wall_of(ax);
         for k in 0..2 {
             self.tn[k] = next_crossing(self.ic[k], self.step[k], o[k], d[k]);
         }
@@ -916,8 +907,11 @@ impl<R: Real, const AX: usize> March<'_, R, AX> {
                     clearance: self.ca.min(cb),
                 }
             } else {
+                // The entry wall is for the discontinuous surfaces: the two march
+                // surfaces never read it, so no walk keeps track of it.
+                let wall = [R::ZERO, R::ZERO, R::ONE];
                 self.surface
-                    .segment_hit(self.c, self.a, b, self.ca, cb, self.wall)
+                    .segment_hit(self.c, self.a, b, self.ca, cb, wall)
             };
             self.clearance = self.clearance.min(seg.clearance);
             if let Some((s, normal, flags)) = seg.hit {
@@ -949,7 +943,6 @@ impl<R: Real, const AX: usize> March<'_, R, AX> {
                     self.tn[k] = next_crossing(self.ic[k], self.step[k], o[k], d[k]);
                 }
             }
-            self.wall = self.wall_of(if cross[0] { 0 } else { 1 });
             self.a = [
                 if cross[0] { R::ONE - b[0] } else { b[0] },
                 if cross[1] { R::ONE - b[1] } else { b[1] },
@@ -983,7 +976,9 @@ fn last_line<R: Real>(hf: &HeightField, q: &Query<R>, ax: usize, sg: i64, t1: R)
     let t_of = |m: i64| (R::from_u32(m as u32) - o[ax]) / d[ax];
     let inside = |m: i64| m >= 0 && m < i64::from(lm);
     let x1 = (o[ax] + t1 * d[ax]).clamp_to(R::ZERO, R::from_u32(lm - 1));
-    let mut m = x1.floor().to_f64() as i64 + i64::from(sg < 0 && x1.floor() != x1);
+    // `x1 >= 0` (or NaN, read as 0 either way): truncation is its floor.
+    let below = x1.to_f64() as i64;
+    let mut m = below + i64::from(sg < 0 && R::from_u32(below as u32) != x1);
     while inside(m) && t_of(m) >= t1 {
         m -= sg;
     }
@@ -1069,18 +1064,18 @@ pub(crate) fn march<R: Real>(
     q: &Query<R>,
     jump: impl Fn(&Line<R>, RayClass, u32, u32) -> u32,
 ) -> Trace<R> {
-    march_with(hf, surface, q, || jump)
+    march_with(hf, surface, q, |_| jump)
 }
 
-/// [`march`] with the step function built by `setup`, called once the ray is known to
-/// march (it meets the field's box and starts above the surface): the per-trace
-/// constants of a step function then cost nothing on the rays that miss the box or
-/// start under the surface.
+/// [`march`] with the step function built by `setup` for the ray's class, called once
+/// the ray is known to march (it meets the field's box and starts above the surface):
+/// the per-trace constants of a step function then cost nothing on the rays that miss
+/// the box or start under the surface.
 pub(crate) fn march_with<R: Real, J: Fn(&Line<R>, RayClass, u32, u32) -> u32>(
     hf: &HeightField,
     surface: MarchSurface,
     q: &Query<R>,
-    setup: impl FnOnce() -> J,
+    setup: impl FnOnce(RayClass) -> J,
 ) -> Trace<R> {
     let Some(span) = clip(hf, q) else {
         return Trace::MISS;
@@ -1115,8 +1110,23 @@ pub(crate) fn march_with<R: Real, J: Fn(&Line<R>, RayClass, u32, u32) -> u32>(
         a,
         ca,
     };
-    let jump = setup();
+    march_above(hf, surface, q, start, setup)
+}
+
+/// [`march_with`] for a ray that starts above the surface at `start`. Not inlined
+/// there: the rays that miss the field or start under the surface, most rays of a
+/// camera's image, then run a short function (and spill nothing for a march).
+#[inline(never)]
+fn march_above<R: Real, J: Fn(&Line<R>, RayClass, u32, u32) -> u32>(
+    hf: &HeightField,
+    surface: Surface,
+    q: &Query<R>,
+    start: Start<R>,
+    setup: impl FnOnce(RayClass) -> J,
+) -> Trace<R> {
+    let d = q.dir();
     let class = RayClass::of(d[0], d[1]);
+    let jump = setup(class);
     // One instance of the rest per main axis, which indexes the walk's state on every
     // step: a constant there.
     if axis_of(class) == 0 {
@@ -1172,7 +1182,6 @@ fn march_from<R: Real, J: Fn(&Line<R>, RayClass, u32, u32) -> u32, const AX: usi
         a,
         ca,
         ta: span.t0,
-        wall: [R::ZERO, R::ZERO, R::ONE],
         tn: [
             next_crossing(ic[0], step[0], o[0], d[0]),
             next_crossing(ic[1], step[1], o[1], d[1]),

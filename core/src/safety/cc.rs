@@ -691,8 +691,8 @@ fn ceil_small(x: f64) -> i32 {
 }
 
 #[inline]
-fn decode_t(t: i32) -> f64 {
-    f64::from(t * t.abs()) / 2048.0
+const fn decode_t(t: i32) -> f64 {
+    (t * t.abs()) as f64 / 2048.0
 }
 
 /// The slope a code stands for (`+∞` for [`NO_CONE`]).
@@ -901,6 +901,18 @@ impl<'a> CcMap<'a> {
     }
 }
 
+/// [`decode_slope`] of every code, for the march: a load instead of the arithmetic
+/// (the same values, computed at compile time by the same function).
+const SLOPES: [f64; 256] = {
+    let mut s = [f64::INFINITY; 256];
+    let mut code = 0;
+    while code < NO_CONE as usize {
+        s[code] = decode_t(code as i32 - 128);
+        code += 1;
+    }
+    s
+};
+
 /// The step (centerlines) of a ray of rise at least `sd_lo` per centerline crossing
 /// the centerline at height `pz` (within `tol`) above a texel of shape `[r, s, z0, z1]`,
 /// with the map's longest step `cap` and base-height frame `z = [zmin, zstep, zspan]`
@@ -913,7 +925,7 @@ fn cone_step<R: Real>(cap: u32, z: [R; 3], b: [u8; 4], pz: R, tol: R, sd_lo: R) 
         return r;
     }
     let zc = z[0] + R::from_u32(u32::from(u16::from_le_bytes([b[2], b[3]]))) * z[1];
-    let sc = R::from_f64(decode_slope(b[1]));
+    let sc = R::from_f64(SLOPES[usize::from(b[1])]);
     // zc's own rounding: relative EPSILON of the terms.
     let zerr = R::from_f32(4.0) * R::EPSILON * (z[2] + zc.abs());
     let num = pz - zc - tol - tol - zerr;
@@ -952,10 +964,12 @@ pub fn trace_on<R: Real>(
     surface: MarchSurface,
     q: &Query<R>,
 ) -> Trace<R> {
+    // A copy of the map's view: the step reads its fields directly, not through a
+    // reference.
+    let map = *map;
     // The per-trace constants, once the ray is known to march.
-    march_with(hf, surface, q, || {
+    march_with(hf, surface, q, |class| {
         let d = q.dir();
-        let class = RayClass::of(d[0], d[1]);
         let ax = axis_of(class);
         let dm = d[ax].abs();
         let sd = if dm > R::ZERO { d[2] / dm } else { R::ZERO };
