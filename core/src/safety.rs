@@ -449,22 +449,35 @@ fn cell_limits<S: RaySet>(
     cm: u32,
     l: u32,
 ) -> bool {
-    cell_tris(hf, sigma, ax, sg, cm, l)
+    let h = cell_corners(hf, ax, cm, l);
+    cell_tris(h, sigma, ax, sg, cm, l)
         .iter()
         .any(|t| rays.limiting(sigma, t))
 }
 
-/// The two triangles of cell `(cm, l)` (main, minor indices) in the frame of `sigma`.
+/// The corners of cell `(cm, l)` (main, minor indices of axis `ax`), as
+/// [`HeightField::cell_corners`] gives them.
+#[inline]
+pub(crate) fn cell_corners(hf: &HeightField, ax: usize, cm: u32, l: u32) -> [f32; 4] {
+    if ax == 0 {
+        hf.cell_corners(cm, l)
+    } else {
+        hf.cell_corners(l, cm)
+    }
+}
+
+/// The two triangles of cell `(cm, l)` (main, minor indices), of corners `h`
+/// ([`cell_corners`]), in the frame of `sigma`.
+#[inline]
 pub(crate) fn cell_tris(
-    hf: &HeightField,
+    h: [f32; 4],
     sigma: &Sigma,
     ax: usize,
     sg: i64,
     cm: u32,
     l: u32,
 ) -> [Tri; 2] {
-    let (ci, cj) = if ax == 0 { (cm, l) } else { (l, cm) };
-    let c: [f64; 4] = corners(hf, ci, cj);
+    let c = h.map(f64::from);
     let planes = triangle_planes(c);
     let (mf, lf, cmf) = (f64::from(sigma.m), f64::from(l), f64::from(cm));
     let sgf = sg as f64;

@@ -579,9 +579,16 @@ fn cc_rows_and_packing() {
             }
         }
     }
-    // Conservative rounding of the codes.
-    for k in 0..20_000 {
-        let s = -9.0 + k as f64 * 0.00089;
+    // Conservative rounding of the codes: on a sweep, and at every code's value and the
+    // floats beside it (where a rounding step lost by the encoder would show).
+    let at_codes = (0..cc::NO_CONE).flat_map(|c| {
+        let v = cc::decode_slope(c);
+        [v.next_down(), v, v.next_up()]
+    });
+    for s in (0..20_000)
+        .map(|k| -9.0 + k as f64 * 0.00089)
+        .chain(at_codes)
+    {
         let c = cc::encode_slope(s);
         assert!(cc::decode_slope(c) >= s, "slope {s}");
         if c != cc::NO_CONE && c > 0 {

@@ -339,41 +339,61 @@ fn block_bounds(
 /// Blocks of columns as [`block_bounds`] lists them: `(bound, ka, kb)`.
 type Blocks = heapless::Vec<(f64, u32, u32), 40>;
 
-/// Largest `(plane − zc) / u` over the part of `tri` a ray from the segment reaches;
-/// `+∞` when that part touches the centerline above `zc`.
-fn tri_slope(sigma: &Sigma, tri: &Tri, zc: f64) -> f64 {
-    // Clip the triangle (forward distance, minor) to lo − u ≤ y ≤ hi + u.
-    let mut poly = [[0f64; 2]; 8];
-    let mut n = 3;
-    poly[..3].copy_from_slice(&tri.verts);
-    let planes: [(f64, f64, f64); 2] = [(1.0, 1.0, -sigma.lo), (1.0, -1.0, sigma.hi)];
-    for (a, b, c) in planes {
-        // keep a·u + b·y + c ≥ 0
-        let f = |p: [f64; 2]| a * p[0] + b * p[1] + c;
-        if poly[..n].iter().all(|&p| f(p) >= 0.0) {
-            continue; // nothing clipped: the loop below would copy `poly` as it is
-        }
-        let mut out = [[0f64; 2]; 8];
-        let mut k = 0;
-        for e in 0..n {
-            let (p, q) = (poly[e], poly[if e + 1 == n { 0 } else { e + 1 }]);
-            let (fp, fq) = (f(p), f(q));
-            if fp >= 0.0 {
-                out[k] = p;
-                k += 1;
-            }
-            if (fp >= 0.0) != (fq >= 0.0) {
-                let s = fp / (fp - fq);
-                out[k] = [p[0] + s * (q[0] - p[0]), p[1] + s * (q[1] - p[1])];
-                k += 1;
-            }
-        }
-        poly = out;
-        n = k;
-        if n == 0 {
-            return f64::NEG_INFINITY;
-        }
+/// The edge of the band `lo − u ≤ y ≤ hi + u` (what a ray from the segment reaches)
+/// that cuts cell `c` of column `k` (corners at `u ∈ {k, k + 1}`, `y ∈ {c, c + 1}`),
+/// as the half-plane `a·u + b·y + d ≥ 0` it keeps; `None` when the band holds the
+/// whole cell. With `lo = n − 9/16`, `hi = n + 9/16` and integer corners, the lower
+/// edge keeps every corner iff `c + k ≥ n`, the upper one iff `c + 1 ≤ n + k`; both
+/// fail together only when `2k < 1` and `n − 1 < c < n`, never. The sums are exact
+/// in `f64`, here as in the clip's own test.
+fn band_edge(sigma: &Sigma, k: f64, c: f64) -> Option<(f64, f64, f64)> {
+    if c + k < sigma.n {
+        Some((1.0, 1.0, -sigma.lo))
+    } else if c + 1.0 > sigma.n + k {
+        Some((1.0, -1.0, sigma.hi))
+    } else {
+        None
     }
+}
+
+/// Largest `(plane − zc) / u` over the part of `tri` a ray from the segment reaches
+/// (the triangle clipped to `edge`, [`band_edge`] of its cell); `+∞` when that part
+/// touches the centerline above `zc`.
+///
+/// Clipping to the band's other edge too would change nothing, so only `edge` is
+/// clipped: that edge keeps the whole cell, and the points the clip adds lie in it and
+/// are exact (`f` is exact, in sixteenths; it changes by `±1` or `±2` along an edge it
+/// crosses, so `s` and the point are exact too). A clip that keeps every vertex copies
+/// the polygon as it is, so neither test nor clip is needed where `edge` is `None`.
+fn tri_slope(tri: &Tri, zc: f64, edge: Option<(f64, f64, f64)>) -> f64 {
+    // Three vertices kept, or at most two and two crossings.
+    let mut poly = [[0f64; 2]; 4];
+    let n = match edge {
+        None => {
+            poly[..3].copy_from_slice(&tri.verts);
+            3
+        }
+        Some((a, b, c)) => {
+            // keep a·u + b·y + c ≥ 0
+            let f = tri.verts.map(|p| a * p[0] + b * p[1] + c);
+            let mut k = 0;
+            for e in 0..3 {
+                let q = (e + 1) % 3;
+                let (p, fp, fq) = (tri.verts[e], f[e], f[q]);
+                if fp >= 0.0 {
+                    poly[k] = p;
+                    k += 1;
+                }
+                if (fp >= 0.0) != (fq >= 0.0) {
+                    let s = fp / (fp - fq);
+                    let q = tri.verts[q];
+                    poly[k] = [p[0] + s * (q[0] - p[0]), p[1] + s * (q[1] - p[1])];
+                    k += 1;
+                }
+            }
+            k
+        }
+    };
     let tol = 1e-9 * (1.0 + zc.abs());
     let mut best = f64::NEG_INFINITY;
     for p in &poly[..n] {
@@ -384,7 +404,11 @@ fn tri_slope(sigma: &Sigma, tri: &Tri, zc: f64) -> f64 {
             }
             continue;
         }
-        best = best.max((z - zc) / p[0]);
+        // Not `max`: `t` is never NaN here, and `>` is cheaper (±0 tie: same code).
+        let t = (z - zc) / p[0];
+        if t > best {
+            best = t;
+        }
     }
     best
 }
@@ -606,35 +630,39 @@ impl<S: RaySet> Column<'_, S> {
         let tops = &self.nb.nb[row + c0 as usize..=row + c1 as usize];
         let mut lowest = (*s * self.kf).min(*s * (self.kf + 1.0));
         for (c, &top) in (c0..).zip(tops) {
-            if f64::from(top) - self.zc <= lowest || self.below(c, *s) {
+            if f64::from(top) - self.zc <= lowest {
                 continue;
             }
-            for tri in cell_tris(self.hf, self.sigma, self.ax, self.sg, self.cm, c) {
-                if self.rays.limiting(self.sigma, &tri)
-                    && raise(s, tri_slope(self.sigma, &tri, self.zc))
-                {
-                    *best = Some((self.cm, c));
+            let h = super::cell_corners(self.hf, self.ax, self.cm, c);
+            if self.below(h, *s) {
+                continue;
+            }
+            // One raise by the larger slope of the two triangles: `C(max(a, C(b))) =
+            // C(max(a, b))` (the module's **Pruning**), and neither slope depends on `s`.
+            let edge = band_edge(self.sigma, self.kf, f64::from(c));
+            let mut slope = f64::NEG_INFINITY;
+            for tri in &cell_tris(h, self.sigma, self.ax, self.sg, self.cm, c) {
+                if self.rays.limiting(self.sigma, tri) {
+                    slope = slope.max(tri_slope(tri, self.zc, edge));
                 }
             }
-            if *s == f64::INFINITY {
-                return;
+            if raise(s, slope) {
+                *best = Some((self.cm, c));
+                if *s == f64::INFINITY {
+                    return;
+                }
+                lowest = (*s * self.kf).min(*s * (self.kf + 1.0));
             }
-            lowest = (*s * self.kf).min(*s * (self.kf + 1.0));
         }
     }
 
-    /// Whether no triangle of cell `c` can raise `s`: its slope is largest at a
-    /// corner (along an edge `(z − z_c)/u` is monotone; a corner at `u = 0` under
-    /// `z_c` only lowers the far one's), so both sides' highest corners under the
-    /// line `z_c + s·u`, by a margin far above rounding, suffice.
+    /// Whether no triangle of the cell of corners `h` ([`super::cell_corners`]) can
+    /// raise `s`: its slope is largest at a corner (along an edge `(z − z_c)/u` is
+    /// monotone; a corner at `u = 0` under `z_c` only lowers the far one's), so both
+    /// sides' highest corners under the line `z_c + s·u`, by a margin far above
+    /// rounding, suffice.
     #[inline]
-    fn below(&self, c: u32, s: f64) -> bool {
-        let (ci, cj) = if self.ax == 0 {
-            (self.cm, c)
-        } else {
-            (c, self.cm)
-        };
-        let h = self.hf.cell_corners(ci, cj);
+    fn below(&self, h: [f32; 4], s: f64) -> bool {
         let (a, b) = if self.ax == 0 {
             (h[0].max(h[2]), h[1].max(h[3]))
         } else {
@@ -674,7 +702,10 @@ pub fn encode_slope(s: f64) -> u8 {
     } else {
         -(libm::sqrt(-2048.0 * s).min(128.0) as i32)
     };
-    while t < 126 && decode_t(t) < s {
+    // `t` is the exact answer or one short: `2048·s` is exact and the square root is
+    // correctly rounded (an error far below 1 at these sizes), so at most one `ceil`
+    // or `floor` step is lost. (A single test: a loop here compiles to a vector block.)
+    if t < 126 && decode_t(t) < s {
         t += 1;
     }
     if decode_t(t) < s {
