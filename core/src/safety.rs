@@ -459,10 +459,22 @@ fn cell_limits<S: RaySet>(
 /// [`HeightField::cell_corners`] gives them.
 #[inline]
 pub(crate) fn cell_corners(hf: &HeightField, ax: usize, cm: u32, l: u32) -> [f32; 4] {
-    if ax == 0 {
-        hf.cell_corners(cm, l)
+    let (i, j) = if ax == 0 { (cm, l) } else { (l, cm) };
+    // The same four samples, from one window (one bounds check).
+    let stride = hf.stride();
+    let s = &hf.samples()[j as usize * stride + i as usize..][..stride + 2];
+    [s[0], s[1], s[stride], s[stride + 1]]
+}
+
+/// The corners of the two triangles of [`cell_tris`], as masks over `h` (bit `u + 2v`
+/// for the corner `(u, v)`, [`cell_corners`]'s order): its split, on the same values.
+#[inline]
+pub(crate) fn tri_masks(h: [f32; 4]) -> [u8; 2] {
+    let c = h.map(f64::from);
+    if c[0] + c[3] <= c[1] + c[2] {
+        [0b1011, 0b1101]
     } else {
-        hf.cell_corners(l, cm)
+        [0b0111, 0b1110]
     }
 }
 

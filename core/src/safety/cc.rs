@@ -78,8 +78,8 @@ use core::ops::Range;
 use heapless::binary_heap::{BinaryHeap, Max};
 
 use super::{
-    axis_of, cell_tris, extents, march_with, sample, sigma_of, sign_of, texel_distance, AllRays,
-    Line, MarchSurface, RaySet, SafetyError, Sigma, Tri, CLASSES,
+    axis_of, cell_tris, extents, march_with, sample, sigma_of, sign_of, texel_distance, tri_masks,
+    AllRays, Line, MarchSurface, RaySet, SafetyError, Sigma, Tri, CLASSES,
 };
 use crate::field::HeightField;
 use crate::math::Real;
@@ -363,54 +363,50 @@ fn band_edge(sigma: &Sigma, k: f64, c: f64) -> Option<(f64, f64, f64)> {
 /// Clipping to the band's other edge too would change nothing, so only `edge` is
 /// clipped: that edge keeps the whole cell, and the points the clip adds lie in it and
 /// are exact (`f` is exact, in sixteenths; it changes by `±1` or `±2` along an edge it
-/// crosses, so `s` and the point are exact too). A clip that keeps every vertex copies
-/// the polygon as it is, so neither test nor clip is needed where `edge` is `None`.
+/// crosses, so `s` and the point are exact too). A clip that keeps every vertex keeps
+/// the triangle as it is, so neither test nor clip is needed where `edge` is `None`.
+/// Each point is taken as the clip makes it (a maximum does not depend on the order;
+/// a `±0` tie gives the same code).
 fn tri_slope(tri: &Tri, zc: f64, edge: Option<(f64, f64, f64)>) -> f64 {
-    // Three vertices kept, or at most two and two crossings.
-    let mut poly = [[0f64; 2]; 4];
-    let n = match edge {
-        None => {
-            poly[..3].copy_from_slice(&tri.verts);
-            3
-        }
-        Some((a, b, c)) => {
-            // keep a·u + b·y + c ≥ 0
-            let f = tri.verts.map(|p| a * p[0] + b * p[1] + c);
-            let mut k = 0;
-            for e in 0..3 {
-                let q = (e + 1) % 3;
-                let (p, fp, fq) = (tri.verts[e], f[e], f[q]);
-                if fp >= 0.0 {
-                    poly[k] = p;
-                    k += 1;
-                }
-                if (fp >= 0.0) != (fq >= 0.0) {
-                    let s = fp / (fp - fq);
-                    let q = tri.verts[q];
-                    poly[k] = [p[0] + s * (q[0] - p[0]), p[1] + s * (q[1] - p[1])];
-                    k += 1;
-                }
-            }
-            k
-        }
-    };
     let tol = 1e-9 * (1.0 + zc.abs());
     let mut best = f64::NEG_INFINITY;
-    for p in &poly[..n] {
+    let mut on_line_above = false;
+    let mut take = |p: [f64; 2]| {
         let z = tri.height_on_line(p[1]) + tri.forward_slope * p[0];
         if p[0] <= 1e-9 {
-            if z - zc > tol {
-                return f64::INFINITY;
-            }
-            continue;
+            on_line_above |= z - zc > tol;
+            return;
         }
-        // Not `max`: `t` is never NaN here, and `>` is cheaper (±0 tie: same code).
+        // Not `max`: `t` is never NaN here, and `>` is cheaper.
         let t = (z - zc) / p[0];
         if t > best {
             best = t;
         }
+    };
+    match edge {
+        None => tri.verts.into_iter().for_each(take),
+        Some((a, b, c)) => {
+            // keep a·u + b·y + c ≥ 0
+            let f = tri.verts.map(|p| a * p[0] + b * p[1] + c);
+            for e in 0..3 {
+                let q = (e + 1) % 3;
+                let (p, fp, fq) = (tri.verts[e], f[e], f[q]);
+                if fp >= 0.0 {
+                    take(p);
+                }
+                if (fp >= 0.0) != (fq >= 0.0) {
+                    let s = fp / (fp - fq);
+                    let q = tri.verts[q];
+                    take([p[0] + s * (q[0] - p[0]), p[1] + s * (q[1] - p[1])]);
+                }
+            }
+        }
     }
-    best
+    if on_line_above {
+        f64::INFINITY
+    } else {
+        best
+    }
 }
 
 /// The cone `(z_c, s_c)` of texel `(i, j)` for `class`, beyond the cylinder `r`, in
@@ -482,8 +478,9 @@ fn cone_search<S: RaySet>(
         }
     };
     // Raises `s` over the triangles of the cells `cells` (all by default) of column `k`
-    // (exactly), noting in `best` the cell that raised it last.
-    let scan = |k: u32, cells: Option<u32>, s: &mut f64, best: &mut Cell| {
+    // (exactly), noting in `best` the cell that raised it last. (`move`: it holds
+    // copies of what it reads, not references to them.)
+    let scan = move |k: u32, cells: Option<u32>, s: &mut f64, best: &mut Cell| {
         let (l0, l1) = cells.map_or(band(k), |c| (c, c));
         let col = Column {
             hf,
@@ -628,22 +625,31 @@ impl<S: RaySet> Column<'_, S> {
     fn scan(&self, c0: u32, c1: u32, s: &mut f64, best: &mut Cell) {
         let row = self.nb.base + self.nb.level + self.cm as usize * self.nb.column;
         let tops = &self.nb.nb[row + c0 as usize..=row + c1 as usize];
-        let mut lowest = (*s * self.kf).min(*s * (self.kf + 1.0));
+        let mut bars = self.bars(*s);
         for (c, &top) in (c0..).zip(tops) {
-            if f64::from(top) - self.zc <= lowest {
+            if f64::from(top) - self.zc <= bars.lowest {
                 continue;
             }
             let h = super::cell_corners(self.hf, self.ax, self.cm, c);
-            if self.below(h, *s) {
+            let under = bars.under(h, self.zc);
+            if under == 0b1111 {
                 continue;
             }
             // One raise by the larger slope of the two triangles: `C(max(a, C(b))) =
             // C(max(a, b))` (the module's **Pruning**), and neither slope depends on `s`.
+            // A triangle with every corner under the line is left out: its slope does
+            // not exceed `s` ([`Bars`]), so it changes neither whether `s` rises nor
+            // the maximum it rises to.
             let edge = band_edge(self.sigma, self.kf, f64::from(c));
             let mut slope = f64::NEG_INFINITY;
-            for tri in &cell_tris(h, self.sigma, self.ax, self.sg, self.cm, c) {
-                if self.rays.limiting(self.sigma, tri) {
-                    slope = slope.max(tri_slope(tri, self.zc, edge));
+            let tris = cell_tris(h, self.sigma, self.ax, self.sg, self.cm, c);
+            for (tri, corners) in tris.iter().zip(tri_masks(h)) {
+                if under & corners != corners && self.rays.limiting(self.sigma, tri) {
+                    // Not `max`: neither is NaN (±0 tie: same code).
+                    let t = tri_slope(tri, self.zc, edge);
+                    if t > slope {
+                        slope = t;
+                    }
                 }
             }
             if raise(s, slope) {
@@ -651,27 +657,56 @@ impl<S: RaySet> Column<'_, S> {
                 if *s == f64::INFINITY {
                     return;
                 }
-                lowest = (*s * self.kf).min(*s * (self.kf + 1.0));
+                bars = self.bars(*s);
             }
         }
     }
 
-    /// Whether no triangle of the cell of corners `h` ([`super::cell_corners`]) can
-    /// raise `s`: its slope is largest at a corner (along an edge `(z − z_c)/u` is
-    /// monotone; a corner at `u = 0` under `z_c` only lowers the far one's), so both
-    /// sides' highest corners under the line `z_c + s·u`, by a margin far above
-    /// rounding, suffice.
+    /// The tests of [`Column::scan`] for the slope `s`.
     #[inline]
-    fn below(&self, h: [f32; 4], s: f64) -> bool {
-        let (a, b) = if self.ax == 0 {
-            (h[0].max(h[2]), h[1].max(h[3]))
-        } else {
-            (h[0].max(h[1]), h[2].max(h[3]))
-        };
-        let (near, far) = if self.sg > 0 { (a, b) } else { (b, a) };
+    fn bars(&self, s: f64) -> Bars {
         let (ln, lf) = (s * self.kf, s * (self.kf + 1.0));
         let margin = 1e-9 * (1.0 + self.zc.abs() + lf.abs());
-        f64::from(near) - self.zc <= ln - margin && f64::from(far) - self.zc <= lf - margin
+        // Corner `i` of `h` ([`super::cell_corners`]) lies at `u = k + 1` when its
+        // main-axis step (bit 0 of `i` for axis 0, bit 1 for axis 1) goes ahead.
+        let lines = core::array::from_fn(|i| {
+            let step = if self.ax == 0 { i & 1 } else { i >> 1 };
+            if (step == 1) == (self.sg > 0) {
+                lf - margin
+            } else {
+                ln - margin
+            }
+        });
+        Bars {
+            // Not `min`: neither is NaN (`s` and `k` are finite).
+            lowest: if lf < ln { lf } else { ln },
+            lines,
+        }
+    }
+}
+
+/// What [`Column::scan`] compares a cell with, for the slope so far `s` (the line
+/// `z_c + s·u`).
+struct Bars {
+    /// The lower of the line's heights over `u = k` and `u = k + 1`, less `z_c`: a
+    /// cell whose highest sample is no higher (less `z_c`) cannot raise `s`.
+    lowest: f64,
+    /// Per corner of a cell (as [`super::cell_corners`] orders them), the line's height
+    /// over it less `z_c`, lowered by a margin far above rounding.
+    lines: [f64; 4],
+}
+
+impl Bars {
+    /// The corners of `h` under [`Bars::lines`], as a mask (bit `i` for `h[i]`). A
+    /// triangle whose corners are all under cannot raise `s`: its slope is largest at a
+    /// corner (along an edge `(z − z_c)/u` is monotone; a corner at `u = 0` under `z_c`
+    /// only lowers the far one's). All four are under exactly when each side's highest
+    /// corner is (the conversion and the subtraction are monotone).
+    #[inline]
+    fn under(&self, h: [f32; 4], zc: f64) -> u8 {
+        (0..4).fold(0, |m, i| {
+            m | u8::from(f64::from(h[i]) - zc <= self.lines[i]) << i
+        })
     }
 }
 
