@@ -353,6 +353,7 @@ impl RaySet for AllRays {
 }
 
 /// The surface over the segment of texel `(m, n)` (main, minor indices) of axis `ax`.
+#[inline]
 pub(crate) fn sigma_of(hf: &HeightField, ax: usize, m: u32, n: u32) -> Sigma {
     let (_, ln) = extents(hf, ax);
     let s = |k: u32| f64::from(sample(hf, ax, m, k));
@@ -391,10 +392,11 @@ pub fn texel_distance<S: RaySet>(
     let (lm, ln) = extents(hf, ax);
     let (m, n) = if ax == 0 { (i, j) } else { (j, i) };
     let sigma = sigma_of(hf, ax, m, n);
-    let floor = sigma
-        .height(sigma.lo)
+    // The lowest surface point of the segment: an end or `n` (`Sigma::height` at the
+    // ends, written out: `lo < n ≤ hi`).
+    let floor = (sigma.h + sigma.slope[0] * (sigma.lo - sigma.n))
         .min(sigma.h)
-        .min(sigma.height(sigma.hi));
+        .min(sigma.h + sigma.slope[1] * (sigma.hi - sigma.n));
     let (sx, sy) = strips(hf);
     let (per_line, base, chan) = if ax == 0 {
         (sx, 0, if sg > 0 { 1 } else { 2 })
@@ -408,29 +410,48 @@ pub fn texel_distance<S: RaySet>(
     // itself would pass (`e = 0`: the plain bound).
     let e = rays.lowering();
     let floor = floor + (e - e * (1.0 / 1_048_576.0));
-    let st = STRIP as i64;
-    for k in 0..u32::from(cap) {
-        let cm = if sg > 0 {
-            i64::from(m) + i64::from(k)
-        } else {
-            i64::from(m) - i64::from(k) - 1
-        };
-        if cm < 0 || cm > i64::from(lm) - 2 {
-            return cap;
-        }
-        let cm = cm as u32;
+    // Columns of cells ahead before the field ends: `m + k` forward, `m − 1 − k` back.
+    let ahead = if sg > 0 { lm - 1 - m } else { m };
+    let columns = u32::from(cap).min(ahead);
+    let column = |k: u32| if sg > 0 { m + k } else { m - 1 - k };
+    let st = STRIP as usize;
+    // Whether strip `b` of column `k` holds no limiting plane (the bound above).
+    let shut = |k: u32, b: usize| {
+        let at = base + 3 * (column(k) as usize * per_line + b);
+        let (top, beta) = (f64::from(scratch[at]), f64::from(scratch[at + chan]));
         let kf = f64::from(k);
-        let l0 = (i64::from(n) - i64::from(k) - 2).max(0);
-        let l1 = (i64::from(n) + i64::from(k) + 1).min(i64::from(ln) - 2);
-        let row = base + 3 * cm as usize * per_line;
-        for b in l0 / st..=l1 / st {
-            let at = row + 3 * b as usize;
-            let (top, beta) = (f64::from(scratch[at]), f64::from(scratch[at + chan]));
-            if top + (beta * kf).max(beta * (kf + 1.0)) <= floor {
+        top + (beta * kf).max(beta * (kf + 1.0)) <= floor
+    };
+    // The answer is the first column holding a limiting cell, whatever the order of
+    // the cells tested inside it; so the cell of column 0 (where most scans end) that
+    // limits most often may go first, and the scan then skips it (not tested when
+    // its strip is shut: the scan skips that strip too). For all rays that is cell
+    // `n` where the surface bends down at `n` (`slope[0] > slope[1]`: every such
+    // texel of the checks' maps), cell `n + 1` elsewhere (two times in three). A
+    // lowered ray set passes the planes that near the surface mostly: it keeps the
+    // plain order.
+    let first = n + u32::from(sigma.slope[0] <= sigma.slope[1]);
+    // In the band of column 0, `[n − 2, n + 1]`; a cell of the field below `ln − 1`.
+    let skip = if e == 0.0 && columns > 0 && first < ln - 1 {
+        let l = first as usize;
+        if !shut(0, l / st) && cell_limits(hf, rays, &sigma, ax, sg, column(0), first) {
+            return 0;
+        }
+        l
+    } else {
+        usize::MAX
+    };
+    for k in 0..columns {
+        let skip = if k == 0 { skip } else { usize::MAX };
+        // The band `[n − k − 2, n + k + 1]`, as cells `l0..l1`.
+        let l0 = n.saturating_sub(k + 2) as usize;
+        let l1 = (n + k + 2).min(ln - 1) as usize;
+        for b in l0 / st..l1.div_ceil(st) {
+            if shut(k, b) {
                 continue;
             }
-            for l in l0.max(b * st)..=l1.min(b * st + st - 1) {
-                if cell_limits(hf, rays, &sigma, ax, sg, cm, l as u32) {
+            for l in l0.max(b * st)..l1.min(b * st + st) {
+                if l != skip && cell_limits(hf, rays, &sigma, ax, sg, column(k), l as u32) {
                     return k as u8;
                 }
             }
@@ -440,6 +461,9 @@ pub fn texel_distance<S: RaySet>(
 }
 
 /// `true` when either triangle of cell `(cm, l)` (main, minor indices) limits.
+/// Always inlined: [`texel_distance`] calls it twice, and a call in its scan would
+/// recompute per cell what the scan keeps per column.
+#[inline(always)]
 fn cell_limits<S: RaySet>(
     hf: &HeightField,
     rays: &S,
