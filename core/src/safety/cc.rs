@@ -75,8 +75,6 @@
 
 use core::ops::Range;
 
-use heapless::binary_heap::{BinaryHeap, Max};
-
 use super::{
     axis_of, cell_tris, extents, march_with, sample, sigma_of, sign_of, texel_distance, tri_masks,
     AllRays, Line, MarchSurface, RaySet, SafetyError, Sigma, Tri, CLASSES,
@@ -263,81 +261,160 @@ impl<'a> NbView<'a> {
     }
 }
 
-/// Highest sample of cell column `c` over cross samples `a..=b` (the view's axis).
+/// The views of both axes, `[columns, blocks]` per axis ([`NbView::new`]), as every
+/// texel's search reads them: built once per bake.
+type Views<'a> = [[NbView<'a>; 2]; 2];
+
+fn views<'a>(hf: &HeightField, nb: &'a [f32], cap: u8) -> Views<'a> {
+    [0, 1].map(|ax| [false, true].map(|blocks| NbView::new(hf, nb, cap, ax, blocks)))
+}
+
+/// Highest sample over cross samples `a..=b` of the view's cell column (or block)
+/// whose level 0 starts at `at`.
 #[inline]
-fn range_max(v: &NbView, c: u32, a: u32, b: u32) -> f64 {
+fn range_max(v: &NbView, at: usize, a: u32, b: u32) -> f64 {
     let len = b - a + 1;
     let l = (31 - len.leading_zeros()).min(v.top);
-    let w = 1u32 << l;
-    let row = &v.nb[v.base + l as usize * v.level + c as usize * v.column..];
+    let w = 1usize << l;
     // Two windows of `w` from either end cover [a, b] when `len ≤ 2w` (always below
     // the top level, where `w ≤ len < 2w`); at the top level more may be needed.
-    let last = b + 1 - w;
-    let mut m = row[a as usize].max(row[last as usize]);
-    let mut y = a + w;
+    // `f32::max` as it compiles (a NaN test, then the first operand on ties), less
+    // the NaN test: heights are finite.
+    let max = |m: f32, y: f32| if y > m { y } else { m };
+    let first = at + l as usize * v.level + a as usize;
+    let last = first + len as usize - w;
+    let mut m = max(v.nb[first], v.nb[last]);
+    let mut y = first + w;
     while y < last {
-        m = m.max(row[y as usize]);
+        m = max(m, v.nb[y]);
         y += w;
     }
     f64::from(m)
 }
 
-/// The blocks of [`BLOCK`] cell columns (in the field's block grid) that hold the
-/// columns `k ∈ ks` (`k ≥ 1`) ahead of texel `(m, n)` (main, minor indices of axis
-/// `ax`, direction `sg`), as `(bound, ka, kb)` (the block's first and last such `k`),
-/// into `out`, those whose bound exceeds `s` only. `bound` is at least the N-buffer
-/// bound of each of these columns: the block's highest sample over the band of `kb`
-/// (the widest) gives `top ≥` each column's `top`; and (`f64` division being
-/// monotone in both operands) `top/ka ≥ top_k/k` when `top > 0` (a column's bound is
-/// then `≤ top/ka` whatever its sign), `top/(kb + 1) ≥ top_k/(k + 1)` when
-/// `top ≤ 0`. Blocks go by increasing `k`; they stop once `(hmax − z_c)/ka ≤ s` with
-/// `hmax − z_c > 0`, which bounds every block further (then `s ≥ 0 ≥` the bound of
-/// a block under `z_c`).
-#[allow(clippy::too_many_arguments)]
-fn block_bounds(
-    hf: &HeightField,
-    nb: &[f32],
-    cap: u8,
-    ax: usize,
+/// The cell columns ahead of a texel `(m, n)` (main, minor indices of axis `ax`,
+/// direction `sg`) as their bounds read the N-buffers: what [`cone_search`] computes
+/// once per texel and class.
+struct Ahead<'a> {
+    cols: &'a NbView<'a>,
+    blocks: &'a NbView<'a>,
+    m: u32,
+    n: u32,
     sg: i64,
-    (m, n): (u32, u32),
+    /// The last cross sample (`ln − 1`).
+    end: u32,
+    /// Where column `k = 0`'s level 0 starts in `cols`, and how much further the
+    /// next column's does (`±ln`; wrapping sums, as `k = 0` may lie outside).
+    at: usize,
+    step: usize,
     zc: f64,
-    ks: Range<u32>,
-    (s, hmax): (f64, f64),
-    out: &mut Blocks,
-) {
-    let v = NbView::new(hf, nb, cap, ax, true);
-    let ln = extents(hf, ax).1;
-    let reach = hmax - zc;
-    let mut ka = ks.start;
-    // At most 254 columns: 33 blocks.
-    while ka < ks.end {
-        if reach > 0.0 && reach / f64::from(ka) <= s {
-            break;
-        }
-        let b = if sg > 0 { m + ka } else { m - ka - 1 } / BLOCK;
-        let last = if sg > 0 {
-            b * BLOCK + BLOCK - 1 - m
+}
+
+impl Ahead<'_> {
+    /// The cell column `k` ahead.
+    #[inline]
+    fn column(&self, k: u32) -> u32 {
+        if self.sg > 0 {
+            self.m + k
         } else {
-            m - 1 - b * BLOCK
-        };
-        let kb = last.min(ks.end - 1);
-        let (l0, l1) = (n.saturating_sub(kb + 2), (n + kb + 1).min(ln - 2));
-        let top = range_max(&v, b, l0, l1 + 1) - zc;
-        let bound = if top > 0.0 {
-            top / f64::from(ka)
-        } else {
-            top / (f64::from(kb) + 1.0)
-        };
-        if bound > s {
-            out.push((bound, ka, kb)).ok();
+            self.m - k - 1
         }
-        ka = kb + 1;
+    }
+
+    /// The highest sample, less `z_c`, of the column or block of `v` whose level 0
+    /// starts at `at`, over the band column `k` reaches (`n − k − 2 ..= n + k + 2`, in
+    /// the field).
+    #[inline]
+    fn top(&self, v: &NbView, at: usize, k: u32) -> f64 {
+        let (a, b) = (self.n.saturating_sub(k + 2), (self.n + k + 2).min(self.end));
+        range_max(v, at, a, b) - self.zc
+    }
+
+    /// Column `k`'s bound: its highest reachable sample over `u = k` (`+∞` at `k = 0`),
+    /// or over `u = k + 1` when it is under `z_c`.
+    #[inline]
+    fn bound(&self, k: u32) -> f64 {
+        let at = self.at.wrapping_add((k as usize).wrapping_mul(self.step));
+        let top = self.top(self.cols, at, k);
+        let kf = f64::from(k);
+        if top <= 0.0 {
+            top / (kf + 1.0)
+        } else if k == 0 {
+            f64::INFINITY
+        } else {
+            top / kf
+        }
+    }
+
+    /// The blocks of [`BLOCK`] cell columns (in the field's block grid) that hold the
+    /// columns `k ∈ ks` (`k ≥ 1`), as [`Block`]s into `out`, those whose bound exceeds
+    /// `s` only. `bound` is at least the bound of each of these columns: the block's
+    /// highest sample over the band of `kb` (the widest) gives `top ≥` each column's
+    /// `top`; and (`f64` division being monotone in both operands) `top/ka ≥ top_k/k`
+    /// when `top > 0` (a column's bound is then `≤ top/ka` whatever its sign),
+    /// `top/(kb + 1) ≥ top_k/(k + 1)` when `top ≤ 0`. Blocks go by increasing `k`;
+    /// they stop once `(hmax − z_c)/ka ≤ s` with `hmax − z_c > 0`, which bounds every
+    /// block further (then `s ≥ 0 ≥` the bound of a block under `z_c`).
+    fn block_bounds(&self, ks: Range<u32>, (s, hmax): (f64, f64), out: &mut Blocks) {
+        if ks.is_empty() {
+            return;
+        }
+        let reach = hmax - self.zc;
+        // The block of column `ka` and its far column; the next block is one further
+        // (`step`), `BLOCK` columns on.
+        let c = self.column(ks.start);
+        let mut at = self.blocks.base + (c / BLOCK) as usize * self.blocks.column;
+        let mut ka = ks.start;
+        let mut far = ka
+            + if self.sg > 0 {
+                BLOCK - 1 - c % BLOCK
+            } else {
+                c % BLOCK
+            };
+        // At most 254 columns: 33 blocks.
+        while ka < ks.end {
+            if reach > 0.0 && reach / f64::from(ka) <= s {
+                break;
+            }
+            let kb = far.min(ks.end - 1);
+            let top = self.top(self.blocks, at, kb);
+            let bound = if top > 0.0 {
+                top / f64::from(ka)
+            } else {
+                top / (f64::from(kb) + 1.0)
+            };
+            if bound > s {
+                out.push(Block { bound, top, ka, kb }).ok();
+            }
+            ka = far + 1;
+            far += BLOCK;
+            at = at.wrapping_add(self.step);
+        }
     }
 }
 
-/// Blocks of columns as [`block_bounds`] lists them: `(bound, ka, kb)`.
-type Blocks = heapless::Vec<(f64, u32, u32), 40>;
+/// A block of columns as [`Ahead::block_bounds`] lists it.
+#[derive(Clone, Copy)]
+struct Block {
+    bound: f64,
+    /// The block's highest sample over the band of `kb`, less `z_c`.
+    top: f64,
+    /// The block's first and last columns.
+    ka: u32,
+    kb: u32,
+}
+
+impl Block {
+    /// Whether a column `k' ≥ k` of the block may have a bound above `s`: not when
+    /// `0 < top/k ≤ s`, as column `k'`'s bound is then at most `top/k' ≤ top/k`
+    /// ([`Ahead::block_bounds`]; `f64` division is monotone).
+    #[inline]
+    fn may_exceed(&self, k: u32, s: f64) -> bool {
+        self.top <= 0.0 || self.top / f64::from(k) > s
+    }
+}
+
+type Blocks = heapless::Vec<Block, 40>;
 
 /// The edge of the band `lo − u ≤ y ≤ hi + u` (what a ray from the segment reaches)
 /// that cuts cell `c` of column `k` (corners at `u ∈ {k, k + 1}`, `y ∈ {c, c + 1}`),
@@ -424,7 +501,8 @@ pub fn texel_cone<S: RaySet>(
     r: u8,
     opts: CcOptions,
 ) -> (f64, f64) {
-    cone_search(hf, nb, rays, class, (i, j), r, opts, None).0
+    let views = views(hf, nb, opts.cap);
+    cone_search(hf, &views, rays, class, (i, j), r, opts, None).0
 }
 
 /// A cell of the field as `(main, minor)` cell indices of a class's axis.
@@ -438,7 +516,7 @@ type Cell = Option<(u32, u32)>;
 #[allow(clippy::too_many_arguments)]
 fn cone_search<S: RaySet>(
     hf: &HeightField,
-    nb: &[f32],
+    views: &Views,
     rays: &S,
     class: RayClass,
     (i, j): (u32, u32),
@@ -460,23 +538,30 @@ fn cone_search<S: RaySet>(
     // Every column's highest sample over its reachable band bounds the slope its
     // triangles can give (`(top − z_c)/u` is largest at a vertex). The N-buffer slope
     // is that bound itself (past column 0).
-    let nbv = NbView::new(hf, nb, opts.cap, ax, false);
+    let nbv = views[ax][0];
     // Columns `k < kend` lie in the field.
     let kend = u32::from(opts.cap).min(if sg > 0 { lm - 1 - m } else { m });
     let column = |k: u32| if sg > 0 { m + k } else { m - k - 1 };
     let band = |k: u32| (n.saturating_sub(k + 2), (n + k + 1).min(ln - 2));
-    let bound_of = |k: u32| {
-        let (l0, l1) = band(k);
-        let top = range_max(&nbv, column(k), l0, l1 + 1) - zc;
-        let kf = f64::from(k);
-        if top <= 0.0 {
-            top / (kf + 1.0)
-        } else if k == 0 {
-            f64::INFINITY
-        } else {
-            top / kf
-        }
+    // Column `k` is `m + k` ahead, `m − 1 − k` behind.
+    let (at, step) = (nbv.base + m as usize * nbv.column, nbv.column);
+    let (at, step) = if sg > 0 {
+        (at, step)
+    } else {
+        (at.wrapping_sub(step), step.wrapping_neg())
     };
+    let ahead = Ahead {
+        cols: &nbv,
+        blocks: &views[ax][1],
+        m,
+        n,
+        sg,
+        end: ln - 1,
+        at,
+        step,
+        zc,
+    };
+    let bound_of = |k: u32| ahead.bound(k);
     // Raises `s` over the triangles of the cells `cells` (all by default) of column `k`
     // (exactly), noting in `best` the cell that raised it last. (`move`: it holds
     // copies of what it reads, not references to them.)
@@ -496,10 +581,9 @@ fn cone_search<S: RaySet>(
         col.scan(l0, l1, s, best);
     };
     let mut best = None;
-    // The blocks of columns `ks` whose bound exceeds `s` ([`block_bounds`]).
-    let blocks_above = |ks: Range<u32>, s: f64, out: &mut Blocks| {
-        block_bounds(hf, nb, opts.cap, ax, sg, (m, n), zc, ks, (s, hmax), out)
-    };
+    // The blocks of columns `ks` whose bound exceeds `s` ([`Ahead::block_bounds`]).
+    let blocks_above =
+        |ks: Range<u32>, s: f64, out: &mut Blocks| ahead.block_bounds(ks, (s, hmax), out);
     let mut blocks = Blocks::new();
     let k0 = u32::from(r).max(1);
     if opts.slope == Slope::NBuffer {
@@ -509,17 +593,32 @@ fn cone_search<S: RaySet>(
         // visited highest bound first, and one whose bound does not exceed `s` is
         // skipped with all its columns (the rest are lower still). The nearest
         // [`BLOCK`] columns (the likeliest maximum) are taken first. Then column 0.
+        // Not `max` below: bounds are never NaN, and a `±0` tie gives the same code.
         let near = kend.min(k0 + BLOCK);
-        let top = (k0..near).map(bound_of).fold(s, f64::max);
+        let mut top = s;
+        for k in k0..near {
+            let b = bound_of(k);
+            if b > top {
+                top = b;
+            }
+        }
         raise(&mut s, top);
         blocks_above(near..kend, s, &mut blocks);
-        while let Some(at) = (0..blocks.len()).max_by(|&a, &b| blocks[a].0.total_cmp(&blocks[b].0))
-        {
-            let (bb, ka, kb) = blocks.swap_remove(at);
-            if bb <= s {
+        while let Some(block) = take_max(&mut blocks, |b| b.bound) {
+            if block.bound <= s {
                 break;
             }
-            let top = (ka..=kb).map(bound_of).fold(s, f64::max);
+            // The largest bound so far prunes the block's farther columns.
+            let mut top = s;
+            for k in block.ka..=block.kb {
+                if !block.may_exceed(k, top) {
+                    break;
+                }
+                let b = bound_of(k);
+                if b > top {
+                    top = b;
+                }
+            }
             raise(&mut s, top);
         }
         if r == 0 && kend > 0 && bound_of(0) > s {
@@ -532,11 +631,12 @@ fn cone_search<S: RaySet>(
     // the slope rises early and prunes the rest: a column whose bound does not exceed
     // `s` is skipped (or not even pushed). The
     // order is that of integer keys, the `f32` bound's order-preserving bits, then
-    // `k`. They are popped from a heap that starts with column 0 and the blocks of
-    // [`block_bounds`], keyed by their bound above every column key of the same
-    // `f32` bound: a block pops before its columns and is only then expanded into
-    // them (or dropped, when its bound does not exceed `s`, as all its columns would
-    // be), so columns pop in exactly the key order. Once a popped `f32` bound is
+    // `k`. They are taken largest first from a queue (with their bound) that starts
+    // with column 0 and the blocks of [`Ahead::block_bounds`], keyed by their bound
+    // above every column key of the same `f32` bound: a block pops before its columns
+    // and is only then expanded into them (or dropped, when its bound does not exceed
+    // `s`, as all its columns would be; those past [`Block::may_exceed`] are not even
+    // bounded), so columns pop in exactly the key order. Once a popped `f32` bound is
     // below `f32(s)`, so are all the rest (rounding to `f32` is monotone) and none of
     // their bounds exceeds `s`: the scan stops.
     if u32::from(r) >= kend || hmax - zc <= S_MIN * f64::from(opts.cap) {
@@ -560,25 +660,19 @@ fn cone_search<S: RaySet>(
     };
     blocks_above(k0..kend, s, &mut blocks);
     const BLOCK_KEY: u32 = 0xffff_ff00;
-    // At most 255 columns and 33 blocks: pushes cannot fail.
-    let mut heap: BinaryHeap<u64, Max, 320> = BinaryHeap::new();
+    let mut queue = Queue::new();
     if r == 0 {
         let b0 = bound_of(0);
         if b0 > s {
-            heap.push(key(b0, 0)).ok();
+            enqueue(&mut queue, key(b0, 0), b0);
         }
     }
-    for (idx, &(bb, _, _)) in blocks.iter().enumerate() {
-        heap.push(key(bb, BLOCK_KEY | idx as u32)).ok();
+    for (idx, b) in blocks.iter().enumerate() {
+        enqueue(&mut queue, key(b.bound, BLOCK_KEY | idx as u32), b.bound);
     }
-    while let Some(top) = heap.pop() {
+    while let Some((top, bound)) = take_max(&mut queue, |e| e.0) {
         let low = top as u32;
-        let (bound, block) = if low >= BLOCK_KEY {
-            let (bb, ka, kb) = blocks[(low - BLOCK_KEY) as usize];
-            (bb, Some((ka, kb)))
-        } else {
-            (bound_of(low), None)
-        };
+        let block = (low >= BLOCK_KEY).then(|| blocks[(low - BLOCK_KEY) as usize]);
         if (bound as f32) < s as f32 {
             break;
         }
@@ -586,11 +680,14 @@ fn cone_search<S: RaySet>(
             continue;
         }
         match block {
-            Some((ka, kb)) => {
-                for k in ka..=kb {
+            Some(block) => {
+                for k in block.ka..=block.kb {
+                    if !block.may_exceed(k, s) {
+                        break;
+                    }
                     let b = bound_of(k);
                     if b > s {
-                        heap.push(key(b, k)).ok();
+                        enqueue(&mut queue, key(b, k), b);
                     }
                 }
             }
@@ -603,6 +700,34 @@ fn cone_search<S: RaySet>(
         }
     }
     ((zc, s), best)
+}
+
+/// The exact slope's queue of `(key, bound)`, in no order: [`take_max`] takes the
+/// largest key, as a max-heap's pop would (the keys are distinct). It holds a few
+/// entries (six on average when popped), most of them never popped: a scan per pop
+/// costs less than keeping an order.
+type Queue = heapless::Vec<(u64, f64), 320>;
+
+#[inline]
+fn enqueue(q: &mut Queue, key: u64, bound: f64) {
+    // At most 255 columns and 33 blocks: it cannot fail.
+    q.push((key, bound)).ok();
+}
+
+/// Takes the item of the largest `key` out of `v` (keys are never NaN).
+#[inline]
+fn take_max<T, K: PartialOrd, const N: usize>(
+    v: &mut heapless::Vec<T, N>,
+    key: impl Fn(&T) -> K,
+) -> Option<T> {
+    let (mut at, mut top) = (0, key(v.first()?));
+    for (i, x) in v.iter().enumerate().skip(1) {
+        let k = key(x);
+        if k > top {
+            (at, top) = (i, k);
+        }
+    }
+    Some(v.swap_remove(at))
 }
 
 /// One column of cells ahead of a texel, as the exact slope scans it.
@@ -857,6 +982,7 @@ pub fn bake_rows_classes(
         return Err(SafetyError::OutputTooShort { needed });
     }
     let skipped = pack(hf, 0, 0.0, f64::INFINITY);
+    let views = views(hf, nb, opts.cap);
     for (row, j) in rows.enumerate() {
         // Per class, the cell that set the slope of the texel on the left.
         let mut seeds: [Cell; 4] = [None; 4];
@@ -869,7 +995,7 @@ pub fn bake_rows_classes(
                     } else {
                         let seed = seeds[c];
                         let (cone, best) =
-                            cone_search(hf, nb, &AllRays, class, (i, j), r, opts, seed);
+                            cone_search(hf, &views, &AllRays, class, (i, j), r, opts, seed);
                         seeds[c] = best.or(seed);
                         cone
                     };
