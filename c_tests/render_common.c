@@ -502,11 +502,12 @@ int gpu_init(gpu *g, const scene *s, int w, int h) {
     g->tex_pyramid =
         make_texture(GL_R32F, HF_PYRAMID_TEX_WIDTH, (int)rows, GL_RED, GL_FLOAT, padded);
     free(padded);
-    /* Directional safety distances: one byte per ray class, an RGBA8UI texture. */
-    g->tex_safety = make_texture(GL_RGBA8UI, (int)s->w, (int)s->h, GL_RGBA_INTEGER,
-                                 GL_UNSIGNED_BYTE, s->safety);
-    /* Isotropic: one byte per texel, an R8UI texture (rows are W bytes: alignment 1). */
+    /* R8UI rows are W bytes: alignment 1. Directional safety distances: one byte per ray
+     * class, each texel row as four rows (one per class), an R8UI texture of W x 4H. */
     glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+    g->tex_safety = make_texture(GL_R8UI, (int)s->w, 4 * (int)s->h, GL_RED_INTEGER,
+                                 GL_UNSIGNED_BYTE, s->safety);
+    /* Isotropic: one byte per texel, an R8UI texture of W x H. */
     g->tex_safety_iso = make_texture(GL_R8UI, (int)s->w, (int)s->h, GL_RED_INTEGER,
                                      GL_UNSIGNED_BYTE, s->safety_iso);
     /* Safety radii: one byte per texel, an R8UI texture. */

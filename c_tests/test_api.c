@@ -740,17 +740,20 @@ static void test_safety(void) {
     }
     hf_safety_options iso = {HF_SAFETY_ISOTROPIC, 0, 255};
     CHECK_OK(hf_safety_bake(f, &iso, 2, imap, ilen));
-    /* Isotropic = the minimum over the four classes. */
+    /* Isotropic = the minimum over the four classes; directional: class c of texel
+     * (i, j) at byte (j * 4 + c) * W + i. */
     int iso_ok = 1;
     for (int k = 0; k < W * H; k++) {
-        unsigned char m = dmap[4 * k];
-        for (int c = 1; c < 4; c++) m = dmap[4 * k + c] < m ? dmap[4 * k + c] : m;
+        const unsigned char *d = dmap + (k / W) * 4 * W + k % W;
+        unsigned char m = d[0];
+        for (int c = 1; c < 4; c++) m = d[c * W] < m ? d[c * W] : m;
         iso_ok &= imap[k] == m;
     }
     CHECK(iso_ok);
 
-    /* Two ray classes (x+, y-): the kept channels equal the full bake's, the others
-     * are 0 (a zero jump); the row bake with the same classes agrees. */
+    /* Two ray classes (x+, y-): the kept classes' bytes equal the full bake's, the
+     * others are 0 (a zero jump); the row bake with the same classes agrees. Byte k
+     * belongs to class (k / W) % 4. */
     uint32_t two = HF_RAYS_X_POS | HF_RAYS_Y_NEG;
     CHECK_BAD(hf_safety_bake_classes(f, &good, 0, 1, rows, dlen), HF_ERR_INVALID_ARGUMENT, rows,
               64);
@@ -758,7 +761,8 @@ static void test_safety(void) {
               rows, 64);
     CHECK_OK(hf_safety_bake_classes(f, &good, two, 2, rows, dlen));
     int mask_ok = 1;
-    for (size_t k = 0; k < dlen; k++) mask_ok &= rows[k] == (((two >> (k % 4)) & 1) ? dmap[k] : 0);
+    for (size_t k = 0; k < dlen; k++)
+        mask_ok &= rows[k] == (((two >> (k / W % 4)) & 1) ? dmap[k] : 0);
     CHECK(mask_ok);
     unsigned char *rows2 = (unsigned char *)malloc(dlen);
     CHECK_OK(hf_safety_bake_rows_classes(f, scratch, slen, &good, two, 0, H, rows2, dlen));

@@ -218,13 +218,15 @@ enum hf_safety_variant
 #endif // defined(__cplusplus) || __STDC_VERSION__ >= 202311L
  {
 #if defined(HF_HAVE_SAFETY)
-  // Four bytes per texel, one per ray class (x+, x−, y+, y−):
-  // `map[(j * W + i) * 4 + class]`. Upload as an `RGBA8UI` texture.
+  // Four bytes per texel, one per ray class (x+, x−, y+, y−), each texel row
+  // stored as four rows of W bytes, one per class in class order:
+  // `map[(j * 4 + class) * W + i]`. Upload as an `R8UI` texture of W × 4H texels,
+  // texel (i, 4 j + class).
   HF_SAFETY_DIRECTIONAL = 0,
 #endif
 #if defined(HF_HAVE_SAFETY)
   // One byte per texel, the minimum over the classes: `map[j * W + i]`. Upload as
-  // an `R8UI` texture.
+  // an `R8UI` texture of W × H texels.
   HF_SAFETY_ISOTROPIC = 1,
 #endif
 };
@@ -1386,8 +1388,8 @@ hf_result hf_safety_bake_rows(const struct hf_field *field,
 #if defined(HF_HAVE_SAFETY)
 // `hf_safety_bake_rows` for the ray classes `ray_classes` only (`HF_RAYS_*` bits, not
 // 0; `hf_scene_bake_plan` gives a scene's): the other classes are not computed. Directional:
-// their channels are 0 (a zero jump: the map stays exact for every ray), the kept
-// channels equal the full bake's. Isotropic: the minimum over the kept classes
+// their rows are 0 (a zero jump: the map stays exact for every ray), the kept
+// classes' rows equal the full bake's. Isotropic: the minimum over the kept classes
 // (larger distances, valid for rays of those classes only).
 //
 // # Safety
@@ -1574,7 +1576,7 @@ hf_result hf_shader_source_len(uint32_t method,
 // `hf_binary_steps`, `hf_relaxed_map` (`R32F`, W × H); maxmip: `hf_pyramid` (`R32F`, the
 // `hf_maxmip_bake` buffer in rows of `HF_PYRAMID_TEX_WIDTH` texels), `hf_levels`,
 // `hf_level_dims[]`, `hf_level_offset[]` (from `hf_maxmip_levels`); safety:
-// `hf_safety_map` (`RGBA8UI` directional or `R8UI` isotropic, W × H),
+// `hf_safety_map` (`R8UI`, W × 4H directional, W × H isotropic),
 // `hf_safety_variant`; cylinder–cone: `hf_cc_map` (`RGBA8UI`, W × 4H), `hf_cc_cap`,
 // `hf_cc_zmin`, `hf_cc_zstep`, `hf_cc_zspan` (from `hf_cc_frame`). Thread safe.
 //

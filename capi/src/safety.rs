@@ -13,11 +13,13 @@ use hfcore::HeightField;
 #[repr(u32)]
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum hf_safety_variant {
-    /// Four bytes per texel, one per ray class (x+, x−, y+, y−):
-    /// `map[(j * W + i) * 4 + class]`. Upload as an `RGBA8UI` texture.
+    /// Four bytes per texel, one per ray class (x+, x−, y+, y−), each texel row
+    /// stored as four rows of W bytes, one per class in class order:
+    /// `map[(j * 4 + class) * W + i]`. Upload as an `R8UI` texture of W × 4H texels,
+    /// texel (i, 4 j + class).
     HF_SAFETY_DIRECTIONAL = 0,
     /// One byte per texel, the minimum over the classes: `map[j * W + i]`. Upload as
-    /// an `R8UI` texture.
+    /// an `R8UI` texture of W × H texels.
     HF_SAFETY_ISOTROPIC = 1,
 }
 
@@ -178,8 +180,8 @@ pub unsafe extern "C" fn hf_safety_bake_rows(
 
 /// `hf_safety_bake_rows` for the ray classes `ray_classes` only (`HF_RAYS_*` bits, not
 /// 0; `hf_scene_bake_plan` gives a scene's): the other classes are not computed. Directional:
-/// their channels are 0 (a zero jump: the map stays exact for every ray), the kept
-/// channels equal the full bake's. Isotropic: the minimum over the kept classes
+/// their rows are 0 (a zero jump: the map stays exact for every ray), the kept
+/// classes' rows equal the full bake's. Isotropic: the minimum over the kept classes
 /// (larger distances, valid for rays of those classes only).
 ///
 /// # Safety

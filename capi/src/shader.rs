@@ -106,7 +106,7 @@ pub unsafe extern "C" fn hf_shader_source_len(method: u32, out_len: *mut usize) 
 /// `hf_binary_steps`, `hf_relaxed_map` (`R32F`, W × H); maxmip: `hf_pyramid` (`R32F`, the
 /// `hf_maxmip_bake` buffer in rows of `HF_PYRAMID_TEX_WIDTH` texels), `hf_levels`,
 /// `hf_level_dims[]`, `hf_level_offset[]` (from `hf_maxmip_levels`); safety:
-/// `hf_safety_map` (`RGBA8UI` directional or `R8UI` isotropic, W × H),
+/// `hf_safety_map` (`R8UI`, W × 4H directional, W × H isotropic),
 /// `hf_safety_variant`; cylinder–cone: `hf_cc_map` (`RGBA8UI`, W × 4H), `hf_cc_cap`,
 /// `hf_cc_zmin`, `hf_cc_zstep`, `hf_cc_zspan` (from `hf_cc_frame`). Thread safe.
 ///

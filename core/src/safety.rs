@@ -55,7 +55,7 @@ pub const STRIP: u32 = 8;
 /// How far (texels) the bake widens each segment beyond `[n − ½, n + ½]`.
 pub const SEG_PAD: f64 = 1.0 / 16.0;
 
-/// The four classes in channel order.
+/// The four classes in class order (the rows of a directional map, [`texel_offset`]).
 pub const CLASSES: [RayClass; 4] = [
     RayClass::XPos,
     RayClass::XNeg,
@@ -104,14 +104,18 @@ fn extents(hf: &HeightField, ax: usize) -> (u32, u32) {
 /// How the baked distances are laid out.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum Variant {
-    /// One byte per texel and class, texel-major: `data[(j·W + i)·4 + class]`.
+    /// One byte per texel and class, each texel row stored as four rows of `W` bytes,
+    /// one per class in class order: `data[(j·4 + class)·W + i]` ([`texel_offset`]; an
+    /// R8UI texture of W × 4H, texel `(i, 4j + class)`). A ray reads one class only, so
+    /// its distances lie side by side; row ranges stay contiguous for split bakes.
     Directional,
-    /// One byte per texel, the minimum over the four classes: `data[j·W + i]`.
+    /// One byte per texel, the minimum over the four classes: `data[j·W + i]` (an R8UI
+    /// texture of W × H).
     Isotropic,
 }
 
 impl Variant {
-    /// Bytes per texel.
+    /// Bytes per texel (all classes together).
     pub fn channels(self) -> usize {
         match self {
             Variant::Directional => 4,
@@ -545,8 +549,9 @@ pub(crate) fn cell_tris(
 }
 
 /// Bakes texel rows `rows` into `out` (`rows.len() · W · channels` bytes, the rows'
-/// part of the whole map), for every ray ([`AllRays`]). Rows are independent: any job
-/// system may split a bake into row ranges sharing one `scratch` from [`prepare`].
+/// part of the whole map, from byte `rows.start · W · channels` on), for every ray
+/// ([`AllRays`]). Rows are independent: any job system may split a bake into row
+/// ranges sharing one `scratch` from [`prepare`].
 pub fn bake_rows(
     hf: &HeightField,
     scratch: &[f32],
@@ -571,11 +576,11 @@ pub fn bake_rows_with<S: RaySet>(
 
 /// [`bake_rows_with`] for the ray classes of `classes` only (a scene's
 /// [`BakePlan::classes`](crate::scene::BakePlan::classes)); the others are never
-/// computed. Directional: a class left out gets distance 0 in its channel (a zero
+/// computed. Directional: a class left out gets distance 0 in its own row (a zero
 /// jump, always safe, also with `opts.positive`), so the map stays exact for every
-/// ray; the kept channels equal the full bake's. Isotropic: the minimum over the kept
-/// classes only — larger distances, but **valid for rays of those classes only**
-/// (with one class it is that class's channel exactly). An empty set writes 0.
+/// ray; the kept classes' distances equal the full bake's. Isotropic: the minimum over
+/// the kept classes only — larger distances, but **valid for rays of those classes
+/// only** (with one class it is that class's distances exactly). An empty set writes 0.
 pub fn bake_rows_classes<S: RaySet>(
     hf: &HeightField,
     scratch: &[f32],
@@ -585,24 +590,24 @@ pub fn bake_rows_classes<S: RaySet>(
     opts: Options,
     out: &mut [u8],
 ) -> Result<(), SafetyError> {
-    let (w, ch) = (hf.width() as usize, opts.variant.channels());
+    let (w, ch) = (hf.width(), opts.variant.channels());
     check_rows(hf, scratch, &rows, ch, out)?;
     let floor = u8::from(opts.positive);
     let kept = CLASSES.map(|c| classes.contains(c));
     for (r, j) in rows.enumerate() {
-        for i in 0..hf.width() {
-            let px = &mut out[(r * w + i as usize) * ch..][..ch];
+        for i in 0..w {
+            let at = |class| texel_offset(w, opts.variant, class, i, r as u32);
             match opts.variant {
                 Variant::Directional => {
-                    for ((v, class), keep) in px.iter_mut().zip(CLASSES).zip(kept) {
-                        *v = if keep {
+                    for (class, keep) in CLASSES.into_iter().zip(kept) {
+                        out[at(class)] = if keep {
                             texel_distance(hf, scratch, rays, class, i, j, opts.cap).max(floor)
                         } else {
                             0
                         };
                     }
                 }
-                Variant::Isotropic if !kept.contains(&true) => px[0] = 0,
+                Variant::Isotropic if !kept.contains(&true) => out[at(RayClass::XPos)] = 0,
                 Variant::Isotropic => {
                     let mut v = opts.cap;
                     for (class, keep) in CLASSES.into_iter().zip(kept) {
@@ -613,7 +618,7 @@ pub fn bake_rows_classes<S: RaySet>(
                             v = texel_distance(hf, scratch, rays, class, i, j, v);
                         }
                     }
-                    px[0] = v.max(floor);
+                    out[at(RayClass::XPos)] = v.max(floor);
                 }
             }
         }
@@ -624,6 +629,17 @@ pub fn bake_rows_classes<S: RaySet>(
 /// Bytes of a whole map: `W · H · channels`.
 pub fn map_len(width: u32, height: u32, variant: Variant) -> usize {
     width as usize * height as usize * variant.channels()
+}
+
+/// Offset in a map `width` texels wide of the distance of texel `(i, j)` for `class`
+/// (see [`Variant`]): directional `(j·4 + class)·W + i` (each texel row stored as four
+/// rows, one per class), isotropic `j·W + i` (every class reads the same byte).
+#[inline]
+pub fn texel_offset(width: u32, variant: Variant, class: RayClass, i: u32, j: u32) -> usize {
+    match variant {
+        Variant::Directional => (j as usize * 4 + class as usize) * width as usize + i as usize,
+        Variant::Isotropic => j as usize * width as usize + i as usize,
+    }
 }
 
 /// Prepares `scratch` and bakes the whole map into `out` ([`map_len`] bytes), one thread.
@@ -713,11 +729,7 @@ impl<'a> SafetyMap<'a> {
     /// Safety distance of texel `(i, j)` for `class`.
     #[inline]
     pub fn distance(&self, class: RayClass, i: u32, j: u32) -> u8 {
-        let t = j as usize * self.width as usize + i as usize;
-        match self.variant {
-            Variant::Directional => self.data[t * 4 + class as usize],
-            Variant::Isotropic => self.data[t],
-        }
+        self.data[texel_offset(self.width, self.variant, class, i, j)]
     }
 }
 

@@ -314,7 +314,8 @@ fn check_bake(field: &Field, data: &[u8], extra: u32, rng: &mut Rng) -> (u64, u6
     for _ in 0..250 {
         let (i, j) = (rng.below(w as usize) as u32, rng.below(h as usize) as u32);
         for class in CLASSES {
-            let sd = u32::from(data[(j * w + i) as usize * 4 + class as usize]);
+            let at = safety::texel_offset(w, Variant::Directional, class, i, j);
+            let sd = u32::from(data[at]);
             let k = sd + extra;
             if k == 0 || sd == 255 {
                 continue;
@@ -408,7 +409,66 @@ fn row_ranges_match_whole_bake() {
         },
     );
     for (t, v) in iso.iter().enumerate() {
-        assert_eq!(*v, *dir[t * 4..t * 4 + 4].iter().min().unwrap());
+        let (i, j) = ((t % 23) as u32, (t / 23) as u32);
+        let at = |class| safety::texel_offset(23, Variant::Directional, class, i, j);
+        let min = CLASSES.map(|class| dir[at(class)]).into_iter().min();
+        assert_eq!(Some(*v), min);
+    }
+}
+
+/// The packing: for every texel and class, the byte at [`safety::texel_offset`] is
+/// the class's distance from `texel_distance` (directional, capped, with and without
+/// the positive floor), or the minimum over the classes (isotropic); every byte of the
+/// map is written; the directional map's class rows are `(j·4 + class)·W + i`.
+#[test]
+fn packing_holds_texel_distances() {
+    for (name, field) in fields().into_iter().take(4) {
+        let hf = field.hf();
+        let (w, h) = (field.w, field.h);
+        let mut scratch = vec![0f32; safety::scratch_len(w, h)];
+        safety::prepare(&hf, &mut scratch).unwrap();
+        for (positive, cap) in [(false, u8::MAX), (true, 3)] {
+            let dist = |class, i, j| {
+                let d = safety::texel_distance(&hf, &scratch, &safety::AllRays, class, i, j, cap);
+                d.max(u8::from(positive))
+            };
+            for variant in [Variant::Directional, Variant::Isotropic] {
+                let opts = Options {
+                    variant,
+                    positive,
+                    cap,
+                };
+                let mut data = vec![0xEEu8; safety::map_len(w, h, variant)];
+                safety::bake_rows(&hf, &scratch, 0..h, opts, &mut data).unwrap();
+                let map = SafetyMap::new(&hf, &data, variant).unwrap();
+                let mut seen = vec![false; data.len()];
+                for j in 0..h {
+                    for i in 0..w {
+                        let want = CLASSES.map(|class| dist(class, i, j));
+                        for (c, class) in CLASSES.into_iter().enumerate() {
+                            let at = safety::texel_offset(w, variant, class, i, j);
+                            let v = match variant {
+                                Variant::Directional => {
+                                    assert_eq!(at, (j as usize * 4 + c) * w as usize + i as usize);
+                                    want[c]
+                                }
+                                Variant::Isotropic => {
+                                    assert_eq!(at, j as usize * w as usize + i as usize);
+                                    *want.iter().min().unwrap()
+                                }
+                            };
+                            assert_eq!(data[at], v, "{name} {variant:?} ({i}, {j}) {class:?}");
+                            seen[at] = true;
+                            assert_eq!(map.distance(class, i, j), v);
+                        }
+                    }
+                }
+                assert!(
+                    seen.iter().all(|&s| s),
+                    "{name} {variant:?}: byte unwritten"
+                );
+            }
+        }
     }
 }
 
@@ -567,10 +627,12 @@ fn cc_rows_and_packing() {
             },
         );
         for t in 0..(23 * 17) as usize {
-            for (c, class) in CLASSES.into_iter().enumerate() {
-                let at = cc::texel_offset(23, class, (t % 23) as u32, (t / 23) as u32);
+            for class in CLASSES {
+                let (i, j) = ((t % 23) as u32, (t / 23) as u32);
+                let at = cc::texel_offset(23, class, i, j);
                 let b = &whole[at..][..4];
-                assert_eq!(b[0], sd[t * 4 + c]);
+                let sd_at = safety::texel_offset(23, Variant::Directional, class, i, j);
+                assert_eq!(b[0], sd[sd_at]);
                 let e = &exact[at..][..4];
                 if slope == Slope::NBuffer && e[1] != cc::NO_CONE && b[1] != cc::NO_CONE {
                     assert!(cc::decode_slope(b[1]) >= cc::decode_slope(e[1]));

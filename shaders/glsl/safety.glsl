@@ -6,24 +6,25 @@
 // samples on that centerline; above, jump; below, bisect on integer centerlines and
 // finish with the exact cell test of the march's surface.
 //
-// Texture layout: the map of hf_safety_bake as `hf_safety_map`, a W x H integer
-// texture: RGBA8UI for HF_SAFETY_DIRECTIONAL (channel = ray ray_class: x+, x-, y+, y-),
-// R8UI for HF_SAFETY_ISOTROPIC; `hf_safety_variant` says which.
+// Texture layout: the map of hf_safety_bake as `hf_safety_map`, an R8UI texture:
+// HF_SAFETY_DIRECTIONAL W x 4H texels, texel (i, 4 j + ray_class) = the distance of
+// texel (i, j) for that ray class (each texel row as four rows, one per class: x+, x-,
+// y+, y-); HF_SAFETY_ISOTROPIC W x H, texel (i, j); `hf_safety_variant` says which.
 
 uniform usampler2D hf_safety_map;
 uniform uint hf_safety_variant;
 
 // `SafetyMap::distance`: safety distance of texel (i, j) for `ray_class`.
 uint safety_distance(uint ray_class, uint i, uint j) {
-    uvec4 v = texelFetch(hf_safety_map, ivec2(i, j), 0);
 //#if any_variant
-    return hf_safety_variant == HF_SAFETY_DIRECTIONAL ? v[ray_class] : v.r;
+    uint row = hf_safety_variant == HF_SAFETY_DIRECTIONAL ? 4u * j + ray_class : j;
+    return texelFetch(hf_safety_map, ivec2(i, row), 0).r;
 //#else
 //#if directional
-    return v[ray_class];
+    return texelFetch(hf_safety_map, ivec2(i, 4u * j + ray_class), 0).r;
 //#endif
 //#if isotropic
-    return v.r;
+    return texelFetch(hf_safety_map, ivec2(i, j), 0).r;
 //#endif
 //#endif
 }

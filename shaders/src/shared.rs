@@ -31,10 +31,10 @@ pub const ENTRY_TOP: u32 = 2;
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 #[repr(u32)]
 pub enum SafetyVariant {
-    /// One distance per ray class (`RGBA8UI`).
+    /// One distance per ray class (`R8UI`, W × 4H: texel `(i, 4j + class)`).
     #[default]
     Directional = 0,
-    /// One distance per texel, the minimum over the classes (`R8UI`).
+    /// One distance per texel, the minimum over the classes (`R8UI`, W × H).
     Isotropic = 1,
 }
 
@@ -85,7 +85,7 @@ const WGSL_BINDINGS: [(u32, &str, &str, &str); 12] = [
     (
         b::SAFETY_MAP,
         "hf_safety_map",
-        "texture_2d<u32>, RGBA8Uint or R8Uint",
+        "texture_2d<u32>, R8Uint",
         "safety.wgsl",
     ),
     (

@@ -17,8 +17,8 @@ pub const PARAMS: u32 = 2;
 pub const PYRAMID: u32 = 3;
 /// `hf_maxmip`: uniform `MaxMipParams` (maxmip.wgsl).
 pub const MAXMIP: u32 = 4;
-/// `hf_safety_map`: `texture_2d<u32>`, RGBA8Uint (directional) or R8Uint
-/// (isotropic), W × H (safety.wgsl).
+/// `hf_safety_map`: `texture_2d<u32>`, R8Uint: W × 4H (directional, texel
+/// `(i, 4j + class)`) or W × H (isotropic) (safety.wgsl).
 pub const SAFETY_MAP: u32 = 5;
 /// `hf_cone_map`: `texture_2d<f32>`, RG32Float, (W − 1) × (H − 1) (cone.wgsl).
 pub const CONE_MAP: u32 = 6;

@@ -10,7 +10,7 @@
 //   2        hf_params       uniform, the method's step counts      method_*.wgsl
 //   3        hf_pyramid      texture_2d<f32>, R32Float              maxmip.wgsl
 //   4        hf_maxmip       uniform MaxMipParams                   maxmip.wgsl
-//   5        hf_safety_map   texture_2d<u32>, RGBA8Uint or R8Uint   safety.wgsl
+//   5        hf_safety_map   texture_2d<u32>, R8Uint                safety.wgsl
 //   6        hf_cone_map     texture_2d<f32>, RG32Float             cone.wgsl
 //   7        hf_qdm_map      texture_2d<f32>, RGBA32Float           qdm.wgsl
 //   8        hf_relaxed_map  texture_2d<f32>, R32Float              relaxed.wgsl

@@ -6,24 +6,26 @@
 // samples on that centerline; above, jump; below, bisect on integer centerlines and
 // finish with the exact cell test of the march's surface.
 //
-// Texture layout: the map of hf_safety_bake as `hf_safety_map`, a W x H integer
-// texture: RGBA8Uint for HF_SAFETY_DIRECTIONAL (channel = ray ray_class: x+, x-, y+,
-// y-), R8Uint for HF_SAFETY_ISOTROPIC; the override `hf_safety_variant` says which.
+// Texture layout: the map of hf_safety_bake as `hf_safety_map`, an R8Uint texture:
+// HF_SAFETY_DIRECTIONAL W x 4H texels, texel (i, 4 j + ray_class) = the distance of
+// texel (i, j) for that ray class (each texel row as four rows, one per class: x+, x-,
+// y+, y-); HF_SAFETY_ISOTROPIC W x H, texel (i, j); the override `hf_safety_variant`
+// says which.
 
 @group(0) @binding(5) var hf_safety_map: texture_2d<u32>;
 override hf_safety_variant: u32 = 0u;
 
 // `SafetyMap::distance`: safety distance of texel (i, j) for `ray_class`.
 fn safety_distance(ray_class: u32, i: u32, j: u32) -> u32 {
-    let v = textureLoad(hf_safety_map, vec2<u32>(i, j), 0);
 //#if any_variant
-    return select(v.r, v[ray_class], hf_safety_variant == HF_SAFETY_DIRECTIONAL);
+    let row = select(j, 4u * j + ray_class, hf_safety_variant == HF_SAFETY_DIRECTIONAL);
+    return textureLoad(hf_safety_map, vec2<u32>(i, row), 0).r;
 //#else
 //#if directional
-    return v[ray_class];
+    return textureLoad(hf_safety_map, vec2<u32>(i, 4u * j + ray_class), 0).r;
 //#endif
 //#if isotropic
-    return v.r;
+    return textureLoad(hf_safety_map, vec2<u32>(i, j), 0).r;
 //#endif
 //#endif
 }

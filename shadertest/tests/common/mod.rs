@@ -370,7 +370,7 @@ pub struct Scene {
     pub heights: Vec<f32>,
     /// The maximum-mipmap pyramid.
     pub pyramid: Vec<f32>,
-    /// Directional safety distances (4 bytes per texel).
+    /// Directional safety distances (4 bytes per texel, one row per class: W × 4H).
     pub safety_dir: Vec<u8>,
     /// Isotropic safety distances (1 byte per texel).
     pub safety_iso: Vec<u8>,
@@ -863,7 +863,7 @@ impl SceneGpu {
                 &f32_bytes(&padded),
             ),
             maxmip: gpu.uniform(&levels),
-            safety_dir: gpu.texture(w, h, F::Rgba8Uint, &s.safety_dir),
+            safety_dir: gpu.texture(w, 4 * h, F::R8Uint, &s.safety_dir),
             safety_iso: gpu.texture(w, h, F::R8Uint, &s.safety_iso),
             cone: gpu.texture(w - 1, h - 1, F::Rg32Float, &f32_bytes(&s.cone)),
             qdm: gpu.texture(w - 1, h - 1, F::Rgba32Float, &f32_bytes(&s.qdm)),
