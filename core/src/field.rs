@@ -216,14 +216,9 @@ impl<'a> HeightField<'a> {
     /// The four corners of cell (i, j) as `[h00, h10, h01, h11]` (h10 is at x = i + 1).
     #[inline]
     pub fn cell_corners(&self, i: u32, j: u32) -> [f32; 4] {
-        let a = j as usize * self.stride + i as usize;
-        let b = a + self.stride;
-        [
-            self.samples[a],
-            self.samples[a + 1],
-            self.samples[b],
-            self.samples[b + 1],
-        ]
+        // One window from the first corner to the last (one bounds check).
+        let s = &self.samples[j as usize * self.stride + i as usize..][..self.stride + 2];
+        [s[0], s[1], s[self.stride], s[self.stride + 1]]
     }
 }
 

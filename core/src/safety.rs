@@ -285,6 +285,15 @@ impl Sigma {
         };
         self.h + s * (y - self.n)
     }
+
+    /// [`Sigma::height`] at the segment's ends `lo` and `hi` (`lo < n < hi`: no test).
+    #[inline]
+    pub fn end_heights(&self) -> [f64; 2] {
+        [
+            self.h + self.slope[0] * (self.lo - self.n),
+            self.h + self.slope[1] * (self.hi - self.n),
+        ]
+    }
 }
 
 /// One triangle of the surface, in the frame of a class and a texel: its vertices as
@@ -396,11 +405,9 @@ pub fn texel_distance<S: RaySet>(
     let (lm, ln) = extents(hf, ax);
     let (m, n) = if ax == 0 { (i, j) } else { (j, i) };
     let sigma = sigma_of(hf, ax, m, n);
-    // The lowest surface point of the segment: an end or `n` (`Sigma::height` at the
-    // ends, written out: `lo < n ≤ hi`).
-    let floor = (sigma.h + sigma.slope[0] * (sigma.lo - sigma.n))
-        .min(sigma.h)
-        .min(sigma.h + sigma.slope[1] * (sigma.hi - sigma.n));
+    // The lowest surface point of the segment: an end or `n`.
+    let [at_lo, at_hi] = sigma.end_heights();
+    let floor = at_lo.min(sigma.h).min(at_hi);
     let (sx, sy) = strips(hf);
     let (per_line, base, chan) = if ax == 0 {
         (sx, 0, if sg > 0 { 1 } else { 2 })
@@ -414,10 +421,10 @@ pub fn texel_distance<S: RaySet>(
     // itself would pass (`e = 0`: the plain bound).
     let e = rays.lowering();
     let floor = floor + (e - e * (1.0 / 1_048_576.0));
-    // Columns of cells ahead before the field ends: `m + k` forward, `m − 1 − k` back.
+    // Columns of cells ahead before the field ends.
     let ahead = if sg > 0 { lm - 1 - m } else { m };
     let columns = u32::from(cap).min(ahead);
-    let column = |k: u32| if sg > 0 { m + k } else { m - 1 - k };
+    let column = |k: u32| column_ahead(m, sg, k);
     let st = STRIP as usize;
     // Whether strip `b` of column `k` holds no limiting plane (the bound above).
     let shut = |k: u32, b: usize| {
@@ -447,9 +454,9 @@ pub fn texel_distance<S: RaySet>(
     };
     for k in 0..columns {
         let skip = if k == 0 { skip } else { usize::MAX };
-        // The band `[n − k − 2, n + k + 1]`, as cells `l0..l1`.
-        let l0 = n.saturating_sub(k + 2) as usize;
-        let l1 = (n + k + 2).min(ln - 1) as usize;
+        // The band, as cells `l0..l1`.
+        let (l0, l1) = band_cells(n, k, ln);
+        let (l0, l1) = (l0 as usize, l1 as usize + 1);
         for b in l0 / st..l1.div_ceil(st) {
             if shut(k, b) {
                 continue;
@@ -462,6 +469,25 @@ pub fn texel_distance<S: RaySet>(
         }
     }
     cap
+}
+
+/// The cell column `k` ahead of main index `m` in direction `sg`: `m + k` forward,
+/// `m − 1 − k` back.
+#[inline]
+pub(crate) fn column_ahead(m: u32, sg: i64, k: u32) -> u32 {
+    if sg > 0 {
+        m + k
+    } else {
+        m - 1 - k
+    }
+}
+
+/// The cells `l0..=l1` (minor indices) of column `k` ahead of a texel of minor index
+/// `n` that a ray from its segment can reach, `n − k − 2 ..= n + k + 1`, in a field of
+/// `ln` samples across.
+#[inline]
+pub(crate) fn band_cells(n: u32, k: u32, ln: u32) -> (u32, u32) {
+    (n.saturating_sub(k + 2), (n + k + 1).min(ln - 2))
 }
 
 /// `true` when either triangle of cell `(cm, l)` (main, minor indices) limits.
@@ -488,10 +514,7 @@ fn cell_limits<S: RaySet>(
 #[inline]
 pub(crate) fn cell_corners(hf: &HeightField, ax: usize, cm: u32, l: u32) -> [f32; 4] {
     let (i, j) = if ax == 0 { (cm, l) } else { (l, cm) };
-    // The same four samples, from one window (one bounds check).
-    let stride = hf.stride();
-    let s = &hf.samples()[j as usize * stride + i as usize..][..stride + 2];
-    [s[0], s[1], s[stride], s[stride + 1]]
+    hf.cell_corners(i, j)
 }
 
 /// The corners of the two triangles of [`cell_tris`], as masks over `h` (bit `u + 2v`

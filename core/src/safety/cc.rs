@@ -76,8 +76,9 @@
 use core::ops::Range;
 
 use super::{
-    axis_of, cell_tris, extents, march_with, sample, sigma_of, sign_of, texel_distance, tri_masks,
-    AllRays, Line, MarchSurface, RaySet, SafetyError, Sigma, Tri, CLASSES,
+    axis_of, band_cells, cell_tris, column_ahead, extents, march_with, sample, sigma_of, sign_of,
+    texel_distance, tri_masks, AllRays, Line, MarchSurface, RaySet, SafetyError, Sigma, Tri,
+    CLASSES,
 };
 use crate::field::HeightField;
 use crate::math::Real;
@@ -301,8 +302,8 @@ struct Ahead<'a> {
     m: u32,
     n: u32,
     sg: i64,
-    /// The last cross sample (`ln − 1`).
-    end: u32,
+    /// Samples across (`ln`).
+    ln: u32,
     /// Where column `k = 0`'s level 0 starts in `cols`, and how much further the
     /// next column's does (`±ln`; wrapping sums, as `k = 0` may lie outside).
     at: usize,
@@ -314,11 +315,7 @@ impl Ahead<'_> {
     /// The cell column `k` ahead.
     #[inline]
     fn column(&self, k: u32) -> u32 {
-        if self.sg > 0 {
-            self.m + k
-        } else {
-            self.m - k - 1
-        }
+        column_ahead(self.m, self.sg, k)
     }
 
     /// The highest sample, less `z_c`, of the column or block of `v` whose level 0
@@ -326,8 +323,8 @@ impl Ahead<'_> {
     /// the field).
     #[inline]
     fn top(&self, v: &NbView, at: usize, k: u32) -> f64 {
-        let (a, b) = (self.n.saturating_sub(k + 2), (self.n + k + 2).min(self.end));
-        range_max(v, at, a, b) - self.zc
+        let (a, b) = band_cells(self.n, k, self.ln);
+        range_max(v, at, a, b + 1) - self.zc
     }
 
     /// Column `k`'s bound: its highest reachable sample over `u = k` (`+∞` at `k = 0`),
@@ -529,10 +526,8 @@ fn cone_search<S: RaySet>(
     let (lm, ln) = extents(hf, ax);
     let (m, n) = if ax == 0 { (i, j) } else { (j, i) };
     let sigma = sigma_of(hf, ax, m, n);
-    let zc = sigma
-        .height(sigma.lo)
-        .max(sigma.h)
-        .max(sigma.height(sigma.hi));
+    let [at_lo, at_hi] = sigma.end_heights();
+    let zc = at_lo.max(sigma.h).max(at_hi);
     let hmax = f64::from(hf.max_height());
     let mut s = S_MIN;
     // Every column's highest sample over its reachable band bounds the slope its
@@ -541,8 +536,7 @@ fn cone_search<S: RaySet>(
     let nbv = views[ax][0];
     // Columns `k < kend` lie in the field.
     let kend = u32::from(opts.cap).min(if sg > 0 { lm - 1 - m } else { m });
-    let column = |k: u32| if sg > 0 { m + k } else { m - k - 1 };
-    let band = |k: u32| (n.saturating_sub(k + 2), (n + k + 1).min(ln - 2));
+    let band = |k: u32| band_cells(n, k, ln);
     // Column `k` is `m + k` ahead, `m − 1 − k` behind.
     let (at, step) = (nbv.base + m as usize * nbv.column, nbv.column);
     let (at, step) = if sg > 0 {
@@ -556,7 +550,7 @@ fn cone_search<S: RaySet>(
         m,
         n,
         sg,
-        end: ln - 1,
+        ln,
         at,
         step,
         zc,
@@ -574,7 +568,7 @@ fn cone_search<S: RaySet>(
             sigma: &sigma,
             ax,
             sg,
-            cm: column(k),
+            cm: column_ahead(m, sg, k),
             kf: f64::from(k),
             zc,
         };
@@ -889,11 +883,7 @@ const fn decode_t(t: i32) -> f64 {
 /// The slope a code stands for (`+∞` for [`NO_CONE`]).
 #[inline]
 pub fn decode_slope(code: u8) -> f64 {
-    if code == NO_CONE {
-        f64::INFINITY
-    } else {
-        decode_t(i32::from(code) - 128)
-    }
+    SLOPES[usize::from(code)]
 }
 
 /// The field's height range as the base heights are stored: `(zmin, step)`.
@@ -1093,8 +1083,8 @@ impl<'a> CcMap<'a> {
     }
 }
 
-/// [`decode_slope`] of every code, for the march: a load instead of the arithmetic
-/// (the same values, computed at compile time by the same function).
+/// The slope of every code, computed at compile time ([`decode_slope`] reads it: a
+/// load instead of the arithmetic, also in the march).
 const SLOPES: [f64; 256] = {
     let mut s = [f64::INFINITY; 256];
     let mut code = 0;
@@ -1117,7 +1107,7 @@ fn cone_step<R: Real>(cap: u32, z: [R; 3], b: [u8; 4], pz: R, tol: R, sd_lo: R) 
         return r;
     }
     let zc = z[0] + R::from_u32(u32::from(u16::from_le_bytes([b[2], b[3]]))) * z[1];
-    let sc = R::from_f64(SLOPES[usize::from(b[1])]);
+    let sc = R::from_f64(decode_slope(b[1]));
     // zc's own rounding: relative EPSILON of the terms.
     let zerr = R::from_f32(4.0) * R::EPSILON * (z[2] + zc.abs());
     let num = pz - zc - tol - tol - zerr;
