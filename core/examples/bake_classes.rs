@@ -1,6 +1,6 @@
 //! Bake time of the safety-distance and cylinder–cone maps when a scene casts only
 //! some ray classes ([`Scene::bake_plan`](hfcast::scene::Scene::bake_plan)): every
-//! class, two, one. One thread, median of `reps` runs, on a 512 × 512 fractal field
+//! class, two, one, and the bytes of each map (it holds the baked classes' rows only). One thread, median of `reps` runs, on a 512 × 512 fractal field
 //! (sums of sines; no data files needed).
 //!
 //! `cargo run --release -p hfcast --example bake_classes [side] [reps]`
@@ -36,22 +36,23 @@ fn main() {
     let two = RayClasses::NONE.with(RayClass::XPos).with(RayClass::YNeg);
     let one = RayClasses::NONE.with(RayClass::XPos);
     println!("{side} x {side} field, one thread, median of {reps}");
-    println!("| bake | classes | ms | vs all |");
-    println!("|---|---|---:|---:|");
+    println!("| bake | classes | bytes | ms | vs all |");
+    println!("|---|---|---:|---:|---:|");
     let sd = |name: &str, classes: RayClasses, variant: Variant, base: f64| -> f64 {
         let opts = Options {
             variant,
             ..Options::default()
         };
-        let mut out = vec![0u8; safety::map_len(side, side, variant)];
+        let mut out = vec![0u8; safety::map_len_classes(side, side, variant, classes)];
         let s = wall(reps, || {
             safety::bake_rows_classes(&hf, &scratch, &AllRays, classes, 0..side, opts, &mut out)
                 .expect("bake");
         });
         let base = if base > 0.0 { base } else { s };
         println!(
-            "| {name} | {} | {:.1} | {:.2} |",
+            "| {name} | {} | {} | {:.1} | {:.2} |",
             classes.count(),
+            out.len(),
             s * 1e3,
             s / base
         );
@@ -63,16 +64,17 @@ fn main() {
     let opts = CcOptions::default();
     let mut nb = vec![0.0; cc::nbuffer_len(side, side, opts.cap)];
     cc::prepare_nbuffer(&hf, opts.cap, &mut nb).expect("n-buffer");
-    let mut out = vec![0u8; cc::map_len(side, side)];
-    let mut ccb = |classes: RayClasses, base: f64| -> f64 {
+    let ccb = |classes: RayClasses, base: f64| -> f64 {
+        let mut out = vec![0u8; cc::map_len_classes(side, side, classes)];
         let s = wall(reps, || {
             cc::bake_rows_classes(&hf, &scratch, &nb, classes, 0..side, opts, &mut out)
                 .expect("bake");
         });
         let base = if base > 0.0 { base } else { s };
         println!(
-            "| CC exact slope | {} | {:.1} | {:.2} |",
+            "| CC exact slope | {} | {} | {:.1} | {:.2} |",
             classes.count(),
+            out.len(),
             s * 1e3,
             s / base
         );
@@ -80,4 +82,5 @@ fn main() {
     };
     let all = ccb(RayClasses::ALL, 0.0);
     ccb(two, all);
+    ccb(one, all);
 }

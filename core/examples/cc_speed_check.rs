@@ -54,7 +54,7 @@ mod check {
         safety::prepare(hf, &mut scratch).unwrap();
         match b {
             Bake::Sd(o, cl) => {
-                let mut out = vec![0xAAu8; safety::map_len(w, h, o.variant)];
+                let mut out = vec![0xAAu8; safety::map_len_classes(w, h, o.variant, cl)];
                 let rays = safety::AllRays;
                 safety::bake_rows_classes(hf, &scratch, &rays, cl, 0..h, o, &mut out).unwrap();
                 out
@@ -62,7 +62,7 @@ mod check {
             Bake::Cc(o, cl) => {
                 let mut nb = vec![0f32; cc::nbuffer_len(w, h, o.cap)];
                 cc::prepare_nbuffer(hf, o.cap, &mut nb).unwrap();
-                let mut out = vec![0xAAu8; cc::map_len(w, h)];
+                let mut out = vec![0xAAu8; cc::map_len_classes(w, h, cl)];
                 cc::bake_rows_classes(hf, &scratch, &nb, cl, 0..h, o, &mut out).unwrap();
                 out
             }

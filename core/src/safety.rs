@@ -107,7 +107,9 @@ pub enum Variant {
     /// One byte per texel and class, each texel row stored as four rows of `W` bytes,
     /// one per class in class order: `data[(j·4 + class)·W + i]` ([`texel_offset`]; an
     /// R8UI texture of W × 4H, texel `(i, 4j + class)`). A ray reads one class only, so
-    /// its distances lie side by side; row ranges stay contiguous for split bakes.
+    /// its distances lie side by side; row ranges stay contiguous for split bakes. A
+    /// map of fewer classes ([`bake_rows_classes`]) holds only their rows: `n` rows
+    /// per texel row for its `n` classes ([`ClassRows`]).
     Directional,
     /// One byte per texel, the minimum over the four classes: `data[j·W + i]` (an R8UI
     /// texture of W × H).
@@ -598,12 +600,15 @@ pub fn bake_rows_with<S: RaySet>(
 }
 
 /// [`bake_rows_with`] for the ray classes of `classes` only (a scene's
-/// [`BakePlan::classes`](crate::scene::BakePlan::classes)); the others are never
-/// computed. Directional: a class left out gets distance 0 in its own row (a zero
-/// jump, always safe, also with `opts.positive`), so the map stays exact for every
-/// ray; the kept classes' distances equal the full bake's. Isotropic: the minimum over
-/// the kept classes only — larger distances, but **valid for rays of those classes
-/// only** (with one class it is that class's distances exactly). An empty set writes 0.
+/// [`BakePlan::classes`](crate::scene::BakePlan::classes)) into a map holding those
+/// only ([`map_len_classes`]: `rows.len() · W · n` bytes directional for the set's `n`
+/// classes, `rows.len() · W` isotropic); the others are never computed nor stored.
+/// Directional: each texel row as `n` rows, the kept classes' in class order
+/// ([`ClassRows`]), their distances equal to the full bake's. Isotropic: the minimum
+/// over the kept classes only (with one class that class's distances exactly). Read
+/// it with [`SafetyMap::with_classes`] for the same set: a ray of a class the map
+/// does not hold then jumps 0 (exact, cell by cell). An empty set writes nothing
+/// directional, 0 isotropic.
 pub fn bake_rows_classes<S: RaySet>(
     hf: &HeightField,
     scratch: &[f32],
@@ -613,24 +618,24 @@ pub fn bake_rows_classes<S: RaySet>(
     opts: Options,
     out: &mut [u8],
 ) -> Result<(), SafetyError> {
-    let (w, ch) = (hf.width(), opts.variant.channels());
-    check_rows(hf, scratch, &rows, ch, out)?;
+    let w = hf.width();
+    let classes = RayClasses(classes.0 & RayClasses::ALL.0);
+    let per_texel = map_len_classes(1, 1, opts.variant, classes);
+    check_rows(hf, scratch, &rows, per_texel, out)?;
     let floor = u8::from(opts.positive);
     let kept = CLASSES.map(|c| classes.contains(c));
     for (r, j) in rows.enumerate() {
         for i in 0..w {
-            let at = |class| texel_offset(w, opts.variant, class, i, r as u32);
             match opts.variant {
                 Variant::Directional => {
-                    for (class, keep) in CLASSES.into_iter().zip(kept) {
-                        out[at(class)] = if keep {
-                            texel_distance(hf, scratch, rays, class, i, j, opts.cap).max(floor)
-                        } else {
-                            0
-                        };
+                    for class in CLASSES {
+                        if let Some(at) = ClassRows::of(w, opts.variant, classes, class) {
+                            out[at.index(i, r as u32)] =
+                                texel_distance(hf, scratch, rays, class, i, j, opts.cap).max(floor);
+                        }
                     }
                 }
-                Variant::Isotropic if !kept.contains(&true) => out[at(RayClass::XPos)] = 0,
+                Variant::Isotropic if classes.count() == 0 => out[r * w as usize + i as usize] = 0,
                 Variant::Isotropic => {
                     let mut v = opts.cap;
                     for (class, keep) in CLASSES.into_iter().zip(kept) {
@@ -641,7 +646,7 @@ pub fn bake_rows_classes<S: RaySet>(
                             v = texel_distance(hf, scratch, rays, class, i, j, v);
                         }
                     }
-                    out[at(RayClass::XPos)] = v.max(floor);
+                    out[r * w as usize + i as usize] = v.max(floor);
                 }
             }
         }
@@ -651,17 +656,66 @@ pub fn bake_rows_classes<S: RaySet>(
 
 /// Bytes of a whole map: `W · H · channels`.
 pub fn map_len(width: u32, height: u32, variant: Variant) -> usize {
-    width as usize * height as usize * variant.channels()
+    map_len_classes(width, height, variant, RayClasses::ALL)
 }
 
-/// Offset in a map `width` texels wide of the distance of texel `(i, j)` for `class`
-/// (see [`Variant`]): directional `(j·4 + class)·W + i` (each texel row stored as four
-/// rows, one per class), isotropic `j·W + i` (every class reads the same byte).
+/// Bytes of a whole map holding the classes of `classes` ([`bake_rows_classes`]):
+/// directional `W · H · n` for the set's `n` classes, isotropic `W · H`.
+pub fn map_len_classes(width: u32, height: u32, variant: Variant, classes: RayClasses) -> usize {
+    let rows = match variant {
+        Variant::Directional => classes.count() as usize,
+        Variant::Isotropic => 1,
+    };
+    width as usize * height as usize * rows
+}
+
+/// Offset in a whole map `width` texels wide of the distance of texel `(i, j)` for
+/// `class` (see [`Variant`]): directional `(j·4 + class)·W + i` (each texel row stored
+/// as four rows, one per class), isotropic `j·W + i` (every class reads the same byte).
+/// Maps of fewer classes: [`ClassRows`].
 #[inline]
 pub fn texel_offset(width: u32, variant: Variant, class: RayClass, i: u32, j: u32) -> usize {
-    match variant {
-        Variant::Directional => (j as usize * 4 + class as usize) * width as usize + i as usize,
-        Variant::Isotropic => j as usize * width as usize + i as usize,
+    ClassRows::of(width, variant, RayClasses::ALL, class).map_or(0, |at| at.index(i, j))
+}
+
+/// Where one ray class's entries lie in a class-per-row map (the directional safety
+/// map, the cylinder–cone map) holding the classes of a set: each texel row stored as
+/// one row of `W` entries per class of the set, in class order, so texel `(i, j)` is
+/// entry `(j·n + slot)·W + i` for the set's `n` classes and the class's `slot` among
+/// them ([`RayClasses::slot`]). The isotropic map is the one-row case (slot 0 for
+/// every held class). On the GPU: a texture of `W × nH` texels, texel
+/// `(i, n·j + slot)`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct ClassRows {
+    rows: usize,
+    slot: usize,
+    width: usize,
+}
+
+impl ClassRows {
+    /// The rows of `class` in a map `width` texels wide of `variant` holding `classes`;
+    /// `None` when it does not hold `class`.
+    #[inline]
+    pub fn of(width: u32, variant: Variant, classes: RayClasses, class: RayClass) -> Option<Self> {
+        let slot = classes.slot(class)? as usize;
+        Some(match variant {
+            Variant::Directional => ClassRows {
+                rows: classes.count() as usize,
+                slot,
+                width: width as usize,
+            },
+            Variant::Isotropic => ClassRows {
+                rows: 1,
+                slot: 0,
+                width: width as usize,
+            },
+        })
+    }
+
+    /// Entry of texel `(i, j)`: `(j·n + slot)·W + i`.
+    #[inline]
+    pub fn index(self, i: u32, j: u32) -> usize {
+        (j as usize * self.rows + self.slot) * self.width + i as usize
     }
 }
 
@@ -731,16 +785,34 @@ pub struct SafetyMap<'a> {
     data: &'a [u8],
     width: u32,
     variant: Variant,
+    classes: RayClasses,
 }
 
 impl<'a> SafetyMap<'a> {
     /// Views `data` ([`map_len`] bytes, as [`bake`] wrote it) for `hf`.
     pub fn new(hf: &HeightField, data: &'a [u8], variant: Variant) -> Result<Self, SafetyError> {
-        check_len(data, map_len(hf.width(), hf.height(), variant))?;
+        Self::with_classes(hf, data, variant, RayClasses::ALL)
+    }
+
+    /// Views a map holding the classes of `classes` ([`map_len_classes`] bytes, as
+    /// [`bake_rows_classes`] wrote it for that set): rays of the other classes read
+    /// distance 0 (they walk cell by cell, still exact).
+    pub fn with_classes(
+        hf: &HeightField,
+        data: &'a [u8],
+        variant: Variant,
+        classes: RayClasses,
+    ) -> Result<Self, SafetyError> {
+        let classes = RayClasses(classes.0 & RayClasses::ALL.0);
+        check_len(
+            data,
+            map_len_classes(hf.width(), hf.height(), variant, classes),
+        )?;
         Ok(SafetyMap {
             data,
             width: hf.width(),
             variant,
+            classes,
         })
     }
 
@@ -749,10 +821,21 @@ impl<'a> SafetyMap<'a> {
         self.variant
     }
 
-    /// Safety distance of texel `(i, j)` for `class`.
+    /// The ray classes the map holds.
+    pub fn classes(&self) -> RayClasses {
+        self.classes
+    }
+
+    /// Where `class`'s distances lie (`None`: not held).
+    #[inline]
+    fn rows(&self, class: RayClass) -> Option<ClassRows> {
+        ClassRows::of(self.width, self.variant, self.classes, class)
+    }
+
+    /// Safety distance of texel `(i, j)` for `class` (0 when the map does not hold it).
     #[inline]
     pub fn distance(&self, class: RayClass, i: u32, j: u32) -> u8 {
-        self.data[texel_offset(self.width, self.variant, class, i, j)]
+        self.rows(class).map_or(0, |at| self.data[at.index(i, j)])
     }
 }
 
@@ -1093,8 +1176,9 @@ pub fn trace_on<R: Real>(
     surface: MarchSurface,
     q: &Query<R>,
 ) -> Trace<R> {
-    march(hf, surface, q, |_, class, i, j| {
-        u32::from(map.distance(class, i, j))
+    march_with(hf, surface, q, |class| {
+        let rows = map.rows(class);
+        move |_: &Line<R>, _, i, j| rows.map_or(0, |at| u32::from(map.data[at.index(i, j)]))
     })
 }
 

@@ -173,6 +173,14 @@ impl RayClasses {
     pub fn count(self) -> u32 {
         (self.0 & RayClasses::ALL.0).count_ones()
     }
+
+    /// Where `class` sits among the classes of the set, in class order (its row in a
+    /// texel's rows of a class-per-row map holding this set); `None` when not held.
+    #[inline]
+    pub fn slot(self, class: RayClass) -> Option<u32> {
+        let bit = 1u8 << class as u8;
+        (self.0 & bit != 0).then(|| (self.0 & (bit - 1)).count_ones())
+    }
 }
 
 /// Something a bake can produce: a map the march reads, or an intermediate another
@@ -252,7 +260,7 @@ const CC_OWN: &str = "the cylinder-cone map packs its own safety distances";
 /// Skip reason: the QDM stores its own cone.
 const QDM_OWN: &str = "the QDM stores its own cone";
 /// Skip reason of a ray class's channel.
-const CLASS_UNUSED: &str = "the scene casts no such ray: channel left 0 (a zero jump)";
+const CLASS_UNUSED: &str = "the scene casts no such ray: its rows are neither baked nor stored";
 /// The ray classes in channel order, with the name of their channel.
 const CLASS_CHANNELS: [(RayClass, &str); 4] = [
     (RayClass::XPos, "x+ channel"),
@@ -273,8 +281,9 @@ pub struct BakePlan {
     /// Per product, in [`Product::ALL`] order.
     pub needs: [Need; 9],
     /// The ray classes the safety-distance and cylinder–cone bakes compute (pass it to
-    /// `safety::bake_rows_classes`, `safety::cc::bake_rows_classes`); the others are
-    /// left 0. [`RayClasses::NONE`] when neither map is baked.
+    /// `safety::bake_rows_classes`, `safety::cc::bake_rows_classes`, and read the maps
+    /// with the same set): the maps hold these classes' rows only. [`RayClasses::NONE`]
+    /// when neither map is baked.
     pub classes: RayClasses,
     /// The safety-distance map's layout: isotropic (one byte per texel) when exactly
     /// one ray class occurs — then it holds that class's distances exactly —,

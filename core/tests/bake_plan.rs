@@ -1,6 +1,6 @@
 //! Bake plans ([`Scene::bake_plan`]): every method bakes exactly what its march reads,
 //! and the safety-shape bakes that skip ray classes the scene never casts equal the
-//! full bakes on the kept classes, leave 0 (a zero jump) elsewhere, and trace the
+//! full bakes on the kept classes, store nothing for the other classes (whose rays read zero jumps), and trace the
 //! kept classes' rays exactly as the full bakes do.
 
 mod common;
@@ -115,30 +115,32 @@ mod safety_classes {
     use super::*;
     use common::{fractal_field, random_ray, Field, RayKind, Rng};
     use hfcast::safety::cc::{self, CcMap, CcOptions, Slope};
-    use hfcast::safety::{self, AllRays, Options, SafetyMap, Variant, CLASSES};
-    use hfcast::Query;
+    use hfcast::safety::{self, AllRays, ClassRows, Options, SafetyMap, Variant, CLASSES};
+    use hfcast::{Query, Trace};
 
     fn field() -> Field {
         fractal_field(&mut Rng::new(8), 41, 29, 41, 6.0)
     }
 
+    /// The map of `classes` only, exactly [`safety::map_len_classes`] bytes long.
     fn bake(f: &Field, classes: RayClasses, opts: Options) -> Vec<u8> {
         let hf = f.hf();
         let mut scratch = vec![0.0; safety::scratch_len(f.w, f.h)];
         safety::prepare(&hf, &mut scratch).unwrap();
-        let mut out = vec![0xAA; safety::map_len(f.w, f.h, opts.variant)];
+        let mut out = vec![0xAA; safety::map_len_classes(f.w, f.h, opts.variant, classes)];
         safety::bake_rows_classes(&hf, &scratch, &AllRays, classes, 0..f.h, opts, &mut out)
             .unwrap();
         out
     }
 
+    /// The cylinder–cone map of `classes` only, exactly [`cc::map_len_classes`] bytes.
     fn bake_cc(f: &Field, classes: RayClasses, opts: CcOptions) -> Vec<u8> {
         let hf = f.hf();
         let mut scratch = vec![0.0; safety::scratch_len(f.w, f.h)];
         let mut nb = vec![0.0; cc::nbuffer_len(f.w, f.h, opts.cap)];
         safety::prepare(&hf, &mut scratch).unwrap();
         cc::prepare_nbuffer(&hf, opts.cap, &mut nb).unwrap();
-        let mut out = vec![0xAA; cc::map_len(f.w, f.h)];
+        let mut out = vec![0xAA; cc::map_len_classes(f.w, f.h, classes)];
         cc::bake_rows_classes(&hf, &scratch, &nb, classes, 0..f.h, opts, &mut out).unwrap();
         out
     }
@@ -177,26 +179,53 @@ mod safety_classes {
         ]
     }
 
+    /// Texel `t`'s coordinates.
+    fn ij(f: &Field, t: usize) -> (u32, u32) {
+        ((t % f.w as usize) as u32, (t / f.w as usize) as u32)
+    }
+
     #[test]
-    fn skipped_classes_are_zero_and_kept_ones_equal_the_full_bake() {
+    fn maps_of_fewer_classes_hold_the_kept_rows_of_the_full_bake() {
         let f = field();
+        let hf = f.hf();
         for positive in [false, true] {
             let opts = Options {
                 positive,
                 ..Options::default()
             };
             let full = bake(&f, RayClasses::ALL, opts);
+            let full_map = SafetyMap::new(&hf, &full, Variant::Directional).unwrap();
             for classes in kept_and_skipped() {
                 let part = bake(&f, classes, opts);
-                let at = |class, t: usize| {
-                    let (i, j) = ((t % f.w as usize) as u32, (t / f.w as usize) as u32);
-                    safety::texel_offset(f.w, Variant::Directional, class, i, j)
-                };
+                assert_eq!(part.len(), (f.w * f.h * classes.count()) as usize);
+                let map =
+                    SafetyMap::with_classes(&hf, &part, Variant::Directional, classes).unwrap();
                 for t in 0..(f.w * f.h) as usize {
+                    let (i, j) = ij(&f, t);
                     for class in CLASSES {
-                        let at = at(class, t);
-                        let want = if classes.contains(class) { full[at] } else { 0 };
-                        assert_eq!(part[at], want, "texel {t} class {class:?} {classes:?}");
+                        let want = match ClassRows::of(f.w, Variant::Directional, classes, class) {
+                            // The class's own row, `n` rows per texel row.
+                            Some(at) => {
+                                let slot = CLASSES[..class as usize]
+                                    .iter()
+                                    .filter(|&&c| classes.contains(c))
+                                    .count();
+                                assert_eq!(
+                                    at.index(i, j),
+                                    (j as usize * part.len() / (f.w * f.h) as usize + slot)
+                                        * f.w as usize
+                                        + i as usize
+                                );
+                                assert_eq!(part[at.index(i, j)], full_map.distance(class, i, j));
+                                full_map.distance(class, i, j)
+                            }
+                            None => 0,
+                        };
+                        assert_eq!(
+                            map.distance(class, i, j),
+                            want,
+                            "texel {t} {class:?} {classes:?}"
+                        );
                     }
                 }
                 // Isotropic over the kept classes: the minimum of their distances.
@@ -205,16 +234,26 @@ mod safety_classes {
                     ..opts
                 };
                 let part = bake(&f, classes, iso);
+                assert_eq!(part.len(), (f.w * f.h) as usize);
                 for (t, v) in part.iter().enumerate() {
+                    let (i, j) = ij(&f, t);
                     let kept = CLASSES
                         .into_iter()
                         .filter(|&class| classes.contains(class))
-                        .map(|class| full[at(class, t)])
+                        .map(|class| full_map.distance(class, i, j))
                         .min()
                         .unwrap_or(0);
                     assert_eq!(*v, kept, "texel {t} {classes:?}");
                 }
             }
+        }
+    }
+
+    /// `a` and `b` hit alike (hit or miss, `t` within 1e-3).
+    fn same_hit(a: Trace<f32>, b: Trace<f32>, q: &Query<f32>) {
+        match (a.hit, b.hit) {
+            (Some(a), Some(b)) => assert!((a.t - b.t).abs() < 1e-3, "{q:?}"),
+            (a, b) => assert_eq!(a.is_some(), b.is_some(), "{q:?}"),
         }
     }
 
@@ -225,47 +264,40 @@ mod safety_classes {
         let opts = Options::default();
         let full = bake(&f, RayClasses::ALL, opts);
         let full_map = SafetyMap::new(&hf, &full, Variant::Directional).unwrap();
+        let iso = Options {
+            variant: Variant::Isotropic,
+            ..opts
+        };
         for classes in kept_and_skipped() {
             if classes == RayClasses::NONE {
                 continue;
             }
             let part = bake(&f, classes, opts);
-            let map = SafetyMap::new(&hf, &part, Variant::Directional).unwrap();
-            let one = classes.count() == 1;
-            let iso = bake(
-                &f,
-                classes,
-                Options {
-                    variant: Variant::Isotropic,
-                    ..opts
-                },
-            );
-            let iso_map = SafetyMap::new(&hf, &iso, Variant::Isotropic).unwrap();
+            let map = SafetyMap::with_classes(&hf, &part, Variant::Directional, classes).unwrap();
+            let iso_part = bake(&f, classes, iso);
+            let iso_map =
+                SafetyMap::with_classes(&hf, &iso_part, Variant::Isotropic, classes).unwrap();
             for q in rays_of(&f, classes, 600) {
                 let want = safety::trace(&full_map, &hf, &q);
                 assert_eq!(safety::trace(&map, &hf, &q), want, "{q:?}");
-                if one {
+                if classes.count() == 1 {
                     assert_eq!(safety::trace(&iso_map, &hf, &q), want, "{q:?}");
                 }
+                same_hit(safety::trace(&iso_map, &hf, &q), want, &q);
             }
-        }
-        // A skipped class's rays still trace exactly (zero jumps walk cell by cell).
-        let part = bake(&f, RayClasses::NONE.with(RayClass::XPos), opts);
-        let map = SafetyMap::new(&hf, &part, Variant::Directional).unwrap();
-        for q in rays_of(&f, RayClasses::NONE.with(RayClass::YPos), 200) {
-            let (a, b) = (
-                safety::trace(&map, &hf, &q),
-                safety::trace(&full_map, &hf, &q),
-            );
-            match (a.hit, b.hit) {
-                (Some(a), Some(b)) => assert!((a.t - b.t).abs() < 1e-3, "{q:?}"),
-                (a, b) => assert_eq!(a.is_some(), b.is_some(), "{q:?}"),
+            // A class the map does not hold reads distance 0: its rays still trace
+            // exactly (zero jumps walk cell by cell), on either layout.
+            let others = RayClasses(!classes.0 & RayClasses::ALL.0);
+            for q in rays_of(&f, others, 200) {
+                let want = safety::trace(&full_map, &hf, &q);
+                same_hit(safety::trace(&map, &hf, &q), want, &q);
+                same_hit(safety::trace(&iso_map, &hf, &q), want, &q);
             }
         }
     }
 
     #[test]
-    fn cc_skipped_classes_have_no_shape_and_kept_ones_trace_the_same() {
+    fn cc_maps_of_fewer_classes_hold_the_kept_rows_and_trace_the_same() {
         let f = field();
         let hf = f.hf();
         for slope in [Slope::Exact, Slope::NBuffer] {
@@ -274,24 +306,31 @@ mod safety_classes {
             let full_map = CcMap::new(&hf, &full, opts.cap).unwrap();
             for classes in kept_and_skipped() {
                 let part = bake_cc(&f, classes, opts);
+                assert_eq!(part.len(), (f.w * f.h * 4 * classes.count()) as usize);
+                let map = CcMap::with_classes(&hf, &part, opts.cap, classes).unwrap();
                 for t in 0..(f.w * f.h) as usize {
+                    let (i, j) = ij(&f, t);
                     for class in CLASSES {
-                        let (i, j) = ((t % f.w as usize) as u32, (t / f.w as usize) as u32);
-                        let at = cc::texel_offset(f.w, class, i, j);
                         let want = if classes.contains(class) {
-                            &full[at..at + 4]
+                            let at = ClassRows::of(f.w, Variant::Directional, classes, class);
+                            let at = at.unwrap().index(i, j) * 4;
+                            assert_eq!(part[at..at + 4], full_map.texel(class, i, j));
+                            full_map.texel(class, i, j)
                         } else {
-                            &[0, cc::NO_CONE, 0, 0]
+                            [0, cc::NO_CONE, 0, 0]
                         };
-                        assert_eq!(&part[at..at + 4], want, "texel {t} {class:?}");
+                        assert_eq!(map.texel(class, i, j), want, "texel {t} {class:?}");
                     }
                 }
                 if classes == RayClasses::NONE {
                     continue;
                 }
-                let map = CcMap::new(&hf, &part, opts.cap).unwrap();
                 for q in rays_of(&f, classes, 400) {
                     assert_eq!(cc::trace(&map, &hf, &q), cc::trace(&full_map, &hf, &q));
+                }
+                let others = RayClasses(!classes.0 & RayClasses::ALL.0);
+                for q in rays_of(&f, others, 200) {
+                    same_hit(cc::trace(&map, &hf, &q), cc::trace(&full_map, &hf, &q), &q);
                 }
             }
         }

@@ -62,7 +62,9 @@
 //! W × 4H, texel `(i, 4j + class)`). A ray reads one class only, so its texels lie
 //! side by side (a quarter of the cache lines a texel-interleaved map needs: ~20%
 //! faster CPU marches on the Himalaya benchmark), and row ranges stay contiguous for
-//! split bakes. `r` the safety distance (u8, exact, capped at 255 by the SD scan);
+//! split bakes. A map of fewer classes ([`bake_rows_classes`]) holds only their rows,
+//! `n` rows per texel row for its `n` classes ([`super::ClassRows`]: texel
+//! `(i, n·j + slot)`, 4n bytes per texel). `r` the safety distance (u8, exact, capped at 255 by the SD scan);
 //! `s` the slope code, decoded `s_c = t·|t| / 2048` with `t = s − 128` (exact in `f32`;
 //! ±1/1024 near 0, 1/16 near 2, up to 7.75), **rounded up** (the line only rises);
 //! `s = 255` means "no cone" (`s_c > 7.75` saturates there: the step is then `r`, the
@@ -77,8 +79,8 @@ use core::ops::Range;
 
 use super::{
     axis_of, band_cells, cell_tris, column_ahead, extents, march_with, sample, sigma_of, sign_of,
-    texel_distance, tri_masks, AllRays, Line, MarchSurface, RaySet, SafetyError, Sigma, Tri,
-    CLASSES,
+    texel_distance, tri_masks, AllRays, ClassRows, Line, MarchSurface, RaySet, SafetyError, Sigma,
+    Tri, Variant, CLASSES,
 };
 use crate::field::HeightField;
 use crate::math::Real;
@@ -127,14 +129,27 @@ impl Default for CcOptions {
 
 /// Bytes of a whole packed map: `W · H · 16`.
 pub fn map_len(width: u32, height: u32) -> usize {
-    width as usize * height as usize * BYTES_PER_TEXEL
+    map_len_classes(width, height, RayClasses::ALL)
 }
 
-/// Offset in a packed map `width` texels wide of the four bytes of texel `(i, j)`
-/// for `class` (see the module's **Packing**): `((j·4 + class)·W + i)·4`.
+/// Bytes of a packed map holding the classes of `classes` ([`bake_rows_classes`]):
+/// `W · H · 4n` for the set's `n` classes.
+pub fn map_len_classes(width: u32, height: u32, classes: RayClasses) -> usize {
+    width as usize * height as usize * 4 * classes.count() as usize
+}
+
+/// Where `class`'s texels lie in a packed map `width` texels wide holding `classes`
+/// (4 bytes from `4 ·` [`ClassRows::index`]); `None` when it does not hold `class`.
+#[inline]
+fn class_rows(width: u32, classes: RayClasses, class: RayClass) -> Option<ClassRows> {
+    ClassRows::of(width, Variant::Directional, classes, class)
+}
+
+/// Offset in a whole packed map `width` texels wide of the four bytes of texel
+/// `(i, j)` for `class` (see the module's **Packing**): `((j·4 + class)·W + i)·4`.
 #[inline]
 pub fn texel_offset(width: u32, class: RayClass, i: u32, j: u32) -> usize {
-    ((j as usize * 4 + class as usize) * width as usize + i as usize) * 4
+    class_rows(width, RayClasses::ALL, class).map_or(0, |at| at.index(i, j) * 4)
 }
 
 /// N-buffer levels for a cone reach `cap`.
@@ -943,9 +958,13 @@ pub fn bake_rows(
 }
 
 /// [`bake_rows`] for the ray classes of `classes` only (a scene's
-/// [`BakePlan::classes`](crate::scene::BakePlan::classes)): a class left out is never
-/// computed and packs as radius 0 without a cone (`[0, NO_CONE, 0, 0]`: a zero jump,
-/// always safe); the kept classes' bytes equal the full bake's.
+/// [`BakePlan::classes`](crate::scene::BakePlan::classes)) into a map holding those
+/// only (`rows.len() · W · 4n` bytes for the set's `n` classes, [`map_len_classes`]):
+/// the others are never computed nor stored, the kept classes' bytes equal the full
+/// bake's, each texel row stored as `n` rows in class order ([`super::ClassRows`]).
+/// Read it with [`CcMap::with_classes`] for the same set: a ray of a class the map
+/// does not hold then reads radius 0 without a cone (`[0, NO_CONE, 0, 0]`: a zero
+/// jump, still exact).
 pub fn bake_rows_classes(
     hf: &HeightField,
     scratch: &[f32],
@@ -966,35 +985,32 @@ pub fn bake_rows_classes(
     if rows.end > hf.height() || rows.start > rows.end {
         return Err(SafetyError::RowsOutOfRange);
     }
-    let w = hf.width() as usize;
-    let needed = (rows.end - rows.start) as usize * w * BYTES_PER_TEXEL;
+    let classes = RayClasses(classes.0 & RayClasses::ALL.0);
+    let needed = (rows.end - rows.start) as usize * map_len_classes(hf.width(), 1, classes);
     if out.len() < needed {
         return Err(SafetyError::OutputTooShort { needed });
     }
-    let skipped = pack(hf, 0, 0.0, f64::INFINITY);
     let views = views(hf, nb, opts.cap);
     for (row, j) in rows.enumerate() {
         // Per class, the cell that set the slope of the texel on the left.
         let mut seeds: [Cell; 4] = [None; 4];
         for i in 0..hf.width() {
             for (c, class) in CLASSES.into_iter().enumerate() {
-                let bytes = if classes.contains(class) {
-                    let r = texel_distance(hf, scratch, &AllRays, class, i, j, u8::MAX);
-                    let (zc, sc) = if r >= opts.cap {
-                        (0.0, f64::INFINITY)
-                    } else {
-                        let seed = seeds[c];
-                        let (cone, best) =
-                            cone_search(hf, &views, &AllRays, class, (i, j), r, opts, seed);
-                        seeds[c] = best.or(seed);
-                        cone
-                    };
-                    pack(hf, r, zc, sc)
-                } else {
-                    skipped
+                let Some(at) = class_rows(hf.width(), classes, class) else {
+                    continue;
                 };
-                let at = texel_offset(hf.width(), class, i, row as u32);
-                out[at..at + 4].copy_from_slice(&bytes);
+                let r = texel_distance(hf, scratch, &AllRays, class, i, j, u8::MAX);
+                let (zc, sc) = if r >= opts.cap {
+                    (0.0, f64::INFINITY)
+                } else {
+                    let seed = seeds[c];
+                    let (cone, best) =
+                        cone_search(hf, &views, &AllRays, class, (i, j), r, opts, seed);
+                    seeds[c] = best.or(seed);
+                    cone
+                };
+                let at = at.index(i, row as u32) * 4;
+                out[at..at + 4].copy_from_slice(&pack(hf, r, zc, sc));
             }
         }
     }
@@ -1019,6 +1035,7 @@ pub fn bake(
 pub struct CcMap<'a> {
     data: &'a [u8],
     width: u32,
+    classes: RayClasses,
     cap: u8,
     zmin: f64,
     zstep: f64,
@@ -1038,7 +1055,21 @@ pub struct Shape {
 impl<'a> CcMap<'a> {
     /// Views `data` ([`map_len`] bytes, as [`bake`] wrote it with `opts.cap == cap`).
     pub fn new(hf: &HeightField, data: &'a [u8], cap: u8) -> Result<Self, SafetyError> {
-        let needed = map_len(hf.width(), hf.height());
+        Self::with_classes(hf, data, cap, RayClasses::ALL)
+    }
+
+    /// Views a map holding the classes of `classes` ([`map_len_classes`] bytes, as
+    /// [`bake_rows_classes`] wrote it for that set with `opts.cap == cap`): rays of
+    /// the other classes read radius 0 without a cone (they walk cell by cell, still
+    /// exact).
+    pub fn with_classes(
+        hf: &HeightField,
+        data: &'a [u8],
+        cap: u8,
+        classes: RayClasses,
+    ) -> Result<Self, SafetyError> {
+        let classes = RayClasses(classes.0 & RayClasses::ALL.0);
+        let needed = map_len_classes(hf.width(), hf.height(), classes);
         if data.len() < needed {
             return Err(SafetyError::OutputTooShort { needed });
         }
@@ -1046,6 +1077,7 @@ impl<'a> CcMap<'a> {
         Ok(CcMap {
             data,
             width: hf.width(),
+            classes,
             cap,
             zmin,
             zstep,
@@ -1057,12 +1089,35 @@ impl<'a> CcMap<'a> {
         self.cap
     }
 
-    /// The packed bytes of texel `(i, j)` for `class`.
+    /// The ray classes the map holds.
+    pub fn classes(&self) -> RayClasses {
+        self.classes
+    }
+
+    /// Where `class`'s texels lie (`None`: not held).
+    #[inline]
+    fn rows(&self, class: RayClass) -> Option<ClassRows> {
+        class_rows(self.width, self.classes, class)
+    }
+
+    /// The packed bytes of texel `(i, j)` in the rows `at` of its class, or those of
+    /// a class the map does not hold (`[0, NO_CONE, 0, 0]`).
+    #[inline]
+    fn bytes(&self, at: Option<ClassRows>, i: u32, j: u32) -> [u8; 4] {
+        match at {
+            Some(at) => {
+                let b = &self.data[at.index(i, j) * 4..][..4];
+                [b[0], b[1], b[2], b[3]]
+            }
+            None => [0, NO_CONE, 0, 0],
+        }
+    }
+
+    /// The packed bytes of texel `(i, j)` for `class` (`[0, NO_CONE, 0, 0]` when the
+    /// map does not hold it).
     #[inline]
     pub fn texel(&self, class: RayClass, i: u32, j: u32) -> [u8; 4] {
-        let at = texel_offset(self.width, class, i, j);
-        let b = &self.data[at..at + 4];
-        [b[0], b[1], b[2], b[3]]
+        self.bytes(self.rows(class), i, j)
     }
 
     /// The decoded shape of texel `(i, j)` for `class`.
@@ -1167,8 +1222,7 @@ pub fn trace_on<R: Real>(
             R::from_f64(map.zstep),
             zmin.abs() + R::from_f64(map.zstep * 65535.0),
         ];
-        move |l: &Line<R>, class, i, j| {
-            cone_step(cap, z, map.texel(class, i, j), l.p[2], l.tol, sd_lo)
-        }
+        let rows = map.rows(class);
+        move |l: &Line<R>, _, i, j| cone_step(cap, z, map.bytes(rows, i, j), l.p[2], l.tol, sd_lo)
     })
 }
