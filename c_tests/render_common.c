@@ -318,9 +318,10 @@ hf_result cpu_trace(const scene *s, method_cfg cfg, const hf_ray *rays, size_t n
     case HF_METHOD_SAFETY:
         if (cfg.variant == HF_SAFETY_ISOTROPIC)
             return hf_trace_safety_on_batch(s->field, s->safety_iso, s->safety_iso_len,
-                                            HF_SAFETY_ISOTROPIC, cfg.surface, rays, n, hits, n);
+                                            HF_SAFETY_ISOTROPIC, HF_RAYS_ALL, cfg.surface, rays, n,
+                                            hits, n);
         return hf_trace_safety_on_batch(s->field, s->safety, s->safety_len, HF_SAFETY_DIRECTIONAL,
-                                        cfg.surface, rays, n, hits, n);
+                                        HF_RAYS_ALL, cfg.surface, rays, n, hits, n);
     case HF_METHOD_CONE:
         return hf_trace_cone_batch(s->field, s->cone, s->cone_len, cfg.linear, rays, n, hits, n);
     case HF_METHOD_RELAXED:
@@ -329,8 +330,8 @@ hf_result cpu_trace(const scene *s, method_cfg cfg, const hf_ray *rays, size_t n
     case HF_METHOD_QDM:
         return hf_trace_qdm_batch(s->field, s->qdm, s->qdm_len, cfg.linear, rays, n, hits, n);
     case HF_METHOD_CC:
-        return hf_trace_cc_on_batch(s->field, s->cc, s->cc_len, CC_CAP, cfg.surface, rays, n,
-                                    hits, n);
+        return hf_trace_cc_on_batch(s->field, s->cc, s->cc_len, CC_CAP, HF_RAYS_ALL, cfg.surface,
+                                    rays, n, hits, n);
     case HF_METHOD_RADIUS:
         return hf_trace_radius_on_batch(s->field, s->radius, s->radius_len, cfg.zero, cfg.surface,
                                         rays, n, hits, n);

@@ -645,25 +645,60 @@ static void test_bake_and_update(void) {
 
 /* ---- safety distances -------------------------------------------------------------- */
 
-/* A map and its field (and the cylinder–cone reach), for the view-linear
- * trampolines below. */
+/* A map and its field (the cylinder–cone reach, the ray classes the map holds), for
+ * the trampolines below. */
 struct safety_ctx {
     hf_field *f;
     const unsigned char *map;
     size_t len;
     uint32_t cap;
+    uint32_t classes;
 };
 
 static hf_result trace_safety_vl(void *ctx, uint32_t surface, const hf_ray *rays, int n,
                                  hf_hit *out) {
     struct safety_ctx *c = (struct safety_ctx *)ctx;
-    return hf_trace_safety_on_batch(c->f, c->map, c->len, 0, surface, rays, n, out, n);
+    return hf_trace_safety_on_batch(c->f, c->map, c->len, HF_SAFETY_DIRECTIONAL, c->classes,
+                                    surface, rays, n, out, n);
 }
 
 static hf_result trace_cc_vl(void *ctx, uint32_t surface, const hf_ray *rays, int n,
                              hf_hit *out) {
     struct safety_ctx *c = (struct safety_ctx *)ctx;
-    return hf_trace_cc_on_batch(c->f, c->map, c->len, c->cap, surface, rays, n, out, n);
+    return hf_trace_cc_on_batch(c->f, c->map, c->len, c->cap, c->classes, surface, rays, n, out,
+                                n);
+}
+
+/* HF_RAYS_* bit of a ray's class: x+ if dx >= |dy|, x- if -dx >= |dy|, y+ if dy > |dx|,
+ * else y-. */
+static uint32_t class_bit(const hf_ray *r) {
+    float dx = r->dir[0], dy = r->dir[1];
+    if (dx >= fabsf(dy)) return HF_RAYS_X_POS;
+    if (-dx >= fabsf(dy)) return HF_RAYS_X_NEG;
+    return dy > fabsf(dx) ? HF_RAYS_Y_POS : HF_RAYS_Y_NEG;
+}
+
+/* A map of the ray classes `ctx->classes` only, traced by `trace` on the triangle
+ * surface: every ray finds its exact hit (`exact`; rays of the other classes read zero
+ * jumps and walk), and the rays of its classes trace bit for bit as on the whole map
+ * (`full`). */
+static void check_class_map(const char *what, const hf_ray *rays, int n, const hf_hit *exact,
+                            const hf_hit *full,
+                            hf_result (*trace)(void *, uint32_t, const hf_ray *, int, hf_hit *),
+                            struct safety_ctx *ctx) {
+    hf_hit *got = (hf_hit *)malloc(sizeof(hf_hit) * n);
+    CHECK_OK(trace(ctx, HF_SURFACE_TRIANGLES, rays, n, got));
+    int held = 0, same = 0;
+    for (int k = 0; k < n; k++) {
+        if (!(class_bit(&rays[k]) & ctx->classes)) continue;
+        held++;
+        same += memcmp(&got[k], &full[k], sizeof(hf_hit)) == 0;
+    }
+    int ok = agreeing(exact, got, n);
+    CHECK(ok == n && held > 0 && held < n && same == held);
+    printf("%s: %zu bytes; exact on %d of %d rays, as the whole map on %d of its %d\n", what,
+           ctx->len, ok, n, same, held);
+    free(got);
 }
 
 static hf_result trace_radius_vl(void *ctx, uint32_t surface, const hf_ray *rays, int n,
@@ -751,22 +786,32 @@ static void test_safety(void) {
     }
     CHECK(iso_ok);
 
-    /* Two ray classes (x+, y-): the kept classes' bytes equal the full bake's, the
-     * others are 0 (a zero jump); the row bake with the same classes agrees. Byte k
-     * belongs to class (k / W) % 4. */
+    /* Two ray classes (x+, y-): a map of their rows only, two per texel row in class
+     * order (byte k: texel row k / 2W, slot k / W % 2), equal to the full bake's rows;
+     * the row bake with the same classes agrees. */
     uint32_t two = HF_RAYS_X_POS | HF_RAYS_Y_NEG;
+    size_t tlen = 0, ilen_two = 0;
+    CHECK_OK(hf_safety_map_len_classes(W, H, HF_SAFETY_DIRECTIONAL, two, &tlen));
+    CHECK_OK(hf_safety_map_len_classes(W, H, HF_SAFETY_ISOTROPIC, two, &ilen_two));
+    CHECK(tlen == (size_t)W * H * 2 && ilen_two == (size_t)W * H);
+    CHECK_BAD(hf_safety_map_len_classes(W, H, HF_SAFETY_DIRECTIONAL, 0, &tlen),
+              HF_ERR_INVALID_ARGUMENT, nothing, 0);
+    CHECK_BAD(hf_safety_map_len_classes(W, H, 7, two, &tlen), HF_ERR_INVALID_ENUM, nothing, 0);
     CHECK_BAD(hf_safety_bake_classes(f, &good, 0, 1, rows, dlen), HF_ERR_INVALID_ARGUMENT, rows,
               64);
     CHECK_BAD(hf_safety_bake_classes(f, &good, 16, 1, rows, dlen), HF_ERR_INVALID_ARGUMENT,
               rows, 64);
-    CHECK_OK(hf_safety_bake_classes(f, &good, two, 2, rows, dlen));
+    CHECK_BAD(hf_safety_bake_classes(f, &good, two, 1, rows, tlen - 1), HF_ERR_BUFFER_TOO_SMALL,
+              rows, 64);
+    CHECK_OK(hf_safety_bake_classes(f, &good, two, 2, rows, tlen));
+    static const size_t two_classes[2] = {0, 3};
     int mask_ok = 1;
-    for (size_t k = 0; k < dlen; k++)
-        mask_ok &= rows[k] == (((two >> (k / W % 4)) & 1) ? dmap[k] : 0);
+    for (size_t k = 0; k < tlen; k++)
+        mask_ok &= rows[k] == dmap[(k / (2 * W) * 4 + two_classes[k / W % 2]) * W + k % W];
     CHECK(mask_ok);
-    unsigned char *rows2 = (unsigned char *)malloc(dlen);
-    CHECK_OK(hf_safety_bake_rows_classes(f, scratch, slen, &good, two, 0, H, rows2, dlen));
-    CHECK(memcmp(rows, rows2, dlen) == 0);
+    unsigned char *rows2 = (unsigned char *)malloc(tlen);
+    CHECK_OK(hf_safety_bake_rows_classes(f, scratch, slen, &good, two, 0, H, rows2, tlen));
+    CHECK(memcmp(rows, rows2, tlen) == 0);
     free(rows2);
 
     /* Exact: the safety march finds the exact method's hits on the triangle surface. */
@@ -794,10 +839,24 @@ static void test_safety(void) {
     CHECK(same[0] == N && same[1] == N);
     printf("safety: %d rays, %d exact hits; directional agrees on %d, isotropic on %d\n", N, hits,
            same[0], same[1]);
-    struct safety_ctx sctx = {f, dmap, dlen, 0};
+    /* The two-class map (still in `rows`). */
+    CHECK_OK(hf_trace_safety_batch(f, dmap, dlen, 0, rays, N, sd, N));
+    struct safety_ctx two_ctx = {f, rows, tlen, 0, two};
+    check_class_map("safety, two classes", rays, N, exact, sd, trace_safety_vl, &two_ctx);
+    hf_hit bad_hit;
+    memset(&bad_hit, 0x5A, sizeof bad_hit);
+    CHECK_BAD(hf_trace_safety_on(f, rows, tlen - 1, 0, two, HF_SURFACE_TRIANGLES, &rays[0],
+                                 &bad_hit),
+              HF_ERR_BUFFER_TOO_SMALL, &bad_hit, sizeof bad_hit);
+    CHECK_BAD(hf_trace_safety_on(f, rows, tlen, 0, 0, HF_SURFACE_TRIANGLES, &rays[0], &bad_hit),
+              HF_ERR_INVALID_ARGUMENT, &bad_hit, sizeof bad_hit);
+    CHECK_BAD(hf_trace_safety_on(f, rows, tlen, 0, 16, HF_SURFACE_TRIANGLES, &rays[0], &bad_hit),
+              HF_ERR_INVALID_ARGUMENT, &bad_hit, sizeof bad_hit);
+    struct safety_ctx sctx = {f, dmap, dlen, 0, HF_RAYS_ALL};
     int vl = view_linear_agrees(f, rays, N, sd, trace_safety_vl, &sctx);
     hf_hit one_vl;
-    CHECK_OK(hf_trace_safety_on(f, dmap, dlen, 0, HF_SURFACE_VIEW_LINEAR, &rays[7], &one_vl));
+    CHECK_OK(hf_trace_safety_on(f, dmap, dlen, 0, HF_RAYS_ALL, HF_SURFACE_VIEW_LINEAR, &rays[7],
+                                &one_vl));
     CHECK(memcmp(&one_vl, &sd[7], sizeof one_vl) == 0);
     printf("safety on the view-linear surface: agrees on %d of %d\n", vl, N);
 
@@ -925,7 +984,7 @@ static void test_radius(void) {
         CHECK(memcmp(&one, &rd[7], sizeof one) == 0);
     }
     printf("radius: %d rays, %d exact hits; walk agrees on %d\n", N, hits, same);
-    struct safety_ctx rctx = {f, map, len, 0};
+    struct safety_ctx rctx = {f, map, len, 0, HF_RAYS_ALL};
     int vl = view_linear_agrees(f, rays, N, rd, trace_radius_vl, &rctx);
     hf_hit one_vl;
     CHECK_OK(hf_trace_radius_on(f, map, len, HF_RADIUS_WALK, HF_SURFACE_VIEW_LINEAR, &rays[7],
@@ -1179,20 +1238,26 @@ static void test_cc(void) {
     unsigned char *nbmap = (unsigned char *)malloc(mlen);
     CHECK_OK(hf_cc_bake(f, &nbo, 0, nbmap, mlen));
 
-    /* One ray class (y+): its bytes equal the full bake's, the others are radius 0
-     * without a cone; the row bake agrees. Byte k belongs to class (k / 4 / W) % 4. */
+    /* One ray class (y+): a map of its rows only (a quarter of the bytes), equal to the
+     * full bake's rows of that class (texel row j of class 2 holds bytes from ((j * 4 + 2)
+     * * W) * 4); the row bake agrees. */
+    size_t ylen = 0;
+    CHECK_OK(hf_cc_map_len_classes(W, H, HF_RAYS_Y_POS, &ylen));
+    CHECK(ylen * 4 == mlen);
+    CHECK_BAD(hf_cc_map_len_classes(W, H, 0, &ylen), HF_ERR_INVALID_ARGUMENT, nothing, 0);
+    CHECK_BAD(hf_cc_map_len_classes(W, H, HF_RAYS_Y_POS, NULL), HF_ERR_NULL_POINTER, nothing, 0);
     CHECK_BAD(hf_cc_bake_classes(f, &good, 0, 1, rows, mlen), HF_ERR_INVALID_ARGUMENT, rows, 64);
-    CHECK_OK(hf_cc_bake_classes(f, &good, HF_RAYS_Y_POS, 2, rows, mlen));
+    CHECK_BAD(hf_cc_bake_classes(f, &good, HF_RAYS_Y_POS, 1, rows, ylen - 1),
+              HF_ERR_BUFFER_TOO_SMALL, rows, 64);
+    CHECK_OK(hf_cc_bake_classes(f, &good, HF_RAYS_Y_POS, 2, rows, ylen));
     int cc_mask_ok = 1;
-    for (size_t k = 0; k < mlen; k++) {
-        static const unsigned char skipped[4] = {0, 255, 0, 0};
-        cc_mask_ok &= rows[k] == ((k / 4 / W) % 4 == 2 ? map[k] : skipped[k % 4]);
-    }
+    for (size_t j = 0; j < (size_t)H; j++)
+        cc_mask_ok &= memcmp(rows + j * W * 4, map + (j * 4 + 2) * W * 4, (size_t)W * 4) == 0;
     CHECK(cc_mask_ok);
-    unsigned char *rows2 = (unsigned char *)malloc(mlen);
+    unsigned char *rows2 = (unsigned char *)malloc(ylen);
     CHECK_OK(hf_cc_bake_rows_classes(f, scratch, slen, nb, nlen, &good, HF_RAYS_Y_POS, 0, H, rows2,
-                                     mlen));
-    CHECK(memcmp(rows, rows2, mlen) == 0);
+                                     ylen));
+    CHECK(memcmp(rows, rows2, ylen) == 0);
     free(rows2);
 
     float fr[3] = {0, 0, 0};
@@ -1219,7 +1284,18 @@ static void test_cc(void) {
     CHECK(same[0] == N && same[1] == N);
     printf("cc: %d rays, %d exact hits; exact slopes agree on %d, n-buffer slopes on %d\n", N, hits,
            same[0], same[1]);
-    struct safety_ctx cctx = {f, map, mlen, CAP};
+    /* The one-class map (still in `rows`); `cc` holds the whole exact-slope map's hits. */
+    CHECK_OK(hf_trace_cc_batch(f, map, mlen, CAP, rays, N, cc, N));
+    struct safety_ctx y_ctx = {f, rows, ylen, CAP, HF_RAYS_Y_POS};
+    check_class_map("cc, one class", rays, N, exact, cc, trace_cc_vl, &y_ctx);
+    hf_hit bad_hit;
+    memset(&bad_hit, 0x5A, sizeof bad_hit);
+    CHECK_BAD(hf_trace_cc_on(f, rows, ylen - 1, CAP, HF_RAYS_Y_POS, HF_SURFACE_TRIANGLES, &rays[0],
+                             &bad_hit),
+              HF_ERR_BUFFER_TOO_SMALL, &bad_hit, sizeof bad_hit);
+    CHECK_BAD(hf_trace_cc_on(f, rows, ylen, CAP, 0, HF_SURFACE_TRIANGLES, &rays[0], &bad_hit),
+              HF_ERR_INVALID_ARGUMENT, &bad_hit, sizeof bad_hit);
+    struct safety_ctx cctx = {f, map, mlen, CAP, HF_RAYS_ALL};
     int vl = view_linear_agrees(f, rays, N, cc, trace_cc_vl, &cctx);
     printf("cc on the view-linear surface: agrees on %d of %d\n", vl, N);
     hf_hit one, h;

@@ -221,7 +221,9 @@ enum hf_safety_variant
   // Four bytes per texel, one per ray class (x+, x−, y+, y−), each texel row
   // stored as four rows of W bytes, one per class in class order:
   // `map[(j * 4 + class) * W + i]`. Upload as an `R8UI` texture of W × 4H texels,
-  // texel (i, 4 j + class).
+  // texel (i, 4 j + class). A map of `n` classes (`hf_safety_bake_classes`) holds
+  // their rows only, in class order: `map[(j * n + slot) * W + i]`, `slot` the
+  // number of its classes before `class` (W × nH texels, texel (i, n j + slot)).
   HF_SAFETY_DIRECTIONAL = 0,
 #endif
 #if defined(HF_HAVE_SAFETY)
@@ -488,8 +490,9 @@ typedef struct hf_bake_plan {
   // The quadratic displacement map (`hf_qdm_bake`).
   uint32_t qdm_map;
   // `HF_RAYS_*` bits of the classes the safety-distance and cylinder–cone bakes
-  // compute (pass them to `hf_safety_bake_classes`, `hf_cc_bake_classes`); the
-  // other classes' channels are left 0 (a zero jump). 0 when neither is baked.
+  // compute (pass them to `hf_safety_map_len_classes`, `hf_safety_bake_classes`,
+  // `hf_cc_map_len_classes`, `hf_cc_bake_classes` and the `_on` trace calls): the
+  // maps hold these classes' rows only. 0 when neither is baked.
   uint32_t ray_classes;
   // The safety map's layout, an `hf_safety_variant`: `HF_SAFETY_ISOTROPIC` (one
   // byte per texel, that class's distances exactly) when one ray class occurs,
@@ -553,6 +556,21 @@ hf_result hf_cc_map_len(uint32_t width,
 #endif
 
 #if defined(HF_HAVE_SAFETY)
+// `hf_cc_map_len` for a map of the ray classes `ray_classes` only (`HF_RAYS_*` bits,
+// not 0; `hf_cc_bake_classes`): `W * H * 4 * n` for its `n` classes, each texel row
+// stored as `n` rows in class order (the bytes of texel (i, j) for class c at
+// `((j * n + slot) * W + i) * 4`, `slot` the number of its classes before c; an
+// `RGBA8UI` texture of W × nH texels, texel (i, n j + slot)). Thread safe.
+//
+// # Safety
+// `out_len` is NULL (an error) or valid for writing one `size_t`.
+hf_result hf_cc_map_len_classes(uint32_t width,
+                                uint32_t height,
+                                uint32_t ray_classes,
+                                size_t *out_len);
+#endif
+
+#if defined(HF_HAVE_SAFETY)
 // Writes the number of floats of the N-buffers of a `width × height` field for cone
 // reach `cap` (0..=255) to `*out_len`. Thread safe.
 //
@@ -604,9 +622,10 @@ hf_result hf_cc_bake_rows(const struct hf_field *field,
 
 #if defined(HF_HAVE_SAFETY)
 // `hf_cc_bake_rows` for the ray classes `ray_classes` only (`HF_RAYS_*` bits, not 0;
-// `hf_scene_bake_plan` gives a scene's): the other classes are not computed and pack as
-// radius 0 without a cone (a zero jump: the map stays exact for every ray); the kept
-// classes' bytes equal the full bake's.
+// `hf_scene_bake_plan` gives a scene's) into a map of those classes only
+// (`hf_cc_map_len_classes` bytes; rows `row_begin..row_end` from byte `row_begin * W *
+// 4n`): the other classes are neither computed nor stored, the kept classes' bytes
+// equal the full bake's. Trace with the same `ray_classes` (`hf_trace_cc_on`).
 //
 // # Safety
 // As `hf_cc_bake_rows`.
@@ -639,8 +658,10 @@ hf_result hf_cc_bake(const struct hf_field *field,
 #endif
 
 #if defined(HF_HAVE_SAFETY)
-// `hf_cc_bake` for the ray classes `ray_classes` only (`HF_RAYS_*` bits, not 0), as
-// `hf_cc_bake_rows_classes`.
+// `hf_cc_bake` for the ray classes `ray_classes` only (`HF_RAYS_*` bits, not 0) into
+// `out_map` (`out_map_len ≥ hf_cc_map_len_classes` bytes), as
+// `hf_cc_bake_rows_classes`: a scene that casts one class bakes a quarter of the
+// texels into a quarter of the bytes.
 //
 // # Safety
 // As `hf_cc_bake`.
@@ -686,10 +707,13 @@ hf_result hf_trace_cc(const struct hf_field *field,
 #endif
 
 #if defined(HF_HAVE_SAFETY)
-// `hf_trace_cc` finishing on `surface` (an `hf_surface`): `HF_SURFACE_TRIANGLES`, or
-// `HF_SURFACE_VIEW_LINEAR` (Baboud et al. §7), whose hit is then that of
-// `hf_trace_exact` on the view-linear surface, from the same map. Other surfaces:
-// `HF_ERR_INVALID_ARGUMENT`. Thread safe.
+// `hf_trace_cc` with a map of the ray classes `ray_classes` (`HF_RAYS_*` bits, not 0;
+// `HF_RAYS_ALL` for `hf_cc_bake`'s, those passed to `hf_cc_bake_classes` otherwise;
+// `map_len ≥ hf_cc_map_len_classes`), finishing on `surface` (an `hf_surface`):
+// `HF_SURFACE_TRIANGLES`, or `HF_SURFACE_VIEW_LINEAR` (Baboud et al. §7), whose hit is
+// then that of `hf_trace_exact` on the view-linear surface, from the same map. Other
+// surfaces: `HF_ERR_INVALID_ARGUMENT`. A ray of a class the map does not hold reads
+// radius 0 without a cone (it walks cell by cell, still exact). Thread safe.
 //
 // # Safety
 // As `hf_trace_cc`.
@@ -697,6 +721,7 @@ hf_result hf_trace_cc_on(const struct hf_field *field,
                          const uint8_t *map,
                          size_t map_len,
                          uint32_t cap,
+                         uint32_t ray_classes,
                          uint32_t surface,
                          const struct hf_ray *ray,
                          struct hf_hit *out_hit);
@@ -729,6 +754,7 @@ hf_result hf_trace_cc_on_batch(const struct hf_field *field,
                                const uint8_t *map,
                                size_t map_len,
                                uint32_t cap,
+                               uint32_t ray_classes,
                                uint32_t surface,
                                const struct hf_ray *rays,
                                size_t rays_len,
@@ -1339,6 +1365,20 @@ hf_result hf_safety_map_len(uint32_t width,
 #endif
 
 #if defined(HF_HAVE_SAFETY)
+// `hf_safety_map_len` for a map of the ray classes `ray_classes` only (`HF_RAYS_*`
+// bits, not 0; `hf_safety_bake_classes`): `W * H * n` directional for its `n`
+// classes, `W * H` isotropic. Thread safe.
+//
+// # Safety
+// `out_len` is NULL (an error) or valid for writing one `size_t`.
+hf_result hf_safety_map_len_classes(uint32_t width,
+                                    uint32_t height,
+                                    uint32_t variant,
+                                    uint32_t ray_classes,
+                                    size_t *out_len);
+#endif
+
+#if defined(HF_HAVE_SAFETY)
 // Writes the number of floats of the scratch buffer `hf_safety_prepare` fills and
 // `hf_safety_bake_rows` reads (per-strip bounds, O(cells / 8)) to `*out_len`.
 // Thread safe.
@@ -1387,10 +1427,12 @@ hf_result hf_safety_bake_rows(const struct hf_field *field,
 
 #if defined(HF_HAVE_SAFETY)
 // `hf_safety_bake_rows` for the ray classes `ray_classes` only (`HF_RAYS_*` bits, not
-// 0; `hf_scene_bake_plan` gives a scene's): the other classes are not computed. Directional:
-// their rows are 0 (a zero jump: the map stays exact for every ray), the kept
-// classes' rows equal the full bake's. Isotropic: the minimum over the kept classes
-// (larger distances, valid for rays of those classes only).
+// 0; `hf_scene_bake_plan` gives a scene's) into a map of those classes only
+// (`hf_safety_map_len_classes` bytes; rows `row_begin..row_end` from byte `row_begin *
+// W * n`): the other classes are neither computed nor stored. Directional: the kept
+// classes' rows, equal to the full bake's, `n` rows per texel row in class order.
+// Isotropic: the minimum over the kept classes (larger distances, valid for rays of
+// those classes only). Trace with the same `ray_classes` (`hf_trace_safety_on`).
 //
 // # Safety
 // As `hf_safety_bake_rows`.
@@ -1421,9 +1463,10 @@ hf_result hf_safety_bake(const struct hf_field *field,
 #endif
 
 #if defined(HF_HAVE_SAFETY)
-// `hf_safety_bake` for the ray classes `ray_classes` only (`HF_RAYS_*` bits, not 0),
-// as `hf_safety_bake_rows_classes`: a scene that casts two of the four classes
-// bakes in about half the time.
+// `hf_safety_bake` for the ray classes `ray_classes` only (`HF_RAYS_*` bits, not 0)
+// into `out_map` (`out_map_len ≥ hf_safety_map_len_classes` bytes), as
+// `hf_safety_bake_rows_classes`: a scene that casts two of the four classes bakes
+// in about half the time into half the bytes.
 //
 // # Safety
 // As `hf_safety_bake`.
@@ -1456,10 +1499,14 @@ hf_result hf_trace_safety(const struct hf_field *field,
 #endif
 
 #if defined(HF_HAVE_SAFETY)
-// `hf_trace_safety` finishing on `surface` (an `hf_surface`): `HF_SURFACE_TRIANGLES`,
-// or `HF_SURFACE_VIEW_LINEAR` (Baboud et al. §7), whose hit is then that of
-// `hf_trace_exact` on the view-linear surface, from the same map. Other surfaces:
-// `HF_ERR_INVALID_ARGUMENT`. Thread safe.
+// `hf_trace_safety` with a map of the ray classes `ray_classes` (`HF_RAYS_*` bits,
+// not 0; `HF_RAYS_ALL` for `hf_safety_bake`'s, those passed to
+// `hf_safety_bake_classes` otherwise; `map_len ≥ hf_safety_map_len_classes`), finishing
+// on `surface` (an `hf_surface`): `HF_SURFACE_TRIANGLES`, or `HF_SURFACE_VIEW_LINEAR`
+// (Baboud et al. §7), whose hit is then that of `hf_trace_exact` on the view-linear
+// surface, from the same map. Other surfaces: `HF_ERR_INVALID_ARGUMENT`. A ray of a
+// class the map does not hold reads distance 0 (it walks cell by cell, still exact).
+// Thread safe.
 //
 // # Safety
 // As `hf_trace_safety`.
@@ -1467,6 +1514,7 @@ hf_result hf_trace_safety_on(const struct hf_field *field,
                              const uint8_t *map,
                              size_t map_len,
                              uint32_t variant,
+                             uint32_t ray_classes,
                              uint32_t surface,
                              const struct hf_ray *ray,
                              struct hf_hit *out_hit);
@@ -1500,6 +1548,7 @@ hf_result hf_trace_safety_on_batch(const struct hf_field *field,
                                    const uint8_t *map,
                                    size_t map_len,
                                    uint32_t variant,
+                                   uint32_t ray_classes,
                                    uint32_t surface,
                                    const struct hf_ray *rays,
                                    size_t rays_len,

@@ -69,6 +69,32 @@ pub unsafe extern "C" fn hf_cc_map_len(width: u32, height: u32, out_len: *mut us
     }
 }
 
+/// `hf_cc_map_len` for a map of the ray classes `ray_classes` only (`HF_RAYS_*` bits,
+/// not 0; `hf_cc_bake_classes`): `W * H * 4 * n` for its `n` classes, each texel row
+/// stored as `n` rows in class order (the bytes of texel (i, j) for class c at
+/// `((j * n + slot) * W + i) * 4`, `slot` the number of its classes before c; an
+/// `RGBA8UI` texture of W × nH texels, texel (i, n j + slot)). Thread safe.
+///
+/// # Safety
+/// `out_len` is NULL (an error) or valid for writing one `size_t`.
+#[no_mangle]
+pub unsafe extern "C" fn hf_cc_map_len_classes(
+    width: u32,
+    height: u32,
+    ray_classes: u32,
+    out_len: *mut usize,
+) -> hf_result {
+    guard(|| {
+        let out = ptr::out(out_len)?;
+        let classes = classes_of(ray_classes)?;
+        check_size(width, height)?;
+        let n = cc::map_len_classes(width, height, classes);
+        // SAFETY: the caller promises `out_len` is writable.
+        unsafe { out.set(n) };
+        Ok(())
+    })
+}
+
 /// Writes the number of floats of the N-buffers of a `width × height` field for cone
 /// reach `cap` (0..=255) to `*out_len`. Thread safe.
 ///
@@ -162,9 +188,10 @@ pub unsafe extern "C" fn hf_cc_bake_rows(
 }
 
 /// `hf_cc_bake_rows` for the ray classes `ray_classes` only (`HF_RAYS_*` bits, not 0;
-/// `hf_scene_bake_plan` gives a scene's): the other classes are not computed and pack as
-/// radius 0 without a cone (a zero jump: the map stays exact for every ray); the kept
-/// classes' bytes equal the full bake's.
+/// `hf_scene_bake_plan` gives a scene's) into a map of those classes only
+/// (`hf_cc_map_len_classes` bytes; rows `row_begin..row_end` from byte `row_begin * W *
+/// 4n`): the other classes are neither computed nor stored, the kept classes' bytes
+/// equal the full bake's. Trace with the same `ray_classes` (`hf_trace_cc_on`).
 ///
 /// # Safety
 /// As `hf_cc_bake_rows`.
@@ -196,8 +223,8 @@ pub unsafe extern "C" fn hf_cc_bake_rows_classes(
         let map = par::RowsOut::new(map, map_len, row_begin, row_end)?;
         let (opts, classes) = (options_of(o)?, classes_of(ray_classes)?);
         let hf = f.view();
-        let row = hf.width() as usize * cc::BYTES_PER_TEXEL;
-        let needed = cc::map_len(hf.width(), hf.height());
+        let row = cc::map_len_classes(hf.width(), 1, classes);
+        let needed = cc::map_len_classes(hf.width(), hf.height(), classes);
         // SAFETY: `map` is writable for `map_len` bytes and the rows are this call's alone
         // (the caller's promises).
         let (rows, out) = unsafe { map.rows(hf.height(), row, needed) }?;
@@ -226,8 +253,10 @@ pub unsafe extern "C" fn hf_cc_bake(
     unsafe { hf_cc_bake_classes(field, options, HF_RAYS_ALL, threads, out_map, out_map_len) }
 }
 
-/// `hf_cc_bake` for the ray classes `ray_classes` only (`HF_RAYS_*` bits, not 0), as
-/// `hf_cc_bake_rows_classes`.
+/// `hf_cc_bake` for the ray classes `ray_classes` only (`HF_RAYS_*` bits, not 0) into
+/// `out_map` (`out_map_len ≥ hf_cc_map_len_classes` bytes), as
+/// `hf_cc_bake_rows_classes`: a scene that casts one class bakes a quarter of the
+/// texels into a quarter of the bytes.
 ///
 /// # Safety
 /// As `hf_cc_bake`.
@@ -253,8 +282,8 @@ pub unsafe extern "C" fn hf_cc_bake_classes(
         let hf = f.view();
         par::bake_map(
             hf.height(),
-            hf.width() as usize * cc::BYTES_PER_TEXEL,
-            cc::map_len(hf.width(), hf.height()),
+            cc::map_len_classes(hf.width(), 1, classes),
+            cc::map_len_classes(hf.width(), hf.height(), classes),
             threads,
             out,
             || {
@@ -328,22 +357,27 @@ pub unsafe extern "C" fn hf_trace_cc(
 ) -> hf_result {
     let tri = hf_surface::HF_SURFACE_TRIANGLES as u32;
     // SAFETY: the caller's promises, passed on.
-    unsafe { hf_trace_cc_on(field, map, map_len, cap, tri, ray, out_hit) }
+    unsafe { hf_trace_cc_on(field, map, map_len, cap, HF_RAYS_ALL, tri, ray, out_hit) }
 }
 
-/// `hf_trace_cc` finishing on `surface` (an `hf_surface`): `HF_SURFACE_TRIANGLES`, or
-/// `HF_SURFACE_VIEW_LINEAR` (Baboud et al. §7), whose hit is then that of
-/// `hf_trace_exact` on the view-linear surface, from the same map. Other surfaces:
-/// `HF_ERR_INVALID_ARGUMENT`. Thread safe.
+/// `hf_trace_cc` with a map of the ray classes `ray_classes` (`HF_RAYS_*` bits, not 0;
+/// `HF_RAYS_ALL` for `hf_cc_bake`'s, those passed to `hf_cc_bake_classes` otherwise;
+/// `map_len ≥ hf_cc_map_len_classes`), finishing on `surface` (an `hf_surface`):
+/// `HF_SURFACE_TRIANGLES`, or `HF_SURFACE_VIEW_LINEAR` (Baboud et al. §7), whose hit is
+/// then that of `hf_trace_exact` on the view-linear surface, from the same map. Other
+/// surfaces: `HF_ERR_INVALID_ARGUMENT`. A ray of a class the map does not hold reads
+/// radius 0 without a cone (it walks cell by cell, still exact). Thread safe.
 ///
 /// # Safety
 /// As `hf_trace_cc`.
 #[no_mangle]
+#[allow(clippy::too_many_arguments)]
 pub unsafe extern "C" fn hf_trace_cc_on(
     field: *const hf_field,
     map: *const u8,
     map_len: usize,
     cap: u32,
+    ray_classes: u32,
     surface: u32,
     ray: *const hf_ray,
     out_hit: *mut hf_hit,
@@ -359,7 +393,7 @@ pub unsafe extern "C" fn hf_trace_cc_on(
             field,
             ray,
             out_hit,
-            |hf| Ok(CcMap::new(hf, data, cap_of(cap)?)?),
+            |hf| map_of(hf, data, cap, ray_classes),
             |hf, m, q| cc::trace_on(m, hf, surface, q),
         )
     }
@@ -391,6 +425,7 @@ pub unsafe extern "C" fn hf_trace_cc_batch(
             map,
             map_len,
             cap,
+            HF_RAYS_ALL,
             tri,
             rays,
             rays_len,
@@ -412,6 +447,7 @@ pub unsafe extern "C" fn hf_trace_cc_on_batch(
     map: *const u8,
     map_len: usize,
     cap: u32,
+    ray_classes: u32,
     surface: u32,
     rays: *const hf_ray,
     rays_len: usize,
@@ -431,8 +467,20 @@ pub unsafe extern "C" fn hf_trace_cc_on_batch(
             rays_len,
             out_hits,
             out_hits_len,
-            |hf| Ok(CcMap::new(hf, data, cap_of(cap)?)?),
+            |hf| map_of(hf, data, cap, ray_classes),
             |hf, m, q| cc::trace_on(m, hf, surface, q),
         )
     }
+}
+
+/// The map's view (a map of the classes `ray_classes`, cone reach `cap`), checked for
+/// `hf`.
+fn map_of<'a>(
+    hf: &hfcore::HeightField,
+    data: &'a [u8],
+    cap: u32,
+    ray_classes: u32,
+) -> Result<CcMap<'a>, hf_result> {
+    let (cap, classes) = (cap_of(cap)?, classes_of(ray_classes)?);
+    Ok(CcMap::with_classes(hf, data, cap, classes)?)
 }

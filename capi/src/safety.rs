@@ -16,7 +16,9 @@ pub enum hf_safety_variant {
     /// Four bytes per texel, one per ray class (x+, x−, y+, y−), each texel row
     /// stored as four rows of W bytes, one per class in class order:
     /// `map[(j * 4 + class) * W + i]`. Upload as an `R8UI` texture of W × 4H texels,
-    /// texel (i, 4 j + class).
+    /// texel (i, 4 j + class). A map of `n` classes (`hf_safety_bake_classes`) holds
+    /// their rows only, in class order: `map[(j * n + slot) * W + i]`, `slot` the
+    /// number of its classes before `class` (W × nH texels, texel (i, n j + slot)).
     HF_SAFETY_DIRECTIONAL = 0,
     /// One byte per texel, the minimum over the classes: `map[j * W + i]`. Upload as
     /// an `R8UI` texture of W × H texels.
@@ -88,6 +90,31 @@ pub unsafe extern "C" fn hf_safety_map_len(
         let variant = variant_of(variant)?;
         check_size(width, height)?;
         let n = safety::map_len(width, height, variant);
+        // SAFETY: the caller promises `out_len` is writable.
+        unsafe { out.set(n) };
+        Ok(())
+    })
+}
+
+/// `hf_safety_map_len` for a map of the ray classes `ray_classes` only (`HF_RAYS_*`
+/// bits, not 0; `hf_safety_bake_classes`): `W * H * n` directional for its `n`
+/// classes, `W * H` isotropic. Thread safe.
+///
+/// # Safety
+/// `out_len` is NULL (an error) or valid for writing one `size_t`.
+#[no_mangle]
+pub unsafe extern "C" fn hf_safety_map_len_classes(
+    width: u32,
+    height: u32,
+    variant: u32,
+    ray_classes: u32,
+    out_len: *mut usize,
+) -> hf_result {
+    guard(|| {
+        let out = ptr::out(out_len)?;
+        let (variant, classes) = (variant_of(variant)?, classes_of(ray_classes)?);
+        check_size(width, height)?;
+        let n = safety::map_len_classes(width, height, variant, classes);
         // SAFETY: the caller promises `out_len` is writable.
         unsafe { out.set(n) };
         Ok(())
@@ -179,10 +206,12 @@ pub unsafe extern "C" fn hf_safety_bake_rows(
 }
 
 /// `hf_safety_bake_rows` for the ray classes `ray_classes` only (`HF_RAYS_*` bits, not
-/// 0; `hf_scene_bake_plan` gives a scene's): the other classes are not computed. Directional:
-/// their rows are 0 (a zero jump: the map stays exact for every ray), the kept
-/// classes' rows equal the full bake's. Isotropic: the minimum over the kept classes
-/// (larger distances, valid for rays of those classes only).
+/// 0; `hf_scene_bake_plan` gives a scene's) into a map of those classes only
+/// (`hf_safety_map_len_classes` bytes; rows `row_begin..row_end` from byte `row_begin *
+/// W * n`): the other classes are neither computed nor stored. Directional: the kept
+/// classes' rows, equal to the full bake's, `n` rows per texel row in class order.
+/// Isotropic: the minimum over the kept classes (larger distances, valid for rays of
+/// those classes only). Trace with the same `ray_classes` (`hf_trace_safety_on`).
 ///
 /// # Safety
 /// As `hf_safety_bake_rows`.
@@ -211,8 +240,8 @@ pub unsafe extern "C" fn hf_safety_bake_rows_classes(
         let map = par::RowsOut::new(map, map_len, row_begin, row_end)?;
         let (opts, classes) = (options_of(o)?, classes_of(ray_classes)?);
         let hf = f.view();
-        let row = hf.width() as usize * opts.variant.channels();
-        let needed = safety::map_len(hf.width(), hf.height(), opts.variant);
+        let row = safety::map_len_classes(hf.width(), 1, opts.variant, classes);
+        let needed = safety::map_len_classes(hf.width(), hf.height(), opts.variant, classes);
         // SAFETY: `map` is writable for `map_len` bytes and the rows are this call's alone
         // (the caller's promises).
         let (rows, out) = unsafe { map.rows(hf.height(), row, needed) }?;
@@ -244,9 +273,10 @@ pub unsafe extern "C" fn hf_safety_bake(
     unsafe { hf_safety_bake_classes(field, options, HF_RAYS_ALL, threads, out_map, out_map_len) }
 }
 
-/// `hf_safety_bake` for the ray classes `ray_classes` only (`HF_RAYS_*` bits, not 0),
-/// as `hf_safety_bake_rows_classes`: a scene that casts two of the four classes
-/// bakes in about half the time.
+/// `hf_safety_bake` for the ray classes `ray_classes` only (`HF_RAYS_*` bits, not 0)
+/// into `out_map` (`out_map_len ≥ hf_safety_map_len_classes` bytes), as
+/// `hf_safety_bake_rows_classes`: a scene that casts two of the four classes bakes
+/// in about half the time into half the bytes.
 ///
 /// # Safety
 /// As `hf_safety_bake`.
@@ -272,8 +302,8 @@ pub unsafe extern "C" fn hf_safety_bake_classes(
         let hf = f.view();
         par::bake_map(
             hf.height(),
-            hf.width() as usize * opts.variant.channels(),
-            safety::map_len(hf.width(), hf.height(), opts.variant),
+            safety::map_len_classes(hf.width(), 1, opts.variant, classes),
+            safety::map_len_classes(hf.width(), hf.height(), opts.variant, classes),
             threads,
             out,
             || strip_scratch(hf),
@@ -292,9 +322,15 @@ pub(crate) fn strip_scratch(hf: &HeightField) -> Result<Vec<f32>, hf_result> {
     Ok(scratch)
 }
 
-/// The map slice and its view, checked for `hf`.
-fn map_of<'a>(hf: &HeightField, data: &'a [u8], variant: u32) -> Result<SafetyMap<'a>, hf_result> {
-    Ok(SafetyMap::new(hf, data, variant_of(variant)?)?)
+/// The map slice and its view (a map of the classes `ray_classes`), checked for `hf`.
+fn map_of<'a>(
+    hf: &HeightField,
+    data: &'a [u8],
+    variant: u32,
+    ray_classes: u32,
+) -> Result<SafetyMap<'a>, hf_result> {
+    let (variant, classes) = (variant_of(variant)?, classes_of(ray_classes)?);
+    Ok(SafetyMap::with_classes(hf, data, variant, classes)?)
 }
 
 /// Checks the surface (an `hf_surface`, as `uint32_t`) a safety-shape march finishes
@@ -327,22 +363,28 @@ pub unsafe extern "C" fn hf_trace_safety(
 ) -> hf_result {
     let tri = hf_surface::HF_SURFACE_TRIANGLES as u32;
     // SAFETY: the caller's promises, passed on.
-    unsafe { hf_trace_safety_on(field, map, map_len, variant, tri, ray, out_hit) }
+    unsafe { hf_trace_safety_on(field, map, map_len, variant, HF_RAYS_ALL, tri, ray, out_hit) }
 }
 
-/// `hf_trace_safety` finishing on `surface` (an `hf_surface`): `HF_SURFACE_TRIANGLES`,
-/// or `HF_SURFACE_VIEW_LINEAR` (Baboud et al. §7), whose hit is then that of
-/// `hf_trace_exact` on the view-linear surface, from the same map. Other surfaces:
-/// `HF_ERR_INVALID_ARGUMENT`. Thread safe.
+/// `hf_trace_safety` with a map of the ray classes `ray_classes` (`HF_RAYS_*` bits,
+/// not 0; `HF_RAYS_ALL` for `hf_safety_bake`'s, those passed to
+/// `hf_safety_bake_classes` otherwise; `map_len ≥ hf_safety_map_len_classes`), finishing
+/// on `surface` (an `hf_surface`): `HF_SURFACE_TRIANGLES`, or `HF_SURFACE_VIEW_LINEAR`
+/// (Baboud et al. §7), whose hit is then that of `hf_trace_exact` on the view-linear
+/// surface, from the same map. Other surfaces: `HF_ERR_INVALID_ARGUMENT`. A ray of a
+/// class the map does not hold reads distance 0 (it walks cell by cell, still exact).
+/// Thread safe.
 ///
 /// # Safety
 /// As `hf_trace_safety`.
 #[no_mangle]
+#[allow(clippy::too_many_arguments)]
 pub unsafe extern "C" fn hf_trace_safety_on(
     field: *const hf_field,
     map: *const u8,
     map_len: usize,
     variant: u32,
+    ray_classes: u32,
     surface: u32,
     ray: *const hf_ray,
     out_hit: *mut hf_hit,
@@ -358,7 +400,7 @@ pub unsafe extern "C" fn hf_trace_safety_on(
             field,
             ray,
             out_hit,
-            |hf| map_of(hf, data, variant),
+            |hf| map_of(hf, data, variant, ray_classes),
             |hf, m, q| safety::trace_on(m, hf, surface, q),
         )
     }
@@ -406,6 +448,7 @@ pub unsafe extern "C" fn hf_trace_safety_batch(
             map,
             map_len,
             variant,
+            HF_RAYS_ALL,
             tri,
             rays,
             rays_len,
@@ -427,6 +470,7 @@ pub unsafe extern "C" fn hf_trace_safety_on_batch(
     map: *const u8,
     map_len: usize,
     variant: u32,
+    ray_classes: u32,
     surface: u32,
     rays: *const hf_ray,
     rays_len: usize,
@@ -446,7 +490,7 @@ pub unsafe extern "C" fn hf_trace_safety_on_batch(
             rays_len,
             out_hits,
             out_hits_len,
-            |hf| map_of(hf, data, variant),
+            |hf| map_of(hf, data, variant, ray_classes),
             |hf, m, q| safety::trace_on(m, hf, surface, q),
         )
     }

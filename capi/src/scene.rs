@@ -184,8 +184,9 @@ pub struct hf_bake_plan {
     /// The quadratic displacement map (`hf_qdm_bake`).
     pub qdm_map: u32,
     /// `HF_RAYS_*` bits of the classes the safety-distance and cylinder–cone bakes
-    /// compute (pass them to `hf_safety_bake_classes`, `hf_cc_bake_classes`); the
-    /// other classes' channels are left 0 (a zero jump). 0 when neither is baked.
+    /// compute (pass them to `hf_safety_map_len_classes`, `hf_safety_bake_classes`,
+    /// `hf_cc_map_len_classes`, `hf_cc_bake_classes` and the `_on` trace calls): the
+    /// maps hold these classes' rows only. 0 when neither is baked.
     pub ray_classes: u32,
     /// The safety map's layout, an `hf_safety_variant`: `HF_SAFETY_ISOTROPIC` (one
     /// byte per texel, that class's distances exactly) when one ray class occurs,

@@ -6,6 +6,9 @@
 //!
 //! Then the same for the cylinder–cone maps (exact and N-buffer slopes): bake times
 //! and the march on the same rays, plus random rays inside the box (any direction).
+//! For each camera also the exact-slope map of the ray classes its rays use only
+//! (what a scene of that camera bakes, [`Scene::bake_plan`](hfcast::scene::Scene)),
+//! with its bytes.
 //!
 //! `cargo run --release -p hfcast --example safety_bench [-- --size WxH --reps N]`
 //! (defaults 640x512, 5; `--maps K` keeps the first K maps, `--cc-only 1` skips the
@@ -15,7 +18,8 @@ mod common;
 use common::{camera_rays, downsample, in_bands, load_png, median, options, parse_size, run, wall};
 use hfcast::safety::cc::{self, CcMap, CcOptions, Slope};
 use hfcast::safety::{self, Options, SafetyMap, Variant};
-use hfcast::{dda, HeightField, Query, Surface};
+use hfcast::scene::RayClasses;
+use hfcast::{dda, HeightField, Query, RayClass, Surface};
 use std::time::Instant;
 
 /// Bakes with `threads` threads splitting the rows.
@@ -44,15 +48,28 @@ fn bake_cc_threads(
     out: &mut [u8],
     threads: u32,
 ) -> (f64, f64) {
+    bake_cc_classes(hf, scratch, nb, opts, RayClasses::ALL, out, threads)
+}
+
+/// [`bake_cc_threads`] for a map of the ray classes `classes` only.
+fn bake_cc_classes(
+    hf: &HeightField,
+    scratch: &mut [f32],
+    nb: &mut [f32],
+    opts: CcOptions,
+    classes: RayClasses,
+    out: &mut [u8],
+    threads: u32,
+) -> (f64, f64) {
     let t = Instant::now();
     safety::prepare(hf, scratch).unwrap();
     cc::prepare_nbuffer(hf, opts.cap, nb).unwrap();
     let tp = t.elapsed().as_secs_f64();
     let (scratch, nb) = (&*scratch, &*nb);
-    let row = hf.width() as usize * cc::BYTES_PER_TEXEL;
+    let row = cc::map_len_classes(hf.width(), 1, classes);
     let t = Instant::now();
     in_bands(out, row, hf.height(), threads, |rows, part| {
-        cc::bake_rows(hf, scratch, nb, rows, opts, part).unwrap()
+        cc::bake_rows_classes(hf, scratch, nb, classes, rows, opts, part).unwrap()
     });
     (tp, t.elapsed().as_secs_f64())
 }
@@ -232,6 +249,21 @@ fn main() {
                 dda::trace(&hf, Surface::Triangles, q)
             });
             let base = dda_r.ns;
+            // The map a scene of these rays bakes: their classes only.
+            let classes = rays.iter().fold(RayClasses::NONE, |set, q| {
+                set.with(RayClass::of(q.dir()[0], q.dir()[1]))
+            });
+            let mut part = vec![0u8; cc::map_len_classes(*w, *h, classes)];
+            bake_cc_classes(&hf, &mut scratch, &mut nb, exact, classes, &mut part, 2);
+            let pmap = CcMap::with_classes(&hf, &part, cap, classes).unwrap();
+            let mb = |bytes: usize| bytes as f64 / (1 << 20) as f64;
+            let part_name = format!(
+                "CC exact slope, {} class map ({:.1} MiB; all: {:.1}; heights {:.1})",
+                classes.count(),
+                mb(part.len()),
+                mb(cce.len()),
+                mb(v.len() * 4)
+            );
             let rows = [
                 ("dda (naive exact)", dda_r),
                 (
@@ -249,6 +281,10 @@ fn main() {
                 (
                     "CC N-buffer slope",
                     run(&rays, reps, |q| cc::trace(&nmap, &hf, q)),
+                ),
+                (
+                    part_name.as_str(),
+                    run(&rays, reps, |q| cc::trace(&pmap, &hf, q)),
                 ),
             ];
             let reference = &rows[0].1.traces;

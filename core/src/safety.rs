@@ -687,9 +687,10 @@ pub fn texel_offset(width: u32, variant: Variant, class: RayClass, i: u32, j: u3
 /// `(i, n·j + slot)`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct ClassRows {
-    rows: usize,
-    slot: usize,
-    width: usize,
+    /// Entries per texel row: `n·W`.
+    stride: usize,
+    /// The class's row in a texel row: `slot·W`.
+    offset: usize,
 }
 
 impl ClassRows {
@@ -698,24 +699,20 @@ impl ClassRows {
     #[inline]
     pub fn of(width: u32, variant: Variant, classes: RayClasses, class: RayClass) -> Option<Self> {
         let slot = classes.slot(class)? as usize;
-        Some(match variant {
-            Variant::Directional => ClassRows {
-                rows: classes.count() as usize,
-                slot,
-                width: width as usize,
-            },
-            Variant::Isotropic => ClassRows {
-                rows: 1,
-                slot: 0,
-                width: width as usize,
-            },
+        let (rows, slot) = match variant {
+            Variant::Directional => (classes.count() as usize, slot),
+            Variant::Isotropic => (1, 0),
+        };
+        Some(ClassRows {
+            stride: rows * width as usize,
+            offset: slot * width as usize,
         })
     }
 
     /// Entry of texel `(i, j)`: `(j·n + slot)·W + i`.
     #[inline]
     pub fn index(self, i: u32, j: u32) -> usize {
-        (j as usize * self.rows + self.slot) * self.width + i as usize
+        j as usize * self.stride + self.offset + i as usize
     }
 }
 
@@ -1177,8 +1174,9 @@ pub fn trace_on<R: Real>(
     q: &Query<R>,
 ) -> Trace<R> {
     march_with(hf, surface, q, |class| {
-        let rows = map.rows(class);
-        move |_: &Line<R>, _, i, j| rows.map_or(0, |at| u32::from(map.data[at.index(i, j)]))
+        // A class the map does not hold: distance 0 (zero jumps, exact).
+        let at = map.rows(class);
+        move |_: &Line<R>, _, i, j| at.map_or(0, |at| u32::from(map.data[at.index(i, j)]))
     })
 }
 

@@ -1100,24 +1100,12 @@ impl<'a> CcMap<'a> {
         class_rows(self.width, self.classes, class)
     }
 
-    /// The packed bytes of texel `(i, j)` in the rows `at` of its class, or those of
-    /// a class the map does not hold (`[0, NO_CONE, 0, 0]`).
-    #[inline]
-    fn bytes(&self, at: Option<ClassRows>, i: u32, j: u32) -> [u8; 4] {
-        match at {
-            Some(at) => {
-                let b = &self.data[at.index(i, j) * 4..][..4];
-                [b[0], b[1], b[2], b[3]]
-            }
-            None => [0, NO_CONE, 0, 0],
-        }
-    }
-
-    /// The packed bytes of texel `(i, j)` for `class` (`[0, NO_CONE, 0, 0]` when the
-    /// map does not hold it).
+    /// The packed bytes of texel `(i, j)` for `class` (`[0, NO_CONE, 0, 0]`, radius 0
+    /// without a cone, when the map does not hold it).
     #[inline]
     pub fn texel(&self, class: RayClass, i: u32, j: u32) -> [u8; 4] {
-        self.bytes(self.rows(class), i, j)
+        self.rows(class)
+            .map_or([0, NO_CONE, 0, 0], |at| texel_bytes(self.data, at, i, j))
     }
 
     /// The decoded shape of texel `(i, j)` for `class`.
@@ -1136,6 +1124,13 @@ impl<'a> CcMap<'a> {
             sc: decode_slope(s),
         }
     }
+}
+
+/// The four bytes of texel `(i, j)` in `data` at `at` (`4 ·` [`ClassRows::index`]).
+#[inline]
+fn texel_bytes(data: &[u8], at: ClassRows, i: u32, j: u32) -> [u8; 4] {
+    let b = &data[at.index(i, j) * 4..][..4];
+    [b[0], b[1], b[2], b[3]]
 }
 
 /// The slope of every code, computed at compile time ([`decode_slope`] reads it: a
@@ -1222,7 +1217,11 @@ pub fn trace_on<R: Real>(
             R::from_f64(map.zstep),
             zmin.abs() + R::from_f64(map.zstep * 65535.0),
         ];
-        let rows = map.rows(class);
-        move |l: &Line<R>, _, i, j| cone_step(cap, z, map.bytes(rows, i, j), l.p[2], l.tol, sd_lo)
+        // A class the map does not hold: radius 0 without a cone (zero jumps, exact).
+        let at = map.rows(class);
+        move |l: &Line<R>, _, i, j| {
+            let b = at.map_or([0, NO_CONE, 0, 0], |at| texel_bytes(map.data, at, i, j));
+            cone_step(cap, z, b, l.p[2], l.tol, sd_lo)
+        }
     })
 }
