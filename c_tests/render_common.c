@@ -316,10 +316,11 @@ hf_result cpu_trace(const scene *s, method_cfg cfg, const hf_ray *rays, size_t n
         return hf_trace_maxmip_batch(s->field, s->pyramid, s->pyramid_len, cfg.surface, rays, n,
                                      hits, n);
     case HF_METHOD_SAFETY:
+        /* Whole maps: every ray class (HF_RAYS_ALL), as the shaders' hf_safety_classes. */
         if (cfg.variant == HF_SAFETY_ISOTROPIC)
             return hf_trace_safety_on_batch(s->field, s->safety_iso, s->safety_iso_len,
-                                            HF_SAFETY_ISOTROPIC, HF_RAYS_ALL, cfg.surface, rays, n,
-                                            hits, n);
+                                            HF_SAFETY_ISOTROPIC, HF_RAYS_ALL, cfg.surface, rays,
+                                            n, hits, n);
         return hf_trace_safety_on_batch(s->field, s->safety, s->safety_len, HF_SAFETY_DIRECTIONAL,
                                         HF_RAYS_ALL, cfg.surface, rays, n, hits, n);
     case HF_METHOD_CONE:
@@ -330,6 +331,7 @@ hf_result cpu_trace(const scene *s, method_cfg cfg, const hf_ray *rays, size_t n
     case HF_METHOD_QDM:
         return hf_trace_qdm_batch(s->field, s->qdm, s->qdm_len, cfg.linear, rays, n, hits, n);
     case HF_METHOD_CC:
+        /* The whole map: every ray class (HF_RAYS_ALL), as the shaders' hf_cc_classes. */
         return hf_trace_cc_on_batch(s->field, s->cc, s->cc_len, CC_CAP, HF_RAYS_ALL, cfg.surface,
                                     rays, n, hits, n);
     case HF_METHOD_RADIUS:
@@ -504,7 +506,9 @@ int gpu_init(gpu *g, const scene *s, int w, int h) {
         make_texture(GL_R32F, HF_PYRAMID_TEX_WIDTH, (int)rows, GL_RED, GL_FLOAT, padded);
     free(padded);
     /* R8UI rows are W bytes: alignment 1. Directional safety distances: one byte per ray
-     * class, each texel row as four rows (one per class), an R8UI texture of W x 4H. */
+     * class, each texel row as four rows (one per class), an R8UI texture of W x 4H (a map
+     * of n classes, hf_safety_bake_classes: W x nH, texel (i, n j + slot); the shaders'
+     * hf_safety_classes says which: HF_RAYS_ALL here). */
     glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
     g->tex_safety = make_texture(GL_R8UI, (int)s->w, 4 * (int)s->h, GL_RED_INTEGER,
                                  GL_UNSIGNED_BYTE, s->safety);
@@ -520,7 +524,8 @@ int gpu_init(gpu *g, const scene *s, int w, int h) {
     g->tex_cone = make_texture(GL_RG32F, (int)s->w - 1, (int)s->h - 1, GL_RG, GL_FLOAT, s->cone);
     g->tex_qdm = make_texture(GL_RGBA32F, (int)s->w - 1, (int)s->h - 1, GL_RGBA, GL_FLOAT, s->qdm);
     g->tex_relaxed = make_texture(GL_R32F, (int)s->w, (int)s->h, GL_RED, GL_FLOAT, s->relaxed);
-    /* Cylinder-cone shapes: four RGBA8UI texels (one per ray class) per map texel. */
+    /* Cylinder-cone shapes: four RGBA8UI texels (one per ray class) per map texel, W x 4H
+     * (a map of n classes: W x nH, hf_cc_classes; HF_RAYS_ALL here). */
     g->tex_cc = make_texture(GL_RGBA8UI, (int)s->w, 4 * (int)s->h, GL_RGBA_INTEGER,
                              GL_UNSIGNED_BYTE, s->cc);
     g->tex_origin = make_texture(GL_RGBA32F, w, h, GL_RGBA, GL_FLOAT, NULL);
@@ -600,6 +605,12 @@ void gpu_render_program(gpu *g, GLuint p, const scene *s, method_cfg cfg, float 
     if (sloc >= 0) glUniform1ui(sloc, cfg.surface);
     sloc = glGetUniformLocation(p, "hf_safety_variant");
     if (sloc >= 0) glUniform1ui(sloc, cfg.variant);
+    /* The ray classes the safety-distance and cylinder-cone maps hold: the whole maps
+     * (absent from a generated shader, whose scene's ray classes are a constant). */
+    sloc = glGetUniformLocation(p, "hf_safety_classes");
+    if (sloc >= 0) glUniform1ui(sloc, HF_RAYS_ALL);
+    sloc = glGetUniformLocation(p, "hf_cc_classes");
+    if (sloc >= 0) glUniform1ui(sloc, HF_RAYS_ALL);
     GLint loc = glGetUniformLocation(p, "hf_linear_steps");
     if (loc >= 0) glUniform1ui(loc, cfg.linear);
     loc = glGetUniformLocation(p, "hf_binary_steps");

@@ -1626,8 +1626,11 @@ hf_result hf_shader_source_len(uint32_t method,
 // `hf_maxmip_bake` buffer in rows of `HF_PYRAMID_TEX_WIDTH` texels), `hf_levels`,
 // `hf_level_dims[]`, `hf_level_offset[]` (from `hf_maxmip_levels`); safety:
 // `hf_safety_map` (`R8UI`, W × 4H directional, W × H isotropic),
-// `hf_safety_variant`; cylinder–cone: `hf_cc_map` (`RGBA8UI`, W × 4H), `hf_cc_cap`,
-// `hf_cc_zmin`, `hf_cc_zstep`, `hf_cc_zspan` (from `hf_cc_frame`). Thread safe.
+// `hf_safety_variant`, `hf_safety_classes`; cylinder–cone: `hf_cc_map` (`RGBA8UI`,
+// W × 4H), `hf_cc_classes`, `hf_cc_cap`, `hf_cc_zmin`, `hf_cc_zstep`, `hf_cc_zspan`
+// (from `hf_cc_frame`). `hf_safety_classes` and `hf_cc_classes` (`HF_RAYS_*` bits,
+// default `HF_RAYS_ALL`) are the ray classes the map holds: a map of `n` classes from
+// `hf_safety_bake_classes` / `hf_cc_bake_classes` is W × nH texels. Thread safe.
 //
 // # Safety
 // `buf` is NULL (an error) or valid for writing `buf_len` bytes; `out_written` NULL
@@ -1654,9 +1657,11 @@ hf_result hf_shader_generate_len(const struct hf_scene *scene,
 // `hf_shader_generate_len`. The shader holds only the code the scene uses: the
 // scene's surface and method, no branch for another surface, no upward-ray code
 // without shadows and with a view angle of at most 90°, and only the uniforms and
-// textures its march reads; `hf_surface` and `hf_safety_variant` are constants
-// (safety: the layout `hf_bake_plan` picks, isotropic for a single ray class, else
-// directional). Its entry point and its remaining inputs are those of
+// textures its march reads; `hf_surface`, `hf_safety_variant` and the map's ray
+// classes `hf_safety_classes` / `hf_cc_classes` are constants (safety: the layout
+// `hf_bake_plan` picks, isotropic for a single ray class, else directional; the
+// classes: the scene's `ray_classes`, so the maps are those of `hf_safety_bake_classes`
+// / `hf_cc_bake_classes` with them, W × nH texels for `n` classes). Its entry point and its remaining inputs are those of
 // `hf_shader_source` for the method, less what it does not read (a header comment
 // lists them): GLSL `hf_heights` (`R32F`; for `HF_HEIGHTS_U16` / `HF_HEIGHTS_U8` an
 // `R16UI` / `R8UI` texture of the samples and `hf_height_step` = depth / 65535 or

@@ -3,20 +3,30 @@
 // or the view-linear one from the same map, stepping with the safety march of
 // safety.glsl.
 //
-// Texture layout: the map of hf_cc_bake as `hf_cc_map`, an RGBA8UI texture of W x 4H
-// texels: texel (i, 4 j + class) = [r, s, z_lo, z_hi] of texel (i, j) for that ray
-// class (each texel row as four rows, one per class). `hf_cc_cap` is the bake's cap; `hf_cc_zmin`, `hf_cc_zstep`, `hf_cc_zspan`
-// the frame of the base heights (hf_cc_frame).
+// Texture layout: the map of hf_cc_bake as `hf_cc_map`, an RGBA8UI texture of W x nH
+// texels for the n ray classes it holds, `hf_cc_classes` (HF_RAYS_* bits, HF_RAYS_ALL
+// for a whole map; `CcMap::with_classes`): texel (i, n j + slot) = [r, s, z_lo, z_hi]
+// of texel (i, j) for the ray class of that slot (each texel row as n rows, one per
+// held class in class order x+, x-, y+, y-; slot = how many held classes come before
+// it; a whole map: W x 4H, texel (i, 4 j + class)). A ray of a class the map does not
+// hold reads [0, HF_CC_NO_CONE, 0, 0] without a fetch (radius 0, no cone: it walks
+// cell by cell, still exact). `hf_cc_cap` is the bake's cap; `hf_cc_zmin`,
+// `hf_cc_zstep`, `hf_cc_zspan` the frame of the base heights (hf_cc_frame).
 
 uniform usampler2D hf_cc_map;
+uniform uint hf_cc_classes = 15u;
 uniform uint hf_cc_cap;
 uniform float hf_cc_zmin;
 uniform float hf_cc_zstep;
 uniform float hf_cc_zspan;
 
-// `CcMap::texel`: the packed bytes of texel (i, j) for `ray_class`.
+// `CcMap::texel`: the packed bytes of texel (i, j) for `ray_class` ([0, HF_CC_NO_CONE,
+// 0, 0], without a fetch, when the map does not hold it).
 uvec4 cc_texel(uint ray_class, uint i, uint j) {
-    return texelFetch(hf_cc_map, ivec2(i, 4u * j + ray_class), 0);
+    if (!safety_holds(hf_cc_classes, ray_class)) {
+        return uvec4(0u, HF_CC_NO_CONE, 0u, 0u);
+    }
+    return texelFetch(hf_cc_map, ivec2(i, safety_class_row(hf_cc_classes, ray_class, j)), 0);
 }
 
 // `decode_slope` (finite codes): `t |t| / 2048` with `t = code - 128`, exact in float.

@@ -22,6 +22,15 @@ const uint HF_RAY_CLASS_X_NEG = 1u;
 const uint HF_RAY_CLASS_Y_POS = 2u;
 const uint HF_RAY_CLASS_Y_NEG = 3u;
 
+// Ray-class sets (hfcast::scene::RayClasses, the C API's HF_RAYS_*): bit 1 << class;
+// the classes a safety-distance or cylinder-cone map holds (hf_safety_classes,
+// hf_cc_classes): n of them, texel (i, j) of a class at row n j + its slot.
+const uint HF_RAYS_X_POS = 1u;
+const uint HF_RAYS_X_NEG = 2u;
+const uint HF_RAYS_Y_POS = 4u;
+const uint HF_RAYS_Y_NEG = 8u;
+const uint HF_RAYS_ALL = 15u;
+
 // Methods (hf_method).
 const uint HF_METHOD_EXACT = 0u;
 const uint HF_METHOD_LINEAR_BINARY = 1u;

@@ -6,22 +6,49 @@
 // samples on that centerline; above, jump; below, bisect on integer centerlines and
 // finish with the exact cell test of the march's surface.
 //
-// Texture layout: the map of hf_safety_bake as `hf_safety_map`, an R8UI texture:
-// HF_SAFETY_DIRECTIONAL W x 4H texels, texel (i, 4 j + ray_class) = the distance of
-// texel (i, j) for that ray class (each texel row as four rows, one per class: x+, x-,
-// y+, y-); HF_SAFETY_ISOTROPIC W x H, texel (i, j); `hf_safety_variant` says which.
+// Texture layout: the map of hf_safety_bake as `hf_safety_map`, an R8UI texture;
+// `hf_safety_variant` says which layout, `hf_safety_classes` which ray classes the map
+// holds (HF_RAYS_* bits, HF_RAYS_ALL for a whole map; `SafetyMap::with_classes`):
+// HF_SAFETY_DIRECTIONAL W x nH texels for the n classes held, texel (i, n j + slot) =
+// the distance of texel (i, j) for the ray class of that slot (each texel row as n rows,
+// one per held class in class order x+, x-, y+, y-; slot = how many held classes come
+// before it; a whole map: W x 4H, texel (i, 4 j + ray_class)); HF_SAFETY_ISOTROPIC
+// W x H, texel (i, j), valid for the held classes only. A ray of a class the map does
+// not hold reads distance 0 without a fetch (it walks cell by cell, still exact).
 
 uniform usampler2D hf_safety_map;
 uniform uint hf_safety_variant;
+uniform uint hf_safety_classes = 15u;
 
-// `SafetyMap::distance`: safety distance of texel (i, j) for `ray_class`.
+// `RayClasses::contains`: whether the set `classes` (HF_RAYS_* bits) holds ray_class.
+bool safety_holds(uint classes, uint ray_class) { return (classes & (1u << ray_class)) != 0u; }
+
+// `RayClasses::count`: how many of the four classes `classes` holds (GLSL 3.30 has no
+// bitCount).
+uint safety_class_count(uint classes) {
+    return (classes & 1u) + ((classes >> 1) & 1u) + ((classes >> 2) & 1u) + ((classes >> 3) & 1u);
+}
+
+// `ClassRows::index` (the row): texel row j of a class-per-row map holding `classes`
+// (HF_RAYS_* bits, which must hold ray_class) is row n j + slot for its n classes, slot
+// = `RayClasses::slot(ray_class)`, the held classes before ray_class.
+uint safety_class_row(uint classes, uint ray_class, uint j) {
+    return safety_class_count(classes) * j + safety_class_count(classes & ((1u << ray_class) - 1u));
+}
+
+// `SafetyMap::distance`: safety distance of texel (i, j) for `ray_class` (0, without a
+// fetch, when the map does not hold it).
 uint safety_distance(uint ray_class, uint i, uint j) {
+    if (!safety_holds(hf_safety_classes, ray_class)) {
+        return 0u;
+    }
 //#if any_variant
-    uint row = hf_safety_variant == HF_SAFETY_DIRECTIONAL ? 4u * j + ray_class : j;
+    uint row = hf_safety_variant == HF_SAFETY_DIRECTIONAL
+        ? safety_class_row(hf_safety_classes, ray_class, j) : j;
     return texelFetch(hf_safety_map, ivec2(i, row), 0).r;
 //#else
 //#if directional
-    return texelFetch(hf_safety_map, ivec2(i, 4u * j + ray_class), 0).r;
+    return texelFetch(hf_safety_map, ivec2(i, safety_class_row(hf_safety_classes, ray_class, j)), 0).r;
 //#endif
 //#if isotropic
     return texelFetch(hf_safety_map, ivec2(i, j), 0).r;

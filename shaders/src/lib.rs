@@ -5,7 +5,9 @@
 //! out what a scene does not need"):
 //!
 //! - [`general`]: a method's general shader, its files concatenated: every surface and
-//!   option is a runtime choice (`hf_surface`, `hf_safety_variant`).
+//!   option is a runtime choice (`hf_surface`, `hf_safety_variant`, and the ray classes
+//!   the safety-distance and cylinder–cone maps hold, `hf_safety_classes`,
+//!   `hf_cc_classes`, `HF_RAYS_*` bits defaulting to all four).
 //! - [`generate`]: the shader of one [`Scene`]: one surface, one method, the scene's
 //!   options; the specialisation markers ([`FLAGS`]) drop the branches it never takes,
 //!   then a tree shaker keeps only the top-level items reachable from `hf_trace`, so
@@ -29,7 +31,7 @@ pub use shared::{
     MAX_LEVELS, PYRAMID_TEX_WIDTH, SAFETY_SEG_PAD,
 };
 
-use hfcast::scene::{HeightFormat, MethodKind, Scene};
+use hfcast::scene::{HeightFormat, MethodKind, RayClasses, Scene};
 use hfcast::Surface;
 use shake::{Item, Kind, Seg};
 use std::collections::{BTreeMap, BTreeSet};
@@ -237,6 +239,17 @@ pub fn default_safety_variant(scene: &Scene) -> SafetyVariant {
     }
 }
 
+/// The ray classes (`HF_RAYS_*` bits) the safety-distance and cylinder–cone maps of
+/// `scene` hold: its `ray_classes`, the set its bake plan bakes
+/// (`BakePlan::classes` for those methods); a shader [`generate`]d for the scene has
+/// them as the constants `hf_safety_classes` and `hf_cc_classes`, and reads the maps
+/// as `hfcast::safety::SafetyMap::with_classes` and `CcMap::with_classes` do (a map of
+/// `n` classes is a texture of W × nH texels; a ray of a class the set leaves out reads
+/// a zero jump without a fetch).
+pub fn map_classes(scene: &Scene) -> u32 {
+    u32::from(scene.ray_classes.0 & RayClasses::ALL.0)
+}
+
 /// Options of [`generate_with`] that a [`Scene`] does not state.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct Options {
@@ -333,10 +346,11 @@ fn make_const(lang: Lang, item: &mut Item, value: &str) -> Result<(), GenError> 
     let code = item.text.trim();
     let bad = || GenError::Source(format!("cannot make a constant of {code:?}"));
     let text = match lang {
-        // `uniform T name;` -> `const T name = value;`
+        // `uniform T name;` or `uniform T name = default;` -> `const T name = value;`
         Lang::Glsl => {
             let decl = code.strip_prefix("uniform ").ok_or_else(bad)?;
             let decl = decl.strip_suffix(';').ok_or_else(bad)?;
+            let decl = decl.split('=').next().ok_or_else(bad)?.trim();
             format!("const {decl} = {value};\n")
         }
         // `override name: T = default;` -> `const name: T = value;`
@@ -366,8 +380,11 @@ pub fn generate(scene: &Scene, lang: Lang) -> Result<String, GenError> {
 }
 
 /// The shader of `scene` in `lang`: only the code the scene uses. The markers are
-/// evaluated for the scene's flags ([`scene_flags`]); `hf_surface` and
-/// `hf_safety_variant` become constants; then only the top-level items reachable from
+/// evaluated for the scene's flags ([`scene_flags`]); `hf_surface`,
+/// `hf_safety_variant` and the class sets of the safety-distance and cylinder–cone
+/// maps, `hf_safety_classes` and `hf_cc_classes` (the scene's `ray_classes`, the
+/// classes its bake plan bakes and its maps hold: [`map_classes`]), become constants;
+/// then only the top-level items reachable from
 /// `Trace hf_trace(Query q)` stay. A header comment names the scene and lists the
 /// inputs (uniforms, textures, bindings) left for the caller to set.
 pub fn generate_with(scene: &Scene, lang: Lang, opts: &Options) -> Result<String, GenError> {
@@ -385,11 +402,15 @@ pub fn generate_with(scene: &Scene, lang: Lang, opts: &Options) -> Result<String
         SafetyVariant::Directional => "HF_SAFETY_DIRECTIONAL",
         SafetyVariant::Isotropic => "HF_SAFETY_ISOTROPIC",
     };
+    let classes_const = format!("{}u", map_classes(scene));
     for seg in segs.iter_mut().flatten() {
         if let Seg::Item(it) = seg {
             match (it.kind, it.name.as_str()) {
                 (Kind::Input, "hf_surface") => make_const(lang, it, &surface_const)?,
                 (Kind::Input, "hf_safety_variant") => make_const(lang, it, variant_const)?,
+                (Kind::Input, "hf_safety_classes" | "hf_cc_classes") => {
+                    make_const(lang, it, &classes_const)?
+                }
                 _ => {}
             }
         }

@@ -4,7 +4,7 @@
 
 use crate::wgsl_layout as b;
 use crate::Lang;
-use hfcast::scene::MethodKind;
+use hfcast::scene::{MethodKind, RayClasses};
 use hfcast::{Flags, RayClass, Surface};
 use std::fmt::Write as _;
 
@@ -31,10 +31,12 @@ pub const ENTRY_TOP: u32 = 2;
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 #[repr(u32)]
 pub enum SafetyVariant {
-    /// One distance per ray class (`R8UI`, W × 4H: texel `(i, 4j + class)`).
+    /// One distance per ray class (`R8UI`, W × 4H: texel `(i, 4j + class)`; a map
+    /// holding `n` classes, `hf_safety_classes`: W × nH, texel `(i, nj + slot)`).
     #[default]
     Directional = 0,
-    /// One distance per texel, the minimum over the classes (`R8UI`, W × H).
+    /// One distance per texel, the minimum over the classes (`R8UI`, W × H; valid for
+    /// the classes of `hf_safety_classes` only).
     Isotropic = 1,
 }
 
@@ -168,6 +170,20 @@ fn table() -> Vec<Line> {
             vec![],
         ),
         (
+            "Ray-class sets (hfcast::scene::RayClasses, the C API's HF_RAYS_*): bit 1 << class;\n\
+             the classes a safety-distance or cylinder-cone map holds (hf_safety_classes,\n\
+             hf_cc_classes): n of them, texel (i, j) of a class at row n j + its slot.",
+            "HF_RAYS",
+            named([
+                ("X_POS", 1 << RayClass::XPos as u32),
+                ("X_NEG", 1 << RayClass::XNeg as u32),
+                ("Y_POS", 1 << RayClass::YPos as u32),
+                ("Y_NEG", 1 << RayClass::YNeg as u32),
+                ("ALL", u32::from(RayClasses::ALL.0)),
+            ]),
+            vec![],
+        ),
+        (
             "Methods (hf_method).",
             "HF_METHOD",
             MethodKind::ALL
@@ -202,7 +218,8 @@ fn table() -> Vec<Line> {
     ];
     let mut t = Vec::new();
     for (title, prefix, consts, after) in groups {
-        t.extend([c(""), c(title)]);
+        t.push(c(""));
+        t.extend(title.lines().map(c));
         t.extend(
             consts
                 .into_iter()
@@ -258,7 +275,8 @@ fn render(lang: Lang) -> String {
         s.push_str(&format!(
             "// Bindings {next} to 15 of group 0 are reserved; a caller's own resources go in group 1\n\
              // or later. Textures are read with textureLoad only (never sampled). Scene-level\n\
-             // choices are override constants: hf_surface, hf_safety_variant.\n"
+             // choices are override constants: hf_surface, hf_safety_variant,\n\
+             // hf_safety_classes, hf_cc_classes.\n"
         ));
     }
     for line in table() {

@@ -17,8 +17,9 @@ pub const PARAMS: u32 = 2;
 pub const PYRAMID: u32 = 3;
 /// `hf_maxmip`: uniform `MaxMipParams` (maxmip.wgsl).
 pub const MAXMIP: u32 = 4;
-/// `hf_safety_map`: `texture_2d<u32>`, R8Uint: W × 4H (directional, texel
-/// `(i, 4j + class)`) or W × H (isotropic) (safety.wgsl).
+/// `hf_safety_map`: `texture_2d<u32>`, R8Uint: W × nH for the `n` ray classes of the
+/// override `hf_safety_classes` (directional, texel `(i, nj + slot)`; a whole map W ×
+/// 4H, texel `(i, 4j + class)`) or W × H (isotropic) (safety.wgsl).
 pub const SAFETY_MAP: u32 = 5;
 /// `hf_cone_map`: `texture_2d<f32>`, RG32Float, (W − 1) × (H − 1) (cone.wgsl).
 pub const CONE_MAP: u32 = 6;
@@ -26,7 +27,8 @@ pub const CONE_MAP: u32 = 6;
 pub const QDM_MAP: u32 = 7;
 /// `hf_relaxed_map`: `texture_2d<f32>`, R32Float, W × H (relaxed.wgsl).
 pub const RELAXED_MAP: u32 = 8;
-/// `hf_cc_map`: `texture_2d<u32>`, RGBA8Uint, W × 4H (cc.wgsl).
+/// `hf_cc_map`: `texture_2d<u32>`, RGBA8Uint, W × nH for the `n` ray classes of the
+/// override `hf_cc_classes` (texel `(i, nj + slot)`; a whole map W × 4H) (cc.wgsl).
 pub const CC_MAP: u32 = 9;
 /// `hf_cc`: uniform `CcParams` (cc.wgsl).
 pub const CC: u32 = 10;

@@ -13,8 +13,9 @@ use std::path::PathBuf;
 use std::process::Command;
 
 /// Every scene worth a distinct shader, with its options: method × supported surface ×
-/// shadows × view angle × height format × safety layout, plus the choices that change
-/// no shader code (ray classes, outside-only, depth output).
+/// shadows × view angle × height format × safety layout, plus the ray classes (the
+/// class-set constants of the safety-shape maps) and choices that change no shader code
+/// (outside-only, depth output).
 fn scenes() -> Vec<(Scene, Options)> {
     let mut out = Vec::new();
     for method in MethodKind::ALL {
@@ -288,12 +289,38 @@ fn generated_shaders_keep_only_their_method_inputs() {
     .unwrap();
     assert!(cc.contains("uniform usampler2D hf_cc_map;"));
     assert!(!cc.contains("uniform usampler2D hf_safety_map") && !cc.contains("hf_safety_variant;"));
+    // The class set of the maps is the scene's ray classes, a constant.
+    assert!(
+        cc.contains("const uint hf_cc_classes = 15u;") && !cc.contains("uint hf_safety_classes")
+    );
+    let cc_subset = Scene {
+        ray_classes: RayClasses(0b1001),
+        ..Scene::general(MethodKind::Cc, Surface::Triangles)
+    };
+    for (lang, constant) in [
+        (Lang::Glsl, "const uint hf_cc_classes = 9u;"),
+        (Lang::Wgsl, "const hf_cc_classes: u32 = 9u;"),
+    ] {
+        let text = generate(&cc_subset, lang).unwrap();
+        assert!(text.contains(constant), "{text}");
+        assert!(
+            !text.contains("uniform uint hf_cc_classes")
+                && !text.contains("override hf_cc_classes")
+        );
+        assert!(general(MethodKind::Cc, lang).unwrap().contains(match lang {
+            Lang::Glsl => "uniform uint hf_cc_classes = 15u;",
+            Lang::Wgsl => "override hf_cc_classes: u32 = 15u;",
+        }));
+    }
     let sd = |v| {
         let scene = Scene::general(MethodKind::Safety, Surface::Triangles);
         generate_with(&scene, Lang::Glsl, &Options { safety_variant: v }).unwrap()
     };
     let dir = sd(SafetyVariant::Directional);
-    assert!(dir.contains("texelFetch(hf_safety_map, ivec2(i, 4u * j + ray_class), 0).r;"));
+    assert!(dir.contains(
+        "texelFetch(hf_safety_map, ivec2(i, safety_class_row(hf_safety_classes, ray_class, j)), 0).r;"
+    ));
+    assert!(dir.contains("const uint hf_safety_classes = 15u;"));
     assert!(!dir.contains("texelFetch(hf_safety_map, ivec2(i, j), 0)"));
     // The bake plan's layout: isotropic for one ray class.
     let one_class = Scene {
@@ -301,11 +328,10 @@ fn generated_shaders_keep_only_their_method_inputs() {
         ..Scene::general(MethodKind::Safety, Surface::Triangles)
     };
     let iso_fetch = "texelFetch(hf_safety_map, ivec2(i, j), 0).r;";
-    assert!(generate(&one_class, Lang::Glsl)
-        .unwrap()
-        .contains(iso_fetch));
+    let one = generate(&one_class, Lang::Glsl).unwrap();
+    assert!(one.contains(iso_fetch) && one.contains("const uint hf_safety_classes = 1u;"));
     assert!(sd(SafetyVariant::Isotropic).contains(iso_fetch));
-    assert!(!sd(SafetyVariant::Isotropic).contains("4u * j + ray_class"));
+    assert!(!sd(SafetyVariant::Isotropic).contains("safety_class_row"));
     let u16 = Scene {
         heights: HeightFormat::U16,
         ..Scene::general(MethodKind::MaxMip, Surface::HeightPlanes)

@@ -4,9 +4,15 @@
 // safety.wgsl.
 //
 // Texture layout: the map of hf_cc_bake as `hf_cc_map`, an RGBA8Uint texture of
-// W x 4H texels: texel (i, 4 j + class) = [r, s, z_lo, z_hi] of texel (i, j) for that
-// ray class (each texel row as four rows, one per class). `hf_cc.cap` is the bake's cap; `hf_cc.zmin`, `hf_cc.zstep`, `hf_cc.zspan`
-// the frame of the base heights (hf_cc_frame).
+// W x nH texels for the n ray classes it holds, the override `hf_cc_classes` (HF_RAYS_*
+// bits, HF_RAYS_ALL for a whole map; `CcMap::with_classes`): texel (i, n j + slot) =
+// [r, s, z_lo, z_hi] of texel (i, j) for the ray class of that slot (each texel row as
+// n rows, one per held class in class order x+, x-, y+, y-; slot = how many held
+// classes come before it; a whole map: W x 4H, texel (i, 4 j + class)). A ray of a
+// class the map does not hold reads [0, HF_CC_NO_CONE, 0, 0] without a fetch (radius
+// 0, no cone: it walks cell by cell, still exact). `hf_cc.cap` is the bake's cap;
+// `hf_cc.zmin`, `hf_cc.zstep`, `hf_cc.zspan` the frame of the base heights
+// (hf_cc_frame).
 
 struct CcParams {
     cap: u32,
@@ -17,10 +23,15 @@ struct CcParams {
 
 @group(0) @binding(9) var hf_cc_map: texture_2d<u32>;
 @group(0) @binding(10) var<uniform> hf_cc: CcParams;
+override hf_cc_classes: u32 = 15u;
 
-// `CcMap::texel`: the packed bytes of texel (i, j) for `ray_class`.
+// `CcMap::texel`: the packed bytes of texel (i, j) for `ray_class` ([0, HF_CC_NO_CONE,
+// 0, 0], without a fetch, when the map does not hold it).
 fn cc_texel(ray_class: u32, i: u32, j: u32) -> vec4<u32> {
-    return textureLoad(hf_cc_map, vec2<u32>(i, 4u * j + ray_class), 0);
+    if (!safety_holds(hf_cc_classes, ray_class)) {
+        return vec4<u32>(0u, HF_CC_NO_CONE, 0u, 0u);
+    }
+    return textureLoad(hf_cc_map, vec2<u32>(i, safety_class_row(hf_cc_classes, ray_class, j)), 0);
 }
 
 // `decode_slope` (finite codes): `t |t| / 2048` with `t = code - 128`, exact in float.

@@ -19,7 +19,8 @@
 //   11       hf_radius_map   texture_2d<u32>, R8Uint                radius.wgsl
 // Bindings 12 to 15 of group 0 are reserved; a caller's own resources go in group 1
 // or later. Textures are read with textureLoad only (never sampled). Scene-level
-// choices are override constants: hf_surface, hf_safety_variant.
+// choices are override constants: hf_surface, hf_safety_variant,
+// hf_safety_classes, hf_cc_classes.
 
 // Surfaces (hfcast::Surface, hf_surface).
 const HF_SURFACE_TRIANGLES: u32 = 0u;
@@ -39,6 +40,15 @@ const HF_RAY_CLASS_X_POS: u32 = 0u;
 const HF_RAY_CLASS_X_NEG: u32 = 1u;
 const HF_RAY_CLASS_Y_POS: u32 = 2u;
 const HF_RAY_CLASS_Y_NEG: u32 = 3u;
+
+// Ray-class sets (hfcast::scene::RayClasses, the C API's HF_RAYS_*): bit 1 << class;
+// the classes a safety-distance or cylinder-cone map holds (hf_safety_classes,
+// hf_cc_classes): n of them, texel (i, j) of a class at row n j + its slot.
+const HF_RAYS_X_POS: u32 = 1u;
+const HF_RAYS_X_NEG: u32 = 2u;
+const HF_RAYS_Y_POS: u32 = 4u;
+const HF_RAYS_Y_NEG: u32 = 8u;
+const HF_RAYS_ALL: u32 = 15u;
 
 // Methods (hf_method).
 const HF_METHOD_EXACT: u32 = 0u;

@@ -6,23 +6,49 @@
 // samples on that centerline; above, jump; below, bisect on integer centerlines and
 // finish with the exact cell test of the march's surface.
 //
-// Texture layout: the map of hf_safety_bake as `hf_safety_map`, an R8Uint texture:
-// HF_SAFETY_DIRECTIONAL W x 4H texels, texel (i, 4 j + ray_class) = the distance of
-// texel (i, j) for that ray class (each texel row as four rows, one per class: x+, x-,
-// y+, y-); HF_SAFETY_ISOTROPIC W x H, texel (i, j); the override `hf_safety_variant`
-// says which.
+// Texture layout: the map of hf_safety_bake as `hf_safety_map`, an R8Uint texture;
+// the override `hf_safety_variant` says which layout, the override `hf_safety_classes`
+// which ray classes the map holds (HF_RAYS_* bits, HF_RAYS_ALL for a whole map;
+// `SafetyMap::with_classes`): HF_SAFETY_DIRECTIONAL W x nH texels for the n classes
+// held, texel (i, n j + slot) = the distance of texel (i, j) for the ray class of that
+// slot (each texel row as n rows, one per held class in class order x+, x-, y+, y-;
+// slot = how many held classes come before it; a whole map: W x 4H, texel
+// (i, 4 j + ray_class)); HF_SAFETY_ISOTROPIC W x H, texel (i, j), valid for the held
+// classes only. A ray of a class the map does not hold reads distance 0 without a
+// fetch (it walks cell by cell, still exact).
 
 @group(0) @binding(5) var hf_safety_map: texture_2d<u32>;
 override hf_safety_variant: u32 = 0u;
+override hf_safety_classes: u32 = 15u;
 
-// `SafetyMap::distance`: safety distance of texel (i, j) for `ray_class`.
+// `RayClasses::contains`: whether the set `classes` (HF_RAYS_* bits) holds ray_class.
+fn safety_holds(classes: u32, ray_class: u32) -> bool { return (classes & (1u << ray_class)) != 0u; }
+
+// `RayClasses::count`: how many of the four classes `classes` holds.
+fn safety_class_count(classes: u32) -> u32 {
+    return countOneBits(classes & 15u);
+}
+
+// `ClassRows::index` (the row): texel row j of a class-per-row map holding `classes`
+// (HF_RAYS_* bits, which must hold ray_class) is row n j + slot for its n classes, slot
+// = `RayClasses::slot(ray_class)`, the held classes before ray_class.
+fn safety_class_row(classes: u32, ray_class: u32, j: u32) -> u32 {
+    return safety_class_count(classes) * j + safety_class_count(classes & ((1u << ray_class) - 1u));
+}
+
+// `SafetyMap::distance`: safety distance of texel (i, j) for `ray_class` (0, without a
+// fetch, when the map does not hold it).
 fn safety_distance(ray_class: u32, i: u32, j: u32) -> u32 {
+    if (!safety_holds(hf_safety_classes, ray_class)) {
+        return 0u;
+    }
 //#if any_variant
-    let row = select(j, 4u * j + ray_class, hf_safety_variant == HF_SAFETY_DIRECTIONAL);
+    let row = select(j, safety_class_row(hf_safety_classes, ray_class, j),
+                     hf_safety_variant == HF_SAFETY_DIRECTIONAL);
     return textureLoad(hf_safety_map, vec2<u32>(i, row), 0).r;
 //#else
 //#if directional
-    return textureLoad(hf_safety_map, vec2<u32>(i, 4u * j + ray_class), 0).r;
+    return textureLoad(hf_safety_map, vec2<u32>(i, safety_class_row(hf_safety_classes, ray_class, j)), 0).r;
 //#endif
 //#if isotropic
     return textureLoad(hf_safety_map, vec2<u32>(i, j), 0).r;

@@ -11,7 +11,7 @@ use hfcast::radius::{self, RadiusMap, Zero};
 use hfcast::relaxed;
 use hfcast::safety::cc::{self, CcMap, CcOptions, Slope};
 use hfcast::safety::{self, MarchSurface, SafetyMap, Variant};
-use hfcast::scene::{HeightFormat, MethodKind};
+use hfcast::scene::{HeightFormat, MethodKind, RayClasses};
 use hfcast::{HeightField, Query, SearchSteps, Surface, Trace};
 use hfcast_shaders::{wgsl_layout as binding, Lang, SafetyVariant, PYRAMID_TEX_WIDTH};
 use hfcast_tools::Rng;
@@ -72,6 +72,22 @@ pub fn scene_of(method: MethodKind, surface: Surface, int_heights: bool) -> hfca
     scene
 }
 
+/// The ray-class subsets (`HF_RAYS_*` bits) whose compact safety-distance and
+/// cylinder–cone maps (`bake_rows_classes`: only those classes' rows) the parity test
+/// also runs, on rays of every class: {x+, y−} and {x−}.
+pub const SUBSETS: [u8; 2] = [0b1001, 0b0010];
+
+/// A short name of the ray-class set `classes`: `x+,y-`.
+pub fn classes_name(classes: u8) -> String {
+    let names: Vec<&str> = ["x+", "x-", "y+", "y-"]
+        .into_iter()
+        .enumerate()
+        .filter(|(k, _)| classes & (1 << k) != 0)
+        .map(|(_, n)| n)
+        .collect();
+    names.join(",")
+}
+
 /// The WGSL shader `hfcast_shaders::generate_with` makes for `scene` with the safety
 /// layout `variant`.
 pub fn generated_source(scene: &hfcast::scene::Scene, variant: Variant) -> String {
@@ -100,7 +116,12 @@ pub fn int_heights_source(method: MethodKind) -> String {
 }
 
 /// The `override` constants of the general sources (scene-level choices).
-const OVERRIDES: [&str; 2] = ["hf_surface", "hf_safety_variant"];
+const OVERRIDES: [&str; 4] = [
+    "hf_surface",
+    "hf_safety_variant",
+    "hf_safety_classes",
+    "hf_cc_classes",
+];
 
 /// The cylinder–cone cap of the bake and the march (as the C tests).
 pub const CC_CAP: u8 = 64;
@@ -124,6 +145,10 @@ pub struct Case {
     pub int_heights: bool,
     /// Runs the shader generated for the case's scene instead of the general source.
     pub generated: bool,
+    /// The ray classes (`HF_RAYS_*` bits) the safety-distance or cylinder–cone map
+    /// holds (`hf_safety_classes`, `hf_cc_classes`; the generated shader's scene's
+    /// `ray_classes`): 15 for the whole maps, else one of [`SUBSETS`]' compact maps.
+    pub classes: u8,
 }
 
 impl Case {
@@ -136,7 +161,14 @@ impl Case {
             exact,
             int_heights: false,
             generated: false,
+            classes: 15,
         }
+    }
+
+    /// This case on the compact maps holding the ray classes `classes` only (one of
+    /// [`SUBSETS`]).
+    const fn holding(self, classes: u8) -> Case {
+        Case { classes, ..self }
     }
 
     /// This case with the heights as 16-bit samples: hfcast-shaders makes shaders for
@@ -195,6 +227,24 @@ impl Case {
             Case::new(MethodKind::Cc, tri, [0; 4], true).u16(),
             Case::new(MethodKind::Cone, tri, [512, 0, 0, 0], true).u16(),
         ]);
+        // Compact maps of a ray-class subset (only those classes' rows) read with the
+        // class set, on rays of every class: those of the other classes read zero jumps
+        // without a fetch.
+        for classes in SUBSETS {
+            cases.extend([
+                Case::new(MethodKind::Safety, tri, [0; 4], true).holding(classes),
+                Case {
+                    variant: Variant::Isotropic,
+                    ..Case::new(MethodKind::Safety, tri, [0; 4], true)
+                }
+                .holding(classes),
+                Case::new(MethodKind::Cc, tri, [0; 4], true).holding(classes),
+            ]);
+        }
+        cases.extend([
+            Case::new(MethodKind::Safety, Surface::ViewLinear, [0; 4], true).holding(SUBSETS[1]),
+            Case::new(MethodKind::Cc, Surface::ViewLinear, [0; 4], true).holding(SUBSETS[0]),
+        ]);
         // And every general one generated for its scene (overrides made constants,
         // unused branches and functions left out).
         let generated: Vec<Case> = cases
@@ -238,14 +288,22 @@ impl Case {
             }
             _ => String::new(),
         };
-        name + &surface + heights + generated
+        let classes = if self.classes == 15 {
+            String::new()
+        } else {
+            format!(" holding {}", classes_name(self.classes))
+        };
+        name + &surface + &classes + heights + generated
     }
 
     /// The source the case runs, with the test entry point: the method's general
     /// source, or the shader generated for the case's scene (its surface, heights and
     /// safety layout) when `generated`.
     pub fn source(&self) -> String {
-        let scene = scene_of(self.method, self.surface, self.int_heights);
+        let scene = hfcast::scene::Scene {
+            ray_classes: RayClasses(self.classes),
+            ..scene_of(self.method, self.surface, self.int_heights)
+        };
         let src = if self.generated {
             generated_source(&scene, self.variant)
         } else {
@@ -259,6 +317,7 @@ impl Case {
     pub fn constants(&self, src: &str) -> Vec<(&'static str, f64)> {
         let value = |name: &str| match name {
             "hf_surface" => f64::from(self.surface as u32),
+            "hf_safety_classes" | "hf_cc_classes" => f64::from(self.classes),
             _ => f64::from(layout(self.variant) as u32),
         };
         OVERRIDES
@@ -283,12 +342,15 @@ impl Case {
         let hf = scene.hf();
         let p = self.params;
         let mip = MaxMip::new(&hf, &scene.pyramid).expect("pyramid");
+        let maps = scene.maps(self.classes);
         let safety_data = match self.variant {
-            Variant::Directional => &scene.safety_dir,
-            Variant::Isotropic => &scene.safety_iso,
+            Variant::Directional => maps.safety_dir,
+            Variant::Isotropic => maps.safety_iso,
         };
-        let safety_map = SafetyMap::new(&hf, safety_data, self.variant).expect("safety map");
-        let cc_map = CcMap::new(&hf, &scene.cc, CC_CAP).expect("cc map");
+        let classes = RayClasses(self.classes);
+        let safety_map =
+            SafetyMap::with_classes(&hf, safety_data, self.variant, classes).expect("safety map");
+        let cc_map = CcMap::with_classes(&hf, maps.cc, CC_CAP, classes).expect("cc map");
         let cone_map = ConeMap::new(&hf, &scene.cone).expect("cone map");
         let qdm_map = QdmMap::new(&hf, &scene.qdm).expect("qdm map");
         let radius_map = RadiusMap::new(&hf, &scene.radius).expect("radius map");
@@ -387,6 +449,33 @@ pub struct Scene {
     /// The 16-bit samples the heights came from and the height of one sample step
     /// (`depth / 65535` in f32), for maps read from PNG.
     pub samples: Option<(Vec<u16>, f32)>,
+    /// The compact maps of each of [`SUBSETS`], in its order.
+    pub subsets: Vec<ClassMaps>,
+}
+
+/// The safety-distance (both layouts) and cylinder–cone maps of a ray-class set, as
+/// `bake_rows_classes` writes them: `n` rows per texel row for the set's `n` classes
+/// (directional, cylinder–cone), one byte per texel (isotropic, the minimum over the
+/// set's classes).
+pub struct ClassMaps {
+    /// The classes held (`HF_RAYS_*` bits).
+    pub classes: u8,
+    /// Directional safety distances, W × nH bytes.
+    pub safety_dir: Vec<u8>,
+    /// Isotropic safety distances over the set, W × H bytes.
+    pub safety_iso: Vec<u8>,
+    /// Packed cylinder–cone map, W × nH × 4 bytes.
+    pub cc: Vec<u8>,
+}
+
+/// Borrowed maps of one class set (the whole maps for 15).
+pub struct MapsRef<'a> {
+    /// Directional safety distances.
+    pub safety_dir: &'a [u8],
+    /// Isotropic safety distances.
+    pub safety_iso: &'a [u8],
+    /// Packed cylinder–cone map.
+    pub cc: &'a [u8],
 }
 
 impl Scene {
@@ -437,6 +526,48 @@ impl Scene {
         in_row_ranges(h - 1, 4 * (w - 1) as usize, &mut qdm_map, |rows, out| {
             qdm::bake_rows(&hf, &qdm_scratch, rows, out).expect("qdm bake");
         });
+        // The compact maps of the class subsets; `scratch` holds what safety::prepare
+        // filled.
+        let subsets = SUBSETS
+            .iter()
+            .map(|&bits| {
+                let classes = RayClasses(bits);
+                let n = classes.count() as usize;
+                let sd = |variant: Variant| {
+                    let opts = safety::Options {
+                        variant,
+                        positive: false,
+                        cap: u8::MAX,
+                    };
+                    let mut out = vec![0u8; safety::map_len_classes(w, h, variant, classes)];
+                    let row_len = safety::map_len_classes(w, 1, variant, classes);
+                    in_row_ranges(h, row_len, &mut out, |rows, out| {
+                        safety::bake_rows_classes(
+                            &hf,
+                            &scratch,
+                            &safety::AllRays,
+                            classes,
+                            rows,
+                            opts,
+                            out,
+                        )
+                        .expect("safety bake of a class subset");
+                    });
+                    out
+                };
+                let mut cc_sub = vec![0u8; cc::map_len_classes(w, h, classes)];
+                in_row_ranges(h, 4 * n * w as usize, &mut cc_sub, |rows, out| {
+                    cc::bake_rows_classes(&hf, &scratch, &nb, classes, rows, opts, out)
+                        .expect("cc bake of a class subset");
+                });
+                ClassMaps {
+                    classes: bits,
+                    safety_dir: sd(Variant::Directional),
+                    safety_iso: sd(Variant::Isotropic),
+                    cc: cc_sub,
+                }
+            })
+            .collect();
         let relaxed_map = relaxed.then(|| {
             let mut s = vec![0f32; relaxed::scratch_len(w, h)];
             let mut out = vec![0f32; relaxed::map_len(w, h)];
@@ -457,6 +588,29 @@ impl Scene {
             radius: radius_map,
             heights,
             samples: None,
+            subsets,
+        }
+    }
+
+    /// The maps holding the ray classes `classes`: the whole maps for 15, else those of
+    /// one of [`SUBSETS`].
+    pub fn maps(&self, classes: u8) -> MapsRef<'_> {
+        if classes == 15 {
+            return MapsRef {
+                safety_dir: &self.safety_dir,
+                safety_iso: &self.safety_iso,
+                cc: &self.cc,
+            };
+        }
+        let m = self
+            .subsets
+            .iter()
+            .find(|m| m.classes == classes)
+            .unwrap_or_else(|| panic!("no maps of the classes {classes:#06b}"));
+        MapsRef {
+            safety_dir: &m.safety_dir,
+            safety_iso: &m.safety_iso,
+            cc: &m.cc,
         }
     }
 
@@ -810,6 +964,16 @@ pub struct SceneGpu {
     cc_map: wgpu::TextureView,
     cc: wgpu::Buffer,
     radius: wgpu::TextureView,
+    /// Per [`SUBSETS`] entry: its classes and its compact maps' textures (directional
+    /// and cylinder–cone W × nH, isotropic W × H).
+    subsets: Vec<(u8, ClassTextures)>,
+}
+
+/// The textures of one class set's maps.
+struct ClassTextures {
+    safety_dir: wgpu::TextureView,
+    safety_iso: wgpu::TextureView,
+    cc_map: wgpu::TextureView,
 }
 
 impl SceneGpu {
@@ -863,6 +1027,20 @@ impl SceneGpu {
                 &f32_bytes(&padded),
             ),
             maxmip: gpu.uniform(&levels),
+            // A map holding n ray classes: W x nH texels, texel (i, n j + slot).
+            subsets: s
+                .subsets
+                .iter()
+                .map(|m| {
+                    let n = RayClasses(m.classes).count();
+                    let tex = ClassTextures {
+                        safety_dir: gpu.texture(w, n * h, F::R8Uint, &m.safety_dir),
+                        safety_iso: gpu.texture(w, h, F::R8Uint, &m.safety_iso),
+                        cc_map: gpu.texture(w, n * h, F::Rgba8Uint, &m.cc),
+                    };
+                    (m.classes, tex)
+                })
+                .collect(),
             safety_dir: gpu.texture(w, 4 * h, F::R8Uint, &s.safety_dir),
             safety_iso: gpu.texture(w, h, F::R8Uint, &s.safety_iso),
             cone: gpu.texture(w - 1, h - 1, F::Rg32Float, &f32_bytes(&s.cone)),
@@ -875,6 +1053,22 @@ impl SceneGpu {
             cc: gpu.uniform(&cc),
             radius: gpu.texture(w, h, F::R8Uint, &s.radius),
         }
+    }
+}
+
+impl SceneGpu {
+    /// The directional and isotropic safety and the cylinder–cone textures of the maps
+    /// holding `classes` (the whole maps for 15).
+    fn maps(&self, classes: u8) -> (&wgpu::TextureView, &wgpu::TextureView, &wgpu::TextureView) {
+        if classes == 15 {
+            return (&self.safety_dir, &self.safety_iso, &self.cc_map);
+        }
+        let (_, t) = self
+            .subsets
+            .iter()
+            .find(|(c, _)| *c == classes)
+            .unwrap_or_else(|| panic!("no textures of the classes {classes:#06b}"));
+        (&t.safety_dir, &t.safety_iso, &t.cc_map)
     }
 }
 
@@ -1019,6 +1213,7 @@ pub fn run_kernel(
     let dev = &gpu.device;
     let bindings = case.bindings();
     let params = gpu.uniform(&u32_bytes(&case.params));
+    let (safety_dir, safety_iso, cc_map) = sg.maps(case.classes);
     let resource = |b: u32| -> wgpu::BindingResource<'_> {
         match b {
             binding::HEIGHTS if case.int_heights => {
@@ -1030,15 +1225,15 @@ pub fn run_kernel(
             binding::PYRAMID => wgpu::BindingResource::TextureView(&sg.pyramid),
             binding::MAXMIP => sg.maxmip.as_entire_binding(),
             binding::SAFETY_MAP => wgpu::BindingResource::TextureView(match case.variant {
-                Variant::Directional => &sg.safety_dir,
-                Variant::Isotropic => &sg.safety_iso,
+                Variant::Directional => safety_dir,
+                Variant::Isotropic => safety_iso,
             }),
             binding::CONE_MAP => wgpu::BindingResource::TextureView(&sg.cone),
             binding::QDM_MAP => wgpu::BindingResource::TextureView(&sg.qdm),
             binding::RELAXED_MAP => {
                 wgpu::BindingResource::TextureView(sg.relaxed.as_ref().expect("relaxed bake"))
             }
-            binding::CC_MAP => wgpu::BindingResource::TextureView(&sg.cc_map),
+            binding::CC_MAP => wgpu::BindingResource::TextureView(cc_map),
             binding::CC => sg.cc.as_entire_binding(),
             binding::RADIUS_MAP => wgpu::BindingResource::TextureView(&sg.radius),
             other => panic!("no resource for binding {other}"),
