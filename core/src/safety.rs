@@ -624,12 +624,13 @@ pub fn bake_rows_classes<S: RaySet>(
     check_rows(hf, scratch, &rows, per_texel, out)?;
     let floor = u8::from(opts.positive);
     let kept = CLASSES.map(|c| classes.contains(c));
+    let rows_of = CLASSES.map(|class| ClassRows::of(w, opts.variant, classes, class));
     for (r, j) in rows.enumerate() {
         for i in 0..w {
             match opts.variant {
                 Variant::Directional => {
-                    for class in CLASSES {
-                        if let Some(at) = ClassRows::of(w, opts.variant, classes, class) {
+                    for (class, rows) in CLASSES.into_iter().zip(rows_of) {
+                        if let Some(at) = rows {
                             out[at.index(i, r as u32)] =
                                 texel_distance(hf, scratch, rays, class, i, j, opts.cap).max(floor);
                         }

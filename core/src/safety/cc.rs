@@ -991,12 +991,13 @@ pub fn bake_rows_classes(
         return Err(SafetyError::OutputTooShort { needed });
     }
     let views = views(hf, nb, opts.cap);
+    let rows_of = CLASSES.map(|class| class_rows(hf.width(), classes, class));
     for (row, j) in rows.enumerate() {
         // Per class, the cell that set the slope of the texel on the left.
         let mut seeds: [Cell; 4] = [None; 4];
         for i in 0..hf.width() {
             for (c, class) in CLASSES.into_iter().enumerate() {
-                let Some(at) = class_rows(hf.width(), classes, class) else {
+                let Some(at) = rows_of[c] else {
                     continue;
                 };
                 let r = texel_distance(hf, scratch, &AllRays, class, i, j, u8::MAX);
