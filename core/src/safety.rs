@@ -619,7 +619,6 @@ pub fn bake_rows_classes<S: RaySet>(
     out: &mut [u8],
 ) -> Result<(), SafetyError> {
     let w = hf.width();
-    let classes = RayClasses(classes.0 & RayClasses::ALL.0);
     let per_texel = map_len_classes(1, 1, opts.variant, classes);
     check_rows(hf, scratch, &rows, per_texel, out)?;
     let floor = u8::from(opts.positive);
@@ -801,7 +800,6 @@ impl<'a> SafetyMap<'a> {
         variant: Variant,
         classes: RayClasses,
     ) -> Result<Self, SafetyError> {
-        let classes = RayClasses(classes.0 & RayClasses::ALL.0);
         check_len(
             data,
             map_len_classes(hf.width(), hf.height(), variant, classes),

@@ -78,9 +78,9 @@
 use core::ops::Range;
 
 use super::{
-    axis_of, band_cells, cell_tris, column_ahead, extents, march_with, sample, sigma_of, sign_of,
-    texel_distance, tri_masks, AllRays, ClassRows, Line, MarchSurface, RaySet, SafetyError, Sigma,
-    Tri, Variant, CLASSES,
+    axis_of, band_cells, cell_tris, check_len, column_ahead, extents, march_with, sample, sigma_of,
+    sign_of, texel_distance, tri_masks, AllRays, ClassRows, Line, MarchSurface, RaySet,
+    SafetyError, Sigma, Tri, Variant, CLASSES,
 };
 use crate::field::HeightField;
 use crate::math::Real;
@@ -985,7 +985,6 @@ pub fn bake_rows_classes(
     if rows.end > hf.height() || rows.start > rows.end {
         return Err(SafetyError::RowsOutOfRange);
     }
-    let classes = RayClasses(classes.0 & RayClasses::ALL.0);
     let needed = (rows.end - rows.start) as usize * map_len_classes(hf.width(), 1, classes);
     if out.len() < needed {
         return Err(SafetyError::OutputTooShort { needed });
@@ -1069,11 +1068,7 @@ impl<'a> CcMap<'a> {
         cap: u8,
         classes: RayClasses,
     ) -> Result<Self, SafetyError> {
-        let classes = RayClasses(classes.0 & RayClasses::ALL.0);
-        let needed = map_len_classes(hf.width(), hf.height(), classes);
-        if data.len() < needed {
-            return Err(SafetyError::OutputTooShort { needed });
-        }
+        check_len(data, map_len_classes(hf.width(), hf.height(), classes))?;
         let (zmin, zstep) = z_frame(hf);
         Ok(CcMap {
             data,
