@@ -156,6 +156,42 @@ int read_png_rgb(const char *path, unsigned char **rgb, int *w, int *h) {
 
 int scene_load(scene *s, const char *png_path) { return scene_load_ex(s, png_path, 0); }
 
+/* Bakes the directional and isotropic safety maps and the cylinder-cone map of the ray
+ * classes s->classes (all cores): W x nH texels for n classes, isotropic W x H. */
+static void bake_class_maps(scene *s) {
+    hf_result r;
+    hf_safety_options opts = {HF_SAFETY_DIRECTIONAL, 0, 255};
+    r = hf_safety_map_len_classes(s->w, s->h, HF_SAFETY_DIRECTIONAL, s->classes, &s->safety_len);
+    if (r != HF_OK) die_hf("hf_safety_map_len_classes", r);
+    s->safety = (unsigned char *)malloc(s->safety_len);
+    double t0 = now_seconds();
+    r = hf_safety_bake_classes(s->field, &opts, s->classes, 0, s->safety, s->safety_len);
+    if (r != HF_OK) die_hf("hf_safety_bake_classes", r);
+    s->safety_bake_ms = 1e3 * (now_seconds() - t0);
+    hf_safety_options iso = {HF_SAFETY_ISOTROPIC, 0, 255};
+    r = hf_safety_map_len_classes(s->w, s->h, HF_SAFETY_ISOTROPIC, s->classes, &s->safety_iso_len);
+    if (r != HF_OK) die_hf("hf_safety_map_len_classes (isotropic)", r);
+    s->safety_iso = (unsigned char *)malloc(s->safety_iso_len);
+    r = hf_safety_bake_classes(s->field, &iso, s->classes, 0, s->safety_iso, s->safety_iso_len);
+    if (r != HF_OK) die_hf("hf_safety_bake_classes (isotropic)", r);
+    hf_cc_options cco = {HF_CC_SLOPE_EXACT, CC_CAP};
+    if ((r = hf_cc_map_len_classes(s->w, s->h, s->classes, &s->cc_len)) != HF_OK)
+        die_hf("hf_cc_map_len_classes", r);
+    s->cc = (unsigned char *)malloc(s->cc_len);
+    t0 = now_seconds();
+    if ((r = hf_cc_bake_classes(s->field, &cco, s->classes, 0, s->cc, s->cc_len)) != HF_OK)
+        die_hf("hf_cc_bake_classes", r);
+    s->cc_bake_ms = 1e3 * (now_seconds() - t0);
+}
+
+void scene_set_classes(scene *s, uint32_t classes) {
+    free(s->safety);
+    free(s->safety_iso);
+    free(s->cc);
+    s->classes = classes;
+    bake_class_maps(s);
+}
+
 int scene_load_ex(scene *s, const char *png_path, int relaxed) {
     memset(s, 0, sizeof *s);
     uint16_t *samples = read_png_gray16(png_path, &s->w, &s->h);
@@ -185,24 +221,12 @@ int scene_load_ex(scene *s, const char *png_path, int relaxed) {
         die_hf("hf_maxmip_bake_threaded", r);
     if ((r = hf_maxmip_levels(s->w, s->h, s->levels, HF_MAX_LEVELS, &s->nlevels)) != HF_OK)
         die_hf("hf_maxmip_levels", r);
-    hf_safety_options opts = {HF_SAFETY_DIRECTIONAL, 0, 255};
-    if ((r = hf_safety_map_len(s->w, s->h, HF_SAFETY_DIRECTIONAL, &s->safety_len)) != HF_OK)
-        die_hf("hf_safety_map_len", r);
-    s->safety = (unsigned char *)malloc(s->safety_len);
-    double t0 = now_seconds();
-    if ((r = hf_safety_bake(s->field, &opts, 0, s->safety, s->safety_len)) != HF_OK)
-        die_hf("hf_safety_bake", r);
-    s->safety_bake_ms = 1e3 * (now_seconds() - t0);
-    hf_safety_options iso = {HF_SAFETY_ISOTROPIC, 0, 255};
-    if ((r = hf_safety_map_len(s->w, s->h, HF_SAFETY_ISOTROPIC, &s->safety_iso_len)) != HF_OK)
-        die_hf("hf_safety_map_len", r);
-    s->safety_iso = (unsigned char *)malloc(s->safety_iso_len);
-    if ((r = hf_safety_bake(s->field, &iso, 0, s->safety_iso, s->safety_iso_len)) != HF_OK)
-        die_hf("hf_safety_bake (isotropic)", r);
+    s->classes = HF_RAYS_ALL;
+    bake_class_maps(s);
     hf_radius_options ropts = {0.0f, 255};
     if ((r = hf_radius_map_len(s->w, s->h, &s->radius_len)) != HF_OK) die_hf("radius_len", r);
     s->radius = (unsigned char *)malloc(s->radius_len);
-    t0 = now_seconds();
+    double t0 = now_seconds();
     if ((r = hf_radius_bake(s->field, &ropts, 0, s->radius, s->radius_len)) != HF_OK)
         die_hf("hf_radius_bake", r);
     s->radius_bake_ms = 1e3 * (now_seconds() - t0);
@@ -222,12 +246,6 @@ int scene_load_ex(scene *s, const char *png_path, int relaxed) {
     t0 = now_seconds();
     if ((r = hf_qdm_bake(s->field, 0, s->qdm, s->qdm_len)) != HF_OK) die_hf("hf_qdm_bake", r);
     s->qdm_bake_ms = 1e3 * (now_seconds() - t0);
-    hf_cc_options cco = {HF_CC_SLOPE_EXACT, CC_CAP};
-    if ((r = hf_cc_map_len(s->w, s->h, &s->cc_len)) != HF_OK) die_hf("hf_cc_map_len", r);
-    s->cc = (unsigned char *)malloc(s->cc_len);
-    t0 = now_seconds();
-    if ((r = hf_cc_bake(s->field, &cco, 0, s->cc, s->cc_len)) != HF_OK) die_hf("hf_cc_bake", r);
-    s->cc_bake_ms = 1e3 * (now_seconds() - t0);
     r = hf_cc_frame(s->field, &s->cc_frame[0], &s->cc_frame[1], &s->cc_frame[2]);
     if (r != HF_OK) die_hf("hf_cc_frame", r);
     return 0;
@@ -316,13 +334,13 @@ hf_result cpu_trace(const scene *s, method_cfg cfg, const hf_ray *rays, size_t n
         return hf_trace_maxmip_batch(s->field, s->pyramid, s->pyramid_len, cfg.surface, rays, n,
                                      hits, n);
     case HF_METHOD_SAFETY:
-        /* Whole maps: every ray class (HF_RAYS_ALL), as the shaders' hf_safety_classes. */
+        /* The maps' ray classes, as the shaders' hf_safety_classes. */
         if (cfg.variant == HF_SAFETY_ISOTROPIC)
             return hf_trace_safety_on_batch(s->field, s->safety_iso, s->safety_iso_len,
-                                            HF_SAFETY_ISOTROPIC, HF_RAYS_ALL, cfg.surface, rays,
+                                            HF_SAFETY_ISOTROPIC, s->classes, cfg.surface, rays,
                                             n, hits, n);
         return hf_trace_safety_on_batch(s->field, s->safety, s->safety_len, HF_SAFETY_DIRECTIONAL,
-                                        HF_RAYS_ALL, cfg.surface, rays, n, hits, n);
+                                        s->classes, cfg.surface, rays, n, hits, n);
     case HF_METHOD_CONE:
         return hf_trace_cone_batch(s->field, s->cone, s->cone_len, cfg.linear, rays, n, hits, n);
     case HF_METHOD_RELAXED:
@@ -331,8 +349,8 @@ hf_result cpu_trace(const scene *s, method_cfg cfg, const hf_ray *rays, size_t n
     case HF_METHOD_QDM:
         return hf_trace_qdm_batch(s->field, s->qdm, s->qdm_len, cfg.linear, rays, n, hits, n);
     case HF_METHOD_CC:
-        /* The whole map: every ray class (HF_RAYS_ALL), as the shaders' hf_cc_classes. */
-        return hf_trace_cc_on_batch(s->field, s->cc, s->cc_len, CC_CAP, HF_RAYS_ALL, cfg.surface,
+        /* The map's ray classes, as the shaders' hf_cc_classes. */
+        return hf_trace_cc_on_batch(s->field, s->cc, s->cc_len, CC_CAP, s->classes, cfg.surface,
                                     rays, n, hits, n);
     case HF_METHOD_RADIUS:
         return hf_trace_radius_on_batch(s->field, s->radius, s->radius_len, cfg.zero, cfg.surface,
@@ -505,17 +523,9 @@ int gpu_init(gpu *g, const scene *s, int w, int h) {
     g->tex_pyramid =
         make_texture(GL_R32F, HF_PYRAMID_TEX_WIDTH, (int)rows, GL_RED, GL_FLOAT, padded);
     free(padded);
-    /* R8UI rows are W bytes: alignment 1. Directional safety distances: one byte per ray
-     * class, each texel row as four rows (one per class), an R8UI texture of W x 4H (a map
-     * of n classes, hf_safety_bake_classes: W x nH, texel (i, n j + slot); the shaders'
-     * hf_safety_classes says which: HF_RAYS_ALL here). */
+    gpu_upload_class_maps(g, s);
+    /* Safety radii: one byte per texel, an R8UI texture (rows of W bytes: alignment 1). */
     glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
-    g->tex_safety = make_texture(GL_R8UI, (int)s->w, 4 * (int)s->h, GL_RED_INTEGER,
-                                 GL_UNSIGNED_BYTE, s->safety);
-    /* Isotropic: one byte per texel, an R8UI texture of W x H. */
-    g->tex_safety_iso = make_texture(GL_R8UI, (int)s->w, (int)s->h, GL_RED_INTEGER,
-                                     GL_UNSIGNED_BYTE, s->safety_iso);
-    /* Safety radii: one byte per texel, an R8UI texture. */
     g->tex_radius = make_texture(GL_R8UI, (int)s->w, (int)s->h, GL_RED_INTEGER,
                                  GL_UNSIGNED_BYTE, s->radius);
     glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
@@ -524,10 +534,6 @@ int gpu_init(gpu *g, const scene *s, int w, int h) {
     g->tex_cone = make_texture(GL_RG32F, (int)s->w - 1, (int)s->h - 1, GL_RG, GL_FLOAT, s->cone);
     g->tex_qdm = make_texture(GL_RGBA32F, (int)s->w - 1, (int)s->h - 1, GL_RGBA, GL_FLOAT, s->qdm);
     g->tex_relaxed = make_texture(GL_R32F, (int)s->w, (int)s->h, GL_RED, GL_FLOAT, s->relaxed);
-    /* Cylinder-cone shapes: four RGBA8UI texels (one per ray class) per map texel, W x 4H
-     * (a map of n classes: W x nH, hf_cc_classes; HF_RAYS_ALL here). */
-    g->tex_cc = make_texture(GL_RGBA8UI, (int)s->w, 4 * (int)s->h, GL_RGBA_INTEGER,
-                             GL_UNSIGNED_BYTE, s->cc);
     g->tex_origin = make_texture(GL_RGBA32F, w, h, GL_RGBA, GL_FLOAT, NULL);
     g->tex_dir = make_texture(GL_RGBA32F, w, h, GL_RGBA, GL_FLOAT, NULL);
     g->tex_point = make_texture(GL_RGBA32F, w, h, GL_RGBA, GL_FLOAT, NULL);
@@ -549,6 +555,27 @@ int gpu_init(gpu *g, const scene *s, int w, int h) {
         return -1;
     }
     return glGetError() == GL_NO_ERROR ? 0 : -1;
+}
+
+void gpu_upload_class_maps(gpu *g, const scene *s) {
+    int n = 0;
+    for (uint32_t c = s->classes; c != 0; c &= c - 1) n++;
+    GLuint old[3] = {g->tex_safety, g->tex_safety_iso, g->tex_cc};
+    glDeleteTextures(3, old); /* names 0 (gpu_init) are ignored */
+    /* R8UI rows are W bytes: alignment 1. Directional safety distances: one byte per ray
+     * class, each texel row as n rows (one per class held, in class order), an R8UI
+     * texture of W x nH, texel (i, n j + slot); the shaders' hf_safety_classes says
+     * which classes. Isotropic: one byte per texel, W x H. */
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+    g->tex_safety = make_texture(GL_R8UI, (int)s->w, n * (int)s->h, GL_RED_INTEGER,
+                                 GL_UNSIGNED_BYTE, s->safety);
+    g->tex_safety_iso = make_texture(GL_R8UI, (int)s->w, (int)s->h, GL_RED_INTEGER,
+                                     GL_UNSIGNED_BYTE, s->safety_iso);
+    /* Cylinder-cone shapes: n RGBA8UI texels (one per class held) per map texel, W x nH
+     * (hf_cc_classes). */
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
+    g->tex_cc = make_texture(GL_RGBA8UI, (int)s->w, n * (int)s->h, GL_RGBA_INTEGER,
+                             GL_UNSIGNED_BYTE, s->cc);
 }
 
 void gpu_upload_rays(gpu *g, const hf_ray *rays) {
@@ -605,12 +632,12 @@ void gpu_render_program(gpu *g, GLuint p, const scene *s, method_cfg cfg, float 
     if (sloc >= 0) glUniform1ui(sloc, cfg.surface);
     sloc = glGetUniformLocation(p, "hf_safety_variant");
     if (sloc >= 0) glUniform1ui(sloc, cfg.variant);
-    /* The ray classes the safety-distance and cylinder-cone maps hold: the whole maps
-     * (absent from a generated shader, whose scene's ray classes are a constant). */
+    /* The ray classes the safety-distance and cylinder-cone maps hold (absent from a
+     * generated shader, whose scene's ray classes are a constant). */
     sloc = glGetUniformLocation(p, "hf_safety_classes");
-    if (sloc >= 0) glUniform1ui(sloc, HF_RAYS_ALL);
+    if (sloc >= 0) glUniform1ui(sloc, s->classes);
     sloc = glGetUniformLocation(p, "hf_cc_classes");
-    if (sloc >= 0) glUniform1ui(sloc, HF_RAYS_ALL);
+    if (sloc >= 0) glUniform1ui(sloc, s->classes);
     GLint loc = glGetUniformLocation(p, "hf_linear_steps");
     if (loc >= 0) glUniform1ui(loc, cfg.linear);
     loc = glGetUniformLocation(p, "hf_binary_steps");

@@ -43,14 +43,17 @@ typedef struct scene {
     size_t pyramid_len;
     hf_level levels[HF_MAX_LEVELS];
     uint32_t nlevels;
-    unsigned char *safety; /* directional safety distances, W x H x 4 */
+    /* HF_RAYS_* bits of the ray classes the safety and cylinder-cone maps hold:
+     * HF_RAYS_ALL (whole maps) after scene_load, else scene_set_classes's. */
+    uint32_t classes;
+    unsigned char *safety; /* directional safety distances, W x H x n for n classes */
     size_t safety_len;
-    unsigned char *safety_iso; /* isotropic safety distances, W x H */
+    unsigned char *safety_iso; /* isotropic safety distances, W x H (of those classes) */
     size_t safety_iso_len;
     float *cone, *relaxed, *qdm; /* the cone family's maps */
     size_t cone_len, relaxed_len, qdm_len;
     double cone_bake_ms, relaxed_bake_ms, qdm_bake_ms;
-    unsigned char *cc; /* cylinder-cone shapes, W x H x 16 bytes */
+    unsigned char *cc; /* cylinder-cone shapes, W x H x 4n bytes for n classes */
     size_t cc_len;
     float cc_frame[3]; /* zmin, zstep, zspan */
     double cc_bake_ms;
@@ -95,6 +98,10 @@ int scene_load(scene *s, const char *png_path);
 /* scene_load, and when `relaxed` the relaxed cone map too (seconds on a test map). */
 int scene_load_ex(scene *s, const char *png_path, int relaxed);
 void scene_free(scene *s);
+/* Rebakes the safety (both layouts) and cylinder-cone maps for the ray classes
+ * `classes` only (HF_RAYS_* bits, not 0): the compact maps of hf_*_bake_classes, which
+ * cpu_trace and gpu_render then use with that mask (after gpu_upload_class_maps). */
+void scene_set_classes(scene *s, uint32_t classes);
 /* The fixed view of the tests: both renderers' images of it are compared. */
 camera default_camera(void);
 float scene_depth_far(const scene *s, const camera *c);
@@ -117,6 +124,9 @@ GLuint link_fragment(const char *fs_src);
 
 int gpu_init(gpu *g, const scene *s, int w, int h);
 void gpu_upload_rays(gpu *g, const hf_ray *rays);
+/* (Re)creates the textures of the safety and cylinder-cone maps of `s` (W x nH for its
+ * n classes; isotropic W x H); gpu_init does it for the maps scene_load baked. */
+void gpu_upload_class_maps(gpu *g, const scene *s);
 void gpu_render(gpu *g, const scene *s, method_cfg cfg, float depth_far);
 /* gpu_render with program `p` (a general or generated shader of cfg.method); `u16`:
  * the heights are the R16UI samples times hf_height_step (a HF_HEIGHTS_U16 scene). */

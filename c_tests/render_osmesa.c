@@ -224,6 +224,36 @@ static void cfg_name(char *buf, size_t len, method_cfg c) {
     snprintf(buf, len, "%s/%s", method_name(c.method), surface_name(c.surface));
 }
 
+/* The class subsets of the compact-map cases (HF_RAYS_* bits). The default camera looks
+ * along -x and -y (azimuth 0.6 rad): its primary rays are of the classes x- and y-, so
+ * either subset holds the class of some pixels' rays and not of the others' (those
+ * read zero jumps without a fetch); the shadow rays (LIGHT_DIR) are of class x+, held
+ * by the first subset only. */
+static const uint32_t SUBSETS[] = {HF_RAYS_X_POS | HF_RAYS_Y_NEG, HF_RAYS_X_NEG};
+#define NUM_SUBSETS (sizeof SUBSETS / sizeof SUBSETS[0])
+
+/* The HF_RAYS_* bit of a ray direction's class (as the library classifies). */
+static uint32_t ray_class_bit(const float *d) {
+    float dx = d[0], dy = d[1];
+    int zero = dx == 0.0f && dy == 0.0f;
+    if (dx >= fabsf(dy) && !zero) return HF_RAYS_X_POS;
+    if (-dx >= fabsf(dy) && !zero) return HF_RAYS_X_NEG;
+    return dy > fabsf(dx) ? HF_RAYS_Y_POS : HF_RAYS_Y_NEG;
+}
+
+/* " holding x+,y-" for maps of the classes `classes`; "" for the whole maps. */
+static void classes_suffix(char *buf, size_t len, uint32_t classes) {
+    static const char *names[4] = {"x+", "x-", "y+", "y-"};
+    const char *sep = " holding ";
+    buf[0] = 0;
+    for (int k = 0; k < 4 && classes != HF_RAYS_ALL; k++) {
+        if (!(classes & (1u << k))) continue;
+        size_t at = strlen(buf);
+        snprintf(buf + at, len - at, "%s%s", sep, names[k]);
+        sep = ",";
+    }
+}
+
 /* A map set up for rendering: its scene, GPU state and the default camera's rays. */
 typedef struct map_job {
     scene s;
@@ -234,6 +264,18 @@ typedef struct map_job {
 } map_job;
 
 typedef void (*map_fn)(map_job *j, int w, int h, void *ctx);
+
+/* "MAP METHOD[-isotropic|-clamp]/SURFACE`extra`[ holding CLASSES]": a case's label. */
+static void case_label(char *buf, size_t len, const map_job *j, method_cfg c,
+                       const char *extra) {
+    char holding[32];
+    classes_suffix(holding, sizeof holding, j->s.classes);
+    snprintf(buf, len, "%s %s%s/%s%s%s", j->s.name, method_name(c.method),
+             c.method == HF_METHOD_SAFETY && c.variant == HF_SAFETY_ISOTROPIC ? "-isotropic"
+             : c.method == HF_METHOD_RADIUS && c.zero == HF_RADIUS_CLAMP   ? "-clamp"
+                                                                           : "",
+             surface_name(c.surface), extra, holding);
+}
 
 /* Runs `fn` on every map of `maps` set up for a w x h image (with the relaxed cone map
  * when `with_relaxed`), a map it cannot read skipped with a line "skip MAP" and
@@ -314,9 +356,89 @@ static int tests_result(const char *name, const tally *t) {
 
 /* ---- parity test ------------------------------------------------------------------- */
 
+/* Renders `c` on the job's maps, compares the frame `f` with the CPU and prints the
+ * line of the case. Returns whether it passed (`strict`: no pixel, shadow or depth may
+ * differ, beyond parity_ok). */
+static int parity_case(map_job *j, int w, int h, method_cfg c, frame *f, int strict) {
+    double ms = render_ms(j, c, 0, 0);
+    gpu_read(&j->g, f);
+    char label[256];
+    case_label(label, sizeof label, j, c, "");
+    parity p = compare(&j->s, c, j->rays, f, j->depth_far, w, h, 0, label);
+    int ok = parity_ok(&p, c.method) &&
+             (!strict || p.differ + p.shadow_differ + p.depth_differ == 0);
+    printf("parity %-40s %d pixels, %d cpu hits, %d differ (%d hit/miss, %d > 1e-3), max "
+           "err %.2e; shadows %d/%d differ; depth %d differ; gpu %.0f ms  %s\n",
+           label, p.pixels, p.hits, p.differ, p.differ_hit, p.differ_pos, p.max_err,
+           p.shadow_differ, p.shadow_checked, p.depth_differ, ms, ok ? "ok" : "FAILED");
+    if (!ok || p.differ > 0) compare(&j->s, c, j->rays, f, j->depth_far, w, h, 1, label);
+    return ok;
+}
+
+/* The configurations run on the compact maps of each of SUBSETS: safety (directional
+ * and isotropic) and cylinder-cones on triangles. */
+enum { SUBSET_CFGS = 3 };
+static void subset_cfgs(method_cfg out[SUBSET_CFGS]) {
+    out[0] = cfg_of(HF_METHOD_SAFETY, HF_SURFACE_TRIANGLES);
+    out[1] = out[0];
+    out[1].variant = HF_SAFETY_ISOTROPIC;
+    out[2] = cfg_of(HF_METHOD_CC, HF_SURFACE_TRIANGLES);
+}
+
+/* Rebakes the job's safety and cylinder-cone maps for the ray classes `classes` only,
+ * uploads them (W x nH) and prints how many primary rays are of classes held. */
+static void use_subset(map_job *j, int w, int h, uint32_t classes) {
+    scene_set_classes(&j->s, classes);
+    gpu_upload_class_maps(&j->g, &j->s);
+    size_t held = 0, n = (size_t)w * h;
+    for (size_t k = 0; k < n; k++) held += (ray_class_bit(j->rays[k].dir) & classes) != 0;
+    char holding[32];
+    classes_suffix(holding, sizeof holding, classes);
+    printf("maps of %s%s: %zu primary rays of classes held, %zu of classes not held; shadow "
+           "rays (x+) %s\n",
+           j->s.name, holding, held, n - held,
+           ray_class_bit(LIGHT_DIR) & classes ? "held" : "not held");
+}
+
+/* The rays of `a` and `b` that differ: hit or miss, or hit points more than 1e-3 apart. */
+static int hits_differ(const hf_hit *a, const hf_hit *b, size_t n) {
+    int differ = 0;
+    for (size_t k = 0; k < n; k++)
+        differ += a[k].hit != b[k].hit || (a[k].hit && !(dist3(a[k].point, b[k].point) <= 1e-3f));
+    return differ;
+}
+
+/* The class-subset cases on one map (after the whole-map ones): the GPU on the compact
+ * maps (the uniform masks set) against the CPU with the same mask, no pixel differing,
+ * and the CPU answers on the compact maps against those on the whole maps (exact
+ * marches: the same hits). */
+static void parity_subsets(map_job *j, int w, int h, frame *f, tally *t) {
+    size_t n = (size_t)w * h;
+    method_cfg cfgs[SUBSET_CFGS];
+    subset_cfgs(cfgs);
+    hf_hit *whole = (hf_hit *)malloc(sizeof(hf_hit) * n * SUBSET_CFGS);
+    hf_hit *part = (hf_hit *)malloc(sizeof(hf_hit) * n);
+    for (int k = 0; k < SUBSET_CFGS; k++)
+        if (cpu_trace(&j->s, cfgs[k], j->rays, n, whole + k * n) != HF_OK) t->failed++;
+    for (size_t m = 0; m < NUM_SUBSETS; m++) {
+        use_subset(j, w, h, SUBSETS[m]);
+        for (int k = 0; k < SUBSET_CFGS; k++) {
+            int ok = parity_case(j, w, h, cfgs[k], f, 1);
+            int differ = cpu_trace(&j->s, cfgs[k], j->rays, n, part) == HF_OK
+                             ? hits_differ(whole + k * n, part, n)
+                             : (int)n;
+            printf("  cpu on the compact map vs the whole map: %d of %zu rays differ  %s\n",
+                   differ, n, differ == 0 ? "ok" : "FAILED");
+            if (ok && differ == 0) t->passed++; else t->failed++;
+        }
+    }
+    free(whole);
+    free(part);
+}
+
 /* Every configuration on one map (relaxed cones too when the job has their map)
- * against the CPU; the images of the exact methods on triangles (safety: directional)
- * go to the outdir. */
+ * against the CPU, then the class-subset cases; the images of the exact methods on
+ * triangles (safety: directional) go to the outdir. */
 static void parity_map(map_job *j, int w, int h, void *ctx) {
     tally *t = (tally *)ctx;
     frame f;
@@ -331,22 +453,7 @@ static void parity_map(map_job *j, int w, int h, void *ctx) {
     if (j->relaxed) cfgs[ncfg++] = cfg_of(HF_METHOD_RELAXED, HF_SURFACE_TRIANGLES);
     for (int k = 0; k < ncfg; k++) {
         method_cfg c = cfgs[k];
-        double ms = render_ms(j, c, 0, 0);
-        gpu_read(&j->g, &f);
-        char label[160];
-        snprintf(label, sizeof label, "%s %s%s/%s", j->s.name, method_name(c.method),
-                 c.method == HF_METHOD_SAFETY && c.variant == HF_SAFETY_ISOTROPIC ? "-isotropic"
-                 : c.method == HF_METHOD_RADIUS && c.zero == HF_RADIUS_CLAMP   ? "-clamp"
-                                                                               : "",
-                 surface_name(c.surface));
-        parity p = compare(&j->s, c, j->rays, &f, j->depth_far, w, h, 0, label);
-        int ok = parity_ok(&p, c.method);
-        printf("parity %-40s %d pixels, %d cpu hits, %d differ (%d hit/miss, %d > 1e-3), max "
-               "err %.2e; shadows %d/%d differ; depth %d differ; gpu %.0f ms  %s\n",
-               label, p.pixels, p.hits, p.differ, p.differ_hit, p.differ_pos, p.max_err,
-               p.shadow_differ, p.shadow_checked, p.depth_differ, ms, ok ? "ok" : "FAILED");
-        if (!ok || p.differ > 0) compare(&j->s, c, j->rays, &f, j->depth_far, w, h, 1, label);
-        if (ok) t->passed++; else t->failed++;
+        if (parity_case(j, w, h, c, &f, 0)) t->passed++; else t->failed++;
         if (c.surface == HF_SURFACE_TRIANGLES && method_exact(c.method) &&
             c.variant == HF_SAFETY_DIRECTIONAL && c.zero == HF_RADIUS_WALK) {
             char path[512];
@@ -358,6 +465,7 @@ static void parity_map(map_job *j, int w, int h, void *ctx) {
             }
         }
     }
+    parity_subsets(j, w, h, &f, t);
     frame_free(&f);
 }
 
@@ -417,8 +525,9 @@ static int run_bench(int w, int h, int frames, int nmaps, char **maps) {
 
 /* The scene description of a renderer configuration: the general scene of its method
  * and surface (the renderer traces shadow rays, so upward rays stay), with 16-bit
- * heights when `u16`. */
-static hf_scene scene_of_cfg(method_cfg c, int u16) {
+ * heights when `u16`, its ray classes those the maps hold (`classes`: the generated
+ * shader's hf_safety_classes / hf_cc_classes constants). */
+static hf_scene scene_of_cfg(method_cfg c, int u16, uint32_t classes) {
     hf_scene sc;
     hf_result r = hf_scene_general(c.method, c.surface, &sc);
     if (r != HF_OK) {
@@ -427,6 +536,7 @@ static hf_scene scene_of_cfg(method_cfg c, int u16) {
     }
     sc.depth_output = 1;
     sc.height_format = u16 ? HF_HEIGHTS_U16 : HF_HEIGHTS_F32;
+    sc.ray_classes = classes;
     return sc;
 }
 
@@ -436,10 +546,12 @@ static size_t count_lines(const char *src) {
     return n;
 }
 
-/* The program of the shader generated for `c` (`u16`: 16-bit heights), and the line
- * counts of its fragment shader and of the general one of the method. */
-static GLuint generated_program(method_cfg c, int u16, size_t *lines_min, size_t *lines_gen) {
-    hf_scene sc = scene_of_cfg(c, u16);
+/* The program of the shader generated for `c` (`u16`: 16-bit heights) on maps of the
+ * ray classes `classes`, and the line counts of its fragment shader and of the general
+ * one of the method. */
+static GLuint generated_program(method_cfg c, int u16, uint32_t classes, size_t *lines_min,
+                                size_t *lines_gen) {
+    hf_scene sc = scene_of_cfg(c, u16, classes);
     char *src = generated_fragment_source(&sc);
     char *gen_src = fragment_source(c.method);
     *lines_min = count_lines(src);
@@ -509,10 +621,42 @@ static int generated_cases(gen_case *out) {
     return n;
 }
 
-/* Every case on one map (relaxed cones too when the job has their map) with the
- * general and the generated shader: the frames must be identical (16-bit heights: the general shader
- * reads the same heights as floats), and the generated one must agree with the CPU as
- * the parity test demands. */
+/* One case with the general and the generated shader (for the job's maps' classes):
+ * the frames must be identical (16-bit heights: the general shader reads the same
+ * heights as floats), and the generated one must agree with the CPU as the parity
+ * test demands. `fg`, `fm`: room for the two frames. */
+static void generated_case(map_job *j, int w, int h, gen_case gc, frame *fg, frame *fm,
+                           tally *t) {
+    method_cfg c = gc.cfg;
+    size_t lines_min, lines_gen;
+    GLuint prog = generated_program(c, gc.u16, j->s.classes, &lines_min, &lines_gen);
+    render_ms(j, c, 0, 0);
+    gpu_read(&j->g, fg);
+    render_ms(j, c, prog, gc.u16);
+    gpu_read(&j->g, fm);
+    glDeleteProgram(prog);
+    int rounded = 0;
+    int same = frames_compare(fg, fm, w, h, &rounded);
+    t->identical += same == 2;
+    char label[256];
+    case_label(label, sizeof label, j, c, gc.u16 ? " u16" : "");
+    parity p = compare(&j->s, c, j->rays, fm, j->depth_far, w, h, 0, label);
+    int ok = same && parity_ok(&p, c.method);
+    char how[64];
+    if (same == 2) snprintf(how, sizeof how, "bit-identical");
+    else if (same == 1) snprintf(how, sizeof how, "same hits (%d px rounded)", rounded);
+    else snprintf(how, sizeof how, "DIFFER");
+    printf("generated %-44s %4zu lines (general %4zu): frames %s; vs cpu %d differ, "
+           "shadows %d/%d differ  %s\n",
+           label, lines_min, lines_gen, how, p.differ, p.shadow_differ, p.shadow_checked,
+           ok ? "ok" : "FAILED");
+    if (ok) t->passed++; else t->failed++;
+}
+
+/* Every case on one map (relaxed cones too when the job has their map), then the
+ * safety and cylinder-cone cases on the compact maps of each of SUBSETS (scenes of
+ * those ray classes; safety in the layout their bake plan picks: isotropic for one
+ * class), with the general and the generated shader (generated_case). */
 static void generated_map(map_job *j, int w, int h, void *ctx) {
     tally *t = (tally *)ctx;
     frame fg, fm;
@@ -524,32 +668,20 @@ static void generated_map(map_job *j, int w, int h, void *ctx) {
         cases[ncases].cfg = cfg_of(HF_METHOD_RELAXED, HF_SURFACE_TRIANGLES);
         cases[ncases++].u16 = 0;
     }
-    for (int k = 0; k < ncases; k++) {
-        method_cfg c = cases[k].cfg;
-        size_t lines_min, lines_gen;
-        GLuint prog = generated_program(c, cases[k].u16, &lines_min, &lines_gen);
-        render_ms(j, c, 0, 0);
-        gpu_read(&j->g, &fg);
-        render_ms(j, c, prog, cases[k].u16);
-        gpu_read(&j->g, &fm);
-        glDeleteProgram(prog);
-        int rounded = 0;
-        int same = frames_compare(&fg, &fm, w, h, &rounded);
-        t->identical += same == 2;
-        char label[160];
-        snprintf(label, sizeof label, "%s %s/%s%s", j->s.name, method_name(c.method),
-                 surface_name(c.surface), cases[k].u16 ? " u16" : "");
-        parity p = compare(&j->s, c, j->rays, &fm, j->depth_far, w, h, 0, label);
-        int ok = same && parity_ok(&p, c.method);
-        char how[64];
-        if (same == 2) snprintf(how, sizeof how, "bit-identical");
-        else if (same == 1) snprintf(how, sizeof how, "same hits (%d px rounded)", rounded);
-        else snprintf(how, sizeof how, "DIFFER");
-        printf("generated %-44s %4zu lines (general %4zu): frames %s; vs cpu %d differ, "
-               "shadows %d/%d differ  %s\n",
-               label, lines_min, lines_gen, how, p.differ, p.shadow_differ, p.shadow_checked,
-               ok ? "ok" : "FAILED");
-        if (ok) t->passed++; else t->failed++;
+    for (int k = 0; k < ncases; k++) generated_case(j, w, h, cases[k], &fg, &fm, t);
+    for (size_t m = 0; m < NUM_SUBSETS; m++) {
+        use_subset(j, w, h, SUBSETS[m]);
+        gen_case gc = {cfg_of(HF_METHOD_SAFETY, HF_SURFACE_TRIANGLES), 0};
+        hf_scene sc = scene_of_cfg(gc.cfg, 0, SUBSETS[m]);
+        hf_bake_plan plan;
+        if (hf_scene_bake_plan(&sc, &plan) != HF_OK) {
+            fprintf(stderr, "hf_scene_bake_plan failed\n");
+            exit(2);
+        }
+        gc.cfg.variant = plan.safety_variant;
+        generated_case(j, w, h, gc, &fg, &fm, t);
+        gc.cfg = cfg_of(HF_METHOD_CC, HF_SURFACE_TRIANGLES);
+        generated_case(j, w, h, gc, &fg, &fm, t);
     }
     frame_free(&fg);
     frame_free(&fm);
@@ -599,7 +731,7 @@ static void bench_generated_map(map_job *j, int w, int h, void *ctx) {
     for (size_t k = 0; k < sizeof cases / sizeof cases[0]; k++) {
         method_cfg c = cfg_of(cases[k][0], cases[k][1]);
         size_t lines_min, lines_gen;
-        GLuint prog = generated_program(c, 0, &lines_min, &lines_gen);
+        GLuint prog = generated_program(c, 0, j->s.classes, &lines_min, &lines_gen);
         /* Warm-up: llvmpipe compiles on first use. */
         render_ms(j, c, 0, 0);
         render_ms(j, c, prog, 0);
