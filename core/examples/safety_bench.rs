@@ -254,13 +254,14 @@ fn main() {
                 set.with(RayClass::of(q.dir()[0], q.dir()[1]))
             });
             let mut part = vec![0u8; cc::map_len_classes(*w, *h, classes)];
-            bake_cc_classes(&hf, &mut scratch, &mut nb, exact, classes, &mut part, 2);
+            let (_, tb) = bake_cc_classes(&hf, &mut scratch, &mut nb, exact, classes, &mut part, 2);
             let pmap = CcMap::with_classes(&hf, &part, cap, classes).unwrap();
             let mb = |bytes: usize| bytes as f64 / (1 << 20) as f64;
             let part_name = format!(
-                "CC exact slope, {} class map ({:.1} MiB; all: {:.1}; heights {:.1})",
+                "CC exact slope, {} class map ({:.1} MiB, baked in {:.2} s; all: {:.1}; heights {:.1})",
                 classes.count(),
                 mb(part.len()),
+                tb,
                 mb(cce.len()),
                 mb(v.len() * 4)
             );
