@@ -514,17 +514,17 @@ pub fn texel_cone<S: RaySet>(
     opts: CcOptions,
 ) -> (f64, f64) {
     let views = views(hf, nb, opts.cap);
-    cone_search(hf, &views, rays, class, (i, j), r, opts, None).0
+    cone_search(hf, &views, rays, class, (i, j), r, opts, [None; 3]).0
 }
 
 /// A cell of the field as `(main, minor)` cell indices of a class's axis.
 type Cell = Option<(u32, u32)>;
 
-/// [`texel_cone`], first raising the slope over the cell `seed` when it lies ahead
-/// (for the exact slope: the cell that set a neighbour's slope, whose triangles often
-/// set this one's too, so that the search prunes from the start; the result does
-/// not depend on it, see the module's **Pruning**). Also returns the cell that set
-/// the slope, if any.
+/// [`texel_cone`], first raising the slope over the cells `seeds` that lie ahead
+/// (for the exact slope: the cells that set the slopes of the neighbours on the left,
+/// above and above on the right, whose triangles often set this one's too, so that the search prunes
+/// from the start; the result does not depend on them, see the module's **Pruning**).
+/// Also returns the cell that set the slope, if any.
 #[allow(clippy::too_many_arguments)]
 fn cone_search<S: RaySet>(
     hf: &HeightField,
@@ -534,7 +534,7 @@ fn cone_search<S: RaySet>(
     (i, j): (u32, u32),
     r: u8,
     opts: CcOptions,
-    seed: Cell,
+    seeds: [Cell; 3],
 ) -> ((f64, f64), Cell) {
     let ax = axis_of(class);
     let sg = sign_of(class);
@@ -636,7 +636,7 @@ fn cone_search<S: RaySet>(
         return ((zc, s), best);
     }
     // The exact slope scans the columns whose bound exceeds `S_MIN` (none when
-    // `hmax − z_c ≤ S_MIN·cap`), after the seed's cell, highest bound first, so that
+    // `hmax − z_c ≤ S_MIN·cap`), after the seeds' cells, highest bound first, so that
     // the slope rises early and prunes the rest: a column whose bound does not exceed
     // `s` is skipped (or not even pushed). The
     // order is that of integer keys, the `f32` bound's order-preserving bits, then
@@ -651,7 +651,11 @@ fn cone_search<S: RaySet>(
     if u32::from(r) >= kend || hmax - zc <= S_MIN * f64::from(opts.cap) {
         return ((zc, s), None);
     }
-    if let Some((cm, c)) = seed {
+    for (at, seed) in seeds.iter().enumerate() {
+        // Each cell once.
+        let Some((cm, c)) = seed.filter(|_| !seeds[..at].contains(seed)) else {
+            continue;
+        };
         let k = if sg > 0 {
             cm.wrapping_sub(m)
         } else {
@@ -991,31 +995,49 @@ pub fn bake_rows_classes(
     }
     let views = views(hf, nb, opts.cap);
     let rows_of = CLASSES.map(|class| class_rows(hf.width(), classes, class));
-    for (row, j) in rows.enumerate() {
-        // Per class, the cell that set the slope of the texel on the left.
-        let mut seeds: [Cell; 4] = [None; 4];
-        for i in 0..hf.width() {
-            for (c, class) in CLASSES.into_iter().enumerate() {
-                let Some(at) = rows_of[c] else {
-                    continue;
-                };
-                let r = texel_distance(hf, scratch, &AllRays, class, i, j, u8::MAX);
-                let (zc, sc) = if r >= opts.cap {
-                    (0.0, f64::INFINITY)
-                } else {
-                    let seed = seeds[c];
-                    let (cone, best) =
-                        cone_search(hf, &views, &AllRays, class, (i, j), r, opts, seed);
-                    seeds[c] = best.or(seed);
-                    cone
-                };
-                let at = at.index(i, row as u32) * 4;
-                out[at..at + 4].copy_from_slice(&pack(hf, r, zc, sc));
+    // The rows are baked in chunks of `SEED_SPAN` texels, so that the cells that set
+    // the slopes of a chunk's texels fit in a fixed array as seeds for the texels below
+    // (a texel's seeds: the cells of its neighbours on the left, above, above right),
+    // and the samples and N-buffer entries a chunk reads stay in cache over its rows.
+    for i0 in (0..hf.width()).step_by(SEED_SPAN) {
+        let i1 = (i0 + SEED_SPAN as u32).min(hf.width());
+        // Per texel of the chunk and class, the cell that set the slope of the texel
+        // above (the previous row of `rows`), then of the texel itself.
+        let mut above: [[Cell; 4]; SEED_SPAN + 1] = [[None; 4]; SEED_SPAN + 1];
+        for (row, j) in rows.clone().enumerate() {
+            // Per class, the cell that set the slope of the texel on the left.
+            let mut left: [Cell; 4] = [None; 4];
+            for i in i0..i1 {
+                let k = (i - i0) as usize;
+                let right = above[k + 1];
+                let above = &mut above[k];
+                for (c, class) in CLASSES.into_iter().enumerate() {
+                    let Some(at) = rows_of[c] else {
+                        continue;
+                    };
+                    let r = texel_distance(hf, scratch, &AllRays, class, i, j, u8::MAX);
+                    let (zc, sc) = if r >= opts.cap {
+                        (0.0, f64::INFINITY)
+                    } else {
+                        let seeds = [left[c], above[c], right[c]];
+                        let (cone, best) =
+                            cone_search(hf, &views, &AllRays, class, (i, j), r, opts, seeds);
+                        left[c] = best.or(left[c]);
+                        above[c] = best.or(above[c]);
+                        cone
+                    };
+                    let at = at.index(i, row as u32) * 4;
+                    out[at..at + 4].copy_from_slice(&pack(hf, r, zc, sc));
+                }
             }
         }
     }
     Ok(())
 }
+
+/// Texels per chunk of the rows a bake walks ([`bake_rows_classes`]); 65 · 48 bytes
+/// of seeds on the stack.
+const SEED_SPAN: usize = 64;
 
 /// Prepares both scratches and bakes the whole map, one thread.
 pub fn bake(
