@@ -995,35 +995,34 @@ pub fn bake_rows_classes(
     }
     let views = views(hf, nb, opts.cap);
     let rows_of = CLASSES.map(|class| class_rows(hf.width(), classes, class));
-    // The rows are baked in chunks of `SEED_SPAN` texels, so that the cells that set
-    // the slopes of a chunk's texels fit in a fixed array as seeds for the texels below
-    // (a texel's seeds: the cells of its neighbours on the left, above, above right),
-    // and the samples and N-buffer entries a chunk reads stay in cache over its rows.
+    // The rows are baked in chunks of `SEED_SPAN` texels, a class at a time, so that
+    // the cells that set the slopes of a chunk's texels fit in a fixed array as seeds
+    // for the texels below (a texel's seeds: the cells of its neighbours on the left,
+    // above, above right), and the samples and N-buffer entries a chunk reads for a
+    // class stay in cache over its rows.
     for i0 in (0..hf.width()).step_by(SEED_SPAN) {
         let i1 = (i0 + SEED_SPAN as u32).min(hf.width());
-        // Per texel of the chunk and class, the cell that set the slope of the texel
-        // above (the previous row of `rows`), then of the texel itself.
-        let mut above: [[Cell; 4]; SEED_SPAN + 1] = [[None; 4]; SEED_SPAN + 1];
-        for (row, j) in rows.clone().enumerate() {
-            // Per class, the cell that set the slope of the texel on the left.
-            let mut left: [Cell; 4] = [None; 4];
-            for i in i0..i1 {
-                let k = (i - i0) as usize;
-                let right = above[k + 1];
-                let above = &mut above[k];
-                for (c, class) in CLASSES.into_iter().enumerate() {
-                    let Some(at) = rows_of[c] else {
-                        continue;
-                    };
+        for (c, class) in CLASSES.into_iter().enumerate() {
+            let Some(at) = rows_of[c] else {
+                continue;
+            };
+            // Per texel of the chunk, the cell that set the slope of the texel above
+            // (the previous row of `rows`), then of the texel itself.
+            let mut above: [Cell; SEED_SPAN + 1] = [None; SEED_SPAN + 1];
+            for (row, j) in rows.clone().enumerate() {
+                // The cell that set the slope of the texel on the left.
+                let mut left: Cell = None;
+                for i in i0..i1 {
+                    let k = (i - i0) as usize;
                     let r = texel_distance(hf, scratch, &AllRays, class, i, j, u8::MAX);
                     let (zc, sc) = if r >= opts.cap {
                         (0.0, f64::INFINITY)
                     } else {
-                        let seeds = [left[c], above[c], right[c]];
+                        let seeds = [left, above[k], above[k + 1]];
                         let (cone, best) =
                             cone_search(hf, &views, &AllRays, class, (i, j), r, opts, seeds);
-                        left[c] = best.or(left[c]);
-                        above[c] = best.or(above[c]);
+                        left = best.or(left);
+                        above[k] = best.or(above[k]);
                         cone
                     };
                     let at = at.index(i, row as u32) * 4;
@@ -1035,7 +1034,7 @@ pub fn bake_rows_classes(
     Ok(())
 }
 
-/// Texels per chunk of the rows a bake walks ([`bake_rows_classes`]); 65 · 48 bytes
+/// Texels per chunk of the rows a bake walks ([`bake_rows_classes`]); 65 · 12 bytes
 /// of seeds on the stack.
 const SEED_SPAN: usize = 64;
 
