@@ -809,8 +809,10 @@ static void test_safety(void) {
     for (size_t k = 0; k < tlen; k++)
         mask_ok &= rows[k] == dmap[(k / (2 * W) * 4 + two_classes[k / W % 2]) * W + k % W];
     CHECK(mask_ok);
+    /* In two row ranges (each call writes its rows of the whole map). */
     unsigned char *rows2 = (unsigned char *)malloc(tlen);
-    CHECK_OK(hf_safety_bake_rows_classes(f, scratch, slen, &good, two, 0, H, rows2, tlen));
+    CHECK_OK(hf_safety_bake_rows_classes(f, scratch, slen, &good, two, 7, H, rows2, tlen));
+    CHECK_OK(hf_safety_bake_rows_classes(f, scratch, slen, &good, two, 0, 7, rows2, tlen));
     CHECK(memcmp(rows, rows2, tlen) == 0);
     free(rows2);
 
@@ -1254,8 +1256,11 @@ static void test_cc(void) {
     for (size_t j = 0; j < (size_t)H; j++)
         cc_mask_ok &= memcmp(rows + j * W * 4, map + (j * 4 + 2) * W * 4, (size_t)W * 4) == 0;
     CHECK(cc_mask_ok);
+    /* In two row ranges (each call writes its rows of the whole map). */
     unsigned char *rows2 = (unsigned char *)malloc(ylen);
-    CHECK_OK(hf_cc_bake_rows_classes(f, scratch, slen, nb, nlen, &good, HF_RAYS_Y_POS, 0, H, rows2,
+    CHECK_OK(hf_cc_bake_rows_classes(f, scratch, slen, nb, nlen, &good, HF_RAYS_Y_POS, 5, H, rows2,
+                                     ylen));
+    CHECK_OK(hf_cc_bake_rows_classes(f, scratch, slen, nb, nlen, &good, HF_RAYS_Y_POS, 0, 5, rows2,
                                      ylen));
     CHECK(memcmp(rows, rows2, ylen) == 0);
     free(rows2);
