@@ -64,7 +64,7 @@ pub unsafe extern "C" fn hf_cc_map_len(width: u32, height: u32, out_len: *mut us
     // SAFETY: the caller's promise, passed on.
     unsafe {
         size_query(width, height, out_len, |width, height| {
-            cc::map_len(width, height)
+            Ok(cc::map_len(width, height))
         })
     }
 }
@@ -84,15 +84,12 @@ pub unsafe extern "C" fn hf_cc_map_len_classes(
     ray_classes: u32,
     out_len: *mut usize,
 ) -> hf_result {
-    guard(|| {
-        let out = ptr::out(out_len)?;
-        let classes = classes_of(ray_classes)?;
-        check_size(width, height)?;
-        let n = cc::map_len_classes(width, height, classes);
-        // SAFETY: the caller promises `out_len` is writable.
-        unsafe { out.set(n) };
-        Ok(())
-    })
+    // SAFETY: the caller's promise, passed on.
+    unsafe {
+        size_query(width, height, out_len, |width, height| {
+            Ok(cc::map_len_classes(width, height, classes_of(ray_classes)?))
+        })
+    }
 }
 
 /// Writes the number of floats of the N-buffers of a `width × height` field for cone

@@ -87,7 +87,7 @@ unsafe fn map_len(fam: Family, width: u32, height: u32, out_len: *mut usize) -> 
     // SAFETY: the caller's promise, passed on.
     unsafe {
         size_query(width, height, out_len, |width, height| {
-            (fam.map_len)(width, height)
+            Ok((fam.map_len)(width, height))
         })
     }
 }
@@ -209,7 +209,7 @@ pub unsafe extern "C" fn hf_cone_scratch_len(
     // SAFETY: the caller's promise, passed on.
     unsafe {
         size_query(width, height, out_len, |width, height| {
-            cone::scratch_len(width, height)
+            Ok(cone::scratch_len(width, height))
         })
     }
 }

@@ -169,7 +169,8 @@ pub(crate) fn guard(f: impl FnOnce() -> Result<(), hf_result>) -> hf_result {
 }
 
 /// Shared body of the size queries: checks `width` and `height` (2 to `HF_MAX_SIDE`,
-/// else `HF_ERR_INVALID_SIZE`) and writes `len(width, height)` to `*out_len`.
+/// else `HF_ERR_INVALID_SIZE`) and writes `len(width, height)` to `*out_len` (or
+/// returns its error: an invalid enum or class set).
 ///
 /// # Safety
 /// `out_len` NULL (an error) or valid for writing one `size_t`.
@@ -178,13 +179,14 @@ pub(crate) unsafe fn size_query(
     width: u32,
     height: u32,
     out_len: *mut usize,
-    len: impl FnOnce(u32, u32) -> usize,
+    len: impl FnOnce(u32, u32) -> Result<usize, hf_result>,
 ) -> hf_result {
     guard(|| {
         let out = ptr::out(out_len)?;
         check_size(width, height)?;
+        let n = len(width, height)?;
         // SAFETY: the caller promises `out_len` is writable.
-        unsafe { out.set(len(width, height)) };
+        unsafe { out.set(n) };
         Ok(())
     })
 }

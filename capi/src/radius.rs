@@ -72,7 +72,7 @@ pub unsafe extern "C" fn hf_radius_map_len(
     // SAFETY: the caller's promise, passed on.
     unsafe {
         size_query(width, height, out_len, |width, height| {
-            radius::map_len(width, height)
+            Ok(radius::map_len(width, height))
         })
     }
 }

@@ -4,7 +4,7 @@
 use crate::hf_result::{self, *};
 use crate::scene::{classes_of, HF_RAYS_ALL};
 use crate::trace::{batch, hf_hit, hf_ray, one, pyramid_slice};
-use crate::{check_size, size_query};
+use crate::size_query;
 use crate::{guard, hf_field, hf_surface, par, ptr};
 use hfcore::safety::{self, AllRays, MarchSurface, Options, SafetyError, SafetyMap, Variant};
 use hfcore::HeightField;
@@ -85,15 +85,12 @@ pub unsafe extern "C" fn hf_safety_map_len(
     variant: u32,
     out_len: *mut usize,
 ) -> hf_result {
-    guard(|| {
-        let out = ptr::out(out_len)?;
-        let variant = variant_of(variant)?;
-        check_size(width, height)?;
-        let n = safety::map_len(width, height, variant);
-        // SAFETY: the caller promises `out_len` is writable.
-        unsafe { out.set(n) };
-        Ok(())
-    })
+    // SAFETY: the caller's promise, passed on.
+    unsafe {
+        size_query(width, height, out_len, |width, height| {
+            Ok(safety::map_len(width, height, variant_of(variant)?))
+        })
+    }
 }
 
 /// `hf_safety_map_len` for a map of the ray classes `ray_classes` only (`HF_RAYS_*`
@@ -110,15 +107,13 @@ pub unsafe extern "C" fn hf_safety_map_len_classes(
     ray_classes: u32,
     out_len: *mut usize,
 ) -> hf_result {
-    guard(|| {
-        let out = ptr::out(out_len)?;
-        let (variant, classes) = (variant_of(variant)?, classes_of(ray_classes)?);
-        check_size(width, height)?;
-        let n = safety::map_len_classes(width, height, variant, classes);
-        // SAFETY: the caller promises `out_len` is writable.
-        unsafe { out.set(n) };
-        Ok(())
-    })
+    // SAFETY: the caller's promise, passed on.
+    unsafe {
+        size_query(width, height, out_len, |width, height| {
+            let (variant, classes) = (variant_of(variant)?, classes_of(ray_classes)?);
+            Ok(safety::map_len_classes(width, height, variant, classes))
+        })
+    }
 }
 
 /// Writes the number of floats of the scratch buffer `hf_safety_prepare` fills and
@@ -136,7 +131,7 @@ pub unsafe extern "C" fn hf_safety_scratch_len(
     // SAFETY: the caller's promise, passed on.
     unsafe {
         size_query(width, height, out_len, |width, height| {
-            safety::scratch_len(width, height)
+            Ok(safety::scratch_len(width, height))
         })
     }
 }
