@@ -3,8 +3,8 @@
 
 use crate::hf_result::{self, *};
 use crate::scene::{classes_of, HF_RAYS_ALL};
-use crate::trace::{batch, hf_hit, hf_ray, one, pyramid_slice};
 use crate::size_query;
+use crate::trace::{batch, hf_hit, hf_ray, one, pyramid_slice};
 use crate::{guard, hf_field, hf_surface, par, ptr};
 use hfcore::safety::{self, AllRays, MarchSurface, Options, SafetyError, SafetyMap, Variant};
 use hfcore::HeightField;
