@@ -622,7 +622,6 @@ pub fn bake_rows_classes<S: RaySet>(
     let per_texel = map_len_classes(1, 1, opts.variant, classes);
     check_rows(hf, scratch, &rows, per_texel, out)?;
     let floor = u8::from(opts.positive);
-    let kept = CLASSES.map(|c| classes.contains(c));
     let rows_of = CLASSES.map(|class| ClassRows::of(w, opts.variant, classes, class));
     for (r, j) in rows.enumerate() {
         for i in 0..w {
@@ -638,11 +637,11 @@ pub fn bake_rows_classes<S: RaySet>(
                 Variant::Isotropic if classes.count() == 0 => out[r * w as usize + i as usize] = 0,
                 Variant::Isotropic => {
                     let mut v = opts.cap;
-                    for (class, keep) in CLASSES.into_iter().zip(kept) {
+                    for (class, rows) in CLASSES.into_iter().zip(rows_of) {
                         if v == 0 {
                             break;
                         }
-                        if keep {
+                        if rows.is_some() {
                             v = texel_distance(hf, scratch, rays, class, i, j, v);
                         }
                     }

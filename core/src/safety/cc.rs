@@ -127,6 +127,10 @@ impl Default for CcOptions {
     }
 }
 
+/// The packed bytes a class the map does not hold reads: radius 0 without a cone (a
+/// zero jump, [`CcMap::with_classes`]).
+const NOT_HELD: [u8; 4] = [0, NO_CONE, 0, 0];
+
 /// Bytes of a whole packed map: `W · H · 16`.
 pub fn map_len(width: u32, height: u32) -> usize {
     map_len_classes(width, height, RayClasses::ALL)
@@ -1122,7 +1126,7 @@ impl<'a> CcMap<'a> {
     #[inline]
     pub fn texel(&self, class: RayClass, i: u32, j: u32) -> [u8; 4] {
         self.rows(class)
-            .map_or([0, NO_CONE, 0, 0], |at| texel_bytes(self.data, at, i, j))
+            .map_or(NOT_HELD, |at| texel_bytes(self.data, at, i, j))
     }
 
     /// The decoded shape of texel `(i, j)` for `class`.
@@ -1237,7 +1241,7 @@ pub fn trace_on<R: Real>(
         // A class the map does not hold: radius 0 without a cone (zero jumps, exact).
         let at = map.rows(class);
         move |l: &Line<R>, _, i, j| {
-            let b = at.map_or([0, NO_CONE, 0, 0], |at| texel_bytes(map.data, at, i, j));
+            let b = at.map_or(NOT_HELD, |at| texel_bytes(map.data, at, i, j));
             cone_step(cap, z, b, l.p[2], l.tol, sd_lo)
         }
     })
