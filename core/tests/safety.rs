@@ -599,6 +599,80 @@ fn cc_bake_checked_independently() {
     );
 }
 
+/// The N-buffer slope is the paper's: the largest `(h_max(u) − z_c)/u` over the
+/// abscissas `u` (sample columns ahead) of the columns past the cylinder, `h_max(u)`
+/// the highest sample of the column at `u` over the band of column `u` (cells
+/// `n − u − 2 ..= n + u + 1`). Computed here by brute force for the texels with a
+/// cylinder (`r ≥ 1`: column 0, taken exactly, plays no part), between the base
+/// height's stored code and the code below it (the map keeps `z_c` rounded up). A
+/// bound per cell column (both sample columns over `u = k`, as the bake took until
+/// session 7) fails it.
+#[test]
+fn cc_nbuffer_slope_is_per_abscissa() {
+    let (mut checked, mut tight) = (0, 0);
+    for (name, field) in fields() {
+        let hf = field.hf();
+        for cap in [6u8, 255] {
+            let data = bake_cc(
+                &field,
+                CcOptions {
+                    slope: Slope::NBuffer,
+                    cap,
+                },
+            );
+            for class in CLASSES {
+                let (ax, sg) = class_axis(class);
+                let (lm, ln) = if ax == 0 {
+                    (field.w, field.h)
+                } else {
+                    (field.h, field.w)
+                };
+                let at =
+                    |m: u32, n: u32| f64::from(if ax == 0 { hf.at(m, n) } else { hf.at(n, m) });
+                for j in 0..field.h {
+                    for i in 0..field.w {
+                        let b = &data[cc::texel_offset(field.w, class, i, j)..][..4];
+                        let (m, n) = if ax == 0 { (i, j) } else { (j, i) };
+                        let kend = u32::from(cap).min(if sg > 0.0 { lm - 1 - m } else { m });
+                        let k0 = u32::from(b[0]).max(1);
+                        if b[0] == 0 || b[1] == cc::NO_CONE || k0 >= kend {
+                            continue;
+                        }
+                        // The largest (h_max(u) − zc)/u for a base height zc.
+                        let slope = |zc: f64| {
+                            (k0..=kend).fold(cc::S_MIN, |s: f64, u| {
+                                let col = if sg > 0.0 { m + u } else { m - u };
+                                let (y0, y1) = (n.saturating_sub(u + 2), (n + u + 2).min(ln - 1));
+                                let top = (y0..=y1).map(|y| at(col, y)).fold(f64::MIN, f64::max);
+                                s.max((top - zc) / f64::from(u))
+                            })
+                        };
+                        let z = u16::from_le_bytes([b[2], b[3]]);
+                        let (hi, lo) = (
+                            cc::decode_base(&hf, z),
+                            cc::decode_base(&hf, z.saturating_sub(1)),
+                        );
+                        let got = b[1];
+                        let (least, most) =
+                            (cc::encode_slope(slope(hi)), cc::encode_slope(slope(lo)));
+                        assert!(
+                            least <= got && got <= most,
+                            "{name} cap {cap} {class:?} texel ({i}, {j}): slope code {got} outside {least}..={most}"
+                        );
+                        checked += 1;
+                        tight += usize::from(least == most);
+                    }
+                }
+            }
+        }
+    }
+    println!("N-buffer slopes checked per abscissa: {checked} ({tight} to the code)");
+    assert!(
+        checked > 5000 && tight * 2 > checked,
+        "{checked} checked, {tight} tight"
+    );
+}
+
 #[test]
 fn cc_rows_and_packing() {
     let field = rows_field(5);

@@ -26,24 +26,27 @@
 //!
 //! **Slopes.** [`Slope::Exact`] takes `s_c` over the limiting triangles only: each
 //! triangle clipped to the reachable band (a convex polygon of at most five vertices);
-//! `(plane − z_c)/u` is linear-fractional, so its maximum is at a vertex. Each
-//! column's maximum sample over its reachable range (from the N-buffer, two lookups)
-//! bounds the slope its triangles can give; columns are scanned highest bound first
-//! (branch and bound: the slope rises early, and a column is skipped once its bound
-//! cannot raise `s_c`); the first pass stops when the field's maximum cannot.
-//! [`Slope::NBuffer`] counts every triangle as limiting and bounds a column `k ≥ 1`
-//! by that maximum sample at `u = k` (or `k + 1` when it is under `z_c`); column 0
-//! (when `r = 0`) is taken exactly, like the exact slope does (dividing by `u = 0`
-//! would leave no cone; its non-limiting triangles may be left out there as
-//! anywhere, and testing them is cheaper than clipping them). The slope is the
-//! largest of these bounds, found block by block of [`BLOCK`] columns, highest block
-//! bound first, skipping the blocks whose bound cannot raise it.
+//! `(plane − z_c)/u` is linear-fractional, so its maximum is at a vertex. A column's
+//! maximum samples over its reachable range on its near side (`u = k`) and its far
+//! side (`u = k + 1`) (from the N-buffer, two lookups each) bound the slope its
+//! triangles can give; columns are scanned highest bound first (branch and bound: the
+//! slope rises early, and a column is skipped once its bound cannot raise `s_c`); the
+//! first pass stops when the field's maximum cannot.
+//! [`Slope::NBuffer`] counts every triangle as limiting: per abscissa (the paper's
+//! "maximum heights per abscissa"), the sample column at `u ≥ 1` bounds its samples'
+//! slopes by its maximum over the band of column `u` (which holds column `u − 1`'s),
+//! over `u`; column 0 (when `r = 0`) is taken exactly, like the exact slope does
+//! (dividing by `u = 0` would leave no cone; its non-limiting triangles may be left
+//! out there as anywhere, and testing them is cheaper than clipping them). The slope
+//! is the largest of these bounds over the abscissas of the columns `max(r, 1) ≤ k`,
+//! found block by block of [`BLOCK`] columns, highest block bound first, skipping the
+//! blocks whose bound cannot raise it.
 //!
-//! **N-buffers** ([`nbuffer_len`], [`prepare_nbuffer`]): per axis, per cell column
-//! (the two sample columns on its sides) and level `L`, the maximum over `2^L`
-//! consecutive samples along the cross axis; any range is two lookups at level
-//! `⌊log₂ len⌋`. Levels up to the widest reachable range, `2·cap + 5` samples. After
-//! them, the same per block of [`BLOCK`] consecutive cell columns (their maximum).
+//! **N-buffers** ([`nbuffer_len`], [`prepare_nbuffer`]): per axis, per sample column
+//! and level `L`, the maximum over `2^L` consecutive samples along the cross axis; any
+//! range is two lookups at level `⌊log₂ len⌋`. Levels up to the widest reachable
+//! range, `2·cap + 5` samples. After them, the same per block of [`BLOCK`]
+//! consecutive cell columns (the maximum over their `BLOCK + 1` sample columns).
 //!
 //! **Pruning.** Only the slope's code is stored, so the bake keeps the slope so far
 //! rounded up to a code's value (`C(s)`, [`code_ceiling`]): `C` is monotone and
@@ -170,19 +173,19 @@ pub fn nbuffer_len(width: u32, height: u32, cap: u8) -> usize {
     let (w, h) = (width.max(2) as usize, height.max(2) as usize);
     let b = BLOCK as usize;
     let blocks = (w - 1).div_ceil(b) * h + (h - 1).div_ceil(b) * w;
-    levels(cap) as usize * ((w - 1) * h + (h - 1) * w + blocks)
+    levels(cap) as usize * (2 * w * h + blocks)
 }
 
-/// Index of level `l`, cell column `c` (along axis `ax`), cross sample `y`.
+/// Index of level `l`, sample column `c` (along axis `ax`), cross sample `y`.
 #[inline]
 fn nb_index(hf: &HeightField, cap: u8, ax: usize, l: u32, c: u32, y: u32) -> usize {
     let (lm, ln) = extents(hf, ax);
     let base = if ax == 0 {
         0
     } else {
-        levels(cap) as usize * (hf.width() as usize - 1) * hf.height() as usize
+        levels(cap) as usize * hf.width() as usize * hf.height() as usize
     };
-    base + ((l as usize * (lm as usize - 1) + c as usize) * ln as usize + y as usize)
+    base + ((l as usize * lm as usize + c as usize) * ln as usize + y as usize)
 }
 
 /// Fills the N-buffers ([`nbuffer_len`] elements). `O(cells · levels)`.
@@ -193,10 +196,9 @@ pub fn prepare_nbuffer(hf: &HeightField, cap: u8, nb: &mut [f32]) -> Result<(), 
     }
     for ax in 0..2 {
         let (lm, ln) = extents(hf, ax);
-        for c in 0..lm - 1 {
+        for c in 0..lm {
             for y in 0..ln {
-                nb[nb_index(hf, cap, ax, 0, c, y)] =
-                    sample(hf, ax, c, y).max(sample(hf, ax, c + 1, y));
+                nb[nb_index(hf, cap, ax, 0, c, y)] = sample(hf, ax, c, y);
             }
             for l in 1..levels(cap) {
                 let half = 1u32 << (l - 1);
@@ -208,19 +210,21 @@ pub fn prepare_nbuffer(hf: &HeightField, cap: u8, nb: &mut [f32]) -> Result<(), 
             }
         }
     }
-    // The blocks' entries: level 0 the maximum of their columns' level 0, the next
-    // levels doubled as the columns' (the same windows, so the maximum of their
-    // columns' entries).
+    // The blocks' entries: level 0 the maximum of the level 0 of their sample columns
+    // (`BLOCK + 1`: both sides of each cell column), the next levels doubled as the
+    // columns' (the same windows, so the maximum of their columns' entries).
     for ax in 0..2 {
         let cols = NbView::new(hf, &[], cap, ax, false);
         let blocks = NbView::new(hf, &[], cap, ax, true);
         let (lm, ln) = (extents(hf, ax).0, extents(hf, ax).1 as usize);
-        for c in 0..lm - 1 {
-            let from = cols.base + c as usize * cols.column;
-            let to = blocks.base + (c / BLOCK) as usize * blocks.column;
-            for y in 0..ln {
-                let v = nb[from + y];
-                nb[to + y] = if c % BLOCK == 0 { v } else { nb[to + y].max(v) };
+        for b in 0..(lm - 1).div_ceil(BLOCK) {
+            let to = blocks.base + b as usize * blocks.column;
+            for c in b * BLOCK..=(b * BLOCK + BLOCK).min(lm - 1) {
+                let from = cols.base + c as usize * cols.column;
+                for y in 0..ln {
+                    let v = nb[from + y];
+                    nb[to + y] = if c == b * BLOCK { v } else { nb[to + y].max(v) };
+                }
             }
         }
         for l in 1..levels(cap) as usize {
@@ -253,28 +257,27 @@ struct NbView<'a> {
 }
 
 impl<'a> NbView<'a> {
-    /// The N-buffers of axis `ax`: of its cell columns, or (`blocks`) of its blocks of
-    /// [`BLOCK`] cell columns, stored after all the columns' (the maximum over the
-    /// block's columns of their entries).
+    /// The N-buffers of axis `ax`: of its sample columns, or (`blocks`) of its blocks
+    /// of [`BLOCK`] cell columns, stored after all the columns' (the maximum over the
+    /// block's sample columns of their entries).
     fn new(hf: &HeightField, nb: &'a [f32], cap: u8, ax: usize, blocks: bool) -> Self {
         let levels = levels(cap) as usize;
-        // Elements per level of axis `a`, for groups of `g` cell columns.
-        let per_level = |a: usize, g: usize| {
+        // Elements per level of axis `a`: of its sample columns or its blocks.
+        let per_level = |a: usize, blocks: bool| {
             let (lm, ln) = extents(hf, a);
-            (lm as usize - 1).div_ceil(g) * ln as usize
+            let n = if blocks { (lm - 1).div_ceil(BLOCK) } else { lm };
+            n as usize * ln as usize
         };
-        let b = BLOCK as usize;
-        let base = if !blocks {
-            nb_index(hf, cap, ax, 0, 0, 0)
-        } else if ax == 0 {
-            levels * (per_level(0, 1) + per_level(1, 1))
-        } else {
-            levels * (per_level(0, 1) + per_level(1, 1) + per_level(0, b))
+        let columns = levels * (per_level(0, false) + per_level(1, false));
+        let base = match (blocks, ax) {
+            (false, _) => nb_index(hf, cap, ax, 0, 0, 0),
+            (true, 0) => columns,
+            (true, _) => columns + levels * per_level(0, true),
         };
         NbView {
             nb,
             base,
-            level: per_level(ax, if blocks { b } else { 1 }),
+            level: per_level(ax, blocks),
             column: extents(hf, ax).1 as usize,
             top: levels as u32 - 1,
         }
@@ -289,7 +292,7 @@ fn views<'a>(hf: &HeightField, nb: &'a [f32], cap: u8) -> Views<'a> {
     [0, 1].map(|ax| [false, true].map(|blocks| NbView::new(hf, nb, cap, ax, blocks)))
 }
 
-/// Highest sample over cross samples `a..=b` of the view's cell column (or block)
+/// Highest sample over cross samples `a..=b` of the view's sample column (or block)
 /// whose level 0 starts at `at`.
 #[inline]
 fn range_max(v: &NbView, at: usize, a: u32, b: u32) -> f64 {
@@ -323,8 +326,9 @@ struct Ahead<'a> {
     sg: i64,
     /// Samples across (`ln`).
     ln: u32,
-    /// Where column `k = 0`'s level 0 starts in `cols`, and how much further the
-    /// next column's does (`±ln`; wrapping sums, as `k = 0` may lie outside).
+    /// Where the level 0 of column `k = 0`'s near sample column (`m`, at `u = 0`)
+    /// starts in `cols`, and how much further the next sample column's does (`±ln`;
+    /// wrapping sums).
     at: usize,
     step: usize,
     zc: f64,
@@ -337,40 +341,72 @@ impl Ahead<'_> {
         column_ahead(self.m, self.sg, k)
     }
 
-    /// The highest sample, less `z_c`, of the column or block of `v` whose level 0
-    /// starts at `at`, over the band column `k` reaches (`n − k − 2 ..= n + k + 2`, in
-    /// the field).
+    /// The highest sample, less `z_c`, of the sample column or block of `v` whose
+    /// level 0 starts at `at`, over the band column `k` reaches (`n − k − 2 ..= n + k +
+    /// 2`, in the field).
     #[inline]
     fn top(&self, v: &NbView, at: usize, k: u32) -> f64 {
         let (a, b) = band_cells(self.n, k, self.ln);
         range_max(v, at, a, b + 1) - self.zc
     }
 
-    /// Column `k`'s bound: its highest reachable sample over `u = k` (`+∞` at `k = 0`),
-    /// or over `u = k + 1` when it is under `z_c`.
+    /// The highest sample, less `z_c`, of the sample column at `u` ahead (column
+    /// `k`'s near side is `u = k`, its far side `u = k + 1`) over the band column `k`
+    /// reaches.
     #[inline]
+    fn side_top(&self, u: u32, k: u32) -> f64 {
+        let at = self.at.wrapping_add((u as usize).wrapping_mul(self.step));
+        self.top(self.cols, at, k)
+    }
+
+    /// The bound of abscissa `u ≥ 1`, as the N-buffer slope takes it: its sample
+    /// column's highest sample over the band of column `u` (which holds the band of
+    /// column `u − 1`), over `u`. Column `k ≥ 1`'s [`Ahead::bound`] is at most the
+    /// larger of abscissas `k` and `k + 1`'s (`f64` division is monotone).
+    #[inline]
+    fn abscissa(&self, u: u32) -> f64 {
+        self.side_top(u, u) / f64::from(u)
+    }
+
+    /// Column `k`'s bound: the larger of its near side's highest reachable sample
+    /// over `u = k` and its far side's over `u = k + 1` (a triangle's slope is largest
+    /// at a corner). At `k = 0`, `+∞` when the near side reaches above `z_c`, else the
+    /// far side's: along an edge from a corner at `u = 0` not above `z_c` to one at
+    /// `u = 1`, `(z − z_c)/u` is at most the latter's.
+    #[inline(always)]
     fn bound(&self, k: u32) -> f64 {
-        let at = self.at.wrapping_add((k as usize).wrapping_mul(self.step));
-        let top = self.top(self.cols, at, k);
+        let (top_near, top_far) = (self.side_top(k, k), self.side_top(k + 1, k));
         let kf = f64::from(k);
-        if top <= 0.0 {
-            top / (kf + 1.0)
-        } else if k == 0 {
-            f64::INFINITY
+        let far_bound = top_far / (kf + 1.0);
+        if k == 0 {
+            if top_near > 0.0 {
+                f64::INFINITY
+            } else {
+                far_bound
+            }
         } else {
-            top / kf
+            // Not `max`: neither is NaN.
+            let near_bound = top_near / kf;
+            if near_bound > far_bound {
+                near_bound
+            } else {
+                far_bound
+            }
         }
     }
 
     /// The blocks of [`BLOCK`] cell columns (in the field's block grid) that hold the
     /// columns `k ∈ ks` (`k ≥ 1`), as [`Block`]s into `out`, those whose bound exceeds
-    /// `s` only. `bound` is at least the bound of each of these columns: the block's
-    /// highest sample over the band of `kb` (the widest) gives `top ≥` each column's
-    /// `top`; and (`f64` division being monotone in both operands) `top/ka ≥ top_k/k`
-    /// when `top > 0` (a column's bound is then `≤ top/ka` whatever its sign),
-    /// `top/(kb + 1) ≥ top_k/(k + 1)` when `top ≤ 0`. Blocks go by increasing `k`;
-    /// they stop once `(hmax − z_c)/ka ≤ s` with `hmax − z_c > 0`, which bounds every
-    /// block further (then `s ≥ 0 ≥` the bound of a block under `z_c`).
+    /// `s` only. `bound` is at least the bound of each of these columns and of the
+    /// abscissas `ka..=kb` ([`Ahead::abscissa`]): the block's highest sample (its
+    /// sample columns are those of its cell columns' two sides) over the band of `kb`
+    /// (the widest) gives `top ≥` each side's `top` of each column; and (`f64`
+    /// division being monotone in both operands) `top/ka ≥ top_k/k ≥ top_k/(k + 1)`
+    /// when `top > 0` (a column's bound is then `≤ top/ka` whatever the signs),
+    /// `top/(kb + 1) ≥ top_k/(k + 1) ≥ top_k/k` when `top ≤ 0`. Blocks go by
+    /// increasing `k`; they stop once `(hmax − z_c)/ka ≤ s` with `hmax − z_c > 0`,
+    /// which bounds every block further (then `s ≥ 0 ≥` the bound of a block under
+    /// `z_c`).
     fn block_bounds(&self, ks: Range<u32>, (s, hmax): (f64, f64), out: &mut Blocks) {
         if ks.is_empty() {
             return;
@@ -421,8 +457,8 @@ struct Block {
 }
 
 impl Block {
-    /// Whether a column `k' ≥ k` of the block may have a bound above `s`: not when
-    /// `0 < top/k ≤ s`, as column `k'`'s bound is then at most `top/k' ≤ top/k`
+    /// Whether a column or abscissa `k' ≥ k` of the block may have a bound above `s`:
+    /// not when `0 < top/k ≤ s`, as its bound is then at most `top/k' ≤ top/k`
     /// ([`Ahead::block_bounds`]; `f64` division is monotone).
     #[inline]
     fn may_exceed(&self, k: u32, s: f64) -> bool {
@@ -556,12 +592,13 @@ fn cone_search<S: RaySet>(
     // Columns `k < kend` lie in the field.
     let kend = u32::from(opts.cap).min(if sg > 0 { lm - 1 - m } else { m });
     let band = |k: u32| band_cells(n, k, ln);
-    // Column `k` is `m + k` ahead, `m − 1 − k` behind.
-    let (at, step) = (nbv.base + m as usize * nbv.column, nbv.column);
-    let (at, step) = if sg > 0 {
-        (at, step)
+    // Column `k`'s near side is sample column `m + k` ahead, `m − k` behind; its far
+    // side the next one.
+    let at = nbv.base + m as usize * nbv.column;
+    let step = if sg > 0 {
+        nbv.column
     } else {
-        (at.wrapping_sub(step), step.wrapping_neg())
+        nbv.column.wrapping_neg()
     };
     let ahead = Ahead {
         cols: &nbv,
@@ -600,19 +637,22 @@ fn cone_search<S: RaySet>(
     let mut blocks = Blocks::new();
     let k0 = u32::from(r).max(1);
     if opts.slope == Slope::NBuffer {
-        // The slope is the largest bound of the columns `k ≥ max(r, 1)` (the
-        // exact slope's stop on `hmax` below would only leave out bounds `≤ s`);
-        // the order of visits does not change a maximum: blocks of columns are
-        // visited highest bound first, and one whose bound does not exceed `s` is
-        // skipped with all its columns (the rest are lower still). The nearest
-        // [`BLOCK`] columns (the likeliest maximum) are taken first. Then column 0.
-        // Not `max` below: bounds are never NaN, and a `±0` tie gives the same code.
+        // The slope is the largest bound of the abscissas of the columns `k ≥
+        // max(r, 1)`, `u ∈ k0..=kend` (the exact slope's stop on `hmax` below would
+        // only leave out bounds `≤ s`); the order of visits does not change a
+        // maximum: the nearest [`BLOCK`] abscissas (the likeliest maximum) and the
+        // last one (no block's) first, then blocks of columns, highest bound first:
+        // one whose bound does not exceed `s` is skipped with all its abscissas (the
+        // rest are lower still). Then column 0. Not `max` below: bounds are never NaN,
+        // and a `±0` tie gives the same code.
         let near = kend.min(k0 + BLOCK);
         let mut top = s;
-        for k in k0..near {
-            let b = bound_of(k);
-            if b > top {
-                top = b;
+        if k0 < kend {
+            for u in (k0..near).chain([kend]) {
+                let b = ahead.abscissa(u);
+                if b > top {
+                    top = b;
+                }
             }
         }
         raise(&mut s, top);
@@ -621,13 +661,13 @@ fn cone_search<S: RaySet>(
             if block.bound <= s {
                 break;
             }
-            // The largest bound so far prunes the block's farther columns.
+            // The largest bound so far prunes the block's farther abscissas.
             let mut top = s;
-            for k in block.ka..=block.kb {
-                if !block.may_exceed(k, top) {
+            for u in block.ka..=block.kb {
+                if !block.may_exceed(u, top) {
                     break;
                 }
-                let b = bound_of(k);
+                let b = ahead.abscissa(u);
                 if b > top {
                     top = b;
                 }
@@ -762,14 +802,23 @@ struct Column<'a, S: RaySet> {
 
 impl<S: RaySet> Column<'_, S> {
     /// Raises `s` over the cells `c0..=c1` of the column, skipping every cell whose
-    /// highest corner (the N-buffer's level 1: one read per cell, in a row) cannot
-    /// raise it.
+    /// highest corners on the near and far sides (the N-buffer's level 1 of the two
+    /// sample columns: two reads per cell, in two rows) cannot raise it.
     fn scan(&self, c0: u32, c1: u32, s: &mut f64, best: &mut Cell) {
-        let row = self.nb.base + self.nb.level + self.cm as usize * self.nb.column;
-        let tops = &self.nb.nb[row + c0 as usize..=row + c1 as usize];
+        let (near, far) = if self.sg > 0 {
+            (self.cm, self.cm + 1)
+        } else {
+            (self.cm + 1, self.cm)
+        };
+        let tops = |col: u32| {
+            let row = self.nb.base + self.nb.level + col as usize * self.nb.column;
+            &self.nb.nb[row + c0 as usize..=row + c1 as usize]
+        };
         let mut bars = self.bars(*s);
-        for (c, &top) in (c0..).zip(tops) {
-            if f64::from(top) - self.zc <= bars.lowest {
+        for (c, (&top_near, &top_far)) in (c0..).zip(tops(near).iter().zip(tops(far))) {
+            if f64::from(top_near) - self.zc <= bars.near
+                && f64::from(top_far) - self.zc <= bars.far
+            {
                 continue;
             }
             let h = super::cell_corners(self.hf, self.ax, self.cm, c);
@@ -820,8 +869,8 @@ impl<S: RaySet> Column<'_, S> {
             }
         });
         Bars {
-            // Not `min`: neither is NaN (`s` and `k` are finite).
-            lowest: if lf < ln { lf } else { ln },
+            near: ln,
+            far: lf,
             lines,
         }
     }
@@ -830,9 +879,11 @@ impl<S: RaySet> Column<'_, S> {
 /// What [`Column::scan`] compares a cell with, for the slope so far `s` (the line
 /// `z_c + s·u`).
 struct Bars {
-    /// The lower of the line's heights over `u = k` and `u = k + 1`, less `z_c`: a
-    /// cell whose highest sample is no higher (less `z_c`) cannot raise `s`.
-    lowest: f64,
+    /// The line's heights over `u = k` and `u = k + 1`, less `z_c`: a cell whose
+    /// highest samples on those sides are no higher (less `z_c`) cannot raise `s` (at
+    /// `k = 0`, corners not above `z_c` bound nothing: see [`Ahead::bound`]).
+    near: f64,
+    far: f64,
     /// Per corner of a cell (as [`super::cell_corners`] orders them), the line's height
     /// over it less `z_c`, lowered by a margin far above rounding.
     lines: [f64; 4],
