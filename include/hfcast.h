@@ -279,7 +279,8 @@ enum hf_cc_slope
   HF_CC_SLOPE_EXACT = 0,
 #endif
 #if defined(HF_HAVE_SAFETY)
-  // Every triangle limiting, column maxima from the N-buffer (conservative, faster).
+  // Every triangle limiting, the highest sample per abscissa from the N-buffers
+  // (conservative, faster).
   HF_CC_SLOPE_NBUFFER = 1,
 #endif
 };

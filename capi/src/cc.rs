@@ -17,7 +17,8 @@ use hfcore::safety::{self, SafetyError};
 pub enum hf_cc_slope {
     /// Over the limiting triangles only, exactly (larger steps, slower bake).
     HF_CC_SLOPE_EXACT = 0,
-    /// Every triangle limiting, column maxima from the N-buffer (conservative, faster).
+    /// Every triangle limiting, the highest sample per abscissa from the N-buffers
+    /// (conservative, faster).
     HF_CC_SLOPE_NBUFFER = 1,
 }
 

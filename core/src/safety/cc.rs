@@ -107,7 +107,8 @@ pub const S_MAX: f64 = 126.0 * 126.0 / 2048.0;
 pub enum Slope {
     /// Over the limiting triangles only, exactly.
     Exact,
-    /// Every triangle limiting, column maxima from the N-buffer (conservative, faster).
+    /// Every triangle limiting, the highest sample per abscissa from the N-buffers
+    /// (conservative, faster).
     NBuffer,
 }
 
