@@ -51,45 +51,59 @@ pub fn clip<R: Real>(hf: &HeightField, q: &Query<R>) -> Option<Span<R>> {
 #[inline]
 pub fn clip_surface<R: Real>(hf: &HeightField, surface: Surface, q: &Query<R>) -> Option<Span<R>> {
     let (o, d) = (q.origin(), q.dir());
-    let lim = [R::from_u32(hf.width() - 1), R::from_u32(hf.height() - 1)];
-    let (mut t0, mut t1, mut entry) = (q.t_min(), q.t_max(), Entry::Start);
-    // The two axes in turn, written out (a loop over them indexes the arrays on the
-    // stack).
-    let mut slab = |axis: usize| {
-        if d[axis] == R::ZERO {
-            return !(o[axis] < R::ZERO || o[axis] > lim[axis]);
-        }
-        let a = (R::ZERO - o[axis]) / d[axis];
-        let b = (lim[axis] - o[axis]) / d[axis];
-        let (near, far) = if d[axis] > R::ZERO { (a, b) } else { (b, a) };
-        if near > t0 {
-            t0 = near;
-            let mut n = [R::ZERO; 3];
-            n[axis] = if d[axis] > R::ZERO { -R::ONE } else { R::ONE };
-            entry = Entry::Side(n);
-        }
-        t1 = t1.min(far);
-        true
-    };
-    if !(slab(0) && slab(1)) {
-        return None;
-    }
     let (mut zmin, mut zmax) = (R::from_f32(hf.min_height()), R::from_f32(hf.max_height()));
     if surface == Surface::LinearPlanes {
         let range = zmax - zmin;
         (zmin, zmax) = (zmin - range, zmax + range);
     }
-    if d[2] == R::ZERO {
-        if o[2] > zmax {
-            return None;
+    // Where the ray crosses the top plane. A level or rising ray above the box (that
+    // crosses it before `t_min`) misses whatever its footprint says: told first.
+    let top = (zmax - o[2]) / d[2];
+    if d[2] == R::ZERO && o[2] > zmax || d[2] > R::ZERO && top < q.t_min() {
+        return None;
+    }
+    let lim = [R::from_u32(hf.width() - 1), R::from_u32(hf.height() - 1)];
+    let (mut t0, mut t1, mut entry) = (q.t_min(), q.t_max(), Entry::Start);
+    // The two axes in turn, written out (a loop over them indexes the arrays on the
+    // stack).
+    let mut slab = |axis: usize| {
+        // The faces the ray enters and leaves the slab through, and the entry face's
+        // outward normal, chosen before the two divisions (the same quotients as
+        // dividing first, without a swap after). Level (`±0`; a query's direction is
+        // never NaN), the ray stays in or out of the slab.
+        let (enter, leave, out) = if d[axis] > R::ZERO {
+            (R::ZERO, lim[axis], -R::ONE)
+        } else if d[axis] < R::ZERO {
+            (lim[axis], R::ZERO, R::ONE)
+        } else {
+            return !(o[axis] < R::ZERO || o[axis] > lim[axis]);
+        };
+        let near = (enter - o[axis]) / d[axis];
+        let far = (leave - o[axis]) / d[axis];
+        if near > t0 {
+            t0 = near;
+            let mut n = [R::ZERO; 3];
+            n[axis] = out;
+            entry = Entry::Side(n);
         }
-    } else if d[2] > R::ZERO {
-        t1 = t1.min((zmax - o[2]) / d[2]);
-    } else {
-        let top = (zmax - o[2]) / d[2];
+        t1 = t1.min(far);
+        true
+    };
+    // Past the footprint already: what follows only raises `t0` and lowers `t1` (never
+    // NaN: a NaN bound moves neither), so the last test would fail too.
+    if !(slab(0) && slab(1)) || t0 > t1 {
+        return None;
+    }
+    if d[2] > R::ZERO {
+        t1 = t1.min(top);
+    } else if d[2] < R::ZERO {
         if top > t0 {
             t0 = top;
             entry = Entry::Top;
+        }
+        // Over the footprint only above the box: a miss, as the last test would say.
+        if t0 > t1 {
+            return None;
         }
         // Well under the lowest sample the ray is inside the solid: the hit comes first
         // (at `t0` when the ray already starts or enters the footprint down there).
@@ -97,8 +111,9 @@ pub fn clip_surface<R: Real>(hf: &HeightField, surface: Surface, q: &Query<R>) -
         t1 = t1.min(((zmin - margin - o[2]) / d[2]).max(t0));
     }
     // Both ends finite (a direction so small that the box lies beyond the largest
-    // representable `t` cannot be traced in this precision: a miss).
-    (t0 <= t1 && t0.is_finite() && t1.is_finite()).then_some(Span { t0, t1, entry })
+    // representable `t` cannot be traced in this precision: a miss); with `t0 ≤ t1`,
+    // `t0 > −∞` and `t1 < +∞` say it in two compares.
+    (t0 <= t1 && t0 > -R::INFINITY && t1 < R::INFINITY).then_some(Span { t0, t1, entry })
 }
 
 /// First cell index along one axis for coordinate `x` in `[0, cells]` moving with
@@ -182,6 +197,7 @@ pub(crate) fn start_clearance<R: Real>(entry: &Entry<R>, ca: R) -> R {
 /// The hit of a ray already under the surface where its span begins (local point `a`
 /// with clearance `≤ 0` in `cell`, grid point `p0`): at `t0`, flagged by how the span
 /// begins.
+#[inline]
 pub(crate) fn start_hit<R: Real>(
     surface: Surface,
     span: &Span<R>,

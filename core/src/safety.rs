@@ -937,7 +937,9 @@ impl<R: Real, const AX: usize> Frame<R, AX> {
         let ys = self.ys0 + pn.abs();
         let zs = self.zs0 + pz.abs() + h0.abs() + (h1 - h0).abs() * ys;
         let rel = (R::from_f32(32.0) * R::EPSILON).max(R::from_f64(1.0 / (1u64 << 30) as f64));
-        let tol = if R::from_f32(8.0) * R::EPSILON * ys > R::from_f64(SEG_PAD) {
+        // `8·ε·ys > SEG_PAD`, with the constants divided out (powers of two, and
+        // `8·ε·ys` neither overflows nor underflows: the same test) for one compare.
+        let tol = if ys > R::from_f64(SEG_PAD) / (R::from_f32(8.0) * R::EPSILON) {
             R::INFINITY
         } else {
             rel * zs
@@ -1249,7 +1251,6 @@ pub(crate) fn march_with<R: Real, J: Fn(&Line<R>, RayClass, u32, u32) -> u32>(
     let p0 = q.at(span.t0);
     let x0 = p0[0].clamp_to(R::ZERO, R::from_u32(cells[0]));
     let y0 = p0[1].clamp_to(R::ZERO, R::from_u32(cells[1]));
-    let step = [step_of(d[0]), step_of(d[1])];
     let ic = [
         cell_index(x0, d[0], cells[0]),
         cell_index(y0, d[1], cells[1]),
@@ -1267,7 +1268,6 @@ pub(crate) fn march_with<R: Real, J: Fn(&Line<R>, RayClass, u32, u32) -> u32>(
     }
     let start = Start {
         span,
-        step,
         cells,
         ic,
         c,
@@ -1300,11 +1300,10 @@ fn march_above<R: Real, J: Fn(&Line<R>, RayClass, u32, u32) -> u32>(
     }
 }
 
-/// Where the walk of a march begins: the span, the steps and cell counts per axis, the
-/// first cell (its corners `c`), the local start point `a` above the surface by `ca`.
+/// Where the walk of a march begins: the span, the cell counts per axis, the first
+/// cell (its corners `c`), the local start point `a` above the surface by `ca`.
 struct Start<R: Real> {
     span: Span<R>,
-    step: [i64; 2],
     cells: [u32; 2],
     ic: [u32; 2],
     c: [R; 4],
@@ -1325,13 +1324,14 @@ fn march_from<R: Real, J: Fn(&Line<R>, RayClass, u32, u32) -> u32, const AX: usi
     let (o, d) = (q.origin(), q.dir());
     let Start {
         span,
-        step,
         cells,
         ic,
         c,
         a,
         ca,
     } = start;
+    // Here rather than in [`march_with`]: the rays that start under the surface need none.
+    let step = [step_of(d[0]), step_of(d[1])];
     let mut mr = March::<R, AX> {
         hf,
         surface,

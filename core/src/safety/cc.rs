@@ -1269,9 +1269,6 @@ pub fn trace_on<R: Real>(
     surface: MarchSurface,
     q: &Query<R>,
 ) -> Trace<R> {
-    // A copy of the map's view: the step reads its fields directly, not through a
-    // reference.
-    let map = *map;
     // The per-trace constants, once the ray is known to march.
     march_with(hf, surface, q, |class| {
         let d = q.dir();
@@ -1292,8 +1289,11 @@ pub fn trace_on<R: Real>(
         ];
         // A class the map does not hold: radius 0 without a cone (zero jumps, exact).
         let at = map.rows(class);
+        // The step reads the bytes' slice directly, not through a reference to the map
+        // (copied here, on the rays that march only).
+        let data = map.data;
         move |l: &Line<R>, _, i, j| {
-            let b = at.map_or(NOT_HELD, |at| texel_bytes(map.data, at, i, j));
+            let b = at.map_or(NOT_HELD, |at| texel_bytes(data, at, i, j));
             cone_step(cap, z, b, l.p[2], l.tol, sd_lo)
         }
     })
