@@ -586,9 +586,10 @@ fn cone_search<S: RaySet>(
     let zc = at_lo.max(sigma.h).max(at_hi);
     let hmax = f64::from(hf.max_height());
     let mut s = S_MIN;
-    // Every column's highest sample over its reachable band bounds the slope its
-    // triangles can give (`(top − z_c)/u` is largest at a vertex). The N-buffer slope
-    // is that bound itself (past column 0).
+    // A column's highest samples on its two sides, over its reachable band, bound the
+    // slope its triangles can give (`(top − z_c)/u` is largest at a vertex): the exact
+    // slope's pruning ([`Ahead::bound`]). The N-buffer slope is the largest bound of
+    // the abscissas themselves (past column 0; [`Ahead::abscissa`]).
     let nbv = views[ax][0];
     // Columns `k < kend` lie in the field.
     let kend = u32::from(opts.cap).min(if sg > 0 { lm - 1 - m } else { m });
