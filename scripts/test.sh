@@ -13,6 +13,8 @@ APT_PACKAGES=()
 APT_PACKAGES+=(gcc g++ make libosmesa6-dev libglfw3-dev xvfb xauth glslang-tools valgrind libpng-dev)
 # WGSL ports executed through wgpu on lavapipe, the software Vulkan driver (issue 8).
 APT_PACKAGES+=(mesa-vulkan-drivers libvulkan1)
+# Embree, the independent oracle of the exact marches (c_tests/embree_bench.c --check).
+APT_PACKAGES+=(libembree-dev)
 missing=()
 for p in "${APT_PACKAGES[@]}"; do
   dpkg -s "$p" >/dev/null 2>&1 || missing+=("$p")
@@ -77,6 +79,12 @@ echo "== OSMesa (llvmpipe): generated minimal shaders against the general ones a
 "${C_MAKE[@]}" render-generated-test MAPS="$C_MAPS" 2>&1 | tee -a target/c_tests.log
 echo "== GLFW under Xvfb: the window's screenshot against the OSMesa image"
 "${C_MAKE[@]}" glfw-test 2>&1 | tee -a target/c_tests.log
+echo "== Embree (watertight) as an oracle: hfcast's exact CC march and DDA, every hit that differs within rounding"
+EMBREE_MAPS="$C_MAPS"
+if [ -f ../shared/data/dem_etopo5_himalaya_1024.png ]; then
+  EMBREE_MAPS="$EMBREE_MAPS ../../shared/data/dem_etopo5_himalaya_1024.png"
+fi
+"${C_MAKE[@]}" embree-check MAPS="$EMBREE_MAPS" 2>&1 | tee -a target/c_tests.log
 
 # The summary line CI reads: totals over every test binary (cargo), plus the C suites'
 # "name: N passed, N failed" lines.

@@ -1,0 +1,617 @@
+/* hfcast against Embree over the same triangles, on the same rays, in one process.
+ *
+ * Benchmark (default): hfcast's exact cylinder-cone march and exact DDA against
+ * Embree's single rays and 8-ray packets, one thread each: the CPU comparison issue 3
+ * asks for ("exact CC hits faster than Embree over the same triangles ... with a few
+ * percent of its memory"), with the memory and preprocessing of both.
+ * Check (--check): Embree's watertight mode as an independent oracle of hfcast's exact
+ * marches; a C suite of scripts/test.sh.
+ *
+ * The field: a 16-bit PNG, heights v / 65535 x 0.1 x side, as the Rust benchmarks load
+ * it. Embree gets the field's triangle surface (each cell cut along the diagonal whose
+ * midpoint is lower, as hfcast's triangle surface) and the four side walls from the
+ * surface's edges far down: for hfcast everything under the surface is solid, so a ray
+ * entering the field's footprint through a side under the surface (even under the
+ * lowest sample) hits there, and with the walls it does in Embree too.
+ *
+ * The rays, computed as core/examples/common (camera_rays) and safety_bench
+ * (random_rays) compute them: camera rays at 45 and 5 degrees elevation (azimuth 30,
+ * the whole box in view; 640 x 512 in the benchmark) and random rays inside the box,
+ * any direction (a quarter as many). Random rays that start under the surface are a hit
+ * at t = 0 for hfcast (the solid is solid) but not for a triangle mesh, so only those
+ * that start above it are kept. hfcast traces through its C API (hf_trace_cc_batch:
+ * the exact CC map, cap 64; hf_trace_exact_batch: the exact DDA, no bake); Embree
+ * traces single rays (rtcIntersect1) and, for the cameras, packets of 8 rays from
+ * 4 x 2 pixel tiles (rtcIntersect8).
+ *
+ * Usage: embree_bench [map.png [reps]]   (default the Himalaya DEM of ../shared/data at
+ *                                         1024², 5 repetitions; medians)
+ *        embree_bench --check map.png...
+ * Built by `make -C c_tests embree-bench` / `embree-check`; scripts/embree_bench.sh
+ * installs libembree-dev, builds the library in release and runs the benchmark. */
+#define _POSIX_C_SOURCE 199309L
+#include <embree3/rtcore.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/types.h>
+#include <time.h>
+
+#include "hfcast.h"
+#include "png16.h"
+
+#define CC_CAP 64
+#define PI 3.14159265358979323846 /* Rust's f64 PI */
+/* How far under the lowest sample the side walls of the Embree mesh reach: the camera
+ * rays that enter a side under the surface do so within a few hundred units of it. */
+#define WALL_DEPTH 1e5f
+
+static double now(void) {
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+static int cmp_double(const void *a, const void *b) {
+    double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+static double median(double *v, int n) {
+    qsort(v, (size_t)n, sizeof *v, cmp_double);
+    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+static void check_hf(const char *what, hf_result r) {
+    if (r == HF_OK) return;
+    fprintf(stderr, "%s failed (%u)\n", what, (unsigned)r);
+    exit(2);
+}
+
+/* ---- the rays ------------------------------------------------------------------ */
+
+static void direction(double az_deg, double el_deg, double out[3]) {
+    double a = az_deg * (PI / 180.0), e = el_deg * (PI / 180.0);
+    out[0] = cos(e) * sin(a);
+    out[1] = -cos(e) * cos(a);
+    out[2] = sin(e);
+}
+
+static double dot3(const double a[3], const double b[3]) {
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
+
+/* The camera of core/examples/common/mod.rs (camera_rays): looking at the box's centre
+ * from `elevation` degrees, 40 degrees vertical field of view, far enough that the
+ * whole box is in view. */
+static void camera_rays(uint32_t fw, uint32_t fh, double zmin, double zmax, double elevation,
+                        double azimuth, uint32_t cam_w, uint32_t cam_h, hf_ray *rays) {
+    double size[3] = {(double)(fw - 1), (double)(fh - 1), zmax - zmin};
+    double centre[3] = {size[0] / 2.0, size[1] / 2.0, zmin + size[2] / 2.0};
+    double tan_y = tan(20.0 * (PI / 180.0));
+    double tan_x = tan_y * cam_w / cam_h;
+    double to_eye[3], fwd[3], right[3], up[3];
+    direction(azimuth, elevation, to_eye);
+    for (int k = 0; k < 3; k++) fwd[k] = -to_eye[k];
+    direction(azimuth + 270.0, 0.0, right);
+    up[0] = fwd[1] * right[2] - fwd[2] * right[1];
+    up[1] = fwd[2] * right[0] - fwd[0] * right[2];
+    up[2] = fwd[0] * right[1] - fwd[1] * right[0];
+    double dist = 1e-3;
+    for (int corner = 0; corner < 8; corner++) {
+        double c[3];
+        for (int k = 0; k < 3; k++) c[k] = size[k] * ((double)((corner >> k) & 1) - 0.5);
+        double need_x = fabs(dot3(c, right)) / tan_x - dot3(c, fwd);
+        double need_y = fabs(dot3(c, up)) / tan_y - dot3(c, fwd);
+        dist = fmax(dist, fmax(need_x, need_y));
+    }
+    float eye[3];
+    for (int k = 0; k < 3; k++) eye[k] = (float)(centre[k] + 1.05 * dist * to_eye[k]);
+    for (uint32_t py = 0; py < cam_h; py++) {
+        for (uint32_t px = 0; px < cam_w; px++) {
+            double sx = 2.0 * (px + 0.5) / cam_w - 1.0;
+            double sy = 1.0 - 2.0 * (py + 0.5) / cam_h;
+            hf_ray *r = &rays[(size_t)py * cam_w + px];
+            for (int k = 0; k < 3; k++) {
+                r->origin[k] = eye[k];
+                r->dir[k] = (float)(fwd[k] + sx * tan_x * right[k] + sy * tan_y * up[k]);
+            }
+            r->t_min = 0.0f;
+            r->t_max = INFINITY;
+        }
+    }
+}
+
+/* The random rays of core/examples/safety_bench.rs (random_rays): origins uniform in
+ * the box, directions uniform on the sphere, from a xorshift generator. */
+static void random_rays(uint32_t fw, uint32_t fh, double zmin, double zmax, size_t n,
+                        uint64_t seed, hf_ray *rays) {
+    uint64_t x = (seed * 0x9e3779b97f4a7c15ull) | 1;
+#define NEXT() (x ^= x << 13, x ^= x >> 7, x ^= x << 17, (double)(x >> 11) / 9007199254740992.0)
+    for (size_t i = 0; i < n; i++) {
+        double o[3], d[3];
+        o[0] = NEXT() * (fw - 1);
+        o[1] = NEXT() * (fh - 1);
+        o[2] = zmin + NEXT() * (zmax - zmin);
+        double z = 2.0 * NEXT() - 1.0;
+        double a = NEXT() * 2.0 * PI;
+        double s = sqrt(1.0 - z * z);
+        d[0] = s * cos(a);
+        d[1] = s * sin(a);
+        d[2] = z;
+        for (int k = 0; k < 3; k++) {
+            rays[i].origin[k] = (float)o[k];
+            rays[i].dir[k] = (float)d[k];
+        }
+        rays[i].t_min = 0.0f;
+        rays[i].t_max = INFINITY;
+    }
+#undef NEXT
+}
+
+/* ---- Embree ---------------------------------------------------------------------- */
+
+/* Bytes Embree holds (its memory monitor). */
+static ssize_t embree_bytes;
+
+static bool monitor(void *user, ssize_t bytes, bool post) {
+    (void)user;
+    (void)post;
+    embree_bytes += bytes;
+    return true;
+}
+
+/* The triangle surface of the W x H heights `h` and its four side walls down to
+ * `bottom`, committed in a new scene of `dev` with `flags` (RTC_SCENE_FLAG_ROBUST:
+ * watertight, no ray slips between two triangles). */
+static RTCScene embree_scene(RTCDevice dev, const float *h, uint32_t w, uint32_t hh, float bottom,
+                             enum RTCSceneFlags flags) {
+    size_t grid = (size_t)w * hh;
+    /* The boundary samples in order around the field, and a copy of each at `bottom`. */
+    size_t ring = 2 * (size_t)(w - 1) + 2 * (size_t)(hh - 1);
+    size_t cells = (size_t)(w - 1) * (hh - 1);
+    RTCScene scene = rtcNewScene(dev);
+    rtcSetSceneFlags(scene, flags);
+    RTCGeometry g = rtcNewGeometry(dev, RTC_GEOMETRY_TYPE_TRIANGLE);
+    float *v = (float *)rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
+                                                3 * sizeof(float), grid + ring);
+    unsigned *tri = (unsigned *)rtcSetNewGeometryBuffer(
+        g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned), 2 * cells + 2 * ring);
+    for (uint32_t j = 0; j < hh; j++) {
+        for (uint32_t i = 0; i < w; i++) {
+            float *p = &v[3 * ((size_t)j * w + i)];
+            p[0] = (float)i;
+            p[1] = (float)j;
+            p[2] = h[(size_t)j * w + i];
+        }
+    }
+    size_t t = 0;
+#define TRI(a, b, c) (tri[3 * t] = (unsigned)(a), tri[3 * t + 1] = (unsigned)(b), tri[3 * t + 2] = (unsigned)(c), t++)
+    for (uint32_t j = 0; j + 1 < hh; j++) {
+        for (uint32_t i = 0; i + 1 < w; i++) {
+            size_t s00 = (size_t)j * w + i, s10 = s00 + 1, s01 = s00 + w, s11 = s01 + 1;
+            if (h[s00] + h[s11] <= h[s10] + h[s01]) {
+                TRI(s00, s10, s11);
+                TRI(s00, s11, s01);
+            } else {
+                TRI(s00, s10, s01);
+                TRI(s10, s11, s01);
+            }
+        }
+    }
+    /* Walk the boundary: along j = 0, i = W-1, j = H-1 (backwards), i = 0 (backwards). */
+    size_t k = 0;
+    size_t *around = (size_t *)malloc(sizeof(size_t) * ring);
+    for (uint32_t i = 0; i + 1 < w; i++) around[k++] = i;
+    for (uint32_t j = 0; j + 1 < hh; j++) around[k++] = (size_t)j * w + (w - 1);
+    for (uint32_t i = w - 1; i > 0; i--) around[k++] = (size_t)(hh - 1) * w + i;
+    for (uint32_t j = hh - 1; j > 0; j--) around[k++] = (size_t)j * w;
+    for (size_t r = 0; r < ring; r++) {
+        float *p = &v[3 * (grid + r)];
+        p[0] = v[3 * around[r]];
+        p[1] = v[3 * around[r] + 1];
+        p[2] = bottom;
+    }
+    for (size_t r = 0; r < ring; r++) {
+        size_t a = around[r], b = around[(r + 1) % ring];
+        size_t a0 = grid + r, b0 = grid + (r + 1) % ring;
+        TRI(a, b, b0);
+        TRI(a, b0, a0);
+    }
+#undef TRI
+    free(around);
+    rtcCommitGeometry(g);
+    rtcAttachGeometry(scene, g);
+    rtcReleaseGeometry(g);
+    rtcCommitScene(scene);
+    return scene;
+}
+
+/* The first hit's t of every ray (INFINITY: none), single rays. */
+static void embree_trace1(RTCScene scene, const hf_ray *rays, size_t n, float *t_out) {
+    struct RTCIntersectContext ctx;
+    rtcInitIntersectContext(&ctx);
+    for (size_t i = 0; i < n; i++) {
+        struct RTCRayHit rh;
+        memset(&rh, 0, sizeof rh);
+        rh.ray.org_x = rays[i].origin[0];
+        rh.ray.org_y = rays[i].origin[1];
+        rh.ray.org_z = rays[i].origin[2];
+        rh.ray.dir_x = rays[i].dir[0];
+        rh.ray.dir_y = rays[i].dir[1];
+        rh.ray.dir_z = rays[i].dir[2];
+        rh.ray.tnear = rays[i].t_min;
+        rh.ray.tfar = rays[i].t_max;
+        rh.ray.mask = 0xffffffffu;
+        rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+        rtcIntersect1(scene, &ctx, &rh);
+        t_out[i] = rh.hit.geomID == RTC_INVALID_GEOMETRY_ID ? INFINITY : rh.ray.tfar;
+    }
+}
+
+/* [embree_trace1] for a `cam_w x cam_h` camera image (both even, cam_w a multiple of
+ * 4), in packets of 8 rays from 4 x 2 pixel tiles. */
+static void embree_trace8(RTCScene scene, const hf_ray *rays, uint32_t cam_w, uint32_t cam_h,
+                          float *t_out) {
+    struct RTCIntersectContext ctx;
+    rtcInitIntersectContext(&ctx);
+    ctx.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+    static const int valid[8] __attribute__((aligned(32))) = {-1, -1, -1, -1, -1, -1, -1, -1};
+    struct RTCRayHit8 rh __attribute__((aligned(32)));
+    size_t idx[8];
+    for (uint32_t py = 0; py < cam_h; py += 2) {
+        for (uint32_t px = 0; px < cam_w; px += 4) {
+            memset(&rh, 0, sizeof rh);
+            for (int l = 0; l < 8; l++) {
+                size_t i = (size_t)(py + l / 4) * cam_w + px + l % 4;
+                idx[l] = i;
+                rh.ray.org_x[l] = rays[i].origin[0];
+                rh.ray.org_y[l] = rays[i].origin[1];
+                rh.ray.org_z[l] = rays[i].origin[2];
+                rh.ray.dir_x[l] = rays[i].dir[0];
+                rh.ray.dir_y[l] = rays[i].dir[1];
+                rh.ray.dir_z[l] = rays[i].dir[2];
+                rh.ray.tnear[l] = rays[i].t_min;
+                rh.ray.tfar[l] = rays[i].t_max;
+                rh.ray.mask[l] = 0xffffffffu;
+                rh.hit.geomID[l] = RTC_INVALID_GEOMETRY_ID;
+            }
+            rtcIntersect8(valid, scene, &ctx, &rh);
+            for (int l = 0; l < 8; l++) {
+                t_out[idx[l]] = rh.hit.geomID[l] == RTC_INVALID_GEOMETRY_ID ? INFINITY : rh.ray.tfar[l];
+            }
+        }
+    }
+}
+
+/* ---- the field and the ray sets ------------------------------------------------- */
+
+/* A field loaded from a PNG, with what both sides trace on. */
+typedef struct field_data {
+    uint32_t w, h;
+    float depth, zmin, zmax;
+    float *heights; /* W x H, row by row */
+    hf_field *field;
+    uint8_t *cc; /* the exact cylinder-cone map, all four ray classes, cap CC_CAP */
+    size_t cc_len;
+    double cc_bake_s; /* its bake, on every core */
+} field_data;
+
+/* Loads `path` (heights v / 65535 x 0.1 x side) and bakes its exact CC map; 0 when the
+ * file cannot be read. */
+static int field_load(const char *path, field_data *fd) {
+    uint16_t *raw = read_png_gray16(path, &fd->w, &fd->h);
+    if (!raw) return 0;
+    size_t n = (size_t)fd->w * fd->h;
+    fd->depth = 0.1f * (float)(fd->w > fd->h ? fd->w : fd->h);
+    fd->heights = (float *)malloc(sizeof(float) * n);
+    fd->zmin = INFINITY;
+    fd->zmax = -INFINITY;
+    for (size_t i = 0; i < n; i++) {
+        fd->heights[i] = (float)raw[i] / 65535.0f * fd->depth;
+        fd->zmin = fminf(fd->zmin, fd->heights[i]);
+        fd->zmax = fmaxf(fd->zmax, fd->heights[i]);
+    }
+    free(raw);
+    check_hf("hf_field_create_f32",
+             hf_field_create_f32(fd->heights, n, fd->w, fd->h, fd->w, &fd->field));
+    check_hf("hf_cc_map_len", hf_cc_map_len(fd->w, fd->h, &fd->cc_len));
+    fd->cc = (uint8_t *)malloc(fd->cc_len);
+    hf_cc_options opts = {HF_CC_SLOPE_EXACT, CC_CAP};
+    double t0 = now();
+    check_hf("hf_cc_bake", hf_cc_bake(fd->field, &opts, 0, fd->cc, fd->cc_len));
+    fd->cc_bake_s = now() - t0;
+    return 1;
+}
+
+static void field_free(field_data *fd) {
+    free(fd->cc);
+    hf_field_destroy(fd->field);
+    free(fd->heights);
+}
+
+#define RAY_SETS 3
+
+/* Ray set `k` of a `cam_w x cam_h` camera into `rays` (room for cam_w x cam_h rays):
+ * the 45 and 5 degree cameras, then random rays starting above the surface (from
+ * cam_w x cam_h / 4 drawn). Writes its name; returns its ray count. */
+static size_t ray_set(const field_data *fd, int k, uint32_t cam_w, uint32_t cam_h, hf_ray *rays,
+                      char *name, size_t name_len) {
+    size_t n = (size_t)cam_w * cam_h;
+    if (k < 2) {
+        double elevation = k == 0 ? 45.0 : 5.0;
+        camera_rays(fd->w, fd->h, fd->zmin, fd->zmax, elevation, 30.0, cam_w, cam_h, rays);
+        snprintf(name, name_len, "camera %.0f deg", elevation);
+        return n;
+    }
+    size_t drawn = n / 4;
+    random_rays(fd->w, fd->h, fd->zmin, fd->zmax, drawn, 7, rays);
+    hf_hit *probe = (hf_hit *)malloc(sizeof(hf_hit) * drawn);
+    check_hf("hf_trace_exact_batch",
+             hf_trace_exact_batch(fd->field, HF_SURFACE_TRIANGLES, rays, drawn, probe, drawn));
+    size_t above = 0;
+    for (size_t i = 0; i < drawn; i++) {
+        if (!(probe[i].flags & HF_FLAG_ORIGIN_INSIDE)) rays[above++] = rays[i];
+    }
+    free(probe);
+    snprintf(name, name_len, "random, starting above the surface (%zu of %zu)", above, drawn);
+    return above;
+}
+
+/* Rays whose hit differs between `hits` and Embree's `t` (one hits and not the other,
+ * or t apart by more than 1e-3 relative); their indices into `out` when not NULL. */
+static size_t disagreements(const hf_hit *hits, const float *t, size_t n, size_t *out) {
+    size_t bad = 0;
+    for (size_t i = 0; i < n; i++) {
+        int eh = t[i] != INFINITY;
+        if (eh != (int)hits[i].hit ||
+            (eh && fabsf(t[i] - hits[i].t) > 1e-3f * fmaxf(1.0f, hits[i].t))) {
+            if (out) out[bad] = i;
+            bad++;
+        }
+    }
+    return bad;
+}
+
+/* ---- benchmark ------------------------------------------------------------------- */
+
+#define BENCH_W 640
+#define BENCH_H 512
+
+/* The timed runs of one ray set: hfcast's CC and DDA, then single rays and packets
+ * (cameras only) on Embree's default and watertight scenes. */
+enum { RUN_CC, RUN_DDA, RUN_E1, RUN_E8, RUN_R1, RUN_R8, RUNS };
+static const char *const RUN_NAMES[RUNS] = {
+    "hfcast cc exact",    "hfcast dda exact",     "embree single",
+    "embree packets of 8", "embree robust single", "embree robust packets of 8",
+};
+
+/* Times every run on `rays`, medians of `reps` passes (each pass runs every method
+ * once), and counts the hits that differ from each Embree run's. */
+static void bench_set(const field_data *fd, RTCScene scenes[2], int reps, const char *name,
+                      const hf_ray *rays, size_t n, int camera) {
+    hf_hit *hits = (hf_hit *)malloc(sizeof(hf_hit) * n);
+    hf_hit *dda = (hf_hit *)malloc(sizeof(hf_hit) * n);
+    float *t[4];
+    for (int k = 0; k < 4; k++) t[k] = (float *)malloc(sizeof(float) * n);
+    double *ns = (double *)malloc(sizeof(double) * reps * RUNS);
+    for (int r = 0; r < reps; r++) {
+        for (int run = 0; run < RUNS; run++) {
+            int packets = run == RUN_E8 || run == RUN_R8;
+            if (packets && !camera) continue;
+            RTCScene scene = scenes[run >= RUN_R1];
+            double t0 = now();
+            if (run == RUN_CC) {
+                check_hf("hf_trace_cc_batch", hf_trace_cc_batch(fd->field, fd->cc, fd->cc_len,
+                                                                CC_CAP, rays, n, hits, n));
+            } else if (run == RUN_DDA) {
+                check_hf("hf_trace_exact_batch",
+                         hf_trace_exact_batch(fd->field, HF_SURFACE_TRIANGLES, rays, n, dda, n));
+            } else if (packets) {
+                embree_trace8(scene, rays, BENCH_W, BENCH_H, t[run - RUN_E1]);
+            } else {
+                embree_trace1(scene, rays, n, t[run - RUN_E1]);
+            }
+            ns[run * reps + r] = (now() - t0) * 1e9 / n;
+        }
+    }
+    size_t hit_count = 0;
+    double fetches = 0.0;
+    for (size_t i = 0; i < n; i++) {
+        hit_count += hits[i].hit;
+        fetches += hits[i].fetches;
+    }
+    printf("%s: %zu rays, %zu hits (cc: %.1f fetches/ray)\n", name, n, hit_count, fetches / n);
+    double cc = median(ns + RUN_CC * reps, reps);
+    for (int run = 0; run < RUNS; run++) {
+        if ((run == RUN_E8 || run == RUN_R8) && !camera) continue;
+        double m = median(ns + run * reps, reps);
+        printf("  %-27s %6.0f ns/ray %6.2f M rays/s", RUN_NAMES[run], m, 1e3 / m);
+        if (run >= RUN_E1) {
+            printf("  cc / this %.2f; hits differing: cc %zu, dda %zu", cc / m,
+                   disagreements(hits, t[run - RUN_E1], n, NULL),
+                   disagreements(dda, t[run - RUN_E1], n, NULL));
+        }
+        printf("\n");
+    }
+    free(ns);
+    for (int k = 0; k < 4; k++) free(t[k]);
+    free(dda);
+    free(hits);
+}
+
+static int bench(const char *path, int reps) {
+    field_data fd;
+    if (!field_load(path, &fd)) {
+        fprintf(stderr, "cannot read %s\n", path);
+        return 2;
+    }
+    RTCDevice dev = rtcNewDevice(NULL);
+    if (!dev) {
+        fprintf(stderr, "rtcNewDevice failed\n");
+        return 2;
+    }
+    rtcSetDeviceMemoryMonitorFunction(dev, monitor, NULL);
+    const enum RTCSceneFlags flags[2] = {RTC_SCENE_FLAG_NONE, RTC_SCENE_FLAG_ROBUST};
+    RTCScene scenes[2];
+    double build[2];
+    ssize_t bytes[2];
+    for (int k = 0; k < 2; k++) {
+        ssize_t before = embree_bytes;
+        double t0 = now();
+        scenes[k] = embree_scene(dev, fd.heights, fd.w, fd.h, fd.zmin - WALL_DEPTH, flags[k]);
+        build[k] = now() - t0;
+        bytes[k] = embree_bytes - before;
+    }
+    if (rtcGetDeviceError(dev) != RTC_ERROR_NONE) {
+        fprintf(stderr, "embree scene build failed\n");
+        return 2;
+    }
+    size_t n = (size_t)fd.w * fd.h;
+    printf("%s: %u x %u, depth %.1f; embree %s (8-wide packets native: %s)\n", path, fd.w,
+           fd.h, fd.depth, RTC_VERSION_STRING,
+           rtcGetDeviceProperty(dev, RTC_DEVICE_PROPERTY_NATIVE_RAY8_SUPPORTED) ? "yes" : "no");
+    printf("memory: hfcast %.1f MiB (exact cc map %.1f, all four ray classes, + f32 heights "
+           "%.1f); embree %.1f MiB (robust %.1f; BVH and buffers, its memory monitor)\n",
+           (fd.cc_len + n * 4.0) / 1048576.0, fd.cc_len / 1048576.0, n * 4.0 / 1048576.0,
+           bytes[0] / 1048576.0, bytes[1] / 1048576.0);
+    printf("preprocessing (all cores): hfcast exact cc bake %.2f s; embree bvh build %.2f s "
+           "(robust %.2f s)\n",
+           fd.cc_bake_s, build[0], build[1]);
+    hf_ray *rays = (hf_ray *)malloc(sizeof(hf_ray) * BENCH_W * BENCH_H);
+    for (int k = 0; k < RAY_SETS; k++) {
+        char name[96];
+        size_t m = ray_set(&fd, k, BENCH_W, BENCH_H, rays, name, sizeof name);
+        bench_set(&fd, scenes, reps, name, rays, m, k < 2);
+    }
+    free(rays);
+    rtcReleaseScene(scenes[0]);
+    rtcReleaseScene(scenes[1]);
+    rtcReleaseDevice(dev);
+    field_free(&fd);
+    return 0;
+}
+
+/* ---- check ----------------------------------------------------------------------- */
+
+#define CHECK_W 256
+#define CHECK_H 192
+
+/* The triangle surface's height at (x, y) of the footprint, in f64. */
+static double surface_at(const field_data *fd, double x, double y) {
+    double u = fmin(fmax(x, 0.0), fd->w - 1.0), v = fmin(fmax(y, 0.0), fd->h - 1.0);
+    uint32_t i = (uint32_t)fmin(floor(u), fd->w - 2.0), j = (uint32_t)fmin(floor(v), fd->h - 2.0);
+    u -= i;
+    v -= j;
+    const float *row = fd->heights + (size_t)j * fd->w + i;
+    double h00 = row[0], h10 = row[1], h01 = row[fd->w], h11 = row[fd->w + 1];
+    if (h00 + h11 <= h10 + h01) {
+        return fmax(h00 + (h10 - h00) * u + (h11 - h10) * v, h00 + (h11 - h01) * u + (h01 - h00) * v);
+    }
+    return fmax(h00 + (h10 - h00) * u + (h01 - h00) * v,
+                h10 + h01 - h11 + (h11 - h01) * u + (h11 - h10) * v);
+}
+
+/* Whether the ray stays within rounding of the surface (never deeper under it than
+ * 2^-13 x max(1, |height|), DESIGN.md's ambiguity bound) for t in [a, b] over the
+ * footprint: then a hit anywhere there is a matter of rounding. Exact: between two
+ * grid-line crossings the triangle surface is the maximum of planes, so the depth is
+ * convex along the ray and largest at a crossing or an end; those are all evaluated. */
+static int within_rounding(const field_data *fd, const hf_ray *r, double a, double b) {
+    double o[3] = {r->origin[0], r->origin[1], r->origin[2]};
+    double d[3] = {r->dir[0], r->dir[1], r->dir[2]};
+    double ext[2] = {fd->w - 1.0, fd->h - 1.0};
+    for (int k = 0; k < 2; k++) { /* clip [a, b] to the footprint */
+        if (d[k] == 0.0) continue;
+        double t0 = (0.0 - o[k]) / d[k], t1 = (ext[k] - o[k]) / d[k];
+        a = fmax(a, fmin(t0, t1));
+        b = fmin(b, fmax(t0, t1));
+    }
+    for (int k = -1; k < 2; k++) { /* the ends (k = -1), then the crossings of x and y */
+        double lo = k < 0 ? 0.0 : ceil(fmin(o[k] + a * d[k], o[k] + b * d[k]));
+        double hi = k < 0 ? 1.0 : floor(fmax(o[k] + a * d[k], o[k] + b * d[k]));
+        if (k >= 0 && d[k] == 0.0) continue;
+        for (double g = lo; g <= hi; g += 1.0) {
+            double t = k < 0 ? (g == 0.0 ? a : b) : (g - o[k]) / d[k];
+            if (!(t >= a && t <= b)) continue;
+            double s = surface_at(fd, o[0] + t * d[0], o[1] + t * d[1]);
+            if (s - (o[2] + t * d[2]) > ldexp(fmax(1.0, fabs(s)), -13)) return 0;
+        }
+    }
+    return 1;
+}
+
+/* Checks hfcast's exact CC march and exact DDA against Embree's watertight scene on the
+ * ray sets of `path`: every hit that differs must be within rounding
+ * ([within_rounding]). One line per ray set and method; adds to the tallies. */
+static void check_map(const char *path, RTCDevice dev, int *passed, int *failed) {
+    field_data fd;
+    if (!field_load(path, &fd)) {
+        fprintf(stderr, "cannot read %s\n", path);
+        (*failed)++;
+        return;
+    }
+    RTCScene scene =
+        embree_scene(dev, fd.heights, fd.w, fd.h, fd.zmin - WALL_DEPTH, RTC_SCENE_FLAG_ROBUST);
+    size_t cap = (size_t)CHECK_W * CHECK_H;
+    hf_ray *rays = (hf_ray *)malloc(sizeof(hf_ray) * cap);
+    hf_hit *hits = (hf_hit *)malloc(sizeof(hf_hit) * cap);
+    float *t = (float *)malloc(sizeof(float) * cap);
+    size_t *bad = (size_t *)malloc(sizeof(size_t) * cap);
+    const char *base = strrchr(path, '/') ? strrchr(path, '/') + 1 : path;
+    for (int k = 0; k < RAY_SETS; k++) {
+        char name[96];
+        size_t n = ray_set(&fd, k, CHECK_W, CHECK_H, rays, name, sizeof name);
+        embree_trace1(scene, rays, n, t);
+        for (int method = 0; method < 2; method++) {
+            hf_result r = method == 0 ? hf_trace_cc_batch(fd.field, fd.cc, fd.cc_len, CC_CAP,
+                                                          rays, n, hits, n)
+                                      : hf_trace_exact_batch(fd.field, HF_SURFACE_TRIANGLES,
+                                                             rays, n, hits, n);
+            check_hf("trace", r);
+            size_t differ = disagreements(hits, t, n, bad), unexplained = 0, hit_count = 0;
+            for (size_t i = 0; i < n; i++) hit_count += hits[i].hit;
+            for (size_t b = 0; b < differ; b++) {
+                size_t i = bad[b];
+                double th = hits[i].hit ? hits[i].t : INFINITY;
+                double lo = fmin(th, t[bad[b]]), hi = fmax(th, t[bad[b]]);
+                if (!within_rounding(&fd, &rays[i], lo, hi)) {
+                    if (unexplained++ < 3) {
+                        fprintf(stderr, "  ray %zu: hfcast t %g, embree t %g\n", i, th, t[i]);
+                    }
+                }
+            }
+            int ok = unexplained == 0 && hit_count > 0;
+            printf("%s %s, %s: %zu rays, %zu hits, %zu differ from embree (%zu beyond "
+                   "rounding): %s\n",
+                   base, name, method == 0 ? "cc exact" : "dda exact", n, hit_count, differ,
+                   unexplained, ok ? "ok" : "FAILED");
+            *(ok ? passed : failed) += 1;
+        }
+    }
+    free(bad);
+    free(t);
+    free(hits);
+    free(rays);
+    rtcReleaseScene(scene);
+    field_free(&fd);
+}
+
+int main(int argc, char **argv) {
+    if (argc > 1 && strcmp(argv[1], "--check") == 0) {
+        RTCDevice dev = rtcNewDevice(NULL);
+        if (!dev) {
+            fprintf(stderr, "rtcNewDevice failed\n");
+            return 2;
+        }
+        int passed = 0, failed = 0;
+        for (int a = 2; a < argc; a++) check_map(argv[a], dev, &passed, &failed);
+        rtcReleaseDevice(dev);
+        printf("embree-agreement: %d passed, %d failed\n", passed, failed);
+        return failed != 0 || passed == 0;
+    }
+    const char *path = argc > 1 ? argv[1] : "../../shared/data/dem_etopo5_himalaya_1024.png";
+    int reps = argc > 2 ? atoi(argv[2]) : 5;
+    return bench(path, reps < 1 ? 1 : reps);
+}

@@ -1,0 +1,15 @@
+#!/usr/bin/env bash
+# hfcast against Embree on the same triangles and rays (c_tests/embree_bench.c): installs
+# libembree-dev if missing, builds libhfcast in release, runs the benchmark.
+# Usage: bash scripts/embree_bench.sh [map.png [reps]]  (paths relative to c_tests/;
+# default the Himalaya DEM of ../shared/data, 5 repetitions)
+set -euo pipefail
+cd "$(dirname "$0")/.."
+for p in libembree-dev libpng-dev gcc make; do
+  if ! dpkg -s "$p" >/dev/null 2>&1; then
+    apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq "$p"
+  fi
+done
+cargo build --release -p hfcast-capi
+make -s -C c_tests embree-bench HFCAST_LIB_DIR=../target/release OUT=../target/c_bench \
+  ${1:+BENCH_MAP="$1"} ${2:+BENCH_REPS="$2"}
