@@ -1,7 +1,7 @@
 /* hfcast against Embree over the same triangles, on the same rays, in one process.
  *
- * Benchmark (default): hfcast's exact cylinder-cone march and exact DDA against
- * Embree's single rays and 8-ray packets, one thread each: the CPU comparison issue 3
+ * Benchmark (default): hfcast's exact cylinder-cone march, maximum-mipmap march and
+ * DDA against Embree's single rays and 8-ray packets, one thread each: the CPU comparison issue 3
  * asks for ("exact CC hits faster than Embree over the same triangles ... with a few
  * percent of its memory"), with the memory and preprocessing of both.
  * Check (--check): Embree's watertight mode as an independent oracle of hfcast's exact
@@ -20,7 +20,8 @@
  * any direction (a quarter as many). Random rays that start under the surface are a hit
  * at t = 0 for hfcast (the solid is solid) but not for a triangle mesh, so only those
  * that start above it are kept. hfcast traces through its C API (hf_trace_cc_batch:
- * the exact CC map, cap 64; hf_trace_exact_batch: the exact DDA, no bake); Embree
+ * the exact CC map, cap 64; hf_trace_maxmip_batch; hf_trace_exact_batch: the exact
+ * DDA, no bake); Embree
  * traces single rays (rtcIntersect1) and, for the cameras, packets of 8 rays from
  * 4 x 2 pixel tiles (rtcIntersect8).
  *
@@ -296,10 +297,13 @@ typedef struct field_data {
     uint8_t *cc; /* the exact cylinder-cone map, all four ray classes, cap CC_CAP */
     size_t cc_len;
     double cc_bake_s; /* its bake, on every core */
+    float *pyramid;   /* the maximum mipmap */
+    size_t pyramid_len;
+    double pyramid_bake_s;
 } field_data;
 
-/* Loads `path` (heights v / 65535 x 0.1 x side) and bakes its exact CC map; 0 when the
- * file cannot be read. */
+/* Loads `path` (heights v / 65535 x 0.1 x side) and bakes its exact CC map and its
+ * maximum mipmap; 0 when the file cannot be read. */
 static int field_load(const char *path, field_data *fd) {
     uint16_t *raw = read_png_gray16(path, &fd->w, &fd->h);
     if (!raw) return 0;
@@ -322,10 +326,17 @@ static int field_load(const char *path, field_data *fd) {
     double t0 = now();
     check_hf("hf_cc_bake", hf_cc_bake(fd->field, &opts, 0, fd->cc, fd->cc_len));
     fd->cc_bake_s = now() - t0;
+    check_hf("hf_maxmip_len", hf_maxmip_len(fd->w, fd->h, &fd->pyramid_len));
+    fd->pyramid = (float *)malloc(sizeof(float) * fd->pyramid_len);
+    t0 = now();
+    check_hf("hf_maxmip_bake_threaded",
+             hf_maxmip_bake_threaded(fd->field, 0, fd->pyramid, fd->pyramid_len));
+    fd->pyramid_bake_s = now() - t0;
     return 1;
 }
 
 static void field_free(field_data *fd) {
+    free(fd->pyramid);
     free(fd->cc);
     hf_field_destroy(fd->field);
     free(fd->heights);
@@ -374,71 +385,86 @@ static size_t disagreements(const hf_hit *hits, const float *t, size_t n, size_t
     return bad;
 }
 
+/* hfcast's exact methods compared, through the batch functions of the C API. */
+enum { METHOD_CC, METHOD_MAXMIP, METHOD_DDA, METHODS };
+static const char *const METHOD_NAMES[METHODS] = {"cc exact", "maxmip exact", "dda exact"};
+
+/* Traces `rays` with hfcast's exact `method` (triangle surface) into `hits`. */
+static void hf_trace_method(const field_data *fd, int method, const hf_ray *rays, size_t n,
+                            hf_hit *hits) {
+    hf_result r;
+    if (method == METHOD_CC) {
+        r = hf_trace_cc_batch(fd->field, fd->cc, fd->cc_len, CC_CAP, rays, n, hits, n);
+    } else if (method == METHOD_MAXMIP) {
+        r = hf_trace_maxmip_batch(fd->field, fd->pyramid, fd->pyramid_len, HF_SURFACE_TRIANGLES,
+                                  rays, n, hits, n);
+    } else {
+        r = hf_trace_exact_batch(fd->field, HF_SURFACE_TRIANGLES, rays, n, hits, n);
+    }
+    check_hf(METHOD_NAMES[method], r);
+}
+
 /* ---- benchmark ------------------------------------------------------------------- */
 
 #define BENCH_W 640
 #define BENCH_H 512
 
-/* The timed runs of one ray set: hfcast's CC and DDA, then single rays and packets
- * (cameras only) on Embree's default and watertight scenes. */
-enum { RUN_CC, RUN_DDA, RUN_E1, RUN_E8, RUN_R1, RUN_R8, RUNS };
-static const char *const RUN_NAMES[RUNS] = {
-    "hfcast cc exact",    "hfcast dda exact",     "embree single",
-    "embree packets of 8", "embree robust single", "embree robust packets of 8",
-};
+/* The timed runs of one ray set: hfcast's methods, then Embree's single rays and
+ * packets (cameras only) on its default and watertight scenes. */
+enum { RUN_E1 = METHODS, RUN_E8, RUN_R1, RUN_R8, RUNS };
+static const char *const EMBREE_RUNS[RUNS - METHODS] = {
+    "embree single", "embree packets of 8", "embree robust single", "embree robust packets of 8"};
 
 /* Times every run on `rays`, medians of `reps` passes (each pass runs every method
- * once), and counts the hits that differ from each Embree run's. */
+ * once), and counts the hits of each hfcast method that differ from each Embree run's. */
 static void bench_set(const field_data *fd, RTCScene scenes[2], int reps, const char *name,
                       const hf_ray *rays, size_t n, int camera) {
-    hf_hit *hits = (hf_hit *)malloc(sizeof(hf_hit) * n);
-    hf_hit *dda = (hf_hit *)malloc(sizeof(hf_hit) * n);
-    float *t[4];
-    for (int k = 0; k < 4; k++) t[k] = (float *)malloc(sizeof(float) * n);
+    hf_hit *hits[METHODS];
+    float *t[RUNS - METHODS];
+    for (int m = 0; m < METHODS; m++) hits[m] = (hf_hit *)malloc(sizeof(hf_hit) * n);
+    for (int k = 0; k < RUNS - METHODS; k++) t[k] = (float *)malloc(sizeof(float) * n);
     double *ns = (double *)malloc(sizeof(double) * reps * RUNS);
     for (int r = 0; r < reps; r++) {
         for (int run = 0; run < RUNS; run++) {
             int packets = run == RUN_E8 || run == RUN_R8;
             if (packets && !camera) continue;
-            RTCScene scene = scenes[run >= RUN_R1];
             double t0 = now();
-            if (run == RUN_CC) {
-                check_hf("hf_trace_cc_batch", hf_trace_cc_batch(fd->field, fd->cc, fd->cc_len,
-                                                                CC_CAP, rays, n, hits, n));
-            } else if (run == RUN_DDA) {
-                check_hf("hf_trace_exact_batch",
-                         hf_trace_exact_batch(fd->field, HF_SURFACE_TRIANGLES, rays, n, dda, n));
+            if (run < METHODS) {
+                hf_trace_method(fd, run, rays, n, hits[run]);
             } else if (packets) {
-                embree_trace8(scene, rays, BENCH_W, BENCH_H, t[run - RUN_E1]);
+                embree_trace8(scenes[run >= RUN_R1], rays, BENCH_W, BENCH_H, t[run - RUN_E1]);
             } else {
-                embree_trace1(scene, rays, n, t[run - RUN_E1]);
+                embree_trace1(scenes[run >= RUN_R1], rays, n, t[run - RUN_E1]);
             }
             ns[run * reps + r] = (now() - t0) * 1e9 / n;
         }
     }
     size_t hit_count = 0;
-    double fetches = 0.0;
+    double fetches[METHODS] = {0.0};
     for (size_t i = 0; i < n; i++) {
-        hit_count += hits[i].hit;
-        fetches += hits[i].fetches;
+        hit_count += hits[METHOD_CC][i].hit;
+        for (int m = 0; m < METHODS; m++) fetches[m] += hits[m][i].fetches;
     }
-    printf("%s: %zu rays, %zu hits (cc: %.1f fetches/ray)\n", name, n, hit_count, fetches / n);
-    double cc = median(ns + RUN_CC * reps, reps);
+    printf("%s: %zu rays, %zu hits\n", name, n, hit_count);
+    double cc = median(ns + METHOD_CC * reps, reps);
     for (int run = 0; run < RUNS; run++) {
         if ((run == RUN_E8 || run == RUN_R8) && !camera) continue;
         double m = median(ns + run * reps, reps);
-        printf("  %-27s %6.0f ns/ray %6.2f M rays/s", RUN_NAMES[run], m, 1e3 / m);
-        if (run >= RUN_E1) {
-            printf("  cc / this %.2f; hits differing: cc %zu, dda %zu", cc / m,
-                   disagreements(hits, t[run - RUN_E1], n, NULL),
-                   disagreements(dda, t[run - RUN_E1], n, NULL));
+        if (run < METHODS) {
+            printf("  hfcast %-20s %6.0f ns/ray %6.2f M rays/s  %.1f fetches/ray\n",
+                   METHOD_NAMES[run], m, 1e3 / m, fetches[run] / n);
+        } else {
+            printf("  %-27s %6.0f ns/ray %6.2f M rays/s  cc / this %.2f; hits differing:",
+                   EMBREE_RUNS[run - RUN_E1], m, 1e3 / m, cc / m);
+            for (int k = 0; k < METHODS; k++) {
+                printf(" %s %zu", METHOD_NAMES[k], disagreements(hits[k], t[run - RUN_E1], n, NULL));
+            }
+            printf("\n");
         }
-        printf("\n");
     }
     free(ns);
-    for (int k = 0; k < 4; k++) free(t[k]);
-    free(dda);
-    free(hits);
+    for (int k = 0; k < RUNS - METHODS; k++) free(t[k]);
+    for (int m = 0; m < METHODS; m++) free(hits[m]);
 }
 
 static int bench(const char *path, int reps) {
@@ -472,13 +498,14 @@ static int bench(const char *path, int reps) {
     printf("%s: %u x %u, depth %.1f; embree %s (8-wide packets native: %s)\n", path, fd.w,
            fd.h, fd.depth, RTC_VERSION_STRING,
            rtcGetDeviceProperty(dev, RTC_DEVICE_PROPERTY_NATIVE_RAY8_SUPPORTED) ? "yes" : "no");
-    printf("memory: hfcast %.1f MiB (exact cc map %.1f, all four ray classes, + f32 heights "
-           "%.1f); embree %.1f MiB (robust %.1f; BVH and buffers, its memory monitor)\n",
-           (fd.cc_len + n * 4.0) / 1048576.0, fd.cc_len / 1048576.0, n * 4.0 / 1048576.0,
+    printf("memory: hfcast f32 heights %.1f MiB + exact cc map %.1f (all four ray classes) "
+           "or maximum mipmap %.1f; embree %.1f MiB (robust %.1f; BVH and buffers, its "
+           "memory monitor)\n",
+           n * 4.0 / 1048576.0, fd.cc_len / 1048576.0, fd.pyramid_len * 4.0 / 1048576.0,
            bytes[0] / 1048576.0, bytes[1] / 1048576.0);
-    printf("preprocessing (all cores): hfcast exact cc bake %.2f s; embree bvh build %.2f s "
-           "(robust %.2f s)\n",
-           fd.cc_bake_s, build[0], build[1]);
+    printf("preprocessing (all cores): hfcast exact cc bake %.2f s, maximum mipmap %.3f s; "
+           "embree bvh build %.2f s (robust %.2f s)\n",
+           fd.cc_bake_s, fd.pyramid_bake_s, build[0], build[1]);
     hf_ray *rays = (hf_ray *)malloc(sizeof(hf_ray) * BENCH_W * BENCH_H);
     for (int k = 0; k < RAY_SETS; k++) {
         char name[96];
@@ -542,8 +569,8 @@ static int within_rounding(const field_data *fd, const hf_ray *r, double a, doub
     return 1;
 }
 
-/* Checks hfcast's exact CC march and exact DDA against Embree's watertight scene on the
- * ray sets of `path`: every hit that differs must be within rounding
+/* Checks hfcast's exact methods against Embree's watertight scene on the ray sets of
+ * `path`: every hit that differs must be within rounding
  * ([within_rounding]). One line per ray set and method; adds to the tallies. */
 static void check_map(const char *path, RTCDevice dev, int *passed, int *failed) {
     field_data fd;
@@ -564,12 +591,8 @@ static void check_map(const char *path, RTCDevice dev, int *passed, int *failed)
         char name[96];
         size_t n = ray_set(&fd, k, CHECK_W, CHECK_H, rays, name, sizeof name);
         embree_trace1(scene, rays, n, t);
-        for (int method = 0; method < 2; method++) {
-            hf_result r = method == 0 ? hf_trace_cc_batch(fd.field, fd.cc, fd.cc_len, CC_CAP,
-                                                          rays, n, hits, n)
-                                      : hf_trace_exact_batch(fd.field, HF_SURFACE_TRIANGLES,
-                                                             rays, n, hits, n);
-            check_hf("trace", r);
+        for (int method = 0; method < METHODS; method++) {
+            hf_trace_method(&fd, method, rays, n, hits);
             size_t differ = disagreements(hits, t, n, bad), unexplained = 0, hit_count = 0;
             for (size_t i = 0; i < n; i++) hit_count += hits[i].hit;
             for (size_t b = 0; b < differ; b++) {
@@ -585,7 +608,7 @@ static void check_map(const char *path, RTCDevice dev, int *passed, int *failed)
             int ok = unexplained == 0 && hit_count > 0;
             printf("%s %s, %s: %zu rays, %zu hits, %zu differ from embree (%zu beyond "
                    "rounding): %s\n",
-                   base, name, method == 0 ? "cc exact" : "dda exact", n, hit_count, differ,
+                   base, name, METHOD_NAMES[method], n, hit_count, differ,
                    unexplained, ok ? "ok" : "FAILED");
             *(ok ? passed : failed) += 1;
         }
