@@ -72,15 +72,6 @@ fn axis_of(class: RayClass) -> usize {
     }
 }
 
-/// Forward direction along the main axis of a class.
-#[inline]
-fn sign_of(class: RayClass) -> i64 {
-    match class {
-        RayClass::XPos | RayClass::YPos => 1,
-        RayClass::XNeg | RayClass::YNeg => -1,
-    }
-}
-
 /// Sample at main index `m`, minor index `n` of axis `ax`.
 #[inline]
 fn sample(hf: &HeightField, ax: usize, m: u32, n: u32) -> f32 {
@@ -402,8 +393,26 @@ pub fn texel_distance<S: RaySet>(
     j: u32,
     cap: u8,
 ) -> u8 {
-    let ax = axis_of(class);
-    let sg = sign_of(class);
+    // One instance per class: its axis and direction are then constants in the scan
+    // (the same operations on the same values, fewer selects).
+    let texel = (i, j);
+    match class {
+        RayClass::XPos => class_distance::<S, 0, 1>(hf, scratch, rays, texel, cap),
+        RayClass::XNeg => class_distance::<S, 0, -1>(hf, scratch, rays, texel, cap),
+        RayClass::YPos => class_distance::<S, 1, 1>(hf, scratch, rays, texel, cap),
+        RayClass::YNeg => class_distance::<S, 1, -1>(hf, scratch, rays, texel, cap),
+    }
+}
+
+/// [`texel_distance`] for the class of main axis `AX` and direction `SG`.
+fn class_distance<S: RaySet, const AX: usize, const SG: i64>(
+    hf: &HeightField,
+    scratch: &[f32],
+    rays: &S,
+    (i, j): (u32, u32),
+    cap: u8,
+) -> u8 {
+    let (ax, sg) = (AX, SG);
     let (lm, ln) = extents(hf, ax);
     let (m, n) = if ax == 0 { (i, j) } else { (j, i) };
     let sigma = sigma_of(hf, ax, m, n);

@@ -56,8 +56,10 @@
 //! so far, and the slope is their maximum, so the order of visits does not change
 //! it. The exact slope skips a cell when neither its highest sample (the N-buffer's
 //! level 1) nor its highest corners on the near and far side (over `u = k` and
-//! `u = k + 1`: a triangle's slope is largest at a corner) can raise the slope, so
-//! its result does not depend on how the skipping is organised either.
+//! `u = k + 1`: a triangle's slope is largest at a corner) can raise the slope, or,
+//! for a cell the band's edge cuts off but for a corner, no vertex of the part left
+//! can ([`Column::tip_under`]), so its result does not depend on how the skipping is
+//! organised either.
 //!
 //! **Packing** (the GPU layout, [`map_len`], [`texel_offset`]): 16 bytes per texel,
 //! four per class, each texel row stored as four rows, one per class in class order:
@@ -82,8 +84,8 @@ use core::ops::Range;
 
 use super::{
     axis_of, band_cells, cell_tris, check_len, column_ahead, extents, march_with, sample, sigma_of,
-    sign_of, texel_distance, tri_masks, AllRays, ClassRows, Line, MarchSurface, RaySet,
-    SafetyError, Sigma, Tri, Variant, CLASSES,
+    texel_distance, tri_masks, AllRays, ClassRows, Line, MarchSurface, RaySet, SafetyError, Sigma,
+    Tri, Variant, CLASSES,
 };
 use crate::field::HeightField;
 use crate::math::Real;
@@ -572,13 +574,33 @@ fn cone_search<S: RaySet>(
     views: &Views,
     rays: &S,
     class: RayClass,
+    texel: (u32, u32),
+    r: u8,
+    opts: CcOptions,
+    seeds: [Cell; 3],
+) -> ((f64, f64), Cell) {
+    // One instance per class: its axis and direction are then constants in the scans
+    // (the same operations on the same values, fewer selects and spills).
+    match class {
+        RayClass::XPos => class_search::<S, 0, 1>(hf, views, rays, texel, r, opts, seeds),
+        RayClass::XNeg => class_search::<S, 0, -1>(hf, views, rays, texel, r, opts, seeds),
+        RayClass::YPos => class_search::<S, 1, 1>(hf, views, rays, texel, r, opts, seeds),
+        RayClass::YNeg => class_search::<S, 1, -1>(hf, views, rays, texel, r, opts, seeds),
+    }
+}
+
+/// [`cone_search`] for the class of main axis `AX` and direction `SG`.
+#[allow(clippy::too_many_arguments)]
+fn class_search<S: RaySet, const AX: usize, const SG: i64>(
+    hf: &HeightField,
+    views: &Views,
+    rays: &S,
     (i, j): (u32, u32),
     r: u8,
     opts: CcOptions,
     seeds: [Cell; 3],
 ) -> ((f64, f64), Cell) {
-    let ax = axis_of(class);
-    let sg = sign_of(class);
+    let (ax, sg) = (AX, SG);
     let (lm, ln) = extents(hf, ax);
     let (m, n) = if ax == 0 { (i, j) } else { (j, i) };
     let sigma = sigma_of(hf, ax, m, n);
@@ -614,23 +636,21 @@ fn cone_search<S: RaySet>(
         zc,
     };
     let bound_of = |k: u32| ahead.bound(k);
-    // Raises `s` over the triangles of the cells `cells` (all by default) of column `k`
-    // (exactly), noting in `best` the cell that raised it last. (`move`: it holds
-    // copies of what it reads, not references to them.)
-    let scan = move |k: u32, cells: Option<u32>, s: &mut f64, best: &mut Cell| {
-        let (l0, l1) = cells.map_or(band(k), |c| (c, c));
-        let col = Column {
-            hf,
-            nb: &nbv,
-            rays,
-            sigma: &sigma,
-            ax,
-            sg,
-            cm: column_ahead(m, sg, k),
-            kf: f64::from(k),
-            zc,
-        };
-        col.scan(l0, l1, s, best);
+    // Column `k` as its scans see it ([`Column`]).
+    let column = |k: u32| Column::<S, AX, SG> {
+        hf,
+        nb: &nbv,
+        rays,
+        sigma: &sigma,
+        cm: column_ahead(m, sg, k),
+        kf: f64::from(k),
+        zc,
+    };
+    // Raises `s` over the triangles of the cells of column `k` (exactly), noting in
+    // `best` the cell that raised it last.
+    let scan = |k: u32, s: &mut f64, best: &mut Cell| {
+        let (l0, l1) = band(k);
+        column(k).scan(l0, l1, s, best);
     };
     let mut best = None;
     // The blocks of columns `ks` whose bound exceeds `s` ([`Ahead::block_bounds`]).
@@ -677,7 +697,7 @@ fn cone_search<S: RaySet>(
             raise(&mut s, top);
         }
         if r == 0 && kend > 0 && bound_of(0) > s {
-            scan(0, None, &mut s, &mut best);
+            scan(0, &mut s, &mut best);
         }
         return ((zc, s), best);
     }
@@ -709,7 +729,7 @@ fn cone_search<S: RaySet>(
         };
         let (l0, l1) = band(k.min(kend));
         if k >= u32::from(r) && k < kend && (l0..=l1).contains(&c) {
-            scan(k, Some(c), &mut s, &mut best);
+            column(k).scan_one(c, &mut s, &mut best);
         }
     }
     let key = |bound: f64, low: u32| {
@@ -751,7 +771,7 @@ fn cone_search<S: RaySet>(
                 }
             }
             None => {
-                scan(low, None, &mut s, &mut best);
+                scan(low, &mut s, &mut best);
                 if s == f64::INFINITY {
                     return ((zc, s), best);
                 }
@@ -790,24 +810,32 @@ fn take_max<T, K: PartialOrd, const N: usize>(
 }
 
 /// One column of cells ahead of a texel, as the exact slope scans it.
-struct Column<'a, S: RaySet> {
+struct Column<'a, S: RaySet, const AX: usize, const SG: i64> {
     hf: &'a HeightField<'a>,
     nb: &'a NbView<'a>,
     rays: &'a S,
     sigma: &'a Sigma,
-    ax: usize,
-    sg: i64,
     cm: u32,
     kf: f64,
     zc: f64,
 }
 
-impl<S: RaySet> Column<'_, S> {
+impl<S: RaySet, const AX: usize, const SG: i64> Column<'_, S, AX, SG> {
+    /// [`Column::scan`] of the one cell `c` (a seed's): an instance of its own, where
+    /// the scan's loop is a single step, so that a seed costs little more than its
+    /// cell (inlining the whole scan here and there, and not this one, measured
+    /// fewest instructions).
+    #[inline(never)]
+    fn scan_one(&self, c: u32, s: &mut f64, best: &mut Cell) {
+        self.scan(c, c, s, best)
+    }
+
     /// Raises `s` over the cells `c0..=c1` of the column, skipping every cell whose
     /// highest corners on the near and far sides (the N-buffer's level 1 of the two
     /// sample columns: two reads per cell, in two rows) cannot raise it.
+    #[inline(always)]
     fn scan(&self, c0: u32, c1: u32, s: &mut f64, best: &mut Cell) {
-        let (near, far) = if self.sg > 0 {
+        let (near, far) = if SG > 0 {
             (self.cm, self.cm + 1)
         } else {
             (self.cm + 1, self.cm)
@@ -823,9 +851,9 @@ impl<S: RaySet> Column<'_, S> {
             {
                 continue;
             }
-            let h = super::cell_corners(self.hf, self.ax, self.cm, c);
+            let h = super::cell_corners(self.hf, AX, self.cm, c);
             let under = bars.under(h, self.zc);
-            if under == 0b1111 {
+            if under == 0b1111 || self.tip_under(c, h, &bars) {
                 continue;
             }
             // One raise by the larger slope of the two triangles: `C(max(a, C(b))) =
@@ -835,7 +863,7 @@ impl<S: RaySet> Column<'_, S> {
             // the maximum it rises to.
             let edge = band_edge(self.sigma, self.kf, f64::from(c));
             let mut slope = f64::NEG_INFINITY;
-            let tris = cell_tris(h, self.sigma, self.ax, self.sg, self.cm, c);
+            let tris = cell_tris(h, self.sigma, AX, SG, self.cm, c);
             for (tri, corners) in tris.iter().zip(tri_masks(h)) {
                 if under & corners != corners && self.rays.limiting(self.sigma, tri) {
                     // Not `max`: neither is NaN (±0 tie: same code).
@@ -863,8 +891,8 @@ impl<S: RaySet> Column<'_, S> {
         // Corner `i` of `h` ([`super::cell_corners`]) lies at `u = k + 1` when its
         // main-axis step (bit 0 of `i` for axis 0, bit 1 for axis 1) goes ahead.
         let lines = core::array::from_fn(|i| {
-            let step = if self.ax == 0 { i & 1 } else { i >> 1 };
-            if (step == 1) == (self.sg > 0) {
+            let step = if AX == 0 { i & 1 } else { i >> 1 };
+            if (step == 1) == (SG > 0) {
                 lf - margin
             } else {
                 ln - margin
@@ -874,7 +902,49 @@ impl<S: RaySet> Column<'_, S> {
             near: ln,
             far: lf,
             lines,
+            s,
+            margin,
         }
+    }
+
+    /// Whether cell `c` is one the band's edge cuts off but for a corner (`c = n − k −
+    /// 2` or `c = n + k + 1`) and no point of the part left can raise `s`. That part
+    /// (what a ray from the segment reaches, `lo − u ≤ y ≤ hi + u` with `lo = n −
+    /// 9/16`, `hi = n + 9/16`) is the triangle of legs `9/16` at the cell's far corner
+    /// on the band's side: the corner, the points `7/16` along the far side and along
+    /// the side towards the band, and where the band's edge crosses the diagonal
+    /// through the corner (`23/32` along it, when the cell is split there). The
+    /// surface is linear on each piece the diagonal leaves, and `(z − z_c)/u` is
+    /// largest at a vertex of a piece, so the cell's limiting triangles, clipped
+    /// ([`tri_slope`]), cannot raise `s` when these four points lie under the line
+    /// (less the margin of [`Bars`], far above the rounding of the interpolations
+    /// here and of the clip's plane values).
+    #[inline]
+    fn tip_under(&self, c: u32, h: [f32; 4], bars: &Bars) -> bool {
+        let (cf, n, k) = (f64::from(c), self.sigma.n, self.kf);
+        // The corner's minor step: 1 below the band (its upper side), 0 above it.
+        let b = if cf + k + 1.0 < n {
+            1
+        } else if cf > n + k {
+            0
+        } else {
+            return false;
+        };
+        // Corner `(a, b)` of the cell: `u = k + a`, `y = c + b` ([`Column::bars`] on
+        // the order of `h`).
+        let z = |a: usize, b: usize| {
+            let step = if SG > 0 { a } else { 1 - a };
+            f64::from(h[if AX == 0 { step + 2 * b } else { b + 2 * step }])
+        };
+        let (tip, side, back, diag) = (z(1, b), z(1, 1 - b), z(0, b), z(0, 1 - b));
+        [
+            (tip, k + 1.0),
+            (0.5625 * side + 0.4375 * tip, k + 1.0),
+            (0.5625 * back + 0.4375 * tip, k + 0.4375),
+            (0.28125 * diag + 0.71875 * tip, k + 0.71875),
+        ]
+        .iter()
+        .all(|&(z, u)| z - self.zc <= bars.s * u - bars.margin)
     }
 }
 
@@ -889,6 +959,9 @@ struct Bars {
     /// Per corner of a cell (as [`super::cell_corners`] orders them), the line's height
     /// over it less `z_c`, lowered by a margin far above rounding.
     lines: [f64; 4],
+    /// The slope and that margin.
+    s: f64,
+    margin: f64,
 }
 
 impl Bars {
