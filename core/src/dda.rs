@@ -40,6 +40,7 @@ pub struct Span<R: Real> {
 /// Clips a query to the field's bounding box, `z` spanning the sample range (which
 /// bounds every surface but linear planes: see [`clip_surface`]); `None` when the ray
 /// misses it.
+#[inline]
 pub fn clip<R: Real>(hf: &HeightField, q: &Query<R>) -> Option<Span<R>> {
     clip_surface(hf, Surface::Triangles, q)
 }
@@ -47,8 +48,9 @@ pub fn clip<R: Real>(hf: &HeightField, q: &Query<R>) -> Option<Span<R>> {
 /// Clips a query to the box that holds `surface` over the field: the sample range in
 /// `z`, widened for linear planes, whose plane reaches `h10 + h01 − h00` at a cell's far
 /// corner and so may leave the sample range by up to its width; `None` when the ray
-/// misses it.
-#[inline]
+/// misses it. Inlined at every march's entry (the C API, which instantiates every
+/// march, otherwise kept it a call).
+#[inline(always)]
 pub fn clip_surface<R: Real>(hf: &HeightField, surface: Surface, q: &Query<R>) -> Option<Span<R>> {
     let (o, d) = (q.origin(), q.dir());
     let (mut zmin, mut zmax) = (R::from_f32(hf.min_height()), R::from_f32(hf.max_height()));

@@ -78,6 +78,7 @@ impl<R: Real> Query<R> {
     }
 
     /// [`Query::new`] from plain arrays.
+    #[inline]
     pub fn from_arrays(origin: [R; 3], dir: [R; 3], t_min: R, t_max: R) -> Result<Self, RayError> {
         if !origin.iter().all(|v| v.is_finite()) {
             return Err(RayError::OriginNotFinite);

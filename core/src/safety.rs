@@ -1027,7 +1027,10 @@ impl<R: Real, const AX: usize> March<'_, R, AX> {
     }
 
     /// Walks cell by cell, as [`dda::trace`](crate::dda::trace), up to the next
-    /// main-axis centerline, the hit, or the end.
+    /// main-axis centerline, the hit, or the end. Inlined into its one call site (left
+    /// to the heuristics, a build that instantiates the march for both surfaces, as the
+    /// C API's, kept it a call: ~30% slower).
+    #[inline(always)]
     fn walk(&mut self) -> Step<R> {
         let (ax, mi) = (AX, 1 - AX);
         let (o, d) = (self.q.origin(), self.q.dir());
