@@ -1,7 +1,7 @@
 /* hfcast against Embree over the same triangles, on the same rays, in one process.
  *
- * Benchmark (default): hfcast's exact cylinder-cone march, maximum-mipmap march and
- * DDA against Embree's single rays and 8-ray packets, one thread each: the CPU comparison issue 3
+ * Benchmark (default): hfcast's exact cylinder-cone, maximum-mipmap and
+ * safety-distance marches and its DDA against Embree's single rays and 8-ray packets, one thread each: the CPU comparison issue 3
  * asks for ("exact CC hits faster than Embree over the same triangles ... with a few
  * percent of its memory"), with the memory and preprocessing of both.
  * Check (--check): Embree's watertight mode as an independent oracle of hfcast's exact
@@ -20,8 +20,8 @@
  * any direction (a quarter as many). Random rays that start under the surface are a hit
  * at t = 0 for hfcast (the solid is solid) but not for a triangle mesh, so only those
  * that start above it are kept. hfcast traces through its C API (hf_trace_cc_batch:
- * the exact CC map, cap 64; hf_trace_maxmip_batch; hf_trace_exact_batch: the exact
- * DDA, no bake); Embree
+ * the exact CC map, cap 64; hf_trace_maxmip_batch; hf_trace_safety_batch: the exact
+ * directional safety distances; hf_trace_exact_batch: the exact DDA, no bake); Embree
  * traces single rays (rtcIntersect1) and, for the cameras, packets of 8 rays from
  * 4 x 2 pixel tiles (rtcIntersect8).
  *
@@ -300,10 +300,12 @@ typedef struct field_data {
     float *pyramid;   /* the maximum mipmap */
     size_t pyramid_len;
     double pyramid_bake_s;
+    uint8_t *sd; /* the exact directional safety distances (cap 255) */
+    size_t sd_len;
 } field_data;
 
-/* Loads `path` (heights v / 65535 x 0.1 x side) and bakes its exact CC map and its
- * maximum mipmap; 0 when the file cannot be read. */
+/* Loads `path` (heights v / 65535 x 0.1 x side) and bakes its exact CC map, its
+ * maximum mipmap and its exact safety distances; 0 when the file cannot be read. */
 static int field_load(const char *path, field_data *fd) {
     uint16_t *raw = read_png_gray16(path, &fd->w, &fd->h);
     if (!raw) return 0;
@@ -332,10 +334,15 @@ static int field_load(const char *path, field_data *fd) {
     check_hf("hf_maxmip_bake_threaded",
              hf_maxmip_bake_threaded(fd->field, 0, fd->pyramid, fd->pyramid_len));
     fd->pyramid_bake_s = now() - t0;
+    check_hf("hf_safety_map_len", hf_safety_map_len(fd->w, fd->h, HF_SAFETY_DIRECTIONAL, &fd->sd_len));
+    fd->sd = (uint8_t *)malloc(fd->sd_len);
+    hf_safety_options sd_opts = {HF_SAFETY_DIRECTIONAL, 0, 255};
+    check_hf("hf_safety_bake", hf_safety_bake(fd->field, &sd_opts, 0, fd->sd, fd->sd_len));
     return 1;
 }
 
 static void field_free(field_data *fd) {
+    free(fd->sd);
     free(fd->pyramid);
     free(fd->cc);
     hf_field_destroy(fd->field);
@@ -386,8 +393,9 @@ static size_t disagreements(const hf_hit *hits, const float *t, size_t n, size_t
 }
 
 /* hfcast's exact methods compared, through the batch functions of the C API. */
-enum { METHOD_CC, METHOD_MAXMIP, METHOD_DDA, METHODS };
-static const char *const METHOD_NAMES[METHODS] = {"cc exact", "maxmip exact", "dda exact"};
+enum { METHOD_CC, METHOD_MAXMIP, METHOD_SD, METHOD_DDA, METHODS };
+static const char *const METHOD_NAMES[METHODS] = {"cc exact", "maxmip exact", "sd exact",
+                                                  "dda exact"};
 
 /* Traces `rays` with hfcast's exact `method` (triangle surface) into `hits`. */
 static void hf_trace_method(const field_data *fd, int method, const hf_ray *rays, size_t n,
@@ -395,6 +403,9 @@ static void hf_trace_method(const field_data *fd, int method, const hf_ray *rays
     hf_result r;
     if (method == METHOD_CC) {
         r = hf_trace_cc_batch(fd->field, fd->cc, fd->cc_len, CC_CAP, rays, n, hits, n);
+    } else if (method == METHOD_SD) {
+        r = hf_trace_safety_batch(fd->field, fd->sd, fd->sd_len, HF_SAFETY_DIRECTIONAL, rays, n,
+                                  hits, n);
     } else if (method == METHOD_MAXMIP) {
         r = hf_trace_maxmip_batch(fd->field, fd->pyramid, fd->pyramid_len, HF_SURFACE_TRIANGLES,
                                   rays, n, hits, n);
@@ -498,11 +509,11 @@ static int bench(const char *path, int reps) {
     printf("%s: %u x %u, depth %.1f; embree %s (8-wide packets native: %s)\n", path, fd.w,
            fd.h, fd.depth, RTC_VERSION_STRING,
            rtcGetDeviceProperty(dev, RTC_DEVICE_PROPERTY_NATIVE_RAY8_SUPPORTED) ? "yes" : "no");
-    printf("memory: hfcast f32 heights %.1f MiB + exact cc map %.1f (all four ray classes) "
-           "or maximum mipmap %.1f; embree %.1f MiB (robust %.1f; BVH and buffers, its "
-           "memory monitor)\n",
+    printf("memory: hfcast f32 heights %.1f MiB + exact cc map %.1f (all four ray classes), "
+           "maximum mipmap %.1f or safety distances %.1f; embree %.1f MiB (robust %.1f; BVH "
+           "and buffers, its memory monitor)\n",
            n * 4.0 / 1048576.0, fd.cc_len / 1048576.0, fd.pyramid_len * 4.0 / 1048576.0,
-           bytes[0] / 1048576.0, bytes[1] / 1048576.0);
+           fd.sd_len / 1048576.0, bytes[0] / 1048576.0, bytes[1] / 1048576.0);
     printf("preprocessing (all cores): hfcast exact cc bake %.2f s, maximum mipmap %.3f s; "
            "embree bvh build %.2f s (robust %.2f s)\n",
            fd.cc_bake_s, fd.pyramid_bake_s, build[0], build[1]);

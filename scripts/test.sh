@@ -79,7 +79,7 @@ echo "== OSMesa (llvmpipe): generated minimal shaders against the general ones a
 "${C_MAKE[@]}" render-generated-test MAPS="$C_MAPS" 2>&1 | tee -a target/c_tests.log
 echo "== GLFW under Xvfb: the window's screenshot against the OSMesa image"
 "${C_MAKE[@]}" glfw-test 2>&1 | tee -a target/c_tests.log
-echo "== Embree (watertight) as an oracle: hfcast's exact CC, maximum-mipmap and DDA marches, every hit that differs within rounding"
+echo "== Embree (watertight) as an oracle: hfcast's exact CC, maximum-mipmap, safety-distance and DDA marches, every hit that differs within rounding"
 EMBREE_MAPS="$C_MAPS"
 if [ -f ../shared/data/dem_etopo5_himalaya_1024.png ]; then
   EMBREE_MAPS="$EMBREE_MAPS ../../shared/data/dem_etopo5_himalaya_1024.png"
