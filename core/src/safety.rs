@@ -45,7 +45,7 @@ use crate::field::HeightField;
 use crate::math::Real;
 use crate::ray::{Flags, Hit, Query, RayClass, Trace};
 use crate::scene::RayClasses;
-use crate::surface::{corners, triangle_planes, SegmentHit, Surface};
+use crate::surface::{corners, triangle_planes, Surface};
 
 pub mod cc;
 
@@ -1073,22 +1073,12 @@ impl<R: Real, const AX: usize> March<'_, R, AX> {
                 cb = l.c;
                 line = Some(l);
             }
-            // Above the surface at both ends, the ray stays above both march surfaces
-            // over the cell (the triangle clearance is concave along the segment, the
-            // view-linear one linear): `segment_hit` would answer no hit and the
-            // smaller end clearance, which is what this takes without the call.
-            let seg = if cb > R::ZERO {
-                SegmentHit {
-                    hit: None,
-                    clearance: self.ca.min(cb),
-                }
-            } else {
-                // The entry wall is for the discontinuous surfaces: the two march
-                // surfaces never read it, so no walk keeps track of it.
-                let wall = [R::ZERO, R::ZERO, R::ONE];
-                self.surface
-                    .segment_hit(self.c, self.a, b, self.ca, cb, wall)
-            };
+            // The entry wall is for the discontinuous surfaces: the two march surfaces
+            // never read it, so no walk keeps track of it.
+            let wall = [R::ZERO, R::ZERO, R::ONE];
+            let seg = self
+                .surface
+                .segment_hit(self.c, self.a, b, self.ca, cb, wall);
             self.clearance = self.clearance.min(seg.clearance);
             if let Some((s, normal, flags)) = seg.hit {
                 let (a, ic) = (self.a, self.ic);

@@ -181,7 +181,31 @@ impl Surface {
     /// caller guarantees `ca > 0`. `entry_wall` is the normal of the face through which
     /// the segment entered the cell, used when a discontinuous surface stands above the
     /// ray right at `a`.
+    #[inline]
     pub fn segment_hit<R: Real>(
+        self,
+        c: [R; 4],
+        a: [R; 3],
+        b: [R; 3],
+        ca: R,
+        cb: R,
+        entry_wall: [R; 3],
+    ) -> SegmentHit<R> {
+        // Above at both ends, the ray stays above the triangle and the view-linear
+        // surfaces over the cell (their clearance along the segment is concave, resp.
+        // linear): no hit and the smaller end clearance, what their tests answer, here
+        // without a call (most cells a march walks).
+        if cb > R::ZERO && matches!(self, Surface::Triangles | Surface::ViewLinear) {
+            return SegmentHit {
+                hit: None,
+                clearance: ca.min(cb),
+            };
+        }
+        self.segment_contact(c, a, b, ca, cb, entry_wall)
+    }
+
+    /// [`Surface::segment_hit`] past its shortcut: the test of each surface.
+    fn segment_contact<R: Real>(
         self,
         c: [R; 4],
         a: [R; 3],
