@@ -204,7 +204,9 @@ impl Surface {
         self.segment_contact(c, a, b, ca, cb, entry_wall)
     }
 
-    /// [`Surface::segment_hit`] past its shortcut: the test of each surface.
+    /// [`Surface::segment_hit`] past its shortcut: the test of each surface (for the
+    /// triangle and view-linear surfaces only segments that end on or under them,
+    /// `cb ≤ 0`, get here).
     fn segment_contact<R: Real>(
         self,
         c: [R; 4],
@@ -215,16 +217,16 @@ impl Surface {
         entry_wall: [R; 3],
     ) -> SegmentHit<R> {
         match self {
-            Surface::Triangles => triangles_segment(c, a, b, ca, cb),
+            Surface::Triangles => triangles_segment(c, a, b, ca),
             Surface::Bilinear => bilinear_segment(c, a, b, ca, cb),
             Surface::ViewLinear => {
-                let hit = (cb <= R::ZERO).then(|| {
-                    let s = ca / (ca - cb);
-                    let (u, v) = (a[0] + (b[0] - a[0]) * s, a[1] + (b[1] - a[1]) * s);
-                    (s, self.cell_normal(c, u, v), Flags::default())
-                });
-                let clearance = if hit.is_some() { ca } else { ca.min(cb) };
-                SegmentHit { hit, clearance }
+                // Linear along the segment, from `ca > 0` to `cb ≤ 0`.
+                let s = ca / (ca - cb);
+                let (u, v) = (a[0] + (b[0] - a[0]) * s, a[1] + (b[1] - a[1]) * s);
+                SegmentHit {
+                    hit: Some((s, self.cell_normal(c, u, v), Flags::default())),
+                    clearance: ca,
+                }
             }
             Surface::LinearPlanes => {
                 let p = linear_plane(c);
@@ -303,16 +305,10 @@ fn nearest_corner<R: Real>(u: R, v: R) -> usize {
 }
 
 /// Triangles: the clearance is the minimum of two linear functions, hence concave along
-/// the segment, so the segment is clear iff both ends are; the contact is the first
-/// root of either plane's clearance.
-fn triangles_segment<R: Real>(c: [R; 4], a: [R; 3], b: [R; 3], ca: R, cb: R) -> SegmentHit<R> {
-    let clearance = ca.min(cb);
-    if cb > R::ZERO {
-        return SegmentHit {
-            hit: None,
-            clearance,
-        };
-    }
+/// the segment, so the segment is clear iff both ends are ([`Surface::segment_hit`]
+/// answers those); for one that ends on or under the surface (`cb ≤ 0`) the contact is
+/// the first root of either plane's clearance.
+fn triangles_segment<R: Real>(c: [R; 4], a: [R; 3], b: [R; 3], ca: R) -> SegmentHit<R> {
     let mut best: Option<(R, [R; 3])> = None;
     for p in triangle_planes(c) {
         let la = a[2] - plane(p, a[0], a[1]);
