@@ -206,8 +206,6 @@ int scene_load_ex(scene *s, const char *png_path, int relaxed) {
     t0 = now_seconds();
     if ((r = hf_qdm_bake(s->field, 0, s->qdm, s->qdm_len)) != HF_OK) die_hf("hf_qdm_bake", r);
     s->qdm_bake_ms = 1e3 * (now_seconds() - t0);
-    r = hf_cc_frame(s->field, &s->cc_frame[0], &s->cc_frame[1], &s->cc_frame[2]);
-    if (r != HF_OK) die_hf("hf_cc_frame", r);
     return 0;
 }
 
@@ -531,11 +529,12 @@ void gpu_upload_class_maps(gpu *g, const scene *s) {
                                  GL_UNSIGNED_BYTE, s->safety);
     g->tex_safety_iso = make_texture(GL_R8UI, (int)s->w, (int)s->h, GL_RED_INTEGER,
                                      GL_UNSIGNED_BYTE, s->safety_iso);
-    /* Cylinder-cone shapes: n RGBA8UI texels (one per class held) per map texel, W x nH
-     * (hf_cc_classes). */
-    glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
-    g->tex_cc = make_texture(GL_RGBA8UI, (int)s->w, n * (int)s->h, GL_RGBA_INTEGER,
+    /* Cylinder-cone shapes [r, s]: n RG8UI texels (one per class held) per map texel,
+     * W x nH (hf_cc_classes); rows are 2W bytes: alignment 2. */
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 2);
+    g->tex_cc = make_texture(GL_RG8UI, (int)s->w, n * (int)s->h, GL_RG_INTEGER,
                              GL_UNSIGNED_BYTE, s->cc);
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
 }
 
 void gpu_upload_rays(gpu *g, const hf_ray *rays) {
@@ -610,9 +609,6 @@ void gpu_render_program(gpu *g, GLuint p, const scene *s, method_cfg cfg, float 
     if (loc >= 0) glUniform1ui(loc, cfg.zero == HF_RADIUS_CLAMP ? 1u : 0u);
     if (cfg.method == HF_METHOD_CC) {
         glUniform1ui(glGetUniformLocation(p, "hf_cc_cap"), CC_CAP);
-        glUniform1f(glGetUniformLocation(p, "hf_cc_zmin"), s->cc_frame[0]);
-        glUniform1f(glGetUniformLocation(p, "hf_cc_zstep"), s->cc_frame[1]);
-        glUniform1f(glGetUniformLocation(p, "hf_cc_zspan"), s->cc_frame[2]);
     }
     if (cfg.method == HF_METHOD_MAXMIP) {
         GLint dims[2 * HF_MAX_LEVELS] = {0}, offs[HF_MAX_LEVELS] = {0};

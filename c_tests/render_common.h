@@ -53,9 +53,8 @@ typedef struct scene {
     float *cone, *relaxed, *qdm; /* the cone family's maps */
     size_t cone_len, relaxed_len, qdm_len;
     double cone_bake_ms, relaxed_bake_ms, qdm_bake_ms;
-    unsigned char *cc; /* cylinder-cone shapes, W x H x 4n bytes for n classes */
+    unsigned char *cc; /* cylinder-cone shapes [r, s], W x H x 2n bytes for n classes */
     size_t cc_len;
-    float cc_frame[3]; /* zmin, zstep, zspan */
     double cc_bake_ms;
     double safety_bake_ms;
     unsigned char *radius; /* safety radii (tolerance 0), W x H */

@@ -543,11 +543,12 @@ hf_result hf_error_message(uint32_t code,
 
 #if defined(HF_HAVE_SAFETY)
 // Writes the size in bytes of the packed cylinder–cone map of a `width × height`
-// field to `*out_len`: 16 per texel, four per ray class, `[r, s, z_lo, z_hi]`
-// (cylinder radius, slope code, base-height code), each texel row stored as four rows
-// of W, one per class in class order (x+, x−, y+, y−): the bytes of texel (i, j) for
-// class c start at `((j * 4 + c) * W + i) * 4`; upload as an `RGBA8UI` texture of
-// W × 4H texels, texel (i, 4 j + class). Thread safe.
+// field to `*out_len`: 8 per texel, two per ray class, `[r, s]` (cylinder radius,
+// slope code; the cone's base height is not stored: the march computes it from the
+// heights), each texel row stored as four rows of W, one per class in class order
+// (x+, x−, y+, y−): the bytes of texel (i, j) for class c start at
+// `((j * 4 + c) * W + i) * 2`; upload as an `RG8UI` texture of W × 4H texels, texel
+// (i, 4 j + class). Thread safe.
 //
 // # Safety
 // `out_len` is NULL (an error) or valid for writing one `size_t`.
@@ -558,10 +559,10 @@ hf_result hf_cc_map_len(uint32_t width,
 
 #if defined(HF_HAVE_SAFETY)
 // `hf_cc_map_len` for a map of the ray classes `ray_classes` only (`HF_RAYS_*` bits,
-// not 0; `hf_cc_bake_classes`): `W * H * 4 * n` for its `n` classes, each texel row
+// not 0; `hf_cc_bake_classes`): `W * H * 2 * n` for its `n` classes, each texel row
 // stored as `n` rows in class order (the bytes of texel (i, j) for class c at
-// `((j * n + slot) * W + i) * 4`, `slot` the number of its classes before c; an
-// `RGBA8UI` texture of W × nH texels, texel (i, n j + slot)). Thread safe.
+// `((j * n + slot) * W + i) * 2`, `slot` the number of its classes before c; an
+// `RG8UI` texture of W × nH texels, texel (i, n j + slot)). Thread safe.
 //
 // # Safety
 // `out_len` is NULL (an error) or valid for writing one `size_t`.
@@ -675,25 +676,11 @@ hf_result hf_cc_bake_classes(const struct hf_field *field,
 #endif
 
 #if defined(HF_HAVE_SAFETY)
-// Writes the frame the packed base heights are decoded with, as the march uses it in
-// `float`: `z_c = zmin + code * zstep`, and `zspan = zstep * 65535` (for the rounding
-// bound): the uniforms `hf_cc_zmin`, `hf_cc_zstep`, `hf_cc_zspan` of the GLSL port.
-// Thread safe.
-//
-// # Safety
-// `field` is NULL (an error) or a live handle; each output NULL (an error) or valid
-// for writing one `float`.
-hf_result hf_cc_frame(const struct hf_field *field,
-                      float *out_zmin,
-                      float *out_zstep,
-                      float *out_zspan);
-#endif
-
-#if defined(HF_HAVE_SAFETY)
 // Traces one ray on the triangle surface with the cylinder–cone map `map` (from
 // `hf_cc_bake` with the same `cap`): exact, the hit of `hf_trace_exact` with
 // `HF_SURFACE_TRIANGLES` (up to rounding on grazing rays). Costs one fetch per shape
-// read, two per centerline clearance, four per cell walked. Thread safe.
+// read and one for the third height sample of a cone's base, two per centerline
+// clearance, four per cell walked. Thread safe.
 //
 // # Safety
 // `field` is NULL (an error) or a live handle; `map` NULL (an error) or valid for
@@ -1627,9 +1614,8 @@ hf_result hf_shader_source_len(uint32_t method,
 // `hf_maxmip_bake` buffer in rows of `HF_PYRAMID_TEX_WIDTH` texels), `hf_levels`,
 // `hf_level_dims[]`, `hf_level_offset[]` (from `hf_maxmip_levels`); safety:
 // `hf_safety_map` (`R8UI`, W × 4H directional, W × H isotropic),
-// `hf_safety_variant`, `hf_safety_classes`; cylinder–cone: `hf_cc_map` (`RGBA8UI`,
-// W × 4H), `hf_cc_classes`, `hf_cc_cap`, `hf_cc_zmin`, `hf_cc_zstep`, `hf_cc_zspan`
-// (from `hf_cc_frame`). `hf_safety_classes` and `hf_cc_classes` (`HF_RAYS_*` bits,
+// `hf_safety_variant`, `hf_safety_classes`; cylinder–cone: `hf_cc_map` (`RG8UI`,
+// W × 4H), `hf_cc_classes`, `hf_cc_cap`. `hf_safety_classes` and `hf_cc_classes` (`HF_RAYS_*` bits,
 // default `HF_RAYS_ALL`) are the ray classes the map holds: a map of `n` classes from
 // `hf_safety_bake_classes` / `hf_cc_bake_classes` is W × nH texels. Thread safe.
 //

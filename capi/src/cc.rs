@@ -1,6 +1,5 @@
 //! Cylinder–cone safety shapes (Baboud, Eisemann, Seidel 2011, §6.3): sizes, bake
-//! (whole, by rows, threaded), the frame the GPU port decodes base heights with, and
-//! the march, for the triangle surface.
+//! (whole, by rows, threaded) and the march, for the triangle surface.
 
 use crate::hf_result::{self, *};
 use crate::safety::trace_inputs;
@@ -52,11 +51,12 @@ fn options_of(o: &hf_cc_options) -> Result<CcOptions, hf_result> {
 }
 
 /// Writes the size in bytes of the packed cylinder–cone map of a `width × height`
-/// field to `*out_len`: 16 per texel, four per ray class, `[r, s, z_lo, z_hi]`
-/// (cylinder radius, slope code, base-height code), each texel row stored as four rows
-/// of W, one per class in class order (x+, x−, y+, y−): the bytes of texel (i, j) for
-/// class c start at `((j * 4 + c) * W + i) * 4`; upload as an `RGBA8UI` texture of
-/// W × 4H texels, texel (i, 4 j + class). Thread safe.
+/// field to `*out_len`: 8 per texel, two per ray class, `[r, s]` (cylinder radius,
+/// slope code; the cone's base height is not stored: the march computes it from the
+/// heights), each texel row stored as four rows of W, one per class in class order
+/// (x+, x−, y+, y−): the bytes of texel (i, j) for class c start at
+/// `((j * 4 + c) * W + i) * 2`; upload as an `RG8UI` texture of W × 4H texels, texel
+/// (i, 4 j + class). Thread safe.
 ///
 /// # Safety
 /// `out_len` is NULL (an error) or valid for writing one `size_t`.
@@ -71,10 +71,10 @@ pub unsafe extern "C" fn hf_cc_map_len(width: u32, height: u32, out_len: *mut us
 }
 
 /// `hf_cc_map_len` for a map of the ray classes `ray_classes` only (`HF_RAYS_*` bits,
-/// not 0; `hf_cc_bake_classes`): `W * H * 4 * n` for its `n` classes, each texel row
+/// not 0; `hf_cc_bake_classes`): `W * H * 2 * n` for its `n` classes, each texel row
 /// stored as `n` rows in class order (the bytes of texel (i, j) for class c at
-/// `((j * n + slot) * W + i) * 4`, `slot` the number of its classes before c; an
-/// `RGBA8UI` texture of W × nH texels, texel (i, n j + slot)). Thread safe.
+/// `((j * n + slot) * W + i) * 2`, `slot` the number of its classes before c; an
+/// `RG8UI` texture of W × nH texels, texel (i, n j + slot)). Thread safe.
 ///
 /// # Safety
 /// `out_len` is NULL (an error) or valid for writing one `size_t`.
@@ -298,47 +298,11 @@ pub unsafe extern "C" fn hf_cc_bake_classes(
     })
 }
 
-/// Writes the frame the packed base heights are decoded with, as the march uses it in
-/// `float`: `z_c = zmin + code * zstep`, and `zspan = zstep * 65535` (for the rounding
-/// bound): the uniforms `hf_cc_zmin`, `hf_cc_zstep`, `hf_cc_zspan` of the GLSL port.
-/// Thread safe.
-///
-/// # Safety
-/// `field` is NULL (an error) or a live handle; each output NULL (an error) or valid
-/// for writing one `float`.
-#[no_mangle]
-pub unsafe extern "C" fn hf_cc_frame(
-    field: *const hf_field,
-    out_zmin: *mut f32,
-    out_zstep: *mut f32,
-    out_zspan: *mut f32,
-) -> hf_result {
-    guard(|| {
-        // SAFETY: the caller promises a live handle.
-        let f = unsafe { ptr::get(field) }?;
-        let (a, b, c) = (
-            ptr::out(out_zmin)?,
-            ptr::out(out_zstep)?,
-            ptr::out(out_zspan)?,
-        );
-        let hf = f.view();
-        // As `cc::z_frame`, then converted as `CcMap`'s step does (`R::from_f64`).
-        let (lo, hi) = (f64::from(hf.min_height()), f64::from(hf.max_height()));
-        let step = (hi - lo) / 65535.0;
-        // SAFETY: the caller promises the outputs are writable.
-        unsafe {
-            a.set(lo as f32);
-            b.set(step as f32);
-            c.set((step * 65535.0) as f32);
-        }
-        Ok(())
-    })
-}
-
 /// Traces one ray on the triangle surface with the cylinder–cone map `map` (from
 /// `hf_cc_bake` with the same `cap`): exact, the hit of `hf_trace_exact` with
 /// `HF_SURFACE_TRIANGLES` (up to rounding on grazing rays). Costs one fetch per shape
-/// read, two per centerline clearance, four per cell walked. Thread safe.
+/// read and one for the third height sample of a cone's base, two per centerline
+/// clearance, four per cell walked. Thread safe.
 ///
 /// # Safety
 /// `field` is NULL (an error) or a live handle; `map` NULL (an error) or valid for

@@ -107,9 +107,8 @@ pub unsafe extern "C" fn hf_shader_source_len(method: u32, out_len: *mut usize) 
 /// `hf_maxmip_bake` buffer in rows of `HF_PYRAMID_TEX_WIDTH` texels), `hf_levels`,
 /// `hf_level_dims[]`, `hf_level_offset[]` (from `hf_maxmip_levels`); safety:
 /// `hf_safety_map` (`R8UI`, W × 4H directional, W × H isotropic),
-/// `hf_safety_variant`, `hf_safety_classes`; cylinder–cone: `hf_cc_map` (`RGBA8UI`,
-/// W × 4H), `hf_cc_classes`, `hf_cc_cap`, `hf_cc_zmin`, `hf_cc_zstep`, `hf_cc_zspan`
-/// (from `hf_cc_frame`). `hf_safety_classes` and `hf_cc_classes` (`HF_RAYS_*` bits,
+/// `hf_safety_variant`, `hf_safety_classes`; cylinder–cone: `hf_cc_map` (`RG8UI`,
+/// W × 4H), `hf_cc_classes`, `hf_cc_cap`. `hf_safety_classes` and `hf_cc_classes` (`HF_RAYS_*` bits,
 /// default `HF_RAYS_ALL`) are the ray classes the map holds: a map of `n` classes from
 /// `hf_safety_bake_classes` / `hf_cc_bake_classes` is W × nH texels. Thread safe.
 ///

@@ -1178,7 +1178,9 @@ pub fn trace_on<R: Real>(
     march_with(hf, surface, q, |class| {
         // A class the map does not hold: distance 0 (zero jumps, exact).
         let at = map.rows(class);
-        move |_: &Line<R>, _, i, j| at.map_or(0, |at| u32::from(map.data[at.index(i, j)]))
+        move |_: &Line<R>, _, i, j| {
+            Jump::steps(at.map_or(0, |at| u32::from(map.data[at.index(i, j)])))
+        }
     })
 }
 
@@ -1222,6 +1224,25 @@ impl MarchSurface {
     }
 }
 
+/// What a step function answers at a crossing: how many centerlines the ray may skip,
+/// and the fetches it made beyond the read of the texel's baked data, which the march
+/// counts itself (the cylinder–cone base's third sample, [`cc`]).
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Jump {
+    /// Centerlines the ray may skip.
+    pub(crate) steps: u32,
+    /// Fetches beyond the texel's data.
+    pub(crate) fetches: u32,
+}
+
+impl Jump {
+    /// `steps` centerlines, no fetch beyond the texel's data.
+    #[inline]
+    pub(crate) fn steps(steps: u32) -> Self {
+        Jump { steps, fetches: 0 }
+    }
+}
+
 /// The march shared by the safety-shape methods: `jump(line, class, i, j)` reads the
 /// baked data of texel `(i, j)` (one fetch, counted here) and returns how many
 /// centerlines the ray crossing `line` above that texel's segment may skip; the walk
@@ -1232,14 +1253,16 @@ pub(crate) fn march<R: Real>(
     q: &Query<R>,
     jump: impl Fn(&Line<R>, RayClass, u32, u32) -> u32,
 ) -> Trace<R> {
-    march_with(hf, surface, q, |_| jump)
+    march_with(hf, surface, q, |_| {
+        move |l: &Line<R>, class, i, j| Jump::steps(jump(l, class, i, j))
+    })
 }
 
 /// [`march`] with the step function built by `setup` for the ray's class, called once
 /// the ray is known to march (it meets the field's box and starts above the surface):
 /// the per-trace constants of a step function then cost nothing on the rays that miss
 /// the box or start under the surface.
-pub(crate) fn march_with<R: Real, J: Fn(&Line<R>, RayClass, u32, u32) -> u32>(
+pub(crate) fn march_with<R: Real, J: Fn(&Line<R>, RayClass, u32, u32) -> Jump>(
     hf: &HeightField,
     surface: MarchSurface,
     q: &Query<R>,
@@ -1283,7 +1306,7 @@ pub(crate) fn march_with<R: Real, J: Fn(&Line<R>, RayClass, u32, u32) -> u32>(
 /// there: the rays that miss the field or start under the surface, most rays of a
 /// camera's image, then run a short function (and spill nothing for a march).
 #[inline(never)]
-fn march_above<R: Real, J: Fn(&Line<R>, RayClass, u32, u32) -> u32>(
+fn march_above<R: Real, J: Fn(&Line<R>, RayClass, u32, u32) -> Jump>(
     hf: &HeightField,
     surface: Surface,
     q: &Query<R>,
@@ -1314,7 +1337,7 @@ struct Start<R: Real> {
 }
 
 /// [`march_with`] from the start, for rays of main axis `AX` (of class `class`).
-fn march_from<R: Real, J: Fn(&Line<R>, RayClass, u32, u32) -> u32, const AX: usize>(
+fn march_from<R: Real, J: Fn(&Line<R>, RayClass, u32, u32) -> Jump, const AX: usize>(
     hf: &HeightField,
     surface: Surface,
     q: &Query<R>,
@@ -1387,9 +1410,11 @@ fn march_from<R: Real, J: Fn(&Line<R>, RayClass, u32, u32) -> u32, const AX: usi
                     } else {
                         (l.texel, l.m)
                     };
+                    let jump = jump(&l, class, i, j);
+                    mr.fetches += jump.fetches;
                     // At most to the last centerline (`room > 0`: a zero step stays zero).
                     let room = (i64::from(last) - i64::from(l.m)).unsigned_abs() as u32;
-                    jump(&l, class, i, j).min(room)
+                    jump.steps.min(room)
                 }
                 _ => 0,
             };

@@ -494,7 +494,7 @@ fn check_cc_bake(
     for _ in 0..50 {
         let (i, j) = (rng.below(w as usize) as u32, rng.below(h as usize) as u32);
         for class in CLASSES {
-            let shape = map.shape(class, i, j);
+            let shape = map.shape(&hf, class, i, j);
             if !shape.zc.is_finite() {
                 continue;
             }
@@ -631,7 +631,7 @@ fn cc_nbuffer_slope_is_per_abscissa() {
                     |m: u32, n: u32| f64::from(if ax == 0 { hf.at(m, n) } else { hf.at(n, m) });
                 for j in 0..field.h {
                     for i in 0..field.w {
-                        let b = &data[cc::texel_offset(field.w, class, i, j)..][..4];
+                        let b = &data[cc::texel_offset(field.w, class, i, j)..][..2];
                         let (m, n) = if ax == 0 { (i, j) } else { (j, i) };
                         let kend = u32::from(cap).min(if sg > 0.0 { lm - 1 - m } else { m });
                         let k0 = u32::from(b[0]).max(1);
@@ -647,11 +647,11 @@ fn cc_nbuffer_slope_is_per_abscissa() {
                                 s.max((top - zc) / f64::from(u))
                             })
                         };
-                        let z = u16::from_le_bytes([b[2], b[3]]);
-                        let (hi, lo) = (
-                            cc::decode_base(&hf, z),
-                            cc::decode_base(&hf, z.saturating_sub(1)),
-                        );
+                        // The base as the bake takes it, and a hair either side (the
+                        // bound's own rounding may differ from the bake's).
+                        let zc = cc::base_height(&hf, class, i, j);
+                        let eps = 1e-9 * (1.0 + zc.abs());
+                        let (hi, lo) = (zc + eps, zc - eps);
                         let got = b[1];
                         let (least, most) =
                             (cc::encode_slope(slope(hi)), cc::encode_slope(slope(lo)));
@@ -704,13 +704,12 @@ fn cc_rows_and_packing() {
             for class in CLASSES {
                 let (i, j) = ((t % 23) as u32, (t / 23) as u32);
                 let at = cc::texel_offset(23, class, i, j);
-                let b = &whole[at..][..4];
+                let b = &whole[at..][..2];
                 let sd_at = safety::texel_offset(23, Variant::Directional, class, i, j);
                 assert_eq!(b[0], sd[sd_at]);
-                let e = &exact[at..][..4];
+                let e = &exact[at..][..2];
                 if slope == Slope::NBuffer && e[1] != cc::NO_CONE && b[1] != cc::NO_CONE {
                     assert!(cc::decode_slope(b[1]) >= cc::decode_slope(e[1]));
-                    assert_eq!(b[2..4], e[2..4]);
                 }
             }
         }
@@ -730,10 +729,5 @@ fn cc_rows_and_packing() {
         if c != cc::NO_CONE && c > 0 {
             assert!(cc::decode_slope(c - 1) < s || s < cc::S_MIN);
         }
-    }
-    for k in 0..1000 {
-        let z = field.range().0 + (field.range().1 - field.range().0) * k as f64 / 999.0;
-        let q = cc::encode_base(&hf, z).unwrap();
-        assert!(cc::decode_base(&hf, q) >= z);
     }
 }

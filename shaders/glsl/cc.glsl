@@ -3,30 +3,28 @@
 // or the view-linear one from the same map, stepping with the safety march of
 // safety.glsl.
 //
-// Texture layout: the map of hf_cc_bake as `hf_cc_map`, an RGBA8UI texture of W x nH
+// Texture layout: the map of hf_cc_bake as `hf_cc_map`, an RG8UI texture of W x nH
 // texels for the n ray classes it holds, `hf_cc_classes` (HF_RAYS_* bits, HF_RAYS_ALL
-// for a whole map; `CcMap::with_classes`): texel (i, n j + slot) = [r, s, z_lo, z_hi]
-// of texel (i, j) for the ray class of that slot (each texel row as n rows, one per
-// held class in class order x+, x-, y+, y-; slot = how many held classes come before
-// it; a whole map: W x 4H, texel (i, 4 j + class)). A ray of a class the map does not
-// hold reads [0, HF_CC_NO_CONE, 0, 0] without a fetch (radius 0, no cone: it walks
-// cell by cell, still exact). `hf_cc_cap` is the bake's cap; `hf_cc_zmin`,
-// `hf_cc_zstep`, `hf_cc_zspan` the frame of the base heights (hf_cc_frame).
+// for a whole map; `CcMap::with_classes`): texel (i, n j + slot) = [r, s] of texel
+// (i, j) for the ray class of that slot (r: cylinder radius, s: slope code,
+// HF_CC_NO_CONE without a cone; each texel row as n rows, one per held class in class
+// order x+, x-, y+, y-; slot = how many held classes come before it; a whole map:
+// W x 4H, texel (i, 4 j + class)). A ray of a class the map does not hold reads
+// [0, HF_CC_NO_CONE] without a fetch (radius 0, no cone: it walks cell by cell, still
+// exact). `hf_cc_cap` is the bake's cap. The cone's base height is not stored: the
+// march computes it from the heights (cc_line_base).
 
 uniform usampler2D hf_cc_map;
 uniform uint hf_cc_classes = 15u;
 uniform uint hf_cc_cap;
-uniform float hf_cc_zmin;
-uniform float hf_cc_zstep;
-uniform float hf_cc_zspan;
 
-// `CcMap::texel`: the packed bytes of texel (i, j) for `ray_class` ([0, HF_CC_NO_CONE,
-// 0, 0], without a fetch, when the map does not hold it).
-uvec4 cc_texel(uint ray_class, uint i, uint j) {
+// `CcMap::texel`: the bytes [r, s] of texel (i, j) for `ray_class` ([0, HF_CC_NO_CONE],
+// without a fetch, when the map does not hold it).
+uvec2 cc_texel(uint ray_class, uint i, uint j) {
     if (!safety_holds(hf_cc_classes, ray_class)) {
-        return uvec4(0u, HF_CC_NO_CONE, 0u, 0u);
+        return uvec2(0u, HF_CC_NO_CONE);
     }
-    return texelFetch(hf_cc_map, ivec2(i, safety_class_row(hf_cc_classes, ray_class, j)), 0);
+    return texelFetch(hf_cc_map, ivec2(i, safety_class_row(hf_cc_classes, ray_class, j)), 0).rg;
 }
 
 // `decode_slope` (finite codes): `t |t| / 2048` with `t = code - 128`, exact in float.
@@ -35,35 +33,55 @@ float cc_decode_slope(uint code) {
     return t * abs(t) / 2048.0;
 }
 
+// `line_base`: the cone's base height over texel n of centerline m of axis ax (ln
+// samples along the minor axis), the highest point of the surface on the texel's
+// widened segment (half a sample spacing plus HF_SAFETY_SEG_PAD towards each
+// neighbour, the one-sided slope at the field's border). Beyond the line's two samples
+// it reads the third only inside the field.
+float cc_line_base(int ax, uint m, uint n, uint ln) {
+    float h = safety_sample(ax, m, n);
+    float lo = n > 0u ? safety_sample(ax, m, n - 1u) : 0.0;
+    float hi = n + 1u < ln ? safety_sample(ax, m, n + 1u) : 0.0;
+    float below = n > 0u ? h - lo : hi - h;
+    float above = n + 1u < ln ? hi - h : h - lo;
+    float w = 0.5 + HF_SAFETY_SEG_PAD;
+    return real_max(real_max(h - below * w, h), h + above * w);
+}
+
 // `cone_step`: the step (centerlines) of a ray of rise `sd` per centerline (`sd_err`
-// bounds its rounding) crossing the centerline at height `pz` (within `tol`) above a
-// texel of shape b = [r, s, z0, z1].
-uint cc_cone_step(uvec4 b, float pz, float tol, float sd, float sd_err) {
+// bounds its rounding) crossing the centerline `l` of axis ax above a texel of shape
+// b = [r, s], and the fetches its base height took beyond the shape's (one inside the
+// field, none at its border, none when no cone is tested).
+uvec2 cc_cone_step(uvec2 b, int ax, SafetyLine l, float sd, float sd_err) {
     uint r = b[0];
     uint cap = hf_cc_cap;
     if (b[1] == HF_CC_NO_CONE || r >= cap) {
-        return r;
+        return uvec2(r, 0u);
     }
-    float zc = hf_cc_zmin + float(b[2] | (b[3] << 8)) * hf_cc_zstep;
+    uint n = l.texel;
+    uint ln = safety_extents(ax)[1];
+    float zc = cc_line_base(ax, l.m, n, ln);
+    uint extra = n > 0u && n + 1u < ln ? 1u : 0u;
     float sc = cc_decode_slope(b[1]);
-    // zc's own rounding: relative EPSILON of the terms.
-    float zerr = 4.0 * REAL_EPSILON * (abs(hf_cc_zmin) + hf_cc_zspan + abs(zc));
-    float num = pz - zc - tol - tol - zerr;
+    // zc's own rounding: relative EPSILON of the heights.
+    float zs = real_max(abs(field_min_height()), abs(field_max_height()));
+    float zerr = 8.0 * REAL_EPSILON * (zs + abs(zc));
+    float num = l.p[2] - zc - l.tol - l.tol - zerr;
     bool above = num > 0.0; // false for NaN too
     if (!above) {
-        return r;
+        return uvec2(r, extra);
     }
     float sd_lo = sd - sd_err;
     if (sd_lo >= sc) {
-        return max(cap, r);
+        return uvec2(max(cap, r), extra);
     }
     float den = (sc - sd_lo) * (1.0 + 4.0 * REAL_EPSILON);
     float x = num / den * (1.0 - 4.0 * REAL_EPSILON);
     bool short_step = x < float(cap); // false for NaN and +inf
     if (!short_step) {
-        return max(cap, r);
+        return uvec2(max(cap, r), extra);
     }
-    return max(uint(floor(x)), r);
+    return uvec2(max(uint(floor(x)), r), extra);
 }
 
 // The rise per centerline of the closure of `cc::trace`, and its rounding bound.

@@ -5,10 +5,11 @@
 uniform uint hf_surface;
 uniform uint hf_radius_clamp;
 
-// The closure of `radius::trace_steps`: the texel's radius, at least `floor`.
-uint safety_march_jump(SafetyLine l, uint ray_class, uint i, uint j, vec3 d) {
+// The closure of `radius::trace_steps`: the texel's radius, at least `floor` (no extra
+// fetch).
+uvec2 safety_march_jump(SafetyLine l, uint ray_class, uint i, uint j, vec3 d) {
     uint floor_ = hf_radius_clamp == 1u ? 1u : 0u;
-    return max(radius_at(i, j), floor_);
+    return uvec2(max(radius_at(i, j), floor_), 0u);
 }
 
 Trace hf_trace(Query q) { return safety_march(hf_surface, q); }

@@ -262,11 +262,11 @@ bool safety_last_line(Query q, int ax, int sg, float t1, out uint last) {
 }
 
 // The closure `jump(line, class, i, j)` of `march`: reads the baked data of texel
-// (i, j) (one fetch, counted by the march) and returns how many centerlines the ray
-// crossing `l` above that texel's segment may skip (`d` is the query's direction,
-// which the Rust closures capture). Defined by the method's file (method_safety.glsl,
-// method_cc.glsl).
-uint safety_march_jump(SafetyLine l, uint ray_class, uint i, uint j, vec3 d);
+// (i, j) (one fetch, counted by the march) and returns (x) how many centerlines the ray
+// crossing `l` above that texel's segment may skip and (y) the fetches it took beyond
+// that one (`d` is the query's direction, which the Rust closures capture). Defined by
+// the method's file (method_safety.glsl, method_cc.glsl, method_radius.glsl).
+uvec2 safety_march_jump(SafetyLine l, uint ray_class, uint i, uint j, vec3 d);
 
 // `MarchSurface::of(surface)` then `MarchSurface::surface`: the surface a safety-shape
 // march finishes on, HF_SURFACE_TRIANGLES or HF_SURFACE_VIEW_LINEAR (the surfaces the
@@ -335,7 +335,9 @@ Trace safety_march(uint march_surface, Query q) {
         if (l.c > l.tol) {
             mr.fetches += 1u;
             uvec2 ij = ax == 0 ? uvec2(l.m, l.texel) : uvec2(l.texel, l.m);
-            k = safety_march_jump(l, ray_class, ij[0], ij[1], d);
+            uvec2 jump = safety_march_jump(l, ray_class, ij[0], ij[1], d);
+            k = jump.x;
+            mr.fetches += jump.y;
         }
         if (k == 0u) {
             st = safety_march_walk(mr, q, hit, l);

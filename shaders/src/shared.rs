@@ -111,7 +111,7 @@ const WGSL_BINDINGS: [(u32, &str, &str, &str); 12] = [
     (
         b::CC_MAP,
         "hf_cc_map",
-        "texture_2d<u32>, RGBA8Uint",
+        "texture_2d<u32>, Rg8Uint",
         "cc.wgsl",
     ),
     (b::CC, "hf_cc", "uniform CcParams", "cc.wgsl"),

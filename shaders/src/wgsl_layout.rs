@@ -27,7 +27,7 @@ pub const CONE_MAP: u32 = 6;
 pub const QDM_MAP: u32 = 7;
 /// `hf_relaxed_map`: `texture_2d<f32>`, R32Float, W × H (relaxed.wgsl).
 pub const RELAXED_MAP: u32 = 8;
-/// `hf_cc_map`: `texture_2d<u32>`, RGBA8Uint, W × nH for the `n` ray classes of the
+/// `hf_cc_map`: `texture_2d<u32>`, Rg8Uint, W × nH for the `n` ray classes of the
 /// override `hf_cc_classes` (texel `(i, nj + slot)`; a whole map W × 4H) (cc.wgsl).
 pub const CC_MAP: u32 = 9;
 /// `hf_cc`: uniform `CcParams` (cc.wgsl).

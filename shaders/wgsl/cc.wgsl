@@ -3,35 +3,33 @@
 // or the view-linear one from the same map, stepping with the safety march of
 // safety.wgsl.
 //
-// Texture layout: the map of hf_cc_bake as `hf_cc_map`, an RGBA8Uint texture of
-// W x nH texels for the n ray classes it holds, the override `hf_cc_classes` (HF_RAYS_*
-// bits, HF_RAYS_ALL for a whole map; `CcMap::with_classes`): texel (i, n j + slot) =
-// [r, s, z_lo, z_hi] of texel (i, j) for the ray class of that slot (each texel row as
-// n rows, one per held class in class order x+, x-, y+, y-; slot = how many held
-// classes come before it; a whole map: W x 4H, texel (i, 4 j + class)). A ray of a
-// class the map does not hold reads [0, HF_CC_NO_CONE, 0, 0] without a fetch (radius
-// 0, no cone: it walks cell by cell, still exact). `hf_cc.cap` is the bake's cap;
-// `hf_cc.zmin`, `hf_cc.zstep`, `hf_cc.zspan` the frame of the base heights
-// (hf_cc_frame).
+// Texture layout: the map of hf_cc_bake as `hf_cc_map`, an Rg8Uint texture of W x nH
+// texels for the n ray classes it holds, the override `hf_cc_classes` (HF_RAYS_* bits,
+// HF_RAYS_ALL for a whole map; `CcMap::with_classes`): texel (i, n j + slot) = [r, s]
+// of texel (i, j) for the ray class of that slot (r: cylinder radius, s: slope code,
+// HF_CC_NO_CONE without a cone; each texel row as n rows, one per held class in class
+// order x+, x-, y+, y-; slot = how many held classes come before it; a whole map:
+// W x 4H, texel (i, 4 j + class)). A ray of a class the map does not hold reads
+// [0, HF_CC_NO_CONE] without a fetch (radius 0, no cone: it walks cell by cell, still
+// exact). `hf_cc.cap` is the bake's cap. The cone's base height is not stored: the
+// march computes it from the heights (cc_line_base).
 
+// A 4-byte uniform: WGSL and wgpu need no padding for a struct of one u32.
 struct CcParams {
     cap: u32,
-    zmin: f32,
-    zstep: f32,
-    zspan: f32,
 }
 
 @group(0) @binding(9) var hf_cc_map: texture_2d<u32>;
 @group(0) @binding(10) var<uniform> hf_cc: CcParams;
 override hf_cc_classes: u32 = 15u;
 
-// `CcMap::texel`: the packed bytes of texel (i, j) for `ray_class` ([0, HF_CC_NO_CONE,
-// 0, 0], without a fetch, when the map does not hold it).
-fn cc_texel(ray_class: u32, i: u32, j: u32) -> vec4<u32> {
+// `CcMap::texel`: the bytes [r, s] of texel (i, j) for `ray_class` ([0, HF_CC_NO_CONE],
+// without a fetch, when the map does not hold it).
+fn cc_texel(ray_class: u32, i: u32, j: u32) -> vec2<u32> {
     if (!safety_holds(hf_cc_classes, ray_class)) {
-        return vec4<u32>(0u, HF_CC_NO_CONE, 0u, 0u);
+        return vec2<u32>(0u, HF_CC_NO_CONE);
     }
-    return textureLoad(hf_cc_map, vec2<u32>(i, safety_class_row(hf_cc_classes, ray_class, j)), 0);
+    return textureLoad(hf_cc_map, vec2<u32>(i, safety_class_row(hf_cc_classes, ray_class, j)), 0).rg;
 }
 
 // `decode_slope` (finite codes): `t |t| / 2048` with `t = code - 128`, exact in float.
@@ -40,35 +38,62 @@ fn cc_decode_slope(code: u32) -> f32 {
     return t * abs(t) / 2048.0;
 }
 
+// `line_base`: the cone's base height over texel n of centerline m of axis ax (ln
+// samples along the minor axis), the highest point of the surface on the texel's
+// widened segment (half a sample spacing plus HF_SAFETY_SEG_PAD towards each
+// neighbour, the one-sided slope at the field's border). Beyond the line's two samples
+// it reads the third only inside the field (`if`, not `select`, which would load
+// outside it).
+fn cc_line_base(ax: i32, m: u32, n: u32, ln: u32) -> f32 {
+    let h = safety_sample(ax, m, n);
+    var lo = 0.0;
+    if (n > 0u) {
+        lo = safety_sample(ax, m, n - 1u);
+    }
+    var hi = 0.0;
+    if (n + 1u < ln) {
+        hi = safety_sample(ax, m, n + 1u);
+    }
+    let below = select(hi - h, h - lo, n > 0u);
+    let above = select(h - lo, hi - h, n + 1u < ln);
+    let w = 0.5 + HF_SAFETY_SEG_PAD;
+    return real_max(real_max(h - below * w, h), h + above * w);
+}
+
 // `cone_step`: the step (centerlines) of a ray of rise `sd` per centerline (`sd_err`
-// bounds its rounding) crossing the centerline at height `pz` (within `tol`) above a
-// texel of shape b = [r, s, z0, z1].
-fn cc_cone_step(b: vec4<u32>, pz: f32, tol: f32, sd: f32, sd_err: f32) -> u32 {
+// bounds its rounding) crossing the centerline `l` of axis ax above a texel of shape
+// b = [r, s], and the fetches its base height took beyond the shape's (one inside the
+// field, none at its border, none when no cone is tested).
+fn cc_cone_step(b: vec2<u32>, ax: i32, l: SafetyLine, sd: f32, sd_err: f32) -> vec2<u32> {
     let r = b[0];
     let cap = hf_cc.cap;
     if (b[1] == HF_CC_NO_CONE || r >= cap) {
-        return r;
+        return vec2<u32>(r, 0u);
     }
-    let zc = hf_cc.zmin + f32(b[2] | (b[3] << 8u)) * hf_cc.zstep;
+    let n = l.texel;
+    let ln = safety_extents(ax)[1];
+    let zc = cc_line_base(ax, l.m, n, ln);
+    let extra = select(0u, 1u, n > 0u && n + 1u < ln);
     let sc = cc_decode_slope(b[1]);
-    // zc's own rounding: relative EPSILON of the terms.
-    let zerr = 4.0 * REAL_EPSILON * (abs(hf_cc.zmin) + hf_cc.zspan + abs(zc));
-    let num = pz - zc - tol - tol - zerr;
+    // zc's own rounding: relative EPSILON of the heights.
+    let zs = real_max(abs(field_min_height()), abs(field_max_height()));
+    let zerr = 8.0 * REAL_EPSILON * (zs + abs(zc));
+    let num = l.p[2] - zc - l.tol - l.tol - zerr;
     let above = num > 0.0; // false for NaN too
     if (!above) {
-        return r;
+        return vec2<u32>(r, extra);
     }
     let sd_lo = sd - sd_err;
     if (sd_lo >= sc) {
-        return max(cap, r);
+        return vec2<u32>(max(cap, r), extra);
     }
     let den = (sc - sd_lo) * (1.0 + 4.0 * REAL_EPSILON);
     let x = num / den * (1.0 - 4.0 * REAL_EPSILON);
     let short_step = x < f32(cap); // false for NaN and +inf
     if (!short_step) {
-        return max(cap, r);
+        return vec2<u32>(max(cap, r), extra);
     }
-    return max(u32(floor(x)), r);
+    return vec2<u32>(max(u32(floor(x)), r), extra);
 }
 
 // The rise per centerline of the closure of `cc::trace`, and its rounding bound.

@@ -14,7 +14,7 @@
 //   6        hf_cone_map     texture_2d<f32>, RG32Float             cone.wgsl
 //   7        hf_qdm_map      texture_2d<f32>, RGBA32Float           qdm.wgsl
 //   8        hf_relaxed_map  texture_2d<f32>, R32Float              relaxed.wgsl
-//   9        hf_cc_map       texture_2d<u32>, RGBA8Uint             cc.wgsl
+//   9        hf_cc_map       texture_2d<u32>, Rg8Uint               cc.wgsl
 //   10       hf_cc           uniform CcParams                       cc.wgsl
 //   11       hf_radius_map   texture_2d<u32>, R8Uint                radius.wgsl
 // Bindings 12 to 15 of group 0 are reserved; a caller's own resources go in group 1

@@ -10,10 +10,11 @@ struct RadiusParams {
 
 @group(0) @binding(2) var<uniform> hf_params: RadiusParams;
 
-// The closure of `radius::trace_steps`: the texel's radius, at least `floor`.
-fn safety_march_jump(l: SafetyLine, ray_class: u32, i: u32, j: u32, d: vec3<f32>) -> u32 {
+// The closure of `radius::trace_steps`: the texel's radius, at least `floor` (no extra
+// fetch).
+fn safety_march_jump(l: SafetyLine, ray_class: u32, i: u32, j: u32, d: vec3<f32>) -> vec2<u32> {
     let floor_ = select(0u, 1u, hf_params.clamp == 1u);
-    return max(radius_at(i, j), floor_);
+    return vec2<u32>(max(radius_at(i, j), floor_), 0u);
 }
 
 fn hf_trace(q: Query) -> Trace { return safety_march(hf_surface, q); }

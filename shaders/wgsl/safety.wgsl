@@ -276,11 +276,11 @@ fn safety_last_line(q: Query, ax: i32, sg: i32, t1: f32, last: ptr<function, u32
 }
 
 // The closure `jump(line, class, i, j)` of `march`: reads the baked data of texel
-// (i, j) (one fetch, counted by the march) and returns how many centerlines the ray
-// crossing `l` above that texel's segment may skip (`d` is the query's direction,
-// which the Rust closures capture). Defined by the method's file (method_safety.wgsl,
-// method_cc.wgsl):
-// fn safety_march_jump(l: SafetyLine, ray_class: u32, i: u32, j: u32, d: vec3<f32>) -> u32
+// (i, j) (one fetch, counted by the march) and returns (x) how many centerlines the ray
+// crossing `l` above that texel's segment may skip and (y) the fetches it took beyond
+// that one (`d` is the query's direction, which the Rust closures capture). Defined by
+// the method's file (method_safety.wgsl, method_cc.wgsl, method_radius.wgsl):
+// fn safety_march_jump(l: SafetyLine, ray_class: u32, i: u32, j: u32, d: vec3<f32>) -> vec2<u32>
 
 // `MarchSurface::of(surface)` then `MarchSurface::surface`: the surface a safety-shape
 // march finishes on, HF_SURFACE_TRIANGLES or HF_SURFACE_VIEW_LINEAR (the surfaces the
@@ -350,7 +350,9 @@ fn safety_march(march_surface: u32, q: Query) -> Trace {
         if (l.c > l.tol) {
             mr.fetches += 1u;
             let ij = select(vec2<u32>(l.texel, l.m), vec2<u32>(l.m, l.texel), ax == 0);
-            k = safety_march_jump(l, ray_class, ij[0], ij[1], d);
+            let jump = safety_march_jump(l, ray_class, ij[0], ij[1], d);
+            k = jump.x;
+            mr.fetches += jump.y;
         }
         if (k == 0u) {
             st = safety_march_walk(&mr, q, &hit, &l);

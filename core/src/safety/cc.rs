@@ -61,39 +61,47 @@
 //! can ([`Column::tip_under`]), so its result does not depend on how the skipping is
 //! organised either.
 //!
-//! **Packing** (the GPU layout, [`map_len`], [`texel_offset`]): 16 bytes per texel,
-//! four per class, each texel row stored as four rows, one per class in class order:
-//! `data[((j·4 + class)·W + i)·4 ..]` = `[r, s, z_lo, z_hi]` (an RGBA8UI texture of
-//! W × 4H, texel `(i, 4j + class)`). A ray reads one class only, so its texels lie
-//! side by side (a quarter of the cache lines a texel-interleaved map needs: ~20%
-//! faster CPU marches on the Himalaya benchmark), and row ranges stay contiguous for
-//! split bakes. A map of fewer classes ([`bake_rows_classes`]) holds only their rows,
-//! `n` rows per texel row for its `n` classes ([`super::ClassRows`]: texel
-//! `(i, n·j + slot)`, 4n bytes per texel). `r` the safety distance (u8, exact, capped at 255 by the SD scan);
-//! `s` the slope code, decoded `s_c = t·|t| / 2048` with `t = s − 128` (exact in `f32`;
+//! **Packing** (the GPU layout, [`map_len`], [`texel_offset`]): 8 bytes per texel,
+//! two per class, each texel row stored as four rows, one per class in class order:
+//! `data[((j·4 + class)·W + i)·2 ..]` = `[r, s]` (an RG8UI texture of W × 4H, texel
+//! `(i, 4j + class)`). A ray reads one class only, so its texels lie side by side (a
+//! quarter of the cache lines a texel-interleaved map needs: ~20% faster CPU marches
+//! on the Himalaya benchmark), and row ranges stay contiguous for split bakes. A map
+//! of fewer classes ([`bake_rows_classes`]) holds only their rows, `n` rows per texel
+//! row for its `n` classes ([`super::ClassRows`]: texel `(i, n·j + slot)`, 2n bytes
+//! per texel). `r` the safety distance (u8, exact, capped at 255 by the SD scan); `s`
+//! the slope code, decoded `s_c = t·|t| / 2048` with `t = s − 128` (exact in `f32`;
 //! ±1/1024 near 0, 1/16 near 2, up to 7.75), **rounded up** (the line only rises);
 //! `s = 255` means "no cone" (`s_c > 7.75` saturates there: the step is then `r`, the
-//! SD step; `s_c < −8` saturates to −8, which is larger, so safe);
-//! `z` the base height as u16 over the field's range, `z_c = zmin + z·(zmax −
-//! zmin)/65535`, **rounded up** (the bake checks the decoded value in `f64`; a base
-//! that would saturate above `zmax` stores "no cone"). Rounding never enlarges a
-//! shape: `r` is exact, `z_c` and `s_c` only grow, so the line only rises and the
+//! SD step; `s_c < −8` saturates to −8, which is larger, so safe). Rounding never
+//! enlarges a shape: `r` is exact and `s_c` only grows, so the line only rises and the
 //! step only shrinks.
+//!
+//! **Base height.** `z_c` is not stored: it is a function of the three samples of the
+//! texel's centerline around it ([`base_height`]), which the march reads when the texel
+//! has a cone (one fetch more than the line's two, none at the field's border). The map
+//! is then half the size it would be with a 16-bit `z_c` beside each `[r, s]`, and
+//! nothing but the slope is quantised. The march computes `z_c` in `R` and allows for
+//! its rounding (`8·ε·(z_s + |z_c|)`, `z_s` the field's largest `|height|`, beside the
+//! other rounding terms of the step), so it never uses a line lower than the bake's.
 
 use core::ops::Range;
 
 use super::{
     axis_of, band_cells, cell_tris, check_len, column_ahead, extents, march_with, sample, sigma_of,
-    texel_distance, tri_masks, AllRays, ClassRows, Line, MarchSurface, RaySet, SafetyError, Sigma,
-    Tri, Variant, CLASSES,
+    texel_distance, tri_masks, AllRays, ClassRows, Jump, Line, MarchSurface, RaySet, SafetyError,
+    Sigma, Tri, Variant, CLASSES,
 };
 use crate::field::HeightField;
 use crate::math::Real;
 use crate::ray::{Query, RayClass, Trace};
 use crate::scene::RayClasses;
 
-/// Bytes per texel of the packed map (four per class).
-pub const BYTES_PER_TEXEL: usize = 16;
+/// Bytes per texel and class of the packed map (`[r, s]`).
+pub const BYTES_PER_CLASS: usize = 2;
+
+/// Bytes per texel of the packed map (two per class, four classes).
+pub const BYTES_PER_TEXEL: usize = 4 * BYTES_PER_CLASS;
 
 /// Slope code meaning "no cone": the step is the cylinder radius only.
 pub const NO_CONE: u8 = 255;
@@ -135,31 +143,31 @@ impl Default for CcOptions {
 
 /// The packed bytes a class the map does not hold reads: radius 0 without a cone (a
 /// zero jump, [`CcMap::with_classes`]).
-const NOT_HELD: [u8; 4] = [0, NO_CONE, 0, 0];
+const NOT_HELD: [u8; 2] = [0, NO_CONE];
 
-/// Bytes of a whole packed map: `W · H · 16`.
+/// Bytes of a whole packed map: `W · H · 8`.
 pub fn map_len(width: u32, height: u32) -> usize {
     map_len_classes(width, height, RayClasses::ALL)
 }
 
 /// Bytes of a packed map holding the classes of `classes` ([`bake_rows_classes`]):
-/// `W · H · 4n` for the set's `n` classes.
+/// `W · H · 2n` for the set's `n` classes.
 pub fn map_len_classes(width: u32, height: u32, classes: RayClasses) -> usize {
-    width as usize * height as usize * 4 * classes.count() as usize
+    width as usize * height as usize * BYTES_PER_CLASS * classes.count() as usize
 }
 
 /// Where `class`'s texels lie in a packed map `width` texels wide holding `classes`
-/// (4 bytes from `4 ·` [`ClassRows::index`]); `None` when it does not hold `class`.
+/// (2 bytes from `2 ·` [`ClassRows::index`]); `None` when it does not hold `class`.
 #[inline]
 fn class_rows(width: u32, classes: RayClasses, class: RayClass) -> Option<ClassRows> {
     ClassRows::of(width, Variant::Directional, classes, class)
 }
 
-/// Offset in a whole packed map `width` texels wide of the four bytes of texel
-/// `(i, j)` for `class` (see the module's **Packing**): `((j·4 + class)·W + i)·4`.
+/// Offset in a whole packed map `width` texels wide of the two bytes of texel
+/// `(i, j)` for `class` (see the module's **Packing**): `((j·4 + class)·W + i)·2`.
 #[inline]
 pub fn texel_offset(width: u32, class: RayClass, i: u32, j: u32) -> usize {
-    class_rows(width, RayClasses::ALL, class).map_or(0, |at| at.index(i, j) * 4)
+    class_rows(width, RayClasses::ALL, class).map_or(0, |at| at.index(i, j) * BYTES_PER_CLASS)
 }
 
 /// N-buffer levels for a cone reach `cap`.
@@ -604,8 +612,7 @@ fn class_search<S: RaySet, const AX: usize, const SG: i64>(
     let (lm, ln) = extents(hf, ax);
     let (m, n) = if ax == 0 { (i, j) } else { (j, i) };
     let sigma = sigma_of(hf, ax, m, n);
-    let [at_lo, at_hi] = sigma.end_heights();
-    let zc = at_lo.max(sigma.h).max(at_hi);
+    let zc = segment_top(&sigma);
     let hmax = f64::from(hf.max_height());
     let mut s = S_MIN;
     // A column's highest samples on its two sides, over its reachable band, bound the
@@ -1035,49 +1042,29 @@ pub fn decode_slope(code: u8) -> f64 {
     SLOPES[usize::from(code)]
 }
 
-/// The field's height range as the base heights are stored: `(zmin, step)`.
+/// The cone's base `z_c` of texel `(i, j)` for `class`, as the bake takes it: the
+/// highest point of the surface on the texel's widened segment ([`Sigma`]), in `f64`.
+/// Not stored: the march computes it from the same three samples.
+pub fn base_height(hf: &HeightField, class: RayClass, i: u32, j: u32) -> f64 {
+    let ax = axis_of(class);
+    let (m, n) = if ax == 0 { (i, j) } else { (j, i) };
+    segment_top(&sigma_of(hf, ax, m, n))
+}
+
+/// The highest point of the surface on the widened segment `sigma` (it is linear on
+/// each side of the texel: the highest of its two ends and the middle).
 #[inline]
-fn z_frame(hf: &HeightField) -> (f64, f64) {
-    let (lo, hi) = (f64::from(hf.min_height()), f64::from(hf.max_height()));
-    (lo, (hi - lo) / 65535.0)
+fn segment_top(sigma: &Sigma) -> f64 {
+    let [at_lo, at_hi] = sigma.end_heights();
+    at_lo.max(sigma.h).max(at_hi)
 }
 
-/// Base-height code of `z` rounded up; `None` when it would saturate.
-pub fn encode_base(hf: &HeightField, z: f64) -> Option<u16> {
-    let (lo, step) = z_frame(hf);
-    if step <= 0.0 {
-        return (z <= lo).then_some(0);
-    }
-    let x = ((z - lo) / step).max(0.0);
-    if x > 65535.0 {
-        return None; // ⌈x⌉ > 65535
-    }
-    let mut q = f64::from(ceil_small(x));
-    while q < 65535.0 && lo + q * step < z {
-        q += 1.0;
-    }
-    (lo + q * step >= z).then_some(q as u16)
+/// The two packed bytes of a texel and class: `[r, s]`, "no cone" when `sc` saturates.
+pub fn pack(r: u8, sc: f64) -> [u8; 2] {
+    [r, encode_slope(sc)]
 }
 
-/// The base height a code stands for.
-#[inline]
-pub fn decode_base(hf: &HeightField, q: u16) -> f64 {
-    let (lo, step) = z_frame(hf);
-    lo + f64::from(q) * step
-}
-
-/// The four packed bytes of a texel and class.
-pub fn pack(hf: &HeightField, r: u8, zc: f64, sc: f64) -> [u8; 4] {
-    match (encode_base(hf, zc), encode_slope(sc)) {
-        (Some(z), s) if s != NO_CONE => {
-            let [z0, z1] = z.to_le_bytes();
-            [r, s, z0, z1]
-        }
-        _ => [r, NO_CONE, 0, 0],
-    }
-}
-
-/// Bakes texel rows `rows` into `out` (`rows.len() · W · 16` bytes), for every ray.
+/// Bakes texel rows `rows` into `out` (`rows.len() · W · 8` bytes), for every ray.
 /// `scratch` is what [`super::prepare`] filled, `nb` what [`prepare_nbuffer`] filled for
 /// `opts.cap`. Rows are independent (any job system may split them).
 pub fn bake_rows(
@@ -1093,11 +1080,11 @@ pub fn bake_rows(
 
 /// [`bake_rows`] for the ray classes of `classes` only (a scene's
 /// [`BakePlan::classes`](crate::scene::BakePlan::classes)) into a map holding those
-/// only (`rows.len() · W · 4n` bytes for the set's `n` classes, [`map_len_classes`]):
+/// only (`rows.len() · W · 2n` bytes for the set's `n` classes, [`map_len_classes`]):
 /// the others are never computed nor stored, the kept classes' bytes equal the full
 /// bake's, each texel row stored as `n` rows in class order ([`super::ClassRows`]).
 /// Read it with [`CcMap::with_classes`] for the same set: a ray of a class the map
-/// does not hold then reads radius 0 without a cone (`[0, NO_CONE, 0, 0]`: a zero
+/// does not hold then reads radius 0 without a cone (`[0, NO_CONE]`: a zero
 /// jump, still exact).
 pub fn bake_rows_classes(
     hf: &HeightField,
@@ -1145,18 +1132,18 @@ pub fn bake_rows_classes(
                 for i in i0..i1 {
                     let k = (i - i0) as usize;
                     let r = texel_distance(hf, scratch, &AllRays, class, i, j, u8::MAX);
-                    let (zc, sc) = if r >= opts.cap {
-                        (0.0, f64::INFINITY)
+                    let sc = if r >= opts.cap {
+                        f64::INFINITY
                     } else {
                         let seeds = [left, above[k], above[k + 1]];
                         let (cone, best) =
                             cone_search(hf, &views, &AllRays, class, (i, j), r, opts, seeds);
                         left = best.or(left);
                         above[k] = best.or(above[k]);
-                        cone
+                        cone.1
                     };
-                    let at = at.index(i, row as u32) * 4;
-                    out[at..at + 4].copy_from_slice(&pack(hf, r, zc, sc));
+                    let at = at.index(i, row as u32) * BYTES_PER_CLASS;
+                    out[at..at + BYTES_PER_CLASS].copy_from_slice(&pack(r, sc));
                 }
             }
         }
@@ -1188,8 +1175,6 @@ pub struct CcMap<'a> {
     width: u32,
     classes: RayClasses,
     cap: u8,
-    zmin: f64,
-    zstep: f64,
 }
 
 /// One texel's shape for one class, decoded.
@@ -1220,14 +1205,11 @@ impl<'a> CcMap<'a> {
         classes: RayClasses,
     ) -> Result<Self, SafetyError> {
         check_len(data, map_len_classes(hf.width(), hf.height(), classes))?;
-        let (zmin, zstep) = z_frame(hf);
         Ok(CcMap {
             data,
             width: hf.width(),
             classes,
             cap,
-            zmin,
-            zstep,
         })
     }
 
@@ -1247,37 +1229,39 @@ impl<'a> CcMap<'a> {
         class_rows(self.width, self.classes, class)
     }
 
-    /// The packed bytes of texel `(i, j)` for `class` (`[0, NO_CONE, 0, 0]`, radius 0
-    /// without a cone, when the map does not hold it).
+    /// The packed bytes `[r, s]` of texel `(i, j)` for `class` (`[0, NO_CONE]`, radius
+    /// 0 without a cone, when the map does not hold it).
     #[inline]
-    pub fn texel(&self, class: RayClass, i: u32, j: u32) -> [u8; 4] {
+    pub fn texel(&self, class: RayClass, i: u32, j: u32) -> [u8; 2] {
         self.rows(class)
             .map_or(NOT_HELD, |at| texel_bytes(self.data, at, i, j))
     }
 
-    /// The decoded shape of texel `(i, j)` for `class`.
-    pub fn shape(&self, class: RayClass, i: u32, j: u32) -> Shape {
-        let [r, s, z0, z1] = self.texel(class, i, j);
+    /// The decoded shape of texel `(i, j)` for `class`, with its base height from
+    /// `hf`, the field the map was baked for ([`base_height`]).
+    pub fn shape(&self, hf: &HeightField, class: RayClass, i: u32, j: u32) -> Shape {
+        let [r, s] = self.texel(class, i, j);
+        let r = u32::from(r);
         if s == NO_CONE {
             return Shape {
-                r: u32::from(r),
+                r,
                 zc: f64::INFINITY,
                 sc: f64::INFINITY,
             };
         }
         Shape {
-            r: u32::from(r),
-            zc: self.zmin + f64::from(u16::from_le_bytes([z0, z1])) * self.zstep,
+            r,
+            zc: base_height(hf, class, i, j),
             sc: decode_slope(s),
         }
     }
 }
 
-/// The four bytes of texel `(i, j)` in `data` at `at` (`4 ·` [`ClassRows::index`]).
+/// The two bytes of texel `(i, j)` in `data` at `at` (`2 ·` [`ClassRows::index`]).
 #[inline]
-fn texel_bytes(data: &[u8], at: ClassRows, i: u32, j: u32) -> [u8; 4] {
-    let b = &data[at.index(i, j) * 4..][..4];
-    [b[0], b[1], b[2], b[3]]
+fn texel_bytes(data: &[u8], at: ClassRows, i: u32, j: u32) -> [u8; 2] {
+    let b = &data[at.index(i, j) * BYTES_PER_CLASS..][..BYTES_PER_CLASS];
+    [b[0], b[1]]
 }
 
 /// The slope of every code, computed at compile time ([`decode_slope`] reads it: a
@@ -1292,44 +1276,85 @@ const SLOPES: [f64; 256] = {
     s
 };
 
-/// The step (centerlines) of a ray of rise at least `sd_lo` per centerline crossing
-/// the centerline at height `pz` (within `tol`) above a texel of shape `[r, s, z0, z1]`,
-/// with the map's longest step `cap` and base-height frame `z = [zmin, zstep, zspan]`
-/// in `R` (`zspan = |zmin| + 65535·zstep`, the part of `zc`'s rounding bound that does
-/// not depend on the texel): per-trace constants, computed once by [`trace_on`].
-#[inline]
-fn cone_step<R: Real>(cap: u32, z: [R; 3], b: [u8; 4], pz: R, tol: R, sd_lo: R) -> u32 {
-    let r = u32::from(b[0]);
-    if b[1] == NO_CONE || r >= cap {
-        return r;
+/// The constants of a trace's cylinder–cone steps, in `R`: computed once the ray is
+/// known to march ([`trace_on`]), not once per step.
+struct ConeStep<'a, R> {
+    /// The map's longest step.
+    cap: u32,
+    /// Lower bound of the ray's rise per centerline.
+    sd_lo: R,
+    /// The field's largest `|height|` (the scale of the base's rounding).
+    zs: R,
+    /// The field's samples; `sample(hf, ax, m, n)` is element `m·ms + n·ns`.
+    samples: &'a [f32],
+    ms: usize,
+    ns: usize,
+    /// Samples along the minor axis.
+    ln: u32,
+}
+
+impl<R: Real> ConeStep<'_, R> {
+    /// The jump at the crossing `l` above a texel `[r, s]` with a cone (`s` not
+    /// [`NO_CONE`], `r < cap`): the base ([`Self::base`]), then the closed-form step.
+    #[inline]
+    fn cone(&self, l: &Line<R>, [r, s]: [u8; 2]) -> Jump {
+        let (zc, fetches) = self.base(l);
+        let (r, sc) = (u32::from(r), R::from_f64(decode_slope(s)));
+        let cap = self.cap;
+        // zc's own rounding (a few operations on values of at most `zs`) and that of the
+        // differences below: relative EPSILON of the terms, with room to spare.
+        let zerr = R::from_f32(8.0) * R::EPSILON * (self.zs + zc.abs());
+        let num = l.p[2] - zc - l.tol - l.tol - zerr;
+        let above = num > R::ZERO; // false for NaN too
+        let steps = if !above {
+            r
+        } else if self.sd_lo >= sc {
+            cap.max(r)
+        } else {
+            let den = (sc - self.sd_lo) * (R::ONE + R::from_f32(4.0) * R::EPSILON);
+            let x = num / den * (R::ONE - R::from_f32(4.0) * R::EPSILON);
+            let short = x < R::from_u32(cap); // false for NaN and +∞
+                                              // `num > 0` and `den > 0` (`sc > sd_lo`, two distinct values), so
+                                              // `0 ≤ x < cap` when short: truncation is the floor.
+            if short {
+                (x.to_f64() as u32).max(r)
+            } else {
+                cap.max(r)
+            }
+        };
+        Jump { steps, fetches }
     }
-    let zc = z[0] + R::from_u32(u32::from(u16::from_le_bytes([b[2], b[3]]))) * z[1];
-    let sc = R::from_f64(decode_slope(b[1]));
-    // zc's own rounding: relative EPSILON of the terms.
-    let zerr = R::from_f32(4.0) * R::EPSILON * (z[2] + zc.abs());
-    let num = pz - zc - tol - tol - zerr;
-    let above = num > R::ZERO; // false for NaN too
-    if !above {
-        return r;
+
+    /// [`base_height`] in `R` for the texel of the line `l`, from the three samples
+    /// around it on the line's centerline (the same operations as [`sigma_of`] and
+    /// [`segment_top`], rounded in `R`), and the fetches it makes beyond the line's two
+    /// samples: the third, none at the field's border (where `sigma_of` reads two).
+    #[inline]
+    fn base(&self, l: &Line<R>) -> (R, u32) {
+        let (n, ns, ln) = (l.texel, self.ns, self.ln);
+        let at = l.m as usize * self.ms + n as usize * ns;
+        let s = |k: usize| R::from_f32(self.samples[k]);
+        let h = s(at);
+        let below = if n > 0 {
+            h - s(at - ns)
+        } else {
+            s(at + ns) - h
+        };
+        let above = if n + 1 < ln {
+            s(at + ns) - h
+        } else {
+            h - s(at - ns)
+        };
+        let w = R::from_f64(0.5 + super::SEG_PAD);
+        let zc = (h - below * w).max(h).max(h + above * w);
+        (zc, u32::from(n > 0 && n + 1 < ln))
     }
-    if sd_lo >= sc {
-        return cap.max(r);
-    }
-    let den = (sc - sd_lo) * (R::ONE + R::from_f32(4.0) * R::EPSILON);
-    let x = num / den * (R::ONE - R::from_f32(4.0) * R::EPSILON);
-    let short = x < R::from_u32(cap); // false for NaN and +∞
-    if !short {
-        return cap.max(r);
-    }
-    // `num > 0` and `den > 0` (`sc > sd_lo`, two distinct values), so `0 ≤ x < cap`:
-    // truncation is the floor.
-    (x.to_f64() as u32).max(r)
 }
 
 /// Traces `q` on the triangle surface with the cylinder–cone map `map` (baked for
 /// `hf`). Exact, like [`super::trace`], whose march it shares: one fetch per shape read
-/// (`[r, s, z]` of the texel and class), two per centerline clearance, four per cell
-/// walked. Upward rays use the same data. The step bound of the shared march flags
+/// (`[r, s]` of the texel and class) and one for the third sample of a cone's base
+/// (see [`base_height`]), two per centerline clearance, four per cell walked. Upward rays use the same data. The step bound of the shared march flags
 /// [`Flags::BUDGET_EXHAUSTED`](crate::ray::Flags::BUDGET_EXHAUSTED) (never expected).
 pub fn trace<R: Real>(map: &CcMap, hf: &HeightField, q: &Query<R>) -> Trace<R> {
     trace_on(map, hf, MarchSurface::Triangles, q)
@@ -1351,16 +1376,20 @@ pub fn trace_on<R: Real>(
         let sd = if dm > R::ZERO { d[2] / dm } else { R::ZERO };
         let sd_err = R::from_f32(2.0) * R::EPSILON * sd.abs();
         let sd_lo = sd - sd_err;
-        // The map's constants in `R`, once per trace rather than once per step; `z[2]`
-        // is the first partial sum of `|zmin| + 65535·zstep + |zc|` (left to right),
-        // so the bound `cone_step` adds `|zc|` to is bit for bit the same.
-        let cap = u32::from(map.cap);
-        let zmin = R::from_f64(map.zmin);
-        let z = [
-            zmin,
-            R::from_f64(map.zstep),
-            zmin.abs() + R::from_f64(map.zstep * 65535.0),
-        ];
+        let (ms, ns) = if ax == 0 {
+            (1, hf.stride())
+        } else {
+            (hf.stride(), 1)
+        };
+        let step = ConeStep {
+            cap: u32::from(map.cap),
+            sd_lo,
+            zs: R::from_f32(hf.min_height().abs().max(hf.max_height().abs())),
+            samples: hf.samples(),
+            ms,
+            ns,
+            ln: extents(hf, ax).1,
+        };
         // A class the map does not hold: radius 0 without a cone (zero jumps, exact).
         let at = map.rows(class);
         // The step reads the bytes' slice directly, not through a reference to the map
@@ -1368,7 +1397,11 @@ pub fn trace_on<R: Real>(
         let data = map.data;
         move |l: &Line<R>, _, i, j| {
             let b = at.map_or(NOT_HELD, |at| texel_bytes(data, at, i, j));
-            cone_step(cap, z, b, l.p[2], l.tol, sd_lo)
+            if b[1] == NO_CONE || u32::from(b[0]) >= step.cap {
+                Jump::steps(u32::from(b[0]))
+            } else {
+                step.cone(l, b)
+            }
         }
     })
 }

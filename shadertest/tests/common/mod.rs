@@ -442,7 +442,7 @@ pub struct Scene {
     pub qdm: Vec<f32>,
     /// Relaxed cone ratios per sample, when baked.
     pub relaxed: Option<Vec<f32>>,
-    /// Packed cylinder–cone map (16 bytes per texel).
+    /// Packed cylinder–cone map (8 bytes per texel: `[r, s]` per class).
     pub cc: Vec<u8>,
     /// Safety radii, tolerance 0 (1 byte per texel).
     pub radius: Vec<u8>,
@@ -464,7 +464,7 @@ pub struct ClassMaps {
     pub safety_dir: Vec<u8>,
     /// Isotropic safety distances over the set, W × H bytes.
     pub safety_iso: Vec<u8>,
-    /// Packed cylinder–cone map, W × nH × 4 bytes.
+    /// Packed cylinder–cone map, W × nH × 2 bytes.
     pub cc: Vec<u8>,
 }
 
@@ -506,7 +506,7 @@ impl Scene {
             cap: CC_CAP,
         };
         let mut cc_map = vec![0u8; cc::map_len(w, h)];
-        in_row_ranges(h, 16 * w as usize, &mut cc_map, |rows, out| {
+        in_row_ranges(h, cc::map_len(w, 1), &mut cc_map, |rows, out| {
             cc::bake_rows(&hf, &scratch, &nb, rows, opts, out).expect("cc bake");
         });
         let mut radius_map = vec![0u8; radius::map_len(w, h)];
@@ -532,7 +532,6 @@ impl Scene {
             .iter()
             .map(|&bits| {
                 let classes = RayClasses(bits);
-                let n = classes.count() as usize;
                 let sd = |variant: Variant| {
                     let opts = safety::Options {
                         variant,
@@ -556,7 +555,8 @@ impl Scene {
                     out
                 };
                 let mut cc_sub = vec![0u8; cc::map_len_classes(w, h, classes)];
-                in_row_ranges(h, 4 * n * w as usize, &mut cc_sub, |rows, out| {
+                let row_len = cc::map_len_classes(w, 1, classes);
+                in_row_ranges(h, row_len, &mut cc_sub, |rows, out| {
                     cc::bake_rows_classes(&hf, &scratch, &nb, classes, rows, opts, out)
                         .expect("cc bake of a class subset");
                 });
@@ -1004,15 +1004,8 @@ impl SceneGpu {
             levels[k + 2] = layout.offset(l) as i32;
         }
         let levels: Vec<u8> = levels.iter().flat_map(|v| v.to_le_bytes()).collect();
-        // CcParams: cap, and the frame of hf_cc_frame (capi/src/cc.rs).
-        let (lo, hi) = (f64::from(hf.min_height()), f64::from(hf.max_height()));
-        let step = (hi - lo) / 65535.0;
-        let mut cc = u32_bytes(&[u32::from(CC_CAP)]);
-        cc.extend(f32_bytes(&[
-            lo as f32,
-            step as f32,
-            (step * 65535.0) as f32,
-        ]));
+        // CcParams: the cap.
+        let cc = u32_bytes(&[u32::from(CC_CAP)]);
         SceneGpu {
             heights: gpu.texture(w, h, F::R32Float, &f32_bytes(&s.heights)),
             heights_u16: s.samples.as_ref().map(|(samples, _)| {
@@ -1036,7 +1029,7 @@ impl SceneGpu {
                     let tex = ClassTextures {
                         safety_dir: gpu.texture(w, n * h, F::R8Uint, &m.safety_dir),
                         safety_iso: gpu.texture(w, h, F::R8Uint, &m.safety_iso),
-                        cc_map: gpu.texture(w, n * h, F::Rgba8Uint, &m.cc),
+                        cc_map: gpu.texture(w, n * h, F::Rg8Uint, &m.cc),
                     };
                     (m.classes, tex)
                 })
@@ -1049,7 +1042,7 @@ impl SceneGpu {
                 .relaxed
                 .as_ref()
                 .map(|r| gpu.texture(w, h, F::R32Float, &f32_bytes(r))),
-            cc_map: gpu.texture(w, 4 * h, F::Rgba8Uint, &s.cc),
+            cc_map: gpu.texture(w, 4 * h, F::Rg8Uint, &s.cc),
             cc: gpu.uniform(&cc),
             radius: gpu.texture(w, h, F::R8Uint, &s.radius),
         }
