@@ -17,7 +17,7 @@
 //! a method number return `HF_ERR_NOT_BUILT` for them.
 //!
 //! `unsafe` is confined to turning C pointers into references and slices
-//! ([`ptr`]) and to the owned samples of [`hf_field`]; each block says why it holds.
+//! (`ptr`) and to the owned samples of [`hf_field`]; each block says why it holds.
 
 // The C names (`hf_field`, `hf_ray`, …) are the API.
 #![allow(non_camel_case_types)]

@@ -279,11 +279,11 @@ pub fn texel_ratio(hf: &HeightField, mip: &MaxMip, s: [u32; 2]) -> f64 {
 /// the minimum from above, so a good seed lets the search skip most of the field.
 ///
 /// The search visits the pyramid depth first, the child nearest T first, down to
-/// [`LEAF_LEVEL`], whose nodes' samples it tries one by one. A node's bound
+/// `LEAF_LEVEL`, whose nodes' samples it tries one by one. A node's bound
 /// `dist(T, node) / (max − h_T)` is a lower bound of the ratio `|D − T| / (h_D − h_T)`
 /// at every sample `D` of the node, itself a lower bound of the pair's ratio (see
 /// [`pair_ratio_below`]); a node or a sample whose bound is at least the best ratio so
-/// far (with [`NODE_SAFETY`] for the rounding; squares are compared) cannot lower it.
+/// far (with `NODE_SAFETY` for the rounding; squares are compared) cannot lower it.
 /// Every pair
 /// that may lower it is evaluated by [`pair_ratio_below`], which returns the exact
 /// [`pair_ratio`] whenever it is below the best so far: the result is the minimum over

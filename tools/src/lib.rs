@@ -2,7 +2,7 @@
 //!
 //! The library behind the `hfcast` command-line tool, shared with its tests and later
 //! report tools: loading the real height maps ([`maps`]), a pinhole camera and a
-//! shaded, shadowed renderer ([`render`]), the traversal benchmark ([`bench`]), the
+//! shaded, shadowed renderer ([`render`]), the traversal benchmark ([`bench`](mod@bench)), the
 //! error-against-time report ([`report`]) and the text format of `hfcast trace`
 //! ([`trace`]).
 

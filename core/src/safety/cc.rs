@@ -39,17 +39,17 @@
 //! (dividing by `u = 0` would leave no cone; its non-limiting triangles may be left
 //! out there as anywhere, and testing them is cheaper than clipping them). The slope
 //! is the largest of these bounds over the abscissas of the columns `max(r, 1) ≤ k`,
-//! found block by block of [`BLOCK`] columns, highest block bound first, skipping the
+//! found block by block of `BLOCK` columns, highest block bound first, skipping the
 //! blocks whose bound cannot raise it.
 //!
 //! **N-buffers** ([`nbuffer_len`], [`prepare_nbuffer`]): per axis, per sample column
 //! and level `L`, the maximum over `2^L` consecutive samples along the cross axis; any
 //! range is two lookups at level `⌊log₂ len⌋`. Levels up to the widest reachable
-//! range, `2·cap + 5` samples. After them, the same per block of [`BLOCK`]
+//! range, `2·cap + 5` samples. After them, the same per block of `BLOCK`
 //! consecutive cell columns (the maximum over their `BLOCK + 1` sample columns).
 //!
 //! **Pruning.** Only the slope's code is stored, so the bake keeps the slope so far
-//! rounded up to a code's value (`C(s)`, [`code_ceiling`]): `C` is monotone and
+//! rounded up to a code's value (`C(s)`, `code_ceiling`): `C` is monotone and
 //! `C(max(a, C(b))) = C(max(a, b))`, so the result is the code of the maximum, and a
 //! bound `≤ C(s)` cannot change it (a wider skip than `≤ s`). A skipped block or
 //! column of the N-buffer slope only leaves out bounds that cannot exceed the slope
@@ -58,7 +58,7 @@
 //! level 1) nor its highest corners on the near and far side (over `u = k` and
 //! `u = k + 1`: a triangle's slope is largest at a corner) can raise the slope, or,
 //! for a cell the band's edge cuts off but for a corner, no vertex of the part left
-//! can ([`Column::tip_under`]), so its result does not depend on how the skipping is
+//! can (`Column::tip_under`), so its result does not depend on how the skipping is
 //! organised either.
 //!
 //! **Packing** (the GPU layout, [`map_len`], [`texel_offset`]): 8 bytes per texel,
