@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Runs every test of hfcast on a fresh Debian machine: installs what is missing, then
-# formatting, lints, the workspace tests, and the no_std build of the core.
+# formatting, lints, docs, the workspace tests, and the no_std build of the core.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
