@@ -32,8 +32,9 @@ echo "== cargo clippy (-D warnings)"
 cargo clippy --workspace --all-targets --all-features -- -D warnings
 
 echo "== cargo doc (-D warnings: no broken or private intra-doc links)"
-# The core and the C API are both the library `hfcast`: documented apart.
-RUSTDOCFLAGS="-D warnings" cargo doc --no-deps -p hfcast -p hfcast-shaders -p hfcast-tools
+# The core and the C API are both the library `hfcast` (and the tool the binary
+# `hfcast`): libraries only, the C API apart.
+RUSTDOCFLAGS="-D warnings" cargo doc --no-deps --lib -p hfcast -p hfcast-shaders -p hfcast-tools
 RUSTDOCFLAGS="-D warnings" CARGO_TARGET_DIR=target/doc-capi cargo doc --no-deps -p hfcast-capi
 
 echo "== no_std build of the core (a second panic handler from std would fail it)"
