@@ -82,6 +82,17 @@ fn sample(hf: &HeightField, ax: usize, m: u32, n: u32) -> f32 {
     }
 }
 
+/// Slice elements between consecutive samples along the main and the minor axis of
+/// axis `ax`: `sample(hf, ax, m, n)` is element `m·ms + n·ns` of `hf.samples()`.
+#[inline]
+fn strides(hf: &HeightField, ax: usize) -> (usize, usize) {
+    if ax == 0 {
+        (1, hf.stride())
+    } else {
+        (hf.stride(), 1)
+    }
+}
+
 /// Samples along `[x, y]` of axis `ax` as `(main, minor)`.
 #[inline]
 fn extents(hf: &HeightField, ax: usize) -> (u32, u32) {
@@ -897,12 +908,7 @@ impl<R: Real, const AX: usize> Frame<R, AX> {
         let (o, d) = (q.origin(), q.dir());
         let (ax, mi) = (AX, 1 - AX);
         let ln = extents(hf, ax).1;
-        // `sample(hf, ax, m, n)` is element `m·ms + n·ns`.
-        let (ms, ns) = if ax == 0 {
-            (1, hf.stride())
-        } else {
-            (hf.stride(), 1)
-        };
+        let (ms, ns) = strides(hf, ax);
         Frame {
             om: o[ax],
             dm: d[ax],

@@ -33,7 +33,7 @@ float cc_decode_slope(uint code) {
     return t * abs(t) / 2048.0;
 }
 
-// `line_base`: the cone's base height over texel n of centerline m of axis ax (ln
+// `ConeStep::base`: the cone's base height over texel n of centerline m of axis ax (ln
 // samples along the minor axis), the highest point of the surface on the texel's
 // widened segment (half a sample spacing plus HF_SAFETY_SEG_PAD towards each
 // neighbour, the one-sided slope at the field's border). Beyond the line's two samples
@@ -48,7 +48,7 @@ float cc_line_base(int ax, uint m, uint n, uint ln) {
     return real_max(real_max(h - below * w, h), h + above * w);
 }
 
-// `cone_step`: the step (centerlines) of a ray of rise `sd` per centerline (`sd_err`
+// `ConeStep::cone`: the step (centerlines) of a ray of rise `sd` per centerline (`sd_err`
 // bounds its rounding) crossing the centerline `l` of axis ax above a texel of shape
 // b = [r, s], and the fetches its base height took beyond the shape's (one inside the
 // field, none at its border, none when no cone is tested).

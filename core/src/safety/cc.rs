@@ -89,8 +89,8 @@ use core::ops::Range;
 
 use super::{
     axis_of, band_cells, cell_tris, check_len, column_ahead, extents, march_with, sample, sigma_of,
-    texel_distance, tri_masks, AllRays, ClassRows, Jump, Line, MarchSurface, RaySet, SafetyError,
-    Sigma, Tri, Variant, CLASSES,
+    strides, texel_distance, tri_masks, AllRays, ClassRows, Jump, Line, MarchSurface, RaySet,
+    SafetyError, Sigma, Tri, Variant, CLASSES,
 };
 use crate::field::HeightField;
 use crate::math::Real;
@@ -1285,7 +1285,8 @@ struct ConeStep<'a, R> {
     sd_lo: R,
     /// The field's largest `|height|` (the scale of the base's rounding).
     zs: R,
-    /// The field's samples; `sample(hf, ax, m, n)` is element `m·ms + n·ns`.
+    /// The field's samples, and their strides along the main and minor axis
+    /// (`super::strides`).
     samples: &'a [f32],
     ms: usize,
     ns: usize,
@@ -1313,9 +1314,9 @@ impl<R: Real> ConeStep<'_, R> {
         } else {
             let den = (sc - self.sd_lo) * (R::ONE + R::from_f32(4.0) * R::EPSILON);
             let x = num / den * (R::ONE - R::from_f32(4.0) * R::EPSILON);
+            // `num > 0` and `den > 0` (`sc > sd_lo`, two distinct values), so
+            // `0 ≤ x < cap` when short: truncation is the floor.
             let short = x < R::from_u32(cap); // false for NaN and +∞
-                                              // `num > 0` and `den > 0` (`sc > sd_lo`, two distinct values), so
-                                              // `0 ≤ x < cap` when short: truncation is the floor.
             if short {
                 (x.to_f64() as u32).max(r)
             } else {
@@ -1354,7 +1355,8 @@ impl<R: Real> ConeStep<'_, R> {
 /// Traces `q` on the triangle surface with the cylinder–cone map `map` (baked for
 /// `hf`). Exact, like [`super::trace`], whose march it shares: one fetch per shape read
 /// (`[r, s]` of the texel and class) and one for the third sample of a cone's base
-/// (see [`base_height`]), two per centerline clearance, four per cell walked. Upward rays use the same data. The step bound of the shared march flags
+/// (see [`base_height`]), two per centerline clearance, four per cell walked. Upward
+/// rays use the same data. The step bound of the shared march flags
 /// [`Flags::BUDGET_EXHAUSTED`](crate::ray::Flags::BUDGET_EXHAUSTED) (never expected).
 pub fn trace<R: Real>(map: &CcMap, hf: &HeightField, q: &Query<R>) -> Trace<R> {
     trace_on(map, hf, MarchSurface::Triangles, q)
@@ -1376,11 +1378,7 @@ pub fn trace_on<R: Real>(
         let sd = if dm > R::ZERO { d[2] / dm } else { R::ZERO };
         let sd_err = R::from_f32(2.0) * R::EPSILON * sd.abs();
         let sd_lo = sd - sd_err;
-        let (ms, ns) = if ax == 0 {
-            (1, hf.stride())
-        } else {
-            (hf.stride(), 1)
-        };
+        let (ms, ns) = strides(hf, ax);
         let step = ConeStep {
             cap: u32::from(map.cap),
             sd_lo,
