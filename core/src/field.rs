@@ -1,5 +1,6 @@
 //! The height field: a validated view over caller-owned samples.
 
+use crate::world::WorldTransform;
 use core::fmt;
 
 /// Largest width or height accepted: grid coordinates stay exact in `f32` (2²⁴).
@@ -58,7 +59,9 @@ impl fmt::Display for FieldError {
 
 /// W × H heights, row-major with a row stride: sample (i, j) is `h[j * stride + i]` and
 /// sits at the grid point (x = i, y = j). Validated once at construction; every march
-/// may then index it without checks failing.
+/// may then index it without checks failing. It carries the [`WorldTransform`] that
+/// places its grid in world units (the identity unless [`HeightField::with_transform`]
+/// sets one).
 #[derive(Clone, Copy, Debug)]
 pub struct HeightField<'a> {
     samples: &'a [f32],
@@ -67,6 +70,7 @@ pub struct HeightField<'a> {
     stride: usize,
     min: f32,
     max: f32,
+    transform: WorldTransform,
 }
 
 /// Number of slice elements a `width × height` map with `stride` needs, with overflow checks.
@@ -109,6 +113,7 @@ impl<'a> HeightField<'a> {
             stride,
             min,
             max,
+            transform: WorldTransform::IDENTITY,
         })
     }
 
@@ -174,9 +179,19 @@ impl<'a> HeightField<'a> {
             stride: self.stride,
             min: self.min.min(min),
             max: self.max.max(max),
+            transform: self.transform,
         })
     }
 
+    /// The same field placed in world units by `transform` (see [`crate::world`]).
+    pub fn with_transform(self, transform: WorldTransform) -> Self {
+        HeightField { transform, ..self }
+    }
+    /// The transform from grid space to world units (the identity by default).
+    #[inline]
+    pub fn transform(&self) -> &WorldTransform {
+        &self.transform
+    }
     /// Number of samples along x (W).
     #[inline]
     pub fn width(&self) -> u32 {

@@ -53,6 +53,7 @@ pub mod scene;
 #[cfg(feature = "search")]
 pub mod search;
 pub mod surface;
+pub mod world;
 
 pub use field::{FieldError, HeightField};
 pub use math::Real;
@@ -60,6 +61,7 @@ pub use ray::{Flags, Hit, Query, RayClass, RayError, Trace};
 #[cfg(feature = "search")]
 pub use search::SearchSteps;
 pub use surface::Surface;
+pub use world::{TransformError, WorldTransform};
 
 /// The marching methods that need no baked data, as one value a caller can pass around
 /// (the searches only with the `search` feature).

@@ -1,6 +1,7 @@
 //! Rays, queries and their answers, shared by every method.
 
 use crate::math::Real;
+use crate::{HeightField, Surface};
 use core::fmt;
 
 /// Why a ray query was refused.
@@ -189,6 +190,44 @@ pub struct Hit<R: Real = f32> {
     pub normal: R::V3,
     /// [`Flags::ORIGIN_INSIDE`], [`Flags::SIDE`], [`Flags::WALL`].
     pub flags: Flags,
+}
+
+impl<R: Real> Hit<R> {
+    /// Units of `R`'s epsilon, times the coordinates' magnitude, that
+    /// [`Hit::shadow_query`] lifts a shadow ray's origin off the surface: well above the
+    /// few ulps by which a hit point computed as `origin + t · dir` can sit inside the
+    /// solid.
+    pub const SHADOW_LIFT_EPS: f32 = 64.0;
+
+    /// A shadow ray from this grid-space hit on `surface` of `hf` towards a light in
+    /// direction `to_light` (need not be normalised), starting outside the solid.
+    ///
+    /// The origin is the hit point moved `δ = SHADOW_LIFT_EPS · ε · (1 + m)` along the
+    /// normal (off the hit's own plane, a wall included), then raised, where it lies
+    /// over the footprint, to at least `δ` above the surface there (at a crease or a
+    /// grid vertex the neighbouring cell can rise faster than the normal moves away);
+    /// `m` is the largest magnitude of the hit point's coordinates and of `magnitude`
+    /// (pass the primary ray's largest |origin| coordinate: the point's rounding grows
+    /// with it). Starting at the hit point itself reports [`Flags::ORIGIN_INSIDE`] for
+    /// a large share of hits (the point rounds into the solid).
+    pub fn shadow_query(
+        &self,
+        hf: &HeightField,
+        surface: Surface,
+        to_light: [R; 3],
+        magnitude: R,
+    ) -> Result<Query<R>, RayError> {
+        let (p, n) = (R::xyz(self.point), R::xyz(self.normal));
+        let m = p.iter().fold(magnitude.abs(), |m, v| m.max(v.abs()));
+        let lift = R::from_f32(Self::SHADOW_LIFT_EPS) * R::EPSILON * (R::ONE + m);
+        let mut o = [0, 1, 2].map(|k| p[k] + lift * n[k]);
+        let (xm, ym) = (R::from_u32(hf.width() - 1), R::from_u32(hf.height() - 1));
+        let over = o[0] >= R::ZERO && o[0] <= xm && o[1] >= R::ZERO && o[1] <= ym;
+        if over {
+            o[2] = o[2].max(surface.height_at(hf, o[0], o[1]) + lift);
+        }
+        Query::from_arrays(o, to_light, R::ZERO, R::INFINITY)
+    }
 }
 
 /// The full answer to one query: the hit, if any, and what it cost.
