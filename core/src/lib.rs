@@ -37,6 +37,7 @@ pub mod brute;
 pub mod cone;
 pub mod dda;
 pub mod field;
+pub mod ktx2;
 pub mod math;
 #[cfg(feature = "maxmip")]
 pub mod maxmip;
