@@ -15,6 +15,9 @@ APT_PACKAGES+=(gcc g++ make libosmesa6-dev libglfw3-dev xvfb xauth glslang-tools
 APT_PACKAGES+=(mesa-vulkan-drivers libvulkan1)
 # Embree, the independent oracle of the exact marches (c_tests/embree_bench.c --check).
 APT_PACKAGES+=(libembree-dev)
+# Installing the C library (issue 24): CMake and pkg-config build the C++ example
+# against the installed tree; gdb reads the .so's separate debug info.
+APT_PACKAGES+=(cmake pkg-config gdb binutils)
 missing=()
 for p in "${APT_PACKAGES[@]}"; do
   dpkg -s "$p" >/dev/null 2>&1 || missing+=("$p")
@@ -91,6 +94,9 @@ if [ -f ../shared/data/dem_etopo5_himalaya_1024.png ]; then
   EMBREE_MAPS="$EMBREE_MAPS ../../shared/data/dem_etopo5_himalaya_1024.png"
 fi
 "${C_MAKE[@]}" embree-check MAPS="$EMBREE_MAPS" 2>&1 | tee -a target/c_tests.log
+
+echo "== install: scripts/install.sh into a temporary prefix; SONAME, hf_-only symbols, examples/cpp through pkg-config and CMake"
+bash scripts/install_test.sh 2>&1 | tee -a target/c_tests.log
 
 # The summary line CI reads: totals over every test binary (cargo), plus the C suites'
 # "name: N passed, N failed" lines.
