@@ -518,6 +518,180 @@ static void test_methods_agree(void) {
     hf_field_destroy(f);
 }
 
+/* ---- world units and shadow rays ---------------------------------------------------- */
+
+/* A world ray of the grid ray `g` under `t` (in double, then rounded to float). */
+static hf_ray world_ray(const hf_transform *t, hf_ray g) {
+    double off[3] = {t->origin[0], t->origin[1], t->height_offset};
+    double sc[3] = {t->spacing[0], t->spacing[1], t->height_scale};
+    hf_ray w = g;
+    for (int k = 0; k < 3; k++) {
+        w.origin[k] = (float)(off[k] + sc[k] * (double)g.origin[k]);
+        w.dir[k] = (float)(sc[k] * (double)g.dir[k]);
+    }
+    return w;
+}
+
+static void test_world_units(void) {
+    enum { W = 41, H = 29, N = 3000 };
+    float *heights = (float *)malloc(sizeof(float) * W * H);
+    for (int k = 0; k < W * H; k++) heights[k] = 8.0f * frand();
+    hf_field *grid = NULL, *world = NULL;
+    CHECK_OK(hf_field_create_f32(heights, W * H, W, H, W, &grid));
+    CHECK_OK(hf_field_create_f32(heights, W * H, W, H, W, &world));
+
+    /* The default is the identity. */
+    hf_transform t;
+    memset(&t, 0xff, sizeof t);
+    CHECK_OK(hf_field_get_transform(world, &t));
+    CHECK(t.origin[0] == 0 && t.origin[1] == 0 && t.spacing[0] == 1 && t.spacing[1] == 1 &&
+          t.height_scale == 1 && t.height_offset == 0);
+
+    /* Bad transforms are refused and leave the field's transform as it was. */
+    hf_transform bad = {{0, 0}, {1, 1}, 1, 0};
+    CHECK_BAD(hf_field_set_transform(NULL, &bad), HF_ERR_NULL_POINTER, nothing, 0);
+    CHECK_BAD(hf_field_set_transform(world, NULL), HF_ERR_NULL_POINTER, nothing, 0);
+    CHECK_BAD(hf_field_get_transform(world, NULL), HF_ERR_NULL_POINTER, nothing, 0);
+    CHECK_BAD(hf_field_get_transform(NULL, &t), HF_ERR_NULL_POINTER, &t, sizeof t);
+    bad.origin[1] = NAN;
+    CHECK_BAD(hf_field_set_transform(world, &bad), HF_ERR_NOT_FINITE, nothing, 0);
+    bad.origin[1] = 0;
+    bad.height_offset = INFINITY;
+    CHECK_BAD(hf_field_set_transform(world, &bad), HF_ERR_NOT_FINITE, nothing, 0);
+    bad.height_offset = 0;
+    bad.spacing[0] = 0;
+    CHECK_BAD(hf_field_set_transform(world, &bad), HF_ERR_INVALID_ARGUMENT, nothing, 0);
+    bad.spacing[0] = 1;
+    bad.height_scale = 0;
+    CHECK_BAD(hf_field_set_transform(world, &bad), HF_ERR_INVALID_ARGUMENT, nothing, 0);
+    bad.height_scale = -3;
+    CHECK_BAD(hf_field_set_transform(world, &bad), HF_ERR_INVALID_ARGUMENT, nothing, 0);
+    CHECK_OK(hf_field_get_transform(world, &t));
+    CHECK(t.spacing[0] == 1 && t.height_scale == 1);
+
+    /* A DEM-like transform: unequal spacings, y flipped, a height scale and offsets. */
+    hf_transform dem = {{1000.0, 2000.0}, {30.0, -25.0}, 2.5, 236.0};
+    CHECK_OK(hf_field_set_transform(world, &dem));
+    CHECK_OK(hf_field_get_transform(world, &t));
+    CHECK(memcmp(&t, &dem, sizeof t) == 0);
+
+    hf_ray *g = (hf_ray *)malloc(sizeof(hf_ray) * N);
+    hf_ray *w = (hf_ray *)malloc(sizeof(hf_ray) * N);
+    for (int k = 0; k < N; k++) {
+        g[k] = ray(-5.0f + (W + 10) * frand(), -5.0f + (H + 10) * frand(), 10.0f + 4.0f * frand(),
+                   frand() - 0.5f, frand() - 0.5f, -frand());
+        w[k] = world_ray(&dem, g[k]);
+    }
+    hf_hit *gh = (hf_hit *)malloc(sizeof(hf_hit) * N);
+    hf_hit *wh = (hf_hit *)malloc(sizeof(hf_hit) * N);
+    hf_hit *mh = (hf_hit *)malloc(sizeof(hf_hit) * N);
+    CHECK_OK(hf_trace_exact_batch(grid, HF_SURFACE_TRIANGLES, g, N, gh, N));
+    CHECK_OK(hf_trace_exact_batch(world, HF_SURFACE_TRIANGLES, w, N, wh, N));
+    int hits = 0, same = 0;
+    for (int k = 0; k < N; k++) {
+        hits += gh[k].hit;
+        if (gh[k].hit != wh[k].hit) continue;
+        if (!gh[k].hit) {
+            same++;
+            continue;
+        }
+        /* The world hit is the grid hit mapped: point, normal by the inverse transpose. */
+        double off[3] = {dem.origin[0], dem.origin[1], dem.height_offset};
+        double sc[3] = {dem.spacing[0], dem.spacing[1], dem.height_scale};
+        double n[3], len = 0;
+        int ok = near(gh[k].t, wh[k].t, 1e-4f * (1.0f + gh[k].t)) &&
+                 gh[k].cell[0] == wh[k].cell[0] && gh[k].cell[1] == wh[k].cell[1];
+        for (int c = 0; c < 3; c++) {
+            double p = off[c] + sc[c] * (double)gh[k].point[c];
+            ok &= fabs(p - (double)wh[k].point[c]) <= 1e-3 * fabs(sc[c]) + 1e-4 * fabs(p);
+            n[c] = (double)gh[k].normal[c] / sc[c];
+            len += n[c] * n[c];
+        }
+        for (int c = 0; c < 3; c++) ok &= fabs(n[c] / sqrt(len) - (double)wh[k].normal[c]) < 1e-4;
+        same += ok;
+    }
+    CHECK(hits > N / 2);
+    /* The float world ray is not exactly the grid ray: a near-graze may flip. */
+    CHECK(same >= N - N / 500);
+    printf("world units: %d rays, %d grid hits, %d agree mapped\n", N, hits, same);
+
+    /* Every method converts alike: the maximum mipmap answers the exact method's
+     * world hits bit for bit (their costs differ), single and batch. */
+    size_t plen = 0;
+    CHECK_OK(hf_maxmip_len(W, H, &plen));
+    float *pyr = (float *)malloc(sizeof(float) * plen);
+    CHECK_OK(hf_maxmip_bake(world, pyr, plen));
+    CHECK_OK(hf_trace_maxmip_batch(world, pyr, plen, HF_SURFACE_TRIANGLES, w, N, mh, N));
+    int ident = 0;
+    for (int k = 0; k < N; k++)
+        ident += wh[k].hit == mh[k].hit && wh[k].t == mh[k].t && wh[k].flags == mh[k].flags &&
+                 memcmp(wh[k].point, mh[k].point, sizeof wh[k].point) == 0 &&
+                 memcmp(wh[k].normal, mh[k].normal, sizeof wh[k].normal) == 0;
+    CHECK(ident == N);
+    hf_hit one;
+    CHECK_OK(hf_trace_exact(world, HF_SURFACE_TRIANGLES, &w[7], &one));
+    CHECK(memcmp(&one, &wh[7], sizeof one) == 0);
+
+    /* A world ray whose grid image overflows is an invalid ray, not a miss. */
+    hf_transform tiny = {{0, 0}, {1e-30, 1e-30}, 1, 0};
+    hf_field *tf = NULL;
+    CHECK_OK(hf_field_create_f32(heights, W * H, W, H, W, &tf));
+    CHECK_OK(hf_field_set_transform(tf, &tiny));
+    hf_ray far = ray(1e10f, 0, 1, 1, 0, -1);
+    CHECK_BAD(hf_trace_exact(tf, HF_SURFACE_TRIANGLES, &far, &one), HF_ERR_INVALID_RAY, &one,
+              sizeof one);
+    hf_field_destroy(tf);
+
+    /* Shadow rays: from the hit point itself many start inside the solid; from
+     * hf_shadow_ray none does, with and without a transform. */
+    const float light[3] = {0.3f, -0.4f, 0.6f};
+    hf_field *fields[2] = {grid, world};
+    hf_hit *answers[2] = {gh, wh};
+    hf_ray *primaries[2] = {g, w};
+    for (int f = 0; f < 2; f++) {
+        int lit = 0, naive_inside = 0, lifted_inside = 0;
+        for (int k = 0; k < N; k++) {
+            const hf_hit *h = &answers[f][k];
+            if (!h->hit || (h->flags & HF_FLAG_ORIGIN_INSIDE)) continue;
+            lit++;
+            hf_ray at = ray(h->point[0], h->point[1], h->point[2], light[0], light[1], light[2]);
+            hf_hit s;
+            CHECK_OK(hf_trace_exact(fields[f], HF_SURFACE_TRIANGLES, &at, &s));
+            naive_inside += s.hit && (s.flags & HF_FLAG_ORIGIN_INSIDE);
+            hf_ray sr;
+            CHECK_OK(hf_shadow_ray(fields[f], HF_SURFACE_TRIANGLES, &primaries[f][k], h, &light,
+                                   &sr));
+            CHECK_OK(hf_trace_exact(fields[f], HF_SURFACE_TRIANGLES, &sr, &s));
+            lifted_inside += s.hit && (s.flags & HF_FLAG_ORIGIN_INSIDE);
+        }
+        CHECK(lit > N / 2 && naive_inside > lit / 20);
+        CHECK(lifted_inside == 0);
+        printf("shadow rays (%s): %d hits, %d start inside from the hit point, %d from "
+               "hf_shadow_ray\n",
+               f ? "world" : "grid", lit, naive_inside, lifted_inside);
+    }
+    hf_ray sr;
+    hf_hit miss = gh[0];
+    miss.hit = 0;
+    CHECK_BAD(hf_shadow_ray(grid, HF_SURFACE_TRIANGLES, &g[0], &miss, &light, &sr),
+              HF_ERR_INVALID_ARGUMENT, &sr, sizeof sr);
+    CHECK_BAD(hf_shadow_ray(grid, 99, &g[0], &gh[0], &light, &sr), HF_ERR_INVALID_ENUM, &sr,
+              sizeof sr);
+    CHECK_BAD(hf_shadow_ray(grid, HF_SURFACE_TRIANGLES, NULL, &gh[0], &light, &sr),
+              HF_ERR_NULL_POINTER, &sr, sizeof sr);
+    CHECK_BAD(hf_shadow_ray(grid, HF_SURFACE_TRIANGLES, &g[0], &gh[0], &light, NULL),
+              HF_ERR_NULL_POINTER, nothing, 0);
+    free(pyr);
+    free(g);
+    free(w);
+    free(gh);
+    free(wh);
+    free(mh);
+    free(heights);
+    hf_field_destroy(grid);
+    hf_field_destroy(world);
+}
+
 /* ---- bakes and updates ------------------------------------------------------------ */
 
 static void test_bake_and_update(void) {
@@ -1520,6 +1694,7 @@ int main(void) {
     test_known_hits();
     test_bad_queries();
     test_methods_agree();
+    test_world_units();
     test_bake_and_update();
     test_safety();
     test_radius();

@@ -4,15 +4,18 @@ use crate::hf_result::{self, *};
 use crate::{guard, ptr};
 use core::ptr::NonNull;
 use hfcore::field::MAX_SIDE;
-use hfcore::HeightField;
+use hfcore::{HeightField, TransformError, WorldTransform};
 
 /// A height field: W × H heights in grid units, owned by the library (the constructors
 /// copy the caller's samples, so the caller's buffer may be freed at once). Sample
 /// (i, j) sits at grid point (x = i, y = j); the surface covers [0, W−1] × [0, H−1].
 ///
+/// A field may carry an [`hf_transform`] (`hf_field_set_transform`): then every
+/// `hf_trace_*` function takes rays and returns hits in world units.
+///
 /// Thread safety: functions taking a `const hf_field *` only read it and may run
-/// concurrently from any number of threads; `hf_field_update_rect` and
-/// `hf_field_destroy` need exclusive access.
+/// concurrently from any number of threads; `hf_field_update_rect`,
+/// `hf_field_set_transform` and `hf_field_destroy` need exclusive access.
 pub struct hf_field {
     /// The samples (W × H, stride W), allocated by `Box<[f32]>` and freed on drop.
     samples: NonNull<[f32]>,
@@ -63,6 +66,52 @@ pub struct hf_field_info {
     pub min_height: f32,
     /// Highest height (grid units); after `hf_field_update_rect` an upper bound.
     pub max_height: f32,
+}
+
+/// Where a field's grid sits in world units: `world = (origin[0] + spacing[0]·x,
+/// origin[1] + spacing[1]·y, height_offset + height_scale·z)` for grid point (x, y, z)
+/// (x = sample column, y = sample row, z = height in grid units). A world ray
+/// `o + t·d` is traced as the grid ray `(o − offset)/scale + t·d/scale`: `t`, `t_min`
+/// and `t_max` mean the same in both frames. Hit points come back in world units,
+/// normals by the inverse transpose (unit length), clearances times `height_scale`;
+/// `cell` stays the grid cell. The conversion runs in double precision; keep `origin`
+/// near the scene (float world coordinates far from it carry their own rounding).
+/// The identity (origin 0, spacing 1, height scale 1, offset 0) is the default and
+/// changes no bit of any answer.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct hf_transform {
+    /// World (x, y) of sample (0, 0).
+    pub origin: [f64; 2],
+    /// World units between neighbouring samples along x and y: non-zero (negative
+    /// flips the axis, e.g. a north-up raster's rows).
+    pub spacing: [f64; 2],
+    /// World height units per grid height unit: positive.
+    pub height_scale: f64,
+    /// World height of grid height 0.
+    pub height_offset: f64,
+}
+
+impl From<WorldTransform> for hf_transform {
+    fn from(t: WorldTransform) -> Self {
+        hf_transform {
+            origin: t.origin(),
+            spacing: t.spacing(),
+            height_scale: t.height_scale(),
+            height_offset: t.height_offset(),
+        }
+    }
+}
+
+impl From<TransformError> for hf_result {
+    fn from(e: TransformError) -> Self {
+        match e {
+            TransformError::NotFinite => HF_ERR_NOT_FINITE,
+            TransformError::ZeroSpacing | TransformError::HeightScaleNotPositive => {
+                HF_ERR_INVALID_ARGUMENT
+            }
+        }
+    }
 }
 
 /// Checks the size arguments of a constructor and returns (samples needed in the input,
@@ -372,6 +421,59 @@ pub unsafe extern "C" fn hf_field_update_rect(
         // SAFETY: the allocation is live until drop; the mutable borrow above ended.
         let shared: &'static [f32] = unsafe { f.samples.as_ref() };
         f.view = old.revalidate_rect(shared, x0, y0, x1, y1)?;
+        Ok(())
+    })
+}
+
+/// Places the field in world units (see [`hf_transform`]); from then on every
+/// `hf_trace_*` call on it takes world rays and returns world hits. Bakes and baked
+/// maps are unaffected (they live in grid space). `HF_ERR_NOT_FINITE` for a NaN or
+/// infinite component, `HF_ERR_INVALID_ARGUMENT` for a zero spacing or a height scale
+/// that is not positive; on error the field keeps its transform. Needs exclusive
+/// access to the field.
+///
+/// # Safety
+/// `field` is NULL (an error) or a live handle not used by another thread during the
+/// call; `transform` is NULL (an error) or valid for reading one `hf_transform`.
+#[no_mangle]
+pub unsafe extern "C" fn hf_field_set_transform(
+    field: *mut hf_field,
+    transform: *const hf_transform,
+) -> hf_result {
+    guard(|| {
+        if field.is_null() {
+            return Err(HF_ERR_NULL_POINTER);
+        }
+        if !field.is_aligned() {
+            return Err(HF_ERR_MISALIGNED_POINTER);
+        }
+        // SAFETY: the caller promises a readable transform.
+        let t = unsafe { ptr::get(transform) }?;
+        let xf = WorldTransform::new(t.origin, t.spacing, t.height_scale, t.height_offset)?;
+        // SAFETY: the caller promises a live handle used by no one else meanwhile.
+        let f = unsafe { &mut *field };
+        f.view = f.view.with_transform(xf);
+        Ok(())
+    })
+}
+
+/// Writes the field's transform (the identity unless `hf_field_set_transform` set
+/// one) to `*out_transform`. Thread safe.
+///
+/// # Safety
+/// `field` is NULL (an error) or a live handle; `out_transform` is NULL (an error) or
+/// valid for writing one `hf_transform`.
+#[no_mangle]
+pub unsafe extern "C" fn hf_field_get_transform(
+    field: *const hf_field,
+    out_transform: *mut hf_transform,
+) -> hf_result {
+    guard(|| {
+        // SAFETY: the caller promises a live handle.
+        let f = unsafe { ptr::get(field) }?;
+        let out = ptr::out(out_transform)?;
+        // SAFETY: the caller promises `out_transform` is writable.
+        unsafe { out.set(hf_transform::from(*f.view().transform())) };
         Ok(())
     })
 }

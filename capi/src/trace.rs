@@ -8,16 +8,18 @@ use hfcore::maxmip::{self, MaxMip};
 use hfcore::search::{self, SearchSteps};
 #[cfg(feature = "maxmip")]
 use hfcore::Surface;
-use hfcore::{dda, HeightField, Query, Trace};
+use hfcore::{dda, Flags, HeightField, Hit, Query, Trace};
 
-/// A ray in grid space: the points `origin + t * dir` for `t` in `[t_min, t_max]`.
+/// A ray: the points `origin + t * dir` for `t` in `[t_min, t_max]`, in grid space, or
+/// in the field's world units when it has a transform (`hf_field_set_transform`).
 /// `dir` need not be normalised (t is then in units of `|dir|`) but must be finite
-/// and non-zero; `t_min` finite; `t_max ≥ t_min`, `INFINITY` allowed. Grid space: x
-/// along sample columns i, y along rows j, z up, all in sample spacings.
+/// and non-zero, also after conversion to grid space; `t_min` finite; `t_max ≥ t_min`,
+/// `INFINITY` allowed. Grid space: x along sample columns i, y along rows j, z up, all
+/// in sample spacings.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct hf_ray {
-    /// Origin (x, y, z) in grid units.
+    /// Origin (x, y, z) in grid units (world units with a transform).
     pub origin: [f32; 3],
     /// Direction (x, y, z), finite and non-zero.
     pub dir: [f32; 3],
@@ -44,11 +46,12 @@ pub struct hf_hit {
     pub cell: [u32; 2],
     /// Ray parameter of the hit.
     pub t: f32,
-    /// Hit point in grid space.
+    /// Hit point in grid space (world units with a transform).
     pub point: [f32; 3],
     /// Unit surface normal at the hit (a wall's normal for side and step hits).
     pub normal: [f32; 3],
-    /// Smallest clearance (ray height − surface height, grid units) seen before the hit
+    /// Smallest clearance (ray height − surface height, grid units; world height units
+    /// with a transform) seen before the hit
     /// or along the whole ray for a miss; `INFINITY` when the ray never overlaps the
     /// field. Exact methods fill it; approximate ones report `INFINITY`.
     pub clearance: f32,
@@ -74,9 +77,14 @@ impl From<Trace<f32>> for hf_hit {
     }
 }
 
-/// Checks a ray.
-fn query(r: &hf_ray) -> Result<Query<f32>, hf_result> {
-    Ok(Query::from_arrays(r.origin, r.dir, r.t_min, r.t_max)?)
+/// Checks a ray and converts it from the field's world units to grid space.
+fn query(hf: &HeightField, r: &hf_ray) -> Result<Query<f32>, hf_result> {
+    Ok(hf.transform().query_to_grid(r.origin, r.dir, r.t_min, r.t_max)?)
+}
+
+/// A grid-space trace as the caller's `hf_hit`, in the field's world units.
+fn answer(hf: &HeightField, tr: Trace<f32>) -> hf_hit {
+    hf_hit::from(hf.transform().trace_to_world(tr))
 }
 
 /// Shared body of the single-ray functions: checks the pointers, prepares what the
@@ -97,8 +105,8 @@ pub(crate) unsafe fn one<P>(
         let out = ptr::out(out_hit)?;
         let hf = f.view();
         let prepared = prepare(hf)?;
-        let q = query(r)?;
-        let hit = hf_hit::from(trace(hf, &prepared, &q));
+        let q = query(hf, r)?;
+        let hit = answer(hf, trace(hf, &prepared, &q));
         // SAFETY: the caller promises `out_hit` is writable.
         unsafe { out.set(hit) };
         Ok(())
@@ -135,11 +143,68 @@ pub(crate) unsafe fn batch<P>(
         let hf = f.view();
         let prepared = prepare(hf)?;
         for r in rays {
-            query(r)?;
+            query(hf, r)?;
         }
         for (r, h) in rays.iter().zip(hits.iter_mut()) {
-            *h = hf_hit::from(trace(hf, &prepared, &query(r)?));
+            *h = answer(hf, trace(hf, &prepared, &query(hf, r)?));
         }
+        Ok(())
+    })
+}
+
+/// A shadow ray from `hit` (the answer `hf_trace_*` gave for `primary` on `surface`, an
+/// `hf_surface` value, of `field`; in world units when the field has a transform)
+/// towards a light in direction `to_light`, written to `*out_ray`: its origin is the
+/// hit point lifted off the surface (along the normal by `64 · FLT_EPSILON · (1 + m)`
+/// grid units, `m` the largest magnitude of the hit point's and the primary origin's
+/// grid coordinates, then to at least that above the surface where it lies over the
+/// field), `t` in `[0, INFINITY]`. A shadow ray started at the hit point itself often
+/// reports `HF_FLAG_ORIGIN_INSIDE` (the point rounds into the solid); this one starts
+/// outside. `HF_ERR_INVALID_ARGUMENT` when `hit->hit` is 0. Thread safe.
+///
+/// # Safety
+/// `field` is NULL (an error) or a live handle; `primary`, `hit` and `to_light` (3
+/// floats) are NULL (an error) or valid for reading; `out_ray` is NULL (an error) or
+/// valid for writing one `hf_ray`.
+#[no_mangle]
+pub unsafe extern "C" fn hf_shadow_ray(
+    field: *const hf_field,
+    surface: u32,
+    primary: *const hf_ray,
+    hit: *const hf_hit,
+    to_light: *const [f32; 3],
+    out_ray: *mut hf_ray,
+) -> hf_result {
+    guard(|| {
+        // SAFETY: the caller promises a live handle and readable inputs.
+        let (f, p, h, l) = unsafe {
+            (ptr::get(field)?, ptr::get(primary)?, ptr::get(hit)?, ptr::get(to_light)?)
+        };
+        let out = ptr::out(out_ray)?;
+        let surface = surface_of(surface)?;
+        let hf = f.view();
+        if h.hit == 0 || !h.point.iter().chain(&h.normal).all(|v| v.is_finite()) {
+            return Err(HF_ERR_INVALID_ARGUMENT);
+        }
+        let primary = Query::from_arrays(p.origin, p.dir, p.t_min, p.t_max)?;
+        let world_hit = Hit {
+            t: h.t,
+            point: h.point.into(),
+            cell: h.cell,
+            normal: h.normal.into(),
+            flags: Flags(h.flags),
+        };
+        let q = hf
+            .transform()
+            .shadow_query(hf, surface, &primary, &world_hit, *l)?;
+        let ray = hf_ray {
+            origin: q.origin(),
+            dir: q.dir(),
+            t_min: q.t_min(),
+            t_max: q.t_max(),
+        };
+        // SAFETY: the caller promises `out_ray` is writable.
+        unsafe { out.set(ray) };
         Ok(())
     })
 }

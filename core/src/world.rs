@@ -22,7 +22,8 @@
 //! own rounding; put `origin` near the field and the camera.
 
 use crate::math::Real;
-use crate::ray::{Query, RayError, Trace};
+use crate::ray::{Hit, Query, RayError, Trace};
+use crate::{HeightField, Surface};
 use core::fmt;
 
 /// Why a transform was refused.
@@ -185,6 +186,34 @@ impl WorldTransform {
             tr.clearance = R::from_f64(tr.clearance.to_f64() * self.scale[2]);
         }
         tr
+    }
+
+    /// [`Hit::shadow_query`] in world units: a shadow ray from `hit` (a world-space hit
+    /// of `primary` on `surface` of `hf`, whose grid this transform places) towards
+    /// `to_light` (a world direction), starting outside the solid. The lift is
+    /// computed in grid space and the origin mapped back.
+    pub fn shadow_query<R: Real>(
+        &self,
+        hf: &HeightField,
+        surface: Surface,
+        primary: &Query<R>,
+        hit: &Hit<R>,
+        to_light: [R; 3],
+    ) -> Result<Query<R>, RayError> {
+        let f64s = |v: [R; 3]| v.map(R::to_f64);
+        let back = |v: [f64; 3]| v.map(R::from_f64);
+        let mut grid = *hit;
+        grid.point = R::v3(back(self.point_to_grid(f64s(R::xyz(hit.point)))));
+        // The inverse of `normal_to_world`: n_grid ∝ n_world · scale.
+        let n = self.dir_to_world(f64s(R::xyz(hit.normal)));
+        let len = libm::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+        grid.normal = R::v3(back(n.map(|v| if len > 0.0 { v / len } else { v })));
+        let o = back(self.point_to_grid(f64s(primary.origin())));
+        let m = o.iter().fold(R::ZERO, |m, v| m.max(v.abs()));
+        let light = back(self.dir_to_grid(f64s(to_light)));
+        let q = grid.shadow_query(hf, surface, light, m)?;
+        let origin = back(self.point_to_world(f64s(q.origin())));
+        Query::from_arrays(origin, to_light, R::ZERO, R::INFINITY)
     }
 
     /// Traces a world ray: converts it to grid space, runs `trace` (any march) and
