@@ -26,6 +26,18 @@ if [ ${#missing[@]} -gt 0 ]; then
   echo "== installing ${missing[*]}"
   apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq "${missing[@]}"
 fi
+# A real GeoTIFF DEM for tools/tests/world_maps.rs: elev.tif (Luxembourg, 95 x 90, int16 with
+# nodata) of Debian's r-cran-terra 1.7-3 (GPL-3+), taken from the package without installing R.
+GEOTIFF=target/testdata/terra_elev.tif
+if [ ! -f "$GEOTIFF" ]; then
+  echo "== fetching $GEOTIFF (Debian r-cran-terra)"
+  tmp=$(mktemp -d)
+  (cd "$tmp" && { apt-get download -qq r-cran-terra 2>/dev/null || { apt-get update -qq && apt-get download -qq r-cran-terra; }; })
+  dpkg -x "$tmp"/r-cran-terra_*.deb "$tmp/x"
+  mkdir -p "$(dirname "$GEOTIFF")"
+  cp "$tmp/x/usr/lib/R/site-library/terra/ex/elev.tif" "$GEOTIFF"
+  rm -rf "$tmp"
+fi
 rustup component list --installed 2>/dev/null | grep -q '^clippy' || rustup component add clippy rustfmt
 
 echo "== cargo fmt --check"
