@@ -76,6 +76,36 @@
 #define HF_PYRAMID_TEX_WIDTH 4096
 #endif
 
+// Map kind (`hf_ktx2_desc::map`): the height field itself, `R32_SFLOAT`, `W × H`.
+#define HF_KTX2_HEIGHTS 0
+
+// Map kind: the maximum-mipmap pyramid (`hf_maxmip_bake`), `R32_SFLOAT`, one mip level
+// per pyramid level, in the top-left corner of a `P × Q` texture (`P`, `Q` the next
+// powers of two of `W − 1`, `H − 1`), the rest `−∞`.
+#define HF_KTX2_MAXMIP 1
+
+// Map kind: the directional safety-distance map (`hf_safety_bake_classes`,
+// `HF_SAFETY_DIRECTIONAL`), `R8_UINT`, `W × nH` for its `n` ray classes.
+#define HF_KTX2_SAFETY 2
+
+// Map kind: the isotropic safety-distance map (`HF_SAFETY_ISOTROPIC`), `R8_UINT`, `W × H`.
+#define HF_KTX2_SAFETY_ISOTROPIC 3
+
+// Map kind: the cylinder–cone map (`hf_cc_bake_classes`), `R8G8_UINT`, `W × nH`.
+#define HF_KTX2_CC 4
+
+// Map kind: the cone map (`hf_cone_bake`), `R32G32_SFLOAT`, `(W − 1) × (H − 1)`.
+#define HF_KTX2_CONE 5
+
+// Map kind: the relaxed cone map (`hf_relaxed_bake`), `R32_SFLOAT`, `W × H`.
+#define HF_KTX2_RELAXED 6
+
+// Map kind: the QDM (`hf_qdm_bake`), `R32G32B32A32_SFLOAT`, `(W − 1) × (H − 1)`.
+#define HF_KTX2_QDM 7
+
+// Map kind: the safety-radius map (`hf_radius_bake`), `R8_UINT`, `W × H`.
+#define HF_KTX2_RADIUS 8
+
 // Ray-class bit of `hf_scene::ray_classes`: rays with dx ≥ |dy|.
 #define HF_RAYS_X_POS 1
 
@@ -340,9 +370,12 @@ typedef uint32_t hf_need;
 // copy the caller's samples, so the caller's buffer may be freed at once). Sample
 // (i, j) sits at grid point (x = i, y = j); the surface covers [0, W−1] × [0, H−1].
 //
+// A field may carry an [`hf_transform`] (`hf_field_set_transform`): then every
+// `hf_trace_*` function takes rays and returns hits in world units.
+//
 // Thread safety: functions taking a `const hf_field *` only read it and may run
-// concurrently from any number of threads; `hf_field_update_rect` and
-// `hf_field_destroy` need exclusive access.
+// concurrently from any number of threads; `hf_field_update_rect`,
+// `hf_field_set_transform` and `hf_field_destroy` need exclusive access.
 typedef struct hf_field hf_field;
 
 #if defined(HF_HAVE_SAFETY)
@@ -356,12 +389,14 @@ typedef struct hf_cc_options {
 } hf_cc_options;
 #endif
 
-// A ray in grid space: the points `origin + t * dir` for `t` in `[t_min, t_max]`.
+// A ray: the points `origin + t * dir` for `t` in `[t_min, t_max]`, in grid space, or
+// in the field's world units when it has a transform (`hf_field_set_transform`).
 // `dir` need not be normalised (t is then in units of `|dir|`) but must be finite
-// and non-zero; `t_min` finite; `t_max ≥ t_min`, `INFINITY` allowed. Grid space: x
-// along sample columns i, y along rows j, z up, all in sample spacings.
+// and non-zero, also after conversion to grid space; `t_min` finite; `t_max ≥ t_min`,
+// `INFINITY` allowed. Grid space: x along sample columns i, y along rows j, z up, all
+// in sample spacings.
 typedef struct hf_ray {
-  // Origin (x, y, z) in grid units.
+  // Origin (x, y, z) in grid units (world units with a transform).
   float origin[3];
   // Direction (x, y, z), finite and non-zero.
   float dir[3];
@@ -386,11 +421,12 @@ typedef struct hf_hit {
   uint32_t cell[2];
   // Ray parameter of the hit.
   float t;
-  // Hit point in grid space.
+  // Hit point in grid space (world units with a transform).
   float point[3];
   // Unit surface normal at the hit (a wall's normal for side and step hits).
   float normal[3];
-  // Smallest clearance (ray height − surface height, grid units) seen before the hit
+  // Smallest clearance (ray height − surface height, grid units; world height units
+  // with a transform) seen before the hit
   // or along the whole ray for a miss; `INFINITY` when the ray never overlaps the
   // field. Exact methods fill it; approximate ones report `INFINITY`.
   float clearance;
@@ -407,6 +443,67 @@ typedef struct hf_field_info {
   // Highest height (grid units); after `hf_field_update_rect` an upper bound.
   float max_height;
 } hf_field_info;
+
+// Where a field's grid sits in world units: `world = (origin[0] + spacing[0]·x,
+// origin[1] + spacing[1]·y, height_offset + height_scale·z)` for grid point (x, y, z)
+// (x = sample column, y = sample row, z = height in grid units). A world ray
+// `o + t·d` is traced as the grid ray `(o − offset)/scale + t·d/scale`: `t`, `t_min`
+// and `t_max` mean the same in both frames. Hit points come back in world units,
+// normals by the inverse transpose (unit length), clearances times `height_scale`;
+// `cell` stays the grid cell. The conversion runs in double precision; keep `origin`
+// near the scene (float world coordinates far from it carry their own rounding).
+// The identity (origin 0, spacing 1, height scale 1, offset 0) is the default and
+// changes no bit of any answer.
+typedef struct hf_transform {
+  // World (x, y) of sample (0, 0).
+  double origin[2];
+  // World units between neighbouring samples along x and y: non-zero (negative
+  // flips the axis, e.g. a north-up raster's rows).
+  double spacing[2];
+  // World height units per grid height unit: positive.
+  double height_scale;
+  // World height of grid height 0.
+  double height_offset;
+} hf_transform;
+
+// Which baked map a KTX 2 file holds, of which field, baked how: what the file's
+// metadata records (`hfcast.method`, `hfcast.field`, `hfcast.cap`,
+// `hfcast.ray_classes`, `hfcast.ray_set`, `hfcast.variant`).
+typedef struct hf_ktx2_desc {
+  // The map: `HF_KTX2_*`.
+  uint32_t map;
+  // The field's samples along x (2 to `HF_MAX_SIDE`).
+  uint32_t width;
+  // The field's samples along y (2 to `HF_MAX_SIDE`).
+  uint32_t height;
+  // The bake's cap, 0..=255 (safety, cylinder–cone and radius maps; else ignored).
+  uint32_t cap;
+  // The ray classes the map holds, `HF_RAYS_*` bits, not 0 (safety and
+  // cylinder–cone maps; else ignored, and the radius map's are all four).
+  uint32_t ray_classes;
+  // The radius bake's tolerance, finite and ≥ 0 (radius map; else ignored).
+  float tolerance;
+} hf_ktx2_desc;
+
+// What `hf_ktx2_read_info` finds in a valid file.
+typedef struct hf_ktx2_info {
+  // The map, from the metadata (fields the map ignores read as
+  // `hf_ktx2_desc_default`'s).
+  struct hf_ktx2_desc desc;
+  // The `VkFormat` of the texture (13 `R8_UINT`, 20 `R8G8_UINT`, 100 `R32_SFLOAT`,
+  // 103 `R32G32_SFLOAT`, 109 `R32G32B32A32_SFLOAT`).
+  uint32_t vk_format;
+  // Texels of level 0 along x.
+  uint32_t pixel_width;
+  // Texels of level 0 along y.
+  uint32_t pixel_height;
+  // Number of mip levels (1 except for the pyramid).
+  uint32_t levels;
+  // Bytes per texel.
+  uint32_t texel_size;
+  // Bytes of the baked map (`hf_ktx2_read_map`), as `hf_ktx2_map_len`.
+  size_t map_len;
+} hf_ktx2_info;
 
 #if defined(HF_HAVE_MAXMIP)
 // One level of a maximum-mipmap pyramid: its texels lie at
@@ -1099,6 +1196,127 @@ hf_result hf_field_update_rect(struct hf_field *field,
                                size_t values_len,
                                size_t values_stride);
 
+// Places the field in world units (see [`hf_transform`]); from then on every
+// `hf_trace_*` call on it takes world rays and returns world hits. Bakes and baked
+// maps are unaffected (they live in grid space). `HF_ERR_NOT_FINITE` for a NaN or
+// infinite component, `HF_ERR_INVALID_ARGUMENT` for a zero spacing or a height scale
+// that is not positive; on error the field keeps its transform. Needs exclusive
+// access to the field.
+//
+// # Safety
+// `field` is NULL (an error) or a live handle not used by another thread during the
+// call; `transform` is NULL (an error) or valid for reading one `hf_transform`.
+hf_result hf_field_set_transform(struct hf_field *field,
+                                 const struct hf_transform *transform);
+
+// Writes the field's transform (the identity unless `hf_field_set_transform` set
+// one) to `*out_transform`. Thread safe.
+//
+// # Safety
+// `field` is NULL (an error) or a live handle; `out_transform` is NULL (an error) or
+// valid for writing one `hf_transform`.
+hf_result hf_field_get_transform(const struct hf_field *field,
+                                 struct hf_transform *out_transform);
+
+// Writes the description of map `map` (`HF_KTX2_*`) of a `width × height` field
+// with the bakes' defaults to `*out_desc`: cap 255 (safety, radius), 64
+// (cylinder–cone) or 0 (maps without one), every ray class, tolerance 0. Thread safe.
+//
+// # Safety
+// `out_desc` is NULL (an error) or valid for writing one `hf_ktx2_desc`.
+hf_result hf_ktx2_desc_default(uint32_t map,
+                               uint32_t width,
+                               uint32_t height,
+                               struct hf_ktx2_desc *out_desc);
+
+// Writes the size in bytes of the KTX 2 file of `desc` to `*out_len`: the buffer
+// `hf_ktx2_write` needs. An unknown map is `HF_ERR_INVALID_ENUM`, a size outside 2 to
+// `HF_MAX_SIDE` `HF_ERR_INVALID_SIZE`, a cap above 255, no ray class (or bits above
+// `HF_RAYS_ALL`) or a negative or non-finite tolerance `HF_ERR_INVALID_ARGUMENT`.
+// Thread safe.
+//
+// # Safety
+// `desc` is NULL (an error) or valid; `out_len` NULL (an error) or valid for writing
+// one `size_t`.
+hf_result hf_ktx2_len(const struct hf_ktx2_desc *desc,
+                      size_t *out_len);
+
+// Writes the size in bytes of the baked map of `desc` to `*out_len`: what its bake
+// writes (for the pyramid every level, `hf_maxmip_len` floats), which
+// `hf_ktx2_write` reads and `hf_ktx2_read_map` writes. Errors as `hf_ktx2_len`.
+// Thread safe.
+//
+// # Safety
+// As `hf_ktx2_len`.
+hf_result hf_ktx2_map_len(const struct hf_ktx2_desc *desc,
+                          size_t *out_len);
+
+// Writes the KTX 2 file of the baked map `data` (`data_len` bytes, at least
+// `hf_ktx2_map_len`: the buffer its bake filled, floats for float maps, aligned for
+// them) described by `desc` into `out` (`out_len ≥ hf_ktx2_len` bytes; the file is
+// the first `hf_ktx2_len` of them). Errors as `hf_ktx2_len`, plus
+// `HF_ERR_BUFFER_TOO_SMALL` for a short `data` or `out`. Thread safe.
+//
+// # Safety
+// `desc` is NULL (an error) or valid; `data` NULL (an error) or valid for reading
+// `data_len` bytes; `out` NULL (an error) or valid for writing `out_len` bytes.
+hf_result hf_ktx2_write(const struct hf_ktx2_desc *desc,
+                        const void *data,
+                        size_t data_len,
+                        uint8_t *out,
+                        size_t out_len);
+
+// Validates the KTX 2 file `bytes` (`len` bytes: identifier, header, level index,
+// data format descriptor, key/value data, hfcast metadata agreeing with the header)
+// and writes what it holds to `*out_info`. A file that is not a valid hfcast KTX 2
+// file (truncated, another identifier, an index pointing past the end, other
+// metadata) is `HF_ERR_INVALID_ARGUMENT`. Thread safe.
+//
+// # Safety
+// `bytes` is NULL (an error) or valid for reading `len` bytes; `out_info` NULL (an
+// error) or valid for writing one `hf_ktx2_info`.
+hf_result hf_ktx2_read_info(const uint8_t *bytes,
+                            size_t len,
+                            struct hf_ktx2_info *out_info);
+
+// Writes the size in bytes of mip level `level` of the KTX 2 file `bytes` to
+// `*out_len`: `max(1, pixel_width >> level) · max(1, pixel_height >> level) ·
+// texel_size`. A level past the last is `HF_ERR_INVALID_ARGUMENT`; errors of the
+// file as `hf_ktx2_read_info`. Thread safe.
+//
+// # Safety
+// As `hf_ktx2_read_info`, with `out_len` valid for writing one `size_t`.
+hf_result hf_ktx2_level_len(const uint8_t *bytes,
+                            size_t len,
+                            uint32_t level,
+                            size_t *out_len);
+
+// Copies mip level `level` of the KTX 2 file `bytes` into `out` (`out_len ≥
+// hf_ktx2_level_len` bytes): texel rows tightly packed, little-endian, ready for a
+// GPU upload of that level (a padded pyramid level with its `−∞` padding). Errors as
+// `hf_ktx2_level_len`, plus `HF_ERR_BUFFER_TOO_SMALL`. Thread safe.
+//
+// # Safety
+// As `hf_ktx2_read_info`, with `out` valid for writing `out_len` bytes.
+hf_result hf_ktx2_read_level(const uint8_t *bytes,
+                             size_t len,
+                             uint32_t level,
+                             uint8_t *out,
+                             size_t out_len);
+
+// Copies the baked map of the KTX 2 file `bytes` into `out` (`out_len ≥` the info's
+// `map_len` bytes; floats for float maps, aligned for them): exactly what its bake
+// wrote, ready for the `hf_trace_*` call of its method (the pyramid with every level,
+// unpadded). Errors as `hf_ktx2_read_info`, plus `HF_ERR_BUFFER_TOO_SMALL`. Thread
+// safe.
+//
+// # Safety
+// As `hf_ktx2_read_info`, with `out` valid for writing `out_len` bytes.
+hf_result hf_ktx2_read_map(const uint8_t *bytes,
+                           size_t len,
+                           void *out,
+                           size_t out_len);
+
 #if defined(HF_HAVE_MAXMIP)
 // Writes the number of floats of the maximum-mipmap pyramid of a `width × height`
 // field (2 ≤ width, height ≤ `HF_MAX_SIDE`) to `*out_len`: the size to allocate for
@@ -1668,6 +1886,27 @@ hf_result hf_shader_generate(const struct hf_scene *scene,
                              char *buf,
                              size_t buf_len,
                              size_t *out_written);
+
+// A shadow ray from `hit` (the answer `hf_trace_*` gave for `primary` on `surface`, an
+// `hf_surface` value, of `field`; in world units when the field has a transform)
+// towards a light in direction `to_light`, written to `*out_ray`: its origin is the
+// hit point lifted off the surface (along the normal by `64 · FLT_EPSILON · (1 + m)`
+// grid units, `m` the largest magnitude of the hit point's and the primary origin's
+// grid coordinates, then to at least that above the surface where it lies over the
+// field), `t` in `[0, INFINITY]`. A shadow ray started at the hit point itself often
+// reports `HF_FLAG_ORIGIN_INSIDE` (the point rounds into the solid); this one starts
+// outside. `HF_ERR_INVALID_ARGUMENT` when `hit->hit` is 0. Thread safe.
+//
+// # Safety
+// `field` is NULL (an error) or a live handle; `primary`, `hit` and `to_light` (3
+// floats) are NULL (an error) or valid for reading; `out_ray` is NULL (an error) or
+// valid for writing one `hf_ray`.
+hf_result hf_shadow_ray(const struct hf_field *field,
+                        uint32_t surface,
+                        const struct hf_ray *primary,
+                        const struct hf_hit *hit,
+                        const float (*to_light)[3],
+                        struct hf_ray *out_ray);
 
 // Traces one ray with the exact method (grid traversal with the exact per-cell test
 // of `surface`, an `hf_surface` value): the first hit in `[t_min, t_max]`, watertight

@@ -27,6 +27,7 @@ pub mod cc;
 #[cfg(feature = "cone")]
 pub mod cones;
 pub mod field;
+pub mod ktx2;
 #[cfg(feature = "maxmip")]
 pub mod maxmip;
 #[cfg(any(feature = "safety", feature = "cone"))]

@@ -1,0 +1,243 @@
+/* KTX 2 files of baked maps through the C API: every map kind baked through the C
+ * API on a synthetic field, written with hf_ktx2_write, read back with
+ * hf_ktx2_read_info / hf_ktx2_read_map / hf_ktx2_read_level and compared byte for byte
+ * and field by field; bad input (NULL, short buffers, a truncated file, another
+ * identifier, a bad description) returns its error and writes nothing.
+ * Built by the Makefile with -Wall -Wextra -Werror -std=c99, run plain and under
+ * -fsanitize=address,undefined. */
+#include "hfcast.h"
+
+#include "check.h"
+
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define W 19u
+#define H 12u
+
+/* A bad call: must return `code` and leave the `len` bytes at `out` as they were. */
+#define CHECK_BAD(call, code, out, len)                                            \
+    do {                                                                           \
+        unsigned char before_[256];                                                \
+        size_t n_ = (len) < sizeof before_ ? (size_t)(len) : sizeof before_;       \
+        memcpy(before_, (out), n_);                                               \
+        hf_result r_ = (call);                                                     \
+        CHECK(r_ == (code));                                                       \
+        if (r_ != (code))                                                          \
+            fprintf(stderr, "  %s returned %u, expected %u\n", #call, (unsigned)r_, \
+                    (unsigned)(code));                                             \
+        CHECK(memcmp(before_, (out), n_) == 0);                                    \
+    } while (0)
+
+/* A baked map: its bytes and its description. */
+typedef struct {
+    const char *name;
+    hf_ktx2_desc desc;
+    void *data;
+    size_t len; /* bytes */
+    uint32_t vk_format;
+} baked;
+
+/* Bakes map `map` of `field` with `classes` (class-row maps only) through the C API. */
+static baked bake(const hf_field *field, uint32_t map, uint32_t classes) {
+    baked b;
+    memset(&b, 0, sizeof b);
+    CHECK(hf_ktx2_desc_default(map, W, H, &b.desc) == HF_OK);
+    b.desc.ray_classes = classes;
+    size_t n = 0;
+    CHECK(hf_ktx2_map_len(&b.desc, &n) == HF_OK);
+    b.len = n;
+    b.data = malloc(n);
+    hf_safety_options so = {HF_SAFETY_DIRECTIONAL, 0, 255};
+    hf_cc_options co = {HF_CC_SLOPE_EXACT, 64};
+    hf_radius_options ro = {0.5f, 200};
+    size_t want = 0;
+    switch (map) {
+    case HF_KTX2_HEIGHTS:
+        b.name = "heights", b.vk_format = 100;
+        CHECK(hf_field_copy_heights(field, (float *)b.data, n / 4) == HF_OK);
+        want = W * H * 4;
+        break;
+    case HF_KTX2_MAXMIP:
+        b.name = "maxmip", b.vk_format = 100;
+        CHECK(hf_maxmip_len(W, H, &want) == HF_OK);
+        want *= 4;
+        CHECK(hf_maxmip_bake(field, (float *)b.data, n / 4) == HF_OK);
+        break;
+    case HF_KTX2_SAFETY:
+    case HF_KTX2_SAFETY_ISOTROPIC:
+        b.name = map == HF_KTX2_SAFETY ? "safety" : "safety-isotropic", b.vk_format = 13;
+        so.variant = map == HF_KTX2_SAFETY ? HF_SAFETY_DIRECTIONAL : HF_SAFETY_ISOTROPIC;
+        so.cap = b.desc.cap = 40;
+        CHECK(hf_safety_map_len_classes(W, H, so.variant, classes, &want) == HF_OK);
+        CHECK(hf_safety_bake_classes(field, &so, classes, 1, (uint8_t *)b.data, n) == HF_OK);
+        break;
+    case HF_KTX2_CC:
+        b.name = "cc", b.vk_format = 20;
+        CHECK(hf_cc_map_len_classes(W, H, classes, &want) == HF_OK);
+        CHECK(hf_cc_bake_classes(field, &co, classes, 2, (uint8_t *)b.data, n) == HF_OK);
+        break;
+    case HF_KTX2_CONE:
+        b.name = "cone", b.vk_format = 103;
+        CHECK(hf_cone_map_len(W, H, &want) == HF_OK);
+        want *= 4;
+        CHECK(hf_cone_bake(field, 1, (float *)b.data, n / 4) == HF_OK);
+        break;
+    case HF_KTX2_RELAXED:
+        b.name = "relaxed", b.vk_format = 100;
+        CHECK(hf_relaxed_map_len(W, H, &want) == HF_OK);
+        want *= 4;
+        CHECK(hf_relaxed_bake(field, 1, (float *)b.data, n / 4) == HF_OK);
+        break;
+    case HF_KTX2_QDM:
+        b.name = "qdm", b.vk_format = 109;
+        CHECK(hf_qdm_map_len(W, H, &want) == HF_OK);
+        want *= 4;
+        CHECK(hf_qdm_bake(field, 1, (float *)b.data, n / 4) == HF_OK);
+        break;
+    case HF_KTX2_RADIUS:
+        b.name = "radius", b.vk_format = 13;
+        b.desc.cap = ro.cap;
+        b.desc.tolerance = ro.tolerance;
+        CHECK(hf_radius_map_len(W, H, &want) == HF_OK);
+        CHECK(hf_radius_bake(field, &ro, 1, (uint8_t *)b.data, n) == HF_OK);
+        break;
+    }
+    CHECK(want == n); /* the container's size of the map is the bake's */
+    return b;
+}
+
+/* Writes `b` to a file and reads everything back. */
+static void round_trip(const baked *b) {
+    size_t n = 0;
+    CHECK(hf_ktx2_len(&b->desc, &n) == HF_OK);
+    uint8_t *file = (uint8_t *)malloc(n);
+    CHECK_BAD(hf_ktx2_write(&b->desc, b->data, b->len, file, n - 1), HF_ERR_BUFFER_TOO_SMALL,
+              file, n - 1);
+    CHECK_BAD(hf_ktx2_write(&b->desc, b->data, b->len - 1, file, n), HF_ERR_BUFFER_TOO_SMALL,
+              file, n);
+    CHECK(hf_ktx2_write(&b->desc, b->data, b->len, file, n) == HF_OK);
+    static const uint8_t ident[12] = {0xAB, 0x4B, 0x54, 0x58, 0x20, 0x32,
+                                      0x30, 0xBB, 0x0D, 0x0A, 0x1A, 0x0A};
+    CHECK(memcmp(file, ident, 12) == 0);
+
+    hf_ktx2_info info;
+    memset(&info, 0, sizeof info);
+    CHECK(hf_ktx2_read_info(file, n, &info) == HF_OK);
+    CHECK(info.desc.map == b->desc.map && info.desc.width == W && info.desc.height == H);
+    CHECK(info.vk_format == b->vk_format);
+    CHECK(info.map_len == b->len);
+    int rays = b->desc.map == HF_KTX2_SAFETY || b->desc.map == HF_KTX2_SAFETY_ISOTROPIC ||
+               b->desc.map == HF_KTX2_CC || b->desc.map == HF_KTX2_RADIUS;
+    if (rays) {
+        CHECK(info.desc.cap == b->desc.cap);
+        CHECK(info.desc.ray_classes == b->desc.ray_classes);
+        CHECK(info.desc.tolerance == b->desc.tolerance);
+    }
+
+    void *back = malloc(b->len);
+    memset(back, 0xEE, b->len);
+    CHECK_BAD(hf_ktx2_read_map(file, n, back, b->len - 1), HF_ERR_BUFFER_TOO_SMALL, back,
+              b->len);
+    CHECK(hf_ktx2_read_map(file, n, back, b->len) == HF_OK);
+    CHECK(memcmp(back, b->data, b->len) == 0);
+
+    size_t level_len = 0;
+    CHECK(hf_ktx2_level_len(file, n, 0, &level_len) == HF_OK);
+    CHECK(level_len == (size_t)info.pixel_width * info.pixel_height * info.texel_size);
+    uint8_t *level = (uint8_t *)malloc(level_len);
+    CHECK(hf_ktx2_read_level(file, n, 0, level, level_len) == HF_OK);
+    if (b->desc.map == HF_KTX2_MAXMIP) {
+        /* 18 x 11 cells: a 32 x 16 texture, pyramid level 0 row by row, -inf after. */
+        hf_level lv[HF_MAX_LEVELS];
+        uint32_t count = 0;
+        CHECK(hf_maxmip_levels(W, H, lv, HF_MAX_LEVELS, &count) == HF_OK);
+        CHECK(info.levels == count && info.pixel_width == 32 && info.pixel_height == 16);
+        const float *pyr = (const float *)b->data;
+        for (uint32_t j = 0; j < lv[0].height; j++)
+            CHECK(memcmp(level + (size_t)j * 32 * 4, pyr + (size_t)j * lv[0].width,
+                         lv[0].width * 4) == 0);
+        float pad;
+        memcpy(&pad, level + 4 * (size_t)lv[0].width, 4);
+        CHECK(pad < -1e38f);
+        size_t last = 0;
+        CHECK(hf_ktx2_level_len(file, n, count - 1, &last) == HF_OK);
+        CHECK(last == 4);
+        uint8_t top[4];
+        CHECK(hf_ktx2_read_level(file, n, count - 1, top, 4) == HF_OK);
+        CHECK(memcmp(top, pyr + lv[count - 1].offset, 4) == 0);
+        CHECK_BAD(hf_ktx2_level_len(file, n, count, &last), HF_ERR_INVALID_ARGUMENT, &last,
+                  sizeof last);
+    } else {
+        CHECK(info.levels == 1);
+        CHECK(level_len == b->len && memcmp(level, b->data, b->len) == 0);
+    }
+    CHECK_BAD(hf_ktx2_read_level(file, n, 0, level, level_len - 1), HF_ERR_BUFFER_TOO_SMALL,
+              level, level_len - 1);
+
+    /* Bad files: truncated, another identifier, NULL. */
+    hf_ktx2_info keep = info;
+    CHECK_BAD(hf_ktx2_read_info(file, n - 1, &info), HF_ERR_INVALID_ARGUMENT, &info,
+              sizeof info);
+    CHECK_BAD(hf_ktx2_read_info(file, 40, &info), HF_ERR_INVALID_ARGUMENT, &info,
+              sizeof info);
+    file[5] = '1'; /* "KTX 10" */
+    CHECK_BAD(hf_ktx2_read_info(file, n, &info), HF_ERR_INVALID_ARGUMENT, &info, sizeof info);
+    CHECK_BAD(hf_ktx2_read_map(file, n, back, b->len), HF_ERR_INVALID_ARGUMENT, back,
+              b->len);
+    file[5] = '2';
+    CHECK(hf_ktx2_read_info(file, n, &info) == HF_OK && info.map_len == keep.map_len);
+    CHECK_BAD(hf_ktx2_read_info(NULL, n, &info), HF_ERR_NULL_POINTER, &info, sizeof info);
+    CHECK_BAD(hf_ktx2_read_info(file, n, NULL), HF_ERR_NULL_POINTER, &info, 0);
+    CHECK_BAD(hf_ktx2_read_map(file, n, NULL, b->len), HF_ERR_NULL_POINTER, &info, 0);
+    CHECK_BAD(hf_ktx2_write(&b->desc, NULL, b->len, file, n), HF_ERR_NULL_POINTER, file, n);
+    free(level);
+    free(back);
+    free(file);
+}
+
+/* Bad descriptions: every size query refuses them and writes nothing. */
+static void bad_descs(void) {
+    hf_ktx2_desc d;
+    size_t len = 7;
+    CHECK_BAD(hf_ktx2_desc_default(99, W, H, &d), HF_ERR_INVALID_ENUM, &d, sizeof d);
+    CHECK_BAD(hf_ktx2_desc_default(HF_KTX2_CONE, 1, H, &d), HF_ERR_INVALID_SIZE, &d, sizeof d);
+    CHECK(hf_ktx2_desc_default(HF_KTX2_CC, W, H, &d) == HF_OK);
+    CHECK(d.cap == 64 && d.ray_classes == HF_RAYS_ALL);
+    d.ray_classes = 0;
+    CHECK_BAD(hf_ktx2_len(&d, &len), HF_ERR_INVALID_ARGUMENT, &len, sizeof len);
+    d.ray_classes = HF_RAYS_X_POS;
+    d.cap = 256;
+    CHECK_BAD(hf_ktx2_map_len(&d, &len), HF_ERR_INVALID_ARGUMENT, &len, sizeof len);
+    CHECK_BAD(hf_ktx2_len(NULL, &len), HF_ERR_NULL_POINTER, &len, sizeof len);
+    CHECK(hf_ktx2_desc_default(HF_KTX2_RADIUS, W, H, &d) == HF_OK);
+    d.tolerance = -1.0f;
+    CHECK_BAD(hf_ktx2_len(&d, &len), HF_ERR_INVALID_ARGUMENT, &len, sizeof len);
+}
+
+int main(void) {
+    float heights[W * H];
+    for (uint32_t j = 0; j < H; j++)
+        for (uint32_t i = 0; i < W; i++)
+            heights[j * W + i] = (float)((i * 7 + j * 13) % 11) * 0.5f + (i == 9 ? 4.0f : 0.0f);
+    hf_field *field = NULL;
+    CHECK(hf_field_create_f32(heights, W * H, W, H, W, &field) == HF_OK);
+    const uint32_t maps[9] = {HF_KTX2_HEIGHTS, HF_KTX2_MAXMIP,  HF_KTX2_SAFETY,
+                              HF_KTX2_SAFETY_ISOTROPIC, HF_KTX2_CC,     HF_KTX2_CONE,
+                              HF_KTX2_RELAXED, HF_KTX2_QDM,     HF_KTX2_RADIUS};
+    for (int m = 0; m < 9; m++) {
+        uint32_t classes = maps[m] == HF_KTX2_RADIUS ? HF_RAYS_ALL : HF_RAYS_X_POS | HF_RAYS_Y_NEG;
+        baked b = bake(field, maps[m], classes);
+        int before = failures;
+        round_trip(&b);
+        if (failures != before)
+            fprintf(stderr, "  (map %s)\n", b.name);
+        free(b.data);
+    }
+    bad_descs();
+    hf_field_destroy(field);
+    printf("c-ktx: %d passed, %d failed\n", checks - failures, failures);
+    return failures == 0 ? 0 : 1;
+}

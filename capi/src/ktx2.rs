@@ -1,0 +1,427 @@
+//! Baked maps as KTX 2.0 files (the core's `ktx2` module): sizes, write into a
+//! caller buffer, and the validating reader (file info, one level's bytes, the baked
+//! map back). Every map of every method, whatever the cargo features: the container
+//! needs no bake.
+
+use crate::hf_result::{self, *};
+use crate::{guard, ptr, HF_MAX_SIDE};
+use hfcore::ktx2::{self, Data, DataMut, Desc, Ktx2Error, MapKind, View};
+use std::ffi::c_void;
+
+/// Map kind (`hf_ktx2_desc::map`): the height field itself, `R32_SFLOAT`, `W × H`.
+pub const HF_KTX2_HEIGHTS: u32 = 0;
+/// Map kind: the maximum-mipmap pyramid (`hf_maxmip_bake`), `R32_SFLOAT`, one mip level
+/// per pyramid level, in the top-left corner of a `P × Q` texture (`P`, `Q` the next
+/// powers of two of `W − 1`, `H − 1`), the rest `−∞`.
+pub const HF_KTX2_MAXMIP: u32 = 1;
+/// Map kind: the directional safety-distance map (`hf_safety_bake_classes`,
+/// `HF_SAFETY_DIRECTIONAL`), `R8_UINT`, `W × nH` for its `n` ray classes.
+pub const HF_KTX2_SAFETY: u32 = 2;
+/// Map kind: the isotropic safety-distance map (`HF_SAFETY_ISOTROPIC`), `R8_UINT`, `W × H`.
+pub const HF_KTX2_SAFETY_ISOTROPIC: u32 = 3;
+/// Map kind: the cylinder–cone map (`hf_cc_bake_classes`), `R8G8_UINT`, `W × nH`.
+pub const HF_KTX2_CC: u32 = 4;
+/// Map kind: the cone map (`hf_cone_bake`), `R32G32_SFLOAT`, `(W − 1) × (H − 1)`.
+pub const HF_KTX2_CONE: u32 = 5;
+/// Map kind: the relaxed cone map (`hf_relaxed_bake`), `R32_SFLOAT`, `W × H`.
+pub const HF_KTX2_RELAXED: u32 = 6;
+/// Map kind: the QDM (`hf_qdm_bake`), `R32G32B32A32_SFLOAT`, `(W − 1) × (H − 1)`.
+pub const HF_KTX2_QDM: u32 = 7;
+/// Map kind: the safety-radius map (`hf_radius_bake`), `R8_UINT`, `W × H`.
+pub const HF_KTX2_RADIUS: u32 = 8;
+
+/// Which baked map a KTX 2 file holds, of which field, baked how: what the file's
+/// metadata records (`hfcast.method`, `hfcast.field`, `hfcast.cap`,
+/// `hfcast.ray_classes`, `hfcast.ray_set`, `hfcast.variant`).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct hf_ktx2_desc {
+    /// The map: `HF_KTX2_*`.
+    pub map: u32,
+    /// The field's samples along x (2 to `HF_MAX_SIDE`).
+    pub width: u32,
+    /// The field's samples along y (2 to `HF_MAX_SIDE`).
+    pub height: u32,
+    /// The bake's cap, 0..=255 (safety, cylinder–cone and radius maps; else ignored).
+    pub cap: u32,
+    /// The ray classes the map holds, `HF_RAYS_*` bits, not 0 (safety and
+    /// cylinder–cone maps; else ignored, and the radius map's are all four).
+    pub ray_classes: u32,
+    /// The radius bake's tolerance, finite and ≥ 0 (radius map; else ignored).
+    pub tolerance: f32,
+}
+
+/// What `hf_ktx2_read_info` finds in a valid file.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct hf_ktx2_info {
+    /// The map, from the metadata (fields the map ignores read as
+    /// `hf_ktx2_desc_default`'s).
+    pub desc: hf_ktx2_desc,
+    /// The `VkFormat` of the texture (13 `R8_UINT`, 20 `R8G8_UINT`, 100 `R32_SFLOAT`,
+    /// 103 `R32G32_SFLOAT`, 109 `R32G32B32A32_SFLOAT`).
+    pub vk_format: u32,
+    /// Texels of level 0 along x.
+    pub pixel_width: u32,
+    /// Texels of level 0 along y.
+    pub pixel_height: u32,
+    /// Number of mip levels (1 except for the pyramid).
+    pub levels: u32,
+    /// Bytes per texel.
+    pub texel_size: u32,
+    /// Bytes of the baked map (`hf_ktx2_read_map`), as `hf_ktx2_map_len`.
+    pub map_len: usize,
+}
+
+/// The C code of a container error: sizes of buffers are `HF_ERR_BUFFER_TOO_SMALL`, a
+/// bad description `HF_ERR_INVALID_ARGUMENT`, and so is every file that is not a valid
+/// hfcast KTX 2 file (truncated, wrong identifier, bad header, index or metadata).
+fn code(e: Ktx2Error) -> hf_result {
+    match e {
+        Ktx2Error::DataTooShort { .. } | Ktx2Error::OutputTooShort { .. } => {
+            HF_ERR_BUFFER_TOO_SMALL
+        }
+        _ => HF_ERR_INVALID_ARGUMENT,
+    }
+}
+
+/// Checks an `hf_ktx2_desc` and turns it into the core's [`Desc`].
+fn desc_of(d: &hf_ktx2_desc) -> Result<Desc, hf_result> {
+    let map = MapKind::from_u32(d.map).ok_or(HF_ERR_INVALID_ENUM)?;
+    let ok = |n: u32| (2..=HF_MAX_SIDE).contains(&n);
+    if !ok(d.width) || !ok(d.height) {
+        return Err(HF_ERR_INVALID_SIZE);
+    }
+    let mut desc = Desc::new(map, d.width, d.height);
+    if map.has_rays() {
+        desc.cap = u8::try_from(d.cap).map_err(|_| HF_ERR_INVALID_ARGUMENT)?;
+    }
+    if matches!(
+        map,
+        MapKind::Safety | MapKind::SafetyIsotropic | MapKind::Cc
+    ) {
+        desc.classes = crate::scene::classes_of(d.ray_classes)?;
+    }
+    if map == MapKind::Radius {
+        desc.tolerance = d.tolerance;
+    }
+    ktx2::len(&desc).map_err(code)?;
+    Ok(desc)
+}
+
+/// The C form of a core [`Desc`].
+fn c_desc(d: &Desc) -> hf_ktx2_desc {
+    hf_ktx2_desc {
+        map: d.map as u32,
+        width: d.width,
+        height: d.height,
+        cap: d.cap.into(),
+        ray_classes: d.classes.0.into(),
+        tolerance: d.tolerance,
+    }
+}
+
+/// Bytes of an element of `desc`'s map: 4 for float maps, 1 for 8-bit ones.
+fn element_size(desc: &Desc) -> usize {
+    desc.map.format().type_size()
+}
+
+/// Writes the description of map `map` (`HF_KTX2_*`) of a `width × height` field
+/// with the bakes' defaults to `*out_desc`: cap 255 (safety, radius), 64
+/// (cylinder–cone) or 0 (maps without one), every ray class, tolerance 0. Thread safe.
+///
+/// # Safety
+/// `out_desc` is NULL (an error) or valid for writing one `hf_ktx2_desc`.
+#[no_mangle]
+pub unsafe extern "C" fn hf_ktx2_desc_default(
+    map: u32,
+    width: u32,
+    height: u32,
+    out_desc: *mut hf_ktx2_desc,
+) -> hf_result {
+    guard(|| {
+        let out = ptr::out(out_desc)?;
+        let kind = MapKind::from_u32(map).ok_or(HF_ERR_INVALID_ENUM)?;
+        let desc = desc_of(&c_desc(&Desc::new(kind, width, height)))?;
+        // SAFETY: the caller promises `out_desc` is writable.
+        unsafe { out.set(c_desc(&desc)) };
+        Ok(())
+    })
+}
+
+/// Writes the size in bytes of the KTX 2 file of `desc` to `*out_len`: the buffer
+/// `hf_ktx2_write` needs. An unknown map is `HF_ERR_INVALID_ENUM`, a size outside 2 to
+/// `HF_MAX_SIDE` `HF_ERR_INVALID_SIZE`, a cap above 255, no ray class (or bits above
+/// `HF_RAYS_ALL`) or a negative or non-finite tolerance `HF_ERR_INVALID_ARGUMENT`.
+/// Thread safe.
+///
+/// # Safety
+/// `desc` is NULL (an error) or valid; `out_len` NULL (an error) or valid for writing
+/// one `size_t`.
+#[no_mangle]
+pub unsafe extern "C" fn hf_ktx2_len(desc: *const hf_ktx2_desc, out_len: *mut usize) -> hf_result {
+    guard(|| {
+        // SAFETY: the caller promises `desc` is valid.
+        let desc = desc_of(unsafe { ptr::get(desc) }?)?;
+        let out = ptr::out(out_len)?;
+        let n = ktx2::len(&desc).map_err(code)?;
+        // SAFETY: the caller promises `out_len` is writable.
+        unsafe { out.set(n) };
+        Ok(())
+    })
+}
+
+/// Writes the size in bytes of the baked map of `desc` to `*out_len`: what its bake
+/// writes (for the pyramid every level, `hf_maxmip_len` floats), which
+/// `hf_ktx2_write` reads and `hf_ktx2_read_map` writes. Errors as `hf_ktx2_len`.
+/// Thread safe.
+///
+/// # Safety
+/// As `hf_ktx2_len`.
+#[no_mangle]
+pub unsafe extern "C" fn hf_ktx2_map_len(
+    desc: *const hf_ktx2_desc,
+    out_len: *mut usize,
+) -> hf_result {
+    guard(|| {
+        // SAFETY: the caller promises `desc` is valid.
+        let desc = desc_of(unsafe { ptr::get(desc) }?)?;
+        let out = ptr::out(out_len)?;
+        let n = ktx2::map_len(&desc).map_err(code)? * element_size(&desc);
+        // SAFETY: the caller promises `out_len` is writable.
+        unsafe { out.set(n) };
+        Ok(())
+    })
+}
+
+/// Writes the KTX 2 file of the baked map `data` (`data_len` bytes, at least
+/// `hf_ktx2_map_len`: the buffer its bake filled, floats for float maps, aligned for
+/// them) described by `desc` into `out` (`out_len ≥ hf_ktx2_len` bytes; the file is
+/// the first `hf_ktx2_len` of them). Errors as `hf_ktx2_len`, plus
+/// `HF_ERR_BUFFER_TOO_SMALL` for a short `data` or `out`. Thread safe.
+///
+/// # Safety
+/// `desc` is NULL (an error) or valid; `data` NULL (an error) or valid for reading
+/// `data_len` bytes; `out` NULL (an error) or valid for writing `out_len` bytes.
+#[no_mangle]
+pub unsafe extern "C" fn hf_ktx2_write(
+    desc: *const hf_ktx2_desc,
+    data: *const c_void,
+    data_len: usize,
+    out: *mut u8,
+    out_len: usize,
+) -> hf_result {
+    guard(|| {
+        // SAFETY: the caller promises `desc` is valid.
+        let desc = desc_of(unsafe { ptr::get(desc) }?)?;
+        let data = if desc.map.format().is_float() {
+            // SAFETY: the caller promises `data_len` readable bytes; `slice` checks the
+            // alignment of the floats.
+            Data::F32(unsafe { ptr::slice(data.cast::<f32>(), data_len / 4) }?)
+        } else {
+            // SAFETY: as above.
+            Data::U8(unsafe { ptr::slice(data.cast::<u8>(), data_len) }?)
+        };
+        // SAFETY: the caller promises `out_len` writable bytes.
+        let out = unsafe { ptr::slice_mut(out, out_len) }?;
+        ktx2::write(&desc, data, out).map_err(code)?;
+        Ok(())
+    })
+}
+
+/// The validated file at `bytes` and its description.
+///
+/// # Safety
+/// `bytes` NULL (an error) or valid for reading `len` bytes.
+unsafe fn open<'a>(bytes: *const u8, len: usize) -> Result<(View<'a>, Desc), hf_result> {
+    // SAFETY: the caller's promise.
+    let bytes = unsafe { ptr::slice(bytes, len) }?;
+    let view = ktx2::read(bytes).map_err(code)?;
+    let desc = view.desc().map_err(code)?;
+    Ok((view, desc))
+}
+
+/// Validates the KTX 2 file `bytes` (`len` bytes: identifier, header, level index,
+/// data format descriptor, key/value data, hfcast metadata agreeing with the header)
+/// and writes what it holds to `*out_info`. A file that is not a valid hfcast KTX 2
+/// file (truncated, another identifier, an index pointing past the end, other
+/// metadata) is `HF_ERR_INVALID_ARGUMENT`. Thread safe.
+///
+/// # Safety
+/// `bytes` is NULL (an error) or valid for reading `len` bytes; `out_info` NULL (an
+/// error) or valid for writing one `hf_ktx2_info`.
+#[no_mangle]
+pub unsafe extern "C" fn hf_ktx2_read_info(
+    bytes: *const u8,
+    len: usize,
+    out_info: *mut hf_ktx2_info,
+) -> hf_result {
+    guard(|| {
+        // SAFETY: the caller's promise, passed on.
+        let (view, desc) = unsafe { open(bytes, len) }?;
+        let out = ptr::out(out_info)?;
+        let [pixel_width, pixel_height] = view.pixel_size();
+        let info = hf_ktx2_info {
+            desc: c_desc(&desc),
+            vk_format: view.format() as u32,
+            pixel_width,
+            pixel_height,
+            levels: view.level_count(),
+            texel_size: view.format().texel_size() as u32,
+            map_len: ktx2::map_len(&desc).map_err(code)? * element_size(&desc),
+        };
+        // SAFETY: the caller promises `out_info` is writable.
+        unsafe { out.set(info) };
+        Ok(())
+    })
+}
+
+/// Writes the size in bytes of mip level `level` of the KTX 2 file `bytes` to
+/// `*out_len`: `max(1, pixel_width >> level) · max(1, pixel_height >> level) ·
+/// texel_size`. A level past the last is `HF_ERR_INVALID_ARGUMENT`; errors of the
+/// file as `hf_ktx2_read_info`. Thread safe.
+///
+/// # Safety
+/// As `hf_ktx2_read_info`, with `out_len` valid for writing one `size_t`.
+#[no_mangle]
+pub unsafe extern "C" fn hf_ktx2_level_len(
+    bytes: *const u8,
+    len: usize,
+    level: u32,
+    out_len: *mut usize,
+) -> hf_result {
+    guard(|| {
+        // SAFETY: the caller's promise, passed on.
+        let (view, _) = unsafe { open(bytes, len) }?;
+        let out = ptr::out(out_len)?;
+        let n = view.level(level).ok_or(HF_ERR_INVALID_ARGUMENT)?.len();
+        // SAFETY: the caller promises `out_len` is writable.
+        unsafe { out.set(n) };
+        Ok(())
+    })
+}
+
+/// Copies mip level `level` of the KTX 2 file `bytes` into `out` (`out_len ≥
+/// hf_ktx2_level_len` bytes): texel rows tightly packed, little-endian, ready for a
+/// GPU upload of that level (a padded pyramid level with its `−∞` padding). Errors as
+/// `hf_ktx2_level_len`, plus `HF_ERR_BUFFER_TOO_SMALL`. Thread safe.
+///
+/// # Safety
+/// As `hf_ktx2_read_info`, with `out` valid for writing `out_len` bytes.
+#[no_mangle]
+pub unsafe extern "C" fn hf_ktx2_read_level(
+    bytes: *const u8,
+    len: usize,
+    level: u32,
+    out: *mut u8,
+    out_len: usize,
+) -> hf_result {
+    guard(|| {
+        // SAFETY: the caller's promise, passed on.
+        let (view, _) = unsafe { open(bytes, len) }?;
+        // SAFETY: the caller promises `out_len` writable bytes.
+        let out = unsafe { ptr::slice_mut(out, out_len) }?;
+        let data = view.level(level).ok_or(HF_ERR_INVALID_ARGUMENT)?;
+        let out = out.get_mut(..data.len()).ok_or(HF_ERR_BUFFER_TOO_SMALL)?;
+        out.copy_from_slice(data);
+        Ok(())
+    })
+}
+
+/// Copies the baked map of the KTX 2 file `bytes` into `out` (`out_len ≥` the info's
+/// `map_len` bytes; floats for float maps, aligned for them): exactly what its bake
+/// wrote, ready for the `hf_trace_*` call of its method (the pyramid with every level,
+/// unpadded). Errors as `hf_ktx2_read_info`, plus `HF_ERR_BUFFER_TOO_SMALL`. Thread
+/// safe.
+///
+/// # Safety
+/// As `hf_ktx2_read_info`, with `out` valid for writing `out_len` bytes.
+#[no_mangle]
+pub unsafe extern "C" fn hf_ktx2_read_map(
+    bytes: *const u8,
+    len: usize,
+    out: *mut c_void,
+    out_len: usize,
+) -> hf_result {
+    guard(|| {
+        // SAFETY: the caller's promise, passed on.
+        let (view, desc) = unsafe { open(bytes, len) }?;
+        let out = if desc.map.format().is_float() {
+            // SAFETY: the caller promises `out_len` writable bytes; `slice_mut` checks
+            // the alignment of the floats.
+            DataMut::F32(unsafe { ptr::slice_mut(out.cast::<f32>(), out_len / 4) }?)
+        } else {
+            // SAFETY: as above.
+            DataMut::U8(unsafe { ptr::slice_mut(out.cast::<u8>(), out_len) }?)
+        };
+        view.read_map(out).map_err(code)
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use hfcore::scene::RayClasses;
+
+    #[test]
+    fn constants_are_the_core_map_numbers() {
+        let c = [
+            HF_KTX2_HEIGHTS,
+            HF_KTX2_MAXMIP,
+            HF_KTX2_SAFETY,
+            HF_KTX2_SAFETY_ISOTROPIC,
+            HF_KTX2_CC,
+            HF_KTX2_CONE,
+            HF_KTX2_RELAXED,
+            HF_KTX2_QDM,
+            HF_KTX2_RADIUS,
+        ];
+        for (v, m) in c.into_iter().zip(MapKind::ALL) {
+            assert_eq!(v, m as u32);
+        }
+    }
+
+    #[test]
+    fn write_then_read_a_radius_map() {
+        let mut d = std::mem::MaybeUninit::uninit();
+        // SAFETY: `d` is writable.
+        assert_eq!(
+            unsafe { hf_ktx2_desc_default(HF_KTX2_RADIUS, 4, 3, d.as_mut_ptr()) },
+            HF_OK
+        );
+        // SAFETY: written on HF_OK.
+        let mut d = unsafe { d.assume_init() };
+        assert_eq!(
+            (d.cap, RayClasses(d.ray_classes as u8)),
+            (255, RayClasses::ALL)
+        );
+        d.tolerance = 0.25;
+        let mut n = 0;
+        // SAFETY: valid pointers.
+        assert_eq!(unsafe { hf_ktx2_len(&d, &mut n) }, HF_OK);
+        let map: Vec<u8> = (0..12).collect();
+        let mut file = vec![0u8; n];
+        // SAFETY: valid pointers and lengths.
+        let r = unsafe { hf_ktx2_write(&d, map.as_ptr().cast(), 12, file.as_mut_ptr(), n) };
+        assert_eq!(r, HF_OK);
+        let mut slot = std::mem::MaybeUninit::uninit();
+        // SAFETY: valid pointers.
+        assert_eq!(
+            unsafe { hf_ktx2_read_info(file.as_ptr(), n, slot.as_mut_ptr()) },
+            HF_OK
+        );
+        // SAFETY: written on HF_OK.
+        let info = unsafe { slot.assume_init() };
+        assert_eq!((info.desc, info.vk_format, info.map_len), (d, 13, 12));
+        let mut back = [0u8; 12];
+        // SAFETY: valid pointers; a short buffer first.
+        let r = unsafe { hf_ktx2_read_map(file.as_ptr(), n, back.as_mut_ptr().cast(), 11) };
+        assert_eq!(r, HF_ERR_BUFFER_TOO_SMALL);
+        // SAFETY: valid pointers.
+        let r = unsafe { hf_ktx2_read_map(file.as_ptr(), n, back.as_mut_ptr().cast(), 12) };
+        assert_eq!((r, &back[..]), (HF_OK, &map[..]));
+        // SAFETY: a truncated file.
+        let r = unsafe { hf_ktx2_read_info(file.as_ptr(), n - 1, slot.as_mut_ptr()) };
+        assert_eq!(r, HF_ERR_INVALID_ARGUMENT);
+    }
+}
