@@ -10,12 +10,20 @@
 //!   `hf_cc_classes`, `HF_RAYS_*` bits defaulting to all four).
 //! - [`generate`]: the shader of one [`Scene`]: one surface, one method, the scene's
 //!   options; the specialisation markers ([`FLAGS`]) drop the branches it never takes,
-//!   then a tree shaker keeps only the top-level items reachable from `hf_trace`, so
+//!   then a tree shaker keeps only the top-level items reachable from the entry points, so
 //!   unused functions, uniforms and textures go too, and the scene's choices become
 //!   constants.
 //! - [`all_methods`]: every method in one shader with a runtime `hf_method` switch,
 //!   the size comparison at the other end.
 //! - [`wgsl_layout`]: the fixed `@group(0)` binding numbers of the WGSL resources.
+//!
+//! Every shader has two entry points: `hf_trace` (a ray in grid space, the marches'
+//! frame) and `hf_trace_world` (`world.glsl` / `world.wgsl`, last in every shader: a ray
+//! in world units converted by the field's transform, `hfcast::world::WorldTransform`,
+//! the hit converted back). The world file is always included, not only for scenes that
+//! ask: it is small, a scene has no notion of a transform, and it costs a caller of
+//! `hf_trace` nothing (shader compilers drop the unused function, an unused GLSL uniform
+//! is inactive, and a WGSL binding is needed only by an entry point that uses it).
 //!
 //! The markers are comments, the same in both languages (WGSL has no preprocessor):
 //! `//#if a|b`, `//#else`, `//#endif`, nestable; the general shader sets every flag,
@@ -168,13 +176,13 @@ impl fmt::Display for GenError {
 impl std::error::Error for GenError {}
 
 /// The files (stems, in dependency order) of `method`'s general shader: the shared
-/// constants, the core modules its march uses, and the method's file defining
-/// `hf_trace`.
+/// constants, the core modules its march uses, the method's file defining
+/// `hf_trace`, and [`WORLD`] defining `hf_trace_world` on it.
 pub fn parts(method: MethodKind) -> &'static [&'static str] {
     const BASE: [&str; 6] = ["hfcast_shared", "math", "ray", "field", "surface", "dda"];
     macro_rules! with_base {
         ($($f:literal),*) => {
-            &[BASE[0], BASE[1], BASE[2], BASE[3], BASE[4], BASE[5], $($f),*]
+            &[BASE[0], BASE[1], BASE[2], BASE[3], BASE[4], BASE[5], $($f,)* WORLD]
         };
     }
     match method {
@@ -189,6 +197,16 @@ pub fn parts(method: MethodKind) -> &'static [&'static str] {
         MethodKind::Cc => with_base!("safety", "cc", "method_cc"),
         MethodKind::Radius => with_base!("safety", "radius", "method_radius"),
     }
+}
+
+/// The file of world units (`world.glsl`, `world.wgsl`: `hf_trace_world`), last in
+/// every shader since it calls `hf_trace`.
+pub const WORLD: &str = "world";
+
+/// The file of `method` defining `hf_trace`: its last part before [`WORLD`].
+fn method_file(method: MethodKind) -> &'static str {
+    let p = parts(method);
+    p[p.len() - 2]
 }
 
 /// Whether `method` traces `surface`: the exact, search and maxmip methods trace
@@ -384,9 +402,10 @@ pub fn generate(scene: &Scene, lang: Lang) -> Result<String, GenError> {
 /// `hf_safety_variant` and the class sets of the safety-distance and cylinder–cone
 /// maps, `hf_safety_classes` and `hf_cc_classes` (the scene's `ray_classes`, the
 /// classes its bake plan bakes and its maps hold: [`map_classes`]), become constants;
-/// then only the top-level items reachable from
-/// `Trace hf_trace(Query q)` stay. A header comment names the scene and lists the
-/// inputs (uniforms, textures, bindings) left for the caller to set.
+/// then only the top-level items reachable from the entry points
+/// `Trace hf_trace(Query q)` and `Trace hf_trace_world(Query world)` stay. A header
+/// comment names the scene and lists the inputs (uniforms, textures, bindings) left for
+/// the caller to set.
 pub fn generate_with(scene: &Scene, lang: Lang, opts: &Options) -> Result<String, GenError> {
     let flags = scene_flags(scene, opts)?;
     let mut stems: Vec<&'static str> = parts(scene.method).to_vec();
@@ -415,7 +434,7 @@ pub fn generate_with(scene: &Scene, lang: Lang, opts: &Options) -> Result<String
             }
         }
     }
-    let keep = shake::reachable(&segs, &["hf_trace"]);
+    let keep = shake::reachable(&segs, &["hf_trace", "hf_trace_world"]);
     let mut inputs = Vec::new();
     let body = shake::emit(
         &segs,
@@ -463,7 +482,8 @@ pub fn generate_with(scene: &Scene, lang: Lang, opts: &Options) -> Result<String
         flags.join(" "),
     );
     head.push_str(&format!(
-        "// Entry point: Trace hf_trace(Query q). Inputs to set: {}.\n",
+        "// Entry points: Trace hf_trace(Query q) (grid space), Trace hf_trace_world(Query \
+         world) (world units). Inputs to set: {}.\n",
         inputs.join(", ")
     ));
     Ok(head + &body)
@@ -479,7 +499,8 @@ fn suffix(method: MethodKind) -> String {
 /// the method's file defines (the closures of the shared marches: `cone_march`,
 /// `safety_march`, …), so that the cone and safety marches appear once per method that
 /// uses them; everything else appears once. `Trace hf_trace(Query q)` dispatches on
-/// the runtime `hf_method` (a GLSL uniform, a WGSL override), every marker flag set.
+/// the runtime `hf_method` (a GLSL uniform, a WGSL override), every marker flag set;
+/// [`WORLD`]'s `hf_trace_world` follows the dispatch, on the dispatching `hf_trace`.
 pub fn all_methods(lang: Lang) -> Result<String, GenError> {
     let files = load(lang, &FILE_ORDER, &|_| true)?;
     let segs = parse_all(lang, &files)?;
@@ -493,7 +514,7 @@ pub fn all_methods(lang: Lang) -> Result<String, GenError> {
     // member per method.
     let mut texts: BTreeMap<&str, BTreeSet<&str>> = BTreeMap::new();
     for m in MethodKind::ALL {
-        let f = index(parts(m)[parts(m).len() - 1]).unwrap_or_default();
+        let f = index(method_file(m)).unwrap_or_default();
         for seg in &segs[f] {
             if let Seg::Item(it) = seg {
                 texts.entry(&it.name).or_default().insert(&it.text);
@@ -524,7 +545,7 @@ pub fn all_methods(lang: Lang) -> Result<String, GenError> {
         // `HF_METHOD_<M>`: the dispatch's test.
         let id = format!("HF_METHOD_{}", suffix(m).to_uppercase());
         let keep = shake::reachable(&visible, &["hf_trace", &id]);
-        let method_file = index(parts(m)[parts(m).len() - 1]).unwrap_or_default();
+        let method_file = index(method_file(m)).unwrap_or_default();
         let is_fn = |it: &&Item| matches!(it.kind, Kind::Function | Kind::Prototype);
         // The method file's functions and conflicting names, then every function
         // that refers to one of them.
@@ -611,6 +632,12 @@ pub fn all_methods(lang: Lang) -> Result<String, GenError> {
         body.push_str(&format!("}}\n\n{head}: {ty};\n"));
     }
     body.push_str(&dispatch(lang));
+    // `hf_trace_world` on the dispatch (the method files' `hf_trace`s do not reach it).
+    for (stem, text) in load(lang, &[WORLD], &|_| true)? {
+        body.push('\n');
+        body.push_str(&separator(stem, lang));
+        body.push_str(&text);
+    }
     Ok(format!(
         "// hfcast all-methods shader generated by hfcast-shaders (shaders/src/lib.rs): every\n\
          // method, selected at run time by hf_method (HF_METHOD_*); every surface and option\n\
@@ -618,7 +645,7 @@ pub fn all_methods(lang: Lang) -> Result<String, GenError> {
     ))
 }
 
-/// The order of the files in a composed shader.
+/// The order of the files in a composed shader ([`WORLD`] follows them).
 const FILE_ORDER: [&str; 24] = [
     "hfcast_shared",
     "math",

@@ -58,7 +58,7 @@ enum Line {
 
 /// WGSL resource bindings of group 0 ([`crate::wgsl_layout`]): `(binding, name, type,
 /// declared in)`.
-const WGSL_BINDINGS: [(u32, &str, &str, &str); 12] = [
+const WGSL_BINDINGS: [(u32, &str, &str, &str); 13] = [
     (
         b::HEIGHTS,
         "hf_heights",
@@ -121,6 +121,7 @@ const WGSL_BINDINGS: [(u32, &str, &str, &str); 12] = [
         "texture_2d<u32>, R8Uint",
         "radius.wgsl",
     ),
+    (b::WORLD, "hf_world", "uniform WorldParams", "world.wgsl"),
 ];
 
 /// A `u32` constant.

@@ -1,7 +1,7 @@
 //! The resource layout of the WGSL ports: the fixed `@group(0)` binding numbers of
 //! the resources the files of `shaders/wgsl` declare, a contract with every caller
 //! that binds them (the table at the top of `hfcast_shared.wgsl` is rendered from
-//! these). Any set of files composes without clashes; bindings 12 to 15 of group 0 are
+//! these). Any set of files composes without clashes; bindings 13 to 15 of group 0 are
 //! reserved, and a caller's own resources go in `@group(1)` or later.
 
 /// `hf_heights`: `texture_2d<f32>`, R32Float, W × H (field.wgsl); in a shader
@@ -34,3 +34,6 @@ pub const CC_MAP: u32 = 9;
 pub const CC: u32 = 10;
 /// `hf_radius_map`: `texture_2d<u32>`, R8Uint, W × H (radius.wgsl).
 pub const RADIUS_MAP: u32 = 11;
+/// `hf_world`: uniform `WorldParams`, the field's grid-to-world transform, read by
+/// `hf_trace_world` only (world.wgsl).
+pub const WORLD: u32 = 12;

@@ -109,12 +109,14 @@ fn tmp_dir(name: &str) -> PathBuf {
     dir
 }
 
-/// A fragment shader around `src`: the version line and a main that traces one ray.
+/// A fragment shader around `src`: the version line and a main that traces one ray in
+/// grid space and one in world units.
 fn glsl_fragment(src: &str) -> String {
     format!(
         "#version 330 core\n{src}\nout vec4 hf_out;\nvoid main() {{\n    \
          Trace tr = hf_trace(Query(vec3(gl_FragCoord.xy, 100.0), vec3(0.3, 0.2, -1.0), 0.0, 1e30));\n    \
-         hf_out = vec4(tr.hit.point, tr.has_hit ? tr.hit.t : -1.0);\n}}\n"
+         Trace tw = hf_trace_world(Query(vec3(gl_FragCoord.xy, 100.0), vec3(0.3, 0.2, -1.0), 0.0, 1e30));\n    \
+         hf_out = vec4(tr.hit.point + tw.hit.normal, tr.has_hit ? tr.hit.t : -1.0);\n}}\n"
     )
 }
 
@@ -150,11 +152,13 @@ fn every_generated_wgsl_shader_validates_with_naga() {
     let all = shaders(Lang::Wgsl);
     let mut failed = Vec::new();
     for (label, text) in &all {
-        // An entry point that calls hf_trace, so that everything is validated as used.
+        // An entry point that calls hf_trace and hf_trace_world, so that everything is
+        // validated as used.
         let src = format!(
             "{text}\n@fragment\nfn hf_main(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {{\n    \
              let tr = hf_trace(Query(vec3<f32>(pos.xy, 100.0), vec3<f32>(0.3, 0.2, -1.0), 0.0, 1e30));\n    \
-             return vec4<f32>(tr.hit.point, tr.hit.t);\n}}\n"
+             let tw = hf_trace_world(Query(vec3<f32>(pos.xy, 100.0), vec3<f32>(0.3, 0.2, -1.0), 0.0, 1e30));\n    \
+             return vec4<f32>(tr.hit.point + tw.hit.normal, tr.hit.t);\n}}\n"
         );
         let module = match naga::front::wgsl::parse_str(&src) {
             Ok(m) => m,
@@ -428,4 +432,47 @@ fn unsupported_scenes_are_errors() {
         generate(&none, Lang::Glsl),
         Err(GenError::Scene(_))
     ));
+}
+
+#[test]
+fn every_shader_has_one_world_entry_after_hf_trace() {
+    for lang in Lang::ALL {
+        let (world, inputs) = match lang {
+            Lang::Glsl => (
+                "Trace hf_trace_world(Query world)",
+                "hf_world_offset, hf_world_scale.",
+            ),
+            Lang::Wgsl => ("fn hf_trace_world(world: Query) -> Trace", "hf_world."),
+        };
+        let mut texts: Vec<(String, String)> = MethodKind::ALL
+            .into_iter()
+            .flat_map(|m| {
+                let scene = Scene::general(m, Surface::Triangles);
+                [
+                    (format!("general {}", m.name()), general(m, lang).unwrap()),
+                    (
+                        format!("generated {}", m.name()),
+                        generate(&scene, lang).unwrap(),
+                    ),
+                ]
+            })
+            .collect();
+        texts.push(("all methods".into(), all_methods(lang).unwrap()));
+        for (label, text) in &texts {
+            let text = &code(text);
+            assert_eq!(text.matches(world).count(), 1, "{label}");
+            // Last: it calls the (dispatching) hf_trace, which comes before it.
+            let trace = match lang {
+                Lang::Glsl => "Trace hf_trace(Query q)",
+                Lang::Wgsl => "fn hf_trace(q: Query) -> Trace",
+            };
+            assert!(text.rfind(trace) < text.find(world), "{label}");
+            assert!(text.trim_end().ends_with('}'), "{label}");
+        }
+        // A generated shader names the transform among its inputs (last: the world file
+        // is last).
+        let gen = generate(&Scene::general(MethodKind::Exact, Surface::Triangles), lang).unwrap();
+        let head = gen.lines().find(|l| l.contains("Inputs to set")).unwrap();
+        assert!(head.ends_with(inputs), "{head}");
+    }
 }

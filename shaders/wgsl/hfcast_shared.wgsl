@@ -17,7 +17,8 @@
 //   9        hf_cc_map       texture_2d<u32>, Rg8Uint               cc.wgsl
 //   10       hf_cc           uniform CcParams                       cc.wgsl
 //   11       hf_radius_map   texture_2d<u32>, R8Uint                radius.wgsl
-// Bindings 12 to 15 of group 0 are reserved; a caller's own resources go in group 1
+//   12       hf_world        uniform WorldParams                    world.wgsl
+// Bindings 13 to 15 of group 0 are reserved; a caller's own resources go in group 1
 // or later. Textures are read with textureLoad only (never sampled). Scene-level
 // choices are override constants: hf_surface, hf_safety_variant,
 // hf_safety_classes, hf_cc_classes.

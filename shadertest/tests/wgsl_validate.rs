@@ -195,6 +195,7 @@ fn overrides_and_bindings_are_one_line_and_fixed() {
                     "hf_cc_map" => wgsl_layout::CC_MAP,
                     "hf_cc" => wgsl_layout::CC,
                     "hf_radius_map" => wgsl_layout::RADIUS_MAP,
+                    "hf_world" => wgsl_layout::WORLD,
                     other => panic!("{name}: {other} is not in hfcast_shaders::wgsl_layout"),
                 };
                 assert_eq!(b, fixed, "{name}: {id} is not at its wgsl_layout binding");
