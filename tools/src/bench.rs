@@ -1,8 +1,9 @@
 //! The traversal benchmark behind `hfcast bench`: rays per second on 1 and more
 //! threads (median of repetitions), texture fetches per ray and hit rate.
 
-use crate::{method_name, par_chunks, Rng};
-use hfcast::{HeightField, Method, Query, Surface};
+use crate::trace::Tracer;
+use crate::{par_chunks, MethodSpec, Rng};
+use hfcast::{HeightField, Query, Surface};
 use std::fmt::Write;
 use std::time::Instant;
 
@@ -42,11 +43,10 @@ pub struct BenchResult {
     pub rays_per_s: Vec<(usize, f64)>,
 }
 
-/// Traces `rays` `reps` times on each thread count in `threads` and measures them.
+/// Traces `rays` with `tracer` `reps` times on each thread count in `threads` and
+/// measures them.
 pub fn bench_rays(
-    hf: &HeightField,
-    method: Method,
-    surface: Surface,
+    tracer: &Tracer,
     name: &str,
     rays: &[Query<f32>],
     threads: &[usize],
@@ -61,7 +61,7 @@ pub fn bench_rays(
                     let start = Instant::now();
                     par_chunks(&mut out, 1024, t, |first, chunk| {
                         for (o, q) in chunk.iter_mut().zip(&rays[first..]) {
-                            let tr = method.trace(hf, surface, q);
+                            let tr = tracer.trace(q);
                             *o = (tr.fetches, tr.hit.is_some());
                         }
                     });
@@ -87,7 +87,7 @@ pub fn bench_rays(
 }
 
 /// The results as a Markdown table, headed by the method and surface.
-pub fn markdown_table(method: Method, surface: Surface, results: &[BenchResult]) -> String {
+pub fn markdown_table(method: MethodSpec, surface: Surface, results: &[BenchResult]) -> String {
     let mut s = String::new();
     let threads: Vec<usize> = results
         .first()
@@ -96,7 +96,7 @@ pub fn markdown_table(method: Method, surface: Surface, results: &[BenchResult])
     let _ = write!(
         s,
         "method `{}`, surface `{}`\n\n| rays | count | hit rate | fetches mean | p99 | max |",
-        method_name(method),
+        method.name(),
         surface.name()
     );
     for t in &threads {

@@ -6,53 +6,186 @@
 //! error-against-time report ([`report`]) and the text format of `hfcast trace`
 //! ([`trace`]).
 
-use hfcast::{Method, SearchSteps};
+use hfcast::relaxed::Steps as RelaxedSteps;
+use hfcast::scene::MethodKind;
+use hfcast::{Method, SearchSteps, Surface};
 use std::sync::Mutex;
 
+pub mod advise;
 pub mod bench;
 pub mod maps;
 pub mod render;
 pub mod report;
 pub mod trace;
 
-/// Parses a method name: `exact`, `linear-binary:N:M` (N linear steps, M bisections) or
-/// `secant:N` (N linear steps, then one secant step).
-pub fn parse_method(name: &str) -> Result<Method, String> {
-    let mut parts = name.split(':');
-    let kind = parts.next().unwrap_or("");
-    let mut num = |what: &str| -> Result<u32, String> {
-        let s = parts
-            .next()
-            .ok_or_else(|| format!("method {name:?}: missing {what}"))?;
-        s.parse()
-            .map_err(|_| format!("method {name:?}: bad {what} {s:?}"))
-    };
-    let method = match kind {
-        "exact" => Method::Exact,
-        "linear-binary" => Method::LinearBinary(SearchSteps {
-            linear: num("linear step count")?,
-            binary: num("binary step count")?,
-        }),
-        "secant" => Method::LinearSecant(num("linear step count")?),
-        _ => {
-            return Err(format!(
-                "unknown method {name:?} (exact | linear-binary:N:M | secant:N)"
-            ))
-        }
-    };
-    match parts.next() {
-        Some(extra) => Err(format!("method {name:?}: unexpected {extra:?}")),
-        None => Ok(method),
+/// A marching method as the command line names it: a bake-free method of the core or
+/// a baked one, with its march parameters. The one method table of `trace`, `render`,
+/// `bench` and `advise` ([`parse_method`] reads it, [`MethodSpec::name`] writes it);
+/// [`trace::Tracer`] bakes and traces it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum MethodSpec {
+    /// A bake-free method: `exact`, `linear-binary:N:M`, `secant:N`.
+    Plain(Method),
+    /// Maximum mipmaps, exact (`maxmip`).
+    MaxMip,
+    /// Safety distances, exact (`safety`); the layout follows the scene's bake plan.
+    Safety,
+    /// Cylinder–cone safety shapes with the exact slope, exact (`cc`).
+    Cc,
+    /// Safety radii, exact (`radius`).
+    Radius,
+    /// Conservative cone step mapping, at most `N` iterations (`cone:N`).
+    Cone(u32),
+    /// Quadratic displacement maps, at most `N` iterations (`qdm:N`).
+    Qdm(u32),
+    /// Relaxed cone stepping, then bisection (`relaxed:CONE:BINARY`); approximate.
+    Relaxed(RelaxedSteps),
+}
+
+/// The march parameters of each method kind: `(name, default values)`; a method is
+/// written `kind` (the defaults) or `kind:v1[:v2]` with every value given.
+fn parameters(kind: MethodKind) -> (&'static [&'static str], &'static [u32]) {
+    match kind {
+        MethodKind::LinearBinary => (&["linear step count", "binary step count"], &[64, 8]),
+        MethodKind::LinearSecant => (&["linear step count"], &[64]),
+        MethodKind::Cone | MethodKind::Qdm => (&["iteration cap"], &[64]),
+        MethodKind::Relaxed => (&["cone step count", "binary step count"], &[64, 8]),
+        _ => (&[], &[]),
     }
 }
 
-/// The name [`parse_method`] reads back.
-pub fn method_name(method: Method) -> String {
-    match method {
-        Method::Exact => "exact".into(),
-        Method::LinearBinary(s) => format!("linear-binary:{}:{}", s.linear, s.binary),
-        Method::LinearSecant(n) => format!("secant:{n}"),
+/// Help text of the method names, for usage messages.
+pub const METHOD_NAMES: &str = "exact | linear-binary[:N:M] | secant[:N] | maxmip | safety | \
+                                cc | radius | cone[:CAP] | qdm[:CAP] | relaxed[:N:M]";
+
+impl MethodSpec {
+    /// The exact methods, in the order `advise` lists them.
+    pub const EXACT: [MethodSpec; 5] = [
+        MethodSpec::Plain(Method::Exact),
+        MethodSpec::MaxMip,
+        MethodSpec::Safety,
+        MethodSpec::Cc,
+        MethodSpec::Radius,
+    ];
+
+    /// The core's number for the method (the scene description and the C API).
+    pub fn kind(self) -> MethodKind {
+        match self {
+            MethodSpec::Plain(Method::Exact) => MethodKind::Exact,
+            MethodSpec::Plain(Method::LinearBinary(_)) => MethodKind::LinearBinary,
+            MethodSpec::Plain(Method::LinearSecant(_)) => MethodKind::LinearSecant,
+            MethodSpec::MaxMip => MethodKind::MaxMip,
+            MethodSpec::Safety => MethodKind::Safety,
+            MethodSpec::Cc => MethodKind::Cc,
+            MethodSpec::Radius => MethodKind::Radius,
+            MethodSpec::Cone(_) => MethodKind::Cone,
+            MethodSpec::Qdm(_) => MethodKind::Qdm,
+            MethodSpec::Relaxed(_) => MethodKind::Relaxed,
+        }
     }
+
+    /// The march parameters, in [`parameters`] order.
+    fn values(self) -> Vec<u32> {
+        match self {
+            MethodSpec::Plain(Method::LinearBinary(s)) => vec![s.linear, s.binary],
+            MethodSpec::Plain(Method::LinearSecant(n))
+            | MethodSpec::Cone(n)
+            | MethodSpec::Qdm(n) => vec![n],
+            MethodSpec::Relaxed(s) => vec![s.cone, s.binary],
+            _ => Vec::new(),
+        }
+    }
+
+    /// The method of `kind` with march parameters `v` (as many as [`parameters`] names).
+    fn of(kind: MethodKind, v: &[u32]) -> MethodSpec {
+        match kind {
+            MethodKind::Exact => MethodSpec::Plain(Method::Exact),
+            MethodKind::LinearBinary => MethodSpec::Plain(Method::LinearBinary(SearchSteps {
+                linear: v[0],
+                binary: v[1],
+            })),
+            MethodKind::LinearSecant => MethodSpec::Plain(Method::LinearSecant(v[0])),
+            MethodKind::MaxMip => MethodSpec::MaxMip,
+            MethodKind::Safety => MethodSpec::Safety,
+            MethodKind::Cc => MethodSpec::Cc,
+            MethodKind::Radius => MethodSpec::Radius,
+            MethodKind::Cone => MethodSpec::Cone(v[0]),
+            MethodKind::Qdm => MethodSpec::Qdm(v[0]),
+            MethodKind::Relaxed => MethodSpec::Relaxed(RelaxedSteps {
+                cone: v[0],
+                binary: v[1],
+            }),
+        }
+    }
+
+    /// `true` for the methods that answer the exact traversal's hit (within rounding).
+    pub fn is_exact(self) -> bool {
+        MethodSpec::EXACT.contains(&self)
+    }
+
+    /// Whether the method traces `surface`: the safety-shape marches the triangle and
+    /// view-linear surfaces, the cone family the triangle surface only, the others all.
+    pub fn supports(self, surface: Surface) -> bool {
+        match self {
+            MethodSpec::Plain(_) | MethodSpec::MaxMip => true,
+            MethodSpec::Safety | MethodSpec::Cc | MethodSpec::Radius => {
+                matches!(surface, Surface::Triangles | Surface::ViewLinear)
+            }
+            MethodSpec::Cone(_) | MethodSpec::Qdm(_) | MethodSpec::Relaxed(_) => {
+                surface == Surface::Triangles
+            }
+        }
+    }
+
+    /// The name [`parse_method`] reads back (`secant:N` for the linear-secant search).
+    pub fn name(self) -> String {
+        let kind = match self.kind() {
+            MethodKind::LinearSecant => "secant",
+            k => k.name(),
+        };
+        self.values()
+            .iter()
+            .fold(kind.to_string(), |s, v| format!("{s}:{v}"))
+    }
+}
+
+/// Parses a method name: one of [`METHOD_NAMES`] (`linear-secant` is read as
+/// `secant`); a method with march parameters takes all of them or none (defaults:
+/// `linear-binary:64:8`, `secant:64`, `cone:64`, `qdm:64`, `relaxed:64:8`).
+pub fn parse_method(name: &str) -> Result<MethodSpec, String> {
+    let mut parts = name.split(':');
+    let word = parts.next().unwrap_or("");
+    let word = if word == "secant" {
+        "linear-secant"
+    } else {
+        word
+    };
+    let kind = MethodKind::ALL
+        .into_iter()
+        .find(|k| k.name() == word)
+        .ok_or_else(|| format!("unknown method {name:?} ({METHOD_NAMES})"))?;
+    let (what, defaults) = parameters(kind);
+    let given: Vec<&str> = parts.collect();
+    if !given.is_empty() && given.len() != what.len() {
+        return Err(format!(
+            "method {name:?}: want {} value(s) ({}), got {}",
+            what.len(),
+            what.join(", "),
+            given.len()
+        ));
+    }
+    let values = given
+        .iter()
+        .zip(what)
+        .map(|(s, w)| {
+            s.parse()
+                .map_err(|_| format!("method {name:?}: bad {w} {s:?}"))
+        })
+        .collect::<Result<Vec<u32>, String>>()?;
+    Ok(MethodSpec::of(
+        kind,
+        if given.is_empty() { defaults } else { &values },
+    ))
 }
 
 /// The machine's available parallelism (1 when unknown).
@@ -127,19 +260,49 @@ mod tests {
 
     #[test]
     fn method_names_round_trip() {
-        for name in ["exact", "linear-binary:32:8", "secant:16"] {
-            assert_eq!(method_name(parse_method(name).unwrap()), name);
+        for name in [
+            "exact",
+            "linear-binary:32:8",
+            "secant:16",
+            "maxmip",
+            "safety",
+            "cc",
+            "radius",
+            "cone:16",
+            "qdm:64",
+            "relaxed:32:4",
+        ] {
+            assert_eq!(parse_method(name).unwrap().name(), name);
         }
+        // Every kind of the core by its own name; defaults filled in.
+        for kind in MethodKind::ALL {
+            assert_eq!(parse_method(kind.name()).unwrap().kind(), kind);
+        }
+        assert_eq!(parse_method("secant").unwrap().name(), "secant:64");
+        assert_eq!(parse_method("relaxed").unwrap().name(), "relaxed:64:8");
         for bad in [
             "",
             "exact:1",
-            "secant",
             "secant:x",
             "linear-binary:4",
+            "cone:1:2",
             "dda",
+            "auto",
         ] {
             assert!(parse_method(bad).is_err(), "{bad}");
         }
+    }
+
+    #[test]
+    fn surfaces_of_the_methods() {
+        assert!(MethodSpec::EXACT
+            .iter()
+            .all(|m| m.supports(Surface::Triangles)));
+        assert!(MethodSpec::MaxMip.supports(Surface::Bilinear));
+        assert!(MethodSpec::Cc.supports(Surface::ViewLinear));
+        assert!(!MethodSpec::Safety.supports(Surface::Bilinear));
+        assert!(!MethodSpec::Cone(8).supports(Surface::ViewLinear));
+        assert!(!MethodSpec::Cone(64).is_exact() && MethodSpec::Radius.is_exact());
     }
 
     #[test]

@@ -1,11 +1,14 @@
 //! `hfcast`: render, trace and benchmark height fields from the command line.
 
-use hfcast::{Method, Surface};
+use hfcast::scene::RayClasses;
+use hfcast::Surface;
+use hfcast_tools::advise::{self, AdviseOptions};
 use hfcast_tools::bench::{bench_rays, markdown_table, random_rays};
 use hfcast_tools::maps::{bundled_map, load_map, shared_data_dir, Map};
-use hfcast_tools::render::{render, write_png, Camera, RenderOptions};
+use hfcast_tools::render::{heat_maps, render, write_png, Camera, RenderOptions};
 use hfcast_tools::report::{self, ReportOptions};
-use hfcast_tools::{default_threads, method_name, parse_method, trace};
+use hfcast_tools::trace::{self, Tracer};
+use hfcast_tools::{default_threads, parse_method, MethodSpec};
 use std::collections::HashMap;
 use std::io::{BufRead, IsTerminal, Write};
 use std::path::PathBuf;
@@ -51,7 +54,7 @@ maps: grayscale PNG, heights = png/65535 * depth; depth defaults to 0.1 * max(W,
 mod shader;
 
 /// Options that take no value (`--quick` is `--quick=true`).
-const FLAGS: [&str; 1] = ["quick"];
+const FLAGS: [&str; 2] = ["quick", "no-heatmaps"];
 
 /// `--name value` / `--name=value` options, `--flag`s ([`FLAGS`]) and positional words
 /// of one command line.
@@ -106,7 +109,7 @@ impl Args {
     }
 
     /// `--method` and `--surface`.
-    fn method_surface(&mut self) -> Result<(Method, Surface), String> {
+    fn method_surface(&mut self) -> Result<(MethodSpec, Surface), String> {
         let method = parse_method(&self.opt("method").unwrap_or("exact".into()))?;
         let name = self.opt("surface").unwrap_or("triangles".into());
         let surface = Surface::from_name(&name).ok_or(format!("unknown surface {name:?}"))?;
@@ -137,9 +140,11 @@ fn load((path, depth): &(PathBuf, Option<f32>)) -> Result<Map, String> {
     Ok(map)
 }
 
-fn cmd_render(mut args: Args) -> Result<bool, String> {
-    let map_spec = args.map(bundled_map())?;
-    let (method, surface) = args.method_surface()?;
+/// The render options of `render` and `advise` (`--surface`, camera, light,
+/// `--threads`), with `method`.
+fn render_options(args: &mut Args, method: MethodSpec) -> Result<RenderOptions, String> {
+    let name = args.opt("surface").unwrap_or("triangles".into());
+    let surface = Surface::from_name(&name).ok_or(format!("unknown surface {name:?}"))?;
     let d = RenderOptions::default();
     let opts = RenderOptions {
         method,
@@ -153,26 +158,99 @@ fn cmd_render(mut args: Args) -> Result<bool, String> {
         threads: args.get("threads", d.threads)?,
         progress: std::io::stderr().is_terminal(),
     };
-    let out = PathBuf::from(args.opt("out").unwrap_or("out/render.png".into()));
-    args.finish()?;
     if opts.width == 0 || opts.height == 0 {
         return Err("--width and --height must be positive".into());
     }
+    Ok(opts)
+}
+
+/// Measures the exact methods on a render's rays (stderr names each) and returns the
+/// advice.
+fn measure_advice(
+    hf: &hfcast::HeightField,
+    opts: &RenderOptions,
+    how: AdviseOptions,
+) -> Result<advise::Advice, String> {
+    advise::advise(hf, opts, how, |m| {
+        eprintln!("advise: measuring {}", m.name())
+    })
+}
+
+fn cmd_render(mut args: Args) -> Result<bool, String> {
+    let map_spec = args.map(bundled_map())?;
+    let name = args.opt("method").unwrap_or("exact".into());
+    let auto = name == "auto";
+    let method = if auto {
+        MethodSpec::EXACT[0]
+    } else {
+        parse_method(&name)?
+    };
+    let mut opts = render_options(&mut args, method)?;
+    let out = PathBuf::from(args.opt("out").unwrap_or("out/render.png".into()));
+    let heatmaps = !args.get("no-heatmaps", false)?;
+    args.finish()?;
     let map = load(&map_spec)?;
+    let hf = map.field();
+    if auto {
+        // Every 8th ray timed, one repetition: the choice in a fraction of a frame.
+        let how = AdviseOptions { reps: 1, every: 8 };
+        let advice = measure_advice(&hf, &opts, how)?;
+        eprint!("{}", advise::markdown(&advice));
+        opts.method = advice.chosen().method;
+    }
     eprintln!(
         "render {} x {}, method {}, surface {}, elevation {}, azimuth {}, {} threads",
         opts.width,
         opts.height,
-        method_name(method),
-        surface.name(),
+        opts.method.name(),
+        opts.surface.name(),
         opts.elevation,
         opts.azimuth,
         opts.threads
     );
-    let (image, stats) = render(&map.field(), &opts);
-    write_png(&out, &image).map_err(|e| e.to_string())?;
-    println!("{}", stats.summary());
+    let frame = render(&hf, &opts)?;
+    write_png(&out, &frame.image).map_err(|e| e.to_string())?;
+    println!("{}", frame.stats.summary());
     println!("wrote {}", out.display());
+    if heatmaps {
+        let [(depth, d0, d1), (fetches, _, p99)] = heat_maps(&frame);
+        let most = frame.fetches.iter().max().copied().unwrap_or(0);
+        for (ext, image, what) in [
+            ("depth.png", depth, format!("depth {d0:.1} .. {d1:.1} grid units from the eye, sky black")),
+            ("fetches.png", fetches, format!("fetches a pixel, primary + shadow ray: 0 .. {p99} (99th percentile; most {most})")),
+        ] {
+            let path = out.with_extension(ext);
+            write_png(&path, &image).map_err(|e| e.to_string())?;
+            println!("wrote {} ({what}; dark blue, blue, cyan, green, yellow, red)", path.display());
+        }
+    }
+    Ok(true)
+}
+
+fn cmd_advise(mut args: Args) -> Result<bool, String> {
+    let map_spec = args.map(bundled_map())?;
+    let mut opts = render_options(&mut args, MethodSpec::EXACT[0])?;
+    let how = AdviseOptions {
+        reps: args.get("reps", AdviseOptions::default().reps)?.max(1),
+        every: 1,
+    };
+    args.finish()?;
+    if let Some(p) = args.positional.first() {
+        return Err(format!("advise: unexpected argument {p:?}"));
+    }
+    opts.progress = false;
+    let map = load(&map_spec)?;
+    let advice = measure_advice(&map.field(), &opts, how)?;
+    println!(
+        "## hfcast advise: {}, {} x {}, elevation {}, azimuth {}, surface {}\n",
+        map_spec.0.file_name().unwrap_or_default().to_string_lossy(),
+        opts.width,
+        opts.height,
+        opts.elevation,
+        opts.azimuth,
+        opts.surface.name()
+    );
+    print!("{}", advise::markdown(&advice));
     Ok(true)
 }
 
@@ -181,12 +259,21 @@ fn cmd_trace(mut args: Args) -> Result<bool, String> {
     let (method, surface) = args.method_surface()?;
     args.finish()?;
     let map = load(&map_spec)?;
-    let hf = map.field();
+    let tracer = Tracer::bake(map.field(), method, surface, RayClasses::ALL)?;
+    if !tracer.plan().bakes_nothing() {
+        eprintln!(
+            "baked {} in {:.3} s: {} bytes ({})",
+            method.name(),
+            tracer.bake_time().as_secs_f64(),
+            tracer.bytes(),
+            advise::plan_text(tracer.plan())
+        );
+    }
     let stdout = std::io::stdout();
     let mut out = stdout.lock();
     let mut ok = true;
     let mut answer = |line: &str| -> Result<(), String> {
-        if let Some((text, err)) = trace::answer_line(&hf, method, surface, line) {
+        if let Some((text, err)) = trace::answer_line(&tracer, line) {
             ok &= !err;
             writeln!(out, "{text}").map_err(|e| e.to_string())?;
         }
@@ -228,6 +315,7 @@ fn cmd_bench(mut args: Args) -> Result<bool, String> {
     args.finish()?;
     let map = load(&map_spec)?;
     let hf = map.field();
+    let tracer = Tracer::bake(hf, method, surface, RayClasses::ALL)?;
     println!(
         "## hfcast bench: {} ({} x {}), depth {}, {} reps (median), {} cores available\n",
         map_spec.0.file_name().unwrap_or_default().to_string_lossy(),
@@ -242,17 +330,13 @@ fn cmd_bench(mut args: Args) -> Result<bool, String> {
         let rays = Camera::orbit(&hf, elevation, 200.0, w, h).rays();
         let name = format!("camera {w}x{h}, elevation {elevation}°");
         eprintln!("bench: {name}");
-        results.push(bench_rays(
-            &hf, method, surface, &name, &rays, &threads, reps,
-        ));
+        results.push(bench_rays(&tracer, &name, &rays, &threads, reps));
     }
     if n_random > 0 {
         let rays = random_rays(&hf, n_random, 1);
         eprintln!("bench: random rays");
         let name = "random, origin in box";
-        results.push(bench_rays(
-            &hf, method, surface, name, &rays, &threads, reps,
-        ));
+        results.push(bench_rays(&tracer, name, &rays, &threads, reps));
     }
     println!("{}", markdown_table(method, surface, &results));
     Ok(true)
@@ -299,6 +383,7 @@ fn main() -> ExitCode {
     let result = match command.as_str() {
         "render" => run(cmd_render),
         "trace" => run(cmd_trace),
+        "advise" => run(cmd_advise),
         "bench" => run(cmd_bench),
         "report" => run(cmd_report),
         "shader" => run(shader::cmd_shader),

@@ -5,11 +5,13 @@
 //! mirrored although grid y points south: image right is the camera's east-ish side.
 
 use crate::maps::Error;
-use crate::par_chunks;
-use hfcast::{HeightField, Method, Query, Surface};
+use crate::trace::Tracer;
+use crate::{par_chunks, MethodSpec};
+use hfcast::scene::RayClasses;
+use hfcast::{HeightField, Hit, Method, Query, Surface, Trace};
 use std::io::BufWriter;
 use std::path::Path;
-use std::sync::atomic::{AtomicU64, AtomicUsize, Ordering};
+use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::{Duration, Instant};
 
 /// Vertical field of view of the camera, degrees.
@@ -131,8 +133,8 @@ impl Camera {
 /// What to render and how.
 #[derive(Clone, Copy, Debug)]
 pub struct RenderOptions {
-    /// Marching method, for primary and shadow rays.
-    pub method: Method,
+    /// Marching method, for primary and shadow rays (baked once per render).
+    pub method: MethodSpec,
     /// Surface reconstruction.
     pub surface: Surface,
     /// Camera elevation, degrees.
@@ -156,7 +158,7 @@ pub struct RenderOptions {
 impl Default for RenderOptions {
     fn default() -> Self {
         RenderOptions {
-            method: Method::Exact,
+            method: MethodSpec::Plain(Method::Exact),
             surface: Surface::Triangles,
             elevation: 35.0,
             azimuth: 200.0,
@@ -192,19 +194,26 @@ pub struct RenderStats {
     pub shadow: u64,
     /// Texture fetches of all rays.
     pub fetches: u64,
-    /// Wall time of the whole render.
+    /// Wall time of the whole render (the bake included).
     pub wall: Duration,
+    /// Wall time of the method's bake (one thread).
+    pub bake: Duration,
+    /// Bytes of baked data.
+    pub baked_bytes: usize,
 }
 
 impl RenderStats {
     /// A one-line summary with rays per second.
     pub fn summary(&self) -> String {
         let s = self.wall.as_secs_f64().max(1e-9);
-        let rate = |n: u64| n as f64 / s / 1e6;
+        let rays = (s - self.bake.as_secs_f64()).max(1e-9);
+        let rate = |n: u64| n as f64 / rays / 1e6;
         format!(
-            "{:.3} s wall; primary {} rays ({:.2} Mrays/s, {} hits), shadow {} rays \
-             ({:.2} Mrays/s), total {:.2} Mrays/s; {:.1} fetches/ray",
+            "{:.3} s wall (bake {:.3} s, {} bytes); primary {} rays ({:.2} Mrays/s, {} hits), \
+             shadow {} rays ({:.2} Mrays/s), total {:.2} Mrays/s; {:.1} fetches/ray",
             s,
+            self.bake.as_secs_f64(),
+            self.baked_bytes,
             self.primary,
             rate(self.primary),
             self.hits,
@@ -245,76 +254,140 @@ fn above_base(q: &Query<f32>, base: f32) -> Option<Query<f32>> {
     Query::from_arrays(o, d, t0, t1).ok()
 }
 
-/// Renders the field: Lambert shading with a directional light, a shadow ray from
-/// every lit hit, a sky gradient for misses. Rows are shared out to the threads in
-/// bands.
-///
-/// The core treats everything under the surface as solid, down to −∞; the picture
-/// shows it as a slab whose base lies 15 % of the relief (at least 1) under the lowest
-/// sample, by clipping primary rays to the half-space above the base.
-pub fn render(hf: &HeightField, opts: &RenderOptions) -> (Image, RenderStats) {
-    let start = Instant::now();
+/// The camera of a render and the height of the slab base it shows the solid down to
+/// (15 % of the relief, at least 1, under the lowest sample).
+pub fn render_camera(hf: &HeightField, opts: &RenderOptions) -> (Camera, f32) {
     let (zmin, zmax) = (f64::from(hf.min_height()), f64::from(hf.max_height()));
     let base = zmin - f64::max(1.0, 0.15 * (zmax - zmin));
     let (el, az) = (opts.elevation, opts.azimuth);
     let cam = Camera::framing(hf, base, el, az, opts.width, opts.height);
-    let light = compass_dir(opts.light_azimuth, opts.light_elevation);
-    let light_f32 = light.map(|v| v as f32);
-    let (hits, shadow, fetches) = (AtomicU64::new(0), AtomicU64::new(0), AtomicU64::new(0));
-    let (rows_done, shown) = (AtomicUsize::new(0), AtomicUsize::new(0));
-    let row_bytes = opts.width as usize * 3;
-    let band = 4;
-    let mut rgb = vec![0u8; row_bytes * opts.height as usize];
+    (cam, base as f32)
+}
 
-    let shade = |q: &Query<f32>, counts: &mut [u64; 3]| -> [f64; 3] {
-        let tr = above_base(q, base as f32).map(|q| opts.method.trace(hf, opts.surface, &q));
-        counts[2] += u64::from(tr.map_or(0, |t| t.fetches));
-        let Some(hit) = tr.and_then(|t| t.hit) else {
+/// The primary ray of pixel (`px`, `py`) as the render traces it: clipped to the
+/// half-space above the slab base (`None`: the pixel sees only the sky).
+pub fn primary_ray(cam: &Camera, base: f32, px: u32, py: u32) -> Option<Query<f32>> {
+    above_base(&cam.ray(px, py), base)
+}
+
+/// The unit direction towards the render's light.
+pub fn light_dir(opts: &RenderOptions) -> [f64; 3] {
+    compass_dir(opts.light_azimuth, opts.light_elevation)
+}
+
+/// The shadow ray the render traces from a primary hit towards `light` (unit), with
+/// the Lambert factor of the hit; `None` when the hit faces away from the light (no
+/// shadow ray). The ray starts a little off the surface, along the normal.
+pub fn shadow_ray(hit: &Hit<f32>, light: [f64; 3]) -> Option<(Query<f32>, f64)> {
+    let (p, n) = (hit.point.to_array(), hit.normal.to_array());
+    let lambert = (0..3).map(|k| f64::from(n[k]) * light[k]).sum::<f64>();
+    if lambert <= 0.0 {
+        return None;
+    }
+    let eps = 1e-3 * f32::max(1.0, p[2].abs());
+    let o = [0, 1, 2].map(|k| p[k] + eps * n[k]);
+    let q = Query::from_arrays(o, light.map(|v| v as f32), 0.0, f32::INFINITY).ok()?;
+    Some((q, lambert))
+}
+
+/// The horizontal ray classes of a render's rays: its primary rays' and its light's
+/// (every shadow ray has the light's direction). The classes its bake computes.
+pub fn ray_classes(hf: &HeightField, opts: &RenderOptions) -> RayClasses {
+    let (cam, _) = render_camera(hf, opts);
+    let light = light_dir(opts);
+    let shadow = RayClasses::NONE.with(hfcast::RayClass::of(light[0], light[1]));
+    (0..opts.height)
+        .flat_map(|py| (0..opts.width).map(move |px| (px, py)))
+        .fold(shadow, |set, (px, py)| set.with(cam.ray(px, py).class()))
+}
+
+/// A render: the picture and, per pixel, what the heat maps show.
+#[derive(Clone, Debug)]
+pub struct Frame {
+    /// The shaded picture.
+    pub image: Image,
+    /// Per pixel (row-major from the top), the distance from the eye to the primary
+    /// hit in grid units, `None` for the sky.
+    pub depth: Vec<Option<f32>>,
+    /// Per pixel, the texture fetches of its primary and shadow rays together.
+    pub fetches: Vec<u32>,
+    /// Counts and times.
+    pub stats: RenderStats,
+}
+
+/// One pixel's result.
+#[derive(Clone, Copy, Debug, Default)]
+struct Pixel {
+    rgb: [u8; 3],
+    depth: Option<f32>,
+    fetches: u32,
+    /// Primary hit, shadow ray traced.
+    counts: [bool; 2],
+}
+
+/// Renders the field with `opts.method` (baked first, one thread, for the render's
+/// [`ray_classes`]): Lambert shading with a directional light, a shadow ray from
+/// every lit hit, a sky gradient for misses. Rows are shared out to the threads in
+/// bands. Fails when the method does not trace the surface.
+///
+/// The core treats everything under the surface as solid, down to −∞; the picture
+/// shows it as a slab whose base lies 15 % of the relief (at least 1) under the lowest
+/// sample, by clipping primary rays to the half-space above the base.
+pub fn render(hf: &HeightField, opts: &RenderOptions) -> Result<Frame, String> {
+    let start = Instant::now();
+    let tracer = Tracer::bake(*hf, opts.method, opts.surface, ray_classes(hf, opts))?;
+    let (zmin, zmax) = (f64::from(hf.min_height()), f64::from(hf.max_height()));
+    let (cam, base) = render_camera(hf, opts);
+    let light = light_dir(opts);
+    let (rows_done, shown) = (AtomicUsize::new(0), AtomicUsize::new(0));
+    let width = opts.width as usize;
+    let band = 4;
+    let mut pixels = vec![Pixel::default(); width * opts.height as usize];
+
+    let shade = |q: &Query<f32>| -> Pixel {
+        let tr = above_base(q, base).map(|q| tracer.trace(&q));
+        let mut px = Pixel {
+            fetches: tr.map_or(0, |t| t.fetches),
+            ..Pixel::default()
+        };
+        let Some(hit) = tr.and_then(|t: Trace<f32>| t.hit) else {
             let d = q.dir();
             let up = f64::from(d[2]) / f64::from(d[0].hypot(d[1]).hypot(d[2]));
-            return lerp3([0.78, 0.86, 0.95], [0.33, 0.52, 0.85], up);
+            px.rgb = to_rgb(lerp3([0.78, 0.86, 0.95], [0.33, 0.52, 0.85], up));
+            return px;
         };
-        counts[0] += 1;
-        let (p, n) = (hit.point.to_array(), hit.normal.to_array());
+        px.counts[0] = true;
+        let d = q.dir();
+        px.depth = Some(hit.t * d[0].hypot(d[1]).hypot(d[2]));
+        let p = hit.point.to_array();
         let colour = if hit.flags.contains(hfcast::Flags::SIDE) {
             [0.42, 0.34, 0.26]
         } else {
             albedo((f64::from(p[2]) - zmin) / (zmax - zmin).max(1e-9))
         };
-        let lambert = (0..3).map(|k| f64::from(n[k]) * light[k]).sum::<f64>();
         let mut lit = 0.0;
-        if lambert > 0.0 {
-            // Start the shadow ray a little off the surface, along the normal.
-            let eps = 1e-3 * f32::max(1.0, p[2].abs());
-            let o = [0, 1, 2].map(|k| p[k] + eps * n[k]);
-            if let Ok(sq) = Query::from_arrays(o, light_f32, 0.0, f32::INFINITY) {
-                let st = opts.method.trace(hf, opts.surface, &sq);
-                counts[1] += 1;
-                counts[2] += u64::from(st.fetches);
-                if st.hit.is_none() {
-                    lit = lambert;
-                }
+        if let Some((sq, lambert)) = shadow_ray(&hit, light) {
+            let st = tracer.trace(&sq);
+            px.counts[1] = true;
+            px.fetches += st.fetches;
+            if st.hit.is_none() {
+                lit = lambert;
             }
         }
-        colour.map(|c| c * (0.22 + 0.78 * lit))
+        px.rgb = to_rgb(colour.map(|c| c * (0.22 + 0.78 * lit)));
+        px
     };
 
-    par_chunks(&mut rgb, row_bytes * band, opts.threads, |first, chunk| {
-        let y0 = first / row_bytes;
-        let mut counts = [0u64; 3];
-        for (r, row) in chunk.chunks_mut(row_bytes).enumerate() {
-            for (px, out) in row.chunks_mut(3).enumerate() {
-                let c = shade(&cam.ray(px as u32, (y0 + r) as u32), &mut counts);
-                for (o, v) in out.iter_mut().zip(c) {
-                    *o = (v.clamp(0.0, 1.0) * 255.0).round() as u8;
-                }
+    par_chunks(&mut pixels, width * band, opts.threads, |first, chunk| {
+        let y0 = first / width;
+        for (r, row) in chunk.chunks_mut(width).enumerate() {
+            let py = (y0 + r) as u32;
+            for (px, out) in row.iter_mut().enumerate() {
+                *out = shade(&cam.ray(px as u32, py));
             }
         }
-        hits.fetch_add(counts[0], Ordering::Relaxed);
-        shadow.fetch_add(counts[1], Ordering::Relaxed);
-        fetches.fetch_add(counts[2], Ordering::Relaxed);
-        let done = rows_done.fetch_add(chunk.len() / row_bytes, Ordering::Relaxed)
-            + chunk.len() / row_bytes;
+        let done =
+            rows_done.fetch_add(chunk.len() / width, Ordering::Relaxed) + chunk.len() / width;
         // Every 5 %.
         let pct = done * 20 / opts.height.max(1) as usize * 5;
         if opts.progress && shown.fetch_max(pct, Ordering::Relaxed) < pct {
@@ -324,19 +397,87 @@ pub fn render(hf: &HeightField, opts: &RenderOptions) -> (Image, RenderStats) {
     if opts.progress {
         eprintln!();
     }
+    let count = |k: usize| pixels.iter().filter(|p| p.counts[k]).count() as u64;
     let stats = RenderStats {
         primary: u64::from(opts.width) * u64::from(opts.height),
-        hits: hits.into_inner(),
-        shadow: shadow.into_inner(),
-        fetches: fetches.into_inner(),
+        hits: count(0),
+        shadow: count(1),
+        fetches: pixels.iter().map(|p| u64::from(p.fetches)).sum(),
         wall: start.elapsed(),
+        bake: tracer.bake_time(),
+        baked_bytes: tracer.bytes(),
     };
     let image = Image {
         width: opts.width,
         height: opts.height,
-        rgb,
+        rgb: pixels.iter().flat_map(|p| p.rgb).collect(),
     };
-    (image, stats)
+    Ok(Frame {
+        image,
+        depth: pixels.iter().map(|p| p.depth).collect(),
+        fetches: pixels.iter().map(|p| p.fetches).collect(),
+        stats,
+    })
+}
+
+/// A colour in [0, 1] as RGB8.
+fn to_rgb(c: [f64; 3]) -> [u8; 3] {
+    c.map(|v| (v.clamp(0.0, 1.0) * 255.0).round() as u8)
+}
+
+/// The heat maps' colour ramp, from low to high: dark blue, blue, cyan, green,
+/// yellow, red (equal steps, linear between them).
+pub const RAMP: [[f64; 3]; 6] = [
+    [0.0, 0.0, 0.35],
+    [0.0, 0.2, 1.0],
+    [0.0, 0.9, 1.0],
+    [0.1, 0.85, 0.1],
+    [1.0, 0.9, 0.0],
+    [0.85, 0.0, 0.0],
+];
+
+/// The colour of `f` in [0, 1] on [`RAMP`] (clamped).
+pub fn ramp(f: f64) -> [u8; 3] {
+    let x = f.clamp(0.0, 1.0) * (RAMP.len() - 1) as f64;
+    let k = (x as usize).min(RAMP.len() - 2);
+    to_rgb(lerp3(RAMP[k], RAMP[k + 1], x - k as f64))
+}
+
+/// A heat map of `values` (row-major, `width × height`) on [`RAMP`] from `lo` (dark
+/// blue) to `hi` (red); `None` pixels black.
+pub fn heat_map(width: u32, height: u32, values: &[Option<f64>], lo: f64, hi: f64) -> Image {
+    let span = (hi - lo).max(f64::MIN_POSITIVE);
+    let rgb = values
+        .iter()
+        .flat_map(|v| v.map_or([0; 3], |v| ramp((v - lo) / span)))
+        .collect();
+    Image { width, height, rgb }
+}
+
+/// The depth and fetch-count heat maps of a frame (Tevs et al. 2008, Fig. 8), each
+/// with the range its ramp spans: depth from the nearest to the farthest hit (sky
+/// black), fetches per pixel from 0 to their 99th percentile (more is red too, so a
+/// few costly pixels do not darken the rest).
+pub fn heat_maps(frame: &Frame) -> [(Image, f64, f64); 2] {
+    let (w, h) = (frame.image.width, frame.image.height);
+    let depth: Vec<Option<f64>> = frame.depth.iter().map(|d| d.map(f64::from)).collect();
+    let (lo, hi) = depth
+        .iter()
+        .flatten()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &d| {
+            (a.min(d), b.max(d))
+        });
+    let (lo, hi) = if lo <= hi { (lo, hi) } else { (0.0, 0.0) };
+    let fetches: Vec<Option<f64>> = frame.fetches.iter().map(|&f| Some(f64::from(f))).collect();
+    let mut sorted = frame.fetches.clone();
+    sorted.sort_unstable();
+    let p99 = sorted
+        .get(sorted.len().saturating_sub(1) * 99 / 100)
+        .map_or(0.0, |&f| f64::from(f));
+    [
+        (heat_map(w, h, &depth, lo, hi), lo, hi),
+        (heat_map(w, h, &fetches, 0.0, p99), 0.0, p99),
+    ]
 }
 
 /// Writes an RGB8 PNG, creating the parent folder if needed.
