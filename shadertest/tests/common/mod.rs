@@ -12,6 +12,7 @@ use hfcast::relaxed;
 use hfcast::safety::cc::{self, CcMap, CcOptions, Slope};
 use hfcast::safety::{self, MarchSurface, SafetyMap, Variant};
 use hfcast::scene::{HeightFormat, MethodKind, RayClasses};
+use hfcast::world::WorldTransform;
 use hfcast::{HeightField, Query, SearchSteps, Surface, Trace};
 use hfcast_shaders::{wgsl_layout as binding, Lang, SafetyVariant, PYRAMID_TEX_WIDTH};
 use hfcast_tools::Rng;
@@ -149,10 +150,15 @@ pub struct Case {
     /// holds (`hf_safety_classes`, `hf_cc_classes`; the generated shader's scene's
     /// `ray_classes`): 15 for the whole maps, else one of [`SUBSETS`]' compact maps.
     pub classes: u8,
+    /// Traces world rays with `hf_trace_world` under this transform (the `hf_world`
+    /// uniform; the CPU side `WorldTransform::trace`) instead of grid rays with
+    /// `hf_trace`.
+    pub world: Option<WorldTransform>,
 }
 
 impl Case {
-    const fn new(method: MethodKind, surface: Surface, params: [u32; 4], exact: bool) -> Case {
+    /// A case of the general source on the whole maps, grid rays.
+    pub const fn new(method: MethodKind, surface: Surface, params: [u32; 4], exact: bool) -> Case {
         Case {
             method,
             surface,
@@ -162,6 +168,7 @@ impl Case {
             int_heights: false,
             generated: false,
             classes: 15,
+            world: None,
         }
     }
 
@@ -296,9 +303,9 @@ impl Case {
         name + &surface + &classes + heights + generated
     }
 
-    /// The source the case runs, with the test entry point: the method's general
-    /// source, or the shader generated for the case's scene (its surface, heights and
-    /// safety layout) when `generated`.
+    /// The source the case runs, with the test entry point (calling `hf_trace_world`
+    /// for a world case): the method's general source, or the shader generated for the
+    /// case's scene (its surface, heights and safety layout) when `generated`.
     pub fn source(&self) -> String {
         let scene = hfcast::scene::Scene {
             ray_classes: RayClasses(self.classes),
@@ -309,7 +316,10 @@ impl Case {
         } else {
             general_source(self.method)
         };
-        src + WRAPPER
+        match self.world {
+            Some(_) => src + &WRAPPER.replace("hf_trace(Query", "hf_trace_world(Query"),
+            None => src + WRAPPER,
+        }
     }
 
     /// The values of the `override` constants `src` declares (none in a generated
@@ -395,11 +405,27 @@ impl Case {
                 relaxed::trace(map, &hf, q, steps)
             }
         };
-        rays.iter().map(trace).collect()
+        match self.world {
+            Some(world) => rays
+                .iter()
+                .map(|r| world.trace(r, &trace).expect("a world ray in grid space"))
+                .collect(),
+            None => rays.iter().map(trace).collect(),
+        }
     }
 
-    /// The `@group(0)` bindings the method's entry point uses.
-    pub fn bindings(&self) -> &'static [u32] {
+    /// The `@group(0)` bindings the case's entry point uses: the method's, and
+    /// `hf_world` for a world case.
+    pub fn bindings(&self) -> Vec<u32> {
+        let mut b = self.method_bindings().to_vec();
+        if self.world.is_some() {
+            b.push(binding::WORLD);
+        }
+        b
+    }
+
+    /// The `@group(0)` bindings the method's `hf_trace` uses.
+    fn method_bindings(&self) -> &'static [u32] {
         use binding::*;
         match self.method {
             MethodKind::Exact => &[HEIGHTS, FIELD],
@@ -1206,6 +1232,13 @@ pub fn run_kernel(
     let dev = &gpu.device;
     let bindings = case.bindings();
     let params = gpu.uniform(&u32_bytes(&case.params));
+    // WorldParams: offset (then padding to 16 bytes), scale (then padding).
+    let t = case.world.unwrap_or_default();
+    let [ox, oy] = t.origin();
+    let [sx, sy] = t.spacing();
+    let (oz, sz) = (t.height_offset(), t.height_scale());
+    let world = [ox, oy, oz, 0.0, sx, sy, sz, 0.0].map(|v| v as f32);
+    let world = gpu.uniform(&f32_bytes(&world));
     let (safety_dir, safety_iso, cc_map) = sg.maps(case.classes);
     let resource = |b: u32| -> wgpu::BindingResource<'_> {
         match b {
@@ -1229,6 +1262,7 @@ pub fn run_kernel(
             binding::CC_MAP => wgpu::BindingResource::TextureView(cc_map),
             binding::CC => sg.cc.as_entire_binding(),
             binding::RADIUS_MAP => wgpu::BindingResource::TextureView(&sg.radius),
+            binding::WORLD => world.as_entire_binding(),
             other => panic!("no resource for binding {other}"),
         }
     };
