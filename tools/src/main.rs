@@ -44,6 +44,11 @@ commands:
            f32|u16|u8 (f32) --safety-variant directional|isotropic (directional)
            --no-shadows --outside-only --no-depth --lod --all-methods (every method
            in one shader, hf_method chosen at run time) --out FILE (default stdout)
+  bake     bake one method's map and write it as a KTX 2 file (hfcast::ktx2)
+           --method heights|maxmip|safety|cc|cone|relaxed|qdm|radius --map PATH
+           --depth GRID_UNITS --out FILE.ktx2 --cap N (safety, radius 255; cc 64)
+           --classes x+,x-,y+,y- (all; safety, cc) --safety-variant
+           directional|isotropic --tolerance E (radius, 0) --threads N (all cores)
 
 methods: exact | linear-binary:N:M | secant:N (default exact)
 surfaces: triangles | bilinear | height-planes | linear-planes | view-linear
@@ -51,6 +56,7 @@ angles: compass degrees (azimuth 0 = north = image top of the map, 90 = east)
 maps: grayscale PNG, heights = png/65535 * depth; depth defaults to 0.1 * max(W, H);
       default map: the bundled data/dem_jacksboro_fault_403x344.png";
 
+mod bake;
 mod shader;
 
 /// Options that take no value (`--quick` is `--quick=true`).
@@ -387,6 +393,7 @@ fn main() -> ExitCode {
         "bench" => run(cmd_bench),
         "report" => run(cmd_report),
         "shader" => run(shader::cmd_shader),
+        "bake" => run(bake::cmd_bake),
         "help" | "--help" | "-h" => {
             println!("{USAGE}");
             return ExitCode::SUCCESS;

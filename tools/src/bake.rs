@@ -1,0 +1,210 @@
+//! `hfcast bake`: bakes one method's map of a height map and writes it as a KTX 2 file
+//! (the core's `ktx2`: one Vulkan format per map, the pyramid as mip levels, the bake's
+//! settings as metadata).
+
+use crate::Args;
+use hfcast::ktx2::{self, Data, Desc, MapKind};
+use hfcast::safety::{self, cc, AllRays, Options, Variant};
+use hfcast::scene::RayClasses;
+use hfcast::{cone, maxmip, qdm, radius, relaxed, HeightField};
+use hfcast_tools::maps::{bundled_map, load_map};
+use hfcast_tools::{default_threads, par_chunks};
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+use std::io::IsTerminal;
+use std::ops::Range;
+use std::path::PathBuf;
+use std::sync::Mutex;
+
+/// The map of `--method` (and `--safety-variant`).
+fn map_kind(method: &str, variant: Option<&str>) -> Result<MapKind, String> {
+    let kind = match (method, variant) {
+        ("safety", None | Some("directional")) => MapKind::Safety,
+        ("safety", Some("isotropic")) => MapKind::SafetyIsotropic,
+        ("safety", Some(v)) => return Err(format!("--safety-variant: unknown layout {v:?}")),
+        (m, _) => MapKind::ALL
+            .into_iter()
+            .find(|k| k.method() == m)
+            .ok_or(format!(
+            "unknown method {m:?} (heights | maxmip | safety | cc | cone | relaxed | qdm | radius)"
+        ))?,
+    };
+    Ok(kind)
+}
+
+/// Runs `hfcast bake`.
+pub fn cmd_bake(mut args: Args) -> Result<bool, String> {
+    let method = args.opt("method").ok_or("bake: --method is required")?;
+    let variant = args.opt("safety-variant");
+    let map = map_kind(&method, variant.as_deref())?;
+    let path = args.opt("map").map_or(bundled_map(), PathBuf::from);
+    let depth = match args.opt("depth") {
+        Some(d) => Some(d.parse().map_err(|_| format!("--depth: bad value {d:?}"))?),
+        None => None,
+    };
+    let out = PathBuf::from(args.opt("out").ok_or("bake: --out FILE.ktx2 is required")?);
+    let cap = args.get("cap", map.default_cap())?;
+    let classes = match args.opt("classes") {
+        Some(list) => ktx2::parse_class_names(&list)
+            .ok_or(format!("--classes: bad list {list:?} (x+, x-, y+, y-)"))?,
+        None => RayClasses::ALL,
+    };
+    let tolerance = args.get("tolerance", 0.0f32)?;
+    let threads = args.get("threads", default_threads())?.max(1);
+    args.finish()?;
+    if let Some(p) = args.positional.first() {
+        return Err(format!("bake: unexpected argument {p:?}"));
+    }
+    let loaded = load_map(&path, depth).map_err(|e| e.to_string())?;
+    let hf = loaded.field();
+    let desc = Desc {
+        cap,
+        classes,
+        tolerance,
+        ..Desc::new(map, hf.width(), hf.height())
+    };
+    let len = ktx2::len(&desc).map_err(|e| format!("bake: {e}"))?;
+    eprintln!(
+        "bake {} of {} ({} x {}, depth {}), {} threads",
+        method,
+        path.display(),
+        hf.width(),
+        hf.height(),
+        loaded.depth,
+        threads
+    );
+    let mut file = vec![0u8; len];
+    match bake(&hf, &desc, threads)? {
+        Baked::U8(m) => ktx2::write(&desc, Data::U8(&m), &mut file),
+        Baked::F32(m) => ktx2::write(&desc, Data::F32(&m), &mut file),
+    }
+    .map_err(|e| format!("bake: {e}"))?;
+    std::fs::write(&out, &file).map_err(|e| format!("{}: {e}", out.display()))?;
+    println!(
+        "wrote {} ({} bytes, {:?})",
+        out.display(),
+        len,
+        map.format()
+    );
+    Ok(true)
+}
+
+/// A baked map.
+enum Baked {
+    U8(Vec<u8>),
+    F32(Vec<f32>),
+}
+
+/// Bakes the map of `desc` on `threads` threads, rows in ranges, with a progress bar
+/// on a terminal.
+fn bake(hf: &HeightField, desc: &Desc, threads: usize) -> Result<Baked, String> {
+    let n = ktx2::map_len(desc).map_err(|e| e.to_string())?;
+    let (w, h) = (hf.width(), hf.height());
+    let baked = match desc.map {
+        MapKind::Heights => Baked::F32(hf.samples().to_vec()),
+        MapKind::MaxMip => {
+            let mut p = vec![0.0; n];
+            maxmip::bake(hf, &mut p).map_err(|e| e.to_string())?;
+            Baked::F32(p)
+        }
+        MapKind::Safety | MapKind::SafetyIsotropic | MapKind::Cc | MapKind::Radius => {
+            let mut scratch = vec![0.0; safety::scratch_len(w, h)];
+            safety::prepare(hf, &mut scratch).map_err(|e| e.to_string())?;
+            let mut out = vec![0u8; n];
+            let variant = if desc.map == MapKind::SafetyIsotropic {
+                Variant::Isotropic
+            } else {
+                Variant::Directional
+            };
+            let opts = Options {
+                variant,
+                positive: false,
+                cap: desc.cap,
+            };
+            let (cap, classes) = (desc.cap, desc.classes);
+            match desc.map {
+                MapKind::Cc => {
+                    let mut nb = vec![0.0; cc::nbuffer_len(w, h, cap)];
+                    cc::prepare_nbuffer(hf, cap, &mut nb).map_err(|e| e.to_string())?;
+                    let opts = cc::CcOptions {
+                        cap,
+                        ..Default::default()
+                    };
+                    by_rows(h, &mut out, threads, |rows, o| {
+                        cc::bake_rows_classes(hf, &scratch, &nb, classes, rows, opts, o)
+                    })?
+                }
+                MapKind::Radius => {
+                    let opts = radius::BakeOptions {
+                        tolerance: desc.tolerance,
+                        cap,
+                    };
+                    by_rows(h, &mut out, threads, |rows, o| {
+                        radius::bake_rows(hf, &scratch, rows, opts, o)
+                    })?
+                }
+                _ => by_rows(h, &mut out, threads, |rows, o| {
+                    safety::bake_rows_classes(hf, &scratch, &AllRays, classes, rows, opts, o)
+                })?,
+            }
+            Baked::U8(out)
+        }
+        MapKind::Cone | MapKind::Relaxed | MapKind::Qdm => {
+            let mut scratch = vec![0.0; cone::scratch_len(w, h)];
+            cone::prepare(hf, &mut scratch).map_err(|e| e.to_string())?;
+            let mut out = vec![0.0f32; n];
+            match desc.map {
+                MapKind::Cone => by_rows(h - 1, &mut out, threads, |rows, o| {
+                    cone::bake_rows(hf, &scratch, rows, o)
+                })?,
+                MapKind::Relaxed => by_rows(h, &mut out, threads, |rows, o| {
+                    relaxed::bake_rows(hf, &scratch, rows, o)
+                })?,
+                _ => by_rows(h - 1, &mut out, threads, |rows, o| {
+                    qdm::bake_rows(hf, &scratch, rows, o)
+                })?,
+            }
+            Baked::F32(out)
+        }
+    };
+    Ok(baked)
+}
+
+/// Runs `bake_rows(rows, part)` over the `rows` rows of `out` in ranges of a few rows,
+/// on `threads` threads, advancing a progress bar (drawn only on a terminal) by the
+/// rows each range baked. The first error stops nothing but is returned.
+fn by_rows<T: Send, E: std::fmt::Display>(
+    rows: u32,
+    out: &mut [T],
+    threads: usize,
+    bake_rows: impl Fn(Range<u32>, &mut [T]) -> Result<(), E> + Sync,
+) -> Result<(), String> {
+    let row_len = out.len() / rows as usize;
+    let per_range = (rows as usize).div_ceil(256).max(1);
+    let bar = ProgressBar::new(u64::from(rows));
+    if std::io::stderr().is_terminal() {
+        let style = ProgressStyle::with_template("{elapsed_precise} [{bar:30}] {pos}/{len} rows")
+            .map_err(|e| e.to_string())?
+            .progress_chars("=> ");
+        bar.set_style(style);
+    } else {
+        bar.set_draw_target(ProgressDrawTarget::hidden());
+    }
+    let first_error = Mutex::new(None);
+    par_chunks(out, per_range * row_len, threads, |at, part| {
+        let start = (at / row_len) as u32;
+        let range = start..start + (part.len() / row_len) as u32;
+        let n = range.len() as u64;
+        if let Err(e) = bake_rows(range, part) {
+            first_error
+                .lock()
+                .expect("a bake thread panicked")
+                .get_or_insert(e.to_string());
+        }
+        bar.inc(n);
+    });
+    bar.finish_and_clear();
+    match first_error.into_inner().expect("a bake thread panicked") {
+        Some(e) => Err(format!("bake: {e}")),
+        None => Ok(()),
+    }
+}
