@@ -408,7 +408,7 @@ impl Case {
         match self.world {
             Some(world) => rays
                 .iter()
-                .map(|r| world.trace(r, &trace).expect("a world ray in grid space"))
+                .map(|r| world.trace(r, trace).expect("a world ray in grid space"))
                 .collect(),
             None => rays.iter().map(trace).collect(),
         }
