@@ -2,11 +2,11 @@
 //! buffer and a validating reader, both without allocation.
 //!
 //! **Use.** [`len`] sizes the file of a [`Desc`] (which map, of which field, baked with
-//! which cap, ray classes and ray set); [`write`] writes the baked map (the slice the
+//! which cap, ray classes and ray set); [`write()`] writes the baked map (the slice the
 //! bake filled, [`Data`]) into a buffer of that size; [`read`] validates a file and
 //! gives each level's bytes ([`View::level`]), the metadata ([`View::desc`],
 //! [`View::text`]) and the baked map back ([`View::read_map`], the exact inverse of
-//! [`write`]). The `ktx2` crate reads the files too (the tests of `hfcast-tools` check
+//! [`write()`]). The `ktx2` crate reads the files too (the tests of `hfcast-tools` check
 //! every map with it); libktx's tools are not packaged by Debian bookworm, so it is the
 //! independent reader.
 //!
@@ -26,7 +26,7 @@
 //! | `qdm` | `R32G32B32A32_SFLOAT` (109) `[a, b, c, h]` | `(W−1) × (H−1)` | 1 |
 //! | `radius` | `R8_UINT` (13) | `W × H` | 1 |
 //!
-//! **The pyramid as mip levels.** The maximum-mipmap pyramid ([`crate::maxmip`]) halves
+//! **The pyramid as mip levels.** The maximum-mipmap pyramid (`crate::maxmip`) halves
 //! each level rounding up ((W−1) × (H−1), then ⌈·/2⌉ down to 1 × 1); KTX mip level `k`
 //! of a `P × Q` texture is `max(1, ⌊P/2^k⌋) × max(1, ⌊Q/2^k⌋)`, and at most
 //! `⌊log₂ max(P, Q)⌋ + 1` levels. So `P × Q` are the next powers of two of
@@ -63,7 +63,7 @@ pub const IDENTIFIER: [u8; 12] = [
 /// Most levels a file holds (the pyramid of a field `2^24` samples wide).
 pub const MAX_LEVELS: usize = 25;
 
-/// The `KTXwriter` value of the files [`write`] writes.
+/// The `KTXwriter` value of the files [`write()`] writes.
 pub const WRITER: &str = concat!("hfcast ", env!("CARGO_PKG_VERSION"));
 
 /// Bytes of the identifier, header and index: where the level index starts.
@@ -143,7 +143,7 @@ impl Format {
 pub enum MapKind {
     /// The height field itself (`f32` samples).
     Heights = 0,
-    /// The maximum-mipmap pyramid ([`crate::maxmip`]).
+    /// The maximum-mipmap pyramid (`crate::maxmip`).
     MaxMip = 1,
     /// The directional safety-distance map (`crate::safety`, `Variant::Directional`).
     Safety = 2,
@@ -478,7 +478,7 @@ pub fn parse_class_names(list: &str) -> Option<RayClasses> {
 /// The class names in class order (bit `1 << class`).
 const CLASS_NAMES: [&str; 4] = ["x+", "x-", "y+", "y-"];
 
-/// The metadata [`write`] stores for `d` (normalized), sorted by key.
+/// The metadata [`write()`] stores for `d` (normalized), sorted by key.
 fn metadata(d: &Desc) -> Metadata {
     let mut m = Metadata::new();
     let mut put = |k: &'static str, v: heapless::String<64>| {
@@ -564,12 +564,12 @@ impl Plan {
     }
 }
 
-/// Bytes of the file of `desc` (what [`write`] needs).
+/// Bytes of the file of `desc` (what [`write()`] needs).
 pub fn len(desc: &Desc) -> Result<usize, Ktx2Error> {
     Ok(Plan::of(desc)?.total)
 }
 
-/// Elements (`f32`s or bytes, [`Data`]) of the baked map of `desc`: what [`write`]
+/// Elements (`f32`s or bytes, [`Data`]) of the baked map of `desc`: what [`write()`]
 /// reads and [`View::read_map`] writes (for the pyramid all its levels, as the bake
 /// lays them out).
 pub fn map_len(desc: &Desc) -> Result<usize, Ktx2Error> {
@@ -904,7 +904,7 @@ fn check_dfd(dfd: &[u8], f: Format) -> Result<(), Ktx2Error> {
 }
 
 /// The key/value entries of `kvd` in file order; stops at the first malformed one
-/// (which [`check_kvd`] rejects).
+/// (which [`read`] rejects).
 #[derive(Clone, Debug)]
 pub struct KeyValues<'a> {
     rest: &'a [u8],
@@ -1006,7 +1006,7 @@ impl<'a> View<'a> {
         core::str::from_utf8(v.strip_suffix(&[0]).unwrap_or(v)).ok()
     }
 
-    /// The hfcast description of the map from the metadata ([`write`]'s keys),
+    /// The hfcast description of the map from the metadata ([`write()`]'s keys),
     /// checked against the header (format, size, levels). A key a map does not use
     /// reads as [`Desc::new`]'s default.
     pub fn desc(&self) -> Result<Desc, Ktx2Error> {
@@ -1053,7 +1053,7 @@ impl<'a> View<'a> {
     }
 
     /// Copies the baked map out of the levels into `out`, exactly as its bake laid it
-    /// out (the inverse of [`write`]): at least [`map_len`] elements of the map's type.
+    /// out (the inverse of [`write()`]): at least [`map_len`] elements of the map's type.
     /// Writes nothing on error.
     pub fn read_map(&self, mut out: DataMut) -> Result<(), Ktx2Error> {
         let tex = Texture::of(&self.desc()?).map_err(|_| Ktx2Error::BadMetadata("field"))?;
