@@ -3,8 +3,9 @@
 //! The library behind the `hfcast` command-line tool, shared with its tests and later
 //! report tools: loading the real height maps ([`maps`]), a pinhole camera and a
 //! shaded, shadowed renderer ([`render`]), the traversal benchmark ([`bench`](mod@bench)), the
-//! error-against-time report ([`report`]) and the text format of `hfcast trace`
-//! ([`trace`]).
+//! error-against-time report ([`report`]), the method table ([`MethodSpec`],
+//! [`parse_method`]), baking and tracing with any method and the text format of
+//! `hfcast trace` ([`trace`]), and the method choice of `hfcast advise` ([`advise`]).
 
 use hfcast::relaxed::Steps as RelaxedSteps;
 use hfcast::scene::MethodKind;

@@ -19,10 +19,15 @@ const USAGE: &str = "\
 usage: hfcast <command> [options]
 
 commands:
-  render   ray-cast a shaded, shadowed image
-           --map PATH --depth GRID_UNITS --method M --surface S --elevation DEG
-           --azimuth DEG --light-elevation DEG --light-azimuth DEG --width N --height N
-           --threads N --out PATH (default out/render.png)
+  render   ray-cast a shaded, shadowed image, and beside it (unless --no-heatmaps)
+           its depth and fetch-count heat maps, PATH.depth.png and PATH.fetches.png
+           --map PATH --depth GRID_UNITS --method M|auto (auto: advise's choice)
+           --surface S --elevation DEG --azimuth DEG --light-elevation DEG
+           --light-azimuth DEG --width N --height N --threads N
+           --out PATH (default out/render.png) --no-heatmaps
+  advise   measure every exact method on render's rays (the same options): bake
+           time and bytes, ns/ray and fetches/ray (one thread, median of --reps N, 3),
+           and choose the least one-frame time (bake + rays x ns) of the Pareto set
   trace    answer ray queries: hfcast trace [options] ox oy oz dx dy dz [t_min t_max]
            or, with no ray or '-', one ray per line from stdin ('#' comments)
            --map PATH --depth GRID_UNITS --method M --surface S
@@ -33,7 +38,9 @@ commands:
            --threads LIST (1,2) --method M --surface S
   report   error against run time of every method setting vs the f64 oracle, on every
            map of ../shared/data at two depths and synthetic fields: Markdown + SVG plots
-           --quick (CI smoke test: small scenes, short sweep) --out DIR (out/report)
+           (a map that cannot be read is skipped with a warning)
+           --quick (CI smoke test: small scenes, every map's centre 128 x 128 samples,
+           short sweep) --out DIR (out/report)
            --reps N (3) --size WxH (160x120; quick 64x48) --synthetic N (512;
            quick 128) --threads N (oracle only; timing is single-threaded)
            --scenes WORD,WORD (keep scenes whose name contains a word)
@@ -50,7 +57,11 @@ commands:
            --classes x+,x-,y+,y- (all; safety, cc) --safety-variant
            directional|isotropic --tolerance E (radius, 0) --threads N (all cores)
 
-methods: exact | linear-binary:N:M | secant:N (default exact)
+methods (render, trace, bench; default exact): exact | linear-binary[:N:M] (64:8) |
+         secant[:N] (64) | maxmip | safety | cc | radius | cone[:CAP] (64) |
+         qdm[:CAP] (64) | relaxed[:N:M] (64:8); exact ones: exact maxmip safety cc
+         radius; safety, cc, radius trace triangles and view-linear, cone, qdm and
+         relaxed triangles only; baked methods bake once per command
 surfaces: triangles | bilinear | height-planes | linear-planes | view-linear
 angles: compass degrees (azimuth 0 = north = image top of the map, 90 = east)
 maps: grayscale PNG, heights = png/65535 * depth; depth defaults to 0.1 * max(W, H);

@@ -188,30 +188,47 @@ pub fn bundled_map() -> PathBuf {
 }
 
 /// Every `*.png` in [`shared_data_dir`], sorted by name (empty when the folder is
-/// missing). Reads only the PNG headers and sidecars.
+/// missing). Reads only the PNG headers and sidecars; a PNG whose header cannot be
+/// read is left out ([`scan_maps`] reports it).
 pub fn list_maps() -> Vec<MapInfo> {
+    scan_maps(|_| true).0
+}
+
+/// The maps of [`list_maps`] whose name (file stem) `keep` accepts, sorted by name,
+/// and an error for each accepted `*.png` whose header cannot be read. The files of
+/// names `keep` refuses are never opened.
+pub fn scan_maps(keep: impl Fn(&str) -> bool) -> (Vec<MapInfo>, Vec<Error>) {
     let Ok(entries) = std::fs::read_dir(shared_data_dir()) else {
-        return Vec::new();
+        return (Vec::new(), Vec::new());
     };
-    let mut maps: Vec<MapInfo> = entries
+    let mut paths: Vec<(String, PathBuf)> = entries
         .filter_map(|e| {
             let path = e.ok()?.path();
             if path.extension()? != "png" {
                 return None;
             }
-            let reader = png_reader(&path).ok()?;
-            let (width, height) = reader.info().size();
-            Some(MapInfo {
-                name: path.file_stem()?.to_string_lossy().into_owned(),
-                width,
-                height,
-                h_range: sidecar_range(&path),
-                path,
-            })
+            let name = path.file_stem()?.to_string_lossy().into_owned();
+            keep(&name).then_some((name, path))
         })
         .collect();
-    maps.sort_by(|a, b| a.name.cmp(&b.name));
-    maps
+    paths.sort();
+    let (mut maps, mut errors) = (Vec::new(), Vec::new());
+    for (name, path) in paths {
+        match png_reader(&path) {
+            Ok(reader) => {
+                let (width, height) = reader.info().size();
+                maps.push(MapInfo {
+                    name,
+                    width,
+                    height,
+                    h_range: sidecar_range(&path),
+                    path,
+                });
+            }
+            Err(e) => errors.push(e),
+        }
+    }
+    (maps, errors)
 }
 
 /// Opens a PNG and reads its header (with a memory limit large enough for any map).

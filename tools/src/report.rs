@@ -67,8 +67,9 @@ impl ReportOptions {
 /// above the surface point they leave.
 pub const SHADOW_LIFT: f64 = 4.0;
 
-/// Maps of the `--quick` report (the small ones; the full report takes every map).
-pub const QUICK_MAPS: [&str; 2] = ["jacksboro", "spike"];
+/// Side of the centre crop of every map in the `--quick` report (the full report
+/// takes the whole maps).
+pub const QUICK_CROP: u32 = 128;
 
 /// Everything measured on one scene.
 pub struct SceneResult {
@@ -89,15 +90,17 @@ pub struct SceneResult {
     pub skipped: Vec<usize>,
 }
 
-/// Builds the scene list.
-pub fn build_scenes(opts: &ReportOptions) -> Result<Vec<Scene>, String> {
-    let words: Vec<&str> = if opts.quick {
-        QUICK_MAPS.to_vec()
-    } else {
-        Vec::new()
-    };
-    let mut list = map_scenes(&words).map_err(|e| e.to_string())?;
-    if list.is_empty() {
+/// Whether the scene named `name` passes `--scenes`.
+fn kept(opts: &ReportOptions, name: &str) -> bool {
+    opts.only.is_empty() || opts.only.iter().any(|w| name.contains(w.as_str()))
+}
+
+/// Builds the scene list, and says which maps could not be read (one line each: they
+/// are skipped). Maps no scene of `--scenes` names are never read.
+pub fn build_scenes(opts: &ReportOptions) -> Result<(Vec<Scene>, Vec<String>), String> {
+    let crop = opts.quick.then_some(QUICK_CROP);
+    let (mut list, skipped) = map_scenes(|name| kept(opts, name), crop);
+    if list.is_empty() && kept(opts, &scenes::bundled_name()) {
         list.push(scenes::bundled_scene().map_err(|e| e.to_string())?);
     }
     let n = opts.synthetic_size;
@@ -119,16 +122,17 @@ pub fn build_scenes(opts: &ReportOptions) -> Result<Vec<Scene>, String> {
         s.about = format!("{}, bilinear surface", s.about);
         list.push(s);
     }
-    if !opts.only.is_empty() {
-        list.retain(|s| opts.only.iter().any(|w| s.name.contains(w.as_str())));
-    }
-    Ok(list)
+    list.retain(|s| kept(opts, &s.name));
+    Ok((list, skipped))
 }
 
 /// Runs the report and writes it; returns the Markdown summary section.
 pub fn run(opts: &ReportOptions) -> Result<String, String> {
     let start = Instant::now();
-    let scenes = build_scenes(opts)?;
+    let (scenes, skipped) = build_scenes(opts)?;
+    for why in &skipped {
+        eprintln!("report: warning: skipping a map that could not be read: {why}");
+    }
     if scenes.is_empty() {
         return Err("no scene left (check --scenes)".into());
     }
@@ -181,7 +185,7 @@ pub fn run(opts: &ReportOptions) -> Result<String, String> {
     }
     bar.finish_and_clear();
     let elapsed = start.elapsed().as_secs_f64();
-    markdown::write_all(opts, &sweep, &all, &results, elapsed)
+    markdown::write_all(opts, &sweep, &all, &results, &skipped, elapsed)
 }
 
 /// Measures every setting that applies on one scene.

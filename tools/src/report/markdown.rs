@@ -62,6 +62,7 @@ pub fn write_all(
     sweep: &Sweep,
     all: &[Setting],
     results: &[SceneResult],
+    skipped_maps: &[String],
     elapsed: f64,
 ) -> Result<String, String> {
     let plots = opts.out.join("plots");
@@ -90,6 +91,12 @@ pub fn write_all(
          wrong_solid,wrong_pixels,pixels,err_mean,err_max,fetch_mean,fetch_p99,ns_per_ray,bake_s,bytes,budget\n",
     );
     let _ = writeln!(md, "## Scenes\n");
+    for why in skipped_maps {
+        let _ = writeln!(md, "- Skipped a map that could not be read: {why}");
+    }
+    if !skipped_maps.is_empty() {
+        md.push('\n');
+    }
     for r in results {
         let s = &r.scene;
         let file = format!("{}.svg", file_name(&s.name));

@@ -1,7 +1,7 @@
 //! The scenes of the report (height fields with the depth and surface they are traced
 //! with) and the ray sets traced over them (cameras, an inside viewpoint, shadow rays).
 
-use crate::maps::{list_maps, load_map, Error};
+use crate::maps::{load_map, scan_maps, Error};
 use crate::render::{compass_dir, Camera, FOV_Y_DEG};
 use crate::Rng;
 use hfcast::{dda, HeightField, Query, Surface};
@@ -44,31 +44,65 @@ pub const DEPTHS: [f64; 2] = [0.05, 0.15];
 /// Relief of the synthetic scenes, as a fraction of `max(W, H)`.
 pub const SYNTHETIC_DEPTH: f64 = 0.1;
 
-/// Every PNG map of the shared data folder at each of [`DEPTHS`] (triangle surface).
-/// `only` keeps the maps whose name contains one of its words (all when empty).
-pub fn map_scenes(only: &[&str]) -> Result<Vec<Scene>, Error> {
+/// Every map of the shared data folder at each of [`DEPTHS`] (triangle surface) whose
+/// scene name `keep` accepts, the others never read; with `crop`, each map's centre
+/// `crop × crop` samples at most (the depth then relative to the crop). A map that
+/// cannot be read is skipped: the second value says why, one line per map.
+pub fn map_scenes(keep: impl Fn(&str) -> bool, crop: Option<u32>) -> (Vec<Scene>, Vec<String>) {
+    let name = |map: &str, frac: f64| format!("{map}@{frac}");
+    // A map is read when one of its scenes, or its bilinear copy, may be kept.
+    let wanted = |n: &str| keep(n) || keep(&format!("{n}-bilinear"));
+    let (maps, errors) = scan_maps(|map| DEPTHS.iter().any(|&f| wanted(&name(map, f))));
+    let mut skipped: Vec<String> = errors.iter().map(ToString::to_string).collect();
     let mut out = Vec::new();
-    for info in list_maps() {
-        if !only.is_empty() && !only.iter().any(|w| info.name.contains(w)) {
-            continue;
-        }
-        for frac in DEPTHS {
-            let depth = (frac * f64::from(info.width.max(info.height))) as f32;
-            let map = load_map(&info.path, Some(depth))?;
+    for info in maps {
+        let (cw, ch) = crop.map_or((info.width, info.height), |c| {
+            (info.width.min(c), info.height.min(c))
+        });
+        for frac in DEPTHS.into_iter().filter(|&f| wanted(&name(&info.name, f))) {
+            let depth = (frac * f64::from(cw.max(ch))) as f32;
+            let map = match load_map(&info.path, Some(depth)) {
+                Ok(map) => map,
+                Err(e) => {
+                    skipped.push(e.to_string());
+                    break;
+                }
+            };
+            let cropped = if (cw, ch) == (map.width, map.height) {
+                String::new()
+            } else {
+                format!(", centre {cw} × {ch} samples")
+            };
             out.push(Scene {
-                name: format!("{}@{frac}", info.name),
+                name: name(&info.name, frac),
                 about: format!(
-                    "`{}.png` ({} × {}), depth {frac} × max(W, H) = {depth} grid units",
+                    "`{}.png` ({} × {}{cropped}), depth {frac} × max(W, H) = {depth} grid units",
                     info.name, map.width, map.height
                 ),
-                width: map.width,
-                height: map.height,
-                heights: map.heights,
+                width: cw,
+                height: ch,
+                heights: centre(&map.heights, (map.width, map.height), (cw, ch)),
                 surface: Surface::Triangles,
             });
         }
     }
-    Ok(out)
+    (out, skipped)
+}
+
+/// The centre `size` samples of a row-major field of `full` samples.
+fn centre(heights: &[f32], full: (u32, u32), size: (u32, u32)) -> Vec<f32> {
+    let (x0, y0) = ((full.0 - size.0) / 2, (full.1 - size.1) / 2);
+    (y0..y0 + size.1)
+        .flat_map(|j| {
+            let row = (j * full.0 + x0) as usize;
+            heights[row..row + size.0 as usize].iter().copied()
+        })
+        .collect()
+}
+
+/// Name of the [`bundled_scene`].
+pub fn bundled_name() -> String {
+    format!("bundled@{}", DEPTHS[0])
 }
 
 /// The bundled default map at the first depth: the fallback when the shared data
@@ -80,7 +114,7 @@ pub fn bundled_scene() -> Result<Scene, Error> {
     let depth = (frac * f64::from(map.width.max(map.height))) as f32;
     let map = load_map(&path, Some(depth))?;
     Ok(Scene {
-        name: format!("bundled@{frac}"),
+        name: bundled_name(),
         about: format!(
             "bundled `{}` ({} × {}), depth {depth} grid units",
             crate::maps::DEFAULT_MAP,
