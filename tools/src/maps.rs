@@ -366,14 +366,16 @@ pub fn load_any(path: impl AsRef<Path>, depth: Option<f32>) -> Result<Map, Error
     }
 }
 
-/// Grid heights `(h − lo) / (hi − lo) × depth` of metres `h` (`lo`, `hi` their range),
-/// at the real-proportion depth `(hi − lo) / √|sx·sy|` when `depth` is `None`; and the
-/// transform back to metres.
-fn grid_heights(
+/// The `width × height` map of metres `h` with sample spacing `spacing`: grid heights
+/// `(h − lo) / (hi − lo) × depth` (`lo`, `hi` their range), at the real-proportion
+/// depth `(hi − lo) / √|sx·sy|` when `depth` is `None`, and the transform back to
+/// metres.
+fn metres_map(
     metres: &[f64],
+    (width, height): (u32, u32),
     spacing: [f64; 2],
     depth: Option<f32>,
-) -> Result<(Vec<f32>, f32, (f64, f64), WorldTransform), String> {
+) -> Result<Map, String> {
     let lo = metres.iter().copied().fold(f64::INFINITY, f64::min);
     let hi = metres.iter().copied().fold(f64::NEG_INFINITY, f64::max);
     let real = ((hi - lo) / (spacing[0] * spacing[1]).abs().sqrt()) as f32;
@@ -386,10 +388,18 @@ fn grid_heights(
     } else {
         0.0
     };
-    let heights = metres.iter().map(|&h| ((h - lo) * per) as f32).collect();
+    let heights: Vec<f32> = metres.iter().map(|&h| ((h - lo) * per) as f32).collect();
     let transform = real_transform(spacing, (lo, hi), depth)
         .ok_or_else(|| format!("bad spacing {spacing:?}"))?;
-    Ok((heights, depth, (lo, hi), transform))
+    HeightField::new(&heights, width, height, width as usize).map_err(|e| e.to_string())?;
+    Ok(Map {
+        width,
+        height,
+        heights,
+        depth,
+        h_range: Some((lo, hi)),
+        transform,
+    })
 }
 
 /// What [`load_geotiff`] does with nodata samples (the `GDAL_NODATA` tag's value, and
@@ -499,17 +509,7 @@ pub fn load_geotiff(
     } else {
         [sx, -sy]
     };
-    let (heights, depth, range, transform) =
-        grid_heights(&metres, spacing, depth).map_err(|e| at(&e))?;
-    HeightField::new(&heights, width, height, width as usize).map_err(|e| at(&e))?;
-    Ok(Map {
-        width,
-        height,
-        heights,
-        depth,
-        h_range: Some(range),
-        transform,
-    })
+    metres_map(&metres, (width, height), spacing, depth).map_err(|e| at(&e))
 }
 
 /// Loads `width × height` little-endian `f32` heights (row-major, row 0 first) in
