@@ -226,6 +226,7 @@ fn cmd_render(mut args: Args) -> Result<bool, String> {
         opts.threads
     );
     let frame = render(&hf, &opts)?;
+    eprintln!("bake plan: {}", advise::plan_text(&frame.plan));
     write_png(&out, &frame.image).map_err(|e| e.to_string())?;
     println!("{}", frame.stats.summary());
     println!("wrote {}", out.display());

@@ -7,7 +7,7 @@
 use crate::maps::Error;
 use crate::trace::Tracer;
 use crate::{par_chunks, MethodSpec};
-use hfcast::scene::RayClasses;
+use hfcast::scene::{BakePlan, RayClasses};
 use hfcast::{HeightField, Hit, Method, Query, Surface, Trace};
 use std::io::BufWriter;
 use std::path::Path;
@@ -313,6 +313,9 @@ pub struct Frame {
     pub fetches: Vec<u32>,
     /// Counts and times.
     pub stats: RenderStats,
+    /// The core's bake plan the method was baked by (`hf_scene_bake_plan` of the same
+    /// scene).
+    pub plan: BakePlan,
 }
 
 /// One pixel's result.
@@ -417,6 +420,7 @@ pub fn render(hf: &HeightField, opts: &RenderOptions) -> Result<Frame, String> {
         depth: pixels.iter().map(|p| p.depth).collect(),
         fetches: pixels.iter().map(|p| p.fetches).collect(),
         stats,
+        plan: *tracer.plan(),
     })
 }
 

@@ -42,6 +42,12 @@ fn render_writes_depth_and_fetch_heat_maps() {
     let (ok, out, err) = hfcast(&dir, &args);
     assert!(ok, "{err}");
     assert!(out.contains("Mrays/s") && out.contains("bake"), "{out}");
+    // The core's bake plan for the scene: the render's camera and light cast three of
+    // the four ray classes.
+    assert!(
+        err.contains("bake plan: keeps cc map; scratch safety scratch, n-buffer; ray classes"),
+        "{err}"
+    );
     assert!(out.contains("render.depth.png (depth ") && out.contains("99th percentile"));
     let (w, h, picture) = read_rgb(&dir.join("out/render.png"));
     for name in ["out/render.depth.png", "out/render.fetches.png"] {
