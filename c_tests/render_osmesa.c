@@ -356,23 +356,30 @@ static int tests_result(const char *name, const tally *t) {
 
 /* ---- parity test ------------------------------------------------------------------- */
 
-/* Renders `c` on the job's maps, compares the frame `f` with the CPU and prints the
- * line of the case. Returns whether it passed (`strict`: no pixel, shadow or depth may
- * differ, beyond parity_ok). */
-static int parity_case(map_job *j, int w, int h, method_cfg c, frame *f, int strict) {
-    double ms = render_ms(j, c, 0, 0);
+/* Renders `c` with program `prog` (0: the general shader) on the job's maps, compares the
+ * frame `f` with the CPU's answers for `rays` (the uploaded ones) and prints the line of
+ * the case, labelled with `extra`. Returns whether it passed (`strict`: no pixel, shadow
+ * or depth may differ, beyond parity_ok). */
+static int parity_case_with(map_job *j, int w, int h, method_cfg c, frame *f, int strict,
+                            GLuint prog, const hf_ray *rays, const char *extra) {
+    double ms = render_ms(j, c, prog, 0);
     gpu_read(&j->g, f);
     char label[256];
-    case_label(label, sizeof label, j, c, "");
-    parity p = compare(&j->s, c, j->rays, f, j->depth_far, w, h, 0, label);
+    case_label(label, sizeof label, j, c, extra);
+    parity p = compare(&j->s, c, rays, f, j->depth_far, w, h, 0, label);
     int ok = parity_ok(&p, c.method) &&
              (!strict || p.differ + p.shadow_differ + p.depth_differ == 0);
     printf("parity %-40s %d pixels, %d cpu hits, %d differ (%d hit/miss, %d > 1e-3), max "
            "err %.2e; shadows %d/%d differ; depth %d differ; gpu %.0f ms  %s\n",
            label, p.pixels, p.hits, p.differ, p.differ_hit, p.differ_pos, p.max_err,
            p.shadow_differ, p.shadow_checked, p.depth_differ, ms, ok ? "ok" : "FAILED");
-    if (!ok || p.differ > 0) compare(&j->s, c, j->rays, f, j->depth_far, w, h, 1, label);
+    if (!ok || p.differ > 0) compare(&j->s, c, rays, f, j->depth_far, w, h, 1, label);
     return ok;
+}
+
+/* parity_case_with the general shader on the job's rays. */
+static int parity_case(map_job *j, int w, int h, method_cfg c, frame *f, int strict) {
+    return parity_case_with(j, w, h, c, f, strict, 0, j->rays, "");
 }
 
 /* The configurations run on the compact maps of each of SUBSETS: safety (directional
@@ -436,9 +443,100 @@ static void parity_subsets(map_job *j, int w, int h, frame *f, tally *t) {
     free(part);
 }
 
+/* ---- world units (world.glsl) ------------------------------------------------------ */
+
+/* The transform of the world-unit cases: unequal spacings, y flipped, heights scaled
+ * and offset (as shadertest/tests/wgsl_world.rs). */
+static const hf_transform WORLD = {{-310.5, 1250.25}, {3.0, -2.5}, 1.75, -42.0};
+
+/* The program of `method` whose main traces with hf_trace_world instead of hf_trace. */
+static GLuint link_world_program(uint32_t method) {
+    char *src = fragment_source(method);
+    const char *call = "Trace tr = hf_trace(q);", *world = "Trace tr = hf_trace_world(q);";
+    char *at = strstr(src, call);
+    if (!at) {
+        fprintf(stderr, "no \"%s\" in the renderer's main\n", call);
+        exit(2);
+    }
+    char *out = (char *)malloc(strlen(src) + strlen(world) - strlen(call) + 1);
+    size_t head = (size_t)(at - src);
+    memcpy(out, src, head);
+    strcpy(out + head, world);
+    strcat(out, at + strlen(call));
+    free(src);
+    GLuint p = link_fragment(out);
+    free(out);
+    return p;
+}
+
+/* The world rays of the grid rays `rays` under `t`: the same lines, the directions
+ * scaled (not renormalised) so that t and the ranges are unchanged. */
+static void world_rays(const hf_transform *t, const hf_ray *rays, size_t n, hf_ray *out) {
+    const double off[3] = {t->origin[0], t->origin[1], t->height_offset};
+    const double sc[3] = {t->spacing[0], t->spacing[1], t->height_scale};
+    for (size_t k = 0; k < n; k++) {
+        out[k] = rays[k];
+        for (int a = 0; a < 3; a++) {
+            out[k].origin[a] = (float)(off[a] + sc[a] * rays[k].origin[a]);
+            out[k].dir[a] = (float)(sc[a] * rays[k].dir[a]);
+        }
+    }
+}
+
+/* Whether two frames are the same bit for bit. */
+static int frames_identical(const frame *a, const frame *b, size_t n) {
+    return memcmp(a->point, b->point, sizeof(float) * 4 * n) == 0 &&
+           memcmp(a->normal, b->normal, sizeof(float) * 4 * n) == 0 &&
+           memcmp(a->color, b->color, 4 * n) == 0 &&
+           memcmp(a->depth, b->depth, sizeof(float) * n) == 0;
+}
+
+/* World units on one map, for exact traversal, maximum mipmaps and cylinder-cones on
+ * triangles, with the renderer's main calling hf_trace_world: with its default
+ * (identity) uniforms on the grid rays, the frame of hf_trace bit for bit; with
+ * hf_world_offset / hf_world_scale set to WORLD, on the world rays, the C API's answers
+ * on the field placed by hf_field_set_transform(WORLD) (parity_ok). The field's
+ * transform and the uploaded rays are restored after. */
+static void parity_world(map_job *j, int w, int h, frame *f, tally *t) {
+    static const hf_transform identity = {{0.0, 0.0}, {1.0, 1.0}, 1.0, 0.0};
+    static const uint32_t methods[] = {HF_METHOD_EXACT, HF_METHOD_MAXMIP, HF_METHOD_CC};
+    size_t n = (size_t)w * h;
+    hf_ray *rays = (hf_ray *)malloc(sizeof(hf_ray) * n);
+    world_rays(&WORLD, j->rays, n, rays);
+    frame plain;
+    frame_alloc(&plain, w, h);
+    for (size_t k = 0; k < sizeof methods / sizeof methods[0]; k++) {
+        method_cfg c = cfg_of(methods[k], HF_SURFACE_TRIANGLES);
+        GLuint prog = link_world_program(c.method);
+        render_ms(j, c, 0, 0);
+        gpu_read(&j->g, &plain);
+        render_ms(j, c, prog, 0);
+        gpu_read(&j->g, f);
+        int same = frames_identical(&plain, f, n);
+        char label[256];
+        case_label(label, sizeof label, j, c, "");
+        printf("world %-41s identity: frame of hf_trace_world %s that of hf_trace  %s\n",
+               label, same ? "bit-identical to" : "DIFFERS from", same ? "ok" : "FAILED");
+        glUseProgram(prog);
+        glUniform3f(glGetUniformLocation(prog, "hf_world_offset"), (float)WORLD.origin[0],
+                    (float)WORLD.origin[1], (float)WORLD.height_offset);
+        glUniform3f(glGetUniformLocation(prog, "hf_world_scale"), (float)WORLD.spacing[0],
+                    (float)WORLD.spacing[1], (float)WORLD.height_scale);
+        hf_result r = hf_field_set_transform(j->s.field, &WORLD);
+        gpu_upload_rays(&j->g, rays);
+        int ok = r == HF_OK && parity_case_with(j, w, h, c, f, 0, prog, rays, " world");
+        if (hf_field_set_transform(j->s.field, &identity) != HF_OK) ok = 0;
+        gpu_upload_rays(&j->g, j->rays);
+        glDeleteProgram(prog);
+        if (ok && same) t->passed++; else t->failed++;
+    }
+    frame_free(&plain);
+    free(rays);
+}
+
 /* Every configuration on one map (relaxed cones too when the job has their map)
- * against the CPU, then the class-subset cases; the images of the exact methods on
- * triangles (safety: directional) go to the outdir. */
+ * against the CPU, then the world-unit and the class-subset cases; the images of the
+ * exact methods on triangles (safety: directional) go to the outdir. */
 static void parity_map(map_job *j, int w, int h, void *ctx) {
     tally *t = (tally *)ctx;
     frame f;
@@ -465,6 +563,7 @@ static void parity_map(map_job *j, int w, int h, void *ctx) {
             }
         }
     }
+    parity_world(j, w, h, &f, t);
     parity_subsets(j, w, h, &f, t);
     frame_free(&f);
 }
