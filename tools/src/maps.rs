@@ -63,6 +63,11 @@ pub struct Map {
     /// Grid space to the map's real units (metres), when its file gives them; else
     /// the identity.
     pub transform: WorldTransform,
+    /// Where sample (0, 0) lies in the file's coordinate reference system (x, y:
+    /// longitude and latitude in degrees for geographic data, metres for projected),
+    /// when the file says. [`Map::transform`] keeps world (0, 0) at sample (0, 0), so
+    /// `f32` world rays near the field stay precise; add this to place it on the globe.
+    pub georef: Option<[f64; 2]>,
 }
 
 impl Map {
@@ -250,6 +255,15 @@ fn sidecar_range(png_path: &Path) -> Option<(f64, f64)> {
     ))
 }
 
+/// The sidecar's `georef.xmin_lon` and `georef.ymin_lat_row0`: sample (0, 0)'s
+/// longitude and latitude.
+fn sidecar_georef(png_path: &Path) -> Option<[f64; 2]> {
+    let text = std::fs::read_to_string(png_path.with_extension("json")).ok()?;
+    let json: serde_json::Value = serde_json::from_str(&text).ok()?;
+    let g = &json["georef"];
+    Some([g["xmin_lon"].as_f64()?, g["ymin_lat_row0"].as_f64()?])
+}
+
 /// Loads a grayscale PNG height map (16-bit, or 8-bit) and its sidecar. `depth` is the
 /// relief depth in grid units; `None` takes [`default_depth`].
 pub fn load_map(path: impl AsRef<Path>, depth: Option<f32>) -> Result<Map, Error> {
@@ -286,6 +300,7 @@ pub fn load_map(path: impl AsRef<Path>, depth: Option<f32>) -> Result<Map, Error
         depth,
         h_range: sidecar_range(path),
         transform: sidecar_transform(path, depth).unwrap_or_default(),
+        georef: sidecar_georef(path),
     })
 }
 
@@ -399,6 +414,7 @@ fn metres_map(
         depth,
         h_range: Some((lo, hi)),
         transform,
+        georef: None,
     })
 }
 
@@ -509,7 +525,18 @@ pub fn load_geotiff(
     } else {
         [sx, -sy]
     };
-    metres_map(&metres, (width, height), spacing, depth).map_err(|e| at(&e))
+    let mut map = metres_map(&metres, (width, height), spacing, depth).map_err(|e| at(&e))?;
+    // The tie point (I, J, K, X, Y, Z) puts raster point (I, J) at (X, Y); a sample's
+    // centre is half a pixel in unless GTRasterTypeGeoKey (1025) says PixelIsPoint (2).
+    let point = keys
+        .chunks_exact(4)
+        .skip(1)
+        .any(|k| k[0] == 1025 && k[3] == 2);
+    let half = if point { 0.0 } else { 0.5 };
+    if let [i, j, _, x, y, ..] = tie[..] {
+        map.georef = Some([x + (half - i) * sx, y - (half - j) * sy]);
+    }
+    Ok(map)
 }
 
 /// Loads `width × height` little-endian `f32` heights (row-major, row 0 first) in
@@ -542,5 +569,6 @@ pub fn load_raw_f32(path: impl AsRef<Path>, width: u32, height: u32) -> Result<M
         depth,
         h_range: None,
         transform: WorldTransform::IDENTITY,
+        georef: None,
     })
 }

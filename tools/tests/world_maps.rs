@@ -80,6 +80,14 @@ fn height_over(map: &Map, i: u32, j: u32) -> f64 {
     hfcast::math::Real::xyz(tr.hit.expect("a vertical ray over the field hits").point)[2]
 }
 
+/// The georeferenced origin of a GeoTIFF (nodata filled).
+fn map_georef(path: &Path) -> [f64; 2] {
+    load_geotiff(path, None, Nodata::FillLowest)
+        .unwrap()
+        .georef
+        .expect("a tie point")
+}
+
 #[test]
 fn png_sidecar_gives_metres() {
     let map = load_map(bundled_map(), None).unwrap();
@@ -96,6 +104,7 @@ fn png_sidecar_gives_metres() {
     let plain = load_map(bundled_map(), Some(map.depth)).unwrap();
     assert_eq!(plain.heights, map.heights);
     assert_eq!(*map.field().transform(), xf);
+    assert_eq!(map.georef, Some([-84.41375, 36.73291666666667]));
     // A world ray over the highest sample lands at the sidecar's h_max, 1076 m.
     let k = map
         .heights
@@ -114,6 +123,12 @@ fn png_sidecar_gives_metres() {
 #[test]
 fn real_geotiff_dem_renders_in_metres() {
     let Some(path) = terra_elev() else { return };
+    // Georeferenced: sample (0, 0) is the centre of the north-west pixel.
+    let [lon, lat] = map_georef(&path);
+    assert!(
+        (5.5..6.0).contains(&lon) && (50.0..50.3).contains(&lat),
+        "{lon} {lat}"
+    );
     // Nodata outside Luxembourg: refused by default, with the count.
     let err = load_any(&path, None).unwrap_err().to_string();
     assert!(err.contains("nodata"), "{err}");
@@ -193,6 +208,9 @@ fn written_geotiffs_nodata_and_models() {
     let clean: Vec<f32> = (0..w * h).map(|k| k as f32).collect();
     write_geotiff(&g, w, h, &clean, [0.01, 0.01, 0.0], 2, None);
     let m = load_geotiff(&g, None, Nodata::Refuse).unwrap();
+    // The tie point (0, 0) -> (6°, 50°) is the pixel corner: the first centre is half
+    // a pixel in.
+    assert_eq!(m.georef, Some([6.005, 49.995]));
     let [sx, sy] = m.transform.spacing();
     let lat = (50.0 - 0.5 * 0.01 * 4.0f64).to_radians();
     assert!(
