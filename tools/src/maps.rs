@@ -433,7 +433,7 @@ pub enum Nodata {
 /// Loads a single-band GeoTIFF DEM (8/16/32-bit integers or 32/64-bit floats, LZW or
 /// Deflate): heights in metres, the spacing from `ModelPixelScaleTag` (degrees, for a
 /// geographic model (`GTModelTypeGeoKey` = 2), become metres at the centre latitude
-/// from `ModelTiepointTag`). `depth` as [`grid_heights`]: `None` keeps the real
+/// from `ModelTiepointTag`). `depth` in grid units, or `None` for the real
 /// proportion. Nodata samples as `nodata` says.
 pub fn load_geotiff(
     path: impl AsRef<Path>,
