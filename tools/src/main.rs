@@ -4,7 +4,7 @@ use hfcast::scene::RayClasses;
 use hfcast::Surface;
 use hfcast_tools::advise::{self, AdviseOptions};
 use hfcast_tools::bench::{bench_rays, markdown_table, random_rays};
-use hfcast_tools::maps::{bundled_map, load_map, shared_data_dir, Map};
+use hfcast_tools::maps::{bundled_map, shared_data_dir, Depth, Map, MapSpec, Nodata};
 use hfcast_tools::render::{heat_maps, render, write_png, Camera, RenderOptions};
 use hfcast_tools::report::{self, ReportOptions};
 use hfcast_tools::trace::{self, Tracer};
@@ -65,7 +65,11 @@ methods (render, trace, bench; default exact): exact | linear-binary[:N:M] (64:8
 surfaces: triangles | bilinear | height-planes | linear-planes | view-linear
 angles: compass degrees (azimuth 0 = north = image top of the map, 90 = east)
 maps: grayscale PNG, heights = png/65535 * depth; depth defaults to 0.1 * max(W, H);
-      default map: the bundled data/dem_jacksboro_fault_403x344.png";
+      its JSON sidecar gives metres and spacing (world units); GeoTIFF DEM (.tif):
+      real proportion by default, --nodata refuse|lowest|HEIGHT (refuse); raw
+      little-endian f32 in grid units: --raw-size WxH; --depth real: heights in
+      their real proportion to the spacing; default map: the bundled
+      data/dem_jacksboro_fault_403x344.png";
 
 mod bake;
 mod shader;
@@ -133,23 +137,56 @@ impl Args {
         Ok((method, surface))
     }
 
-    /// `--map` (default `default`) and `--depth`.
-    fn map(&mut self, default: PathBuf) -> Result<(PathBuf, Option<f32>), String> {
-        let path = self.opt("map").map_or(default, PathBuf::from);
-        let depth = match self.opt("depth") {
-            Some(d) => Some(d.parse().map_err(|_| format!("--depth: bad value {d:?}"))?),
-            None => None,
+    /// `--map` (default `default`), `--depth` (grid units, or `real`), `--nodata`
+    /// (`refuse`, `lowest` or a height) and `--raw-size WxH`.
+    fn map(&mut self, default: PathBuf) -> Result<MapSpec, String> {
+        let mut spec = MapSpec::new(self.opt("map").map_or(default, PathBuf::from));
+        spec.depth = match self.opt("depth").as_deref() {
+            None => Depth::Default,
+            Some("real") => Depth::Real,
+            Some(d) => Depth::Grid(d.parse().map_err(|_| format!("--depth: bad value {d:?}"))?),
         };
-        Ok((path, depth))
+        spec.nodata = match self.opt("nodata").as_deref() {
+            None | Some("refuse") => Nodata::Refuse,
+            Some("lowest") => Nodata::FillLowest,
+            Some(v) => Nodata::Fill(
+                v.parse()
+                    .map_err(|_| format!("--nodata: bad value {v:?}"))?,
+            ),
+        };
+        if let Some(size) = self.opt("raw-size") {
+            spec.raw_size = Some(
+                parse_size(&size).ok_or(format!("--raw-size: bad value {size:?} (want WxH)"))?,
+            );
+        }
+        Ok(spec)
     }
 }
 
-/// Loads a map and says so on stderr.
-fn load((path, depth): &(PathBuf, Option<f32>)) -> Result<Map, String> {
-    let map = load_map(path, *depth).map_err(|e| e.to_string())?;
+/// `WxH` with both positive.
+fn parse_size(s: &str) -> Option<(u32, u32)> {
+    let (w, h) = s.split_once('x')?;
+    Some((w.parse().ok()?, h.parse().ok()?)).filter(|&(w, h)| w > 0 && h > 0)
+}
+
+/// Loads a map and says so on stderr (with its real spacing when it has one).
+fn load(spec: &MapSpec) -> Result<Map, String> {
+    let map = spec.load().map_err(|e| e.to_string())?;
+    let xf = map.transform;
+    let units = if xf.is_identity() {
+        String::new()
+    } else {
+        let [sx, sy] = xf.spacing();
+        format!(
+            ", spacing {:.1} x {:.1} m, {:.3} m per grid height unit",
+            sx.abs(),
+            sy.abs(),
+            xf.height_scale()
+        )
+    };
     eprintln!(
-        "map {} ({} x {}), depth {} grid units",
-        path.display(),
+        "map {} ({} x {}), depth {} grid units{units}",
+        spec.path.display(),
         map.width,
         map.height,
         map.depth
@@ -261,7 +298,11 @@ fn cmd_advise(mut args: Args) -> Result<bool, String> {
     let advice = measure_advice(&map.field(), &opts, how)?;
     println!(
         "## hfcast advise: {}, {} x {}, elevation {}, azimuth {}, surface {}\n",
-        map_spec.0.file_name().unwrap_or_default().to_string_lossy(),
+        map_spec
+            .path
+            .file_name()
+            .unwrap_or_default()
+            .to_string_lossy(),
         opts.width,
         opts.height,
         opts.elevation,
@@ -336,7 +377,11 @@ fn cmd_bench(mut args: Args) -> Result<bool, String> {
     let tracer = Tracer::bake(hf, method, surface, RayClasses::ALL)?;
     println!(
         "## hfcast bench: {} ({} x {}), depth {}, {} reps (median), {} cores available\n",
-        map_spec.0.file_name().unwrap_or_default().to_string_lossy(),
+        map_spec
+            .path
+            .file_name()
+            .unwrap_or_default()
+            .to_string_lossy(),
         map.width,
         map.height,
         map.depth,
