@@ -125,12 +125,15 @@ pub fn scene_rays(
         .step_by(every.max(1))
         .filter_map(|(px, py)| render::primary_ray(&cam, base, px, py))
         .collect();
-    let light = render::light_dir(opts);
+    let light = render::light_dir(hf, opts);
     let exact = hfcast::Method::Exact;
     let shadow = primary
         .iter()
-        .filter_map(|q| exact.trace(hf, opts.surface, q).hit)
-        .filter_map(|hit| render::shadow_ray(&hit, light).map(|(q, _)| q))
+        .filter_map(|q| Some((exact.trace(hf, opts.surface, q).hit?, q)))
+        .filter_map(|(hit, q)| {
+            let m = render::origin_magnitude(q);
+            render::shadow_ray(hf, opts.surface, &hit, &light, m).map(|(s, _)| s)
+        })
         .collect();
     (primary, shadow)
 }

@@ -3,12 +3,18 @@
 //! Angles are compass angles in degrees: azimuth 0 = north (image top, −y), 90 = east
 //! (+x); elevation above the horizon. The camera is built so that the picture is not
 //! mirrored although grid y points south: image right is the camera's east-ish side.
+//!
+//! [`render`] works in the field's world units ([`HeightField::transform`]: a map's
+//! metres and real spacing, see [`crate::maps`]): the camera frames the world box,
+//! lights and normals are world vectors, and each primary ray is converted to grid
+//! space once ([`Camera::grid_ray`]) for the march. [`Camera::orbit`] and
+//! [`Camera::framing`] (the benchmarks' and the report's cameras) stay in grid space.
 
 use crate::maps::Error;
 use crate::trace::Tracer;
 use crate::{par_chunks, MethodSpec};
 use hfcast::scene::{BakePlan, RayClasses};
-use hfcast::{HeightField, Hit, Method, Query, Surface, Trace};
+use hfcast::{HeightField, Hit, Method, Query, Surface, Trace, WorldTransform};
 use std::io::BufWriter;
 use std::path::Path;
 use std::sync::atomic::{AtomicUsize, Ordering};
@@ -20,8 +26,22 @@ pub const FOV_Y_DEG: f64 = 40.0;
 /// Unit horizontal-and-up vector of a compass `azimuth` and `elevation` (degrees) in
 /// grid space (x east, y south, z up).
 pub fn compass_dir(azimuth_deg: f64, elevation_deg: f64) -> [f64; 3] {
+    compass_dir_in(&WorldTransform::IDENTITY, azimuth_deg, elevation_deg)
+}
+
+/// [`compass_dir`] in the world frame of `xf`: east and north are the world images of
+/// grid +x and −y (row 0 is north), unit length.
+pub fn compass_dir_in(xf: &WorldTransform, azimuth_deg: f64, elevation_deg: f64) -> [f64; 3] {
+    let unit = |v: [f64; 3]| scale(v, 1.0 / dot(v, v).sqrt());
+    let east = unit(xf.dir_to_world([1.0, 0.0, 0.0]));
+    let north = unit(xf.dir_to_world([0.0, -1.0, 0.0]));
     let (a, e) = (azimuth_deg.to_radians(), elevation_deg.to_radians());
-    [e.cos() * a.sin(), -e.cos() * a.cos(), e.sin()]
+    let (h, v) = (e.cos(), e.sin());
+    [0, 1, 2].map(|k| h * a.sin() * east[k] + h * a.cos() * north[k] + if k == 2 { v } else { 0.0 })
+}
+
+fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
 }
 
 fn scale(v: [f64; 3], s: f64) -> [f64; 3] {
@@ -36,9 +56,12 @@ fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
     ]
 }
 
-/// A pinhole camera in grid space producing one primary ray per pixel.
+/// A pinhole camera producing one primary ray per pixel, in the frame of
+/// [`Camera::world`] (grid space for [`Camera::orbit`] and [`Camera::framing`]).
 #[derive(Clone, Copy, Debug)]
 pub struct Camera {
+    /// The frame the camera lives in: its rays are in these world units.
+    pub world: WorldTransform,
     /// Eye position.
     pub eye: [f64; 3],
     /// Unit view direction.
@@ -77,23 +100,39 @@ impl Camera {
         width: u32,
         height: u32,
     ) -> Camera {
-        let size = [
+        let grid = WorldTransform::IDENTITY;
+        Camera::framing_in(hf, &grid, zmin, elevation_deg, azimuth_deg, width, height)
+    }
+
+    /// [`Camera::framing`] in the world frame of `xf`: the world image of the grid box
+    /// `[0, W−1] × [0, H−1] × [zmin, zmax]` framed, compass angles taken in that frame.
+    pub fn framing_in(
+        hf: &HeightField,
+        xf: &WorldTransform,
+        zmin: f64,
+        elevation_deg: f64,
+        azimuth_deg: f64,
+        width: u32,
+        height: u32,
+    ) -> Camera {
+        let lo = xf.point_to_world([0.0, 0.0, zmin]);
+        let hi = xf.point_to_world([
             f64::from(hf.width() - 1),
             f64::from(hf.height() - 1),
-            f64::from(hf.max_height()) - zmin,
-        ];
-        let centre = [size[0] / 2.0, size[1] / 2.0, zmin + size[2] / 2.0];
+            f64::from(hf.max_height()),
+        ]);
+        let size = [0, 1, 2].map(|k| (hi[k] - lo[k]).abs());
+        let centre = [0, 1, 2].map(|k| lo[k].min(hi[k]) + size[k] / 2.0);
         let tan_y = (FOV_Y_DEG.to_radians() / 2.0).tan();
         let tan_x = tan_y * f64::from(width) / f64::from(height.max(1));
-        let to_eye = compass_dir(azimuth_deg, elevation_deg);
+        let to_eye = compass_dir_in(xf, azimuth_deg, elevation_deg);
         let forward = scale(to_eye, -1.0);
         // Image right points at bearing azimuth + 270° (the camera faces azimuth + 180°);
         // taken from the azimuth so a straight-down view is still defined.
-        let right = compass_dir(azimuth_deg + 270.0, 0.0);
+        let right = compass_dir_in(xf, azimuth_deg + 270.0, 0.0);
         let up = cross(forward, right);
         // Distance at which every box corner c (relative to the centre) projects inside
         // the image: |c·right| ≤ tan_x (d + c·forward), the same for up.
-        let dot = |a: [f64; 3], b: [f64; 3]| a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
         let mut dist = 1e-3;
         for corner in 0..8 {
             let c = [0, 1, 2].map(|k| size[k] * (f64::from((corner >> k) & 1) - 0.5));
@@ -103,6 +142,7 @@ impl Camera {
         }
         let eye = [0, 1, 2].map(|k| centre[k] + 1.05 * dist * to_eye[k]);
         Camera {
+            world: *xf,
             eye,
             forward,
             right: scale(right, tan_x),
@@ -120,6 +160,15 @@ impl Camera {
         let d = [0, 1, 2].map(|k| (self.forward[k] + sx * self.right[k] + sy * self.up[k]) as f32);
         Query::from_arrays(self.eye.map(|v| v as f32), d, 0.0, f32::INFINITY)
             .expect("camera rays are finite")
+    }
+
+    /// [`Camera::ray`] in grid space, for the march (`None` when the conversion
+    /// overflows).
+    pub fn grid_ray(&self, px: u32, py: u32) -> Option<Query<f32>> {
+        let q = self.ray(px, py);
+        self.world
+            .query_to_grid(q.origin(), q.dir(), q.t_min(), q.t_max())
+            .ok()
     }
 
     /// Every pixel's primary ray, row-major from the top row.
@@ -254,51 +303,80 @@ fn above_base(q: &Query<f32>, base: f32) -> Option<Query<f32>> {
     Query::from_arrays(o, d, t0, t1).ok()
 }
 
-/// The camera of a render and the height of the slab base it shows the solid down to
-/// (15 % of the relief, at least 1, under the lowest sample).
+/// The camera of a render, in the field's world units, and the grid height of the
+/// slab base it shows the solid down to (15 % of the relief, at least 1 grid unit,
+/// under the lowest sample).
 pub fn render_camera(hf: &HeightField, opts: &RenderOptions) -> (Camera, f32) {
     let (zmin, zmax) = (f64::from(hf.min_height()), f64::from(hf.max_height()));
     let base = zmin - f64::max(1.0, 0.15 * (zmax - zmin));
     let (el, az) = (opts.elevation, opts.azimuth);
-    let cam = Camera::framing(hf, base, el, az, opts.width, opts.height);
+    let cam = Camera::framing_in(hf, hf.transform(), base, el, az, opts.width, opts.height);
     (cam, base as f32)
 }
 
-/// The primary ray of pixel (`px`, `py`) as the render traces it: clipped to the
-/// half-space above the slab base (`None`: the pixel sees only the sky).
+/// The primary ray of pixel (`px`, `py`) as the render traces it, in grid space:
+/// clipped to the half-space above the slab base (`None`: the pixel sees only the sky).
 pub fn primary_ray(cam: &Camera, base: f32, px: u32, py: u32) -> Option<Query<f32>> {
-    above_base(&cam.ray(px, py), base)
+    above_base(&cam.grid_ray(px, py)?, base)
 }
 
-/// The unit direction towards the render's light.
-pub fn light_dir(opts: &RenderOptions) -> [f64; 3] {
-    compass_dir(opts.light_azimuth, opts.light_elevation)
+/// The render's light: the unit direction towards it in world units and in grid
+/// space (not unit there unless the transform is the identity).
+#[derive(Clone, Copy, Debug)]
+pub struct Light {
+    /// Unit world direction (shading).
+    pub world: [f64; 3],
+    /// The same direction in grid space (shadow rays).
+    pub grid: [f32; 3],
 }
 
-/// The shadow ray the render traces from a primary hit towards `light` (unit), with
-/// the Lambert factor of the hit; `None` when the hit faces away from the light (no
-/// shadow ray). The ray starts a little off the surface, along the normal.
-pub fn shadow_ray(hit: &Hit<f32>, light: [f64; 3]) -> Option<(Query<f32>, f64)> {
-    let (p, n) = (hit.point.to_array(), hit.normal.to_array());
-    let lambert = (0..3).map(|k| f64::from(n[k]) * light[k]).sum::<f64>();
+/// The render's light for `hf`'s world frame.
+pub fn light_dir(hf: &HeightField, opts: &RenderOptions) -> Light {
+    let xf = hf.transform();
+    let world = compass_dir_in(xf, opts.light_azimuth, opts.light_elevation);
+    let grid = xf.dir_to_grid(world).map(|v| v as f32);
+    Light { world, grid }
+}
+
+/// The shadow ray (grid space) the render traces from a primary grid-space hit on
+/// `surface` of `hf` towards `light`, with the Lambert factor of the hit (world
+/// normal · world light); `None` when the hit faces away from the light (no shadow
+/// ray). It starts off the surface by [`Hit::shadow_query`]'s documented lift;
+/// `magnitude` is the primary ray's largest |origin| coordinate.
+pub fn shadow_ray(
+    hf: &HeightField,
+    surface: Surface,
+    hit: &Hit<f32>,
+    light: &Light,
+    magnitude: f32,
+) -> Option<(Query<f32>, f64)> {
+    let n = hf
+        .transform()
+        .normal_to_world(hit.normal.to_array().map(f64::from));
+    let lambert = dot(n, light.world);
     if lambert <= 0.0 {
         return None;
     }
-    let eps = 1e-3 * f32::max(1.0, p[2].abs());
-    let o = [0, 1, 2].map(|k| p[k] + eps * n[k]);
-    let q = Query::from_arrays(o, light.map(|v| v as f32), 0.0, f32::INFINITY).ok()?;
+    let q = hit.shadow_query(hf, surface, light.grid, magnitude).ok()?;
     Some((q, lambert))
 }
 
-/// The horizontal ray classes of a render's rays: its primary rays' and its light's
-/// (every shadow ray has the light's direction). The classes its bake computes.
+/// The largest |origin| coordinate of `q`: the `magnitude` of [`shadow_ray`].
+pub fn origin_magnitude(q: &Query<f32>) -> f32 {
+    q.origin().iter().fold(0.0, |m, v| m.max(v.abs()))
+}
+
+/// The horizontal ray classes of a render's rays (in grid space): its primary rays'
+/// and its light's (every shadow ray has the light's direction). The classes its bake
+/// computes.
 pub fn ray_classes(hf: &HeightField, opts: &RenderOptions) -> RayClasses {
     let (cam, _) = render_camera(hf, opts);
-    let light = light_dir(opts);
+    let light = light_dir(hf, opts).grid;
     let shadow = RayClasses::NONE.with(hfcast::RayClass::of(light[0], light[1]));
     (0..opts.height)
         .flat_map(|py| (0..opts.width).map(move |px| (px, py)))
-        .fold(shadow, |set, (px, py)| set.with(cam.ray(px, py).class()))
+        .filter_map(|(px, py)| cam.grid_ray(px, py))
+        .fold(shadow, |set, q| set.with(q.class()))
 }
 
 /// A render: the picture and, per pixel, what the heat maps show.
@@ -307,7 +385,7 @@ pub struct Frame {
     /// The shaded picture.
     pub image: Image,
     /// Per pixel (row-major from the top), the distance from the eye to the primary
-    /// hit in grid units, `None` for the sky.
+    /// hit in world units (grid units without a transform), `None` for the sky.
     pub depth: Vec<Option<f32>>,
     /// Per pixel, the texture fetches of its primary and shadow rays together.
     pub fetches: Vec<u32>,
@@ -341,26 +419,28 @@ pub fn render(hf: &HeightField, opts: &RenderOptions) -> Result<Frame, String> {
     let tracer = Tracer::bake(*hf, opts.method, opts.surface, ray_classes(hf, opts))?;
     let (zmin, zmax) = (f64::from(hf.min_height()), f64::from(hf.max_height()));
     let (cam, base) = render_camera(hf, opts);
-    let light = light_dir(opts);
+    let light = light_dir(hf, opts);
     let (rows_done, shown) = (AtomicUsize::new(0), AtomicUsize::new(0));
     let width = opts.width as usize;
     let band = 4;
     let mut pixels = vec![Pixel::default(); width * opts.height as usize];
 
-    let shade = |q: &Query<f32>| -> Pixel {
-        let tr = above_base(q, base).map(|q| tracer.trace(&q));
+    let shade = |world: &Query<f32>, grid: Option<Query<f32>>| -> Pixel {
+        let tr = grid
+            .and_then(|q| above_base(&q, base))
+            .map(|q| tracer.trace(&q));
         let mut px = Pixel {
             fetches: tr.map_or(0, |t| t.fetches),
             ..Pixel::default()
         };
         let Some(hit) = tr.and_then(|t: Trace<f32>| t.hit) else {
-            let d = q.dir();
+            let d = world.dir();
             let up = f64::from(d[2]) / f64::from(d[0].hypot(d[1]).hypot(d[2]));
             px.rgb = to_rgb(lerp3([0.78, 0.86, 0.95], [0.33, 0.52, 0.85], up));
             return px;
         };
         px.counts[0] = true;
-        let d = q.dir();
+        let d = world.dir();
         px.depth = Some(hit.t * d[0].hypot(d[1]).hypot(d[2]));
         let p = hit.point.to_array();
         let colour = if hit.flags.contains(hfcast::Flags::SIDE) {
@@ -369,7 +449,8 @@ pub fn render(hf: &HeightField, opts: &RenderOptions) -> Result<Frame, String> {
             albedo((f64::from(p[2]) - zmin) / (zmax - zmin).max(1e-9))
         };
         let mut lit = 0.0;
-        if let Some((sq, lambert)) = shadow_ray(&hit, light) {
+        let magnitude = grid.as_ref().map_or(0.0, origin_magnitude);
+        if let Some((sq, lambert)) = shadow_ray(hf, opts.surface, &hit, &light, magnitude) {
             let st = tracer.trace(&sq);
             px.counts[1] = true;
             px.fetches += st.fetches;
@@ -386,7 +467,8 @@ pub fn render(hf: &HeightField, opts: &RenderOptions) -> Result<Frame, String> {
         for (r, row) in chunk.chunks_mut(width).enumerate() {
             let py = (y0 + r) as u32;
             for (px, out) in row.iter_mut().enumerate() {
-                *out = shade(&cam.ray(px as u32, py));
+                let px = px as u32;
+                *out = shade(&cam.ray(px, py), cam.grid_ray(px, py));
             }
         }
         let done =

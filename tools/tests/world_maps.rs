@@ -6,6 +6,7 @@ use hfcast::{dda, Query, Surface, WorldTransform};
 use hfcast_tools::maps::{
     bundled_map, load_any, load_geotiff, load_map, load_raw_f32, Map, Nodata,
 };
+use hfcast_tools::render::{render, RenderOptions};
 use std::path::{Path, PathBuf};
 use tiff::encoder::{colortype, TiffEncoder};
 use tiff::tags::Tag;
@@ -88,6 +89,24 @@ fn map_georef(path: &Path) -> [f64; 2] {
         .expect("a tie point")
 }
 
+/// Width and height in pixels of the field's footprint in a straight-down render.
+fn footprint_pixels(map: &Map) -> (f64, f64) {
+    let opts = RenderOptions {
+        elevation: 90.0,
+        azimuth: 0.0,
+        width: 200,
+        height: 200,
+        threads: 1,
+        progress: false,
+        ..RenderOptions::default()
+    };
+    let frame = render(&map.field(), &opts).unwrap();
+    let hit = |x: usize, y: usize| frame.depth[y * 200 + x].is_some();
+    let cols = (0..200).filter(|&x| (0..200).any(|y| hit(x, y))).count();
+    let rows = (0..200).filter(|&y| (0..200).any(|x| hit(x, y))).count();
+    (cols as f64, rows as f64)
+}
+
 #[test]
 fn png_sidecar_gives_metres() {
     let map = load_map(bundled_map(), None).unwrap();
@@ -159,6 +178,24 @@ fn real_geotiff_dem_renders_in_metres() {
         }
     }
     assert!(n > 150);
+    // The render frames the world box: looking straight down, the footprint's image
+    // has the real east-west : north-south ratio (56.2 : 82.5 km), not the grid's
+    // 94 : 89.
+    let (w, h) = footprint_pixels(&map);
+    let want = (94.0 * sx) / (89.0 * -sy);
+    assert!(
+        ((w / h) - want).abs() < 0.03,
+        "footprint {w} x {h} px, want ratio {want}"
+    );
+    let grid = Map {
+        transform: WorldTransform::IDENTITY,
+        ..map.clone()
+    };
+    let (gw, gh) = footprint_pixels(&grid);
+    assert!(
+        ((gw / gh) - 94.0 / 89.0).abs() < 0.03,
+        "grid footprint {gw} x {gh}"
+    );
     // And the CLI renders it with that spacing.
     let out = std::env::temp_dir().join("hfcast_world_maps_render.png");
     let status = std::process::Command::new(env!("CARGO_BIN_EXE_hfcast"))
