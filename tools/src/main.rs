@@ -271,7 +271,7 @@ fn cmd_render(mut args: Args) -> Result<bool, String> {
         let [(depth, d0, d1), (fetches, _, p99)] = heat_maps(&frame);
         let most = frame.fetches.iter().max().copied().unwrap_or(0);
         for (ext, image, what) in [
-            ("depth.png", depth, format!("depth {d0:.1} .. {d1:.1} grid units from the eye, sky black")),
+            ("depth.png", depth, format!("depth {d0:.1} .. {d1:.1} world units (metres for a map with real units) from the eye, sky black")),
             ("fetches.png", fetches, format!("fetches a pixel, primary + shadow ray: 0 .. {p99} (99th percentile; most {most})")),
         ] {
             let path = out.with_extension(ext);
