@@ -130,7 +130,10 @@ impl Camera {
         // Image right points at bearing azimuth + 270° (the camera faces azimuth + 180°);
         // taken from the azimuth so a straight-down view is still defined.
         let right = compass_dir_in(xf, azimuth_deg + 270.0, 0.0);
-        let up = cross(forward, right);
+        // Grid space (x east, y south, z up) is left-handed, a north-up world frame
+        // right-handed: the cross product that points up flips with the frame.
+        let [sx, sy] = xf.spacing();
+        let up = scale(cross(forward, right), (sx * sy).signum());
         // Distance at which every box corner c (relative to the centre) projects inside
         // the image: |c·right| ≤ tan_x (d + c·forward), the same for up.
         let mut dist = 1e-3;
