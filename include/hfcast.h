@@ -1,6 +1,8 @@
 /*
  * hfcast.h: C API of hfcast, exact and fast ray casting of height fields.
- * Link with -lhfcast (libhfcast.a also needs -lm -lpthread -ldl).
+ * Install with scripts/install.sh PREFIX, then link through pkg-config (hfcast, or
+ * hfcast-static for libhfcast.a and its -lgcc_s -lutil -lrt -lpthread -lm -ldl) or
+ * CMake (find_package(hfcast CONFIG): hfcast::hfcast, hfcast::hfcast_static).
  *
  * Conventions
  *  - Every function returns an hf_result; HF_OK (0) is success. On an error the
@@ -12,14 +14,17 @@
  *
  * Grid space (DESIGN.md): sample (i, j) of a W x H field sits at (x = i, y = j); the
  * surface covers [0, W-1] x [0, H-1]; cell (i, j) is [i, i+1] x [j, j+1]; heights and
- * ray coordinates are in grid units (one sample spacing). Everything below the surface
- * is solid: a ray starting under it hits at t_min (HF_FLAG_ORIGIN_INSIDE).
+ * ray coordinates are in grid units (one sample spacing), or in world units once
+ * hf_field_set_transform placed the field (hf_transform). Everything below the surface
+ * is solid: a ray starting under it hits at t_min (HF_FLAG_ORIGIN_INSIDE); start
+ * shadow rays with hf_shadow_ray, not at the hit point.
  *
  * Builds: cargo features leave whole methods out of the library; this header then
  * declares only what the build has (HF_HAVE_* below, hf_build_has_method).
  *
- * Thread safety: an hf_field is immutable except through hf_field_update_rect and
- * hf_field_destroy; every other function may be called from any thread concurrently.
+ * Thread safety: an hf_field is immutable except through hf_field_update_rect,
+ * hf_field_set_transform and hf_field_destroy; every other function may be called from
+ * any thread concurrently.
  */
 
 #ifndef HFCAST_H
@@ -1821,8 +1826,12 @@ hf_result hf_shader_source_len(uint32_t method,
 // `#version 330 core` (or later) first, then this, then your `main`, which calls
 // `Trace hf_trace(Query q)` (a ray in grid space, as `hf_ray`; `Trace` mirrors
 // `hf_hit`). The functions mirror the Rust core one for one (`dda::trace` is
-// `dda_trace`, …) and give the same answers bit for bit on the rays tested. The
-// uniforms it declares: `hf_heights` (`R32F`, W × H, texel (i, j) = sample (i, j), read
+// `dda_trace`, …) and give the same answers bit for bit on the rays tested. For rays
+// in world units call `Trace hf_trace_world(Query world)` instead, with the field's
+// `hf_transform` in the uniforms `hf_world_offset` = (origin x, origin y, height
+// offset) and `hf_world_scale` = (spacing x, spacing y, height scale) (default: the
+// identity; the conversion runs in `float`, so answers agree with the C API's
+// double-precision conversion within a few ulps). The uniforms it declares: `hf_heights` (`R32F`, W × H, texel (i, j) = sample (i, j), read
 // with `texelFetch` only), `hf_size` = (W, H), `hf_height_range` = (min, max) from
 // `hf_field_get_info`; `hf_surface` (exact, search and maxmip methods; the others
 // trace the triangle surface); `hf_linear_steps`, `hf_binary_steps` (search

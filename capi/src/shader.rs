@@ -96,8 +96,12 @@ pub unsafe extern "C" fn hf_shader_source_len(method: u32, out_len: *mut usize) 
 /// `#version 330 core` (or later) first, then this, then your `main`, which calls
 /// `Trace hf_trace(Query q)` (a ray in grid space, as `hf_ray`; `Trace` mirrors
 /// `hf_hit`). The functions mirror the Rust core one for one (`dda::trace` is
-/// `dda_trace`, …) and give the same answers bit for bit on the rays tested. The
-/// uniforms it declares: `hf_heights` (`R32F`, W × H, texel (i, j) = sample (i, j), read
+/// `dda_trace`, …) and give the same answers bit for bit on the rays tested. For rays
+/// in world units call `Trace hf_trace_world(Query world)` instead, with the field's
+/// `hf_transform` in the uniforms `hf_world_offset` = (origin x, origin y, height
+/// offset) and `hf_world_scale` = (spacing x, spacing y, height scale) (default: the
+/// identity; the conversion runs in `float`, so answers agree with the C API's
+/// double-precision conversion within a few ulps). The uniforms it declares: `hf_heights` (`R32F`, W × H, texel (i, j) = sample (i, j), read
 /// with `texelFetch` only), `hf_size` = (W, H), `hf_height_range` = (min, max) from
 /// `hf_field_get_info`; `hf_surface` (exact, search and maxmip methods; the others
 /// trace the triangle surface); `hf_linear_steps`, `hf_binary_steps` (search
