@@ -7,7 +7,7 @@
  * -fsanitize=address,undefined. */
 #include "hfcast.h"
 
-#include "check.h"
+#include "check_api.h"
 
 #include <stdint.h>
 #include <stdio.h>
@@ -16,20 +16,6 @@
 
 #define W 19u
 #define H 12u
-
-/* A bad call: must return `code` and leave the `len` bytes at `out` as they were. */
-#define CHECK_BAD(call, code, out, len)                                            \
-    do {                                                                           \
-        unsigned char before_[256];                                                \
-        size_t n_ = (len) < sizeof before_ ? (size_t)(len) : sizeof before_;       \
-        memcpy(before_, (out), n_);                                               \
-        hf_result r_ = (call);                                                     \
-        CHECK(r_ == (code));                                                       \
-        if (r_ != (code))                                                          \
-            fprintf(stderr, "  %s returned %u, expected %u\n", #call, (unsigned)r_, \
-                    (unsigned)(code));                                             \
-        CHECK(memcmp(before_, (out), n_) == 0);                                    \
-    } while (0)
 
 /* A baked map: its bytes and its description. */
 typedef struct {

@@ -378,16 +378,10 @@ pub unsafe extern "C" fn hf_field_update_rect(
     values_stride: usize,
 ) -> hf_result {
     guard(|| {
-        if field.is_null() {
-            return Err(HF_ERR_NULL_POINTER);
-        }
-        if !field.is_aligned() {
-            return Err(HF_ERR_MISALIGNED_POINTER);
-        }
+        // SAFETY: the caller promises a live handle used by no one else meanwhile.
+        let f = unsafe { ptr::get_mut(field) }?;
         // SAFETY: the caller promises `values` is readable for its length.
         let values = unsafe { ptr::slice(values, values_len) }?;
-        // SAFETY: the caller promises a live handle used by no one else meanwhile.
-        let f = unsafe { &mut *field };
         let old = f.view;
         if x0 >= x1 || y0 >= y1 || x1 > old.width() || y1 > old.height() {
             return Err(HF_ERR_INVALID_RECT);
@@ -441,17 +435,11 @@ pub unsafe extern "C" fn hf_field_set_transform(
     transform: *const hf_transform,
 ) -> hf_result {
     guard(|| {
-        if field.is_null() {
-            return Err(HF_ERR_NULL_POINTER);
-        }
-        if !field.is_aligned() {
-            return Err(HF_ERR_MISALIGNED_POINTER);
-        }
+        // SAFETY: the caller promises a live handle used by no one else meanwhile.
+        let f = unsafe { ptr::get_mut(field) }?;
         // SAFETY: the caller promises a readable transform.
         let t = unsafe { ptr::get(transform) }?;
         let xf = WorldTransform::new(t.origin, t.spacing, t.height_scale, t.height_offset)?;
-        // SAFETY: the caller promises a live handle used by no one else meanwhile.
-        let f = unsafe { &mut *field };
         f.view = f.view.with_transform(xf);
         Ok(())
     })

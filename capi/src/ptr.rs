@@ -54,6 +54,18 @@ pub unsafe fn get<'a, T>(p: *const T) -> Result<&'a T, hf_result> {
     Ok(unsafe { &*p })
 }
 
+/// An exclusive reference to one `T` at `p` (a handle the call may change).
+///
+/// # Safety
+/// When `p` is non-NULL and aligned it must point to a valid `T` that nothing else
+/// reads or writes while the reference lives.
+pub unsafe fn get_mut<'a, T>(p: *mut T) -> Result<&'a mut T, hf_result> {
+    check(p, 1)?;
+    // SAFETY: non-NULL and aligned (checked); validity and exclusivity are the
+    // caller's promise.
+    Ok(unsafe { &mut *p })
+}
+
 /// A place to write one `T` to, written only by [`Out::set`] (so only on success).
 pub struct Out<T>(NonNull<T>);
 

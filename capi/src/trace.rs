@@ -79,7 +79,9 @@ impl From<Trace<f32>> for hf_hit {
 
 /// Checks a ray and converts it from the field's world units to grid space.
 fn query(hf: &HeightField, r: &hf_ray) -> Result<Query<f32>, hf_result> {
-    Ok(hf.transform().query_to_grid(r.origin, r.dir, r.t_min, r.t_max)?)
+    Ok(hf
+        .transform()
+        .query_to_grid(r.origin, r.dir, r.t_min, r.t_max)?)
 }
 
 /// A grid-space trace as the caller's `hf_hit`, in the field's world units.
@@ -178,7 +180,12 @@ pub unsafe extern "C" fn hf_shadow_ray(
     guard(|| {
         // SAFETY: the caller promises a live handle and readable inputs.
         let (f, p, h, l) = unsafe {
-            (ptr::get(field)?, ptr::get(primary)?, ptr::get(hit)?, ptr::get(to_light)?)
+            (
+                ptr::get(field)?,
+                ptr::get(primary)?,
+                ptr::get(hit)?,
+                ptr::get(to_light)?,
+            )
         };
         let out = ptr::out(out_ray)?;
         let surface = surface_of(surface)?;
