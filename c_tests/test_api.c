@@ -638,6 +638,7 @@ static void test_world_units(void) {
                f ? "world" : "grid", lit, naive_inside, lifted_inside);
     }
     hf_ray sr;
+    memset(&sr, 0x5a, sizeof sr);
     hf_hit miss = gh[0];
     miss.hit = 0;
     CHECK_BAD(hf_shadow_ray(grid, HF_SURFACE_TRIANGLES, &g[0], &miss, &light, &sr),
