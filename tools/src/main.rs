@@ -1,7 +1,7 @@
 //! `hfcast`: render, trace and benchmark height fields from the command line.
 
 use hfcast::scene::RayClasses;
-use hfcast::Surface;
+use hfcast::{Surface, WorldTransform};
 use hfcast_tools::advise::{self, AdviseOptions};
 use hfcast_tools::bench::{bench_rays, markdown_table, random_rays};
 use hfcast_tools::maps::{bundled_map, shared_data_dir, Depth, Map, MapSpec, Nodata};
@@ -25,6 +25,8 @@ commands:
            --surface S --elevation DEG --azimuth DEG --light-elevation DEG
            --light-azimuth DEG --width N --height N --threads N
            --out PATH (default out/render.png) --no-heatmaps
+           --exaggerate F (heights x F in the picture; 1: a map with real units in
+           its real proportions, whatever --depth, which sets the grid's relief)
   advise   measure every exact method on render's rays (the same options): bake
            time and bytes, ns/ray and fetches/ray (one thread, median of --reps N, 3),
            and choose the least one-frame time (bake + rays x ns) of the Pareto set
@@ -242,9 +244,18 @@ fn cmd_render(mut args: Args) -> Result<bool, String> {
     let mut opts = render_options(&mut args, method)?;
     let out = PathBuf::from(args.opt("out").unwrap_or("out/render.png".into()));
     let heatmaps = !args.get("no-heatmaps", false)?;
+    let exaggerate = args.get("exaggerate", 1.0f64)?;
     args.finish()?;
     let map = load(&map_spec)?;
-    let hf = map.field();
+    let xf = map.transform;
+    let shown = WorldTransform::new(
+        xf.origin(),
+        xf.spacing(),
+        xf.height_scale() * exaggerate,
+        xf.height_offset(),
+    )
+    .map_err(|e| format!("--exaggerate {exaggerate}: {e}"))?;
+    let hf = map.field().with_transform(shown);
     if auto {
         // Every 8th ray timed, one repetition: the choice in a fraction of a frame.
         let how = AdviseOptions { reps: 1, every: 8 };

@@ -211,6 +211,23 @@ fn real_geotiff_dem_renders_in_metres() {
     assert!(status.status.success(), "{stderr}");
     assert!(stderr.contains("spacing 597.8 x 926.6 m"), "{stderr}");
     assert!(out.exists());
+    // --exaggerate scales the picture's heights (a different image), and must be
+    // positive.
+    let picture = |ex: &str| {
+        let o = std::process::Command::new(env!("CARGO_BIN_EXE_hfcast"))
+            .args(["render", "--width", "64", "--height", "48", "--no-heatmaps"])
+            .args(["--nodata", "lowest", "--exaggerate", ex, "--out"])
+            .arg(&out)
+            .arg("--map")
+            .arg(&path)
+            .output()
+            .unwrap();
+        (o.status.success(), std::fs::read(&out).ok())
+    };
+    let (ok1, one) = picture("1");
+    let (ok4, four) = picture("4");
+    assert!(ok1 && ok4 && one.is_some() && one != four);
+    assert!(!picture("0").0);
 }
 
 #[test]
