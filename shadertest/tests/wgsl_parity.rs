@@ -26,8 +26,8 @@
 mod common;
 
 use common::{
-    camera_rays, load_bundled_map, random_rays, run_kernel, spiky_fractal, Case, Gpu, GpuHit,
-    Kernel, Ray, Scene, SceneGpu,
+    camera_rays, describe, load_bundled_map, random_rays, run_kernel, spiky_fractal, Case, Gpu,
+    GpuHit, Kernel, Ray, Scene, SceneGpu,
 };
 use std::fmt::Write as _;
 use std::time::Instant;
@@ -54,35 +54,6 @@ struct Tally {
     wrong: Vec<String>,
     /// A few rays that agree but not bit for bit (t, fetches or flags differ).
     other: Vec<String>,
-}
-
-fn describe(r: &Ray, cpu: &hfcast::Trace<f32>, g: &GpuHit) -> String {
-    let c = match cpu.hit {
-        Some(h) => format!(
-            "hit t {} point {:?} cell {:?} flags {} fetches {}",
-            h.t,
-            h.point.to_array(),
-            h.cell,
-            cpu.flags.0 | h.flags.0,
-            cpu.fetches
-        ),
-        None => format!("miss flags {} fetches {}", cpu.flags.0, cpu.fetches),
-    };
-    let gs = if g.hit {
-        format!(
-            "hit t {} point {:?} cell {:?} flags {} fetches {}",
-            g.t, g.point, g.cell, g.flags, g.fetches
-        )
-    } else {
-        format!("miss flags {} fetches {}", g.flags, g.fetches)
-    };
-    format!(
-        "origin {:?} dir {:?} t [{}, {}]: cpu {c}; gpu {gs}",
-        r.origin(),
-        r.dir(),
-        r.t_min(),
-        r.t_max()
-    )
 }
 
 impl Tally {

@@ -22,8 +22,8 @@
 mod common;
 
 use common::{
-    camera_rays, load_bundled_map, random_rays, run_kernel, spiky_fractal, Case, Gpu, GpuHit,
-    Kernel, Ray, Scene, SceneGpu,
+    camera_rays, describe, load_bundled_map, random_rays, run_kernel, spiky_fractal, Case, Gpu,
+    GpuHit, Kernel, Ray, Scene, SceneGpu,
 };
 use hfcast::scene::MethodKind;
 use hfcast::world::WorldTransform;
@@ -142,31 +142,8 @@ impl Tally {
                 Some(_) => false,
             };
         if !agree {
-            let c = match cpu.hit {
-                Some(h) => format!(
-                    "hit t {} point {:?} normal {:?}",
-                    h.t,
-                    h.point.to_array(),
-                    h.normal.to_array()
-                ),
-                None => "miss".into(),
-            };
-            let gs = if g.hit {
-                format!("hit t {} point {:?} normal {:?}", g.t, g.point, g.normal)
-            } else {
-                "miss".into()
-            };
-            let (c, gs) = (
-                format!("{c} clearance {}", cpu.clearance),
-                format!("{gs} clearance {}", g.clearance),
-            );
-            self.wrong.push(format!(
-                "{scene}: world origin {:?} dir {:?} t [{}, {}]: cpu {c}; gpu {gs}",
-                r.origin(),
-                r.dir(),
-                r.t_min(),
-                r.t_max()
-            ));
+            self.wrong
+                .push(format!("{scene}: world {}", describe(r, cpu, g)));
             return;
         }
         self.agree += 1;

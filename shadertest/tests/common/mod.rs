@@ -1112,6 +1112,40 @@ pub struct GpuHit {
     pub cell: [u32; 2],
 }
 
+/// One ray and both answers, for a failure message: the CPU's and the GPU's hit (t,
+/// point, normal, cell, flags, fetches, clearance) or miss.
+pub fn describe(r: &Ray, cpu: &Trace<f32>, g: &GpuHit) -> String {
+    let c = match cpu.hit {
+        Some(h) => format!(
+            "hit t {} point {:?} normal {:?} cell {:?} flags {} fetches {}",
+            h.t,
+            h.point.to_array(),
+            h.normal.to_array(),
+            h.cell,
+            cpu.flags.0 | h.flags.0,
+            cpu.fetches
+        ),
+        None => format!("miss flags {} fetches {}", cpu.flags.0, cpu.fetches),
+    };
+    let gs = if g.hit {
+        format!(
+            "hit t {} point {:?} normal {:?} cell {:?} flags {} fetches {}",
+            g.t, g.point, g.normal, g.cell, g.flags, g.fetches
+        )
+    } else {
+        format!("miss flags {} fetches {}", g.flags, g.fetches)
+    };
+    format!(
+        "origin {:?} dir {:?} t [{}, {}]: cpu {c} clearance {}; gpu {gs} clearance {}",
+        r.origin(),
+        r.dir(),
+        r.t_min(),
+        r.t_max(),
+        cpu.clearance,
+        g.clearance
+    )
+}
+
 /// Bytes of one `TestOut`.
 const OUT_BYTES: u64 = 64;
 
