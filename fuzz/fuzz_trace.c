@@ -1,0 +1,237 @@
+/* libFuzzer target: every trace of libhfcast with arbitrary rays.
+ * Input: a field (fz_field), the options of its maps (caps, cc slope, ray classes), a
+ * surface, then up to FZ_MAX_RAYS rays (fz_ray: valid ones near the field, lattice
+ * and axis-parallel ones, and now and then raw bits). Every method traces the batch;
+ * each answer is checked against hf_trace_exact_batch on the same rays: maximum
+ * mipmaps bit for bit, safety distances (both layouts, and a map of some classes
+ * only), cylinder–cone, radius with the walk, cone and QDM within their budget up to
+ * rounding on grazing rays (fz_compare); the search and relaxed methods only for
+ * their codes. A batch that fails writes nothing; a single call answers as the batch. */
+#include "common.h"
+
+typedef struct maps {
+    float *pyr;
+    size_t pyr_len;
+    uint8_t *sd, *si, *sc, *cc, *rad;
+    size_t sd_len, si_len, sc_len, cc_len, rad_len;
+    uint32_t cc_cap, classes;
+    float *cone, *qdm, *relaxed;
+    size_t cone_len, qdm_len, relaxed_len;
+} maps;
+
+static void must(hf_result r, const char *what) {
+    if (fz_code(r, what) != HF_OK) FZ_FAIL("%s failed with %u", what, (unsigned)r);
+}
+
+static void bake_all(hf_field *f, uint32_t w, uint32_t h, fz_in *in, maps *m) {
+    hf_safety_options so = {HF_SAFETY_DIRECTIONAL, 0, fz_u8(in)};
+    hf_cc_options co = {fz_u8(in) & 1, fz_u8(in)};
+    hf_radius_options ro = {0.0f, fz_u8(in)};
+    m->classes = 1 + fz_u8(in) % 15;
+    m->cc_cap = co.cap;
+    must(hf_maxmip_len(w, h, &m->pyr_len), "hf_maxmip_len");
+    m->pyr = (float *)fz_buf(m->pyr_len * sizeof(float));
+    must(hf_maxmip_bake(f, m->pyr, m->pyr_len), "hf_maxmip_bake");
+    must(hf_safety_map_len(w, h, HF_SAFETY_DIRECTIONAL, &m->sd_len), "hf_safety_map_len");
+    m->sd = (uint8_t *)fz_buf(m->sd_len);
+    must(hf_safety_bake(f, &so, 1, m->sd, m->sd_len), "hf_safety_bake");
+    so.variant = HF_SAFETY_ISOTROPIC;
+    must(hf_safety_map_len(w, h, HF_SAFETY_ISOTROPIC, &m->si_len), "hf_safety_map_len");
+    m->si = (uint8_t *)fz_buf(m->si_len);
+    must(hf_safety_bake(f, &so, 1, m->si, m->si_len), "hf_safety_bake");
+    so.variant = HF_SAFETY_DIRECTIONAL;
+    must(hf_safety_map_len_classes(w, h, HF_SAFETY_DIRECTIONAL, m->classes, &m->sc_len),
+         "hf_safety_map_len_classes");
+    m->sc = (uint8_t *)fz_buf(m->sc_len);
+    must(hf_safety_bake_classes(f, &so, m->classes, 1, m->sc, m->sc_len),
+         "hf_safety_bake_classes");
+    must(hf_cc_map_len_classes(w, h, m->classes, &m->cc_len), "hf_cc_map_len_classes");
+    m->cc = (uint8_t *)fz_buf(m->cc_len);
+    must(hf_cc_bake_classes(f, &co, m->classes, 1, m->cc, m->cc_len), "hf_cc_bake_classes");
+    must(hf_radius_map_len(w, h, &m->rad_len), "hf_radius_map_len");
+    m->rad = (uint8_t *)fz_buf(m->rad_len);
+    must(hf_radius_bake(f, &ro, 1, m->rad, m->rad_len), "hf_radius_bake");
+    must(hf_cone_map_len(w, h, &m->cone_len), "hf_cone_map_len");
+    m->cone = (float *)fz_buf(m->cone_len * sizeof(float));
+    must(hf_cone_bake(f, 1, m->cone, m->cone_len), "hf_cone_bake");
+    must(hf_qdm_map_len(w, h, &m->qdm_len), "hf_qdm_map_len");
+    m->qdm = (float *)fz_buf(m->qdm_len * sizeof(float));
+    must(hf_qdm_bake(f, 1, m->qdm, m->qdm_len), "hf_qdm_bake");
+    must(hf_relaxed_map_len(w, h, &m->relaxed_len), "hf_relaxed_map_len");
+    m->relaxed = (float *)fz_buf(m->relaxed_len * sizeof(float));
+    must(hf_relaxed_bake(f, 1, m->relaxed, m->relaxed_len), "hf_relaxed_bake");
+}
+
+static void free_all(maps *m) {
+    free(m->pyr);
+    free(m->sd);
+    free(m->si);
+    free(m->sc);
+    free(m->cc);
+    free(m->rad);
+    free(m->cone);
+    free(m->qdm);
+    free(m->relaxed);
+}
+
+enum {
+    M_MAXMIP,
+    M_SAFETY_DIR,
+    M_SAFETY_ISO,
+    M_SAFETY_CLASSES,
+    M_CC,
+    M_RADIUS,
+    M_CONE,
+    M_QDM,
+    M_RELAXED,
+    M_LINEAR_BINARY,
+    M_LINEAR_SECANT,
+    M_COUNT
+};
+static const char *const names[M_COUNT] = {
+    "maxmip", "safety directional", "safety isotropic", "safety classes", "cc",
+    "radius", "cone", "qdm", "relaxed", "linear-binary", "linear-secant"};
+
+/* Method m on the batch (n == 1: the single-ray call). */
+static hf_result trace(int m, const hf_field *f, const maps *mp, uint32_t s, uint32_t iter,
+                       const hf_ray *rays, size_t n, hf_hit *out, size_t out_len, int single) {
+    if (single) {
+        switch (m) {
+        case M_MAXMIP: return hf_trace_maxmip(f, mp->pyr, mp->pyr_len, s, rays, out);
+        case M_SAFETY_DIR:
+            return hf_trace_safety_on(f, mp->sd, mp->sd_len, 0, HF_RAYS_ALL, s, rays, out);
+        case M_SAFETY_ISO:
+            return hf_trace_safety_on(f, mp->si, mp->si_len, 1, HF_RAYS_ALL, s, rays, out);
+        case M_SAFETY_CLASSES:
+            return hf_trace_safety_on(f, mp->sc, mp->sc_len, 0, mp->classes, s, rays, out);
+        case M_CC:
+            return hf_trace_cc_on(f, mp->cc, mp->cc_len, mp->cc_cap, mp->classes, s, rays, out);
+        case M_RADIUS:
+            return hf_trace_radius_on(f, mp->rad, mp->rad_len, HF_RADIUS_WALK, s, rays, out);
+        case M_CONE: return hf_trace_cone(f, mp->cone, mp->cone_len, iter, rays, out);
+        case M_QDM: return hf_trace_qdm(f, mp->qdm, mp->qdm_len, iter, rays, out);
+        case M_RELAXED:
+            return hf_trace_relaxed(f, mp->relaxed, mp->relaxed_len, iter, 8, rays, out);
+        case M_LINEAR_BINARY: return hf_trace_linear_binary(f, s, iter, 8, rays, out);
+        default: return hf_trace_linear_secant(f, s, iter, rays, out);
+        }
+    }
+    switch (m) {
+    case M_MAXMIP:
+        return hf_trace_maxmip_batch(f, mp->pyr, mp->pyr_len, s, rays, n, out, out_len);
+    case M_SAFETY_DIR:
+        return hf_trace_safety_on_batch(f, mp->sd, mp->sd_len, 0, HF_RAYS_ALL, s, rays, n, out,
+                                        out_len);
+    case M_SAFETY_ISO:
+        return hf_trace_safety_on_batch(f, mp->si, mp->si_len, 1, HF_RAYS_ALL, s, rays, n, out,
+                                        out_len);
+    case M_SAFETY_CLASSES:
+        return hf_trace_safety_on_batch(f, mp->sc, mp->sc_len, 0, mp->classes, s, rays, n, out,
+                                        out_len);
+    case M_CC:
+        return hf_trace_cc_on_batch(f, mp->cc, mp->cc_len, mp->cc_cap, mp->classes, s, rays, n,
+                                    out, out_len);
+    case M_RADIUS:
+        return hf_trace_radius_on_batch(f, mp->rad, mp->rad_len, HF_RADIUS_WALK, s, rays, n, out,
+                                        out_len);
+    case M_CONE:
+        return hf_trace_cone_batch(f, mp->cone, mp->cone_len, iter, rays, n, out, out_len);
+    case M_QDM: return hf_trace_qdm_batch(f, mp->qdm, mp->qdm_len, iter, rays, n, out, out_len);
+    case M_RELAXED:
+        return hf_trace_relaxed_batch(f, mp->relaxed, mp->relaxed_len, iter, 8, rays, n, out,
+                                      out_len);
+    case M_LINEAR_BINARY: return hf_trace_linear_binary_batch(f, s, iter, 8, rays, n, out, out_len);
+    default: return hf_trace_linear_secant_batch(f, s, iter, rays, n, out, out_len);
+    }
+}
+
+/* Which surfaces a method traces (others: an error, never a wrong answer). */
+static int takes_surface(int m, uint32_t s) {
+    if (s > HF_SURFACE_VIEW_LINEAR) return 0;
+    switch (m) {
+    case M_MAXMIP:
+    case M_LINEAR_BINARY:
+    case M_LINEAR_SECANT: return 1;
+    case M_CONE:
+    case M_QDM:
+    case M_RELAXED: return 1; /* no surface argument: the triangles */
+    default: return s == HF_SURFACE_TRIANGLES || s == HF_SURFACE_VIEW_LINEAR;
+    }
+}
+
+int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
+    fz_in in = {data, size};
+    static float heights[FZ_MAX_SIDE * FZ_MAX_SIDE];
+    uint32_t w, h;
+    hf_field *f = fz_field(&in, FZ_MAX_SIDE, &w, &h, heights);
+    maps mp;
+    memset(&mp, 0, sizeof mp);
+    bake_all(f, w, h, &in, &mp);
+    uint8_t sb = fz_u8(&in);
+    uint32_t s = sb < 250 ? sb % 5 : sb; /* now and then an unknown surface */
+    uint32_t iter = fz_u8(&in) < 240 ? 1000 : fz_u8(&in); /* cone/QDM budget, steps */
+    size_t n = fz_u8(&in) % (FZ_MAX_RAYS + 1);
+    hf_ray rays[FZ_MAX_RAYS];
+    int any_raw = 0;
+    for (size_t k = 0; k < n; k++) {
+        int raw;
+        rays[k] = fz_ray(&in, w, h, &raw);
+        any_raw |= raw;
+    }
+    hf_hit exact[FZ_MAX_RAYS], exact_tri[FZ_MAX_RAYS];
+    hf_hit *got = (hf_hit *)fz_buf(sizeof(hf_hit) * FZ_MAX_RAYS);
+    size_t bytes = sizeof(hf_hit) * n;
+
+    memset(exact, FZ_POISON, sizeof exact);
+    hf_result re = fz_code(hf_trace_exact_batch(f, s, rays, n, exact, n), "hf_trace_exact_batch");
+    if (re != HF_OK && !fz_all_poison(exact, bytes))
+        FZ_FAIL("hf_trace_exact_batch failed with %u but wrote hits", (unsigned)re);
+    if (re == HF_OK && n > 0 && s <= HF_SURFACE_VIEW_LINEAR) {
+        /* A single exact call answers as the batch; any ray of the batch was valid. */
+        for (size_t k = 0; k < n; k++) {
+            hf_hit one;
+            if (fz_code(hf_trace_exact(f, s, &rays[k], &one), "hf_trace_exact") != HF_OK ||
+                memcmp(&one, &exact[k], sizeof one) != 0)
+                FZ_FAIL("hf_trace_exact differs from its batch on ray %zu", k);
+        }
+    }
+    if (re == HF_OK && n > 0 && s != HF_SURFACE_TRIANGLES)
+        must(hf_trace_exact_batch(f, HF_SURFACE_TRIANGLES, rays, n, exact_tri, n),
+             "hf_trace_exact_batch (triangles)");
+    else
+        memcpy(exact_tri, exact, sizeof exact);
+    if (re != HF_OK && n > 0 && s <= HF_SURFACE_VIEW_LINEAR && !any_raw)
+        FZ_FAIL("hf_trace_exact_batch refused %zu valid rays with %u", n, (unsigned)re);
+
+    for (int m = 0; m < M_COUNT; m++) {
+        memset(got, FZ_POISON, sizeof(hf_hit) * FZ_MAX_RAYS + FZ_GUARD);
+        hf_result r = trace(m, f, &mp, s, iter, rays, n, got, n, 0);
+        fz_after(r, got, bytes, names[m]);
+        if (n == 0) continue; /* an empty batch: HF_OK or an error, both fine */
+        int no_surface = m == M_CONE || m == M_QDM || m == M_RELAXED;
+        if (re != HF_OK && r == HF_OK && !(no_surface && s > HF_SURFACE_VIEW_LINEAR))
+            FZ_FAIL("%s accepted a batch hf_trace_exact refused (%u)", names[m], (unsigned)re);
+        if (re != HF_OK) continue;
+        int takes = takes_surface(m, s);
+        if (takes && r != HF_OK && !(iter == 0 && m >= M_CONE))
+            FZ_FAIL("%s refused rays hf_trace_exact took, with %u", names[m], (unsigned)r);
+        if (!takes && r == HF_OK && !no_surface)
+            FZ_FAIL("%s accepted surface %u", names[m], (unsigned)s);
+        if (r != HF_OK) continue;
+        /* The single-ray call answers as the batch. */
+        for (size_t k = 0; k < n; k += 7) {
+            hf_hit one;
+            fz_code(trace(m, f, &mp, s, iter, &rays[k], 1, &one, 1, 1), names[m]);
+            if (memcmp(&one, &got[k], sizeof one) != 0)
+                FZ_FAIL("%s: the single call differs from the batch on ray %zu", names[m], k);
+        }
+        if (m == M_MAXMIP) fz_compare(f, s, rays, (int)n, exact, got, 1, names[m]);
+        else if (m <= M_RADIUS) fz_compare(f, s, rays, (int)n, exact, got, 0, names[m]);
+        else if (m <= M_QDM)
+            fz_compare(f, HF_SURFACE_TRIANGLES, rays, (int)n, exact_tri, got, 0, names[m]);
+    }
+    free(got);
+    free_all(&mp);
+    hf_field_destroy(f);
+    return 0;
+}
