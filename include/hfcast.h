@@ -22,9 +22,14 @@
  * Builds: cargo features leave whole methods out of the library; this header then
  * declares only what the build has (HF_HAVE_* below, hf_build_has_method).
  *
- * Thread safety: an hf_field is immutable except through hf_field_update_rect,
- * hf_field_set_transform and hf_field_destroy; every other function may be called from
- * any thread concurrently.
+ * Thread safety: every function's comment says it ("Thread safe", or what needs
+ * "exclusive access"). A field and its maps follow a readers-writer protocol: any
+ * number of threads may trace, bake and query one field and read its maps at once;
+ * hf_field_update_rect, hf_field_set_transform and hf_field_destroy need exclusive
+ * access to the field, and hf_maxmip_update_rect (as any bake) exclusive access to the
+ * pyramid it writes. To change a field others trace, hold a lock in write mode around
+ * the update and the map refreshes and in read mode around each trace
+ * (c_tests/test_concurrency.c, with a pthread_rwlock_t). Nothing detects a race.
  */
 
 #ifndef HFCAST_H
@@ -378,9 +383,17 @@ typedef uint32_t hf_need;
 // A field may carry an [`hf_transform`] (`hf_field_set_transform`): then every
 // `hf_trace_*` function takes rays and returns hits in world units.
 //
-// Thread safety: functions taking a `const hf_field *` only read it and may run
-// concurrently from any number of threads; `hf_field_update_rect`,
-// `hf_field_set_transform` and `hf_field_destroy` need exclusive access.
+// Thread safety, a readers–writer protocol: functions taking a `const hf_field *`
+// (traces, bakes, size and info queries) only read it and may run concurrently from
+// any number of threads, on the field and on the maps baked from it;
+// `hf_field_update_rect`, `hf_field_set_transform` and `hf_field_destroy` need
+// exclusive access to the field, and `hf_maxmip_update_rect` (like any bake into a
+// buffer) exclusive access to the pyramid it refreshes. A program that changes a
+// field other threads trace holds a lock in write mode around the change and the map
+// refreshes, and in read mode around each trace (`c_tests/test_concurrency.c` does
+// so with a `pthread_rwlock_t`). Nothing detects a broken protocol: a trace racing
+// an update is a data race (undefined behaviour; in practice an answer from a mix of
+// old and new heights).
 typedef struct hf_field hf_field;
 
 #if defined(HF_HAVE_SAFETY)
@@ -690,6 +703,7 @@ hf_result hf_cc_nbuffer_len(uint32_t width,
 // Fills `out_nbuffer` (`out_nbuffer_len ≥ hf_cc_nbuffer_len(W, H, cap)` floats) with
 // the N-buffers the cone slopes of `hf_cc_bake_rows` read. O(cells · levels), one
 // thread.
+// Thread safe for distinct output buffers (reads the field only).
 //
 // # Safety
 // `field` is NULL (an error) or a live handle; `out_nbuffer` NULL (an error) or valid
@@ -706,6 +720,7 @@ hf_result hf_cc_prepare_nbuffer(const struct hf_field *field,
 // `scratch` (from `hf_safety_prepare`) and `nbuffer` (from `hf_cc_prepare_nbuffer`
 // with `options->cap`). Writes only those rows: threads may bake disjoint rows at
 // once, sharing both scratches.
+// Thread safe (reads the field only) for disjoint rows of one map.
 //
 // # Safety
 // `field` is NULL (an error) or a live handle; `scratch`, `nbuffer` NULL (an error)
@@ -730,6 +745,7 @@ hf_result hf_cc_bake_rows(const struct hf_field *field,
 // (`hf_cc_map_len_classes` bytes; rows `row_begin..row_end` from byte `row_begin * W *
 // 4n`): the other classes are neither computed nor stored, the kept classes' bytes
 // equal the full bake's. Trace with the same `ray_classes` (`hf_trace_cc_on`).
+// Thread safe (reads the field only) for disjoint rows of one map.
 //
 // # Safety
 // As `hf_cc_bake_rows`.
@@ -750,6 +766,7 @@ hf_result hf_cc_bake_rows_classes(const struct hf_field *field,
 // Bakes the whole cylinder–cone map of `field` into `out_map` (`out_map_len ≥
 // hf_cc_map_len`) on `threads` threads (0: one per available core), allocating both
 // scratches itself. Same result for any thread count.
+// Thread safe for distinct output maps (reads the field only).
 //
 // # Safety
 // `field` is NULL (an error) or a live handle; `options` NULL (an error) or valid;
@@ -766,6 +783,7 @@ hf_result hf_cc_bake(const struct hf_field *field,
 // `out_map` (`out_map_len ≥ hf_cc_map_len_classes` bytes), as
 // `hf_cc_bake_rows_classes`: a scene that casts one class bakes a quarter of the
 // texels into a quarter of the bytes.
+// Thread safe for distinct output maps (reads the field only).
 //
 // # Safety
 // As `hf_cc_bake`.
@@ -896,6 +914,7 @@ hf_result hf_cone_map_len(uint32_t width,
 // conservative cone map of `field` into `map` (the whole map buffer, `map_len ≥
 // hf_cone_map_len`), reading `scratch` from `hf_cone_prepare`. Writes only those
 // rows: threads may bake disjoint rows of one map at once, sharing one scratch.
+// Thread safe (reads the field only) for disjoint rows of one map.
 //
 // # Safety
 // `field` is NULL (an error) or a live handle; `scratch` NULL (an error) or valid for
@@ -914,6 +933,7 @@ hf_result hf_cone_bake_rows(const struct hf_field *field,
 // Bakes the whole conservative cone map of `field` (cone step mapping made exact for
 // the triangle surface) into `out_map` (`out_map_len ≥ hf_cone_map_len`) on `threads`
 // threads (0: one per available core), allocating the scratch itself.
+// Thread safe for distinct output maps (reads the field only).
 //
 // # Safety
 // `field` is NULL (an error) or a live handle; `out_map` NULL (an error) or valid for
@@ -975,6 +995,7 @@ hf_result hf_relaxed_map_len(uint32_t width,
 #if (defined(HF_HAVE_CONE) && defined(HF_HAVE_RELAXED))
 // Bakes sample rows `[row_begin, row_end)` (0 ≤ begin ≤ end ≤ H) of the relaxed cone
 // map (Policarpo & Oliveira 2007) into `map`, as `hf_cone_bake_rows`.
+// Thread safe (reads the field only) for disjoint rows of one map.
 //
 // # Safety
 // As `hf_cone_bake_rows`.
@@ -990,6 +1011,7 @@ hf_result hf_relaxed_bake_rows(const struct hf_field *field,
 #if (defined(HF_HAVE_CONE) && defined(HF_HAVE_RELAXED))
 // Bakes the whole relaxed cone map of `field` into `out_map` (`out_map_len ≥
 // hf_relaxed_map_len`) on `threads` threads (0: one per available core).
+// Thread safe for distinct output maps (reads the field only).
 //
 // # Safety
 // As `hf_cone_bake`.
@@ -1050,6 +1072,7 @@ hf_result hf_qdm_map_len(uint32_t width,
 #if (defined(HF_HAVE_CONE) && defined(HF_HAVE_QDM))
 // Bakes cell rows `[row_begin, row_end)` (0 ≤ begin ≤ end ≤ H − 1) of the quadratic
 // displacement map (after Kiglics et al.) into `map`, as `hf_cone_bake_rows`.
+// Thread safe (reads the field only) for disjoint rows of one map.
 //
 // # Safety
 // As `hf_cone_bake_rows`.
@@ -1065,6 +1088,7 @@ hf_result hf_qdm_bake_rows(const struct hf_field *field,
 #if (defined(HF_HAVE_CONE) && defined(HF_HAVE_QDM))
 // Bakes the whole quadratic displacement map of `field` into `out_map` (`out_map_len
 // ≥ hf_qdm_map_len`) on `threads` threads (0: one per available core).
+// Thread safe for distinct output maps (reads the field only).
 //
 // # Safety
 // As `hf_cone_bake`.
@@ -1154,8 +1178,8 @@ hf_result hf_field_create_u16(const uint16_t *samples,
                               float depth,
                               struct hf_field **out_field);
 
-// Frees a field. NULL is allowed and does nothing. Not thread safe with respect to
-// other uses of the same field.
+// Frees a field. NULL is allowed and does nothing. Needs exclusive access to the
+// field: no other thread may be using it (nor use it afterwards).
 //
 // # Safety
 // `field` is NULL or a handle from an `hf_field_create_*` function not yet destroyed.
@@ -1371,6 +1395,7 @@ hf_result hf_maxmip_bake(const struct hf_field *field,
 // finest first; the rows of one level may be baked by several threads at once, each
 // with its own disjoint row range (this call touches only the level's rows it bakes
 // and the finer level it reads), so any job system can split the work.
+// Thread safe (reads the field only) for disjoint rows of one level.
 //
 // # Safety
 // `field` is NULL (an error) or a live handle; `pyramid` is NULL (an error) or valid
@@ -1388,6 +1413,7 @@ hf_result hf_maxmip_bake_rows(const struct hf_field *field,
 // `hf_maxmip_bake` on `threads` threads (0: one per available core): each level's
 // rows are split among the threads, levels in order. The result is identical to
 // `hf_maxmip_bake`.
+// Thread safe for distinct output buffers (reads the field only).
 //
 // # Safety
 // As `hf_maxmip_bake`.
@@ -1402,7 +1428,8 @@ hf_result hf_maxmip_bake_threaded(const struct hf_field *field,
 // depend on the samples `[x0, x1) × [y0, y1)`, after `hf_field_update_rect` changed
 // them; the result equals a full bake. `pyramid_len ≥ hf_maxmip_len(W, H)`. An empty
 // rectangle (x0 = x1 or y0 = y1) does nothing; a reversed one or one outside the
-// field is `HF_ERR_INVALID_RECT`. Thread safe for distinct pyramids.
+// field is `HF_ERR_INVALID_RECT`. Thread safe for distinct pyramids (reads the field
+// only); needs exclusive access to `pyramid`: no trace may read it meanwhile.
 //
 // # Safety
 // `field` is NULL (an error) or a live handle; `pyramid` is NULL (an error) or valid
@@ -1459,6 +1486,7 @@ hf_result hf_radius_prepare(const struct hf_field *field,
 // `field` into `map`, the whole map buffer (`map_len ≥ hf_radius_map_len`), reading
 // `scratch` from `hf_radius_prepare`. Writes only those rows, so threads may bake
 // disjoint row ranges of one map at once, sharing one scratch.
+// Thread safe (reads the field only) for disjoint rows of one map.
 //
 // # Safety
 // `field` is NULL (an error) or a live handle; `scratch` NULL (an error) or valid for
@@ -1479,6 +1507,7 @@ hf_result hf_radius_bake_rows(const struct hf_field *field,
 // Bakes the whole radius map of `field` into `out_map` (`out_map_len ≥
 // hf_radius_map_len` bytes) on `threads` threads (0: one per available core; 1: the
 // calling thread), allocating the scratch itself. Same result for any thread count.
+// Thread safe for distinct output maps (reads the field only).
 //
 // # Safety
 // `field` is NULL (an error) or a live handle; `options` NULL (an error) or valid;
@@ -1620,6 +1649,7 @@ hf_result hf_safety_prepare(const struct hf_field *field,
 // reading `scratch` from `hf_safety_prepare`. Writes only those rows, so threads may
 // bake disjoint row ranges of one map at once, sharing one scratch. The costly part
 // of the bake.
+// Thread safe (reads the field only) for disjoint rows of one map.
 //
 // # Safety
 // `field` is NULL (an error) or a live handle; `scratch` NULL (an error) or valid for
@@ -1644,6 +1674,7 @@ hf_result hf_safety_bake_rows(const struct hf_field *field,
 // classes' rows, equal to the full bake's, `n` rows per texel row in class order.
 // Isotropic: the minimum over the kept classes (larger distances, valid for rays of
 // those classes only). Trace with the same `ray_classes` (`hf_trace_safety_on`).
+// Thread safe (reads the field only) for disjoint rows of one map.
 //
 // # Safety
 // As `hf_safety_bake_rows`.
@@ -1662,6 +1693,7 @@ hf_result hf_safety_bake_rows_classes(const struct hf_field *field,
 // Bakes the whole safety-distance map of `field` into `out_map` (`out_map_len ≥
 // hf_safety_map_len` bytes) on `threads` threads (0: one per available core; 1: the
 // calling thread), allocating the scratch itself. Same result for any thread count.
+// Thread safe for distinct output maps (reads the field only).
 //
 // # Safety
 // `field` is NULL (an error) or a live handle; `options` NULL (an error) or valid;
@@ -1678,6 +1710,7 @@ hf_result hf_safety_bake(const struct hf_field *field,
 // into `out_map` (`out_map_len ≥ hf_safety_map_len_classes` bytes), as
 // `hf_safety_bake_rows_classes`: a scene that casts two of the four classes bakes
 // in about half the time into half the bytes.
+// Thread safe for distinct output maps (reads the field only).
 //
 // # Safety
 // As `hf_safety_bake`.

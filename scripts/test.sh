@@ -92,6 +92,8 @@ echo "== C tests: a library built with cone step mapping only, its header, and a
 "${C_MAKE[@]}" one-method 2>&1 | tee -a target/c_tests.log
 echo "== C tests under valgrind"
 "${C_MAKE[@]}" valgrind 2>&1 | tee -a target/c_tests.log
+echo "== C tests: concurrency stress under helgrind (readers-writer protocol clean, --no-lock reported)"
+"${C_MAKE[@]}" concurrency 2>&1 | tee -a target/c_tests.log
 echo "== GLSL: glslangValidator on every composed shader"
 "${C_MAKE[@]}" shaders
 echo "== OSMesa (llvmpipe): GPU/CPU parity of every method, 256 x 192"

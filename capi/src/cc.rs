@@ -118,6 +118,7 @@ pub unsafe extern "C" fn hf_cc_nbuffer_len(
 /// Fills `out_nbuffer` (`out_nbuffer_len ≥ hf_cc_nbuffer_len(W, H, cap)` floats) with
 /// the N-buffers the cone slopes of `hf_cc_bake_rows` read. O(cells · levels), one
 /// thread.
+/// Thread safe for distinct output buffers (reads the field only).
 ///
 /// # Safety
 /// `field` is NULL (an error) or a live handle; `out_nbuffer` NULL (an error) or valid
@@ -147,6 +148,7 @@ pub unsafe extern "C" fn hf_cc_prepare_nbuffer(
 /// `scratch` (from `hf_safety_prepare`) and `nbuffer` (from `hf_cc_prepare_nbuffer`
 /// with `options->cap`). Writes only those rows: threads may bake disjoint rows at
 /// once, sharing both scratches.
+/// Thread safe (reads the field only) for disjoint rows of one map.
 ///
 /// # Safety
 /// `field` is NULL (an error) or a live handle; `scratch`, `nbuffer` NULL (an error)
@@ -190,6 +192,7 @@ pub unsafe extern "C" fn hf_cc_bake_rows(
 /// (`hf_cc_map_len_classes` bytes; rows `row_begin..row_end` from byte `row_begin * W *
 /// 4n`): the other classes are neither computed nor stored, the kept classes' bytes
 /// equal the full bake's. Trace with the same `ray_classes` (`hf_trace_cc_on`).
+/// Thread safe (reads the field only) for disjoint rows of one map.
 ///
 /// # Safety
 /// As `hf_cc_bake_rows`.
@@ -235,6 +238,7 @@ pub unsafe extern "C" fn hf_cc_bake_rows_classes(
 /// Bakes the whole cylinder–cone map of `field` into `out_map` (`out_map_len ≥
 /// hf_cc_map_len`) on `threads` threads (0: one per available core), allocating both
 /// scratches itself. Same result for any thread count.
+/// Thread safe for distinct output maps (reads the field only).
 ///
 /// # Safety
 /// `field` is NULL (an error) or a live handle; `options` NULL (an error) or valid;
@@ -255,6 +259,7 @@ pub unsafe extern "C" fn hf_cc_bake(
 /// `out_map` (`out_map_len ≥ hf_cc_map_len_classes` bytes), as
 /// `hf_cc_bake_rows_classes`: a scene that casts one class bakes a quarter of the
 /// texels into a quarter of the bytes.
+/// Thread safe for distinct output maps (reads the field only).
 ///
 /// # Safety
 /// As `hf_cc_bake`.

@@ -261,6 +261,7 @@ pub unsafe extern "C" fn hf_cone_map_len(
 /// conservative cone map of `field` into `map` (the whole map buffer, `map_len ≥
 /// hf_cone_map_len`), reading `scratch` from `hf_cone_prepare`. Writes only those
 /// rows: threads may bake disjoint rows of one map at once, sharing one scratch.
+/// Thread safe (reads the field only) for disjoint rows of one map.
 ///
 /// # Safety
 /// `field` is NULL (an error) or a live handle; `scratch` NULL (an error) or valid for
@@ -294,6 +295,7 @@ pub unsafe extern "C" fn hf_cone_bake_rows(
 /// Bakes the whole conservative cone map of `field` (cone step mapping made exact for
 /// the triangle surface) into `out_map` (`out_map_len ≥ hf_cone_map_len`) on `threads`
 /// threads (0: one per available core), allocating the scratch itself.
+/// Thread safe for distinct output maps (reads the field only).
 ///
 /// # Safety
 /// `field` is NULL (an error) or a live handle; `out_map` NULL (an error) or valid for
@@ -410,6 +412,7 @@ pub unsafe extern "C" fn hf_relaxed_map_len(
 #[cfg(feature = "relaxed")]
 /// Bakes sample rows `[row_begin, row_end)` (0 ≤ begin ≤ end ≤ H) of the relaxed cone
 /// map (Policarpo & Oliveira 2007) into `map`, as `hf_cone_bake_rows`.
+/// Thread safe (reads the field only) for disjoint rows of one map.
 ///
 /// # Safety
 /// As `hf_cone_bake_rows`.
@@ -441,6 +444,7 @@ pub unsafe extern "C" fn hf_relaxed_bake_rows(
 #[cfg(feature = "relaxed")]
 /// Bakes the whole relaxed cone map of `field` into `out_map` (`out_map_len ≥
 /// hf_relaxed_map_len`) on `threads` threads (0: one per available core).
+/// Thread safe for distinct output maps (reads the field only).
 ///
 /// # Safety
 /// As `hf_cone_bake`.
@@ -560,6 +564,7 @@ pub unsafe extern "C" fn hf_qdm_map_len(width: u32, height: u32, out_len: *mut u
 #[cfg(feature = "qdm")]
 /// Bakes cell rows `[row_begin, row_end)` (0 ≤ begin ≤ end ≤ H − 1) of the quadratic
 /// displacement map (after Kiglics et al.) into `map`, as `hf_cone_bake_rows`.
+/// Thread safe (reads the field only) for disjoint rows of one map.
 ///
 /// # Safety
 /// As `hf_cone_bake_rows`.
@@ -591,6 +596,7 @@ pub unsafe extern "C" fn hf_qdm_bake_rows(
 #[cfg(feature = "qdm")]
 /// Bakes the whole quadratic displacement map of `field` into `out_map` (`out_map_len
 /// ≥ hf_qdm_map_len`) on `threads` threads (0: one per available core).
+/// Thread safe for distinct output maps (reads the field only).
 ///
 /// # Safety
 /// As `hf_cone_bake`.

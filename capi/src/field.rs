@@ -13,9 +13,17 @@ use hfcore::{HeightField, TransformError, WorldTransform};
 /// A field may carry an [`hf_transform`] (`hf_field_set_transform`): then every
 /// `hf_trace_*` function takes rays and returns hits in world units.
 ///
-/// Thread safety: functions taking a `const hf_field *` only read it and may run
-/// concurrently from any number of threads; `hf_field_update_rect`,
-/// `hf_field_set_transform` and `hf_field_destroy` need exclusive access.
+/// Thread safety, a readers–writer protocol: functions taking a `const hf_field *`
+/// (traces, bakes, size and info queries) only read it and may run concurrently from
+/// any number of threads, on the field and on the maps baked from it;
+/// `hf_field_update_rect`, `hf_field_set_transform` and `hf_field_destroy` need
+/// exclusive access to the field, and `hf_maxmip_update_rect` (like any bake into a
+/// buffer) exclusive access to the pyramid it refreshes. A program that changes a
+/// field other threads trace holds a lock in write mode around the change and the map
+/// refreshes, and in read mode around each trace (`c_tests/test_concurrency.c` does
+/// so with a `pthread_rwlock_t`). Nothing detects a broken protocol: a trace racing
+/// an update is a data race (undefined behaviour; in practice an answer from a mix of
+/// old and new heights).
 pub struct hf_field {
     /// The samples (W × H, stride W), allocated by `Box<[f32]>` and freed on drop.
     samples: NonNull<[f32]>,
@@ -282,8 +290,8 @@ pub unsafe extern "C" fn hf_field_create_u16(
     }
 }
 
-/// Frees a field. NULL is allowed and does nothing. Not thread safe with respect to
-/// other uses of the same field.
+/// Frees a field. NULL is allowed and does nothing. Needs exclusive access to the
+/// field: no other thread may be using it (nor use it afterwards).
 ///
 /// # Safety
 /// `field` is NULL or a handle from an `hf_field_create_*` function not yet destroyed.

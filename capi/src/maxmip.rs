@@ -123,6 +123,7 @@ pub unsafe extern "C" fn hf_maxmip_bake(
 /// finest first; the rows of one level may be baked by several threads at once, each
 /// with its own disjoint row range (this call touches only the level's rows it bakes
 /// and the finer level it reads), so any job system can split the work.
+/// Thread safe (reads the field only) for disjoint rows of one level.
 ///
 /// # Safety
 /// `field` is NULL (an error) or a live handle; `pyramid` is NULL (an error) or valid
@@ -180,6 +181,7 @@ pub unsafe extern "C" fn hf_maxmip_bake_rows(
 /// `hf_maxmip_bake` on `threads` threads (0: one per available core): each level's
 /// rows are split among the threads, levels in order. The result is identical to
 /// `hf_maxmip_bake`.
+/// Thread safe for distinct output buffers (reads the field only).
 ///
 /// # Safety
 /// As `hf_maxmip_bake`.
@@ -229,7 +231,8 @@ fn bake_threaded(hf: &HeightField, l: &Layout, threads: u32, pyramid: &mut [f32]
 /// depend on the samples `[x0, x1) × [y0, y1)`, after `hf_field_update_rect` changed
 /// them; the result equals a full bake. `pyramid_len ≥ hf_maxmip_len(W, H)`. An empty
 /// rectangle (x0 = x1 or y0 = y1) does nothing; a reversed one or one outside the
-/// field is `HF_ERR_INVALID_RECT`. Thread safe for distinct pyramids.
+/// field is `HF_ERR_INVALID_RECT`. Thread safe for distinct pyramids (reads the field
+/// only); needs exclusive access to `pyramid`: no trace may read it meanwhile.
 ///
 /// # Safety
 /// `field` is NULL (an error) or a live handle; `pyramid` is NULL (an error) or valid

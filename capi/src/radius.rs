@@ -115,6 +115,7 @@ pub unsafe extern "C" fn hf_radius_prepare(
 /// `field` into `map`, the whole map buffer (`map_len ≥ hf_radius_map_len`), reading
 /// `scratch` from `hf_radius_prepare`. Writes only those rows, so threads may bake
 /// disjoint row ranges of one map at once, sharing one scratch.
+/// Thread safe (reads the field only) for disjoint rows of one map.
 ///
 /// # Safety
 /// `field` is NULL (an error) or a live handle; `scratch` NULL (an error) or valid for
@@ -156,6 +157,7 @@ pub unsafe extern "C" fn hf_radius_bake_rows(
 /// Bakes the whole radius map of `field` into `out_map` (`out_map_len ≥
 /// hf_radius_map_len` bytes) on `threads` threads (0: one per available core; 1: the
 /// calling thread), allocating the scratch itself. Same result for any thread count.
+/// Thread safe for distinct output maps (reads the field only).
 ///
 /// # Safety
 /// `field` is NULL (an error) or a live handle; `options` NULL (an error) or valid;

@@ -166,6 +166,7 @@ pub unsafe extern "C" fn hf_safety_prepare(
 /// reading `scratch` from `hf_safety_prepare`. Writes only those rows, so threads may
 /// bake disjoint row ranges of one map at once, sharing one scratch. The costly part
 /// of the bake.
+/// Thread safe (reads the field only) for disjoint rows of one map.
 ///
 /// # Safety
 /// `field` is NULL (an error) or a live handle; `scratch` NULL (an error) or valid for
@@ -207,6 +208,7 @@ pub unsafe extern "C" fn hf_safety_bake_rows(
 /// classes' rows, equal to the full bake's, `n` rows per texel row in class order.
 /// Isotropic: the minimum over the kept classes (larger distances, valid for rays of
 /// those classes only). Trace with the same `ray_classes` (`hf_trace_safety_on`).
+/// Thread safe (reads the field only) for disjoint rows of one map.
 ///
 /// # Safety
 /// As `hf_safety_bake_rows`.
@@ -252,6 +254,7 @@ pub unsafe extern "C" fn hf_safety_bake_rows_classes(
 /// Bakes the whole safety-distance map of `field` into `out_map` (`out_map_len ≥
 /// hf_safety_map_len` bytes) on `threads` threads (0: one per available core; 1: the
 /// calling thread), allocating the scratch itself. Same result for any thread count.
+/// Thread safe for distinct output maps (reads the field only).
 ///
 /// # Safety
 /// `field` is NULL (an error) or a live handle; `options` NULL (an error) or valid;
@@ -272,6 +275,7 @@ pub unsafe extern "C" fn hf_safety_bake(
 /// into `out_map` (`out_map_len ≥ hf_safety_map_len_classes` bytes), as
 /// `hf_safety_bake_rows_classes`: a scene that casts two of the four classes bakes
 /// in about half the time into half the bytes.
+/// Thread safe for distinct output maps (reads the field only).
 ///
 /// # Safety
 /// As `hf_safety_bake`.
