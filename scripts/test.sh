@@ -18,6 +18,8 @@ APT_PACKAGES+=(libembree-dev)
 # Installing the C library (issue 24): CMake and pkg-config build the C++ example
 # against the installed tree; gdb reads the .so's separate debug info.
 APT_PACKAGES+=(cmake pkg-config gdb binutils)
+# Coverage-guided fuzzing of the C API (issue 26; scripts/fuzz.sh): clang and libFuzzer.
+APT_PACKAGES+=(clang libclang-rt-14-dev)
 missing=()
 for p in "${APT_PACKAGES[@]}"; do
   dpkg -s "$p" >/dev/null 2>&1 || missing+=("$p")
@@ -108,6 +110,9 @@ if [ -f ../shared/data/dem_etopo5_himalaya_1024.png ]; then
   EMBREE_MAPS="$EMBREE_MAPS ../../shared/data/dem_etopo5_himalaya_1024.png"
 fi
 "${C_MAKE[@]}" embree-check MAPS="$EMBREE_MAPS" 2>&1 | tee -a target/c_tests.log
+
+echo "== fuzz smoke: scripts/fuzz.sh 120"
+bash scripts/fuzz.sh 120 2>&1 | tee -a target/c_tests.log
 
 echo "== install: scripts/install.sh into a temporary prefix; SONAME, hf_-only symbols, examples/cpp through pkg-config and CMake"
 bash scripts/install_test.sh 2>&1 | tee -a target/c_tests.log
