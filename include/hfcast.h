@@ -170,7 +170,10 @@ enum hf_result
   HF_ERR_INVALID_ARGUMENT = 9,
   // Memory could not be allocated.
   HF_ERR_OUT_OF_MEMORY = 10,
-  // The library panicked (a bug); the call had no effect on its outputs.
+  // The library panicked (a bug); the call had no effect on its outputs and printed
+  // nothing: the first `hf_` call installs a process-wide panic hook that is silent
+  // for the library's own panics and passes every other panic to the hook installed
+  // before it (`hf_last_error_detail` has the panic's message).
   HF_ERR_PANIC = 11,
   // The method (or another part the call needs) was left out of this build of the
   // library by its cargo features (see `hf_build_has_method`).
@@ -841,7 +844,7 @@ hf_result hf_trace_cc_on(const struct hf_field *field,
 //
 // # Safety
 // As `hf_trace_cc`; `rays` valid for reading `rays_len` rays, `out_hits` for writing
-// `out_hits_len` hits, not overlapping.
+// `out_hits_len` hits (overlap is an error).
 hf_result hf_trace_cc_batch(const struct hf_field *field,
                             const uint8_t *map,
                             size_t map_len,
@@ -969,7 +972,7 @@ hf_result hf_trace_cone(const struct hf_field *field,
 //
 // # Safety
 // As `hf_trace_cone`; `rays` valid for reading `rays_len` rays, `out_hits` for writing
-// `out_hits_len` hits, not overlapping.
+// `out_hits_len` hits (overlap is an error).
 hf_result hf_trace_cone_batch(const struct hf_field *field,
                               const float *map,
                               size_t map_len,
@@ -1129,6 +1132,34 @@ hf_result hf_trace_qdm_batch(const struct hf_field *field,
                              size_t out_hits_len);
 #endif
 
+// Writes what was wrong in the last failing `hf_` call on the calling thread into
+// `buf` as a NUL-terminated ASCII string, and its length without the NUL into
+// `*out_written`: the argument and the limit, e.g. `rays[17]: ray direction is zero`,
+// `out_hits overlaps rays`, `field: pointer is NULL`, `surface: 9 is not an
+// hf_surface`. 256 bytes always suffice; a shorter `buf` is `HF_ERR_BUFFER_TOO_SMALL`.
+// Meaningful after a call returned an error, until the next `hf_` call on the thread
+// (each call but this one and `hf_last_error_index` starts afresh; a successful call
+// may leave an empty string or the text of an earlier error). Neither this function
+// nor `hf_last_error_index` changes the detail, even when it fails. Thread safe (the
+// detail is per thread).
+//
+// # Safety
+// `buf` is NULL (an error) or valid for writing `buf_len` bytes; `out_written` is NULL
+// (an error) or valid for writing one `size_t`.
+hf_result hf_last_error_detail(char *buf,
+                               size_t buf_len,
+                               size_t *out_written);
+
+// Writes to `*out` the index of the first bad element of an array argument in the
+// last failing `hf_` call on the calling thread: the first invalid ray of a batch
+// (`HF_ERR_INVALID_RAY`), the first NaN or infinite height of a field creation
+// (`HF_ERR_NOT_FINITE`); `SIZE_MAX` when that error named no element. Meaningful
+// when `hf_last_error_detail` is (the text then says the same index). Thread safe.
+//
+// # Safety
+// `out` is NULL (an error) or valid for writing one `size_t`.
+hf_result hf_last_error_index(size_t *out);
+
 // Creates a field from `float` heights in grid units (one grid unit = one sample
 // spacing): sample (i, j) is `heights[j * stride + i]`, for i < `width`, j < `height`.
 // The samples are copied. `heights_len` is the number of floats readable at
@@ -1210,7 +1241,10 @@ hf_result hf_field_copy_heights(const struct hf_field *field,
 // `values_stride * (y1 - y0 - 1) + (x1 - x0)`; `values_stride ≥ x1 − x0`. Only the
 // rectangle is re-validated (every value must be finite; the height bounds widen to
 // cover them and never shrink). Then refresh a baked pyramid with
-// `hf_maxmip_update_rect` on the same rectangle. On error the field is unchanged.
+// `hf_maxmip_update_rect` on the same rectangle. An empty rectangle (x0 = x1 or
+// y0 = y1, inside the field) is `HF_OK` and changes nothing, as for
+// `hf_maxmip_update_rect` (`values` must still be non-NULL); a reversed one or one
+// outside the field is `HF_ERR_INVALID_RECT`. On error the field is unchanged.
 // Needs exclusive access to the field.
 //
 // # Safety
@@ -1410,9 +1444,10 @@ hf_result hf_maxmip_bake_rows(const struct hf_field *field,
 #endif
 
 #if defined(HF_HAVE_MAXMIP)
-// `hf_maxmip_bake` on `threads` threads (0: one per available core): each level's
-// rows are split among the threads, levels in order. The result is identical to
-// `hf_maxmip_bake`.
+// `hf_maxmip_bake` on `threads` threads (0: one per available core; at most the
+// available cores and the rows of a level; a thread the system refuses to create is
+// done without): each level's rows are split among the threads, levels in order.
+// The result is identical to `hf_maxmip_bake`.
 // Thread safe for distinct output buffers (reads the field only).
 //
 // # Safety
@@ -1427,7 +1462,8 @@ hf_result hf_maxmip_bake_threaded(const struct hf_field *field,
 // Refreshes the texels of `pyramid` (baked for `field` before the change) that
 // depend on the samples `[x0, x1) × [y0, y1)`, after `hf_field_update_rect` changed
 // them; the result equals a full bake. `pyramid_len ≥ hf_maxmip_len(W, H)`. An empty
-// rectangle (x0 = x1 or y0 = y1) does nothing; a reversed one or one outside the
+// rectangle (x0 = x1 or y0 = y1) is `HF_OK` and changes nothing, as for
+// `hf_field_update_rect`; a reversed one or one outside the
 // field is `HF_ERR_INVALID_RECT`. Thread safe for distinct pyramids (reads the field
 // only); needs exclusive access to `pyramid`: no trace may read it meanwhile.
 //
@@ -1563,7 +1599,7 @@ hf_result hf_trace_radius_on(const struct hf_field *field,
 //
 // # Safety
 // As `hf_trace_radius`; `rays` valid for reading `rays_len` rays, `out_hits` for
-// writing `out_hits_len` hits, not overlapping.
+// writing `out_hits_len` hits (overlap is an error).
 hf_result hf_trace_radius_batch(const struct hf_field *field,
                                 const uint8_t *map,
                                 size_t map_len,
@@ -1765,13 +1801,13 @@ hf_result hf_trace_safety_on(const struct hf_field *field,
 #endif
 
 #if defined(HF_HAVE_SAFETY)
-// `hf_trace_safety` for `rays_len ≥ 1` rays, with the conventions of
+// `hf_trace_safety` for `rays_len` rays, with the conventions of
 // `hf_trace_exact_batch` (every ray checked first; an error writes nothing).
 // Thread safe.
 //
 // # Safety
 // As `hf_trace_safety`; `rays` valid for reading `rays_len` rays, `out_hits` for
-// writing `out_hits_len` hits, not overlapping.
+// writing `out_hits_len` hits (overlap is an error).
 hf_result hf_trace_safety_batch(const struct hf_field *field,
                                 const uint8_t *map,
                                 size_t map_len,
@@ -1963,13 +1999,17 @@ hf_result hf_trace_exact(const struct hf_field *field,
                          const struct hf_ray *ray,
                          struct hf_hit *out_hit);
 
-// `hf_trace_exact` for `rays_len ≥ 1` rays: `out_hits[k]` answers `rays[k]`;
-// `out_hits_len ≥ rays_len`. Every ray is checked before any is traced: one bad ray
-// fails the call and writes nothing. Thread safe.
+// `hf_trace_exact` for `rays_len` rays: `out_hits[k]` answers `rays[k]`;
+// `out_hits_len ≥ rays_len`. Everything is checked before any ray is traced, and an
+// error writes nothing: `out_hits` sharing a byte with `rays` (over their whole
+// lengths) is `HF_ERR_INVALID_ARGUMENT`; one bad ray fails the call
+// (`HF_ERR_INVALID_RAY`; `hf_last_error_index` gives the first bad ray). An empty
+// batch (`rays_len` 0) is `HF_OK` and writes nothing; its pointers must still be
+// non-NULL. Thread safe.
 //
 // # Safety
 // `rays` is NULL (an error) or valid for reading `rays_len` rays; `out_hits` NULL (an
-// error) or valid for writing `out_hits_len` hits, not overlapping `rays`.
+// error) or valid for writing `out_hits_len` hits.
 hf_result hf_trace_exact_batch(const struct hf_field *field,
                                uint32_t surface,
                                const struct hf_ray *rays,

@@ -371,7 +371,7 @@ pub unsafe extern "C" fn hf_trace_cc_on(
 ///
 /// # Safety
 /// As `hf_trace_cc`; `rays` valid for reading `rays_len` rays, `out_hits` for writing
-/// `out_hits_len` hits, not overlapping.
+/// `out_hits_len` hits (overlap is an error).
 #[no_mangle]
 #[allow(clippy::too_many_arguments)]
 pub unsafe extern "C" fn hf_trace_cc_batch(

@@ -189,7 +189,10 @@ fn check_map(fam: Family, hf: &HeightField, map: &[f32]) -> Result<(), hf_result
 /// Checks an iteration budget.
 fn budget(n: u32) -> Result<u32, hf_result> {
     if n == 0 {
-        return Err(HF_ERR_INVALID_ARGUMENT);
+        return Err(crate::detail::fail(
+            HF_ERR_INVALID_ARGUMENT,
+            "max_iter: must be at least 1",
+        ));
     }
     Ok(n)
 }
@@ -356,7 +359,7 @@ pub unsafe extern "C" fn hf_trace_cone(
 ///
 /// # Safety
 /// As `hf_trace_cone`; `rays` valid for reading `rays_len` rays, `out_hits` for writing
-/// `out_hits_len` hits, not overlapping.
+/// `out_hits_len` hits (overlap is an error).
 #[no_mangle]
 #[allow(clippy::too_many_arguments)]
 pub unsafe extern "C" fn hf_trace_cone_batch(

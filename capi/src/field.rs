@@ -367,7 +367,10 @@ pub unsafe extern "C" fn hf_field_copy_heights(
 /// `values_stride * (y1 - y0 - 1) + (x1 - x0)`; `values_stride ≥ x1 − x0`. Only the
 /// rectangle is re-validated (every value must be finite; the height bounds widen to
 /// cover them and never shrink). Then refresh a baked pyramid with
-/// `hf_maxmip_update_rect` on the same rectangle. On error the field is unchanged.
+/// `hf_maxmip_update_rect` on the same rectangle. An empty rectangle (x0 = x1 or
+/// y0 = y1, inside the field) is `HF_OK` and changes nothing, as for
+/// `hf_maxmip_update_rect` (`values` must still be non-NULL); a reversed one or one
+/// outside the field is `HF_ERR_INVALID_RECT`. On error the field is unchanged.
 /// Needs exclusive access to the field.
 ///
 /// # Safety
@@ -391,8 +394,18 @@ pub unsafe extern "C" fn hf_field_update_rect(
         // SAFETY: the caller promises `values` is readable for its length.
         let values = unsafe { ptr::slice(values, values_len) }?;
         let old = f.view;
-        if x0 >= x1 || y0 >= y1 || x1 > old.width() || y1 > old.height() {
-            return Err(HF_ERR_INVALID_RECT);
+        if x0 > x1 || y0 > y1 || x1 > old.width() || y1 > old.height() {
+            return Err(crate::detail::fail(
+                HF_ERR_INVALID_RECT,
+                format_args!(
+                    "[{x0}, {x1}) x [{y0}, {y1}) is reversed or outside the {} x {} field",
+                    old.width(),
+                    old.height()
+                ),
+            ));
+        }
+        if x0 == x1 || y0 == y1 {
+            return Ok(());
         }
         let (cols, rows) = ((x1 - x0) as usize, (y1 - y0) as usize);
         if values_stride < cols {

@@ -26,11 +26,12 @@
 pub mod cc;
 #[cfg(feature = "cone")]
 pub mod cones;
+pub mod detail;
 pub mod field;
 pub mod ktx2;
 #[cfg(feature = "maxmip")]
 pub mod maxmip;
-#[cfg(any(feature = "safety", feature = "cone"))]
+#[cfg(any(feature = "maxmip", feature = "safety", feature = "cone"))]
 mod par;
 mod ptr;
 #[cfg(feature = "safety")]
@@ -77,7 +78,10 @@ pub enum hf_result {
     HF_ERR_INVALID_ARGUMENT = 9,
     /// Memory could not be allocated.
     HF_ERR_OUT_OF_MEMORY = 10,
-    /// The library panicked (a bug); the call had no effect on its outputs.
+    /// The library panicked (a bug); the call had no effect on its outputs and printed
+    /// nothing: the first `hf_` call installs a process-wide panic hook that is silent
+    /// for the library's own panics and passes every other panic to the hook installed
+    /// before it (`hf_last_error_detail` has the panic's message).
     HF_ERR_PANIC = 11,
     /// The method (or another part the call needs) was left out of this build of the
     /// library by its cargo features (see `hf_build_has_method`).
@@ -134,39 +138,72 @@ impl hf_result {
 impl From<hfcore::FieldError> for hf_result {
     fn from(e: hfcore::FieldError) -> Self {
         use hfcore::FieldError as E;
-        match e {
+        let index = match e {
+            E::NotFinite { index } => Some(index),
+            _ => None,
+        };
+        let code = match e {
             E::TooSmall | E::TooLarge | E::StrideTooSmall | E::SizeOverflow => HF_ERR_INVALID_SIZE,
             E::SliceTooShort { .. } | E::OutputTooShort { .. } => HF_ERR_BUFFER_TOO_SMALL,
             E::NotFinite { .. } => HF_ERR_NOT_FINITE,
             E::BadRect => HF_ERR_INVALID_RECT,
-        }
+        };
+        detail::fail_at(code, index, e)
     }
 }
 
 impl From<hfcore::RayError> for hf_result {
-    fn from(_: hfcore::RayError) -> Self {
-        HF_ERR_INVALID_RAY
+    fn from(e: hfcore::RayError) -> Self {
+        detail::fail(HF_ERR_INVALID_RAY, e)
     }
 }
 
 #[cfg(feature = "maxmip")]
 impl From<hfcore::maxmip::PyramidError> for hf_result {
     fn from(e: hfcore::maxmip::PyramidError) -> Self {
-        match e {
+        let code = match e {
             hfcore::maxmip::PyramidError::TooShort { .. } => HF_ERR_BUFFER_TOO_SMALL,
             hfcore::maxmip::PyramidError::BadRect => HF_ERR_INVALID_RECT,
-        }
+        };
+        detail::fail(code, format_args!("pyramid: {e}"))
     }
 }
 
 /// The panic boundary every export runs behind: `Ok` → `HF_OK`, `Err(code)` → `code`,
-/// a panic → `HF_ERR_PANIC`.
+/// a panic → `HF_ERR_PANIC`, printed by no panic hook (`detail::quietly`). The
+/// outermost boundary of a thread starts a fresh error detail; an error that recorded
+/// none gets its code's message, a panic its message.
 pub(crate) fn guard(f: impl FnOnce() -> Result<(), hf_result>) -> hf_result {
-    match catch_unwind(AssertUnwindSafe(f)) {
-        Ok(Ok(())) => HF_OK,
-        Ok(Err(code)) => code,
-        Err(_) => HF_ERR_PANIC,
-    }
+    detail::quietly(|outermost| {
+        if outermost {
+            detail::clear();
+        }
+        match catch_unwind(AssertUnwindSafe(f)) {
+            Ok(Ok(())) => HF_OK,
+            Ok(Err(code)) if detail::is_set() => code,
+            Ok(Err(code)) => detail::fail(code, code.message()),
+            Err(payload) => {
+                let text = (payload.downcast_ref::<&str>().copied())
+                    .or(payload.downcast_ref::<String>().map(String::as_str))
+                    .unwrap_or("");
+                detail::fail(
+                    HF_ERR_PANIC,
+                    format_args!("{}: {text}", HF_ERR_PANIC.message()),
+                )
+            }
+        }
+    })
+}
+
+/// The panic boundary alone, leaving the error detail as it is (the detail queries).
+pub(crate) fn guard_keeping_detail(f: impl FnOnce() -> Result<(), hf_result>) -> hf_result {
+    detail::keeping(|| {
+        detail::quietly(|_| match catch_unwind(AssertUnwindSafe(f)) {
+            Ok(Ok(())) => HF_OK,
+            Ok(Err(code)) => code,
+            Err(_) => HF_ERR_PANIC,
+        })
+    })
 }
 
 /// Shared body of the size queries: checks `width` and `height` (2 to `HF_MAX_SIDE`,
@@ -197,7 +234,10 @@ pub(crate) unsafe fn size_query(
 pub(crate) fn check_size(width: u32, height: u32) -> Result<(), hf_result> {
     let ok = |n: u32| (2..=HF_MAX_SIDE).contains(&n);
     if !ok(width) || !ok(height) {
-        return Err(HF_ERR_INVALID_SIZE);
+        return Err(detail::fail(
+            HF_ERR_INVALID_SIZE,
+            format_args!("width {width}, height {height}: each must be 2 to {HF_MAX_SIDE}"),
+        ));
     }
     Ok(())
 }
@@ -223,7 +263,12 @@ pub(crate) fn surface_of(v: u32) -> Result<hfcore::Surface, hf_result> {
     hfcore::Surface::ALL
         .get(v as usize)
         .copied()
-        .ok_or(HF_ERR_INVALID_ENUM)
+        .ok_or_else(|| {
+            detail::fail(
+                HF_ERR_INVALID_ENUM,
+                format_args!("surface: {v} is not an hf_surface"),
+            )
+        })
 }
 
 /// The marching methods. Passed as `uint32_t`.
@@ -293,7 +338,12 @@ impl hf_method {
 
 /// Checks a method passed as `uint32_t`.
 pub(crate) fn method_of(v: u32) -> Result<hf_method, hf_result> {
-    METHODS.get(v as usize).copied().ok_or(HF_ERR_INVALID_ENUM)
+    METHODS.get(v as usize).copied().ok_or_else(|| {
+        detail::fail(
+            HF_ERR_INVALID_ENUM,
+            format_args!("method: {v} is not an hf_method"),
+        )
+    })
 }
 
 impl hf_method {
@@ -322,7 +372,10 @@ pub(crate) fn built_method_of(v: u32) -> Result<hf_method, hf_result> {
     if m.built() {
         Ok(m)
     } else {
-        Err(HF_ERR_NOT_BUILT)
+        Err(detail::fail(
+            HF_ERR_NOT_BUILT,
+            format_args!("method: {} is not in this build", m.name()),
+        ))
     }
 }
 
@@ -485,6 +538,52 @@ mod tests {
         // SAFETY: NULL is reported.
         let r = unsafe { hf_build_has_method(0, std::ptr::null_mut()) };
         assert_eq!(r, HF_ERR_NULL_POINTER);
+    }
+
+    /// Panics caught by the boundary print nothing (on the calling thread and on a
+    /// bake's helper thread) and leave their message in the detail; a panic outside
+    /// the library still reaches the previous hook. Run in a child process, whose
+    /// stderr is read.
+    #[test]
+    fn caught_panics_print_nothing() {
+        if std::env::var_os("HFCAST_PANIC_CHILD").is_some() {
+            assert_eq!(guard(|| panic!("boom in guard")), HF_ERR_PANIC);
+            let (mut buf, mut n) = ([0 as c_char; 256], 0);
+            // SAFETY: a 256-byte buffer and a valid out pointer.
+            let r = unsafe { detail::hf_last_error_detail(buf.as_mut_ptr(), 256, &mut n) };
+            assert_eq!(r, HF_OK);
+            let text: Vec<u8> = buf[..n].iter().map(|&c| c as u8).collect();
+            assert_eq!(text, b"internal error: the library panicked: boom in guard");
+            #[cfg(any(feature = "maxmip", feature = "safety", feature = "cone"))]
+            {
+                let mut out = [0u8; 64];
+                let r = guard(|| {
+                    par::bake_bands(64, 1, 1, 64, &mut out, |rows, _| {
+                        if rows.start % 2 == 1 {
+                            panic!("boom in a band");
+                        }
+                        Ok(())
+                    })
+                });
+                assert_eq!(r, HF_ERR_PANIC);
+            }
+            let _ = std::panic::catch_unwind(|| panic!("outside the library"));
+            return;
+        }
+        let exe = std::env::current_exe().unwrap();
+        let out = std::process::Command::new(exe)
+            .args([
+                "--exact",
+                "tests::caught_panics_print_nothing",
+                "--nocapture",
+            ])
+            .env("HFCAST_PANIC_CHILD", "1")
+            .output()
+            .unwrap();
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(out.status.success(), "{err}");
+        assert!(!err.contains("boom"), "{err}");
+        assert!(err.contains("outside the library"), "{err}");
     }
 
     #[test]

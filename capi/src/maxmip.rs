@@ -178,9 +178,10 @@ pub unsafe extern "C" fn hf_maxmip_bake_rows(
     })
 }
 
-/// `hf_maxmip_bake` on `threads` threads (0: one per available core): each level's
-/// rows are split among the threads, levels in order. The result is identical to
-/// `hf_maxmip_bake`.
+/// `hf_maxmip_bake` on `threads` threads (0: one per available core; at most the
+/// available cores and the rows of a level; a thread the system refuses to create is
+/// done without): each level's rows are split among the threads, levels in order.
+/// The result is identical to `hf_maxmip_bake`.
 /// Thread safe for distinct output buffers (reads the field only).
 ///
 /// # Safety
@@ -195,42 +196,36 @@ pub unsafe extern "C" fn hf_maxmip_bake_threaded(
     guard(|| {
         // SAFETY: the caller's promises.
         let (hf, p, l) = unsafe { field_and_pyramid(field, out_pyramid, out_pyramid_len) }?;
-        let threads = match threads {
-            0 => std::thread::available_parallelism().map_or(1, |n| n.get() as u32),
-            n => n,
-        };
-        bake_threaded(hf, &l, threads.max(1), p);
+        bake_threaded(hf, &l, threads, p);
         Ok(())
     })
 }
 
-/// Bakes every level, splitting the rows of levels large enough among `threads`.
+/// Bakes every level, splitting the rows of levels large enough among `threads` (0:
+/// one per core; capped by `par::thread_count`, a thread refused is done without).
 fn bake_threaded(hf: &HeightField, l: &Layout, threads: u32, pyramid: &mut [f32]) {
     /// Below this many texels a level is baked on the calling thread.
     const SERIAL: usize = 1 << 14;
     for level in 0..l.levels() {
         let [w, h] = l.dims(level);
         let (finer, out) = l.split_level(pyramid, level);
-        let n = threads.min(h);
-        if n <= 1 || out.len() < SERIAL {
-            maxmip::bake_rows(hf, level, 0..h, finer, out);
-            continue;
-        }
-        let rows = h.div_ceil(n);
-        std::thread::scope(|s| {
-            for (k, chunk) in out.chunks_mut((rows * w) as usize).enumerate() {
-                let r0 = k as u32 * rows;
-                let r1 = (r0 + rows).min(h);
-                s.spawn(move || maxmip::bake_rows(hf, level, r0..r1, finer, chunk));
-            }
+        let n = match out.len() {
+            n if n < SERIAL => 1,
+            _ => crate::par::thread_count(threads, h),
+        };
+        let done = crate::par::bake_bands(h, w as usize, h.div_ceil(n), n, out, |r, chunk| {
+            maxmip::bake_rows(hf, level, r, finer, chunk);
+            Ok::<(), core::convert::Infallible>(())
         });
+        done.unwrap_or_else(|never| match never {});
     }
 }
 
 /// Refreshes the texels of `pyramid` (baked for `field` before the change) that
 /// depend on the samples `[x0, x1) × [y0, y1)`, after `hf_field_update_rect` changed
 /// them; the result equals a full bake. `pyramid_len ≥ hf_maxmip_len(W, H)`. An empty
-/// rectangle (x0 = x1 or y0 = y1) does nothing; a reversed one or one outside the
+/// rectangle (x0 = x1 or y0 = y1) is `HF_OK` and changes nothing, as for
+/// `hf_field_update_rect`; a reversed one or one outside the
 /// field is `HF_ERR_INVALID_RECT`. Thread safe for distinct pyramids (reads the field
 /// only); needs exclusive access to `pyramid`: no trace may read it meanwhile.
 ///

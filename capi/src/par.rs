@@ -10,19 +10,23 @@ use crate::hf_result::{self, *};
 #[cfg(feature = "safety")]
 use core::ptr::NonNull;
 
-/// Thread count for `threads` (0: one per available core), at most `rows`, at least 1.
-pub fn thread_count(threads: u32, rows: u32) -> u32 {
+/// Thread count for `threads` (0: one per available core): at most the available
+/// cores (more would only wait for them) and at most `units` (the bands or rows there
+/// are to hand out), at least 1.
+pub fn thread_count(threads: u32, units: u32) -> u32 {
+    let cores = std::thread::available_parallelism().map_or(1, |n| n.get() as u32);
     match threads {
-        0 => std::thread::available_parallelism().map_or(1, |n| n.get() as u32),
-        n => n,
+        0 => cores,
+        n => n.min(cores),
     }
-    .clamp(1, rows.max(1))
+    .clamp(1, units.max(1))
 }
 
 /// Runs `bake(rows, out_rows)` over `rows` rows of `row_len` elements of `out`, in
-/// bands of `band` rows taken in turn by `threads` threads (the calling thread alone
-/// when `threads` is 1). Costly rows are uneven, hence many small bands. Returns the
-/// first error.
+/// bands of `band` rows taken in turn by the calling thread and up to `threads − 1`
+/// more ([`thread_count`] of the bands). Costly rows are uneven, hence many small
+/// bands. A thread the system refuses to create is done without (the others take its
+/// bands; the calling thread alone, at worst). Returns the first error.
 pub fn bake_bands<T: Send, E: Send>(
     rows: u32,
     row_len: usize,
@@ -32,7 +36,9 @@ pub fn bake_bands<T: Send, E: Send>(
     bake: impl Fn(Range<u32>, &mut [T]) -> Result<(), E> + Sync,
 ) -> Result<(), E> {
     let out = &mut out[..rows as usize * row_len];
-    if threads <= 1 || rows <= band {
+    let band = band.max(1);
+    let threads = thread_count(threads, rows.div_ceil(band));
+    if threads <= 1 {
         return bake(0..rows, out);
     }
     let next = AtomicU32::new(0);
@@ -40,29 +46,32 @@ pub fn bake_bands<T: Send, E: Send>(
         .chunks_mut(band as usize * row_len)
         .map(Mutex::new)
         .collect();
+    let work = || -> Result<(), E> {
+        loop {
+            let k = next.fetch_add(1, Ordering::Relaxed);
+            let Some(chunk) = chunks.get(k as usize) else {
+                return Ok(());
+            };
+            let r0 = k * band;
+            let r1 = (r0 + band).min(rows);
+            let mut chunk = chunk.lock().unwrap_or_else(|e| e.into_inner());
+            bake(r0..r1, &mut chunk)?;
+        }
+    };
     std::thread::scope(|s| {
-        let workers: Vec<_> = (0..threads)
-            .map(|_| {
-                s.spawn(|| -> Result<(), E> {
-                    loop {
-                        let k = next.fetch_add(1, Ordering::Relaxed);
-                        let Some(chunk) = chunks.get(k as usize) else {
-                            return Ok(());
-                        };
-                        let r0 = k * band;
-                        let r1 = (r0 + band).min(rows);
-                        let mut chunk = chunk.lock().unwrap_or_else(|e| e.into_inner());
-                        bake(r0..r1, &mut chunk)?;
-                    }
-                })
+        let helpers: Vec<_> = (1..threads)
+            .map_while(|_| {
+                std::thread::Builder::new()
+                    .spawn_scoped(s, || crate::detail::quietly(|_| work()))
+                    .ok()
             })
             .collect();
-        // A panicking worker re-panics here, caught by the export's panic boundary.
-        workers
+        let mine = work();
+        // A panicking helper re-panics here, caught by the export's panic boundary.
+        helpers
             .into_iter()
             .map(|w| w.join().unwrap_or_else(|p| std::panic::resume_unwind(p)))
-            .collect::<Result<Vec<()>, E>>()
-            .map(|_| ())
+            .fold(mine, Result::and)
     })
 }
 
@@ -96,7 +105,6 @@ where
         return Err(HF_ERR_BUFFER_TOO_SMALL);
     }
     let scratches = prepare()?;
-    let threads = thread_count(threads, rows);
     let scratches = &scratches;
     Ok(bake_bands(rows, row_len, 8, threads, out, |r, chunk| {
         bake(scratches, r, chunk)

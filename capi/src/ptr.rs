@@ -1,7 +1,11 @@
 //! Turning C pointers into references and slices, with the checks every export makes:
-//! NULL, alignment, and a byte size that fits `isize`.
+//! NULL, alignment, and a byte size that fits `isize`; each failed check records its
+//! error detail (name the argument with [`Named::named`]).
 
+use crate::detail::fail;
+pub(crate) use crate::detail::Named;
 use crate::hf_result::{self, *};
+use core::ops::Range;
 use core::ptr::NonNull;
 use std::ffi::c_char;
 
@@ -9,15 +13,61 @@ use std::ffi::c_char;
 /// within `isize::MAX` (what `slice::from_raw_parts` requires).
 fn check<T>(p: *const T, len: usize) -> Result<(), hf_result> {
     if p.is_null() {
-        return Err(HF_ERR_NULL_POINTER);
+        return Err(fail(HF_ERR_NULL_POINTER, "pointer is NULL"));
     }
     if !p.is_aligned() {
-        return Err(HF_ERR_MISALIGNED_POINTER);
+        let align = align_of::<T>();
+        return Err(fail(
+            HF_ERR_MISALIGNED_POINTER,
+            format_args!("pointer is not aligned to {align} bytes"),
+        ));
     }
     match len.checked_mul(size_of::<T>()) {
         Some(bytes) if bytes <= isize::MAX as usize => Ok(()),
-        _ => Err(HF_ERR_INVALID_SIZE),
+        _ => Err(fail(
+            HF_ERR_INVALID_SIZE,
+            format_args!(
+                "{len} elements of {} bytes exceed isize::MAX",
+                size_of::<T>()
+            ),
+        )),
     }
+}
+
+/// The byte range of `len` elements at `p` (after [`check`]).
+fn bytes<T>(p: *const T, len: usize) -> Range<usize> {
+    let start = p as usize;
+    start..start.saturating_add(len * size_of::<T>())
+}
+
+/// A shared slice of `len` elements at `p` (the argument `name`) and a mutable slice
+/// of `out_len` elements at `out` (`out_name`), each checked as by [`slice`], then for
+/// overlap: bytes in common are `HF_ERR_INVALID_ARGUMENT` ("`out_name` overlaps
+/// `name`"), found before either slice exists.
+///
+/// # Safety
+/// As [`slice`] for `p` and [`slice_mut`] for `out`.
+pub unsafe fn slice_and_out<'a, T, U>(
+    (p, len, name): (*const T, usize, &str),
+    (out, out_len, out_name): (*mut U, usize, &str),
+) -> Result<(&'a [T], &'a mut [U]), hf_result> {
+    check(p, len).named(name)?;
+    check(out, out_len).named(out_name)?;
+    let (a, b) = (bytes(p, len), bytes(out, out_len));
+    if a.start < b.end && b.start < a.end {
+        return Err(fail(
+            HF_ERR_INVALID_ARGUMENT,
+            format_args!("{out_name} overlaps {name}"),
+        ));
+    }
+    // SAFETY: both checked as in `slice` and `slice_mut`, and disjoint (checked), so
+    // the mutable slice is exclusive by the caller's promise.
+    Ok(unsafe {
+        (
+            core::slice::from_raw_parts(p, len),
+            core::slice::from_raw_parts_mut(out, out_len),
+        )
+    })
 }
 
 /// A shared slice of `len` elements at `p`.
@@ -96,7 +146,10 @@ pub unsafe fn write_c_string(
     written: Out<usize>,
 ) -> Result<(), hf_result> {
     if buf.len() <= s.len() {
-        return Err(HF_ERR_BUFFER_TOO_SMALL);
+        return Err(fail(
+            HF_ERR_BUFFER_TOO_SMALL,
+            format_args!("buf: {} bytes, {} needed", buf.len(), s.len() + 1),
+        ));
     }
     for (o, &b) in buf.iter_mut().zip(s.as_bytes()) {
         *o = b as c_char;

@@ -49,7 +49,7 @@ fn zero_of(v: u32) -> Result<Options, hf_result> {
     let zero = match v {
         0 => Zero::Walk,
         1 => Zero::Clamp,
-        _ => return Err(HF_ERR_INVALID_ENUM),
+        _ => return Err(crate::detail::fail(HF_ERR_INVALID_ENUM, "zero: not 0 or 1")),
     };
     Ok(Options {
         zero,
@@ -285,7 +285,7 @@ pub unsafe extern "C" fn hf_trace_radius_on(
 ///
 /// # Safety
 /// As `hf_trace_radius`; `rays` valid for reading `rays_len` rays, `out_hits` for
-/// writing `out_hits_len` hits, not overlapping.
+/// writing `out_hits_len` hits (overlap is an error).
 #[no_mangle]
 #[allow(clippy::too_many_arguments)]
 pub unsafe extern "C" fn hf_trace_radius_batch(

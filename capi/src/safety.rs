@@ -420,13 +420,13 @@ pub(crate) unsafe fn trace_inputs<'a>(
     Ok((data, march_surface_of(surface)?))
 }
 
-/// `hf_trace_safety` for `rays_len ≥ 1` rays, with the conventions of
+/// `hf_trace_safety` for `rays_len` rays, with the conventions of
 /// `hf_trace_exact_batch` (every ray checked first; an error writes nothing).
 /// Thread safe.
 ///
 /// # Safety
 /// As `hf_trace_safety`; `rays` valid for reading `rays_len` rays, `out_hits` for
-/// writing `out_hits_len` hits, not overlapping.
+/// writing `out_hits_len` hits (overlap is an error).
 #[no_mangle]
 #[allow(clippy::too_many_arguments)]
 pub unsafe extern "C" fn hf_trace_safety_batch(

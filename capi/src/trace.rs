@@ -1,6 +1,8 @@
 //! Ray queries: one ray or a batch, for every method.
 
+use crate::detail::fail_at;
 use crate::hf_result::{self, *};
+use crate::ptr::Named;
 use crate::{guard, hf_field, ptr, surface_of};
 #[cfg(feature = "maxmip")]
 use hfcore::maxmip::{self, MaxMip};
@@ -77,11 +79,15 @@ impl From<Trace<f32>> for hf_hit {
     }
 }
 
-/// Checks a ray and converts it from the field's world units to grid space.
-fn query(hf: &HeightField, r: &hf_ray) -> Result<Query<f32>, hf_result> {
-    Ok(hf
-        .transform()
-        .query_to_grid(r.origin, r.dir, r.t_min, r.t_max)?)
+/// Checks a ray and converts it from the field's world units to grid space; an invalid
+/// ray's detail names it `ray`, or `rays[index]` (and records `index`) in a batch.
+fn query(hf: &HeightField, r: &hf_ray, index: Option<usize>) -> Result<Query<f32>, hf_result> {
+    hf.transform()
+        .query_to_grid(r.origin, r.dir, r.t_min, r.t_max)
+        .map_err(|e| match index {
+            Some(k) => fail_at(HF_ERR_INVALID_RAY, index, format_args!("rays[{k}]: {e}")),
+            None => fail_at(HF_ERR_INVALID_RAY, None, format_args!("ray: {e}")),
+        })
 }
 
 /// A grid-space trace as the caller's `hf_hit`, in the field's world units.
@@ -102,12 +108,18 @@ pub(crate) unsafe fn one<P>(
     trace: impl Fn(&HeightField, &P, &Query<f32>) -> Trace<f32>,
 ) -> hf_result {
     guard(|| {
-        // SAFETY: the caller promises a live handle and a valid ray.
-        let (f, r) = unsafe { (ptr::get(field)?, ptr::get(ray)?) };
-        let out = ptr::out(out_hit)?;
+        // SAFETY: the caller promises a live handle and a valid ray (copied, so that
+        // `out_hit` may even overlap it).
+        let (f, r) = unsafe {
+            (
+                ptr::get(field).named("field")?,
+                *ptr::get(ray).named("ray")?,
+            )
+        };
+        let out = ptr::out(out_hit).named("out_hit")?;
         let hf = f.view();
         let prepared = prepare(hf)?;
-        let q = query(hf, r)?;
+        let q = query(hf, &r, None)?;
         let hit = answer(hf, trace(hf, &prepared, &q));
         // SAFETY: the caller promises `out_hit` is writable.
         unsafe { out.set(hit) };
@@ -115,13 +127,14 @@ pub(crate) unsafe fn one<P>(
     })
 }
 
-/// Shared body of the batch functions: checks everything (every ray) first and
-/// prepares what the method reads once, then traces into the output, so an error
-/// writes nothing.
+/// Shared body of the batch functions: checks everything (the pointers, that `rays`
+/// and `out_hits` share no byte, the output's length, every ray) first and prepares
+/// what the method reads once, then traces into the output, so an error writes
+/// nothing. An empty batch (`rays_len` 0) passes the same checks and writes nothing.
 ///
 /// # Safety
 /// `field` NULL or live; `rays` NULL or valid for `rays_len`; `out_hits` NULL or
-/// writable for `out_hits_len`, not overlapping `rays`.
+/// writable for `out_hits_len`.
 pub(crate) unsafe fn batch<P>(
     field: *const hf_field,
     rays: *const hf_ray,
@@ -132,23 +145,29 @@ pub(crate) unsafe fn batch<P>(
     trace: impl Fn(&HeightField, &P, &Query<f32>) -> Trace<f32>,
 ) -> hf_result {
     guard(|| {
-        // SAFETY: the caller promises a live handle and `rays_len` valid rays.
-        let (f, rays) = unsafe { (ptr::get(field)?, ptr::slice(rays, rays_len)?) };
-        // SAFETY: the caller promises `out_hits` is writable for its length.
-        let hits = unsafe { ptr::slice_mut(out_hits, out_hits_len) }?;
-        if rays.is_empty() {
-            return Err(HF_ERR_INVALID_SIZE);
-        }
+        // SAFETY: the caller promises a live handle.
+        let f = unsafe { ptr::get(field) }.named("field")?;
+        // SAFETY: the caller promises `rays_len` valid rays and `out_hits` writable for
+        // its length; the two are checked disjoint before the slices exist.
+        let (rays, hits) = unsafe {
+            ptr::slice_and_out(
+                (rays, rays_len, "rays"),
+                (out_hits, out_hits_len, "out_hits"),
+            )
+        }?;
         if hits.len() < rays.len() {
-            return Err(HF_ERR_BUFFER_TOO_SMALL);
+            return Err(crate::detail::fail(
+                HF_ERR_BUFFER_TOO_SMALL,
+                format_args!("out_hits: {} hits for {} rays", hits.len(), rays.len()),
+            ));
         }
         let hf = f.view();
         let prepared = prepare(hf)?;
-        for r in rays {
-            query(hf, r)?;
+        for (k, r) in rays.iter().enumerate() {
+            query(hf, r, Some(k))?;
         }
-        for (r, h) in rays.iter().zip(hits.iter_mut()) {
-            *h = answer(hf, trace(hf, &prepared, &query(hf, r)?));
+        for (k, (r, h)) in rays.iter().zip(hits.iter_mut()).enumerate() {
+            *h = answer(hf, trace(hf, &prepared, &query(hf, r, Some(k))?));
         }
         Ok(())
     })
@@ -220,7 +239,10 @@ pub unsafe extern "C" fn hf_shadow_ray(
 /// The search step counts, checked.
 fn steps(linear: u32, binary: u32) -> Result<SearchSteps, hf_result> {
     if linear == 0 {
-        return Err(HF_ERR_INVALID_ARGUMENT);
+        return Err(crate::detail::fail(
+            HF_ERR_INVALID_ARGUMENT,
+            "linear_steps: must be at least 1",
+        ));
     }
     Ok(SearchSteps { linear, binary })
 }
@@ -256,13 +278,17 @@ pub unsafe extern "C" fn hf_trace_exact(
     }
 }
 
-/// `hf_trace_exact` for `rays_len ≥ 1` rays: `out_hits[k]` answers `rays[k]`;
-/// `out_hits_len ≥ rays_len`. Every ray is checked before any is traced: one bad ray
-/// fails the call and writes nothing. Thread safe.
+/// `hf_trace_exact` for `rays_len` rays: `out_hits[k]` answers `rays[k]`;
+/// `out_hits_len ≥ rays_len`. Everything is checked before any ray is traced, and an
+/// error writes nothing: `out_hits` sharing a byte with `rays` (over their whole
+/// lengths) is `HF_ERR_INVALID_ARGUMENT`; one bad ray fails the call
+/// (`HF_ERR_INVALID_RAY`; `hf_last_error_index` gives the first bad ray). An empty
+/// batch (`rays_len` 0) is `HF_OK` and writes nothing; its pointers must still be
+/// non-NULL. Thread safe.
 ///
 /// # Safety
 /// `rays` is NULL (an error) or valid for reading `rays_len` rays; `out_hits` NULL (an
-/// error) or valid for writing `out_hits_len` hits, not overlapping `rays`.
+/// error) or valid for writing `out_hits_len` hits.
 #[no_mangle]
 pub unsafe extern "C" fn hf_trace_exact_batch(
     field: *const hf_field,

@@ -1,0 +1,291 @@
+/* Issue 26, items 2 and 3: thread counts are capped (a bake asked for 100000 threads
+ * answers HF_OK, byte for byte the 1-thread bake, and never runs more threads than
+ * cores); errors are worth reading (overlap of a batch's rays and hits is found
+ * before anything is written, empty batches and rectangles are HF_OK and change
+ * nothing, hf_last_error_detail / hf_last_error_index name the argument and the ray).
+ * Prints `c-errors: N passed, M failed`. */
+#define _POSIX_C_SOURCE 200809L
+#include "hfcast.h"
+#include "check_api.h"
+
+#include <math.h>
+#include <pthread.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+#include <unistd.h>
+
+#define N 512
+#define MANY 100000u
+
+static char detail[256];
+
+/* The detail of the last failing call, as hf_last_error_detail gives it. */
+static const char *last_detail(void) {
+    size_t written = 0;
+    if (hf_last_error_detail(detail, sizeof detail, &written) != HF_OK)
+        return "(hf_last_error_detail failed)";
+    return detail;
+}
+
+/* Checks that the detail of the last failing call contains `part`. */
+#define CHECK_DETAIL(part)                                                         \
+    do {                                                                           \
+        const char *d_ = last_detail();                                            \
+        checks++;                                                                  \
+        if (!strstr(d_, (part))) {                                                 \
+            failures++;                                                            \
+            fprintf(stderr, "%s:%d: detail \"%s\" lacks \"%s\"\n", __FILE__,       \
+                    __LINE__, d_, (part));                                         \
+        }                                                                          \
+    } while (0)
+
+/* ---- threads: a sampler of this process's thread count while a bake runs ---- */
+
+static volatile int sampling = 0;
+static int peak_threads = 0;
+
+static int thread_count_now(void) {
+    FILE *f = fopen("/proc/self/status", "r");
+    char line[256];
+    int n = 0;
+    if (!f) return 0;
+    while (fgets(line, sizeof line, f))
+        if (sscanf(line, "Threads: %d", &n) == 1) break;
+    fclose(f);
+    return n;
+}
+
+static void *sample(void *arg) {
+    (void)arg;
+    while (__atomic_load_n(&sampling, __ATOMIC_ACQUIRE)) {
+        int n = thread_count_now();
+        if (n > peak_threads) peak_threads = n;
+        struct timespec pause = {0, 200000};
+        nanosleep(&pause, NULL);
+    }
+    return NULL;
+}
+
+/* Runs `call` while sampling the thread count; the peak is in peak_threads. */
+#define SAMPLED(result, call)                                                      \
+    do {                                                                           \
+        pthread_t t_;                                                              \
+        peak_threads = 0;                                                          \
+        __atomic_store_n(&sampling, 1, __ATOMIC_RELEASE);                          \
+        pthread_create(&t_, NULL, sample, NULL);                                   \
+        (result) = (call);                                                         \
+        __atomic_store_n(&sampling, 0, __ATOMIC_RELEASE);                          \
+        pthread_join(t_, NULL);                                                    \
+    } while (0)
+
+static void check_threads(const hf_field *f) {
+    /* This process has the main thread and the sampler; the bake may add one per core
+     * at most (the calling thread is one of them). */
+    long cores = sysconf(_SC_NPROCESSORS_ONLN);
+    int limit = 2 + (int)(cores > 0 ? cores : 1);
+    hf_result r;
+
+    size_t plen = 0;
+    CHECK_OK(hf_maxmip_len(N, N, &plen));
+    float *p1 = malloc(plen * sizeof *p1), *pm = malloc(plen * sizeof *pm);
+    CHECK_OK(hf_maxmip_bake_threaded(f, 1, p1, plen));
+    SAMPLED(r, hf_maxmip_bake_threaded(f, MANY, pm, plen));
+    CHECK(r == HF_OK);
+    CHECK(memcmp(p1, pm, plen * sizeof *p1) == 0);
+    CHECK(peak_threads <= limit);
+    printf("threads: maxmip with %u threads: result %u, peak %d threads (limit %d)\n", MANY,
+           (unsigned)r, peak_threads, limit);
+    free(p1);
+    free(pm);
+
+    hf_safety_options so = {HF_SAFETY_DIRECTIONAL, 0, 255};
+    size_t slen = 0;
+    CHECK_OK(hf_safety_map_len(N, N, so.variant, &slen));
+    uint8_t *s1 = malloc(slen), *sm = malloc(slen);
+    CHECK_OK(hf_safety_bake(f, &so, 1, s1, slen));
+    SAMPLED(r, hf_safety_bake(f, &so, MANY, sm, slen));
+    CHECK(r == HF_OK);
+    CHECK(memcmp(s1, sm, slen) == 0);
+    CHECK(peak_threads <= limit);
+    printf("threads: safety with %u threads: result %u, peak %d threads (limit %d)\n", MANY,
+           (unsigned)r, peak_threads, limit);
+    free(s1);
+    free(sm);
+
+    hf_cc_options co = {HF_CC_SLOPE_EXACT, 64};
+    size_t clen = 0;
+    CHECK_OK(hf_cc_map_len(N, N, &clen));
+    uint8_t *c1 = malloc(clen), *cm = malloc(clen);
+    CHECK_OK(hf_cc_bake(f, &co, 1, c1, clen));
+    SAMPLED(r, hf_cc_bake(f, &co, MANY, cm, clen));
+    CHECK(r == HF_OK);
+    CHECK(memcmp(c1, cm, clen) == 0);
+    CHECK(peak_threads <= limit);
+    printf("threads: cc with %u threads: result %u, peak %d threads (limit %d)\n", MANY,
+           (unsigned)r, peak_threads, limit);
+    free(c1);
+    free(cm);
+}
+
+/* ---- errors ---- */
+
+static const hf_hit nothing_hit;
+
+static void check_batches(const hf_field *f) {
+    hf_ray good = {{1.5f, 1.5f, 100.0f}, {0.1f, 0.2f, -1.0f}, 0.0f, INFINITY};
+    enum { R = 8 };
+    hf_ray rays[R];
+    hf_hit hits[R];
+    for (int k = 0; k < R; k++) rays[k] = good;
+    memset(hits, 0x5A, sizeof hits);
+
+    /* The first bad ray of a batch: its index, as a number and in the detail. */
+    rays[5].dir[0] = rays[5].dir[1] = rays[5].dir[2] = 0.0f;
+    rays[6].origin[0] = NAN;
+    CHECK_BAD(hf_trace_exact_batch(f, 0, rays, R, hits, R), HF_ERR_INVALID_RAY, hits,
+              sizeof hits);
+    CHECK_DETAIL("rays[5]: ray direction is zero");
+    size_t index = 0;
+    CHECK_OK(hf_last_error_index(&index));
+    CHECK(index == 5);
+    /* The queries change nothing, even when they fail. */
+    size_t written = 7;
+    CHECK_BAD(hf_last_error_detail(detail, 4, &written), HF_ERR_BUFFER_TOO_SMALL, &written,
+              sizeof written);
+    CHECK_BAD(hf_last_error_index(NULL), HF_ERR_NULL_POINTER, &index, 0);
+    CHECK_DETAIL("rays[5]: ray direction is zero");
+    CHECK_OK(hf_last_error_index(&index));
+    CHECK(index == 5);
+    rays[5] = rays[6] = good;
+
+    /* A single ray: named `ray`, no index. */
+    hf_ray bad = good;
+    bad.t_min = 2.0f;
+    bad.t_max = 1.0f;
+    hf_hit h = nothing_hit;
+    CHECK_BAD(hf_trace_exact(f, 0, &bad, &h), HF_ERR_INVALID_RAY, &h, sizeof h);
+    CHECK_DETAIL("ray: t_min is greater than t_max");
+    CHECK_OK(hf_last_error_index(&index));
+    CHECK(index == SIZE_MAX);
+
+    /* Which pointer is NULL, which enum is unknown. */
+    CHECK_BAD(hf_trace_exact_batch(NULL, 0, rays, R, hits, R), HF_ERR_NULL_POINTER, hits,
+              sizeof hits);
+    CHECK_DETAIL("field: pointer is NULL");
+    CHECK_BAD(hf_trace_exact_batch(f, 0, NULL, R, hits, R), HF_ERR_NULL_POINTER, hits,
+              sizeof hits);
+    CHECK_DETAIL("rays: pointer is NULL");
+    CHECK_BAD(hf_trace_exact_batch(f, 0, rays, R, NULL, R), HF_ERR_NULL_POINTER, rays, 0);
+    CHECK_DETAIL("out_hits: pointer is NULL");
+    CHECK_BAD(hf_trace_exact(f, 0, &good, NULL), HF_ERR_NULL_POINTER, rays, 0);
+    CHECK_DETAIL("out_hit: pointer is NULL");
+    CHECK_BAD(hf_trace_exact_batch(f, 9, rays, R, hits, R), HF_ERR_INVALID_ENUM, hits,
+              sizeof hits);
+    CHECK_DETAIL("surface: 9");
+    CHECK_BAD(hf_trace_exact_batch(f, 0, rays, R, hits, R - 1), HF_ERR_BUFFER_TOO_SMALL, hits,
+              sizeof hits);
+    CHECK_DETAIL("out_hits: 7 hits for 8 rays");
+    CHECK_BAD(hf_trace_exact_batch(f, 0, (const hf_ray *)((char *)rays + 1), 1, hits, R),
+              HF_ERR_MISALIGNED_POINTER, hits, sizeof hits);
+    CHECK_DETAIL("rays: pointer is not aligned to 4 bytes");
+    /* A success leaves the index meaningless, but a new failure replaces it. */
+    CHECK_OK(hf_trace_exact_batch(f, 0, rays, R, hits, R));
+
+    /* Outputs overlapping the rays: found before anything is written. */
+    union {
+        hf_ray rays[R];
+        hf_hit hits[R];
+        unsigned char bytes[R * sizeof(hf_hit)];
+    } both;
+    for (int k = 0; k < R; k++) both.rays[k] = good;
+    unsigned char saved[sizeof both];
+    memcpy(saved, &both, sizeof both);
+    CHECK_BAD(hf_trace_exact_batch(f, 0, both.rays, R, both.hits, R), HF_ERR_INVALID_ARGUMENT,
+              &both, sizeof both);
+    CHECK_DETAIL("out_hits overlaps rays");
+    /* Overlap by one element's tail: hits start inside the last ray. */
+    hf_hit *late = (hf_hit *)(void *)((char *)both.bytes + (R - 1) * sizeof(hf_ray) + 4);
+    CHECK_BAD(hf_trace_exact_batch(f, 0, both.rays, R, late, 1), HF_ERR_INVALID_ARGUMENT,
+              &both, sizeof both);
+    CHECK_BAD(hf_trace_exact_batch(f, 0, both.rays, 4, both.hits + 4, 1),
+              HF_ERR_BUFFER_TOO_SMALL, &both, sizeof both);
+    CHECK(memcmp(saved, &both, sizeof both) == 0);
+    /* Adjacent, not overlapping: fine. */
+    hf_hit *after = (hf_hit *)(void *)((char *)both.bytes + 2 * sizeof(hf_ray));
+    CHECK_OK(hf_trace_exact_batch(f, 0, both.rays, 2, after, 2));
+    CHECK(after[0].hit == 1);
+
+    /* Empty batches: HF_OK, nothing written; the pointers must still be valid. */
+    memset(hits, 0x5A, sizeof hits);
+    unsigned char before[sizeof hits];
+    memcpy(before, hits, sizeof hits);
+    CHECK_OK(hf_trace_exact_batch(f, 0, rays, 0, hits, 0));
+    CHECK_OK(hf_trace_exact_batch(f, 0, rays, 0, hits, R));
+    CHECK_OK(hf_trace_linear_secant_batch(f, 0, 8, rays, 0, hits, R));
+    CHECK(memcmp(before, hits, sizeof hits) == 0);
+    CHECK_BAD(hf_trace_exact_batch(f, 0, NULL, 0, hits, R), HF_ERR_NULL_POINTER, hits,
+              sizeof hits);
+    CHECK_BAD(hf_trace_exact_batch(f, 0, rays, 0, NULL, 0), HF_ERR_NULL_POINTER, hits, 0);
+}
+
+static void check_rects(void) {
+    float h[16] = {0};
+    hf_field *f = NULL;
+    CHECK_OK(hf_field_create_f32(h, 16, 4, 4, 4, &f));
+    size_t plen = 0;
+    CHECK_OK(hf_maxmip_len(4, 4, &plen));
+    float p[64];
+    CHECK(plen <= 64);
+    CHECK_OK(hf_maxmip_bake(f, p, plen));
+    float v[4] = {9.0f, 9.0f, 9.0f, 9.0f};
+    float samples[16];
+    /* Empty rectangles (inside the field): HF_OK in both, nothing changes. */
+    CHECK_OK(hf_field_update_rect(f, 1, 1, 1, 3, v, 4, 2));
+    CHECK_OK(hf_field_update_rect(f, 0, 4, 4, 4, v, 4, 2));
+    CHECK_OK(hf_maxmip_update_rect(f, 1, 1, 1, 3, p, plen));
+    CHECK_OK(hf_field_copy_heights(f, samples, 16));
+    CHECK(memcmp(samples, h, sizeof h) == 0);
+    /* Reversed or outside: HF_ERR_INVALID_RECT in both, with the rectangle said. */
+    CHECK_BAD(hf_field_update_rect(f, 2, 0, 1, 2, v, 4, 2), HF_ERR_INVALID_RECT, p, 0);
+    CHECK_DETAIL("[2, 1) x [0, 2)");
+    CHECK_BAD(hf_field_update_rect(f, 4, 4, 5, 4, v, 4, 2), HF_ERR_INVALID_RECT, p, 0);
+    CHECK_BAD(hf_maxmip_update_rect(f, 2, 0, 1, 2, p, plen), HF_ERR_INVALID_RECT, p,
+              sizeof p);
+    CHECK_BAD(hf_maxmip_update_rect(f, 4, 4, 5, 4, p, plen), HF_ERR_INVALID_RECT, p,
+              sizeof p);
+    /* An empty rectangle still checks its pointers. */
+    CHECK_BAD(hf_field_update_rect(f, 1, 1, 1, 1, NULL, 4, 2), HF_ERR_NULL_POINTER, p, 0);
+    CHECK_DETAIL("pointer is NULL");
+    hf_field_destroy(f);
+
+    /* A NaN height: its index. */
+    float nan_h[16] = {0};
+    nan_h[11] = NAN;
+    hf_field *g = (hf_field *)&nan_h;
+    CHECK_BAD(hf_field_create_f32(nan_h, 16, 4, 4, 4, &g), HF_ERR_NOT_FINITE, &g, sizeof g);
+    size_t index = 0;
+    CHECK_OK(hf_last_error_index(&index));
+    CHECK(index == 11);
+    CHECK_DETAIL("11");
+}
+
+int main(void) {
+    float *heights = malloc((size_t)N * N * sizeof *heights);
+    for (int j = 0; j < N; j++)
+        for (int i = 0; i < N; i++)
+            heights[j * N + i] = 8.0f * sinf(0.05f * (float)i) * cosf(0.07f * (float)j) +
+                                 (float)((i * 7 + j * 13) % 5);
+    hf_field *f = NULL;
+    CHECK_OK(hf_field_create_f32(heights, (size_t)N * N, N, N, N, &f));
+    if (f) {
+        check_threads(f);
+        check_batches(f);
+    }
+    check_rects();
+    hf_field_destroy(f);
+    free(heights);
+    printf("c-errors: %d passed, %d failed (%d bad inputs)\n", checks - failures, failures,
+           bad_inputs);
+    return failures != 0;
+}
