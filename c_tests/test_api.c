@@ -82,7 +82,7 @@ static void test_version_and_messages(void) {
 
     char buf[128];
     size_t written = 777;
-    for (uint32_t code = 0; code <= HF_ERR_NOT_BUILT; code++) {
+    for (uint32_t code = 0; code <= HF_ERR_STALE_MAP; code++) {
         memset(buf, 'x', sizeof buf);
         CHECK_OK(hf_error_message(code, buf, sizeof buf, &written));
         CHECK(written > 0 && written < sizeof buf && buf[written] == 0 &&
@@ -92,7 +92,7 @@ static void test_version_and_messages(void) {
     CHECK(strcmp(buf, "success") == 0);
     memset(buf, 'x', sizeof buf);
     written = 777;
-    CHECK_BAD(hf_error_message(HF_ERR_NOT_BUILT + 1, buf, sizeof buf, &written),
+    CHECK_BAD(hf_error_message(HF_ERR_STALE_MAP + 1, buf, sizeof buf, &written),
               HF_ERR_INVALID_ENUM, buf, sizeof buf);
     CHECK_BAD(hf_error_message(0xFFFFFFFFu, buf, sizeof buf, &written),
               HF_ERR_INVALID_ENUM, &written, sizeof written);
@@ -223,15 +223,18 @@ static void test_field_constructors(void) {
 
 /* ---- single-ray queries with known answers ----------------------------------------- */
 
+/* Floats of a 2 x 2 field's pyramid: one texel and the descriptor. */
+#define P1 (1 + HF_MAP_DESC_BYTES / 4)
+
 static void test_known_hits(void) {
     const float h4[4] = {0.0f, 1.0f, 1.0f, 2.0f};
     hf_field *f = NULL;
     CHECK_OK(hf_field_create_f32(h4, 4, 2, 2, 2, &f));
     size_t plen = 0;
     CHECK_OK(hf_maxmip_len(2, 2, &plen));
-    CHECK(plen == 1);
-    float pyr[1];
-    CHECK_OK(hf_maxmip_bake(f, pyr, 1));
+    CHECK(plen == P1);
+    float pyr[P1];
+    CHECK_OK(hf_maxmip_bake(f, pyr, P1));
     CHECK(pyr[0] == 2.0f);
 
     /* A vertical ray onto the plane z = x + y at (0.5, 0.5): z = 1, t = 4. */
@@ -244,7 +247,7 @@ static void test_known_hits(void) {
         case 0: res = hf_trace_exact(f, HF_SURFACE_TRIANGLES, &r, &h); break;
         case 1: res = hf_trace_linear_binary(f, HF_SURFACE_TRIANGLES, 64, 24, &r, &h); break;
         case 2: res = hf_trace_linear_secant(f, HF_SURFACE_TRIANGLES, 64, &r, &h); break;
-        default: res = hf_trace_maxmip(f, pyr, 1, HF_SURFACE_TRIANGLES, &r, &h); break;
+        default: res = hf_trace_maxmip(f, pyr, P1, HF_SURFACE_TRIANGLES, &r, &h); break;
         }
         CHECK(res == HF_OK);
         CHECK(h.hit == 1 && h.flags == 0 && h.cell[0] == 0 && h.cell[1] == 0);
@@ -274,7 +277,7 @@ static void test_known_hits(void) {
     r.t_min = 0.0f;
     CHECK_OK(hf_trace_exact(f, HF_SURFACE_TRIANGLES, &r, &h));
     CHECK(h.hit == 1 && h.t == 0.0f && (h.flags & HF_FLAG_ORIGIN_INSIDE));
-    CHECK_OK(hf_trace_maxmip(f, pyr, 1, HF_SURFACE_TRIANGLES, &r, &h));
+    CHECK_OK(hf_trace_maxmip(f, pyr, P1, HF_SURFACE_TRIANGLES, &r, &h));
     CHECK(h.hit == 1 && h.t == 0.0f && (h.flags & HF_FLAG_ORIGIN_INSIDE));
 
     /* A horizontal ray entering the side x = 0 below the edge: a side hit at x = 0. */
@@ -305,8 +308,8 @@ static void test_bad_queries(void) {
     const float h4[4] = {0.0f, 1.0f, 1.0f, 2.0f};
     hf_field *f = NULL;
     CHECK_OK(hf_field_create_f32(h4, 4, 2, 2, 2, &f));
-    float pyr[1];
-    CHECK_OK(hf_maxmip_bake(f, pyr, 1));
+    float pyr[P1];
+    CHECK_OK(hf_maxmip_bake(f, pyr, P1));
     hf_ray good = ray(0.5f, 0.5f, 5.0f, 0.0f, 0.0f, -1.0f);
     hf_hit h;
     memset(&h, 0x5A, sizeof h);
@@ -331,7 +334,7 @@ static void test_bad_queries(void) {
                   &h, sizeof h);
         CHECK_BAD(hf_trace_linear_secant(f, HF_SURFACE_TRIANGLES, 8, &bad[k], &h), bad_code,
                   &h, sizeof h);
-        CHECK_BAD(hf_trace_maxmip(f, pyr, 1, HF_SURFACE_TRIANGLES, &bad[k], &h), bad_code, &h,
+        CHECK_BAD(hf_trace_maxmip(f, pyr, P1, HF_SURFACE_TRIANGLES, &bad[k], &h), bad_code, &h,
                   sizeof h);
     }
     /* NULL pointers of every single-ray function. */
@@ -345,10 +348,10 @@ static void test_bad_queries(void) {
     CHECK_BAD(hf_trace_linear_secant(NULL, 0, 8, &good, &h), HF_ERR_NULL_POINTER, &h, sizeof h);
     CHECK_BAD(hf_trace_linear_secant(f, 0, 8, NULL, &h), HF_ERR_NULL_POINTER, &h, sizeof h);
     CHECK_BAD(hf_trace_linear_secant(f, 0, 8, &good, NULL), HF_ERR_NULL_POINTER, nothing, 0);
-    CHECK_BAD(hf_trace_maxmip(NULL, pyr, 1, 0, &good, &h), HF_ERR_NULL_POINTER, &h, sizeof h);
+    CHECK_BAD(hf_trace_maxmip(NULL, pyr, P1, 0, &good, &h), HF_ERR_NULL_POINTER, &h, sizeof h);
     CHECK_BAD(hf_trace_maxmip(f, NULL, 1, 0, &good, &h), HF_ERR_NULL_POINTER, &h, sizeof h);
-    CHECK_BAD(hf_trace_maxmip(f, pyr, 1, 0, NULL, &h), HF_ERR_NULL_POINTER, &h, sizeof h);
-    CHECK_BAD(hf_trace_maxmip(f, pyr, 1, 0, &good, NULL), HF_ERR_NULL_POINTER, nothing, 0);
+    CHECK_BAD(hf_trace_maxmip(f, pyr, P1, 0, NULL, &h), HF_ERR_NULL_POINTER, &h, sizeof h);
+    CHECK_BAD(hf_trace_maxmip(f, pyr, P1, 0, &good, NULL), HF_ERR_NULL_POINTER, nothing, 0);
     /* Unknown enums, zero steps, short pyramid. */
     const uint32_t bad_surfaces[3] = {5, 6, 0xFFFFFFFFu};
     for (int k = 0; k < 3; k++) {
@@ -357,7 +360,7 @@ static void test_bad_queries(void) {
         CHECK_BAD(hf_trace_linear_binary(f, s, 8, 8, &good, &h), HF_ERR_INVALID_ENUM, &h,
                   sizeof h);
         CHECK_BAD(hf_trace_linear_secant(f, s, 8, &good, &h), HF_ERR_INVALID_ENUM, &h, sizeof h);
-        CHECK_BAD(hf_trace_maxmip(f, pyr, 1, s, &good, &h), HF_ERR_INVALID_ENUM, &h, sizeof h);
+        CHECK_BAD(hf_trace_maxmip(f, pyr, P1, s, &good, &h), HF_ERR_INVALID_ENUM, &h, sizeof h);
     }
     CHECK_BAD(hf_trace_linear_binary(f, 0, 0, 8, &good, &h), HF_ERR_INVALID_ARGUMENT, &h,
               sizeof h);
@@ -387,7 +390,7 @@ static void test_bad_queries(void) {
               hits, sizeof hits);
     CHECK_BAD(hf_trace_linear_secant_batch(f, 0, 8, rays, 3, hits, 3), HF_ERR_INVALID_RAY,
               hits, sizeof hits);
-    CHECK_BAD(hf_trace_maxmip_batch(f, pyr, 1, 0, rays, 3, hits, 3), HF_ERR_INVALID_RAY, hits,
+    CHECK_BAD(hf_trace_maxmip_batch(f, pyr, P1, 0, rays, 3, hits, 3), HF_ERR_INVALID_RAY, hits,
               sizeof hits);
     rays[2] = good;
     CHECK_BAD(hf_trace_linear_binary_batch(f, 0, 0, 8, rays, 3, hits, 3),
@@ -401,9 +404,9 @@ static void test_bad_queries(void) {
               sizeof hits);
     CHECK_BAD(hf_trace_maxmip_batch(f, pyr, 0, 0, rays, 3, hits, 3), HF_ERR_BUFFER_TOO_SMALL,
               hits, sizeof hits);
-    CHECK_BAD(hf_trace_maxmip_batch(f, pyr, 1, 0, rays, 3, hits, 1), HF_ERR_BUFFER_TOO_SMALL,
+    CHECK_BAD(hf_trace_maxmip_batch(f, pyr, P1, 0, rays, 3, hits, 1), HF_ERR_BUFFER_TOO_SMALL,
               hits, sizeof hits);
-    CHECK_OK(hf_trace_maxmip_batch(f, pyr, 1, 0, rays, 3, hits, 3));
+    CHECK_OK(hf_trace_maxmip_batch(f, pyr, P1, 0, rays, 3, hits, 3));
     CHECK(hits[2].hit == 1 && hits[2].t == 4.0f);
     hf_field_destroy(f);
 }
@@ -660,6 +663,9 @@ static void test_world_units(void) {
 
 /* ---- bakes and updates ------------------------------------------------------------ */
 
+/* Floats of the 3 x 3 field's pyramid: 5 texels and the descriptor. */
+#define PL (5 + HF_MAP_DESC_BYTES / 4)
+
 static void test_bake_and_update(void) {
     /* A 3 x 3 field 0..8: level 0 is 2 x 2 (each cell's highest corner), level 1 1 x 1. */
     const float h9[9] = {0, 1, 2, 3, 4, 5, 6, 7, 8};
@@ -667,9 +673,10 @@ static void test_bake_and_update(void) {
     CHECK_OK(hf_field_create_f32(h9, 9, 3, 3, 3, &f));
     size_t len = 0;
     CHECK_OK(hf_maxmip_len(3, 3, &len));
-    CHECK(len == 5);
-    float p[5] = {-1, -1, -1, -1, -1};
-    CHECK_OK(hf_maxmip_bake(f, p, 5));
+    CHECK(len == PL); /* 5 texels, then the descriptor */
+    float p[PL];
+    for (size_t k = 0; k < PL; k++) p[k] = -1.0f;
+    CHECK_OK(hf_maxmip_bake(f, p, PL));
     CHECK(p[0] == 4 && p[1] == 5 && p[2] == 7 && p[3] == 8 && p[4] == 8);
     hf_level levels[HF_MAX_LEVELS];
     uint32_t count = 0;
@@ -684,7 +691,8 @@ static void test_bake_and_update(void) {
     CHECK(count == 25);
 
     /* Bad bake inputs. */
-    float q[5] = {-1, -1, -1, -1, -1};
+    float q[PL];
+    for (size_t k = 0; k < PL; k++) q[k] = -1.0f;
     size_t zlen = 99;
     CHECK_BAD(hf_maxmip_len(1, 3, &zlen), HF_ERR_INVALID_SIZE, &zlen, sizeof zlen);
     CHECK_BAD(hf_maxmip_len(3, 0, &zlen), HF_ERR_INVALID_SIZE, &zlen, sizeof zlen);
@@ -699,31 +707,31 @@ static void test_bake_and_update(void) {
               sizeof levels);
     CHECK_BAD(hf_maxmip_levels(0, 3, levels, 2, &count), HF_ERR_INVALID_SIZE, levels,
               sizeof levels);
-    CHECK_BAD(hf_maxmip_bake(f, q, 4), HF_ERR_BUFFER_TOO_SMALL, q, sizeof q);
+    CHECK_BAD(hf_maxmip_bake(f, q, PL - 1), HF_ERR_BUFFER_TOO_SMALL, q, sizeof q);
     CHECK_BAD(hf_maxmip_bake(f, NULL, 5), HF_ERR_NULL_POINTER, nothing, 0);
-    CHECK_BAD(hf_maxmip_bake(NULL, q, 5), HF_ERR_NULL_POINTER, q, sizeof q);
-    CHECK_BAD(hf_maxmip_bake_threaded(f, 2, q, 4), HF_ERR_BUFFER_TOO_SMALL, q, sizeof q);
-    CHECK_BAD(hf_maxmip_bake_threaded(NULL, 2, q, 5), HF_ERR_NULL_POINTER, q, sizeof q);
+    CHECK_BAD(hf_maxmip_bake(NULL, q, PL), HF_ERR_NULL_POINTER, q, sizeof q);
+    CHECK_BAD(hf_maxmip_bake_threaded(f, 2, q, PL - 1), HF_ERR_BUFFER_TOO_SMALL, q, sizeof q);
+    CHECK_BAD(hf_maxmip_bake_threaded(NULL, 2, q, PL), HF_ERR_NULL_POINTER, q, sizeof q);
     CHECK_BAD(hf_maxmip_bake_threaded(f, 2, NULL, 5), HF_ERR_NULL_POINTER, nothing, 0);
-    CHECK_BAD(hf_maxmip_bake_rows(f, 2, 0, 1, q, 5), HF_ERR_INVALID_ARGUMENT, q, sizeof q);
-    CHECK_BAD(hf_maxmip_bake_rows(f, 0, 1, 3, q, 5), HF_ERR_INVALID_ARGUMENT, q, sizeof q);
-    CHECK_BAD(hf_maxmip_bake_rows(f, 0, 2, 1, q, 5), HF_ERR_INVALID_ARGUMENT, q, sizeof q);
-    CHECK_BAD(hf_maxmip_bake_rows(f, 0xFFFFFFFFu, 0, 1, q, 5), HF_ERR_INVALID_ARGUMENT, q,
+    CHECK_BAD(hf_maxmip_bake_rows(f, 2, 0, 1, q, PL), HF_ERR_INVALID_ARGUMENT, q, sizeof q);
+    CHECK_BAD(hf_maxmip_bake_rows(f, 0, 1, 3, q, PL), HF_ERR_INVALID_ARGUMENT, q, sizeof q);
+    CHECK_BAD(hf_maxmip_bake_rows(f, 0, 2, 1, q, PL), HF_ERR_INVALID_ARGUMENT, q, sizeof q);
+    CHECK_BAD(hf_maxmip_bake_rows(f, 0xFFFFFFFFu, 0, 1, q, PL), HF_ERR_INVALID_ARGUMENT, q,
               sizeof q);
-    CHECK_BAD(hf_maxmip_bake_rows(f, 0, 0, 1, q, 4), HF_ERR_BUFFER_TOO_SMALL, q, sizeof q);
+    CHECK_BAD(hf_maxmip_bake_rows(f, 0, 0, 1, q, PL - 1), HF_ERR_BUFFER_TOO_SMALL, q, sizeof q);
     CHECK_BAD(hf_maxmip_bake_rows(f, 0, 0, 1, NULL, 5), HF_ERR_NULL_POINTER, nothing, 0);
-    CHECK_BAD(hf_maxmip_bake_rows(NULL, 0, 0, 1, q, 5), HF_ERR_NULL_POINTER, q, sizeof q);
-    CHECK_BAD(hf_maxmip_update_rect(f, 0, 0, 4, 1, p, 5), HF_ERR_INVALID_RECT, p, sizeof p);
-    CHECK_BAD(hf_maxmip_update_rect(f, 2, 0, 1, 1, p, 5), HF_ERR_INVALID_RECT, p, sizeof p);
-    CHECK_BAD(hf_maxmip_update_rect(f, 0, 0, 1, 1, p, 4), HF_ERR_BUFFER_TOO_SMALL, p, sizeof p);
+    CHECK_BAD(hf_maxmip_bake_rows(NULL, 0, 0, 1, q, PL), HF_ERR_NULL_POINTER, q, sizeof q);
+    CHECK_BAD(hf_maxmip_update_rect(f, 0, 0, 4, 1, p, PL), HF_ERR_INVALID_RECT, p, sizeof p);
+    CHECK_BAD(hf_maxmip_update_rect(f, 2, 0, 1, 1, p, PL), HF_ERR_INVALID_RECT, p, sizeof p);
+    CHECK_BAD(hf_maxmip_update_rect(f, 0, 0, 1, 1, p, PL - 1), HF_ERR_BUFFER_TOO_SMALL, p, sizeof p);
     CHECK_BAD(hf_maxmip_update_rect(f, 0, 0, 1, 1, NULL, 5), HF_ERR_NULL_POINTER, nothing, 0);
-    CHECK_BAD(hf_maxmip_update_rect(NULL, 0, 0, 1, 1, p, 5), HF_ERR_NULL_POINTER, p, sizeof p);
+    CHECK_BAD(hf_maxmip_update_rect(NULL, 0, 0, 1, 1, p, PL), HF_ERR_NULL_POINTER, p, sizeof p);
 
     /* Row-range bake, level by level, rows split: equals the whole bake. */
-    CHECK_OK(hf_maxmip_bake_rows(f, 0, 1, 2, q, 5));
-    CHECK_OK(hf_maxmip_bake_rows(f, 0, 0, 1, q, 5));
-    CHECK_OK(hf_maxmip_bake_rows(f, 0, 2, 2, q, 5)); /* empty range: nothing */
-    CHECK_OK(hf_maxmip_bake_rows(f, 1, 0, 1, q, 5));
+    CHECK_OK(hf_maxmip_bake_rows(f, 0, 1, 2, q, PL));
+    CHECK_OK(hf_maxmip_bake_rows(f, 0, 0, 1, q, PL));
+    CHECK_OK(hf_maxmip_bake_rows(f, 0, 2, 2, q, PL)); /* empty range: nothing */
+    CHECK_OK(hf_maxmip_bake_rows(f, 1, 0, 1, q, PL));
     CHECK(memcmp(p, q, sizeof p) == 0);
 
     /* Field update: bad inputs leave the field as it was. */
@@ -748,16 +756,16 @@ static void test_bake_and_update(void) {
     hf_field_info info;
     CHECK_OK(hf_field_get_info(f, &info));
     CHECK(info.max_height == 23.0f && info.min_height == 0.0f);
-    CHECK_OK(hf_maxmip_update_rect(f, 1, 1, 3, 3, p, 5));
+    CHECK_OK(hf_maxmip_update_rect(f, 1, 1, 3, 3, p, PL));
     CHECK_OK(hf_field_copy_heights(f, heights, 9));
     hf_field *g = NULL;
     CHECK_OK(hf_field_create_f32(heights, 9, 3, 3, 3, &g));
     CHECK(heights[4] == 20.0f && heights[8] == 23.0f && heights[0] == 0.0f);
-    CHECK_OK(hf_maxmip_bake(g, q, 5));
+    CHECK_OK(hf_maxmip_bake(g, q, PL));
     CHECK(memcmp(p, q, sizeof p) == 0 && p[4] == 23.0f);
     hf_ray r = ray(1.5f, 1.5f, 50.0f, 0.0f, 0.0f, -1.0f);
     hf_hit a, b;
-    CHECK_OK(hf_trace_maxmip(f, p, 5, HF_SURFACE_BILINEAR, &r, &a));
+    CHECK_OK(hf_trace_maxmip(f, p, PL, HF_SURFACE_BILINEAR, &r, &a));
     CHECK_OK(hf_trace_exact(g, HF_SURFACE_BILINEAR, &r, &b));
     CHECK(a.hit && b.hit && a.t == b.t && near(a.point[2], 21.5f, 1e-5f));
     hf_field_destroy(g);
@@ -859,7 +867,7 @@ static void test_safety(void) {
     size_t dlen = 0, ilen = 0, slen = 0, junk = 77;
     CHECK_OK(hf_safety_map_len(W, H, HF_SAFETY_DIRECTIONAL, &dlen));
     CHECK_OK(hf_safety_map_len(W, H, HF_SAFETY_ISOTROPIC, &ilen));
-    CHECK(dlen == (size_t)W * H * 4 && ilen == (size_t)W * H);
+    CHECK(dlen == (size_t)W * H * 4 + HF_MAP_DESC_BYTES && ilen == (size_t)W * H + HF_MAP_DESC_BYTES);
     CHECK_OK(hf_safety_scratch_len(W, H, &slen));
     CHECK(slen > 0);
     CHECK_BAD(hf_safety_map_len(W, H, 2, &junk), HF_ERR_INVALID_ENUM, &junk, sizeof junk);
@@ -933,7 +941,7 @@ static void test_safety(void) {
     size_t tlen = 0, ilen_two = 0;
     CHECK_OK(hf_safety_map_len_classes(W, H, HF_SAFETY_DIRECTIONAL, two, &tlen));
     CHECK_OK(hf_safety_map_len_classes(W, H, HF_SAFETY_ISOTROPIC, two, &ilen_two));
-    CHECK(tlen == (size_t)W * H * 2 && ilen_two == (size_t)W * H);
+    CHECK(tlen == (size_t)W * H * 2 + HF_MAP_DESC_BYTES && ilen_two == (size_t)W * H + HF_MAP_DESC_BYTES);
     CHECK_BAD(hf_safety_map_len_classes(W, H, HF_SAFETY_DIRECTIONAL, 0, &tlen),
               HF_ERR_INVALID_ARGUMENT, nothing, 0);
     CHECK_BAD(hf_safety_map_len_classes(W, H, 7, two, &tlen), HF_ERR_INVALID_ENUM, nothing, 0);
@@ -946,7 +954,7 @@ static void test_safety(void) {
     CHECK_OK(hf_safety_bake_classes(f, &good, two, 2, rows, tlen));
     static const size_t two_classes[2] = {0, 3};
     int mask_ok = 1;
-    for (size_t k = 0; k < tlen; k++)
+    for (size_t k = 0; k < tlen - HF_MAP_DESC_BYTES; k++)
         mask_ok &= rows[k] == dmap[(k / (2 * W) * 4 + two_classes[k / W % 2]) * W + k % W];
     CHECK(mask_ok);
     /* In two row ranges (each call writes its rows of the whole map). */
@@ -1051,7 +1059,7 @@ static void test_radius(void) {
 
     size_t len = 0, slen = 0, junk = 77;
     CHECK_OK(hf_radius_map_len(W, H, &len));
-    CHECK(len == (size_t)W * H);
+    CHECK(len == (size_t)W * H + HF_MAP_DESC_BYTES);
     CHECK_OK(hf_radius_scratch_len(W, H, &slen));
     CHECK_BAD(hf_radius_map_len(1, H, &junk), HF_ERR_INVALID_SIZE, &junk, sizeof junk);
     CHECK_BAD(hf_radius_map_len(W, H, NULL), HF_ERR_NULL_POINTER, nothing, 0);
@@ -1169,7 +1177,7 @@ static void test_radius(void) {
 /* ---- the cone family: cone step mapping, relaxed cones, QDM ----------------------------- */
 
 static void test_cones(void) {
-    enum { W = 33, H = 25, N = 2000 };
+    enum { W = 33, H = 25, N = 2000, D = HF_MAP_DESC_BYTES / 4 };
     float *heights = (float *)malloc(sizeof(float) * W * H);
     for (int k = 0; k < W * H; k++) heights[k] = 6.0f * frand() * frand();
     heights[12 * W + 9] = 20.0f; /* a needle */
@@ -1178,11 +1186,12 @@ static void test_cones(void) {
     size_t slen = 0, mlen = 0, clen = 0, rlen = 0, qlen = 0, junk = 5;
     CHECK_OK(hf_cone_scratch_len(W, H, &slen));
     CHECK_OK(hf_maxmip_len(W, H, &mlen));
-    CHECK(slen == mlen);
+    CHECK(slen + HF_MAP_DESC_BYTES / 4 == mlen); /* the scratch is the pyramid's texels */
     CHECK_OK(hf_cone_map_len(W, H, &clen));
     CHECK_OK(hf_relaxed_map_len(W, H, &rlen));
     CHECK_OK(hf_qdm_map_len(W, H, &qlen));
-    CHECK(clen == 2u * (W - 1) * (H - 1) && rlen == (size_t)W * H && qlen == 4u * (W - 1) * (H - 1));
+    CHECK(clen == 2u * (W - 1) * (H - 1) + D && rlen == (size_t)W * H + D &&
+          qlen == 4u * (W - 1) * (H - 1) + D);
     CHECK_BAD(hf_cone_scratch_len(0, H, &junk), HF_ERR_INVALID_SIZE, &junk, sizeof junk);
     CHECK_BAD(hf_cone_map_len(W, 1, &junk), HF_ERR_INVALID_SIZE, &junk, sizeof junk);
     CHECK_BAD(hf_relaxed_map_len(HF_MAX_SIDE + 1u, H, &junk), HF_ERR_INVALID_SIZE, &junk,
@@ -1332,7 +1341,7 @@ static void test_cc(void) {
     CHECK_OK(hf_field_create_f32(heights, W * H, W, H, W, &f));
     size_t mlen = 0, nlen = 0, slen = 0, junk = 3;
     CHECK_OK(hf_cc_map_len(W, H, &mlen));
-    CHECK(mlen == (size_t)W * H * 8); /* [r, s] per texel and ray class */
+    CHECK(mlen == (size_t)W * H * 8 + HF_MAP_DESC_BYTES); /* [r, s] per texel and class */
     CHECK_OK(hf_cc_nbuffer_len(W, H, CAP, &nlen));
     CHECK_OK(hf_safety_scratch_len(W, H, &slen));
     CHECK_BAD(hf_cc_map_len(1, H, &junk), HF_ERR_INVALID_SIZE, &junk, sizeof junk);
@@ -1380,7 +1389,7 @@ static void test_cc(void) {
     /* The bytes are [r, s] per texel and class: a radius at the cap stores no cone (slope
      * code 255, HF_CC_NO_CONE of the shaders), and some texels have one. */
     int capped_ok = 1, cones = 0;
-    for (size_t k = 0; k < mlen; k += 2) {
+    for (size_t k = 0; k < mlen - HF_MAP_DESC_BYTES; k += 2) {
         capped_ok &= map[k] < CAP || map[k + 1] == 255;
         cones += map[k + 1] != 255;
     }
@@ -1391,7 +1400,7 @@ static void test_cc(void) {
      * * W) * 2); the row bake agrees. */
     size_t ylen = 0;
     CHECK_OK(hf_cc_map_len_classes(W, H, HF_RAYS_Y_POS, &ylen));
-    CHECK(ylen * 4 == mlen);
+    CHECK((ylen - HF_MAP_DESC_BYTES) * 4 == mlen - HF_MAP_DESC_BYTES);
     CHECK_BAD(hf_cc_map_len_classes(W, H, 0, &ylen), HF_ERR_INVALID_ARGUMENT, nothing, 0);
     CHECK_BAD(hf_cc_map_len_classes(W, H, HF_RAYS_Y_POS, NULL), HF_ERR_NULL_POINTER, nothing, 0);
     CHECK_BAD(hf_cc_bake_classes(f, &good, 0, 1, rows, mlen), HF_ERR_INVALID_ARGUMENT, rows, 64);

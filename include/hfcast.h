@@ -116,6 +116,17 @@
 // Map kind: the safety-radius map (`hf_radius_bake`), `R8_UINT`, `W × H`.
 #define HF_KTX2_RADIUS 8
 
+// Bytes of the descriptor that follows the texels of every baked map: the map
+// functions' `_len` queries count it, so a buffer of their size holds both. Upload the
+// texels only (the first `len − HF_MAP_DESC_BYTES` bytes, `/ 4` floats for float
+// maps); the descriptor stays on the CPU side with the map.
+#define HF_MAP_DESC_BYTES 64
+
+// Flag of `hf_map_desc::flags`: the fingerprint names the heights baked from (a map
+// restored from a KTX2 file without `hfcast.fingerprint` lacks it and matches no
+// field).
+#define HF_MAP_FINGERPRINT_KNOWN 1
+
 // Ray-class bit of `hf_scene::ray_classes`: rays with dx ≥ |dy|.
 #define HF_RAYS_X_POS 1
 
@@ -178,6 +189,14 @@ enum hf_result
   // The method (or another part the call needs) was left out of this build of the
   // library by its cargo features (see `hf_build_has_method`).
   HF_ERR_NOT_BUILT = 12,
+  // A baked map does not belong to the call: it is another method's map, was baked
+  // for a field of another size or other heights, with another cap or ray-class
+  // set, or carries no valid descriptor (see `HF_MAP_DESC_BYTES`).
+  HF_ERR_MAP_MISMATCH = 13,
+  // A baked map was baked from heights the field had before an update
+  // (`hf_field_update_rect`): rebake it, or refresh a pyramid with
+  // `hf_maxmip_update_rect` over every updated rectangle.
+  HF_ERR_STALE_MAP = 14,
 };
 #ifndef __cplusplus
 #if __STDC_VERSION__ >= 202311L
@@ -525,6 +544,20 @@ typedef struct hf_ktx2_info {
   // Bytes of the baked map (`hf_ktx2_read_map`), as `hf_ktx2_map_len`.
   size_t map_len;
 } hf_ktx2_info;
+
+// What a baked map belongs to, as `hf_map_read_desc` reads it from the descriptor
+// after the map's texels.
+typedef struct hf_map_desc {
+  // The map and its bake (kind `HF_KTX2_*`, the field's size, cap, ray classes,
+  // tolerance), as the KTX2 functions describe it.
+  struct hf_ktx2_desc map;
+  // `HF_MAP_FINGERPRINT_KNOWN` or 0.
+  uint32_t flags;
+  // The fingerprint of the heights baked from (`hf_field_get_fingerprint`).
+  uint64_t fingerprint;
+  // Bytes of the map's texels (the descriptor starts there).
+  uint64_t texel_bytes;
+} hf_map_desc;
 
 #if defined(HF_HAVE_MAXMIP)
 // One level of a maximum-mipmap pyramid: its texels lie at
@@ -1379,6 +1412,30 @@ hf_result hf_ktx2_read_map(const uint8_t *bytes,
                            size_t len,
                            void *out,
                            size_t out_len);
+
+// Reads the descriptor of a baked map: the last `HF_MAP_DESC_BYTES` bytes of the
+// `map_len` bytes at `map` (pass the map function's `_len` value, in bytes: 4 per
+// float for float maps). `HF_ERR_MAP_MISMATCH` when they are no descriptor (with
+// `hf_last_error_detail` saying why). Thread safe.
+//
+// # Safety
+// `map` is NULL (an error) or valid for reading `map_len` bytes; `out_desc` is NULL
+// (an error) or valid for writing one `hf_map_desc`.
+hf_result hf_map_read_desc(const void *map,
+                           size_t map_len,
+                           struct hf_map_desc *out_desc);
+
+// Writes the fingerprint of the field's heights (the core's
+// `mapdesc::fingerprint`, what a map's descriptor must name) to `*out_fingerprint`
+// and the number of updates the handle has had (`hf_field_update_rect` calls that
+// changed a non-empty rectangle) to `*out_generation`. Thread safe.
+//
+// # Safety
+// `field` is NULL (an error) or a live handle; `out_fingerprint` and
+// `out_generation` are NULL (an error) or valid for writing one `uint64_t`.
+hf_result hf_field_get_fingerprint(const struct hf_field *field,
+                                   uint64_t *out_fingerprint,
+                                   uint64_t *out_generation);
 
 #if defined(HF_HAVE_MAXMIP)
 // Writes the number of floats of the maximum-mipmap pyramid of a `width × height`

@@ -2,13 +2,16 @@
 //! (whole, by rows, threaded) and the march, for the triangle surface.
 
 use crate::hf_result::{self, *};
+use crate::mapdesc::{bake_stamped, check, elems, stamp, Expect};
 use crate::safety::trace_inputs;
 use crate::scene::{classes_of, HF_RAYS_ALL};
 use crate::trace::{batch, hf_hit, hf_ray, one};
 use crate::{check_size, size_query};
 use crate::{guard, hf_field, hf_surface, par, ptr};
+use hfcore::ktx2::{Desc, MapKind};
 use hfcore::safety::cc::{self, CcMap, CcOptions, Slope};
 use hfcore::safety::{self, SafetyError};
+use hfcore::scene::RayClasses;
 
 /// How the cone slope of a cylinder–cone bake is computed. Passed as `uint32_t`.
 #[repr(u32)]
@@ -65,7 +68,7 @@ pub unsafe extern "C" fn hf_cc_map_len(width: u32, height: u32, out_len: *mut us
     // SAFETY: the caller's promise, passed on.
     unsafe {
         size_query(width, height, out_len, |width, height| {
-            Ok(cc::map_len(width, height))
+            Ok(cc::map_len(width, height) + elems::<u8>())
         })
     }
 }
@@ -88,7 +91,7 @@ pub unsafe extern "C" fn hf_cc_map_len_classes(
     // SAFETY: the caller's promise, passed on.
     unsafe {
         size_query(width, height, out_len, |width, height| {
-            Ok(cc::map_len_classes(width, height, classes_of(ray_classes)?))
+            Ok(cc::map_len_classes(width, height, classes_of(ray_classes)?) + elems::<u8>())
         })
     }
 }
@@ -228,10 +231,12 @@ pub unsafe extern "C" fn hf_cc_bake_rows_classes(
         let needed = cc::map_len_classes(hf.width(), hf.height(), classes);
         // SAFETY: `map` is writable for `map_len` bytes and the rows are this call's alone
         // (the caller's promises).
-        let (rows, out) = unsafe { map.rows(hf.height(), row, needed) }?;
-        Ok(cc::bake_rows_classes(
-            hf, scratch, nb, classes, rows, opts, out,
-        )?)
+        let (rows, out, slot) = unsafe { map.rows(hf.height(), row, needed) }?;
+        cc::bake_rows_classes(hf, scratch, nb, classes, rows, opts, out)?;
+        if let Some(slot) = slot {
+            stamp(f, desc_of(hf, opts.cap, classes), needed, slot);
+        }
+        Ok(())
     })
 }
 
@@ -283,23 +288,27 @@ pub unsafe extern "C" fn hf_cc_bake_classes(
         };
         let (opts, classes) = (options_of(o)?, classes_of(ray_classes)?);
         let hf = f.view();
-        par::bake_map(
-            hf.height(),
-            cc::map_len_classes(hf.width(), 1, classes),
-            cc::map_len_classes(hf.width(), hf.height(), classes),
-            threads,
-            out,
-            || {
-                let mut scratch = par::zeroed(safety::scratch_len(hf.width(), hf.height()))?;
-                let mut nb = par::zeroed(cc::nbuffer_len(hf.width(), hf.height(), opts.cap))?;
-                safety::prepare(hf, &mut scratch)?;
-                cc::prepare_nbuffer(hf, opts.cap, &mut nb)?;
-                Ok((scratch, nb))
-            },
-            |(scratch, nb), rows, chunk| -> Result<(), SafetyError> {
-                cc::bake_rows_classes(hf, scratch, nb, classes, rows, opts, chunk)
-            },
-        )
+        let needed = cc::map_len_classes(hf.width(), hf.height(), classes);
+        let desc = desc_of(hf, opts.cap, classes);
+        bake_stamped(f, desc, needed, out, |out| {
+            par::bake_map(
+                hf.height(),
+                cc::map_len_classes(hf.width(), 1, classes),
+                needed,
+                threads,
+                out,
+                || {
+                    let mut scratch = par::zeroed(safety::scratch_len(hf.width(), hf.height()))?;
+                    let mut nb = par::zeroed(cc::nbuffer_len(hf.width(), hf.height(), opts.cap))?;
+                    safety::prepare(hf, &mut scratch)?;
+                    cc::prepare_nbuffer(hf, opts.cap, &mut nb)?;
+                    Ok((scratch, nb))
+                },
+                |(scratch, nb), rows, chunk| -> Result<(), SafetyError> {
+                    cc::bake_rows_classes(hf, scratch, nb, classes, rows, opts, chunk)
+                },
+            )
+        })
     })
 }
 
@@ -360,7 +369,7 @@ pub unsafe extern "C" fn hf_trace_cc_on(
             field,
             ray,
             out_hit,
-            |hf| map_of(hf, data, cap, ray_classes),
+            |f| map_of(f, data, cap, ray_classes),
             |hf, m, q| cc::trace_on(m, hf, surface, q),
         )
     }
@@ -434,20 +443,37 @@ pub unsafe extern "C" fn hf_trace_cc_on_batch(
             rays_len,
             out_hits,
             out_hits_len,
-            |hf| map_of(hf, data, cap, ray_classes),
+            |f| map_of(f, data, cap, ray_classes),
             |hf, m, q| cc::trace_on(m, hf, surface, q),
         )
     }
 }
 
-/// The map's view (a map of the classes `ray_classes`, cone reach `cap`), checked for
-/// `hf`.
+/// The map's view (a map of the classes `ray_classes`, cone reach `cap`), its
+/// descriptor checked for `f`.
 fn map_of<'a>(
-    hf: &hfcore::HeightField,
+    f: &hf_field,
     data: &'a [u8],
     cap: u32,
     ray_classes: u32,
 ) -> Result<CcMap<'a>, hf_result> {
     let (cap, classes) = (cap_of(cap)?, classes_of(ray_classes)?);
-    Ok(CcMap::with_classes(hf, data, cap, classes)?)
+    let hf = f.view();
+    let n = cc::map_len_classes(hf.width(), hf.height(), classes);
+    let want = Expect {
+        map: MapKind::Cc,
+        cap: Some(cap),
+        classes: Some(classes),
+    };
+    check(f, want, data, n)?;
+    Ok(CcMap::with_classes(hf, &data[..n], cap, classes)?)
+}
+
+/// The description of a cylinder–cone map of `hf` baked with `cap` for `classes`.
+fn desc_of(hf: &hfcore::HeightField, cap: u8, classes: RayClasses) -> Desc {
+    Desc {
+        cap,
+        classes,
+        ..Desc::new(MapKind::Cc, hf.width(), hf.height())
+    }
 }

@@ -3,10 +3,12 @@
 //! three bake from the maximum-mipmap pyramid (the scratch) into a float map, in rows.
 
 use crate::hf_result::{self, *};
+use crate::mapdesc::{bake_stamped, check, elems, stamp, Expect};
 use crate::size_query;
 use crate::trace::{batch, hf_hit, hf_ray, one, pyramid_slice};
 use crate::{guard, hf_field, ptr};
 use hfcore::cone::{self, BakeError, ConeMap};
+use hfcore::ktx2::{Desc, MapKind};
 #[cfg(feature = "qdm")]
 use hfcore::qdm::{self, QdmMap};
 #[cfg(feature = "relaxed")]
@@ -29,7 +31,9 @@ type BakeRows = fn(&HeightField, &[f32], Range<u32>, &mut [f32]) -> Result<(), B
 /// What differs between the three bakes.
 #[derive(Clone, Copy)]
 struct Family {
-    /// Floats of the whole map.
+    /// The map kind its descriptor names.
+    kind: MapKind,
+    /// Floats of the whole map's texels (its `_len` adds the descriptor).
     map_len: fn(u32, u32) -> usize,
     /// Rows the bake iterates: cell rows (H − 1) or sample rows (H).
     rows: fn(&HeightField) -> u32,
@@ -59,6 +63,7 @@ fn relaxed_row(hf: &HeightField) -> usize {
 }
 
 const CONE: Family = Family {
+    kind: MapKind::Cone,
     map_len: cone::map_len,
     rows: cell_rows,
     row_len: cone_row,
@@ -66,6 +71,7 @@ const CONE: Family = Family {
 };
 #[cfg(feature = "relaxed")]
 const RELAXED: Family = Family {
+    kind: MapKind::Relaxed,
     map_len: relaxed::map_len,
     rows: sample_rows,
     row_len: relaxed_row,
@@ -73,6 +79,7 @@ const RELAXED: Family = Family {
 };
 #[cfg(feature = "qdm")]
 const QDM: Family = Family {
+    kind: MapKind::Qdm,
     map_len: qdm::map_len,
     rows: cell_rows,
     row_len: qdm_row,
@@ -87,7 +94,7 @@ unsafe fn map_len(fam: Family, width: u32, height: u32, out_len: *mut usize) -> 
     // SAFETY: the caller's promise, passed on.
     unsafe {
         size_query(width, height, out_len, |width, height| {
-            Ok((fam.map_len)(width, height))
+            Ok((fam.map_len)(width, height) + elems::<f32>())
         })
     }
 }
@@ -114,7 +121,8 @@ unsafe fn bake_rows(
             return Err(HF_ERR_NULL_POINTER);
         }
         let hf = f.view();
-        if map_len < (fam.map_len)(hf.width(), hf.height()) {
+        let texels = (fam.map_len)(hf.width(), hf.height());
+        if map_len < texels + elems::<f32>() {
             return Err(HF_ERR_BUFFER_TOO_SMALL);
         }
         if scratch.len() < cone::scratch_len(hf.width(), hf.height()) {
@@ -133,7 +141,19 @@ unsafe fn bake_rows(
                 (row_end - row_begin) as usize * row,
             )
         }?;
-        Ok((fam.bake_rows)(hf, scratch, row_begin..row_end, out)?)
+        (fam.bake_rows)(hf, scratch, row_begin..row_end, out)?;
+        if row_begin == 0 {
+            // SAFETY: the descriptor follows the texels (length checked); only the call
+            // whose rows start at 0 writes it.
+            let slot = unsafe { ptr::slice_mut(map.add(texels), elems::<f32>()) }?;
+            stamp(
+                f,
+                Desc::new(fam.kind, hf.width(), hf.height()),
+                texels,
+                slot,
+            );
+        }
+        Ok(())
     })
 }
 
@@ -152,9 +172,20 @@ unsafe fn bake(
         // SAFETY: the caller's promises.
         let (f, out) = unsafe { (ptr::get(field)?, ptr::slice_mut(out_map, out_map_len)?) };
         let hf = f.view();
-        if out.len() < (fam.map_len)(hf.width(), hf.height()) {
-            return Err(HF_ERR_BUFFER_TOO_SMALL);
-        }
+        let texels = (fam.map_len)(hf.width(), hf.height());
+        let desc = Desc::new(fam.kind, hf.width(), hf.height());
+        bake_stamped(f, desc, texels, out, |out| bake_into(fam, hf, threads, out))
+    })
+}
+
+/// The threaded bake of `fam`'s texels into `out`.
+fn bake_into(
+    fam: Family,
+    hf: &HeightField,
+    threads: u32,
+    out: &mut [f32],
+) -> Result<(), hf_result> {
+    {
         let n = cone::scratch_len(hf.width(), hf.height());
         let mut scratch = Vec::new();
         scratch
@@ -173,17 +204,15 @@ unsafe fn bake(
             out,
             |r, chunk| (fam.bake_rows)(hf, scratch, r, chunk),
         )?)
-    })
+    }
 }
 
-#[cfg(feature = "relaxed")]
-/// A map buffer, checked against the family's length for `hf` (the relaxed march
-/// reads the raw buffer; cone and QDM check through their map views).
-fn check_map(fam: Family, hf: &HeightField, map: &[f32]) -> Result<(), hf_result> {
-    if map.len() < (fam.map_len)(hf.width(), hf.height()) {
-        return Err(HF_ERR_BUFFER_TOO_SMALL);
-    }
-    Ok(())
+/// The texels of a map of `fam`, its descriptor checked for `f`.
+fn texels_of<'a>(fam: Family, f: &hf_field, map: &'a [f32]) -> Result<&'a [f32], hf_result> {
+    let hf = f.view();
+    let n = (fam.map_len)(hf.width(), hf.height());
+    check(f, Expect::map(fam.kind), map, n)?;
+    Ok(&map[..n])
 }
 
 /// Checks an iteration budget.
@@ -348,7 +377,7 @@ pub unsafe extern "C" fn hf_trace_cone(
             field,
             ray,
             out_hit,
-            |hf| Ok(ConeMap::new(hf, data)?),
+            |f| Ok(ConeMap::new(f.view(), texels_of(CONE, f, data)?)?),
             |hf, m, q| cone::trace(m, hf, q, n),
         )
     }
@@ -389,7 +418,7 @@ pub unsafe extern "C" fn hf_trace_cone_batch(
             rays_len,
             out_hits,
             out_hits_len,
-            |hf| Ok(ConeMap::new(hf, data)?),
+            |f| Ok(ConeMap::new(f.view(), texels_of(CONE, f, data)?)?),
             |hf, m, q| cone::trace(m, hf, q, n),
         )
     }
@@ -498,8 +527,8 @@ pub unsafe extern "C" fn hf_trace_relaxed(
             field,
             ray,
             out_hit,
-            |hf| check_map(RELAXED, hf, data),
-            |hf, _, q| relaxed::trace(data, hf, q, steps),
+            |f| texels_of(RELAXED, f, data),
+            |hf, m, q| relaxed::trace(m, hf, q, steps),
         )
     }
 }
@@ -543,8 +572,8 @@ pub unsafe extern "C" fn hf_trace_relaxed_batch(
             rays_len,
             out_hits,
             out_hits_len,
-            |hf| check_map(RELAXED, hf, data),
-            |hf, _, q| relaxed::trace(data, hf, q, steps),
+            |f| texels_of(RELAXED, f, data),
+            |hf, m, q| relaxed::trace(m, hf, q, steps),
         )
     }
 }
@@ -645,7 +674,7 @@ pub unsafe extern "C" fn hf_trace_qdm(
             field,
             ray,
             out_hit,
-            |hf| Ok(QdmMap::new(hf, data)?),
+            |f| Ok(QdmMap::new(f.view(), texels_of(QDM, f, data)?)?),
             |hf, m, q| qdm::trace(m, hf, q, n),
         )
     }
@@ -686,7 +715,7 @@ pub unsafe extern "C" fn hf_trace_qdm_batch(
             rays_len,
             out_hits,
             out_hits_len,
-            |hf| Ok(QdmMap::new(hf, data)?),
+            |f| Ok(QdmMap::new(f.view(), texels_of(QDM, f, data)?)?),
             |hf, m, q| qdm::trace(m, hf, q, n),
         )
     }

@@ -4,7 +4,9 @@ use crate::hf_result::{self, *};
 use crate::{guard, ptr};
 use core::ptr::NonNull;
 use hfcore::field::MAX_SIDE;
+use hfcore::mapdesc;
 use hfcore::{HeightField, TransformError, WorldTransform};
+use std::collections::VecDeque;
 
 /// A height field: W × H heights in grid units, owned by the library (the constructors
 /// copy the caller's samples, so the caller's buffer may be freed at once). Sample
@@ -30,6 +32,29 @@ pub struct hf_field {
     /// The validated view over `samples`; `'static` stands for "until this handle is
     /// dropped": it never leaves the handle with that lifetime.
     view: HeightField<'static>,
+    /// `hfcore::mapdesc::fingerprint` of the samples, kept current by `update_rect`.
+    fingerprint: u64,
+    /// Updates of a non-empty rectangle so far.
+    generation: u64,
+    /// The last [`HISTORY`] updates, oldest first.
+    history: VecDeque<Update>,
+}
+
+/// Updates a field remembers, so that a map refresh can tell whether its rectangle
+/// covers every update since the map's bake (`hf_maxmip_update_rect`).
+pub(crate) const HISTORY: usize = 16;
+
+/// One `hf_field_update_rect`: its rectangle and the fingerprint before it (only
+/// read by the map checks, which a build without methods leaves out).
+#[derive(Clone, Copy, Debug)]
+#[cfg_attr(not(feature = "maxmip"), allow(dead_code))]
+pub(crate) struct Update {
+    /// `[x0, y0, x1, y1]`, sample indices, half-open.
+    pub rect: [u32; 4],
+    /// The field's fingerprint before the update.
+    pub before: u64,
+    /// The generation the update made.
+    pub generation: u64,
 }
 
 impl hf_field {
@@ -40,7 +65,13 @@ impl hf_field {
         // `update_rect`, which replaces `view` right after, and freed in `drop`.
         let shared: &'static [f32] = unsafe { samples.as_ref() };
         match HeightField::new(shared, width, height, width as usize) {
-            Ok(view) => Ok(hf_field { samples, view }),
+            Ok(view) => Ok(hf_field {
+                samples,
+                view,
+                fingerprint: mapdesc::fingerprint(shared),
+                generation: 0,
+                history: VecDeque::new(),
+            }),
             Err(e) => {
                 // SAFETY: from `Box::leak` above; `shared` is not used again.
                 drop(unsafe { Box::from_raw(samples.as_ptr()) });
@@ -52,6 +83,41 @@ impl hf_field {
     /// The validated view, borrowed from the handle.
     pub fn view(&self) -> &HeightField<'_> {
         &self.view
+    }
+
+    /// The fingerprint of the current heights (what maps' descriptors must name).
+    pub fn fingerprint(&self) -> u64 {
+        self.fingerprint
+    }
+
+    /// Updates of a non-empty rectangle so far.
+    pub fn generation(&self) -> u64 {
+        self.generation
+    }
+
+    #[cfg(any(feature = "maxmip", feature = "safety", feature = "cone"))]
+    /// The remembered updates since the heights had fingerprint `fp` (the newest
+    /// stretch that starts there), or `None` when none starts there.
+    pub(crate) fn updates_since(&self, fp: u64) -> Option<&[Update]> {
+        // `remember` keeps the deque contiguous, so the first slice is all of it.
+        let all = self.history.as_slices().0;
+        debug_assert_eq!(all.len(), self.history.len());
+        let k = all.iter().rposition(|u| u.before == fp)?;
+        Some(&all[k..])
+    }
+
+    /// Records an update of `rect` that changed the fingerprint from `before`.
+    fn remember(&mut self, rect: [u32; 4], before: u64) {
+        self.generation += 1;
+        if self.history.len() == HISTORY {
+            self.history.pop_front();
+        }
+        self.history.push_back(Update {
+            rect,
+            before,
+            generation: self.generation,
+        });
+        self.history.make_contiguous();
     }
 }
 
@@ -423,6 +489,8 @@ pub unsafe extern "C" fn hf_field_update_rect(
             return Err(HF_ERR_NOT_FINITE);
         }
         let w = old.width() as usize;
+        let before = f.fingerprint;
+        let mut fp = before;
         {
             // SAFETY: we own the allocation and hold `&mut hf_field`; `f.view`'s shared
             // slice is not used again before it is replaced below (`old` only lends its
@@ -430,12 +498,21 @@ pub unsafe extern "C" fn hf_field_update_rect(
             let samples = unsafe { f.samples.as_mut() };
             for j in 0..rows {
                 let start = (y0 as usize + j) * w + x0 as usize;
-                samples[start..start + cols].copy_from_slice(row(j));
+                let dst = &mut samples[start..start + cols];
+                for (i, (d, &v)) in dst.iter_mut().zip(row(j)).enumerate() {
+                    fp = fp
+                        .wrapping_sub(mapdesc::sample_term(start + i, *d))
+                        .wrapping_add(mapdesc::sample_term(start + i, v));
+                    *d = v;
+                }
             }
         }
+
         // SAFETY: the allocation is live until drop; the mutable borrow above ended.
         let shared: &'static [f32] = unsafe { f.samples.as_ref() };
         f.view = old.revalidate_rect(shared, x0, y0, x1, y1)?;
+        f.fingerprint = fp;
+        f.remember([x0, y0, x1, y1], before);
         Ok(())
     })
 }

@@ -4,8 +4,10 @@
 //! needs no bake.
 
 use crate::hf_result::{self, *};
+use crate::mapdesc::{elems, Texel, HF_MAP_DESC_BYTES};
 use crate::{guard, ptr, HF_MAX_SIDE};
 use hfcore::ktx2::{self, Data, DataMut, Desc, Ktx2Error, MapKind, View};
+use hfcore::mapdesc::MapDescriptor;
 use std::ffi::c_void;
 
 /// Map kind (`hf_ktx2_desc::map`): the height field itself, `R32_SFLOAT`, `W × H`.
@@ -110,7 +112,7 @@ fn desc_of(d: &hf_ktx2_desc) -> Result<Desc, hf_result> {
 }
 
 /// The C form of a core [`Desc`].
-fn c_desc(d: &Desc) -> hf_ktx2_desc {
+pub(crate) fn c_desc(d: &Desc) -> hf_ktx2_desc {
     hf_ktx2_desc {
         map: d.map as u32,
         width: d.width,
@@ -124,6 +126,54 @@ fn c_desc(d: &Desc) -> hf_ktx2_desc {
 /// Bytes of an element of `desc`'s map: 4 for float maps, 1 for 8-bit ones.
 fn element_size(desc: &Desc) -> usize {
     desc.map.format().type_size()
+}
+
+/// Whether `desc`'s map is a bake (every map but the heights), which carries a
+/// descriptor after its texels and its fingerprint in the file.
+fn baked(desc: &Desc) -> bool {
+    desc.map != MapKind::Heights
+}
+
+/// Bytes of the map of `desc` as the bakes write it: texels, then the descriptor.
+fn map_bytes(desc: &Desc) -> Result<usize, hf_result> {
+    let texels = ktx2::map_len(desc).map_err(code)? * element_size(desc);
+    Ok(texels + if baked(desc) { HF_MAP_DESC_BYTES } else { 0 })
+}
+
+/// `desc` as the files of the C API store it: a bake's with its fingerprint (a
+/// placeholder for sizing when unknown).
+fn with_fingerprint(mut desc: Desc) -> Desc {
+    if baked(&desc) {
+        desc.fingerprint = desc.fingerprint.or(Some(0));
+    }
+    desc
+}
+
+/// The fingerprint of the baked map `data` (`texels` elements, then its descriptor),
+/// whose descriptor must describe `desc`'s map.
+fn fingerprint_of<T: Texel>(desc: &Desc, data: &[T], texels: usize) -> Result<u64, hf_result> {
+    let got = crate::mapdesc::read(data, texels)?;
+    let mut d = got.desc.normalized();
+    let fp = d.fingerprint.take();
+    if d != desc.normalized() {
+        return Err(crate::detail::fail(
+            HF_ERR_MAP_MISMATCH,
+            format_args!(
+                "data: its descriptor describes a {} map of a {} x {} field (cap {}, classes {:#x}), not desc's",
+                d.map.method(),
+                d.width,
+                d.height,
+                d.cap,
+                d.classes.0
+            ),
+        ));
+    }
+    fp.ok_or_else(|| {
+        crate::detail::fail(
+            HF_ERR_MAP_MISMATCH,
+            "data: its descriptor names no heights (restored from a file without hfcast.fingerprint)",
+        )
+    })
 }
 
 /// Writes the description of map `map` (`HF_KTX2_*`) of a `width × height` field
@@ -164,7 +214,7 @@ pub unsafe extern "C" fn hf_ktx2_len(desc: *const hf_ktx2_desc, out_len: *mut us
         // SAFETY: the caller promises `desc` is valid.
         let desc = desc_of(unsafe { ptr::get(desc) }?)?;
         let out = ptr::out(out_len)?;
-        let n = ktx2::len(&desc).map_err(code)?;
+        let n = ktx2::len(&with_fingerprint(desc)).map_err(code)?;
         // SAFETY: the caller promises `out_len` is writable.
         unsafe { out.set(n) };
         Ok(())
@@ -187,7 +237,7 @@ pub unsafe extern "C" fn hf_ktx2_map_len(
         // SAFETY: the caller promises `desc` is valid.
         let desc = desc_of(unsafe { ptr::get(desc) }?)?;
         let out = ptr::out(out_len)?;
-        let n = ktx2::map_len(&desc).map_err(code)? * element_size(&desc);
+        let n = map_bytes(&desc)?;
         // SAFETY: the caller promises `out_len` is writable.
         unsafe { out.set(n) };
         Ok(())
@@ -213,20 +263,37 @@ pub unsafe extern "C" fn hf_ktx2_write(
 ) -> hf_result {
     guard(|| {
         // SAFETY: the caller promises `desc` is valid.
-        let desc = desc_of(unsafe { ptr::get(desc) }?)?;
+        let mut desc = desc_of(unsafe { ptr::get(desc) }?)?;
+        let texels = ktx2::map_len(&desc).map_err(code)?;
         let data = if desc.map.format().is_float() {
             // SAFETY: the caller promises `data_len` readable bytes; `slice` checks the
             // alignment of the floats.
-            Data::F32(unsafe { ptr::slice(data.cast::<f32>(), data_len / 4) }?)
+            let d = unsafe { ptr::slice(data.cast::<f32>(), data_len / 4) }?;
+            if baked(&desc) {
+                desc.fingerprint = Some(fingerprint_of(&desc, d, texels)?);
+            }
+            Data::F32(d)
         } else {
             // SAFETY: as above.
-            Data::U8(unsafe { ptr::slice(data.cast::<u8>(), data_len) }?)
+            let d = unsafe { ptr::slice(data.cast::<u8>(), data_len) }?;
+            desc.fingerprint = Some(fingerprint_of(&desc, d, texels)?);
+            Data::U8(d)
         };
         // SAFETY: the caller promises `out_len` writable bytes.
         let out = unsafe { ptr::slice_mut(out, out_len) }?;
         ktx2::write(&desc, data, out).map_err(code)?;
         Ok(())
     })
+}
+
+/// Writes the descriptor of a map read from a file (`desc`, with its fingerprint if the
+/// file has one) into `slot`, after its `texels` elements.
+fn restore<T: Texel>(desc: &Desc, texels: usize, slot: &mut [T]) {
+    let d = MapDescriptor {
+        desc: *desc,
+        texel_bytes: (texels * core::mem::size_of::<T>()) as u64,
+    };
+    T::put(&mut slot[..elems::<T>()], &d.encode());
 }
 
 /// The validated file at `bytes` and its description.
@@ -268,7 +335,7 @@ pub unsafe extern "C" fn hf_ktx2_read_info(
             pixel_height,
             levels: view.level_count(),
             texel_size: view.format().texel_size() as u32,
-            map_len: ktx2::map_len(&desc).map_err(code)? * element_size(&desc),
+            map_len: map_bytes(&desc)?,
         };
         // SAFETY: the caller promises `out_info` is writable.
         unsafe { out.set(info) };
@@ -346,15 +413,27 @@ pub unsafe extern "C" fn hf_ktx2_read_map(
     guard(|| {
         // SAFETY: the caller's promise, passed on.
         let (view, desc) = unsafe { open(bytes, len) }?;
-        let out = if desc.map.format().is_float() {
+        if out_len < map_bytes(&desc)? {
+            return Err(HF_ERR_BUFFER_TOO_SMALL);
+        }
+        let texels = ktx2::map_len(&desc).map_err(code)?;
+        if desc.map.format().is_float() {
             // SAFETY: the caller promises `out_len` writable bytes; `slice_mut` checks
             // the alignment of the floats.
-            DataMut::F32(unsafe { ptr::slice_mut(out.cast::<f32>(), out_len / 4) }?)
+            let out = unsafe { ptr::slice_mut(out.cast::<f32>(), out_len / 4) }?;
+            view.read_map(DataMut::F32(&mut out[..texels]))
+                .map_err(code)?;
+            if baked(&desc) {
+                restore(&desc, texels, &mut out[texels..]);
+            }
         } else {
             // SAFETY: as above.
-            DataMut::U8(unsafe { ptr::slice_mut(out.cast::<u8>(), out_len) }?)
-        };
-        view.read_map(out).map_err(code)
+            let out = unsafe { ptr::slice_mut(out.cast::<u8>(), out_len) }?;
+            view.read_map(DataMut::U8(&mut out[..texels]))
+                .map_err(code)?;
+            restore(&desc, texels, &mut out[texels..]);
+        }
+        Ok(())
     })
 }
 
@@ -399,10 +478,21 @@ mod tests {
         let mut n = 0;
         // SAFETY: valid pointers.
         assert_eq!(unsafe { hf_ktx2_len(&d, &mut n) }, HF_OK);
-        let map: Vec<u8> = (0..12).collect();
+        let mut map: Vec<u8> = (0..12).collect();
         let mut file = vec![0u8; n];
-        // SAFETY: valid pointers and lengths.
+        // SAFETY: valid pointers and lengths; a map without its descriptor.
         let r = unsafe { hf_ktx2_write(&d, map.as_ptr().cast(), 12, file.as_mut_ptr(), n) };
+        assert_eq!(r, HF_ERR_BUFFER_TOO_SMALL);
+        let mut core_desc = desc_of(&d).unwrap();
+        core_desc.fingerprint = Some(0xfeed);
+        let stamp = MapDescriptor {
+            desc: core_desc,
+            texel_bytes: 12,
+        };
+        map.extend_from_slice(&stamp.encode());
+        let m = map.len();
+        // SAFETY: valid pointers and lengths.
+        let r = unsafe { hf_ktx2_write(&d, map.as_ptr().cast(), m, file.as_mut_ptr(), n) };
         assert_eq!(r, HF_OK);
         let mut slot = std::mem::MaybeUninit::uninit();
         // SAFETY: valid pointers.
@@ -412,14 +502,16 @@ mod tests {
         );
         // SAFETY: written on HF_OK.
         let info = unsafe { slot.assume_init() };
-        assert_eq!((info.desc, info.vk_format, info.map_len), (d, 13, 12));
-        let mut back = [0u8; 12];
+        assert_eq!((info.desc, info.vk_format, info.map_len), (d, 13, m));
+        let mut back = vec![0u8; m];
         // SAFETY: valid pointers; a short buffer first.
-        let r = unsafe { hf_ktx2_read_map(file.as_ptr(), n, back.as_mut_ptr().cast(), 11) };
+        let r = unsafe { hf_ktx2_read_map(file.as_ptr(), n, back.as_mut_ptr().cast(), m - 1) };
         assert_eq!(r, HF_ERR_BUFFER_TOO_SMALL);
         // SAFETY: valid pointers.
-        let r = unsafe { hf_ktx2_read_map(file.as_ptr(), n, back.as_mut_ptr().cast(), 12) };
-        assert_eq!((r, &back[..]), (HF_OK, &map[..]));
+        let r = unsafe { hf_ktx2_read_map(file.as_ptr(), n, back.as_mut_ptr().cast(), m) };
+        assert_eq!((r, &back[..12]), (HF_OK, &map[..12]));
+        // The descriptor comes back as written.
+        assert_eq!(back, map);
         // SAFETY: a truncated file.
         let r = unsafe { hf_ktx2_read_info(file.as_ptr(), n - 1, slot.as_mut_ptr()) };
         assert_eq!(r, HF_ERR_INVALID_ARGUMENT);

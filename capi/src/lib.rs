@@ -29,6 +29,7 @@ pub mod cones;
 pub mod detail;
 pub mod field;
 pub mod ktx2;
+pub mod mapdesc;
 #[cfg(feature = "maxmip")]
 pub mod maxmip;
 #[cfg(any(feature = "maxmip", feature = "safety", feature = "cone"))]
@@ -86,12 +87,20 @@ pub enum hf_result {
     /// The method (or another part the call needs) was left out of this build of the
     /// library by its cargo features (see `hf_build_has_method`).
     HF_ERR_NOT_BUILT = 12,
+    /// A baked map does not belong to the call: it is another method's map, was baked
+    /// for a field of another size or other heights, with another cap or ray-class
+    /// set, or carries no valid descriptor (see `HF_MAP_DESC_BYTES`).
+    HF_ERR_MAP_MISMATCH = 13,
+    /// A baked map was baked from heights the field had before an update
+    /// (`hf_field_update_rect`): rebake it, or refresh a pyramid with
+    /// `hf_maxmip_update_rect` over every updated rectangle.
+    HF_ERR_STALE_MAP = 14,
 }
 
 use hf_result::*;
 
 /// Every result code, in value order.
-const RESULTS: [hf_result; 13] = [
+const RESULTS: [hf_result; 15] = [
     HF_OK,
     HF_ERR_NULL_POINTER,
     HF_ERR_MISALIGNED_POINTER,
@@ -105,6 +114,8 @@ const RESULTS: [hf_result; 13] = [
     HF_ERR_OUT_OF_MEMORY,
     HF_ERR_PANIC,
     HF_ERR_NOT_BUILT,
+    HF_ERR_MAP_MISMATCH,
+    HF_ERR_STALE_MAP,
 ];
 
 impl hf_result {
@@ -131,6 +142,10 @@ impl hf_result {
             HF_ERR_OUT_OF_MEMORY => "out of memory",
             HF_ERR_PANIC => "internal error: the library panicked",
             HF_ERR_NOT_BUILT => "this build of the library leaves that method out",
+            HF_ERR_MAP_MISMATCH => {
+                "the map belongs to another field, method, size, cap or class set"
+            }
+            HF_ERR_STALE_MAP => "the map was baked before the field's last update",
         }
     }
 }

@@ -1,7 +1,9 @@
 //! Maximum mipmaps: sizes, layout, bake (whole, by rows, threaded) and update.
 
 use crate::hf_result::{self, *};
+use crate::mapdesc::{check_refresh, elems, stamp};
 use crate::{guard, hf_field, ptr};
+use hfcore::ktx2::{Desc, MapKind};
 use hfcore::maxmip::{self, Layout};
 use hfcore::HeightField;
 
@@ -33,7 +35,7 @@ fn layout(width: u32, height: u32) -> Result<Layout, hf_result> {
 pub unsafe extern "C" fn hf_maxmip_len(width: u32, height: u32, out_len: *mut usize) -> hf_result {
     guard(|| {
         let out = ptr::out(out_len)?;
-        let n = layout(width, height)?.texel_count();
+        let n = layout(width, height)?.texel_count() + elems::<f32>();
         // SAFETY: the caller promises `out_len` is writable.
         unsafe { out.set(n) };
         Ok(())
@@ -87,14 +89,25 @@ unsafe fn field_and_pyramid<'a>(
     field: *const hf_field,
     pyramid: *mut f32,
     pyramid_len: usize,
-) -> Result<(&'a HeightField<'a>, &'a mut [f32], Layout), hf_result> {
+) -> Result<(&'a hf_field, &'a mut [f32], Layout), hf_result> {
     // SAFETY: the caller's promises.
     let (f, p) = unsafe { (ptr::get(field)?, ptr::slice_mut(pyramid, pyramid_len)?) };
     let l = Layout::of(f.view());
-    if p.len() < l.texel_count() {
+    if p.len() < l.texel_count() + elems::<f32>() {
         return Err(HF_ERR_BUFFER_TOO_SMALL);
     }
-    Ok((f.view(), p, l))
+    Ok((f, p, l))
+}
+
+/// The description of the pyramid of `hf`.
+fn desc_of(hf: &HeightField) -> Desc {
+    Desc::new(MapKind::MaxMip, hf.width(), hf.height())
+}
+
+/// Writes the descriptor after the pyramid's texels.
+fn stamp_pyramid(f: &hf_field, l: &Layout, p: &mut [f32]) {
+    let n = l.texel_count();
+    stamp(f, desc_of(f.view()), n, &mut p[n..]);
 }
 
 /// Bakes the whole maximum-mipmap pyramid of `field` into `out_pyramid`, which holds
@@ -112,8 +125,10 @@ pub unsafe extern "C" fn hf_maxmip_bake(
 ) -> hf_result {
     guard(|| {
         // SAFETY: the caller's promises.
-        let (hf, p, _) = unsafe { field_and_pyramid(field, out_pyramid, out_pyramid_len) }?;
-        Ok(maxmip::bake(hf, p)?)
+        let (f, p, l) = unsafe { field_and_pyramid(field, out_pyramid, out_pyramid_len) }?;
+        maxmip::bake(f.view(), &mut p[..l.texel_count()])?;
+        stamp_pyramid(f, &l, p);
+        Ok(())
     })
 }
 
@@ -146,7 +161,7 @@ pub unsafe extern "C" fn hf_maxmip_bake_rows(
         }
         let hf = f.view();
         let l = Layout::of(hf);
-        if pyramid_len < l.texel_count() {
+        if pyramid_len < l.texel_count() + elems::<f32>() {
             return Err(HF_ERR_BUFFER_TOO_SMALL);
         }
         if level >= l.levels() {
@@ -174,6 +189,14 @@ pub unsafe extern "C" fn hf_maxmip_bake_rows(
             )
         };
         maxmip::bake_rows(hf, level, row_begin..row_end, finer, out);
+        if level + 1 == l.levels() && row_begin < row_end {
+            // The top level (one texel) is baked last, by one call: it writes the
+            // descriptor after the texels.
+            let n = l.texel_count();
+            // SAFETY: inside the caller's buffer (length checked), this call's alone.
+            let slot = unsafe { ptr::slice_mut(pyramid.add(n), elems::<f32>()) }?;
+            stamp(f, desc_of(hf), n, slot);
+        }
         Ok(())
     })
 }
@@ -195,8 +218,9 @@ pub unsafe extern "C" fn hf_maxmip_bake_threaded(
 ) -> hf_result {
     guard(|| {
         // SAFETY: the caller's promises.
-        let (hf, p, l) = unsafe { field_and_pyramid(field, out_pyramid, out_pyramid_len) }?;
-        bake_threaded(hf, &l, threads, p);
+        let (f, p, l) = unsafe { field_and_pyramid(field, out_pyramid, out_pyramid_len) }?;
+        bake_threaded(f.view(), &l, threads, &mut p[..l.texel_count()]);
+        stamp_pyramid(f, &l, p);
         Ok(())
     })
 }
@@ -244,7 +268,25 @@ pub unsafe extern "C" fn hf_maxmip_update_rect(
 ) -> hf_result {
     guard(|| {
         // SAFETY: the caller's promises.
-        let (hf, p, _) = unsafe { field_and_pyramid(field, pyramid, pyramid_len) }?;
-        Ok(maxmip::update_rect(hf, p, x0, y0, x1, y1)?)
+        let (f, p, l) = unsafe { field_and_pyramid(field, pyramid, pyramid_len) }?;
+        let hf = f.view();
+        if x0 > x1 || y0 > y1 || x1 > hf.width() || y1 > hf.height() {
+            return Err(crate::detail::fail(
+                HF_ERR_INVALID_RECT,
+                format_args!(
+                    "[{x0}, {x1}) x [{y0}, {y1}) is reversed or outside the {} x {} field",
+                    hf.width(),
+                    hf.height()
+                ),
+            ));
+        }
+        if x0 == x1 || y0 == y1 {
+            return Ok(());
+        }
+        let n = l.texel_count();
+        check_refresh(f, p, n, [x0, y0, x1, y1])?;
+        maxmip::update_rect(hf, &mut p[..n], x0, y0, x1, y1)?;
+        stamp_pyramid(f, &l, p);
+        Ok(())
     })
 }

@@ -113,6 +113,11 @@ where
 
 /// The map buffer of a row bake of the safety and cylinder–cone exports and the rows
 /// `[begin, end)` the call bakes into it, checked for NULL first (before the options).
+/// What [`RowsOut::rows`] hands out: the rows, their bytes, and the descriptor's
+/// bytes for the call whose rows start at 0.
+#[cfg(feature = "safety")]
+pub type RowsSlices<'a> = (Range<u32>, &'a mut [u8], Option<&'a mut [u8]>);
+
 #[cfg(feature = "safety")]
 pub struct RowsOut {
     map: NonNull<u8>,
@@ -132,8 +137,9 @@ impl RowsOut {
         })
     }
 
-    /// The rows and their bytes, for a map of `needed` bytes in `height` rows of
-    /// `row_len` bytes: `HF_ERR_BUFFER_TOO_SMALL` when `map_len < needed`,
+    /// The rows and their bytes, for a map of `texels` bytes in `height` rows of
+    /// `row_len` bytes followed by its descriptor, and the descriptor's bytes when the
+    /// rows start at 0: `HF_ERR_BUFFER_TOO_SMALL` when `map_len` cannot hold both,
     /// `HF_ERR_INVALID_ARGUMENT` unless `begin ≤ end ≤ height`. Only the rows baked
     /// become a slice, so concurrent calls never alias.
     ///
@@ -144,16 +150,24 @@ impl RowsOut {
         self,
         height: u32,
         row_len: usize,
-        needed: usize,
-    ) -> Result<(Range<u32>, &'a mut [u8]), hf_result> {
-        if self.map_len < needed {
-            return Err(HF_ERR_BUFFER_TOO_SMALL);
+        texels: usize,
+    ) -> Result<RowsSlices<'a>, hf_result> {
+        let desc = crate::mapdesc::HF_MAP_DESC_BYTES;
+        if self.map_len < texels + desc {
+            return Err(crate::detail::fail(
+                HF_ERR_BUFFER_TOO_SMALL,
+                format_args!(
+                    "map_len: {} bytes, the map and its descriptor need {}",
+                    self.map_len,
+                    texels + desc
+                ),
+            ));
         }
         let Range { start, end } = self.rows;
         if start > end || end > height {
             return Err(HF_ERR_INVALID_ARGUMENT);
         }
-        // SAFETY: inside the caller's buffer (`needed` bytes of `height` rows, length
+        // SAFETY: inside the caller's buffer (`texels` bytes of `height` rows, length
         // checked), this call's alone (the caller's promise).
         let out = unsafe {
             crate::ptr::slice_mut(
@@ -161,6 +175,12 @@ impl RowsOut {
                 (end - start) as usize * row_len,
             )
         }?;
-        Ok((self.rows, out))
+        // SAFETY: the descriptor's bytes follow the texels (length checked); only the
+        // call whose rows start at 0 takes them, so concurrent calls never alias.
+        let slot = match start {
+            0 => Some(unsafe { crate::ptr::slice_mut(self.map.as_ptr().add(texels), desc) }?),
+            _ => None,
+        };
+        Ok((self.rows, out, slot))
     }
 }

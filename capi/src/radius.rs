@@ -3,10 +3,12 @@
 //! of the safety distances (`hf_safety_prepare`).
 
 use crate::hf_result::{self, *};
+use crate::mapdesc::{bake_stamped, check, elems, stamp, Expect};
 use crate::safety;
 use crate::size_query;
 use crate::trace::{batch, hf_hit, hf_ray, one};
 use crate::{guard, hf_field, hf_surface, par, ptr};
+use hfcore::ktx2::{Desc, MapKind};
 use hfcore::radius::{self, BakeOptions, Options, RadiusMap, Zero};
 use hfcore::HeightField;
 
@@ -72,7 +74,7 @@ pub unsafe extern "C" fn hf_radius_map_len(
     // SAFETY: the caller's promise, passed on.
     unsafe {
         size_query(width, height, out_len, |width, height| {
-            Ok(radius::map_len(width, height))
+            Ok(radius::map_len(width, height) + elems::<u8>())
         })
     }
 }
@@ -149,8 +151,12 @@ pub unsafe extern "C" fn hf_radius_bake_rows(
         let needed = radius::map_len(hf.width(), hf.height());
         // SAFETY: `map` is writable for `map_len` bytes and the rows are this call's alone
         // (the caller's promises).
-        let (rows, out) = unsafe { map.rows(hf.height(), hf.width() as usize, needed) }?;
-        Ok(radius::bake_rows(hf, scratch, rows, opts, out)?)
+        let (rows, out, slot) = unsafe { map.rows(hf.height(), hf.width() as usize, needed) }?;
+        radius::bake_rows(hf, scratch, rows, opts, out)?;
+        if let Some(slot) = slot {
+            stamp(f, desc_of(hf, &opts), needed, slot);
+        }
+        Ok(())
     })
 }
 
@@ -181,21 +187,36 @@ pub unsafe extern "C" fn hf_radius_bake(
         };
         let opts = options_of(o)?;
         let hf = f.view();
-        par::bake_map(
-            hf.height(),
-            hf.width() as usize,
-            radius::map_len(hf.width(), hf.height()),
-            threads,
-            out,
-            || safety::strip_scratch(hf),
-            |scratch, rows, chunk| radius::bake_rows(hf, scratch, rows, opts, chunk),
-        )
+        let needed = radius::map_len(hf.width(), hf.height());
+        bake_stamped(f, desc_of(hf, &opts), needed, out, |out| {
+            par::bake_map(
+                hf.height(),
+                hf.width() as usize,
+                needed,
+                threads,
+                out,
+                || safety::strip_scratch(hf),
+                |scratch, rows, chunk| radius::bake_rows(hf, scratch, rows, opts, chunk),
+            )
+        })
     })
 }
 
-/// The radius map over `data`, checked for `hf`.
-fn map_of<'a>(hf: &HeightField, data: &'a [u8]) -> Result<RadiusMap<'a>, hf_result> {
-    Ok(RadiusMap::new(hf, data)?)
+/// The radius map over `data`, its descriptor checked for `f`.
+fn map_of<'a>(f: &hf_field, data: &'a [u8]) -> Result<RadiusMap<'a>, hf_result> {
+    let hf = f.view();
+    let n = radius::map_len(hf.width(), hf.height());
+    check(f, Expect::map(MapKind::Radius), data, n)?;
+    Ok(RadiusMap::new(hf, &data[..n])?)
+}
+
+/// The description of a radius map of `hf` baked with `opts`.
+fn desc_of(hf: &HeightField, opts: &BakeOptions) -> Desc {
+    Desc {
+        cap: opts.cap,
+        tolerance: opts.tolerance,
+        ..Desc::new(MapKind::Radius, hf.width(), hf.height())
+    }
 }
 
 /// The map slice and the march options of a trace call, checked behind the panic
@@ -274,7 +295,7 @@ pub unsafe extern "C" fn hf_trace_radius_on(
             field,
             ray,
             out_hit,
-            |hf| map_of(hf, data),
+            |f| map_of(f, data),
             |hf, m, q| radius::trace(m, hf, q, &opts),
         )
     }
@@ -346,7 +367,7 @@ pub unsafe extern "C" fn hf_trace_radius_on_batch(
             rays_len,
             out_hits,
             out_hits_len,
-            |hf| map_of(hf, data),
+            |f| map_of(f, data),
             |hf, m, q| radius::trace(m, hf, q, &opts),
         )
     }

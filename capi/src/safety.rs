@@ -2,11 +2,14 @@
 //! (whole, by rows, threaded) and the march, for the triangle surface.
 
 use crate::hf_result::{self, *};
+use crate::mapdesc::{bake_stamped, check, elems, stamp, Expect};
 use crate::scene::{classes_of, HF_RAYS_ALL};
 use crate::size_query;
 use crate::trace::{batch, hf_hit, hf_ray, one, pyramid_slice};
 use crate::{guard, hf_field, hf_surface, par, ptr};
+use hfcore::ktx2::{Desc, MapKind};
 use hfcore::safety::{self, AllRays, MarchSurface, Options, SafetyError, SafetyMap, Variant};
+use hfcore::scene::RayClasses;
 use hfcore::HeightField;
 
 /// Layout of a safety-distance map. Passed as `uint32_t`.
@@ -88,7 +91,7 @@ pub unsafe extern "C" fn hf_safety_map_len(
     // SAFETY: the caller's promise, passed on.
     unsafe {
         size_query(width, height, out_len, |width, height| {
-            Ok(safety::map_len(width, height, variant_of(variant)?))
+            Ok(safety::map_len(width, height, variant_of(variant)?) + elems::<u8>())
         })
     }
 }
@@ -111,7 +114,7 @@ pub unsafe extern "C" fn hf_safety_map_len_classes(
     unsafe {
         size_query(width, height, out_len, |width, height| {
             let (variant, classes) = (variant_of(variant)?, classes_of(ray_classes)?);
-            Ok(safety::map_len_classes(width, height, variant, classes))
+            Ok(safety::map_len_classes(width, height, variant, classes) + elems::<u8>())
         })
     }
 }
@@ -241,13 +244,15 @@ pub unsafe extern "C" fn hf_safety_bake_rows_classes(
         let needed = safety::map_len_classes(hf.width(), hf.height(), opts.variant, classes);
         // SAFETY: `map` is writable for `map_len` bytes and the rows are this call's alone
         // (the caller's promises).
-        let (rows, out) = unsafe { map.rows(hf.height(), row, needed) }?;
+        let (rows, out, slot) = unsafe { map.rows(hf.height(), row, needed) }?;
         if scratch.len() < safety::scratch_len(hf.width(), hf.height()) {
             return Err(HF_ERR_BUFFER_TOO_SMALL);
         }
-        Ok(safety::bake_rows_classes(
-            hf, scratch, &AllRays, classes, rows, opts, out,
-        )?)
+        safety::bake_rows_classes(hf, scratch, &AllRays, classes, rows, opts, out)?;
+        if let Some(slot) = slot {
+            stamp(f, desc_of(hf, &opts, classes), needed, slot);
+        }
+        Ok(())
     })
 }
 
@@ -299,17 +304,21 @@ pub unsafe extern "C" fn hf_safety_bake_classes(
         };
         let (opts, classes) = (options_of(o)?, classes_of(ray_classes)?);
         let hf = f.view();
-        par::bake_map(
-            hf.height(),
-            safety::map_len_classes(hf.width(), 1, opts.variant, classes),
-            safety::map_len_classes(hf.width(), hf.height(), opts.variant, classes),
-            threads,
-            out,
-            || strip_scratch(hf),
-            |scratch, rows, chunk| {
-                safety::bake_rows_classes(hf, scratch, &AllRays, classes, rows, opts, chunk)
-            },
-        )
+        let needed = safety::map_len_classes(hf.width(), hf.height(), opts.variant, classes);
+        let desc = desc_of(hf, &opts, classes);
+        bake_stamped(f, desc, needed, out, |out| {
+            par::bake_map(
+                hf.height(),
+                safety::map_len_classes(hf.width(), 1, opts.variant, classes),
+                needed,
+                threads,
+                out,
+                || strip_scratch(hf),
+                |scratch, rows, chunk| {
+                    safety::bake_rows_classes(hf, scratch, &AllRays, classes, rows, opts, chunk)
+                },
+            )
+        })
     })
 }
 
@@ -321,15 +330,40 @@ pub(crate) fn strip_scratch(hf: &HeightField) -> Result<Vec<f32>, hf_result> {
     Ok(scratch)
 }
 
-/// The map slice and its view (a map of the classes `ray_classes`), checked for `hf`.
+/// The map's view (a map of the classes `ray_classes`), its descriptor checked for `f`.
 fn map_of<'a>(
-    hf: &HeightField,
+    f: &hf_field,
     data: &'a [u8],
     variant: u32,
     ray_classes: u32,
 ) -> Result<SafetyMap<'a>, hf_result> {
     let (variant, classes) = (variant_of(variant)?, classes_of(ray_classes)?);
-    Ok(SafetyMap::with_classes(hf, data, variant, classes)?)
+    let hf = f.view();
+    let n = safety::map_len_classes(hf.width(), hf.height(), variant, classes);
+    let want = Expect {
+        map: kind_of(variant),
+        cap: None,
+        classes: Some(classes),
+    };
+    check(f, want, data, n)?;
+    Ok(SafetyMap::with_classes(hf, &data[..n], variant, classes)?)
+}
+
+/// The map kind of a safety variant.
+fn kind_of(variant: Variant) -> MapKind {
+    match variant {
+        Variant::Directional => MapKind::Safety,
+        Variant::Isotropic => MapKind::SafetyIsotropic,
+    }
+}
+
+/// The description of a safety map of `hf` baked with `opts` for `classes`.
+fn desc_of(hf: &HeightField, opts: &Options, classes: RayClasses) -> Desc {
+    Desc {
+        cap: opts.cap,
+        classes,
+        ..Desc::new(kind_of(opts.variant), hf.width(), hf.height())
+    }
 }
 
 /// Checks the surface (an `hf_surface`, as `uint32_t`) a safety-shape march finishes
@@ -399,7 +433,7 @@ pub unsafe extern "C" fn hf_trace_safety_on(
             field,
             ray,
             out_hit,
-            |hf| map_of(hf, data, variant, ray_classes),
+            |f| map_of(f, data, variant, ray_classes),
             |hf, m, q| safety::trace_on(m, hf, surface, q),
         )
     }
@@ -489,7 +523,7 @@ pub unsafe extern "C" fn hf_trace_safety_on_batch(
             rays_len,
             out_hits,
             out_hits_len,
-            |hf| map_of(hf, data, variant, ray_classes),
+            |f| map_of(f, data, variant, ray_classes),
             |hf, m, q| safety::trace_on(m, hf, surface, q),
         )
     }

@@ -104,7 +104,7 @@ pub(crate) unsafe fn one<P>(
     field: *const hf_field,
     ray: *const hf_ray,
     out_hit: *mut hf_hit,
-    prepare: impl FnOnce(&HeightField) -> Result<P, hf_result>,
+    prepare: impl FnOnce(&hf_field) -> Result<P, hf_result>,
     trace: impl Fn(&HeightField, &P, &Query<f32>) -> Trace<f32>,
 ) -> hf_result {
     guard(|| {
@@ -118,7 +118,7 @@ pub(crate) unsafe fn one<P>(
         };
         let out = ptr::out(out_hit).named("out_hit")?;
         let hf = f.view();
-        let prepared = prepare(hf)?;
+        let prepared = prepare(f)?;
         let q = query(hf, &r, None)?;
         let hit = answer(hf, trace(hf, &prepared, &q));
         // SAFETY: the caller promises `out_hit` is writable.
@@ -141,7 +141,7 @@ pub(crate) unsafe fn batch<P>(
     rays_len: usize,
     out_hits: *mut hf_hit,
     out_hits_len: usize,
-    prepare: impl FnOnce(&HeightField) -> Result<P, hf_result>,
+    prepare: impl FnOnce(&hf_field) -> Result<P, hf_result>,
     trace: impl Fn(&HeightField, &P, &Query<f32>) -> Trace<f32>,
 ) -> hf_result {
     guard(|| {
@@ -162,7 +162,7 @@ pub(crate) unsafe fn batch<P>(
             ));
         }
         let hf = f.view();
-        let prepared = prepare(hf)?;
+        let prepared = prepare(f)?;
         for (k, r) in rays.iter().enumerate() {
             query(hf, r, Some(k))?;
         }
@@ -485,7 +485,7 @@ pub unsafe extern "C" fn hf_trace_maxmip(
             field,
             ray,
             out_hit,
-            |hf| mip_of(hf, texels),
+            |f| mip_of(f, texels),
             |hf, mip, q| trace_mip(hf, mip, surface, q),
         )
     }
@@ -526,7 +526,7 @@ pub unsafe extern "C" fn hf_trace_maxmip_batch(
             rays_len,
             out_hits,
             out_hits_len,
-            |hf| mip_of(hf, texels),
+            |f| mip_of(f, texels),
             |hf, mip, q| trace_mip(hf, mip, surface, q),
         )
     }
@@ -551,9 +551,12 @@ pub(crate) unsafe fn pyramid_slice<'a, T>(p: *const T, len: usize) -> Result<&'a
 }
 
 #[cfg(feature = "maxmip")]
-/// The pyramid over `texels`, checked for `hf`.
-fn mip_of<'a>(hf: &HeightField, texels: &'a [f32]) -> Result<MaxMip<'a>, hf_result> {
-    Ok(MaxMip::new(hf, texels)?)
+/// The pyramid over `texels`, its descriptor checked for `f`.
+fn mip_of<'a>(f: &hf_field, texels: &'a [f32]) -> Result<MaxMip<'a>, hf_result> {
+    let n = maxmip::Layout::of(f.view()).texel_count();
+    let want = crate::mapdesc::Expect::map(hfcore::ktx2::MapKind::MaxMip);
+    crate::mapdesc::check(f, want, texels, n)?;
+    Ok(MaxMip::new(f.view(), &texels[..n])?)
 }
 
 #[cfg(feature = "maxmip")]

@@ -44,7 +44,9 @@
 //!
 //! **Metadata** (NUL-terminated UTF-8 strings): `KTXwriter` (`hfcast <version>`),
 //! `hfcast.method` (the map name above), `hfcast.version` (the crate version that
-//! wrote it), `hfcast.field` (`WxH`, the field's samples), and for the safety-distance,
+//! wrote it), `hfcast.field` (`WxH`, the field's samples), `hfcast.fingerprint` (16
+//! lower-case hex digits, `crate::mapdesc::fingerprint` of the heights baked from;
+//! written when the description has one, optional on reading), and for the safety-distance,
 //! cylinder–cone and radius maps `hfcast.cap` (the bake's cap), `hfcast.ray_classes`
 //! (`x+,x-,y+,y-`, those the map holds) and `hfcast.ray_set` (`all`: every ray of each
 //! class; `lowered:E`: the radius bake's tolerance `E`); `hfcast.variant`
@@ -243,6 +245,9 @@ pub struct Desc {
     /// The radius bake's tolerance (grid units, finite, ≥ 0; else ignored): the ray
     /// set is the rays meeting the surface lowered by it (`lowered:E`), 0 is `all`.
     pub tolerance: f32,
+    /// The fingerprint of the heights the map was baked from
+    /// ([`crate::mapdesc::fingerprint`]; `hfcast.fingerprint`, 16 hex digits), if known.
+    pub fingerprint: Option<u64>,
 }
 
 impl Desc {
@@ -256,6 +261,7 @@ impl Desc {
             cap: map.default_cap(),
             classes: RayClasses::ALL,
             tolerance: 0.0,
+            fingerprint: None,
         }
     }
 
@@ -263,6 +269,7 @@ impl Desc {
     /// [`View::desc`] reads back).
     pub fn normalized(self) -> Desc {
         let mut d = Desc::new(self.map, self.width, self.height);
+        d.fingerprint = self.fingerprint;
         if self.map.has_rays() {
             d.cap = self.cap;
         }
@@ -437,7 +444,7 @@ impl Texture {
 }
 
 /// The metadata of a file: `(key, value)` sorted by key.
-type Metadata = heapless::Vec<(&'static str, heapless::String<64>), 8>;
+type Metadata = heapless::Vec<(&'static str, heapless::String<64>), 9>;
 
 /// A metadata value from its display form (always fits: the longest is a tolerance).
 fn text(v: impl fmt::Display) -> heapless::String<64> {
@@ -492,6 +499,9 @@ fn metadata(d: &Desc) -> Metadata {
         "hfcast.field",
         text(format_args!("{}x{}", d.width, d.height)),
     );
+    if let Some(f) = d.fingerprint {
+        put("hfcast.fingerprint", text(format_args!("{f:016x}")));
+    }
     put("hfcast.method", text(d.map.method()));
     if d.map.has_rays() {
         put("hfcast.ray_classes", text(class_names(d.classes)));
@@ -1028,6 +1038,11 @@ impl<'a> View<'a> {
                 .ok_or(bad("hfcast.method"))?,
         };
         let mut d = Desc::new(map, w, h);
+        if let Some(f) = self.text("hfcast.fingerprint") {
+            let hex = f.len() == 16 && f.bytes().all(|b| b.is_ascii_hexdigit());
+            let value = u64::from_str_radix(f, 16).ok().filter(|_| hex);
+            d.fingerprint = Some(value.ok_or(bad("hfcast.fingerprint"))?);
+        }
         if map.has_rays() {
             let cap = self.text("hfcast.cap").and_then(|c| c.parse().ok());
             d.cap = cap.ok_or(bad("hfcast.cap"))?;

@@ -38,6 +38,7 @@ pub mod cone;
 pub mod dda;
 pub mod field;
 pub mod ktx2;
+pub mod mapdesc;
 pub mod math;
 #[cfg(feature = "maxmip")]
 pub mod maxmip;

@@ -60,6 +60,7 @@ pub fn cmd_bake(mut args: Args) -> Result<bool, String> {
         cap,
         classes,
         tolerance,
+        fingerprint: Some(hfcast::mapdesc::fingerprint(hf.samples())),
         ..Desc::new(map, hf.width(), hf.height())
     };
     let len = ktx2::len(&desc).map_err(|e| format!("bake: {e}"))?;

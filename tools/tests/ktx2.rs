@@ -278,6 +278,9 @@ fn check_map(hf: &HeightField, desc: &Desc) -> Vec<u8> {
     assert_eq!(kv["hfcast.method"], desc.map.method());
     assert_eq!(kv["hfcast.version"], env!("CARGO_PKG_VERSION"));
     assert_eq!(kv["hfcast.field"], format!("{w}x{h}"));
+    if let Some(f) = desc.fingerprint {
+        assert_eq!(kv["hfcast.fingerprint"], format!("{f:016x}"));
+    }
     if desc.map.has_rays() {
         assert_eq!(kv["hfcast.cap"], desc.cap.to_string());
         let classes = if desc.map == MapKind::Radius {
@@ -295,9 +298,11 @@ fn check_map(hf: &HeightField, desc: &Desc) -> Vec<u8> {
         assert_eq!(
             kv.len(),
             7 + usize::from(desc.map == MapKind::Safety || desc.map == MapKind::SafetyIsotropic)
+                + usize::from(desc.fingerprint.is_some())
         );
     } else {
-        assert_eq!(kv.len(), 4, "{what}: {kv:?}");
+        let fingerprint = usize::from(desc.fingerprint.is_some());
+        assert_eq!(kv.len(), 4 + fingerprint, "{what}: {kv:?}");
     }
     if let Some(variant) = kv.get("hfcast.variant") {
         let want = if desc.map == MapKind::Safety {
@@ -507,6 +512,13 @@ fn cli_bake_writes_the_bake() {
         .into_iter()
         .find(|d| d.map == MapKind::Cc)
         .unwrap();
+    // The CLI records the fingerprint of the heights, which the C API's map
+    // descriptors name (`hfcast::mapdesc`).
+    let desc = Desc {
+        fingerprint: Some(hfcast::mapdesc::fingerprint(hf.samples())),
+        ..desc
+    };
+    assert_eq!(ktx2::read(&file).unwrap().desc().unwrap(), desc);
     assert_eq!(
         file,
         check_map(&hf, &desc),
