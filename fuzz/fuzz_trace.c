@@ -6,7 +6,10 @@
  * mipmaps bit for bit, safety distances (both layouts, and a map of some classes
  * only), cylinder–cone, radius with the walk, cone and QDM within their budget up to
  * rounding on grazing rays (fz_compare); the search and relaxed methods only for
- * their codes. A batch that fails writes nothing; a single call answers as the batch. */
+ * their codes. A batch that fails writes nothing; a single call answers as the batch.
+ * Then the maps' descriptors (check_descriptors): a flipped descriptor byte is
+ * HF_ERR_MAP_MISMATCH, an updated sample makes every map HF_ERR_STALE_MAP, and a
+ * pyramid refreshed over the update answers as the exact DDA again. */
 #include "common.h"
 
 typedef struct maps {
@@ -159,6 +162,68 @@ static int takes_surface(int m, uint32_t s) {
     }
 }
 
+/* The descriptor of method m's map: its last HF_MAP_DESC_BYTES bytes. */
+static uint8_t *descriptor(int m, const maps *mp) {
+    switch (m) {
+    case M_MAXMIP: return (uint8_t *)mp->pyr + mp->pyr_len * 4 - HF_MAP_DESC_BYTES;
+    case M_SAFETY_DIR: return mp->sd + mp->sd_len - HF_MAP_DESC_BYTES;
+    case M_SAFETY_ISO: return mp->si + mp->si_len - HF_MAP_DESC_BYTES;
+    case M_SAFETY_CLASSES: return mp->sc + mp->sc_len - HF_MAP_DESC_BYTES;
+    case M_CC: return mp->cc + mp->cc_len - HF_MAP_DESC_BYTES;
+    case M_RADIUS: return mp->rad + mp->rad_len - HF_MAP_DESC_BYTES;
+    case M_CONE: return (uint8_t *)mp->cone + mp->cone_len * 4 - HF_MAP_DESC_BYTES;
+    case M_QDM: return (uint8_t *)mp->qdm + mp->qdm_len * 4 - HF_MAP_DESC_BYTES;
+    default: return (uint8_t *)mp->relaxed + mp->relaxed_len * 4 - HF_MAP_DESC_BYTES;
+    }
+}
+
+/* Method m must refuse its map with `want` and write nothing. */
+static void expect_refused(int m, const hf_field *f, const maps *mp, uint32_t s, uint32_t iter,
+                           const hf_ray *rays, size_t n, hf_hit *got, hf_result want) {
+    memset(got, FZ_POISON, sizeof(hf_hit) * FZ_MAX_RAYS + FZ_GUARD);
+    hf_result r = trace(m, f, mp, s, iter, rays, n, got, n, 0);
+    if (r != want)
+        FZ_FAIL("%s: a map %s answered %u, not %u", names[m],
+                want == HF_ERR_STALE_MAP ? "of the heights before an update" : "with a damaged descriptor",
+                (unsigned)r, (unsigned)want);
+    fz_after(r, got, sizeof(hf_hit) * n, names[m]);
+}
+
+/* Map descriptors (issue 26): one byte picks a damage. 1: a byte of one map's descriptor
+ * flipped, which its traces must refuse (HF_ERR_MAP_MISMATCH); 2: one sample updated,
+ * after which every map is stale (HF_ERR_STALE_MAP), a pyramid refresh over a
+ * rectangle missing the update is refused, and one over it answers as the exact DDA. */
+static void check_descriptors(fz_in *in, hf_field *f, uint32_t w, maps *mp, const int *traced,
+                              uint32_t s, uint32_t iter, const hf_ray *rays, size_t n,
+                              hf_hit *got) {
+    uint8_t pick = fz_u8(in), which = fz_u8(in);
+    if (pick % 4 == 1) {
+        int m = which % M_LINEAR_BINARY;
+        if (!traced[m]) return;
+        uint8_t *d = descriptor(m, mp);
+        d[pick / 4 % HF_MAP_DESC_BYTES] ^= (uint8_t)(1u << which % 8);
+        expect_refused(m, f, mp, s, iter, rays, n, got, HF_ERR_MAP_MISMATCH);
+        d[pick / 4 % HF_MAP_DESC_BYTES] ^= (uint8_t)(1u << which % 8);
+    } else if (pick % 4 == 2) {
+        float *hs = (float *)fz_buf(sizeof(float) * FZ_MAX_SIDE * FZ_MAX_SIDE);
+        must(hf_field_copy_heights(f, hs, FZ_MAX_SIDE * FZ_MAX_SIDE), "hf_field_copy_heights");
+        float h0 = hs[0] == 0.0f ? 1.0f : -hs[0];
+        free(hs);
+        must(hf_field_update_rect(f, 0, 0, 1, 1, &h0, 1, 1), "hf_field_update_rect");
+        for (int m = 0; m < M_LINEAR_BINARY; m++)
+            if (traced[m]) expect_refused(m, f, mp, s, iter, rays, n, got, HF_ERR_STALE_MAP);
+        if (w > 1 &&
+            hf_maxmip_update_rect(f, 1, 0, 2, 1, mp->pyr, mp->pyr_len) != HF_ERR_STALE_MAP)
+            FZ_FAIL("hf_maxmip_update_rect accepted a rectangle missing the update");
+        must(hf_maxmip_update_rect(f, 0, 0, 1, 1, mp->pyr, mp->pyr_len), "hf_maxmip_update_rect");
+        if (!traced[M_MAXMIP] || n == 0) return;
+        hf_hit exact[FZ_MAX_RAYS];
+        must(hf_trace_exact_batch(f, s, rays, n, exact, n), "hf_trace_exact_batch (updated)");
+        must(trace(M_MAXMIP, f, mp, s, iter, rays, n, got, n, 0), "maxmip (refreshed)");
+        fz_compare(f, s, rays, (int)n, exact, got, 1, "maxmip (refreshed)");
+    }
+}
+
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
     fz_in in = {data, size};
     static float heights[FZ_MAX_SIDE * FZ_MAX_SIDE];
@@ -203,9 +268,11 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
     if (re != HF_OK && n > 0 && s <= HF_SURFACE_VIEW_LINEAR && !any_raw)
         FZ_FAIL("hf_trace_exact_batch refused %zu valid rays with %u", n, (unsigned)re);
 
+    int traced[M_COUNT] = {0};
     for (int m = 0; m < M_COUNT; m++) {
         memset(got, FZ_POISON, sizeof(hf_hit) * FZ_MAX_RAYS + FZ_GUARD);
         hf_result r = trace(m, f, &mp, s, iter, rays, n, got, n, 0);
+        traced[m] = r == HF_OK;
         fz_after(r, got, bytes, names[m]);
         if (n == 0) continue; /* an empty batch: HF_OK or an error, both fine */
         int no_surface = m == M_CONE || m == M_QDM || m == M_RELAXED;
@@ -230,6 +297,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
         else if (m <= M_QDM)
             fz_compare(f, HF_SURFACE_TRIANGLES, rays, (int)n, exact_tri, got, 0, names[m]);
     }
+    check_descriptors(&in, f, w, &mp, traced, s, iter, rays, n, got);
     free(got);
     free_all(&mp);
     hf_field_destroy(f);

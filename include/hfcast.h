@@ -11,6 +11,12 @@
  *  - Every pointer is checked for NULL; outputs come last, each buffer followed by
  *    its length in elements; query sizes first (hf_maxmip_len, hf_shader_source_len).
  *  - No function aborts or unwinds into C: a library bug returns HF_ERR_PANIC.
+ *  - Baked maps know what they belong to: every bake writes HF_MAP_DESC_BYTES of
+ *    descriptor after the texels (the _len queries count them; upload the texels
+ *    only), naming the map, the field's size and heights (a fingerprint), cap, ray
+ *    classes and ray set. Every trace checks it: HF_ERR_MAP_MISMATCH for a map of
+ *    another field, method, cap or class set, HF_ERR_STALE_MAP for a map baked
+ *    before hf_field_update_rect changed the field (hf_map_read_desc reads one).
  *
  * Grid space (DESIGN.md): sample (i, j) of a W x H field sits at (x = i, y = j); the
  * surface covers [0, W-1] x [0, H-1]; cell (i, j) is [i, i+1] x [j, j+1]; heights and
@@ -424,7 +430,8 @@ typedef struct hf_cc_options {
   // An `hf_cc_slope`.
   uint32_t slope;
   // Longest cone step in centerlines, 0..=255 (64 is the core's default); the march
-  // must be given the same value.
+  // must be given the same value (the map's descriptor records it; another is
+  // `HF_ERR_MAP_MISMATCH`).
   uint32_t cap;
 } hf_cc_options;
 #endif
@@ -699,7 +706,8 @@ hf_result hf_error_message(uint32_t code,
 // heights), each texel row stored as four rows of W, one per class in class order
 // (x+, x−, y+, y−): the bytes of texel (i, j) for class c start at
 // `((j * 4 + c) * W + i) * 2`; upload as an `RG8UI` texture of W × 4H texels, texel
-// (i, 4 j + class). Thread safe.
+// (i, 4 j + class); then `HF_MAP_DESC_BYTES` of descriptor (`hf_map_desc`), which
+// stays on the CPU. Thread safe.
 //
 // # Safety
 // `out_len` is NULL (an error) or valid for writing one `size_t`.
@@ -713,7 +721,8 @@ hf_result hf_cc_map_len(uint32_t width,
 // not 0; `hf_cc_bake_classes`): `W * H * 2 * n` for its `n` classes, each texel row
 // stored as `n` rows in class order (the bytes of texel (i, j) for class c at
 // `((j * n + slot) * W + i) * 2`, `slot` the number of its classes before c; an
-// `RG8UI` texture of W × nH texels, texel (i, n j + slot)). Thread safe.
+// `RG8UI` texture of W × nH texels, texel (i, n j + slot)), then `HF_MAP_DESC_BYTES`
+// of descriptor. Thread safe.
 //
 // # Safety
 // `out_len` is NULL (an error) or valid for writing one `size_t`.
@@ -833,7 +842,7 @@ hf_result hf_cc_bake_classes(const struct hf_field *field,
 
 #if defined(HF_HAVE_SAFETY)
 // Traces one ray on the triangle surface with the cylinder–cone map `map` (from
-// `hf_cc_bake` with the same `cap`): exact, the hit of `hf_trace_exact` with
+// `hf_cc_bake` with the same `cap`, checked against the map's descriptor): exact, the hit of `hf_trace_exact` with
 // `HF_SURFACE_TRIANGLES` (up to rounding on grazing rays). Costs one fetch per shape
 // read and one for the third height sample of a cone's base, two per centerline
 // clearance, four per cell walked. Thread safe.
@@ -936,7 +945,8 @@ hf_result hf_cone_prepare(const struct hf_field *field,
 // Writes the number of floats of the cone map of a `width × height` field to
 // `*out_len`: two per cell, `[top, ratio]` (the cell's highest corner, the cone's
 // horizontal/vertical opening), cell (i, j) at `map[2 * (j * (W − 1) + i)]`: upload as
-// an `RG32F` texture of (W − 1) × (H − 1) texels. Thread safe.
+// an `RG32F` texture of (W − 1) × (H − 1) texels; then `HF_MAP_DESC_BYTES / 4` floats
+// of descriptor (`hf_map_desc`), which stays on the CPU. Thread safe.
 //
 // # Safety
 // `out_len` is NULL (an error) or valid for writing one `size_t`.
@@ -1019,7 +1029,8 @@ hf_result hf_trace_cone_batch(const struct hf_field *field,
 #if (defined(HF_HAVE_CONE) && defined(HF_HAVE_RELAXED))
 // Writes the number of floats of the relaxed cone map of a `width × height` field to
 // `*out_len`: one ratio per sample, sample (i, j) at `map[j * W + i]` (an `R32F`
-// texture of W × H texels). Thread safe.
+// texture of W × H texels), then `HF_MAP_DESC_BYTES / 4` floats of descriptor.
+// Thread safe.
 //
 // # Safety
 // `out_len` is NULL (an error) or valid for writing one `size_t`.
@@ -1095,8 +1106,8 @@ hf_result hf_trace_relaxed_batch(const struct hf_field *field,
 // Writes the number of floats of the quadratic displacement map of a `width ×
 // height` field to `*out_len`: four per cell, `[a, b, c, h]` (cone ratio, cone
 // height, parabola curvature, the cell's top), cell (i, j) at
-// `map[4 * (j * (W − 1) + i)]` (an `RGBA32F` texture of (W − 1) × (H − 1) texels).
-// Thread safe.
+// `map[4 * (j * (W − 1) + i)]` (an `RGBA32F` texture of (W − 1) × (H − 1) texels),
+// then `HF_MAP_DESC_BYTES / 4` floats of descriptor. Thread safe.
 //
 // # Safety
 // `out_len` is NULL (an error) or valid for writing one `size_t`.
@@ -1338,9 +1349,9 @@ hf_result hf_ktx2_len(const struct hf_ktx2_desc *desc,
                       size_t *out_len);
 
 // Writes the size in bytes of the baked map of `desc` to `*out_len`: what its bake
-// writes (for the pyramid every level, `hf_maxmip_len` floats), which
-// `hf_ktx2_write` reads and `hf_ktx2_read_map` writes. Errors as `hf_ktx2_len`.
-// Thread safe.
+// writes (for the pyramid every level, `hf_maxmip_len` floats), descriptor included
+// (every map but `HF_KTX2_HEIGHTS`), which `hf_ktx2_write` reads and
+// `hf_ktx2_read_map` writes. Errors as `hf_ktx2_len`. Thread safe.
 //
 // # Safety
 // As `hf_ktx2_len`.
@@ -1350,7 +1361,9 @@ hf_result hf_ktx2_map_len(const struct hf_ktx2_desc *desc,
 // Writes the KTX 2 file of the baked map `data` (`data_len` bytes, at least
 // `hf_ktx2_map_len`: the buffer its bake filled, floats for float maps, aligned for
 // them) described by `desc` into `out` (`out_len ≥ hf_ktx2_len` bytes; the file is
-// the first `hf_ktx2_len` of them). Errors as `hf_ktx2_len`, plus
+// the first `hf_ktx2_len` of them). A baked map's descriptor must describe `desc`'s
+// map and name its heights (`HF_ERR_MAP_MISMATCH` otherwise); its fingerprint is
+// stored as `hfcast.fingerprint`. Errors as `hf_ktx2_len`, plus
 // `HF_ERR_BUFFER_TOO_SMALL` for a short `data` or `out`. Thread safe.
 //
 // # Safety
@@ -1402,9 +1415,10 @@ hf_result hf_ktx2_read_level(const uint8_t *bytes,
 
 // Copies the baked map of the KTX 2 file `bytes` into `out` (`out_len ≥` the info's
 // `map_len` bytes; floats for float maps, aligned for them): exactly what its bake
-// wrote, ready for the `hf_trace_*` call of its method (the pyramid with every level,
-// unpadded). Errors as `hf_ktx2_read_info`, plus `HF_ERR_BUFFER_TOO_SMALL`. Thread
-// safe.
+// wrote, descriptor included, ready for the `hf_trace_*` call of its method on a field
+// of the same heights (the pyramid with every level, unpadded; a file without
+// `hfcast.fingerprint` gives a descriptor that names no heights, which traces refuse).
+// Errors as `hf_ktx2_read_info`, plus `HF_ERR_BUFFER_TOO_SMALL`. Thread safe.
 //
 // # Safety
 // As `hf_ktx2_read_info`, with `out` valid for writing `out_len` bytes.
@@ -1440,7 +1454,9 @@ hf_result hf_field_get_fingerprint(const struct hf_field *field,
 #if defined(HF_HAVE_MAXMIP)
 // Writes the number of floats of the maximum-mipmap pyramid of a `width × height`
 // field (2 ≤ width, height ≤ `HF_MAX_SIDE`) to `*out_len`: the size to allocate for
-// `hf_maxmip_bake`. Thread safe.
+// `hf_maxmip_bake`, the texels of every level (`hf_maxmip_levels`) then
+// `HF_MAP_DESC_BYTES / 4` floats of descriptor (`hf_map_desc`; upload the levels
+// only). Thread safe.
 //
 // # Safety
 // `out_len` is NULL (an error) or valid for writing one `size_t`.
@@ -1518,10 +1534,14 @@ hf_result hf_maxmip_bake_threaded(const struct hf_field *field,
 #if defined(HF_HAVE_MAXMIP)
 // Refreshes the texels of `pyramid` (baked for `field` before the change) that
 // depend on the samples `[x0, x1) × [y0, y1)`, after `hf_field_update_rect` changed
-// them; the result equals a full bake. `pyramid_len ≥ hf_maxmip_len(W, H)`. An empty
-// rectangle (x0 = x1 or y0 = y1) is `HF_OK` and changes nothing, as for
-// `hf_field_update_rect`; a reversed one or one outside the
-// field is `HF_ERR_INVALID_RECT`. Thread safe for distinct pyramids (reads the field
+// them; the result equals a full bake, descriptor included. `pyramid_len ≥
+// hf_maxmip_len(W, H)`. The pyramid's descriptor must name the field's heights now or
+// before updates that all lie inside the rectangle (the field remembers its last 16
+// updates): `HF_ERR_STALE_MAP` when an update since the bake lies outside it
+// (`hf_last_error_detail` names it), `HF_ERR_MAP_MISMATCH` for a pyramid of other
+// heights or older than those 16 updates (rebake it). An empty rectangle (x0 = x1 or
+// y0 = y1) is `HF_OK` and changes nothing, as for `hf_field_update_rect`; a reversed
+// one or one outside the field is `HF_ERR_INVALID_RECT`. Thread safe for distinct pyramids (reads the field
 // only); needs exclusive access to `pyramid`: no trace may read it meanwhile.
 //
 // # Safety
@@ -1538,8 +1558,8 @@ hf_result hf_maxmip_update_rect(const struct hf_field *field,
 
 #if defined(HF_HAVE_SAFETY)
 // Writes the size in bytes of the radius map of a `width × height` field to
-// `*out_len`: `W * H`, one radius per texel at `map[j * W + i]` (an `R8UI` texture).
-// Thread safe.
+// `*out_len`: `W * H`, one radius per texel at `map[j * W + i]` (an `R8UI` texture),
+// then `HF_MAP_DESC_BYTES` of descriptor (`hf_map_desc`). Thread safe.
 //
 // # Safety
 // `out_len` is NULL (an error) or valid for writing one `size_t`.
@@ -1618,8 +1638,9 @@ hf_result hf_radius_bake(const struct hf_field *field,
 // says what a zero radius does. Exact, the hit of `hf_trace_exact` with
 // `HF_SURFACE_TRIANGLES` (up to rounding on rays that graze the surface), when the
 // map was baked with tolerance 0 and `zero` is `HF_RADIUS_WALK`. Costs one fetch per
-// radius read, two per centerline clearance, four per cell walked. A map that does
-// not belong to the field gives wrong answers, never a crash. Thread safe.
+// radius read, two per centerline clearance, four per cell walked. A map of another
+// field, or baked before an update, is refused (`HF_ERR_MAP_MISMATCH`,
+// `HF_ERR_STALE_MAP`: its descriptor). Thread safe.
 //
 // # Safety
 // `field` is NULL (an error) or a live handle; `map` NULL (an error) or valid for
@@ -1687,7 +1708,8 @@ hf_result hf_trace_radius_on_batch(const struct hf_field *field,
 #if defined(HF_HAVE_SAFETY)
 // Writes the size in bytes of the safety-distance map of a `width × height` field
 // with `variant` (an `hf_safety_variant`) to `*out_len`: `W * H * 4` (directional) or
-// `W * H` (isotropic). Thread safe.
+// `W * H` (isotropic), then `HF_MAP_DESC_BYTES` of descriptor (`hf_map_desc`; upload
+// the bytes before it). Thread safe.
 //
 // # Safety
 // `out_len` is NULL (an error) or valid for writing one `size_t`.
@@ -1700,7 +1722,7 @@ hf_result hf_safety_map_len(uint32_t width,
 #if defined(HF_HAVE_SAFETY)
 // `hf_safety_map_len` for a map of the ray classes `ray_classes` only (`HF_RAYS_*`
 // bits, not 0; `hf_safety_bake_classes`): `W * H * n` directional for its `n`
-// classes, `W * H` isotropic. Thread safe.
+// classes, `W * H` isotropic, then `HF_MAP_DESC_BYTES` of descriptor. Thread safe.
 //
 // # Safety
 // `out_len` is NULL (an error) or valid for writing one `size_t`.
@@ -1821,7 +1843,8 @@ hf_result hf_safety_bake_classes(const struct hf_field *field,
 // exact, the hit of `hf_trace_exact` with `HF_SURFACE_TRIANGLES` (up to rounding on
 // rays that graze the surface) when the map was baked with `positive = 0`. Costs one
 // fetch per distance read, two per centerline clearance, four per cell walked. A map
-// that does not belong to the field gives wrong answers, never a crash. Thread safe.
+// of another field, variant or class set, or baked before an update, is refused
+// (`HF_ERR_MAP_MISMATCH`, `HF_ERR_STALE_MAP`: its descriptor). Thread safe.
 //
 // # Safety
 // `field` is NULL (an error) or a live handle; `map` NULL (an error) or valid for
@@ -2140,8 +2163,9 @@ hf_result hf_trace_linear_secant_batch(const struct hf_field *field,
 // Traces one ray with maximum mipmaps (Tevs et al. 2008) over `pyramid`, the buffer
 // `hf_maxmip_bake` filled for this field (`pyramid_len ≥ hf_maxmip_len`): exact, the
 // same hit as `hf_trace_exact` (the linear-planes surface is traced by the exact
-// method). A pyramid that does not belong to the field gives wrong answers, never a
-// crash. Costs one fetch per pyramid texel, four per exact cell test. Thread safe.
+// method). The pyramid's descriptor is checked first: `HF_ERR_MAP_MISMATCH` for a
+// pyramid of another field or size, `HF_ERR_STALE_MAP` for one baked before an
+// update of this field (refresh it with `hf_maxmip_update_rect`). Costs one fetch per pyramid texel, four per exact cell test. Thread safe.
 //
 // # Safety
 // As `hf_trace_exact`; `pyramid` is NULL (an error) or valid for reading

@@ -31,7 +31,8 @@ pub struct hf_cc_options {
     /// An `hf_cc_slope`.
     pub slope: u32,
     /// Longest cone step in centerlines, 0..=255 (64 is the core's default); the march
-    /// must be given the same value.
+    /// must be given the same value (the map's descriptor records it; another is
+    /// `HF_ERR_MAP_MISMATCH`).
     pub cap: u32,
 }
 
@@ -59,7 +60,8 @@ fn options_of(o: &hf_cc_options) -> Result<CcOptions, hf_result> {
 /// heights), each texel row stored as four rows of W, one per class in class order
 /// (x+, x−, y+, y−): the bytes of texel (i, j) for class c start at
 /// `((j * 4 + c) * W + i) * 2`; upload as an `RG8UI` texture of W × 4H texels, texel
-/// (i, 4 j + class). Thread safe.
+/// (i, 4 j + class); then `HF_MAP_DESC_BYTES` of descriptor (`hf_map_desc`), which
+/// stays on the CPU. Thread safe.
 ///
 /// # Safety
 /// `out_len` is NULL (an error) or valid for writing one `size_t`.
@@ -77,7 +79,8 @@ pub unsafe extern "C" fn hf_cc_map_len(width: u32, height: u32, out_len: *mut us
 /// not 0; `hf_cc_bake_classes`): `W * H * 2 * n` for its `n` classes, each texel row
 /// stored as `n` rows in class order (the bytes of texel (i, j) for class c at
 /// `((j * n + slot) * W + i) * 2`, `slot` the number of its classes before c; an
-/// `RG8UI` texture of W × nH texels, texel (i, n j + slot)). Thread safe.
+/// `RG8UI` texture of W × nH texels, texel (i, n j + slot)), then `HF_MAP_DESC_BYTES`
+/// of descriptor. Thread safe.
 ///
 /// # Safety
 /// `out_len` is NULL (an error) or valid for writing one `size_t`.
@@ -313,7 +316,7 @@ pub unsafe extern "C" fn hf_cc_bake_classes(
 }
 
 /// Traces one ray on the triangle surface with the cylinder–cone map `map` (from
-/// `hf_cc_bake` with the same `cap`): exact, the hit of `hf_trace_exact` with
+/// `hf_cc_bake` with the same `cap`, checked against the map's descriptor): exact, the hit of `hf_trace_exact` with
 /// `HF_SURFACE_TRIANGLES` (up to rounding on grazing rays). Costs one fetch per shape
 /// read and one for the third height sample of a cone's base, two per centerline
 /// clearance, four per cell walked. Thread safe.

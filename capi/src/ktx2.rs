@@ -222,9 +222,9 @@ pub unsafe extern "C" fn hf_ktx2_len(desc: *const hf_ktx2_desc, out_len: *mut us
 }
 
 /// Writes the size in bytes of the baked map of `desc` to `*out_len`: what its bake
-/// writes (for the pyramid every level, `hf_maxmip_len` floats), which
-/// `hf_ktx2_write` reads and `hf_ktx2_read_map` writes. Errors as `hf_ktx2_len`.
-/// Thread safe.
+/// writes (for the pyramid every level, `hf_maxmip_len` floats), descriptor included
+/// (every map but `HF_KTX2_HEIGHTS`), which `hf_ktx2_write` reads and
+/// `hf_ktx2_read_map` writes. Errors as `hf_ktx2_len`. Thread safe.
 ///
 /// # Safety
 /// As `hf_ktx2_len`.
@@ -247,7 +247,9 @@ pub unsafe extern "C" fn hf_ktx2_map_len(
 /// Writes the KTX 2 file of the baked map `data` (`data_len` bytes, at least
 /// `hf_ktx2_map_len`: the buffer its bake filled, floats for float maps, aligned for
 /// them) described by `desc` into `out` (`out_len ≥ hf_ktx2_len` bytes; the file is
-/// the first `hf_ktx2_len` of them). Errors as `hf_ktx2_len`, plus
+/// the first `hf_ktx2_len` of them). A baked map's descriptor must describe `desc`'s
+/// map and name its heights (`HF_ERR_MAP_MISMATCH` otherwise); its fingerprint is
+/// stored as `hfcast.fingerprint`. Errors as `hf_ktx2_len`, plus
 /// `HF_ERR_BUFFER_TOO_SMALL` for a short `data` or `out`. Thread safe.
 ///
 /// # Safety
@@ -397,9 +399,10 @@ pub unsafe extern "C" fn hf_ktx2_read_level(
 
 /// Copies the baked map of the KTX 2 file `bytes` into `out` (`out_len ≥` the info's
 /// `map_len` bytes; floats for float maps, aligned for them): exactly what its bake
-/// wrote, ready for the `hf_trace_*` call of its method (the pyramid with every level,
-/// unpadded). Errors as `hf_ktx2_read_info`, plus `HF_ERR_BUFFER_TOO_SMALL`. Thread
-/// safe.
+/// wrote, descriptor included, ready for the `hf_trace_*` call of its method on a field
+/// of the same heights (the pyramid with every level, unpadded; a file without
+/// `hfcast.fingerprint` gives a descriptor that names no heights, which traces refuse).
+/// Errors as `hf_ktx2_read_info`, plus `HF_ERR_BUFFER_TOO_SMALL`. Thread safe.
 ///
 /// # Safety
 /// As `hf_ktx2_read_info`, with `out` valid for writing `out_len` bytes.

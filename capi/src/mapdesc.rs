@@ -291,8 +291,9 @@ fn heights_error(f: &hf_field, got: &MapDescriptor) -> hf_result {
         Some(fp) => fail(
             HF_ERR_MAP_MISMATCH,
             format_args!(
-                "map: baked from other heights (fingerprint {fp:016x}, the field's {:016x})",
-                f.fingerprint()
+                "map: baked from other heights (fingerprint {fp:016x}, the field's {:016x}), or from heights this field had before its last {} updates",
+                f.fingerprint(),
+                crate::field::HISTORY
             ),
         ),
         None => fail(

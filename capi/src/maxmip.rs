@@ -27,7 +27,9 @@ fn layout(width: u32, height: u32) -> Result<Layout, hf_result> {
 
 /// Writes the number of floats of the maximum-mipmap pyramid of a `width × height`
 /// field (2 ≤ width, height ≤ `HF_MAX_SIDE`) to `*out_len`: the size to allocate for
-/// `hf_maxmip_bake`. Thread safe.
+/// `hf_maxmip_bake`, the texels of every level (`hf_maxmip_levels`) then
+/// `HF_MAP_DESC_BYTES / 4` floats of descriptor (`hf_map_desc`; upload the levels
+/// only). Thread safe.
 ///
 /// # Safety
 /// `out_len` is NULL (an error) or valid for writing one `size_t`.
@@ -247,10 +249,14 @@ fn bake_threaded(hf: &HeightField, l: &Layout, threads: u32, pyramid: &mut [f32]
 
 /// Refreshes the texels of `pyramid` (baked for `field` before the change) that
 /// depend on the samples `[x0, x1) × [y0, y1)`, after `hf_field_update_rect` changed
-/// them; the result equals a full bake. `pyramid_len ≥ hf_maxmip_len(W, H)`. An empty
-/// rectangle (x0 = x1 or y0 = y1) is `HF_OK` and changes nothing, as for
-/// `hf_field_update_rect`; a reversed one or one outside the
-/// field is `HF_ERR_INVALID_RECT`. Thread safe for distinct pyramids (reads the field
+/// them; the result equals a full bake, descriptor included. `pyramid_len ≥
+/// hf_maxmip_len(W, H)`. The pyramid's descriptor must name the field's heights now or
+/// before updates that all lie inside the rectangle (the field remembers its last 16
+/// updates): `HF_ERR_STALE_MAP` when an update since the bake lies outside it
+/// (`hf_last_error_detail` names it), `HF_ERR_MAP_MISMATCH` for a pyramid of other
+/// heights or older than those 16 updates (rebake it). An empty rectangle (x0 = x1 or
+/// y0 = y1) is `HF_OK` and changes nothing, as for `hf_field_update_rect`; a reversed
+/// one or one outside the field is `HF_ERR_INVALID_RECT`. Thread safe for distinct pyramids (reads the field
 /// only); needs exclusive access to `pyramid`: no trace may read it meanwhile.
 ///
 /// # Safety

@@ -60,8 +60,8 @@ fn zero_of(v: u32) -> Result<Options, hf_result> {
 }
 
 /// Writes the size in bytes of the radius map of a `width × height` field to
-/// `*out_len`: `W * H`, one radius per texel at `map[j * W + i]` (an `R8UI` texture).
-/// Thread safe.
+/// `*out_len`: `W * H`, one radius per texel at `map[j * W + i]` (an `R8UI` texture),
+/// then `HF_MAP_DESC_BYTES` of descriptor (`hf_map_desc`). Thread safe.
 ///
 /// # Safety
 /// `out_len` is NULL (an error) or valid for writing one `size_t`.
@@ -246,8 +246,9 @@ unsafe fn trace_inputs<'a>(
 /// says what a zero radius does. Exact, the hit of `hf_trace_exact` with
 /// `HF_SURFACE_TRIANGLES` (up to rounding on rays that graze the surface), when the
 /// map was baked with tolerance 0 and `zero` is `HF_RADIUS_WALK`. Costs one fetch per
-/// radius read, two per centerline clearance, four per cell walked. A map that does
-/// not belong to the field gives wrong answers, never a crash. Thread safe.
+/// radius read, two per centerline clearance, four per cell walked. A map of another
+/// field, or baked before an update, is refused (`HF_ERR_MAP_MISMATCH`,
+/// `HF_ERR_STALE_MAP`: its descriptor). Thread safe.
 ///
 /// # Safety
 /// `field` is NULL (an error) or a live handle; `map` NULL (an error) or valid for

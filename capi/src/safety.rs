@@ -77,7 +77,8 @@ fn options_of(o: &hf_safety_options) -> Result<Options, hf_result> {
 
 /// Writes the size in bytes of the safety-distance map of a `width × height` field
 /// with `variant` (an `hf_safety_variant`) to `*out_len`: `W * H * 4` (directional) or
-/// `W * H` (isotropic). Thread safe.
+/// `W * H` (isotropic), then `HF_MAP_DESC_BYTES` of descriptor (`hf_map_desc`; upload
+/// the bytes before it). Thread safe.
 ///
 /// # Safety
 /// `out_len` is NULL (an error) or valid for writing one `size_t`.
@@ -98,7 +99,7 @@ pub unsafe extern "C" fn hf_safety_map_len(
 
 /// `hf_safety_map_len` for a map of the ray classes `ray_classes` only (`HF_RAYS_*`
 /// bits, not 0; `hf_safety_bake_classes`): `W * H * n` directional for its `n`
-/// classes, `W * H` isotropic. Thread safe.
+/// classes, `W * H` isotropic, then `HF_MAP_DESC_BYTES` of descriptor. Thread safe.
 ///
 /// # Safety
 /// `out_len` is NULL (an error) or valid for writing one `size_t`.
@@ -379,7 +380,8 @@ pub(crate) fn march_surface_of(v: u32) -> Result<MarchSurface, hf_result> {
 /// exact, the hit of `hf_trace_exact` with `HF_SURFACE_TRIANGLES` (up to rounding on
 /// rays that graze the surface) when the map was baked with `positive = 0`. Costs one
 /// fetch per distance read, two per centerline clearance, four per cell walked. A map
-/// that does not belong to the field gives wrong answers, never a crash. Thread safe.
+/// of another field, variant or class set, or baked before an update, is refused
+/// (`HF_ERR_MAP_MISMATCH`, `HF_ERR_STALE_MAP`: its descriptor). Thread safe.
 ///
 /// # Safety
 /// `field` is NULL (an error) or a live handle; `map` NULL (an error) or valid for

@@ -455,8 +455,9 @@ pub unsafe extern "C" fn hf_trace_linear_secant_batch(
 /// Traces one ray with maximum mipmaps (Tevs et al. 2008) over `pyramid`, the buffer
 /// `hf_maxmip_bake` filled for this field (`pyramid_len ≥ hf_maxmip_len`): exact, the
 /// same hit as `hf_trace_exact` (the linear-planes surface is traced by the exact
-/// method). A pyramid that does not belong to the field gives wrong answers, never a
-/// crash. Costs one fetch per pyramid texel, four per exact cell test. Thread safe.
+/// method). The pyramid's descriptor is checked first: `HF_ERR_MAP_MISMATCH` for a
+/// pyramid of another field or size, `HF_ERR_STALE_MAP` for one baked before an
+/// update of this field (refresh it with `hf_maxmip_update_rect`). Costs one fetch per pyramid texel, four per exact cell test. Thread safe.
 ///
 /// # Safety
 /// As `hf_trace_exact`; `pyramid` is NULL (an error) or valid for reading

@@ -1,0 +1,359 @@
+/* Issue 26, item 1: maps that know what they belong to. Every bake writes a descriptor
+ * (HF_MAP_DESC_BYTES after the texels: the map, the field's size, cap, ray classes,
+ * ray set and the fingerprint of the heights) and every trace checks it:
+ *  - a map of another field of the same size: HF_ERR_MAP_MISMATCH (before: HF_OK and
+ *    wrong answers, e.g. 140 of 2,000 rays for the pyramid);
+ *  - a map of the heights before an update: HF_ERR_STALE_MAP (before: stale answers);
+ *  - a wrong cap, class set or variant, another method's map, a damaged descriptor:
+ *    HF_ERR_MAP_MISMATCH;
+ *  - hf_maxmip_update_rect refreshes only over a rectangle covering every update
+ *    since the bake, and then equals a fresh bake byte for byte;
+ *  - KTX2 files keep the fingerprint, so a map read back traces again.
+ * Every refused call writes nothing. Prints `c-maps: N passed, M failed`. */
+#include "hfcast.h"
+#include "check_api.h"
+
+#include <math.h>
+#include <stdint.h>
+#include <stdlib.h>
+#include <string.h>
+
+enum { W = 37, H = 29, N = 500, CAP = 32 };
+
+static uint32_t seed = 12345u;
+static float frand(void) {
+    seed = seed * 1664525u + 1013904223u;
+    return (float)(seed >> 8) / 16777216.0f;
+}
+
+static char detail[256];
+
+/* Checks that the detail of the last failing call contains `part`. */
+#define CHECK_DETAIL(part)                                                         \
+    do {                                                                           \
+        size_t w_ = 0;                                                             \
+        checks++;                                                                  \
+        if (hf_last_error_detail(detail, sizeof detail, &w_) != HF_OK ||           \
+            !strstr(detail, (part))) {                                             \
+            failures++;                                                            \
+            fprintf(stderr, "%s:%d: detail \"%s\" lacks \"%s\"\n", __FILE__,       \
+                    __LINE__, detail, (part));                                     \
+        }                                                                          \
+    } while (0)
+
+/* Every baked map of one field. */
+typedef struct {
+    float *pyr, *cone, *qdm, *relaxed;
+    size_t pyr_len, cone_len, qdm_len, relaxed_len;
+    uint8_t *sd, *si, *cc, *rad;
+    size_t sd_len, si_len, cc_len, rad_len;
+} maps;
+
+static const uint32_t CLASSES = HF_RAYS_X_POS | HF_RAYS_Y_NEG;
+
+static void bake_all(const hf_field *f, maps *m) {
+    hf_safety_options so = {HF_SAFETY_DIRECTIONAL, 0, 64};
+    hf_cc_options co = {HF_CC_SLOPE_NBUFFER, CAP};
+    hf_radius_options ro = {0.0f, 64};
+    CHECK_OK(hf_maxmip_len(W, H, &m->pyr_len));
+    m->pyr = (float *)malloc(m->pyr_len * sizeof(float));
+    CHECK_OK(hf_maxmip_bake(f, m->pyr, m->pyr_len));
+    CHECK_OK(hf_safety_map_len(W, H, HF_SAFETY_DIRECTIONAL, &m->sd_len));
+    m->sd = (uint8_t *)malloc(m->sd_len);
+    CHECK_OK(hf_safety_bake(f, &so, 2, m->sd, m->sd_len));
+    so.variant = HF_SAFETY_ISOTROPIC;
+    CHECK_OK(hf_safety_map_len(W, H, HF_SAFETY_ISOTROPIC, &m->si_len));
+    m->si = (uint8_t *)malloc(m->si_len);
+    CHECK_OK(hf_safety_bake(f, &so, 2, m->si, m->si_len));
+    CHECK_OK(hf_cc_map_len_classes(W, H, CLASSES, &m->cc_len));
+    m->cc = (uint8_t *)malloc(m->cc_len);
+    CHECK_OK(hf_cc_bake_classes(f, &co, CLASSES, 2, m->cc, m->cc_len));
+    CHECK_OK(hf_radius_map_len(W, H, &m->rad_len));
+    m->rad = (uint8_t *)malloc(m->rad_len);
+    CHECK_OK(hf_radius_bake(f, &ro, 2, m->rad, m->rad_len));
+    CHECK_OK(hf_cone_map_len(W, H, &m->cone_len));
+    m->cone = (float *)malloc(m->cone_len * sizeof(float));
+    CHECK_OK(hf_cone_bake(f, 2, m->cone, m->cone_len));
+    CHECK_OK(hf_qdm_map_len(W, H, &m->qdm_len));
+    m->qdm = (float *)malloc(m->qdm_len * sizeof(float));
+    CHECK_OK(hf_qdm_bake(f, 2, m->qdm, m->qdm_len));
+    CHECK_OK(hf_relaxed_map_len(W, H, &m->relaxed_len));
+    m->relaxed = (float *)malloc(m->relaxed_len * sizeof(float));
+    CHECK_OK(hf_relaxed_bake(f, 2, m->relaxed, m->relaxed_len));
+}
+
+static void free_all(maps *m) {
+    free(m->pyr);
+    free(m->cone);
+    free(m->qdm);
+    free(m->relaxed);
+    free(m->sd);
+    free(m->si);
+    free(m->cc);
+    free(m->rad);
+}
+
+enum { MAXMIP, SAFETY_DIR, SAFETY_ISO, CC, RADIUS, CONE, QDM, RELAXED, METHODS };
+static const char *const names[METHODS] = {"maxmip", "safety", "safety-iso", "cc",
+                                           "radius", "cone",   "qdm",        "relaxed"};
+
+/* Traces the batch with method m's map of `m` on field f. */
+static hf_result trace(int method, const hf_field *f, const maps *m, const hf_ray *rays,
+                       hf_hit *out) {
+    const uint32_t tri = HF_SURFACE_TRIANGLES;
+    switch (method) {
+    case MAXMIP: return hf_trace_maxmip_batch(f, m->pyr, m->pyr_len, tri, rays, N, out, N);
+    case SAFETY_DIR: return hf_trace_safety_batch(f, m->sd, m->sd_len, 0, rays, N, out, N);
+    case SAFETY_ISO: return hf_trace_safety_batch(f, m->si, m->si_len, 1, rays, N, out, N);
+    case CC:
+        return hf_trace_cc_on_batch(f, m->cc, m->cc_len, CAP, CLASSES, tri, rays, N, out, N);
+    case RADIUS: return hf_trace_radius_batch(f, m->rad, m->rad_len, 0, rays, N, out, N);
+    case CONE: return hf_trace_cone_batch(f, m->cone, m->cone_len, 1000, rays, N, out, N);
+    case QDM: return hf_trace_qdm_batch(f, m->qdm, m->qdm_len, 1000, rays, N, out, N);
+    default:
+        return hf_trace_relaxed_batch(f, m->relaxed, m->relaxed_len, 64, 8, rays, N, out, N);
+    }
+}
+
+/* Every method answers the batch as the exact DDA on f (hits equal up to 1e-3 in t;
+ * relaxed cone stepping is approximate and only has to answer). */
+static void check_exact(const hf_field *f, const maps *m, const hf_ray *rays, const char *when) {
+    static hf_hit exact[N], got[N];
+    CHECK_OK(hf_trace_exact_batch(f, HF_SURFACE_TRIANGLES, rays, N, exact, N));
+    for (int method = 0; method < METHODS; method++) {
+        hf_result r = trace(method, f, m, rays, got);
+        CHECK(r == HF_OK);
+        if (r != HF_OK || method == RELAXED) continue;
+        int wrong = 0;
+        for (int k = 0; k < N; k++)
+            wrong += got[k].hit != exact[k].hit ||
+                     (exact[k].hit && (got[k].t - exact[k].t > 1e-3f || exact[k].t - got[k].t > 1e-3f));
+        if (wrong) fprintf(stderr, "%s %s: %d of %d rays wrong\n", names[method], when, wrong, N);
+        CHECK(wrong == 0);
+    }
+}
+
+/* Every method refuses its map on f with `code`, writing nothing. */
+static void check_refused(const hf_field *f, const maps *m, const hf_ray *rays,
+                          hf_result code, const char *part) {
+    static hf_hit got[N];
+    for (int method = 0; method < METHODS; method++) {
+        memset(got, 0x5A, sizeof got);
+        CHECK_BAD(trace(method, f, m, rays, got), code, got, sizeof got);
+        CHECK_DETAIL(part);
+    }
+}
+
+/* A field of W x H heights: smooth hills plus noise, and a needle. */
+static hf_field *field(float scale, float phase) {
+    static float h[W * H];
+    for (int j = 0; j < H; j++)
+        for (int i = 0; i < W; i++)
+            h[j * W + i] = scale * (1.5f + sinf(0.3f * (float)i + phase) * cosf(0.2f * (float)j)) +
+                           2.0f * frand();
+    h[(H / 2) * W + W / 3] = 14.0f;
+    hf_field *f = NULL;
+    CHECK_OK(hf_field_create_f32(h, W * H, W, H, W, &f));
+    return f;
+}
+
+static void check_descriptor_reads(const hf_field *f, const maps *m) {
+    hf_map_desc d;
+    memset(&d, 0, sizeof d);
+    uint64_t fp = 0, generation = 9;
+    CHECK_OK(hf_field_get_fingerprint(f, &fp, &generation));
+    CHECK(generation == 0);
+    CHECK_OK(hf_map_read_desc(m->cc, m->cc_len, &d));
+    CHECK(d.map.map == HF_KTX2_CC && d.map.width == W && d.map.height == H);
+    CHECK(d.map.cap == CAP && d.map.ray_classes == CLASSES);
+    CHECK(d.flags == HF_MAP_FINGERPRINT_KNOWN && d.fingerprint == fp);
+    CHECK(d.texel_bytes == m->cc_len - HF_MAP_DESC_BYTES);
+    CHECK_OK(hf_map_read_desc(m->pyr, m->pyr_len * 4, &d));
+    CHECK(d.map.map == HF_KTX2_MAXMIP && d.fingerprint == fp);
+    CHECK_OK(hf_map_read_desc(m->si, m->si_len, &d));
+    CHECK(d.map.map == HF_KTX2_SAFETY_ISOTROPIC);
+    hf_map_desc keep = d;
+    CHECK_BAD(hf_map_read_desc(m->si, m->si_len - 1, &d), HF_ERR_MAP_MISMATCH, &d, sizeof d);
+    CHECK_BAD(hf_map_read_desc(m->si, 10, &d), HF_ERR_BUFFER_TOO_SMALL, &d, sizeof d);
+    CHECK_BAD(hf_map_read_desc(NULL, 64, &d), HF_ERR_NULL_POINTER, &d, sizeof d);
+    CHECK(memcmp(&keep, &d, sizeof d) == 0);
+}
+
+/* Wrong arguments for a right map, and maps of the wrong kind. */
+static void check_wrong_arguments(const hf_field *f, const maps *m, const hf_ray *rays) {
+    static hf_hit got[N];
+    const uint32_t tri = HF_SURFACE_TRIANGLES;
+    memset(got, 0x5A, sizeof got);
+    /* The cc cap the trace names must be the bake's. */
+    CHECK_BAD(hf_trace_cc_on_batch(f, m->cc, m->cc_len, CAP - 1, CLASSES, tri, rays, N, got, N),
+              HF_ERR_MAP_MISMATCH, got, sizeof got);
+    CHECK_DETAIL("cap");
+    /* Another class set: the descriptor is not where that set's texels end. */
+    CHECK_BAD(hf_trace_cc_on_batch(f, m->cc, m->cc_len, CAP, HF_RAYS_X_POS, tri, rays, N, got, N),
+              HF_ERR_MAP_MISMATCH, got, sizeof got);
+    /* A directional map traced as isotropic (four times the bytes: no descriptor at the
+     * isotropic length) and an isotropic map (W x H bytes) as a radius map (W x H). */
+    CHECK_BAD(hf_trace_safety_batch(f, m->sd, m->sd_len, 1, rays, N, got, N),
+              HF_ERR_MAP_MISMATCH, got, sizeof got);
+    CHECK_BAD(hf_trace_radius_batch(f, m->si, m->si_len, 0, rays, N, got, N),
+              HF_ERR_MAP_MISMATCH, got, sizeof got);
+    CHECK_DETAIL("isotropic safety map, a radius map expected");
+    /* A cone map traced as a relaxed map (long enough: the relaxed texels end inside
+     * the cone texels, where no descriptor is). */
+    CHECK_BAD(hf_trace_relaxed_batch(f, m->cone, m->cone_len, 64, 8, rays, N, got, N),
+              HF_ERR_MAP_MISMATCH, got, sizeof got);
+    CHECK_DETAIL("descriptor after its");
+    /* A damaged descriptor, then repaired. */
+    m->rad[m->rad_len - 30] ^= 4;
+    CHECK_BAD(hf_trace_radius_batch(f, m->rad, m->rad_len, 0, rays, N, got, N),
+              HF_ERR_MAP_MISMATCH, got, sizeof got);
+    CHECK_DETAIL("damaged");
+    m->rad[m->rad_len - 30] ^= 4;
+    CHECK_OK(hf_trace_radius_batch(f, m->rad, m->rad_len, 0, rays, N, got, N));
+    /* A map without room for its descriptor. */
+    CHECK_BAD(hf_trace_maxmip_batch(f, m->pyr, m->pyr_len - 1, tri, rays, N, got, N),
+              HF_ERR_BUFFER_TOO_SMALL, got, sizeof got);
+}
+
+/* Updates, stale maps and the pyramid refresh. */
+static void check_updates(hf_field *f, maps *m, const hf_ray *rays) {
+    uint64_t fp0 = 0, fp = 0, generation = 0;
+    CHECK_OK(hf_field_get_fingerprint(f, &fp0, &generation));
+    const float bump[6] = {12.0f, 13.0f, 11.0f, 12.5f, 13.5f, 10.0f};
+    CHECK_OK(hf_field_update_rect(f, 10, 8, 13, 10, bump, 6, 3));
+    CHECK_OK(hf_field_get_fingerprint(f, &fp, &generation));
+    CHECK(fp != fp0 && generation == 1);
+    check_refused(f, m, rays, HF_ERR_STALE_MAP, "update 1");
+
+    /* A refresh over a rectangle that misses part of the update is refused. */
+    float *before = (float *)malloc(m->pyr_len * sizeof(float));
+    memcpy(before, m->pyr, m->pyr_len * sizeof(float));
+    CHECK_BAD(hf_maxmip_update_rect(f, 10, 8, 12, 10, m->pyr, m->pyr_len), HF_ERR_STALE_MAP,
+              m->pyr, 512);
+    CHECK(memcmp(before, m->pyr, m->pyr_len * sizeof(float)) == 0);
+    CHECK_DETAIL("update 1");
+    /* A second update elsewhere: a refresh must cover both. */
+    const float dip[2] = {0.5f, 0.25f};
+    CHECK_OK(hf_field_update_rect(f, 30, 20, 32, 21, dip, 2, 2));
+    CHECK_BAD(hf_maxmip_update_rect(f, 10, 8, 13, 10, m->pyr, m->pyr_len), HF_ERR_STALE_MAP,
+              m->pyr, 512);
+    CHECK_DETAIL("update 2");
+    CHECK_OK(hf_maxmip_update_rect(f, 10, 8, 32, 21, m->pyr, m->pyr_len));
+    /* The refreshed pyramid equals a fresh bake, descriptor included. */
+    float *fresh = (float *)malloc(m->pyr_len * sizeof(float));
+    CHECK_OK(hf_maxmip_bake(f, fresh, m->pyr_len));
+    CHECK(memcmp(fresh, m->pyr, m->pyr_len * sizeof(float)) == 0);
+    /* Refreshing a current pyramid again is fine. */
+    CHECK_OK(hf_maxmip_update_rect(f, 0, 0, 1, 1, m->pyr, m->pyr_len));
+    free(fresh);
+    free(before);
+    static hf_hit got[N];
+    CHECK_OK(trace(MAXMIP, f, m, rays, got));
+    CHECK_BAD(trace(CC, f, m, rays, got), HF_ERR_STALE_MAP, got, sizeof got);
+
+    /* Rebaked, every map answers exactly again. */
+    free_all(m);
+    bake_all(f, m);
+    check_exact(f, m, rays, "after the rebake");
+
+    /* More updates than the field remembers: a refresh cannot prove it covers them. */
+    for (int k = 0; k < 17; k++) {
+        float v = 3.0f + (float)k;
+        CHECK_OK(hf_field_update_rect(f, (uint32_t)k, 0, (uint32_t)k + 1, 1, &v, 1, 1));
+    }
+    CHECK_BAD(hf_maxmip_update_rect(f, 0, 0, W, H, m->pyr, m->pyr_len), HF_ERR_MAP_MISMATCH,
+              m->pyr, 512);
+    CHECK_DETAIL("last 16 updates");
+}
+
+/* A KTX2 file keeps the fingerprint: the map read back traces on the field. */
+static void check_ktx2(const hf_field *f, const maps *m, const hf_ray *rays) {
+    hf_ktx2_desc d;
+    CHECK_OK(hf_ktx2_desc_default(HF_KTX2_CC, W, H, &d));
+    d.cap = CAP;
+    d.ray_classes = CLASSES;
+    size_t n = 0, map_len = 0;
+    CHECK_OK(hf_ktx2_len(&d, &n));
+    CHECK_OK(hf_ktx2_map_len(&d, &map_len));
+    CHECK(map_len == m->cc_len);
+    uint8_t *file = (uint8_t *)malloc(n), *back = (uint8_t *)malloc(map_len);
+    /* The map's descriptor must describe what desc says. */
+    hf_ktx2_desc other = d;
+    other.cap = CAP + 1;
+    size_t n_other = 0;
+    CHECK_OK(hf_ktx2_len(&other, &n_other));
+    uint8_t *file_other = (uint8_t *)malloc(n_other);
+    CHECK_BAD(hf_ktx2_write(&other, m->cc, m->cc_len, file_other, n_other), HF_ERR_MAP_MISMATCH,
+              file_other, n_other);
+    free(file_other);
+    CHECK_OK(hf_ktx2_write(&d, m->cc, m->cc_len, file, n));
+    CHECK_OK(hf_ktx2_read_map(file, n, back, map_len));
+    CHECK(memcmp(back, m->cc, map_len) == 0);
+    static hf_hit a[N], b[N];
+    const uint32_t tri = HF_SURFACE_TRIANGLES;
+    CHECK_OK(hf_trace_cc_on_batch(f, m->cc, map_len, CAP, CLASSES, tri, rays, N, a, N));
+    CHECK_OK(hf_trace_cc_on_batch(f, back, map_len, CAP, CLASSES, tri, rays, N, b, N));
+    CHECK(memcmp(a, b, sizeof a) == 0);
+    free(file);
+    free(back);
+}
+
+/* Row bakes: the call whose rows start at 0 writes the descriptor. */
+static void check_row_bakes(const hf_field *f, const maps *m) {
+    size_t slen = 0;
+    CHECK_OK(hf_safety_scratch_len(W, H, &slen));
+    float *scratch = (float *)malloc(slen * sizeof(float));
+    CHECK_OK(hf_safety_prepare(f, scratch, slen));
+    hf_radius_options ro = {0.0f, 64};
+    uint8_t *rows = (uint8_t *)calloc(m->rad_len, 1);
+    CHECK_OK(hf_radius_bake_rows(f, scratch, slen, &ro, 9, H, rows, m->rad_len));
+    CHECK(memcmp(rows, m->rad, m->rad_len) != 0); /* no descriptor yet */
+    CHECK_OK(hf_radius_bake_rows(f, scratch, slen, &ro, 0, 9, rows, m->rad_len));
+    CHECK(memcmp(rows, m->rad, m->rad_len) == 0);
+    free(rows);
+    free(scratch);
+    /* The pyramid's top level (one texel, baked last) writes it. */
+    hf_level lv[HF_MAX_LEVELS];
+    uint32_t count = 0;
+    CHECK_OK(hf_maxmip_levels(W, H, lv, HF_MAX_LEVELS, &count));
+    float *pyr = (float *)calloc(m->pyr_len, sizeof(float));
+    for (uint32_t k = 0; k < count; k++)
+        CHECK_OK(hf_maxmip_bake_rows(f, k, 0, lv[k].height, pyr, m->pyr_len));
+    CHECK(memcmp(pyr, m->pyr, m->pyr_len * sizeof(float)) == 0);
+    free(pyr);
+}
+
+int main(void) {
+    hf_field *a = field(3.0f, 0.0f), *b = field(3.0f, 1.3f);
+    if (!a || !b) {
+        printf("c-maps: %d passed, %d failed\n", checks - failures, failures + 1);
+        return 1;
+    }
+    static hf_ray rays[N];
+    for (int k = 0; k < N; k++) {
+        hf_ray r = {{-4.0f + (W + 8) * frand(), -4.0f + (H + 8) * frand(), 4.0f + 16.0f * frand()},
+                    {frand() - 0.5f, frand() - 0.5f, -0.6f * frand() - 0.05f},
+                    0.0f,
+                    INFINITY};
+        rays[k] = r;
+    }
+    maps ma, mb;
+    bake_all(a, &ma);
+    bake_all(b, &mb);
+    check_exact(a, &ma, rays, "on their own field");
+    check_exact(b, &mb, rays, "on their own field");
+    /* Field a's maps on field b (same size, other heights). */
+    check_refused(b, &ma, rays, HF_ERR_MAP_MISMATCH, "other heights");
+    check_descriptor_reads(a, &ma);
+    check_wrong_arguments(a, &ma, rays);
+    check_row_bakes(a, &ma);
+    check_ktx2(a, &ma, rays);
+    check_updates(a, &ma, rays);
+    free_all(&ma);
+    free_all(&mb);
+    hf_field_destroy(a);
+    hf_field_destroy(b);
+    printf("c maps: %d checks, %d bad inputs tried\n", checks, bad_inputs);
+    printf("c-maps: %d passed, %d failed\n", checks - failures, failures);
+    return failures != 0;
+}
