@@ -6,7 +6,8 @@
  * code; a failing bake writes nothing, a succeeding one nothing past its length;
  * the whole bake equals the same bake in two row ranges and on one thread; the map
  * then traces the rays as hf_trace_exact does (bit for bit for maxmip; on stable rays
- * for the exact options of the others, fz_compare). */
+ * for the exact options of the others, fz_compare); its descriptor (hf_map_read_desc)
+ * names the field's fingerprint and size. */
 #include "common.h"
 
 enum { B_MAXMIP, B_MAXMIP_THREADED, B_SAFETY, B_CC, B_RADIUS, B_CONE, B_RELAXED, B_QDM, B_COUNT };
@@ -168,6 +169,14 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
         FZ_FAIL("%s refused a good buffer with %u", what, (unsigned)r);
 
     if (r == HF_OK) {
+        /* The descriptor after the texels names this field's heights and size. */
+        hf_map_desc d;
+        uint64_t fp = 0, generation = 0;
+        if (fz_code(hf_field_get_fingerprint(f, &fp, &generation), "hf_field_get_fingerprint") ||
+            fz_code(hf_map_read_desc(map, need * elem, &d), "hf_map_read_desc") != HF_OK ||
+            d.fingerprint != fp || d.flags != HF_MAP_FINGERPRINT_KNOWN || d.map.width != w ||
+            d.map.height != h || d.texel_bytes != need * elem - HF_MAP_DESC_BYTES)
+            FZ_FAIL("%s: the descriptor does not describe the bake", what);
         /* The map traces as the exact method (for the options that make it exact). */
         int exact_opts = (bake != B_SAFETY || so.positive == 0) &&
                          (bake != B_RADIUS || ro.tolerance == 0.0f);
