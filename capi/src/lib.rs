@@ -27,6 +27,8 @@ pub mod cc;
 #[cfg(feature = "cone")]
 pub mod cones;
 pub mod detail;
+#[cfg(all(test, feature = "all-methods"))]
+mod extremes;
 pub mod field;
 pub mod ktx2;
 pub mod mapdesc;

@@ -4,6 +4,7 @@ use crate::detail::fail_at;
 use crate::hf_result::{self, *};
 use crate::ptr::Named;
 use crate::{guard, hf_field, ptr, surface_of};
+use hfcore::condition::{condition, Local};
 #[cfg(feature = "maxmip")]
 use hfcore::maxmip::{self, MaxMip};
 #[cfg(feature = "search")]
@@ -79,18 +80,23 @@ impl From<Trace<f32>> for hf_hit {
     }
 }
 
-/// Checks a ray and converts it from the field's world units to grid space; an invalid
-/// ray's detail names it `ray`, or `rays[index]` (and records `index`) in a batch.
-fn query(hf: &HeightField, r: &hf_ray, index: Option<usize>) -> Result<Query<f32>, hf_result> {
-    hf.transform()
-        .query_to_grid(r.origin, r.dir, r.t_min, r.t_max)
-        .map_err(|e| match index {
-            Some(k) => fail_at(HF_ERR_INVALID_RAY, index, format_args!("rays[{k}]: {e}")),
-            None => fail_at(HF_ERR_INVALID_RAY, None, format_args!("ray: {e}")),
-        })
+/// Checks a ray, converts it from the field's world units to grid space (in f64) and
+/// conditions it for the f32 march (`hfcore::condition`: a far origin rebased near the
+/// field, a tiny or huge direction scaled); an invalid ray's detail names it `ray`, or
+/// `rays[index]` (and records `index`) in a batch.
+fn query(hf: &HeightField, r: &hf_ray, index: Option<usize>) -> Result<Local, hf_result> {
+    let err = |e: hfcore::RayError| match index {
+        Some(k) => fail_at(HF_ERR_INVALID_RAY, index, format_args!("rays[{k}]: {e}")),
+        None => fail_at(HF_ERR_INVALID_RAY, None, format_args!("ray: {e}")),
+    };
+    // The world ray's own faults first, named as such.
+    Query::from_arrays(r.origin, r.dir, r.t_min, r.t_max).map_err(err)?;
+    let xf = hf.transform();
+    let o = xf.point_to_grid(r.origin.map(f64::from));
+    let d = xf.dir_to_grid(r.dir.map(f64::from));
+    condition(hf, o, d, r.t_min, r.t_max).map_err(err)
 }
 
-/// A grid-space trace as the caller's `hf_hit`, in the field's world units.
 fn answer(hf: &HeightField, tr: Trace<f32>) -> hf_hit {
     hf_hit::from(hf.transform().trace_to_world(tr))
 }
@@ -119,8 +125,8 @@ pub(crate) unsafe fn one<P>(
         let out = ptr::out(out_hit).named("out_hit")?;
         let hf = f.view();
         let prepared = prepare(f)?;
-        let q = query(hf, &r, None)?;
-        let hit = answer(hf, trace(hf, &prepared, &q));
+        let local = query(hf, &r, None)?;
+        let hit = answer(hf, local.trace(|q| trace(hf, &prepared, q)));
         // SAFETY: the caller promises `out_hit` is writable.
         unsafe { out.set(hit) };
         Ok(())
@@ -167,7 +173,8 @@ pub(crate) unsafe fn batch<P>(
             query(hf, r, Some(k))?;
         }
         for (k, (r, h)) in rays.iter().zip(hits.iter_mut()).enumerate() {
-            *h = answer(hf, trace(hf, &prepared, &query(hf, r, Some(k))?));
+            let local = query(hf, r, Some(k))?;
+            *h = answer(hf, local.trace(|q| trace(hf, &prepared, q)));
         }
         Ok(())
     })

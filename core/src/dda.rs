@@ -109,8 +109,11 @@ pub fn clip_surface<R: Real>(hf: &HeightField, surface: Surface, q: &Query<R>) -
         }
         // Well under the lowest sample the ray is inside the solid: the hit comes first
         // (at `t0` when the ray already starts or enters the footprint down there).
+        // With heights near ±10³⁸ the margin or the quotient overflows: the bound is
+        // then the largest finite `t` (the footprint or the hit ends the ray before),
+        // never `+∞`, which would leave a vertical ray into the solid untraceable.
         let margin = R::ONE + (zmax - zmin);
-        t1 = t1.min(((zmin - margin - o[2]) / d[2]).max(t0));
+        t1 = t1.min(((zmin - margin - o[2]) / d[2]).max(t0).min(R::MAX));
     }
     // Both ends finite (a direction so small that the box lies beyond the largest
     // representable `t` cannot be traced in this precision: a miss); with `t0 ≤ t1`,

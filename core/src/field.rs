@@ -127,7 +127,7 @@ impl<'a> HeightField<'a> {
         depth: f32,
         out: &'a mut [f32],
     ) -> Result<Self, FieldError> {
-        convert(samples, width, height, stride, depth / 255.0, depth, out)
+        convert(samples, width, height, stride, 255.0, depth, out)
     }
 
     /// Converts 16-bit samples to heights `s / 65535 × depth` into `out` (stride = width)
@@ -140,7 +140,7 @@ impl<'a> HeightField<'a> {
         depth: f32,
         out: &'a mut [f32],
     ) -> Result<Self, FieldError> {
-        convert(samples, width, height, stride, depth / 65535.0, depth, out)
+        convert(samples, width, height, stride, 65535.0, depth, out)
     }
 
     /// The field after the caller changed only the samples in `[x0, x1) × [y0, y1)` of
@@ -267,10 +267,11 @@ fn convert<'a, S: Copy + Into<f32>>(
     width: u32,
     height: u32,
     stride: usize,
-    step: f32,
+    full: f32,
     depth: f32,
     out: &'a mut [f32],
 ) -> Result<HeightField<'a>, FieldError> {
+    let step = depth / full;
     if !depth.is_finite() {
         return Err(FieldError::NotFinite { index: 0 });
     }
@@ -291,7 +292,15 @@ fn convert<'a, S: Copy + Into<f32>>(
     for j in 0..height as usize {
         let src = &samples[j * stride..j * stride + w];
         for (o, &s) in out[j * w..(j + 1) * w].iter_mut().zip(src) {
-            *o = s.into() * step;
+            let v = s.into() * step;
+            // `sample · (depth / full)` rounds twice and may overflow for a depth near
+            // `f32::MAX`; the height itself, at most `|depth|`, is then computed once
+            // in f64 (finite: the issue of a finite depth reported as not finite).
+            *o = if v.is_finite() {
+                v
+            } else {
+                (f64::from(s.into()) * f64::from(depth) / f64::from(full)) as f32
+            };
         }
     }
     HeightField::new(&out[..out_len], width, height, width as usize)

@@ -32,6 +32,8 @@ pub trait Real:
     const INFINITY: Self;
     /// Machine epsilon.
     const EPSILON: Self;
+    /// The largest finite value.
+    const MAX: Self;
 
     /// Converts (exactly) from `f32`.
     fn from_f32(v: f32) -> Self;
@@ -96,6 +98,7 @@ macro_rules! impl_real {
             const HALF: Self = 0.5;
             const INFINITY: Self = <$t>::INFINITY;
             const EPSILON: Self = <$t>::EPSILON;
+            const MAX: Self = <$t>::MAX;
             #[inline]
             fn from_f32(v: f32) -> Self {
                 v as $t

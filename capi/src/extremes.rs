@@ -1,0 +1,399 @@
+//! Issue 25, item 1, through the C API: rays far from the field, tiny and huge
+//! directions, heights near ±10³⁸, a depth of `FLT_MAX`. Every case calls the exported
+//! `hf_*` functions and compares with the `f64` exact traversal of the core on the same
+//! ray; each failed before the rays were conditioned (`hfcore::condition`), as the
+//! tests show by tracing the same rays unconditioned with the core's `f32` DDA.
+
+use crate::cc::{hf_cc_bake, hf_cc_map_len, hf_cc_options, hf_trace_cc};
+use crate::cones::{
+    hf_cone_bake, hf_cone_map_len, hf_qdm_bake, hf_qdm_map_len, hf_trace_cone, hf_trace_qdm,
+};
+use crate::field::{hf_field, hf_field_create_f32, hf_field_create_u16, hf_field_destroy};
+use crate::field::{hf_field_get_info, hf_field_info};
+use crate::hf_result::{self, *};
+use crate::maxmip::{hf_maxmip_bake, hf_maxmip_len};
+use crate::radius::{hf_radius_bake, hf_radius_map_len, hf_radius_options, hf_trace_radius};
+use crate::safety::{hf_safety_bake, hf_safety_map_len, hf_safety_options, hf_trace_safety};
+use crate::trace::{hf_hit, hf_ray, hf_trace_exact, hf_trace_maxmip};
+use hfcore::{dda, HeightField, Query, Surface};
+
+/// A field through the C API, its heights kept for the oracle, and its maps.
+struct Field {
+    w: u32,
+    h: u32,
+    heights: Vec<f32>,
+    handle: *mut hf_field,
+    pyr: Vec<f32>,
+    sd: Vec<u8>,
+    cc: Vec<u8>,
+    rad: Vec<u8>,
+    cone: Vec<f32>,
+    qdm: Vec<f32>,
+}
+
+const CC_CAP: u32 = 64;
+
+/// `len` elements of `T`'s zero.
+fn zeros<T: Clone + Default>(len: usize) -> Vec<T> {
+    vec![T::default(); len]
+}
+
+impl Field {
+    fn new(w: u32, h: u32, heights: Vec<f32>) -> Field {
+        let mut handle = core::ptr::null_mut();
+        // SAFETY: valid buffers and lengths throughout.
+        unsafe {
+            let r = hf_field_create_f32(
+                heights.as_ptr(),
+                heights.len(),
+                w,
+                h,
+                w as usize,
+                &mut handle,
+            );
+            assert_eq!(r, HF_OK);
+            let mut n = 0;
+            assert_eq!(hf_maxmip_len(w, h, &mut n), HF_OK);
+            let mut pyr = zeros(n);
+            assert_eq!(hf_maxmip_bake(handle, pyr.as_mut_ptr(), n), HF_OK);
+            let so = hf_safety_options {
+                variant: 0,
+                positive: 0,
+                cap: 255,
+            };
+            assert_eq!(hf_safety_map_len(w, h, 0, &mut n), HF_OK);
+            let mut sd = zeros(n);
+            assert_eq!(hf_safety_bake(handle, &so, 2, sd.as_mut_ptr(), n), HF_OK);
+            let co = hf_cc_options {
+                slope: 1,
+                cap: CC_CAP,
+            };
+            assert_eq!(hf_cc_map_len(w, h, &mut n), HF_OK);
+            let mut cc = zeros(n);
+            assert_eq!(hf_cc_bake(handle, &co, 2, cc.as_mut_ptr(), n), HF_OK);
+            let ro = hf_radius_options {
+                tolerance: 0.0,
+                cap: 255,
+            };
+            assert_eq!(hf_radius_map_len(w, h, &mut n), HF_OK);
+            let mut rad = zeros(n);
+            assert_eq!(hf_radius_bake(handle, &ro, 2, rad.as_mut_ptr(), n), HF_OK);
+            assert_eq!(hf_cone_map_len(w, h, &mut n), HF_OK);
+            let mut cone = zeros(n);
+            assert_eq!(hf_cone_bake(handle, 2, cone.as_mut_ptr(), n), HF_OK);
+            assert_eq!(hf_qdm_map_len(w, h, &mut n), HF_OK);
+            let mut qdm = zeros(n);
+            assert_eq!(hf_qdm_bake(handle, 2, qdm.as_mut_ptr(), n), HF_OK);
+            Field {
+                w,
+                h,
+                heights,
+                handle,
+                pyr,
+                sd,
+                cc,
+                rad,
+                cone,
+                qdm,
+            }
+        }
+    }
+
+    fn view(&self) -> HeightField<'_> {
+        HeightField::new(&self.heights, self.w, self.h, self.w as usize).unwrap()
+    }
+
+    /// Every exact method's answer to `r` through the C API, named.
+    fn trace_all(&self, r: &hf_ray) -> Vec<(&'static str, hf_result, hf_hit)> {
+        let tri = 0;
+        let f = self.handle;
+        let mut out = Vec::new();
+        let mut one = |name, call: &dyn Fn(*mut hf_hit) -> hf_result| {
+            let mut hit = hf_hit::default();
+            let code = call(&mut hit);
+            out.push((name, code, hit));
+        };
+        // SAFETY: live handle, valid maps and pointers.
+        unsafe {
+            one("exact", &|h| hf_trace_exact(f, tri, r, h));
+            one("maxmip", &|h| {
+                hf_trace_maxmip(f, self.pyr.as_ptr(), self.pyr.len(), tri, r, h)
+            });
+            one("safety", &|h| {
+                hf_trace_safety(f, self.sd.as_ptr(), self.sd.len(), 0, r, h)
+            });
+            one("cc", &|h| {
+                hf_trace_cc(f, self.cc.as_ptr(), self.cc.len(), CC_CAP, r, h)
+            });
+            one("radius", &|h| {
+                hf_trace_radius(f, self.rad.as_ptr(), self.rad.len(), 0, r, h)
+            });
+            one("cone", &|h| {
+                hf_trace_cone(f, self.cone.as_ptr(), self.cone.len(), 100_000, r, h)
+            });
+            one("qdm", &|h| {
+                hf_trace_qdm(f, self.qdm.as_ptr(), self.qdm.len(), 100_000, r, h)
+            });
+        }
+        out
+    }
+}
+
+impl Drop for Field {
+    fn drop(&mut self) {
+        // SAFETY: the live handle from `new`, destroyed once.
+        unsafe { hf_field_destroy(self.handle) };
+    }
+}
+
+/// A small deterministic generator.
+struct Rng(u64);
+
+impl Rng {
+    fn next(&mut self) -> f64 {
+        self.0 = self
+            .0
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        (self.0 >> 11) as f64 / (1u64 << 53) as f64
+    }
+    fn range(&mut self, lo: f64, hi: f64) -> f64 {
+        lo + (hi - lo) * self.next()
+    }
+}
+
+/// Rolling hills with a needle, `w × h`.
+fn hills(w: u32, h: u32) -> Vec<f32> {
+    let mut v: Vec<f32> = (0..w * h)
+        .map(|k| {
+            let (i, j) = ((k % w) as f32, (k / w) as f32);
+            2.0 + 1.5 * (0.31 * i).sin() * (0.23 * j).cos() + 0.4 * (1.7 * i + 0.9 * j).sin()
+        })
+        .collect();
+    v[(h / 2 * w + w / 3) as usize] = 9.0;
+    v
+}
+
+/// The oracle's answer to the ray `o + t·d` (`f32` values), and its clearance.
+fn oracle(hf: &HeightField, o: [f32; 3], d: [f32; 3]) -> (Option<[f64; 3]>, f64) {
+    let q =
+        Query::<f64>::from_arrays(o.map(f64::from), d.map(f64::from), 0.0, f64::INFINITY).unwrap();
+    let tr = dda::trace(hf, Surface::Triangles, &q);
+    (tr.hit.map(|h| h.point.to_array()), tr.clearance)
+}
+
+/// Largest distance over the axes.
+fn dist(a: [f64; 3], b: [f64; 3]) -> f64 {
+    (0..3).fold(0.0, |m, k| m.max((a[k] - b[k]).abs()))
+}
+
+/// The error of an answer against the oracle: 0 for agreeing misses, ∞ for a
+/// hit/miss disagreement, else the distance between the hit points.
+fn error(hit: &hf_hit, want: Option<[f64; 3]>) -> f64 {
+    match (hit.hit == 1, want) {
+        (false, None) => 0.0,
+        (true, Some(p)) => dist(hit.point.map(f64::from), p),
+        _ => f64::INFINITY,
+    }
+}
+
+/// Rays from `far` texels away (around, above and at a slant), aimed at random points
+/// of the field; each with the oracle's answer. Ambiguous rays (the oracle's clearance
+/// under 2⁻¹³ near the hit) are left out.
+fn far_rays(rng: &mut Rng, f: &Field, far: f64, n: usize) -> Vec<(hf_ray, Option<[f64; 3]>)> {
+    let hf = f.view();
+    let (xm, ym) = (f64::from(f.w - 1), f64::from(f.h - 1));
+    let mut out = Vec::new();
+    while out.len() < n {
+        let k = out.len();
+        let o = match k % 5 {
+            0 => [-far, rng.range(0.0, ym), rng.range(0.0, 40.0)],
+            1 => [xm + far, rng.range(0.0, ym), rng.range(0.0, 40.0)],
+            2 => [rng.range(0.0, xm), -far, rng.range(0.0, 40.0)],
+            3 => [far, far, far * 0.3],
+            _ => [rng.range(0.0, xm), rng.range(0.0, ym), far],
+        };
+        let p = [rng.range(0.0, xm), rng.range(0.0, ym), rng.range(0.0, 4.0)];
+        let o = o.map(|v| v as f32);
+        let d = [0, 1, 2].map(|a| (p[a] - f64::from(o[a])) as f32);
+        let (want, clearance) = oracle(&hf, o, d);
+        if clearance.abs() < 1.0 / 8192.0 {
+            continue;
+        }
+        let ray = hf_ray {
+            origin: o,
+            dir: d,
+            t_min: 0.0,
+            t_max: f32::INFINITY,
+        };
+        out.push((ray, want));
+    }
+    out
+}
+
+#[test]
+fn far_orbits_hit_as_near_rays() {
+    let f = Field::new(65, 49, hills(65, 49));
+    let hf = f.view();
+    let mut rng = Rng(25);
+    for far in [1e4, 1e5, 1e6] {
+        let rays = far_rays(&mut rng, &f, far, 60);
+        let mut worst = 0.0f64;
+        let mut plain_worst = 0.0f64;
+        for (r, want) in &rays {
+            for (name, code, hit) in f.trace_all(r) {
+                assert_eq!(code, HF_OK, "{name}");
+                let e = error(&hit, *want);
+                assert!(
+                    e <= 1e-3,
+                    "{name} from {far:e}: error {e:e} texel, ray {r:?}"
+                );
+                worst = worst.max(e);
+            }
+            // The same ray traced unconditioned, as before issue 25.
+            let q = Query::from_arrays(r.origin, r.dir, 0.0, f32::INFINITY).unwrap();
+            let tr = dda::trace(&hf, Surface::Triangles, &q);
+            let plain = match (tr.hit, want) {
+                (None, None) => 0.0,
+                (Some(h), Some(p)) => dist(h.point.to_array().map(f64::from), *p),
+                _ => f64::INFINITY,
+            };
+            plain_worst = plain_worst.max(plain);
+        }
+        println!(
+            "far orbits at {far:e}: {} rays, worst error {worst:.1e} texel conditioned, \
+             {plain_worst:.1e} unconditioned",
+            rays.len()
+        );
+        if far >= 1e5 {
+            assert!(
+                plain_worst > 1e-3,
+                "the unconditioned f32 march was right at {far:e}"
+            );
+        }
+    }
+}
+
+/// One ray through every exact method: each hits at `want` (within `tol` texels).
+fn all_hit(f: &Field, r: &hf_ray, want: [f64; 3], tol: f64) {
+    for (name, code, hit) in f.trace_all(r) {
+        assert_eq!(code, HF_OK, "{name}");
+        let e = error(&hit, Some(want));
+        assert!(e <= tol, "{name}: {hit:?}, want {want:?}");
+    }
+}
+
+/// A needle at sample (2, 1) rising to 2 over a flat 5 × 4 field.
+fn needle_field() -> Field {
+    let mut h = vec![0.0f32; 20];
+    h[5 + 2] = 2.0;
+    Field::new(5, 4, h)
+}
+
+#[test]
+fn a_level_ray_from_minus_1_8e9_hits() {
+    let f = needle_field();
+    let r = hf_ray {
+        origin: [-1.8e9, 1.0, 1.0],
+        dir: [1.0, 0.0, 0.0],
+        t_min: 0.0,
+        t_max: f32::INFINITY,
+    };
+    let q = Query::from_arrays(r.origin, r.dir, 0.0, f32::INFINITY).unwrap();
+    assert!(dda::trace(&f.view(), Surface::Triangles, &q).hit.is_none());
+    all_hit(&f, &r, [1.5, 1.0, 1.0], 1e-6);
+}
+
+#[test]
+fn a_vertical_ray_from_3e8_reports_its_height() {
+    let f = needle_field();
+    let r = hf_ray {
+        origin: [2.0, 1.0, 3e8],
+        dir: [0.0, 0.0, -1.0],
+        t_min: 0.0,
+        t_max: f32::INFINITY,
+    };
+    let q = Query::from_arrays(r.origin, r.dir, 0.0, f32::INFINITY).unwrap();
+    let plain = dda::trace(&f.view(), Surface::Triangles, &q).hit.unwrap();
+    assert!((plain.point.z - 2.0).abs() > 1.0, "{plain:?}");
+    all_hit(&f, &r, [2.0, 1.0, 2.0], 1e-6);
+}
+
+#[test]
+fn tiny_and_huge_directions_are_traced() {
+    let f = needle_field();
+    for scale in [1e-37f32, 1e-40, 1e-44, 1e-20, 1e20, 1e37] {
+        let r = hf_ray {
+            origin: [0.5, 1.0, 1.0],
+            dir: [scale, 0.0, 0.0],
+            t_min: 0.0,
+            t_max: f32::INFINITY,
+        };
+        all_hit(&f, &r, [1.5, 1.0, 1.0], 1e-6);
+        let q = Query::from_arrays(r.origin, r.dir, 0.0, f32::INFINITY).unwrap();
+        let plain = dda::trace(&f.view(), Surface::Triangles, &q);
+        println!(
+            "direction {scale:e}: unconditioned hit {:?}",
+            plain.hit.map(|h| h.point)
+        );
+        if scale <= 1e-40 {
+            // Every quotient overflows: a miss without a fetch, before issue 25.
+            assert!(
+                plain.hit.is_none() && plain.fetches == 0,
+                "{scale:e}: {plain:?}"
+            );
+        }
+    }
+}
+
+#[test]
+fn heights_near_1e38_are_traced() {
+    // Heights from -1e38 to 1e38: the clip's margin (1 + range) overflows f32.
+    let mut h = vec![-1e38f32; 16];
+    h[5] = 1e38;
+    h[6] = 0.0;
+    let f = Field::new(4, 4, h);
+    for o in [
+        [1.25f32, 1.25, 2e38],
+        [2.5, 2.5, 0.0],
+        [1.0, 1.0, 3e38],
+        [0.5, 2.0, -5e37],
+    ] {
+        let r = hf_ray {
+            origin: o,
+            dir: [0.0, 0.0, -1.0],
+            t_min: 0.0,
+            t_max: f32::INFINITY,
+        };
+        let want = oracle(&f.view(), o, r.dir)
+            .0
+            .expect("a ray down into the solid hits");
+        let q = Query::from_arrays(r.origin, r.dir, 0.0, f32::INFINITY).unwrap();
+        println!(
+            "{o:?}: unconditioned {:?}",
+            dda::trace(&f.view(), Surface::Triangles, &q).hit
+        );
+        let mut hit = hf_hit::default();
+        // SAFETY: live handle, valid pointers.
+        assert_eq!(unsafe { hf_trace_exact(f.handle, 0, &r, &mut hit) }, HF_OK);
+        assert_eq!(hit.hit, 1, "{o:?}: {hit:?}");
+        let rel = dist(hit.point.map(f64::from), want) / 1e38;
+        assert!(rel < 1e-6, "{o:?}: {hit:?}, want {want:?}");
+    }
+}
+
+#[test]
+fn a_depth_of_flt_max_is_finite() {
+    let samples = [0u16, 65535, 32768, 1];
+    let mut f = core::ptr::null_mut();
+    // SAFETY: valid buffers.
+    let r = unsafe { hf_field_create_u16(samples.as_ptr(), 4, 2, 2, 2, f32::MAX, &mut f) };
+    assert_eq!(r, HF_OK);
+    let mut info = hf_field_info::default();
+    // SAFETY: the live handle.
+    unsafe {
+        assert_eq!(hf_field_get_info(f, &mut info), HF_OK);
+        hf_field_destroy(f);
+    }
+    assert_eq!((info.min_height, info.max_height), (0.0, f32::MAX));
+}
