@@ -11,6 +11,10 @@
  *  - Every pointer is checked for NULL; outputs come last, each buffer followed by
  *    its length in elements; query sizes first (hf_maxmip_len, hf_shader_source_len).
  *  - No function aborts or unwinds into C: a library bug returns HF_ERR_PANIC.
+ *  - Every trace conditions its ray in double precision first (a far origin moved
+ *    near the field, a tiny or huge direction scaled by a power of two), so a ray from
+ *    far away or with a direction near FLT_MIN is exact as a near one; a hit beyond the
+ *    float range of t reports t = FLT_MAX.
  *  - Baked maps know what they belong to: every bake writes HF_MAP_DESC_BYTES of
  *    descriptor after the texels (the _len queries count them; upload the texels
  *    only), naming the map, the field's size and heights (a fingerprint), cap, ray

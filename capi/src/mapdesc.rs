@@ -162,7 +162,7 @@ pub(crate) fn read<T: Texel>(data: &[T], texels: usize) -> Result<MapDescriptor,
     let bytes = T::get(&data[texels..texels + elems::<T>()]);
     MapDescriptor::decode(&bytes).map_err(|e| {
         let why = match e {
-            DescriptorError::Missing => "none (a map baked by a library before 0.2, or sized for another field or class set)",
+            DescriptorError::Missing => "none (a map baked before maps had descriptors, or read at the length of another size or class set)",
             DescriptorError::Version(_) => "of another layout version",
             DescriptorError::Corrupt => "damaged (its hash disagrees)",
         };

@@ -4,7 +4,7 @@ use crate::detail::fail_at;
 use crate::hf_result::{self, *};
 use crate::ptr::Named;
 use crate::{guard, hf_field, ptr, surface_of};
-use hfcore::condition::{condition, Local};
+use hfcore::condition::{condition, condition_query, Local};
 #[cfg(feature = "maxmip")]
 use hfcore::maxmip::{self, MaxMip};
 #[cfg(feature = "search")]
@@ -90,8 +90,11 @@ fn query(hf: &HeightField, r: &hf_ray, index: Option<usize>) -> Result<Local, hf
         None => fail_at(HF_ERR_INVALID_RAY, None, format_args!("ray: {e}")),
     };
     // The world ray's own faults first, named as such.
-    Query::from_arrays(r.origin, r.dir, r.t_min, r.t_max).map_err(err)?;
+    let q = Query::from_arrays(r.origin, r.dir, r.t_min, r.t_max).map_err(err)?;
     let xf = hf.transform();
+    if xf.is_identity() {
+        return Ok(condition_query(hf, &q));
+    }
     let o = xf.point_to_grid(r.origin.map(f64::from));
     let d = xf.dir_to_grid(r.dir.map(f64::from));
     condition(hf, o, d, r.t_min, r.t_max).map_err(err)

@@ -93,11 +93,50 @@ pub fn condition(
     let round = |v: [f64; 3]| v.map(|x| x as f32);
     // The caller's ray as the march would see it: its faults are reported as such.
     let plain = Query::from_arrays(round(origin), round(dir), t_min, t_max)?;
+    Ok(localize(hf, origin, dir, plain))
+}
+
+/// [`condition`] of a query already in `f32` (the fast path: a ray that needs no
+/// conditioning costs a few `f32` compares).
+#[inline]
+pub fn condition_query(hf: &HeightField, q: &Query<f32>) -> Local {
+    let unchanged = Local {
+        query: *q,
+        shift: 0.0,
+        scale: 1.0,
+        miss: false,
+    };
+    // The same tests as `localize`, in f32 (the thresholds are not sharp: a ray on the
+    // edge is traced either way).
+    let (o, d) = (q.origin(), q.dir());
+    let m = d.iter().fold(0.0f32, |m, v| m.max(v.abs()));
+    let (lo, hi) = (
+        [0.0, 0.0, hf.min_height()],
+        [
+            (hf.width() - 1) as f32,
+            (hf.height() - 1) as f32,
+            hf.max_height(),
+        ],
+    );
+    let dist = (0..3).fold(0.0f32, |m, k| m.max(lo[k] - o[k]).max(o[k] - hi[k]));
+    let extent = hi[0].max(hi[1]).max(hi[2] - lo[2]).max(1.0) + 1.0;
+    if dist <= FAR as f32 * extent && (SMALL as f32..=1.0 / SMALL as f32).contains(&m) {
+        return unchanged;
+    }
+    localize(hf, o.map(f64::from), d.map(f64::from), *q)
+}
+
+/// The local form of `plain`, the `f32` rounding of the ray `origin + t·dir`.
+fn localize(hf: &HeightField, origin: [f64; 3], dir: [f64; 3], plain: Query<f32>) -> Local {
     let unchanged = Local {
         query: plain,
         shift: 0.0,
         scale: 1.0,
         miss: false,
+    };
+    let miss = Local {
+        miss: true,
+        ..unchanged
     };
     let m = dir.iter().fold(0.0f64, |m, v| m.max(v.abs()));
     let scale = if (SMALL..=1.0 / SMALL).contains(&m) {
@@ -107,40 +146,37 @@ pub fn condition(
     };
     let far = distance_to_box(hf, origin) > FAR * extent(hf);
     if scale == 1.0 && !far {
-        return Ok(unchanged);
+        return unchanged;
     }
     let d = dir.map(|v| v / scale);
-    let (t0, t1) = (f64::from(t_min) * scale, f64::from(t_max) * scale);
+    let (t0, t1) = (
+        f64::from(plain.t_min()) * scale,
+        f64::from(plain.t_max()) * scale,
+    );
     let shift = if far {
-        let q = Query::<f64>::from_arrays(origin, d, t0, t1)?;
+        let Ok(q) = Query::<f64>::from_arrays(origin, d, t0, t1) else {
+            return miss;
+        };
         match dda::clip_surface(hf, Surface::LinearPlanes, &q) {
-            None => {
-                return Ok(Local {
-                    miss: true,
-                    ..unchanged
-                })
-            }
+            None => return miss,
             // One grid unit before the entry (`d`'s largest component is in [1, 2)).
             Some(span) => span.t0 - 1.0 / d.iter().fold(0.0f64, |m, v| m.max(v.abs())),
         }
     } else {
         0.0
     };
-    let o = [0, 1, 2].map(|k| origin[k] + shift * d[k]);
+    let o = [0, 1, 2].map(|k| (origin[k] + shift * d[k]) as f32);
     let (lo, hi) = ((t0 - shift) as f32, (t1 - shift) as f32);
-    if !lo.is_finite() {
-        // The range starts beyond what `f32` holds in local units: nothing is reached.
-        return Ok(Local {
-            miss: true,
-            ..unchanged
-        });
+    // A range that starts beyond what `f32` holds in local units reaches nothing.
+    match Query::from_arrays(o, d.map(|v| v as f32), lo, hi) {
+        Ok(query) => Local {
+            query,
+            shift,
+            scale,
+            miss: false,
+        },
+        Err(_) => miss,
     }
-    Ok(Local {
-        query: Query::from_arrays(round(o), round(d), lo, hi)?,
-        shift,
-        scale,
-        miss: false,
-    })
 }
 
 /// The largest of the field's width, height and height range, at least 1.
