@@ -85,10 +85,7 @@ impl From<Trace<f32>> for hf_hit {
 /// field, a tiny or huge direction scaled); an invalid ray's detail names it `ray`, or
 /// `rays[index]` (and records `index`) in a batch.
 fn query(hf: &HeightField, r: &hf_ray, index: Option<usize>) -> Result<Local, hf_result> {
-    let err = |e: hfcore::RayError| match index {
-        Some(k) => fail_at(HF_ERR_INVALID_RAY, index, format_args!("rays[{k}]: {e}")),
-        None => fail_at(HF_ERR_INVALID_RAY, None, format_args!("ray: {e}")),
-    };
+    let err = |e| ray_error(e, index);
     // The world ray's own faults first, named as such.
     let q = Query::from_arrays(r.origin, r.dir, r.t_min, r.t_max).map_err(err)?;
     let xf = hf.transform();
@@ -100,6 +97,26 @@ fn query(hf: &HeightField, r: &hf_ray, index: Option<usize>) -> Result<Local, hf
     condition(hf, o, d, r.t_min, r.t_max).map_err(err)
 }
 
+/// [`query`]'s checks alone (a batch's first pass): for a field without a transform,
+/// the ray's own (conditioning a valid grid ray cannot fail).
+fn check(hf: &HeightField, r: &hf_ray, index: Option<usize>) -> Result<(), hf_result> {
+    if hf.transform().is_identity() {
+        let q = Query::from_arrays(r.origin, r.dir, r.t_min, r.t_max);
+        return q.map(|_| ()).map_err(|e| ray_error(e, index));
+    }
+    query(hf, r, index).map(|_| ())
+}
+
+/// The error of an invalid ray: its detail names it `ray`, or `rays[index]` (and
+/// records `index`) in a batch.
+fn ray_error(e: hfcore::RayError, index: Option<usize>) -> hf_result {
+    match index {
+        Some(k) => fail_at(HF_ERR_INVALID_RAY, index, format_args!("rays[{k}]: {e}")),
+        None => fail_at(HF_ERR_INVALID_RAY, None, format_args!("ray: {e}")),
+    }
+}
+
+/// A grid-space trace as the caller's `hf_hit`, in the field's world units.
 fn answer(hf: &HeightField, tr: Trace<f32>) -> hf_hit {
     hf_hit::from(hf.transform().trace_to_world(tr))
 }
@@ -173,7 +190,7 @@ pub(crate) unsafe fn batch<P>(
         let hf = f.view();
         let prepared = prepare(f)?;
         for (k, r) in rays.iter().enumerate() {
-            query(hf, r, Some(k))?;
+            check(hf, r, Some(k))?;
         }
         for (k, (r, h)) in rays.iter().zip(hits.iter_mut()).enumerate() {
             let local = query(hf, r, Some(k))?;
