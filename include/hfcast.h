@@ -846,10 +846,10 @@ hf_result hf_cc_bake_classes(const struct hf_field *field,
 
 #if defined(HF_HAVE_SAFETY)
 // Traces one ray on the triangle surface with the cylinder–cone map `map` (from
-// `hf_cc_bake` with the same `cap`, checked against the map's descriptor): exact, the hit of `hf_trace_exact` with
-// `HF_SURFACE_TRIANGLES` (up to rounding on grazing rays). Costs one fetch per shape
-// read and one for the third height sample of a cone's base, two per centerline
-// clearance, four per cell walked. Thread safe.
+// `hf_cc_bake` with the same `cap`, checked against the map's descriptor): exact, the
+// hit of `hf_trace_exact` with `HF_SURFACE_TRIANGLES` (up to rounding on grazing
+// rays). Costs one fetch per shape read and one for the third height sample of a
+// cone's base, two per centerline clearance, four per cell walked. Thread safe.
 //
 // # Safety
 // `field` is NULL (an error) or a live handle; `map` NULL (an error) or valid for
@@ -1545,8 +1545,9 @@ hf_result hf_maxmip_bake_threaded(const struct hf_field *field,
 // (`hf_last_error_detail` names it), `HF_ERR_MAP_MISMATCH` for a pyramid of other
 // heights or older than those 16 updates (rebake it). An empty rectangle (x0 = x1 or
 // y0 = y1) is `HF_OK` and changes nothing, as for `hf_field_update_rect`; a reversed
-// one or one outside the field is `HF_ERR_INVALID_RECT`. Thread safe for distinct pyramids (reads the field
-// only); needs exclusive access to `pyramid`: no trace may read it meanwhile.
+// one or one outside the field is `HF_ERR_INVALID_RECT`. Thread safe for distinct
+// pyramids (reads the field only); needs exclusive access to `pyramid`: no trace may
+// read it meanwhile.
 //
 // # Safety
 // `field` is NULL (an error) or a live handle; `pyramid` is NULL (an error) or valid
@@ -2169,7 +2170,8 @@ hf_result hf_trace_linear_secant_batch(const struct hf_field *field,
 // same hit as `hf_trace_exact` (the linear-planes surface is traced by the exact
 // method). The pyramid's descriptor is checked first: `HF_ERR_MAP_MISMATCH` for a
 // pyramid of another field or size, `HF_ERR_STALE_MAP` for one baked before an
-// update of this field (refresh it with `hf_maxmip_update_rect`). Costs one fetch per pyramid texel, four per exact cell test. Thread safe.
+// update of this field (refresh it with `hf_maxmip_update_rect`). Costs one fetch per
+// pyramid texel, four per exact cell test. Thread safe.
 //
 // # Safety
 // As `hf_trace_exact`; `pyramid` is NULL (an error) or valid for reading

@@ -316,10 +316,10 @@ pub unsafe extern "C" fn hf_cc_bake_classes(
 }
 
 /// Traces one ray on the triangle surface with the cylinder–cone map `map` (from
-/// `hf_cc_bake` with the same `cap`, checked against the map's descriptor): exact, the hit of `hf_trace_exact` with
-/// `HF_SURFACE_TRIANGLES` (up to rounding on grazing rays). Costs one fetch per shape
-/// read and one for the third height sample of a cone's base, two per centerline
-/// clearance, four per cell walked. Thread safe.
+/// `hf_cc_bake` with the same `cap`, checked against the map's descriptor): exact, the
+/// hit of `hf_trace_exact` with `HF_SURFACE_TRIANGLES` (up to rounding on grazing
+/// rays). Costs one fetch per shape read and one for the third height sample of a
+/// cone's base, two per centerline clearance, four per cell walked. Thread safe.
 ///
 /// # Safety
 /// `field` is NULL (an error) or a live handle; `map` NULL (an error) or valid for

@@ -185,26 +185,24 @@ fn bake_into(
     threads: u32,
     out: &mut [f32],
 ) -> Result<(), hf_result> {
-    {
-        let n = cone::scratch_len(hf.width(), hf.height());
-        let mut scratch = Vec::new();
-        scratch
-            .try_reserve_exact(n)
-            .map_err(|_| HF_ERR_OUT_OF_MEMORY)?;
-        scratch.resize(n, 0.0);
-        cone::prepare(hf, &mut scratch)?;
-        let rows = (fam.rows)(hf);
-        let threads = crate::par::thread_count(threads, rows);
-        let scratch = &scratch;
-        Ok(crate::par::bake_bands(
-            rows,
-            (fam.row_len)(hf),
-            8,
-            threads,
-            out,
-            |r, chunk| (fam.bake_rows)(hf, scratch, r, chunk),
-        )?)
-    }
+    let n = cone::scratch_len(hf.width(), hf.height());
+    let mut scratch = Vec::new();
+    scratch
+        .try_reserve_exact(n)
+        .map_err(|_| HF_ERR_OUT_OF_MEMORY)?;
+    scratch.resize(n, 0.0);
+    cone::prepare(hf, &mut scratch)?;
+    let rows = (fam.rows)(hf);
+    let threads = crate::par::thread_count(threads, rows);
+    let scratch = &scratch;
+    Ok(crate::par::bake_bands(
+        rows,
+        (fam.row_len)(hf),
+        8,
+        threads,
+        out,
+        |r, chunk| (fam.bake_rows)(hf, scratch, r, chunk),
+    )?)
 }
 
 /// The texels of a map of `fam`, its descriptor checked for `f`.

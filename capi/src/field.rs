@@ -427,6 +427,23 @@ pub unsafe extern "C" fn hf_field_copy_heights(
     })
 }
 
+/// Checks a rectangle of samples `[x0, y0, x1, y1]` (half-open) given to an update:
+/// `HF_ERR_INVALID_RECT` when reversed or outside `hf`; `false` when empty (the
+/// update is then `HF_OK` and changes nothing).
+pub(crate) fn rect_in(hf: &HeightField, [x0, y0, x1, y1]: [u32; 4]) -> Result<bool, hf_result> {
+    if x0 > x1 || y0 > y1 || x1 > hf.width() || y1 > hf.height() {
+        return Err(crate::detail::fail(
+            HF_ERR_INVALID_RECT,
+            format_args!(
+                "[{x0}, {x1}) x [{y0}, {y1}) is reversed or outside the {} x {} field",
+                hf.width(),
+                hf.height()
+            ),
+        ));
+    }
+    Ok(x0 < x1 && y0 < y1)
+}
+
 /// Replaces the samples in the rectangle `[x0, x1) × [y0, y1)` (sample indices) by
 /// `values`: sample (x0 + i, y0 + j) becomes `values[j * values_stride + i]`.
 /// `values_len` is the number of floats readable at `values`, at least
@@ -460,17 +477,7 @@ pub unsafe extern "C" fn hf_field_update_rect(
         // SAFETY: the caller promises `values` is readable for its length.
         let values = unsafe { ptr::slice(values, values_len) }?;
         let old = f.view;
-        if x0 > x1 || y0 > y1 || x1 > old.width() || y1 > old.height() {
-            return Err(crate::detail::fail(
-                HF_ERR_INVALID_RECT,
-                format_args!(
-                    "[{x0}, {x1}) x [{y0}, {y1}) is reversed or outside the {} x {} field",
-                    old.width(),
-                    old.height()
-                ),
-            ));
-        }
-        if x0 == x1 || y0 == y1 {
+        if !rect_in(&old, [x0, y0, x1, y1])? {
             return Ok(());
         }
         let (cols, rows) = ((x1 - x0) as usize, (y1 - y0) as usize);

@@ -293,7 +293,7 @@ pub unsafe extern "C" fn hf_ktx2_write(
 fn restore<T: Texel>(desc: &Desc, texels: usize, slot: &mut [T]) {
     let d = MapDescriptor {
         desc: *desc,
-        texel_bytes: (texels * core::mem::size_of::<T>()) as u64,
+        texel_bytes: (texels * T::SIZE) as u64,
     };
     T::put(&mut slot[..elems::<T>()], &d.encode());
 }

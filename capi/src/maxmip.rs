@@ -256,8 +256,9 @@ fn bake_threaded(hf: &HeightField, l: &Layout, threads: u32, pyramid: &mut [f32]
 /// (`hf_last_error_detail` names it), `HF_ERR_MAP_MISMATCH` for a pyramid of other
 /// heights or older than those 16 updates (rebake it). An empty rectangle (x0 = x1 or
 /// y0 = y1) is `HF_OK` and changes nothing, as for `hf_field_update_rect`; a reversed
-/// one or one outside the field is `HF_ERR_INVALID_RECT`. Thread safe for distinct pyramids (reads the field
-/// only); needs exclusive access to `pyramid`: no trace may read it meanwhile.
+/// one or one outside the field is `HF_ERR_INVALID_RECT`. Thread safe for distinct
+/// pyramids (reads the field only); needs exclusive access to `pyramid`: no trace may
+/// read it meanwhile.
 ///
 /// # Safety
 /// `field` is NULL (an error) or a live handle; `pyramid` is NULL (an error) or valid
@@ -276,17 +277,7 @@ pub unsafe extern "C" fn hf_maxmip_update_rect(
         // SAFETY: the caller's promises.
         let (f, p, l) = unsafe { field_and_pyramid(field, pyramid, pyramid_len) }?;
         let hf = f.view();
-        if x0 > x1 || y0 > y1 || x1 > hf.width() || y1 > hf.height() {
-            return Err(crate::detail::fail(
-                HF_ERR_INVALID_RECT,
-                format_args!(
-                    "[{x0}, {x1}) x [{y0}, {y1}) is reversed or outside the {} x {} field",
-                    hf.width(),
-                    hf.height()
-                ),
-            ));
-        }
-        if x0 == x1 || y0 == y1 {
+        if !crate::field::rect_in(hf, [x0, y0, x1, y1])? {
             return Ok(());
         }
         let n = l.texel_count();

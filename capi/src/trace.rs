@@ -484,7 +484,8 @@ pub unsafe extern "C" fn hf_trace_linear_secant_batch(
 /// same hit as `hf_trace_exact` (the linear-planes surface is traced by the exact
 /// method). The pyramid's descriptor is checked first: `HF_ERR_MAP_MISMATCH` for a
 /// pyramid of another field or size, `HF_ERR_STALE_MAP` for one baked before an
-/// update of this field (refresh it with `hf_maxmip_update_rect`). Costs one fetch per pyramid texel, four per exact cell test. Thread safe.
+/// update of this field (refresh it with `hf_maxmip_update_rect`). Costs one fetch per
+/// pyramid texel, four per exact cell test. Thread safe.
 ///
 /// # Safety
 /// As `hf_trace_exact`; `pyramid` is NULL (an error) or valid for reading

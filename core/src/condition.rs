@@ -22,15 +22,16 @@
 //! (`t = (shift + t_local) / s`, in `f64`); points, normals, cells and clearances are
 //! the same in both parametrisations. A ray that needs neither is traced unchanged,
 //! bit for bit. The GLSL and WGSL ports do not condition (a shader's rays start at a
-//! camera near the field): what they promise is in `docs/DESIGN.md`.
+//! camera near the field): what they promise is in the README ("World units").
 
 use crate::dda;
 use crate::field::HeightField;
+use crate::math::Real;
 use crate::ray::{Query, RayError, Trace};
 use crate::surface::Surface;
 
-/// How many field extents (the largest of width, height and height range, at least
-/// 1) an origin may lie outside the field's box before its ray is rebased.
+/// How many field extents (one more than the largest of `W − 1`, `H − 1` and the height
+/// range) an origin may lie outside the field's box before its ray is rebased.
 pub const FAR: f64 = 2.0;
 
 /// Direction magnitudes (largest component) outside `[SMALL, 1 / SMALL]` are scaled.
@@ -51,14 +52,19 @@ pub struct Local {
 }
 
 impl Local {
+    /// The caller's own query, traced as it is.
+    fn unchanged(query: Query<f32>) -> Local {
+        Local {
+            query,
+            shift: 0.0,
+            scale: 1.0,
+            miss: false,
+        }
+    }
+
     /// Whether the query is the caller's own (neither scaled nor rebased).
     pub fn is_unchanged(&self) -> bool {
         self.shift == 0.0 && self.scale == 1.0 && !self.miss
-    }
-
-    /// Whether the ray was found to miss the field's box in `f64` (no march needed).
-    pub fn is_miss(&self) -> bool {
-        self.miss
     }
 
     /// Runs `march` on the local query and maps its hit back to the caller's ray
@@ -93,61 +99,61 @@ pub fn condition(
     let round = |v: [f64; 3]| v.map(|x| x as f32);
     // The caller's ray as the march would see it: its faults are reported as such.
     let plain = Query::from_arrays(round(origin), round(dir), t_min, t_max)?;
-    Ok(localize(hf, origin, dir, plain))
+    Ok(match needs(hf, origin, dir) {
+        (false, false) => Local::unchanged(plain),
+        need => localize(hf, origin, dir, plain, need),
+    })
 }
 
 /// [`condition`] of a query already in `f32` (the fast path: a ray that needs no
 /// conditioning costs a few `f32` compares).
 #[inline]
 pub fn condition_query(hf: &HeightField, q: &Query<f32>) -> Local {
-    let unchanged = Local {
-        query: *q,
-        shift: 0.0,
-        scale: 1.0,
-        miss: false,
-    };
-    // The same tests as `localize`, in f32 (the thresholds are not sharp: a ray on the
-    // edge is traced either way).
     let (o, d) = (q.origin(), q.dir());
-    let m = d.iter().fold(0.0f32, |m, v| m.max(v.abs()));
-    let (lo, hi) = (
-        [0.0, 0.0, hf.min_height()],
-        [
-            (hf.width() - 1) as f32,
-            (hf.height() - 1) as f32,
-            hf.max_height(),
-        ],
-    );
-    let dist = (0..3).fold(0.0f32, |m, k| m.max(lo[k] - o[k]).max(o[k] - hi[k]));
-    let extent = hi[0].max(hi[1]).max(hi[2] - lo[2]).max(1.0) + 1.0;
-    if dist <= FAR as f32 * extent && (SMALL as f32..=1.0 / SMALL as f32).contains(&m) {
-        return unchanged;
+    match needs(hf, o, d) {
+        (false, false) => Local::unchanged(*q),
+        need => localize(hf, o.map(f64::from), d.map(f64::from), *q, need),
     }
-    localize(hf, o.map(f64::from), d.map(f64::from), *q)
 }
 
-/// The local form of `plain`, the `f32` rounding of the ray `origin + t·dir`.
-fn localize(hf: &HeightField, origin: [f64; 3], dir: [f64; 3], plain: Query<f32>) -> Local {
-    let unchanged = Local {
-        query: plain,
-        shift: 0.0,
-        scale: 1.0,
-        miss: false,
-    };
+/// What the ray from `o` along `d` needs, by the rules of the module docs evaluated in
+/// its own precision (the thresholds are not sharp): `(scale, far)`, whether its
+/// direction is to be scaled and whether its origin is far from the box.
+#[inline]
+fn needs<R: Real>(hf: &HeightField, o: [R; 3], d: [R; 3]) -> (bool, bool) {
+    let m = d.iter().fold(R::ZERO, |m, v| m.max(v.abs()));
+    let lo = [R::ZERO, R::ZERO, R::from_f32(hf.min_height())];
+    let hi = [
+        R::from_u32(hf.width() - 1),
+        R::from_u32(hf.height() - 1),
+        R::from_f32(hf.max_height()),
+    ];
+    let dist = (0..3).fold(R::ZERO, |m, k| m.max(lo[k] - o[k]).max(o[k] - hi[k]));
+    let extent = hi[0].max(hi[1]).max(hi[2] - lo[2]) + R::ONE;
+    let small = R::from_f64(SMALL);
+    let scale = !(m >= small && m <= R::ONE / small);
+    (scale, dist > R::from_f64(FAR) * extent)
+}
+
+/// The local form of `plain`, the `f32` rounding of the ray `origin + t·dir`, given
+/// what it needs ([`needs`], not `(false, false)`).
+fn localize(
+    hf: &HeightField,
+    origin: [f64; 3],
+    dir: [f64; 3],
+    plain: Query<f32>,
+    (scaled, far): (bool, bool),
+) -> Local {
     let miss = Local {
         miss: true,
-        ..unchanged
+        ..Local::unchanged(plain)
     };
-    let m = dir.iter().fold(0.0f64, |m, v| m.max(v.abs()));
-    let scale = if (SMALL..=1.0 / SMALL).contains(&m) {
-        1.0
+    let largest = |v: [f64; 3]| v.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+    let scale = if scaled {
+        libm::scalbn(1.0, libm::ilogb(largest(dir)))
     } else {
-        libm::scalbn(1.0, libm::ilogb(m))
+        1.0
     };
-    let far = distance_to_box(hf, origin) > FAR * extent(hf);
-    if scale == 1.0 && !far {
-        return unchanged;
-    }
     let d = dir.map(|v| v / scale);
     let (t0, t1) = (
         f64::from(plain.t_min()) * scale,
@@ -159,8 +165,8 @@ fn localize(hf: &HeightField, origin: [f64; 3], dir: [f64; 3], plain: Query<f32>
         };
         match dda::clip_surface(hf, Surface::LinearPlanes, &q) {
             None => return miss,
-            // One grid unit before the entry (`d`'s largest component is in [1, 2)).
-            Some(span) => span.t0 - 1.0 / d.iter().fold(0.0f64, |m, v| m.max(v.abs())),
+            // One grid unit before the entry.
+            Some(span) => span.t0 - 1.0 / largest(d),
         }
     } else {
         0.0
@@ -177,23 +183,6 @@ fn localize(hf: &HeightField, origin: [f64; 3], dir: [f64; 3], plain: Query<f32>
         },
         Err(_) => miss,
     }
-}
-
-/// The largest of the field's width, height and height range, at least 1.
-fn extent(hf: &HeightField) -> f64 {
-    let range = f64::from(hf.max_height()) - f64::from(hf.min_height());
-    f64::from(hf.width().max(hf.height())).max(range).max(1.0)
-}
-
-/// The largest distance, over the three axes, from `p` to the field's box.
-fn distance_to_box(hf: &HeightField, p: [f64; 3]) -> f64 {
-    let hi = [
-        f64::from(hf.width() - 1),
-        f64::from(hf.height() - 1),
-        f64::from(hf.max_height()),
-    ];
-    let lo = [0.0, 0.0, f64::from(hf.min_height())];
-    (0..3).fold(0.0f64, |m, k| m.max(lo[k] - p[k]).max(p[k] - hi[k]))
 }
 
 #[cfg(test)]
