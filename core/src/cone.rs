@@ -47,7 +47,9 @@
 use core::fmt;
 use core::ops::Range;
 
-use crate::dda::{cell_index, clip, local_clearance, next_crossing, start_hit, step_of};
+use crate::dda::{
+    cell_hit, cell_index, clip, entry_on, local_clearance, next_crossing, start_hit, step_of,
+};
 use crate::field::HeightField;
 use crate::math::Real;
 use crate::maxmip::{self, MaxMip};
@@ -499,7 +501,8 @@ pub fn march<R: Real>(
     let mut cell = locate(p0);
     let mut c: [R; 4] = corners(hf, cell[0], cell[1]);
     let mut fetches = 4u32;
-    let (mut a, mut ca) = local_clearance(TRI, c, cell, [start[0], start[1], p0[2]], [None; 2]);
+    let p0_on = [start[0], start[1], p0[2]];
+    let (mut a, mut ca) = local_clearance(TRI, c, cell, p0_on, entry_on(TRI, &span.entry));
     if ca <= R::ZERO {
         return Trace {
             hit: Some(start_hit(TRI, &span, c, cell, a, p0)),
@@ -594,23 +597,10 @@ pub fn march<R: Real>(
         let (b, cb) = local_clearance(TRI, c, cell, q.at(tb), on);
         let seg = TRI.segment_hit(c, a, b, ca, cb, [R::ZERO, R::ZERO, R::ONE]);
         clearance = clearance.min(seg.clearance);
-        if let Some((s, normal, flags)) = seg.hit {
-            let th = t + s * (tb - t);
-            on_step(th);
-            let local = |k: usize| a[k] + s * (b[k] - a[k]);
-            let point = [
-                R::from_u32(cell[0]) + local(0),
-                R::from_u32(cell[1]) + local(1),
-                local(2),
-            ];
+        if let Some(found) = seg.hit {
+            on_step(t + found.0 * (tb - t));
             return Trace {
-                hit: Some(Hit {
-                    t: th,
-                    point: R::v3(point),
-                    cell,
-                    normal: R::v3(normal),
-                    flags,
-                }),
+                hit: Some(cell_hit(hf, TRI, q, cell, ((t, tb), (a, b)), found)),
                 fetches,
                 clearance,
                 flags: Flags::default(),

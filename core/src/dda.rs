@@ -188,6 +188,24 @@ pub(crate) fn local_clearance<R: Real>(
     (b, b[2] - height)
 }
 
+/// How the first point of `entry`'s span lies on its cell's edges, as
+/// [`local_clearance`] takes it: through a side of the footprint the point is on that
+/// side's edge (`u = 0` or `1` of that axis), so on a continuous surface its height
+/// comes from the edge's two samples, as at every crossing; elsewhere, and on the
+/// discontinuous surfaces (whose height at an edge is not the edge's interpolation),
+/// from the cell's surface. At a side entry the cell's planes evaluated at a corner can
+/// cancel catastrophically (heights near ±10³⁸ whose sum is a few units), where the
+/// edge's two samples cannot.
+#[inline]
+pub(crate) fn entry_on<R: Real>(surface: Surface, entry: &Entry<R>) -> [Option<bool>; 2] {
+    match entry {
+        Entry::Side(n) if surface.is_continuous() => {
+            [0, 1].map(|k| (n[k] != R::ZERO).then_some(n[k] > R::ZERO))
+        }
+        _ => [None; 2],
+    }
+}
+
 /// [`Trace::clearance`] of a hit where the span begins, from the clearance `ca ≤ 0`
 /// there: the depth `−ca` under the surface (how far the decision was from a miss)
 /// when the ray starts or enters through a side down there; `+∞` when it enters
@@ -225,6 +243,140 @@ pub(crate) fn start_hit<R: Real>(
     }
 }
 
+/// The hit a march found on the segment `a → b` of `cell` (ray parameters `ta`, `tb`;
+/// `found` from [`Surface::segment_hit`] on it), with the robust finish: in `f32` the
+/// hit is recomputed in `f64` on the same cell ([`finish`]), so that the right cell
+/// gives the oracle's point whatever the march's rounding of `ta`, `tb` and the
+/// crossing coordinates. Every exact march ends here, so they agree bit for bit
+/// wherever they find the hit in the same cell.
+#[inline(always)]
+pub(crate) fn cell_hit<R: Real>(
+    hf: &HeightField,
+    surface: Surface,
+    q: &Query<R>,
+    cell: [u32; 2],
+    ends: ((R, R), ([R; 3], [R; 3])),
+    found: (R, [R; 3], Flags),
+) -> Hit<R> {
+    finish(hf, surface, q, segment_point(cell, ends, found))
+}
+
+/// The hit at segment parameter `s` of `found` on `a → b` in `cell` (ray parameters
+/// `ta`, `tb`), in the march's precision: the point from the cell's integer corner plus
+/// local coordinates, as exact as `R` allows far from the origin, where `o + t · d`
+/// loses an ulp of `t`.
+#[inline(always)]
+pub(crate) fn segment_point<R: Real>(
+    cell: [u32; 2],
+    ((ta, tb), (a, b)): ((R, R), ([R; 3], [R; 3])),
+    (s, normal, flags): (R, [R; 3], Flags),
+) -> Hit<R> {
+    let local = |k: usize| a[k] + s * (b[k] - a[k]);
+    Hit {
+        t: ta + s * (tb - ta),
+        point: R::v3([
+            R::from_u32(cell[0]) + local(0),
+            R::from_u32(cell[1]) + local(1),
+            local(2),
+        ]),
+        cell,
+        normal: R::v3(normal),
+        flags,
+    }
+}
+
+/// The robust finish of a hit found in `R`: the same cell's test redone in `f64`
+/// (nothing to do in `f64`). Keeps the `R` hit where the `f64` ray does not meet the
+/// surface in that cell (a near-touch the `R` march resolved the other way: an
+/// ambiguous ray by DESIGN.md's rule).
+#[inline]
+pub(crate) fn finish<R: Real>(
+    hf: &HeightField,
+    surface: Surface,
+    q: &Query<R>,
+    hit: Hit<R>,
+) -> Hit<R> {
+    if R::EPSILON.to_f64() <= f64::EPSILON {
+        return hit;
+    }
+    match finish_f64(hf, surface, &q.cast::<f64>(), hit.cell) {
+        Some(h) => Hit {
+            t: R::from_f64(h.t),
+            point: R::v3(f64::xyz(h.point).map(R::from_f64)),
+            cell: hit.cell,
+            normal: R::v3(f64::xyz(h.normal).map(R::from_f64)),
+            flags: h.flags,
+        },
+        None => hit,
+    }
+}
+
+/// The first contact of `q` with `surface` in `cell` alone, in `f64`: the ray's part
+/// over the cell (the cell's slabs within the clipped span, edge crossings evaluated
+/// from that edge's samples as the marches do), tested with [`Surface::segment_hit`];
+/// where the ray is already under the surface at the cell's entry (not the span's
+/// start), the entry. `None` when the ray does not pass over the cell or stays above
+/// it. Kept out of line: once per ray, off every march's loop.
+#[inline(never)]
+fn finish_f64(
+    hf: &HeightField,
+    surface: Surface,
+    q: &Query<f64>,
+    cell: [u32; 2],
+) -> Option<Hit<f64>> {
+    let span = clip_surface(hf, surface, q)?;
+    let (o, d) = (q.origin(), q.dir());
+    let (mut ta, mut tb) = (span.t0, span.t1);
+    let (mut on_a, mut on_b) = ([None; 2], [None; 2]);
+    let mut wall = [0.0, 0.0, 1.0];
+    for k in 0..2 {
+        if d[k] == 0.0 {
+            continue;
+        }
+        let lo = (f64::from(cell[k]) - o[k]) / d[k];
+        let hi = (f64::from(cell[k] + 1) - o[k]) / d[k];
+        let (enter, leave) = if d[k] > 0.0 { (lo, hi) } else { (hi, lo) };
+        if enter > ta {
+            (ta, on_a, wall) = (enter, [None; 2], [0.0; 3]);
+            wall[k] = if d[k] > 0.0 { -1.0 } else { 1.0 };
+        }
+        if enter == ta {
+            on_a[k] = Some(d[k] < 0.0);
+        }
+        if leave < tb {
+            (tb, on_b) = (leave, [None; 2]);
+        }
+        if leave == tb {
+            on_b[k] = Some(d[k] > 0.0);
+        }
+    }
+    if ta > tb {
+        return None;
+    }
+    let c: [f64; 4] = corners(hf, cell[0], cell[1]);
+    let (a, ca) = local_clearance(surface, c, cell, q.at(ta), on_a);
+    let (b, cb) = local_clearance(surface, c, cell, q.at(tb), on_b);
+    let (s, normal, flags) = if ca > 0.0 {
+        surface.segment_hit(c, a, b, ca, cb, wall).hit?
+    } else if ta > span.t0 && surface.is_continuous() {
+        (0.0, surface.cell_normal(c, a[0], a[1]), Flags::default())
+    } else {
+        return None;
+    };
+    let local = |k: usize| a[k] + s * (b[k] - a[k]);
+    Some(Hit {
+        t: ta + s * (tb - ta),
+        point: f64::v3([
+            f64::from(cell[0]) + local(0),
+            f64::from(cell[1]) + local(1),
+            local(2),
+        ]),
+        cell,
+        normal: f64::v3(normal),
+        flags,
+    })
+}
+
 /// Traces `q` cell by cell and returns the exact first hit on `surface`.
 ///
 /// Cost: four fetches (the corners) per cell visited.
@@ -241,7 +393,8 @@ pub fn trace<R: Real>(hf: &HeightField, surface: Surface, q: &Query<R>) -> Trace
     let step = [step_of(d[0]), step_of(d[1])];
     let mut c: [R; 4] = corners(hf, cell[0], cell[1]);
     let mut fetches = 4u32;
-    let (mut a, mut ca) = local_clearance(surface, c, cell, [start[0], start[1], p0[2]], [None; 2]);
+    let p0_on = [start[0], start[1], p0[2]];
+    let (mut a, mut ca) = local_clearance(surface, c, cell, p0_on, entry_on(surface, &span.entry));
 
     if ca <= R::ZERO {
         return Trace {
@@ -268,24 +421,9 @@ pub fn trace<R: Real>(hf: &HeightField, surface: Surface, q: &Query<R>) -> Trace
         let (b, cb) = local_clearance(surface, c, cell, q.at(tb), on);
         let seg = surface.segment_hit(c, a, b, ca, cb, wall);
         clearance = clearance.min(seg.clearance);
-        if let Some((s, normal, flags)) = seg.hit {
-            let t = ta + s * (tb - ta);
-            // The point from the cell's integer corner plus local coordinates: as exact
-            // as `f32` allows far from the origin, where `o + t · d` loses an ulp of `t`.
-            let local = |k: usize| a[k] + s * (b[k] - a[k]);
-            let point = [
-                R::from_u32(cell[0]) + local(0),
-                R::from_u32(cell[1]) + local(1),
-                local(2),
-            ];
+        if let Some(found) = seg.hit {
             return Trace {
-                hit: Some(Hit {
-                    t,
-                    point: R::v3(point),
-                    cell,
-                    normal: R::v3(normal),
-                    flags,
-                }),
+                hit: Some(cell_hit(hf, surface, q, cell, ((ta, tb), (a, b)), found)),
                 fetches,
                 clearance,
                 flags: Flags::default(),

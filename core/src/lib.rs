@@ -38,6 +38,7 @@ pub mod condition;
 pub mod cone;
 pub mod dda;
 pub mod field;
+pub mod judge;
 pub mod ktx2;
 pub mod mapdesc;
 pub mod math;

@@ -24,7 +24,8 @@
 //! [`dda::trace`]: crate::dda::trace
 
 use crate::dda::{
-    self, cell_index, clip, local_clearance, start_clearance, start_hit, step_of, Entry,
+    self, cell_hit, cell_index, clip, entry_on, finish, local_clearance, segment_point,
+    start_clearance, start_hit, step_of, Entry,
 };
 use crate::field::{HeightField, MAX_SIDE};
 use crate::math::Real;
@@ -546,7 +547,12 @@ pub fn trace<R: Real>(
             // Level 0: the exact test of dda::trace, on the same shared edge clearances.
             let c: [R; 4] = corners(hf, cell[0], cell[1]);
             fetches += 4;
-            let (a, ca) = local_clearance(surface, c, cell, p, on);
+            let at = if start {
+                entry_on(surface, &span.entry)
+            } else {
+                on
+            };
+            let (a, ca) = local_clearance(surface, c, cell, p, at);
             // Past the start a continuous surface leaves `ca > 0` unless rounding lifts an
             // edge above its node's maximum (discontinuous ones ignore `ca`).
             if ca <= R::ZERO && (start || surface.is_continuous()) {
@@ -554,13 +560,14 @@ pub fn trace<R: Real>(
                     start_hit(surface, &span, c, cell, a, p)
                 } else {
                     // A graze of the edge the ray came in through.
-                    Hit {
+                    let graze = Hit {
                         t,
                         point: R::v3(p),
                         cell,
                         normal: R::v3(surface.cell_normal(c, a[0], a[1])),
                         flags: Flags::default(),
-                    }
+                    };
+                    finish(hf, surface, q, graze)
                 };
                 let clearance = match start {
                     true => start_clearance(&span.entry, ca),
@@ -581,19 +588,16 @@ pub fn trace<R: Real>(
                 None => surface.segment_hit(c, a, b, ca, cb, wall),
             };
             clearance = clearance.min(seg.clearance);
-            if let Some((s, normal, flags)) = seg.hit {
-                let th = t + s * (tb - t);
-                // As dda::trace: the cell's corner plus local coordinates.
-                let local = |k: usize| a[k] + s * (b[k] - a[k]);
-                let (x, y) = (R::from_u32(cell[0]), R::from_u32(cell[1]));
+            if let Some(found) = seg.hit {
+                // As dda::trace, finished in `f64`, but for the iterative bilinear
+                // search: approximate, it keeps its own point.
+                let ends = ((t, tb), (a, b));
+                let hit = match iterative {
+                    Some(_) => segment_point(cell, ends, found),
+                    None => cell_hit(hf, surface, q, cell, ends, found),
+                };
                 return Trace {
-                    hit: Some(Hit {
-                        t: th,
-                        point: R::v3([x + local(0), y + local(1), local(2)]),
-                        cell,
-                        normal: R::v3(normal),
-                        flags,
-                    }),
+                    hit: Some(hit),
                     fetches,
                     clearance,
                     flags: Flags::default(),

@@ -39,7 +39,10 @@
 use core::fmt;
 use core::ops::Range;
 
-use crate::dda::{cell_index, clip, local_clearance, next_crossing, start_clearance, start_hit};
+use crate::dda::{
+    cell_hit, cell_index, clip, entry_on, local_clearance, next_crossing, start_clearance,
+    start_hit,
+};
 use crate::dda::{step_of, Span};
 use crate::field::HeightField;
 use crate::math::Real;
@@ -1086,21 +1089,16 @@ impl<R: Real, const AX: usize> March<'_, R, AX> {
                 .surface
                 .segment_hit(self.c, self.a, b, self.ca, cb, wall);
             self.clearance = self.clearance.min(seg.clearance);
-            if let Some((s, normal, flags)) = seg.hit {
-                let (a, ic) = (self.a, self.ic);
-                let local = |k: usize| a[k] + s * (b[k] - a[k]);
-                let point = [
-                    R::from_u32(ic[0]) + local(0),
-                    R::from_u32(ic[1]) + local(1),
-                    local(2),
-                ];
-                return Step::Hit(Hit {
-                    t: self.ta + s * (tb - self.ta),
-                    point: R::v3(point),
-                    cell: ic,
-                    normal: R::v3(normal),
-                    flags,
-                });
+            if let Some(found) = seg.hit {
+                let ends = ((self.ta, tb), (self.a, b));
+                return Step::Hit(cell_hit(
+                    self.hf,
+                    self.surface,
+                    self.q,
+                    self.ic,
+                    ends,
+                    found,
+                ));
             }
             if !(cross[0] || cross[1]) {
                 return Step::End;
@@ -1288,7 +1286,13 @@ pub(crate) fn march_with<R: Real, J: Fn(&Line<R>, RayClass, u32, u32) -> Jump>(
     ];
     let c: [R; 4] = corners(hf, ic[0], ic[1]);
     let surface = surface.surface();
-    let (a, ca) = local_clearance(surface, c, ic, [x0, y0, p0[2]], [None; 2]);
+    let (a, ca) = local_clearance(
+        surface,
+        c,
+        ic,
+        [x0, y0, p0[2]],
+        entry_on(surface, &span.entry),
+    );
     if ca <= R::ZERO {
         return Trace {
             hit: Some(start_hit(surface, &span, c, ic, a, p0)),

@@ -56,7 +56,7 @@ Trace cone_march(Query q, uint max_iter) {
     uint fetches = 4u;
     vec3 a;
     float ca = dda_local_clearance(HF_SURFACE_TRIANGLES, c, cell, vec3(start[0], start[1], p0[2]),
-                                   ivec2(-1), a);
+                                   dda_entry_on(HF_SURFACE_TRIANGLES, span), a);
     if (ca <= 0.0) {
         return trace_hit(dda_start_hit(HF_SURFACE_TRIANGLES, span, c, cell, a, p0), fetches, 0.0);
     }

@@ -130,6 +130,16 @@ float dda_local_clearance(uint surface, vec4 c, uvec2 cell, vec3 p, ivec2 on, ou
     return b[2] - height;
 }
 
+// `entry_on`: how the span's first point lies on its cell's edges (a side entry of a
+// continuous surface: on that side's edge).
+ivec2 dda_entry_on(uint surface, Span span) {
+    if (span.entry != HF_ENTRY_SIDE || !surface_is_continuous(surface)) {
+        return ivec2(-1);
+    }
+    vec3 n = span.entry_normal;
+    return ivec2(n[0] != 0.0 ? int(n[0] > 0.0) : -1, n[1] != 0.0 ? int(n[1] > 0.0) : -1);
+}
+
 // `start_clearance`: `Trace::clearance` of a hit where the span begins.
 float dda_start_clearance(Span span, float ca) {
     return span.entry == HF_ENTRY_TOP ? real_infinity() : -ca;
@@ -171,8 +181,8 @@ Trace dda_trace(uint surface, Query q) {
     vec4 c = surface_corners(cell[0], cell[1]);
     uint fetches = 4u;
     vec3 a;
-    float ca = dda_local_clearance(surface, c, cell, vec3(start[0], start[1], p0[2]), ivec2(-1),
-                                   a);
+    float ca = dda_local_clearance(surface, c, cell, vec3(start[0], start[1], p0[2]),
+                                   dda_entry_on(surface, span), a);
 
     if (ca <= 0.0) {
         return trace_hit(dda_start_hit(surface, span, c, cell, a, p0), fetches,

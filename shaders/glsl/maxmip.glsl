@@ -141,7 +141,7 @@ Trace maxmip_trace(uint surface, Query q) {
             vec4 c = surface_corners(cell[0], cell[1]);
             fetches += 4u;
             vec3 a;
-            float ca = dda_local_clearance(surface, c, cell, p, on, a);
+            float ca = dda_local_clearance(surface, c, cell, p, start ? dda_entry_on(surface, span) : on, a);
             if (ca <= 0.0 && (start || surface_is_continuous(surface))) {
                 Hit hit;
                 if (start) {

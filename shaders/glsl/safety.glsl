@@ -300,7 +300,7 @@ Trace safety_march(uint march_surface, Query q) {
     vec4 c = surface_corners(ic[0], ic[1]);
     uint surface = safety_march_surface(march_surface);
     vec3 a;
-    float ca = dda_local_clearance(surface, c, ic, vec3(x0, y0, p0[2]), ivec2(-1), a);
+    float ca = dda_local_clearance(surface, c, ic, vec3(x0, y0, p0[2]), dda_entry_on(surface, span), a);
     if (ca <= 0.0) {
         return trace_hit(dda_start_hit(surface, span, c, ic, a, p0), 4u,
                          dda_start_clearance(span, ca));

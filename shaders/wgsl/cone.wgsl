@@ -57,7 +57,7 @@ fn cone_march(q: Query, max_iter: u32) -> Trace {
     var fetches = 4u;
     var a: vec3<f32>;
     var ca = dda_local_clearance(HF_SURFACE_TRIANGLES, c, cell, vec3<f32>(start[0], start[1], p0[2]),
-                                 vec2<i32>(-1), &a);
+                                 dda_entry_on(HF_SURFACE_TRIANGLES, span), &a);
     if (ca <= 0.0) {
         return trace_hit(dda_start_hit(HF_SURFACE_TRIANGLES, span, c, cell, a, p0), fetches, 0.0);
     }

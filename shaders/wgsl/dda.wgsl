@@ -141,6 +141,17 @@ fn dda_local_clearance(surface: u32, c: vec4<f32>, cell: vec2<u32>, p: vec3<f32>
     return (*b)[2] - height;
 }
 
+// `entry_on`: how the span's first point lies on its cell's edges (a side entry of a
+// continuous surface: on that side's edge).
+fn dda_entry_on(surface: u32, span: Span) -> vec2<i32> {
+    if (span.entry != HF_ENTRY_SIDE || !surface_is_continuous(surface)) {
+        return vec2<i32>(-1);
+    }
+    let n = span.entry_normal;
+    return vec2<i32>(select(-1, i32(n[0] > 0.0), n[0] != 0.0),
+                     select(-1, i32(n[1] > 0.0), n[1] != 0.0));
+}
+
 // `start_clearance`: `Trace::clearance` of a hit where the span begins.
 fn dda_start_clearance(span: Span, ca: f32) -> f32 {
     return select(-ca, real_infinity(), span.entry == HF_ENTRY_TOP);
@@ -183,7 +194,7 @@ fn dda_trace(surface: u32, q: Query) -> Trace {
     var c = surface_corners(cell[0], cell[1]);
     var fetches = 4u;
     var a: vec3<f32>;
-    var ca = dda_local_clearance(surface, c, cell, vec3<f32>(start[0], start[1], p0[2]), vec2<i32>(-1),
+    var ca = dda_local_clearance(surface, c, cell, vec3<f32>(start[0], start[1], p0[2]), dda_entry_on(surface, span),
                                  &a);
 
     if (ca <= 0.0) {

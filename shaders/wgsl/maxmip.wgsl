@@ -135,7 +135,7 @@ fn maxmip_trace(surface: u32, q: Query) -> Trace {
             let c = surface_corners(cell[0], cell[1]);
             fetches += 4u;
             var a: vec3<f32>;
-            let ca = dda_local_clearance(surface, c, cell, p, on, &a);
+            let ca = dda_local_clearance(surface, c, cell, p, select(on, dda_entry_on(surface, span), start), &a);
             if (ca <= 0.0 && (start || surface_is_continuous(surface))) {
                 var hit: Hit;
                 if (start) {

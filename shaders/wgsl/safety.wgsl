@@ -315,7 +315,7 @@ fn safety_march(march_surface: u32, q: Query) -> Trace {
     let c = surface_corners(ic[0], ic[1]);
     let surface = safety_march_surface(march_surface);
     var a: vec3<f32>;
-    let ca = dda_local_clearance(surface, c, ic, vec3<f32>(x0, y0, p0[2]), vec2<i32>(-1), &a);
+    let ca = dda_local_clearance(surface, c, ic, vec3<f32>(x0, y0, p0[2]), dda_entry_on(surface, span), &a);
     if (ca <= 0.0) {
         return trace_hit(dda_start_hit(surface, span, c, ic, a, p0), 4u,
                          dda_start_clearance(span, ca));

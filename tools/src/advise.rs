@@ -154,7 +154,7 @@ fn same(q: &Query<f32>, want: &Trace<f32>, got: &Trace<f32>) -> bool {
             let e = (0..3)
                 .map(|k| (p[k] - f64::from(b[k])).powi(2))
                 .sum::<f64>();
-            e.sqrt() <= tolerance(false, q.origin(), p)
+            e.sqrt() <= tolerance(false, q.origin().map(f64::from), p)
         }
         _ => false,
     }

@@ -1,10 +1,11 @@
 //! The report's Markdown, CSV and plots.
 
-use super::measure::{Measured, AMBIGUOUS, F32_ULPS, WRONG};
+use super::measure::{Measured, F32_ULPS, WRONG};
 use super::methods::{Family, Setting, Sweep};
 use super::plot::{write_plot, Point};
 use super::scenes::{CAMERA_AZIMUTH, CAMERA_ELEVATIONS, INSIDE_FOV_X_DEG, LIGHT};
 use super::{ReportOptions, SceneResult};
+use hfcast::judge::RESOLUTION_ULPS;
 use std::fmt::Write;
 
 fn pct(x: f64) -> String {
@@ -445,11 +446,14 @@ fn definitions(opts: &ReportOptions, sweep: &Sweep, w: u32, h: u32) -> String {
          eps32 = 2⁻²³, `o` the ray origin and `p` the oracle's hit (a few ulps of the \
          coordinates involved: an orbit camera stands thousands of texels away, where `f32` \
          cannot resolve {WRONG} texel).\n\
-         - **Ambiguous ray**: the oracle's clearance (smallest height of the ray over the \
-         surface before its hit, or along a miss) is below 2⁻¹³ · max(1, |z|), |z| the \
-         largest |height| of the field (factor {AMBIGUOUS:e}). Counted on their own \
-         (\"ambiguous\", and in brackets how many of them the setting answers differently), \
-         never as right; the wrong rate is wrong / (rays − ambiguous).\n\
+         - **Ambiguous ray** (`hfcast::judge`, docs/DESIGN.md): moving the ray's origin by \
+         its `f32` resolution δ = {RESOLUTION_ULPS} · eps32 · (|o|∞ + E) along any axis, either \
+         way, changes the oracle's answer (hit/miss, or the hit by more than the tolerance \
+         plus 2δ · (1 + 1/|n · d̂|), how far a hit slides when the ray moves by δ); E is \
+         the field's largest coordinate, max(W − 1, H − 1, |heights|). Symmetric: touches, \
+         near-touches before the hit and ridges the hit only clips are all ambiguous. \
+         Counted on their own (\"ambiguous\", and in brackets how many of them the setting \
+         answers differently), never as right; the wrong rate is wrong / (rays − ambiguous).\n\
          - **Position error**: 3-D distance (texels) between the setting's and the oracle's \
          hit, over the non-ambiguous rays where both hit (wrong ones included).\n\
          - **Wrong pixels**: wrong camera rays (each is one pixel), over all four cameras.\n\

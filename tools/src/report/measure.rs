@@ -3,28 +3,24 @@
 use super::methods::{Caster, Out, Setting};
 use super::scenes::RaySet;
 use crate::par_chunks;
-use hfcast::{dda, Flags, HeightField, Query, Surface};
+use hfcast::{dda, judge, Flags, HeightField, Query, Surface};
 use std::time::Instant;
 
-/// DESIGN.md's "wrong" distance, texels.
-pub const WRONG: f64 = 1e-3;
-/// Factor of the `f32` wrong-ray tolerance `max(1e-3, 8 · eps32 · (|o|∞ + |p|∞))`.
-pub const F32_ULPS: f64 = 8.0;
-/// The ambiguity threshold factor `2⁻¹³` of `2⁻¹³ · max(1, |z|)`.
-pub const AMBIGUOUS: f64 = 1.0 / 8192.0;
+pub use hfcast::judge::{tolerance, F32_ULPS, WRONG};
 
 /// The oracle's answer to one ray.
 #[derive(Clone, Copy, Debug, Default)]
 pub struct Oracle {
     /// Hit point, `f64`.
     pub hit: Option<[f64; 3]>,
-    /// Smallest clearance before the hit (or along a miss).
-    pub clearance: f64,
+    /// Whether the ray is ambiguous ([`hfcast::judge::ambiguous`]).
+    pub ambiguous: bool,
     /// Hit flags.
     pub flags: u32,
 }
 
-/// Traces every ray with `dda::trace` on `q.cast::<f64>()` (all `threads`).
+/// Traces every ray with `dda::trace` on `q.cast::<f64>()` and judges whether it is
+/// ambiguous (all `threads`).
 pub fn oracle(
     hf: &HeightField,
     surface: Surface,
@@ -34,10 +30,11 @@ pub fn oracle(
     let mut out = vec![Oracle::default(); rays.len()];
     par_chunks(&mut out, 256, threads, |first, chunk| {
         for (o, q) in chunk.iter_mut().zip(&rays[first..]) {
-            let t = dda::trace(hf, surface, &q.cast::<f64>());
+            let q = q.cast::<f64>();
+            let t = dda::trace(hf, surface, &q);
             *o = Oracle {
                 hit: t.hit.map(|h| h.point.to_array()),
-                clearance: t.clearance,
+                ambiguous: judge::ambiguous(hf, surface, &q, &t),
                 flags: t.hit.map_or(0, |h| h.flags.0),
             };
         }
@@ -124,26 +121,8 @@ impl Counts {
     }
 }
 
-/// The wrong-ray tolerance of a ray with origin `o` and oracle hit `p`: 1e-3 texel, or
-/// for `f32` methods `max(1e-3, 8 · eps32 · (|o|∞ + |p|∞))`.
-pub fn tolerance(f64_method: bool, o: [f32; 3], p: [f64; 3]) -> f64 {
-    if f64_method {
-        return WRONG;
-    }
-    let inf = |v: [f64; 3]| v.iter().fold(0f64, |m, x| m.max(x.abs()));
-    let eps32 = f64::from(f32::EPSILON);
-    WRONG.max(F32_ULPS * eps32 * (inf(o.map(f64::from)) + inf(p)))
-}
-
 /// Judges `got` against `oracle` for the rays of `set`.
-pub fn judge(
-    set: &RaySet,
-    oracle: &[Oracle],
-    got: &[Out],
-    f64_method: bool,
-    z_scale: f64,
-) -> Counts {
-    let eps = AMBIGUOUS * z_scale;
+pub fn judge(set: &RaySet, oracle: &[Oracle], got: &[Out], f64_method: bool) -> Counts {
     let mut c = Counts {
         rays: set.rays.len() as u64,
         pixels: if set.pixels { set.rays.len() as u64 } else { 0 },
@@ -158,11 +137,15 @@ pub fn judge(
             (None, None) => (false, false, None),
             (Some(p), Some(h)) => {
                 let e = ((0..3).map(|k| (p[k] - h[k]).powi(2)).sum::<f64>()).sqrt();
-                (e > tolerance(f64_method, q.origin(), p), false, Some(e))
+                (
+                    e > tolerance(f64_method, q.origin().map(f64::from), p),
+                    false,
+                    Some(e),
+                )
             }
             _ => (true, true, None),
         };
-        if or.clearance < eps {
+        if or.ambiguous {
             c.ambiguous += 1;
             c.ambiguous_differ += u64::from(wrong);
             continue;
@@ -219,7 +202,6 @@ pub fn measure(
     surface: Surface,
     sets: &[RaySet],
     oracles: &[Vec<Oracle>],
-    z_scale: f64,
     reps: usize,
 ) -> Measured {
     let mut bakes = Vec::new();
@@ -241,7 +223,7 @@ pub fn measure(
         let mut out = vec![Out::default(); set.rays.len()];
         caster.trace_all(&set.rays, &mut out);
         caster.fill_fetches(&set.rays, &mut out);
-        let c = judge(set, oracle, &out, setting.f64, z_scale);
+        let c = judge(set, oracle, &out, setting.f64);
         total.absorb(&c);
         per_set.push(c);
         for _ in 0..reps.max(1) {
@@ -285,24 +267,20 @@ mod tests {
     }
 
     #[test]
-    fn tolerance_grows_with_coordinates() {
-        assert_eq!(tolerance(true, [1e5, 0.0, 0.0], [1.0; 3]), WRONG);
-        assert_eq!(tolerance(false, [1.0, 2.0, 3.0], [1.0; 3]), WRONG);
-        let far = tolerance(false, [1e5, 0.0, 0.0], [10.0, 0.0, 0.0]);
-        let want = 8.0 * f64::from(f32::EPSILON) * (1e5 + 10.0);
-        assert!((far - want).abs() < 1e-12, "{far}");
-    }
-
-    #[test]
     fn judge_counts_ambiguous_apart() {
         let s = set(4);
-        let hit = |z: f64, clearance: f64| Oracle {
+        let hit = |z: f64, ambiguous: bool| Oracle {
             hit: Some([0.5, 0.5, z]),
-            clearance,
+            ambiguous,
             flags: 0,
         };
         // Right, wrong by position, wrong by hit/miss, ambiguous (and different).
-        let oracle = [hit(1.0, 1.0), hit(1.0, 1.0), hit(1.0, 1.0), hit(1.0, 1e-9)];
+        let oracle = [
+            hit(1.0, false),
+            hit(1.0, false),
+            hit(1.0, false),
+            hit(1.0, true),
+        ];
         let got = [
             Out {
                 hit: Some([0.5, 0.5, 1.0 + 1e-4]),
@@ -317,7 +295,7 @@ mod tests {
             Out::default(),
             Out::default(),
         ];
-        let c = judge(&s, &oracle, &got, false, 1.0);
+        let c = judge(&s, &oracle, &got, false);
         assert_eq!((c.rays, c.ambiguous, c.ambiguous_differ), (4, 1, 1));
         assert_eq!((c.wrong, c.wrong_hit_miss, c.wrong_pixels), (2, 1, 2));
         assert_eq!(c.both_hit, 2);
