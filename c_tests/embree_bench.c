@@ -576,7 +576,7 @@ static double surface_at(const field_data *fd, double x, double y) {
 }
 
 /* Whether the ray stays within rounding of the surface (never deeper under it than
- * 2^-13 x max(1, |height|), DESIGN.md's ambiguity bound) for t in [a, b] over the
+ * 2^-13 x max(1, |height|), docs/DESIGN.md's ambiguity bound) for t in [a, b] over the
  * footprint: then a hit anywhere there is a matter of rounding. Exact: between two
  * grid-line crossings the triangle surface is the maximum of planes, so the depth is
  * convex along the ray and largest at a crossing or an end; those are all evaluated. */

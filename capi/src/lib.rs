@@ -259,7 +259,7 @@ pub(crate) fn check_size(width: u32, height: u32) -> Result<(), hf_result> {
     Ok(())
 }
 
-/// Height reconstruction between samples (DESIGN.md, "Surfaces"). Passed as `uint32_t`.
+/// Height reconstruction between samples (docs/DESIGN.md, "Surfaces"). Passed as `uint32_t`.
 #[repr(u32)]
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum hf_surface {

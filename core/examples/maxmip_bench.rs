@@ -146,7 +146,7 @@ struct Row {
     ns: f64,
     hits: usize,
     /// Against the reference (the DDA; the exact march for LOD): rays whose hit point
-    /// is off by more than 1e-3 texel or whose hit/miss differs (DESIGN.md's wrong
+    /// is off by more than 1e-3 texel or whose hit/miss differs (docs/DESIGN.md's wrong
     /// rays), the hit/miss changes alone, and the mean and largest hit point error.
     wrong: usize,
     hit_miss: usize,

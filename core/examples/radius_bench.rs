@@ -33,7 +33,7 @@ fn bake_threads(
 }
 
 /// Wrong rays against the f64 oracle (hit/miss or position by more than 1e-3 texel,
-/// rays closer than DESIGN.md's ambiguity threshold left out), and the mean and max
+/// rays closer than docs/DESIGN.md's ambiguity threshold left out), and the mean and max
 /// position error of the wrong rays that hit on both sides.
 fn errors(traces: &[Trace<f32>], oracles: &[Trace<f64>], eps: f64) -> (usize, f64, f64) {
     let (mut wrong, mut n, mut sum, mut max) = (0, 0, 0.0, 0f64);

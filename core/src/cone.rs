@@ -48,7 +48,8 @@ use core::fmt;
 use core::ops::Range;
 
 use crate::dda::{
-    cell_hit, cell_index, clip, entry_on, local_clearance, next_crossing, start_hit, step_of,
+    cell_index, clip, entry_on, finish, local_clearance, next_crossing, segment_point, start_hit,
+    step_of,
 };
 use crate::field::HeightField;
 use crate::math::Real;
@@ -478,6 +479,17 @@ pub fn march<R: Real>(
     hf: &HeightField,
     q: &Query<R>,
     max_iter: u32,
+    step: impl FnMut([u32; 2], [R; 3]) -> (Step<R>, u32),
+    on_step: &mut dyn FnMut(R),
+) -> Trace<R> {
+    finish(hf, TRI, q, march_cells(hf, q, max_iter, step, on_step))
+}
+
+/// [`march`] before the robust finish.
+fn march_cells<R: Real>(
+    hf: &HeightField,
+    q: &Query<R>,
+    max_iter: u32,
     mut step: impl FnMut([u32; 2], [R; 3]) -> (Step<R>, u32),
     on_step: &mut dyn FnMut(R),
 ) -> Trace<R> {
@@ -600,7 +612,7 @@ pub fn march<R: Real>(
         if let Some(found) = seg.hit {
             on_step(t + found.0 * (tb - t));
             return Trace {
-                hit: Some(cell_hit(hf, TRI, q, cell, ((t, tb), (a, b)), found)),
+                hit: Some(segment_point(cell, ((t, tb), (a, b)), found)),
                 fetches,
                 clearance,
                 flags: Flags::default(),

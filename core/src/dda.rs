@@ -11,7 +11,7 @@
 use crate::field::HeightField;
 use crate::math::Real;
 use crate::ray::{Flags, Hit, Query, Trace};
-use crate::surface::{corners, Surface};
+use crate::surface::{corners, plane, triangle_planes, Surface};
 
 /// How the traced part of a ray begins.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -243,24 +243,6 @@ pub(crate) fn start_hit<R: Real>(
     }
 }
 
-/// The hit a march found on the segment `a → b` of `cell` (ray parameters `ta`, `tb`;
-/// `found` from [`Surface::segment_hit`] on it), with the robust finish: in `f32` the
-/// hit is recomputed in `f64` on the same cell ([`finish`]), so that the right cell
-/// gives the oracle's point whatever the march's rounding of `ta`, `tb` and the
-/// crossing coordinates. Every exact march ends here, so they agree bit for bit
-/// wherever they find the hit in the same cell.
-#[inline(always)]
-pub(crate) fn cell_hit<R: Real>(
-    hf: &HeightField,
-    surface: Surface,
-    q: &Query<R>,
-    cell: [u32; 2],
-    ends: ((R, R), ([R; 3], [R; 3])),
-    found: (R, [R; 3], Flags),
-) -> Hit<R> {
-    finish(hf, surface, q, segment_point(cell, ends, found))
-}
-
 /// The hit at segment parameter `s` of `found` on `a → b` in `cell` (ray parameters
 /// `ta`, `tb`), in the march's precision: the point from the cell's integer corner plus
 /// local coordinates, as exact as `R` allows far from the origin, where `o + t · d`
@@ -285,102 +267,123 @@ pub(crate) fn segment_point<R: Real>(
     }
 }
 
-/// The robust finish of a hit found in `R`: the same cell's test redone in `f64`
-/// (nothing to do in `f64`). Keeps the `R` hit where the `f64` ray does not meet the
-/// surface in that cell (a near-touch the `R` march resolved the other way: an
-/// ambiguous ray by DESIGN.md's rule).
-#[inline]
+/// The robust finish of a trace in `R` (nothing to do in `f64`): the hit recomputed by
+/// Newton's method on the clearance along the `f64` ray, `f(t) = z(t) − h(x(t), y(t))`
+/// on the hit's cell, from the `R` hit ([`refine`]). Where the `R` march found the
+/// right cell the point is then the `f64` oracle's, whatever the march's rounding of
+/// its crossings (`f32` coordinates of ~1000 texels round to ~6e-5, which a slope of
+/// 51 turns into 3e-3 of height), at the cost of one division per step, once per ray;
+/// every exact march ends here, so they agree bit for bit wherever they find the hit
+/// in the same cell. Kept as found: hits where the span begins (origin inside, side
+/// entries), walls (their `t` is a quotient `(X − o) / d` already), approximate hits
+/// (a budget ran out), the view-linear surface (its height along the ray is not a
+/// function of the point), and a refinement that would leave the cell or `[t_min,
+/// t_max]` (a near-touch the `R` march resolved differently from `f64`: an ambiguous
+/// ray by docs/DESIGN.md's rule).
+#[inline(always)]
 pub(crate) fn finish<R: Real>(
     hf: &HeightField,
     surface: Surface,
     q: &Query<R>,
-    hit: Hit<R>,
-) -> Hit<R> {
-    if R::EPSILON.to_f64() <= f64::EPSILON {
-        return hit;
+    mut trace: Trace<R>,
+) -> Trace<R> {
+    const KEPT: u32 =
+        Flags::ORIGIN_INSIDE.0 | Flags::SIDE.0 | Flags::WALL.0 | Flags::BUDGET_EXHAUSTED.0;
+    let Some(hit) = trace.hit.as_mut() else {
+        return trace;
+    };
+    if R::EPSILON.to_f64() <= f64::EPSILON
+        || (hit.flags.0 | trace.flags.0) & KEPT != 0
+        || surface == Surface::ViewLinear
+    {
+        return trace;
     }
-    match finish_f64(hf, surface, &q.cast::<f64>(), hit.cell) {
-        Some(h) => Hit {
-            t: R::from_f64(h.t),
-            point: R::v3(f64::xyz(h.point).map(R::from_f64)),
-            cell: hit.cell,
-            normal: R::v3(f64::xyz(h.normal).map(R::from_f64)),
-            flags: h.flags,
-        },
-        None => hit,
+    let c = corners(hf, hit.cell[0], hit.cell[1]);
+    if let Some((t, point)) = refine(surface, q, (q.t_min(), q.t_max()), (hit.cell, c), hit.t) {
+        (hit.t, hit.point) = (t, R::v3(point));
     }
+    trace
 }
 
-/// The first contact of `q` with `surface` in `cell` alone, in `f64`: the ray's part
-/// over the cell (the cell's slabs within the clipped span, edge crossings evaluated
-/// from that edge's samples as the marches do), tested with [`Surface::segment_hit`];
-/// where the ray is already under the surface at the cell's entry (not the span's
-/// start), the entry. `None` when the ray does not pass over the cell or stays above
-/// it. Kept out of line: once per ray, off every march's loop.
+/// [`finish`] past its early returns: Newton's steps in `f64` on `cell` (corners `c`)
+/// from `t`, in the cell's frame (its corner at the origin), and the refined `t` and
+/// point back in `R`; `None` when a step finds the ray level with the surface or the
+/// result leaves the cell or the span `[t0, t1]`. A plane (a triangle, a linear or
+/// height plane's top) takes one step, and the triangle surface a second only when the
+/// upper of its two planes changed on the way; the bilinear patch takes two. Kept out
+/// of line: once per ray, off every march's loop.
 #[inline(never)]
-fn finish_f64(
-    hf: &HeightField,
+fn refine<R: Real>(
     surface: Surface,
-    q: &Query<f64>,
-    cell: [u32; 2],
-) -> Option<Hit<f64>> {
-    let span = clip_surface(hf, surface, q)?;
-    let (o, d) = (q.origin(), q.dir());
-    let (mut ta, mut tb) = (span.t0, span.t1);
-    let (mut on_a, mut on_b) = ([None; 2], [None; 2]);
-    let mut wall = [0.0, 0.0, 1.0];
-    for k in 0..2 {
-        if d[k] == 0.0 {
-            continue;
-        }
-        let lo = (f64::from(cell[k]) - o[k]) / d[k];
-        let hi = (f64::from(cell[k] + 1) - o[k]) / d[k];
-        let (enter, leave) = if d[k] > 0.0 { (lo, hi) } else { (hi, lo) };
-        if enter > ta {
-            (ta, on_a, wall) = (enter, [None; 2], [0.0; 3]);
-            wall[k] = if d[k] > 0.0 { -1.0 } else { 1.0 };
-        }
-        if enter == ta {
-            on_a[k] = Some(d[k] < 0.0);
-        }
-        if leave < tb {
-            (tb, on_b) = (leave, [None; 2]);
-        }
-        if leave == tb {
-            on_b[k] = Some(d[k] > 0.0);
-        }
-    }
-    if ta > tb {
-        return None;
-    }
-    let c: [f64; 4] = corners(hf, cell[0], cell[1]);
-    let (a, ca) = local_clearance(surface, c, cell, q.at(ta), on_a);
-    let (b, cb) = local_clearance(surface, c, cell, q.at(tb), on_b);
-    let (s, normal, flags) = if ca > 0.0 {
-        surface.segment_hit(c, a, b, ca, cb, wall).hit?
-    } else if ta > span.t0 && surface.is_continuous() {
-        (0.0, surface.cell_normal(c, a[0], a[1]), Flags::default())
-    } else {
-        return None;
+    q: &Query<R>,
+    (t0, t1): (R, R),
+    (cell, c): ([u32; 2], [R; 4]),
+    t: R,
+) -> Option<(R, [R; 3])> {
+    let corner = [f64::from(cell[0]), f64::from(cell[1])];
+    let (o, d) = (q.origin().map(R::to_f64), q.dir().map(R::to_f64));
+    let o = [o[0] - corner[0], o[1] - corner[1], o[2]];
+    let c = c.map(R::to_f64);
+    let at = |t: f64| [o[0] + t * d[0], o[1] + t * d[1], o[2] + t * d[2]];
+    // One step from `t`, where the clearance is `f` and the surface's gradient
+    // `(gx, gy)`.
+    let step = |t: f64, f: f64, (gx, gy): (f64, f64)| {
+        let slope = d[2] - gx * d[0] - gy * d[1];
+        (slope != 0.0).then(|| t - f / slope)
     };
-    let local = |k: usize| a[k] + s * (b[k] - a[k]);
-    Some(Hit {
-        t: ta + s * (tb - ta),
-        point: f64::v3([
-            f64::from(cell[0]) + local(0),
-            f64::from(cell[1]) + local(1),
-            local(2),
-        ]),
-        cell,
-        normal: f64::v3(normal),
-        flags,
-    })
+    let t = t.to_f64();
+    let t = match surface {
+        Surface::Triangles => {
+            let planes = triangle_planes(c);
+            // The upper plane at `p` (the first on a tie, as `cell_gradient`) and the
+            // two planes' heights there.
+            let upper = |p: [f64; 3]| {
+                let h = planes.map(|pl| plane(pl, p[0], p[1]));
+                (usize::from(h[1] > h[0]), h)
+            };
+            let on = |k: usize, t: f64, p: [f64; 3], h: [f64; 2]| {
+                step(t, p[2] - h[k], (planes[k][1], planes[k][2]))
+            };
+            let p = at(t);
+            let (k, h) = upper(p);
+            let t1 = on(k, t, p, h)?;
+            let p1 = at(t1);
+            match upper(p1) {
+                (k1, h1) if k1 != k => on(k1, t1, p1, h1)?,
+                _ => t1,
+            }
+        }
+        _ => {
+            let tangent = |t: f64| {
+                let p = at(t);
+                let f = p[2] - surface.cell_height(c, p[0], p[1]);
+                step(t, f, surface.cell_gradient(c, p[0], p[1]))
+            };
+            let t1 = tangent(t)?;
+            match surface {
+                Surface::Bilinear => tangent(t1)?,
+                _ => t1,
+            }
+        }
+    };
+    let p = at(t);
+    // In the cell up to rounding of the local coordinates, and in the span.
+    const SLACK: f64 = 1e-9;
+    let inside = |x: f64| (-SLACK..=1.0 + SLACK).contains(&x);
+    let kept = inside(p[0]) && inside(p[1]) && t >= t0.to_f64() && t <= t1.to_f64();
+    let point = [corner[0] + p[0], corner[1] + p[1], p[2]].map(R::from_f64);
+    kept.then(|| (R::from_f64(t), point))
 }
 
 /// Traces `q` cell by cell and returns the exact first hit on `surface`.
 ///
 /// Cost: four fetches (the corners) per cell visited.
 pub fn trace<R: Real>(hf: &HeightField, surface: Surface, q: &Query<R>) -> Trace<R> {
+    finish(hf, surface, q, walk(hf, surface, q))
+}
+
+/// [`trace`] before the robust finish.
+fn walk<R: Real>(hf: &HeightField, surface: Surface, q: &Query<R>) -> Trace<R> {
     let Some(span) = clip_surface(hf, surface, q) else {
         return Trace::MISS;
     };
@@ -423,7 +426,7 @@ pub fn trace<R: Real>(hf: &HeightField, surface: Surface, q: &Query<R>) -> Trace
         clearance = clearance.min(seg.clearance);
         if let Some(found) = seg.hit {
             return Trace {
-                hit: Some(cell_hit(hf, surface, q, cell, ((ta, tb), (a, b)), found)),
+                hit: Some(segment_point(cell, ((ta, tb), (a, b)), found)),
                 fetches,
                 clearance,
                 flags: Flags::default(),

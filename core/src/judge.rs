@@ -1,4 +1,4 @@
-//! DESIGN.md's judge, shared by the report, the tests and (mirrored in C) the fuzz
+//! docs/DESIGN.md's judge, shared by the report, the tests and (mirrored in C) the fuzz
 //! targets: when an answer is **wrong** against the `f64` oracle, and when a ray is
 //! **ambiguous**, i.e. its exact answer is not resolved by what `f32` can represent.
 //!

@@ -1,10 +1,10 @@
 //! # hfcast — exact and fast ray casting of height fields
 //!
 //! A `no_std` core: height fields over caller-owned samples, the five surface
-//! reconstructions of `DESIGN.md`, the exact grid traversal (in `f64` the test oracle,
+//! reconstructions of `docs/DESIGN.md`, the exact grid traversal (in `f64` the test oracle,
 //! in `f32` the fast path), and the bake-free search baselines.
 //!
-//! Cargo features leave whole methods out (DESIGN.md, "Leave out what a scene does
+//! Cargo features leave whole methods out (docs/DESIGN.md, "Leave out what a scene does
 //! not need"): `maxmip`, `safety` (safety distances and cylinder–cone shapes),
 //! `cone` (needs `maxmip`), `qdm` and `relaxed` (need `cone`), `search`; the default
 //! `all-methods` enables them all. The exact traversal ([`dda`]), the scene

@@ -24,8 +24,8 @@
 //! [`dda::trace`]: crate::dda::trace
 
 use crate::dda::{
-    self, cell_hit, cell_index, clip, entry_on, finish, local_clearance, segment_point,
-    start_clearance, start_hit, step_of, Entry,
+    self, cell_index, clip, entry_on, finish, local_clearance, segment_point, start_clearance,
+    start_hit, step_of, Entry,
 };
 use crate::field::{HeightField, MAX_SIDE};
 use crate::math::Real;
@@ -465,6 +465,24 @@ pub fn trace<R: Real>(
     q: &Query<R>,
     opts: &Options,
 ) -> Trace<R> {
+    let trace = march(hf, mip, surface, q, opts);
+    // The exact answer gets the DDA's robust finish, the approximate ones keep theirs.
+    let exact =
+        opts.lod.is_none() && (opts.iterative_bilinear.is_none() || surface != Surface::Bilinear);
+    match exact {
+        true => finish(hf, surface, q, trace),
+        false => trace,
+    }
+}
+
+/// [`trace`] before the robust finish.
+fn march<R: Real>(
+    hf: &HeightField,
+    mip: &MaxMip,
+    surface: Surface,
+    q: &Query<R>,
+    opts: &Options,
+) -> Trace<R> {
     if surface == Surface::LinearPlanes {
         return dda::trace(hf, surface, q);
     }
@@ -499,8 +517,9 @@ pub fn trace<R: Real>(
         .saturating_sub(2);
     let (mut level, mut t, mut start) = (start_level.min(top), span.t0, true);
     // How the current cell was entered: `on[axis] = Some(far)` when through a centerline
-    // crossing on that axis (see `local_clearance`).
-    let mut on: [Option<bool>; 2] = [None; 2];
+    // crossing on that axis, or a side of the footprint (see `local_clearance`,
+    // `entry_on`).
+    let mut on = entry_on(surface, &span.entry);
     let (mut fetches, mut clearance) = (0u32, R::INFINITY);
     let miss = |fetches, clearance| Trace {
         hit: None,
@@ -547,12 +566,7 @@ pub fn trace<R: Real>(
             // Level 0: the exact test of dda::trace, on the same shared edge clearances.
             let c: [R; 4] = corners(hf, cell[0], cell[1]);
             fetches += 4;
-            let at = if start {
-                entry_on(surface, &span.entry)
-            } else {
-                on
-            };
-            let (a, ca) = local_clearance(surface, c, cell, p, at);
+            let (a, ca) = local_clearance(surface, c, cell, p, on);
             // Past the start a continuous surface leaves `ca > 0` unless rounding lifts an
             // edge above its node's maximum (discontinuous ones ignore `ca`).
             if ca <= R::ZERO && (start || surface.is_continuous()) {
@@ -560,14 +574,13 @@ pub fn trace<R: Real>(
                     start_hit(surface, &span, c, cell, a, p)
                 } else {
                     // A graze of the edge the ray came in through.
-                    let graze = Hit {
+                    Hit {
                         t,
                         point: R::v3(p),
                         cell,
                         normal: R::v3(surface.cell_normal(c, a[0], a[1])),
                         flags: Flags::default(),
-                    };
-                    finish(hf, surface, q, graze)
+                    }
                 };
                 let clearance = match start {
                     true => start_clearance(&span.entry, ca),
@@ -589,13 +602,8 @@ pub fn trace<R: Real>(
             };
             clearance = clearance.min(seg.clearance);
             if let Some(found) = seg.hit {
-                // As dda::trace, finished in `f64`, but for the iterative bilinear
-                // search: approximate, it keeps its own point.
-                let ends = ((t, tb), (a, b));
-                let hit = match iterative {
-                    Some(_) => segment_point(cell, ends, found),
-                    None => cell_hit(hf, surface, q, cell, ends, found),
-                };
+                // As dda::trace (the iterative bilinear search's `s` included).
+                let hit = segment_point(cell, ((t, tb), (a, b)), found);
                 return Trace {
                     hit: Some(hit),
                     fetches,

@@ -46,7 +46,7 @@ pub enum RayClass {
 }
 
 impl RayClass {
-    /// The class of a direction (DESIGN.md contract).
+    /// The class of a direction (docs/DESIGN.md contract).
     pub fn of<R: Real>(dx: R, dy: R) -> RayClass {
         if dx >= dy.abs() && !(dx == R::ZERO && dy == R::ZERO) {
             RayClass::XPos

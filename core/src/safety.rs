@@ -40,8 +40,8 @@ use core::fmt;
 use core::ops::Range;
 
 use crate::dda::{
-    cell_hit, cell_index, clip, entry_on, local_clearance, next_crossing, start_clearance,
-    start_hit,
+    cell_index, clip, entry_on, finish, local_clearance, next_crossing, segment_point,
+    start_clearance, start_hit,
 };
 use crate::dda::{step_of, Span};
 use crate::field::HeightField;
@@ -1091,14 +1091,7 @@ impl<R: Real, const AX: usize> March<'_, R, AX> {
             self.clearance = self.clearance.min(seg.clearance);
             if let Some(found) = seg.hit {
                 let ends = ((self.ta, tb), (self.a, b));
-                return Step::Hit(cell_hit(
-                    self.hf,
-                    self.surface,
-                    self.q,
-                    self.ic,
-                    ends,
-                    found,
-                ));
+                return Step::Hit(segment_point(self.ic, ends, found));
             }
             if !(cross[0] || cross[1]) {
                 return Step::End;
@@ -1309,7 +1302,7 @@ pub(crate) fn march_with<R: Real, J: Fn(&Line<R>, RayClass, u32, u32) -> Jump>(
         a,
         ca,
     };
-    march_above(hf, surface, q, start, setup)
+    finish(hf, surface, q, march_above(hf, surface, q, start, setup))
 }
 
 /// [`march_with`] for a ray that starts above the surface at `start`. Not inlined

@@ -1,4 +1,4 @@
-//! The five surface reconstructions of DESIGN.md and their exact ray–cell tests.
+//! The five surface reconstructions of docs/DESIGN.md and their exact ray–cell tests.
 //!
 //! Everything here works in one cell's local coordinates: `u = x − i`, `v = y − j` in
 //! `[0, 1]`, with the corners `c = [h00, h10, h01, h11]` (h10 at u = 1, h01 at v = 1).

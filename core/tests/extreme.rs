@@ -20,7 +20,7 @@
 //! The `f64` DDA is the oracle; brute force over all cells checks it (and the `f32`
 //! DDA) on every case, on every ray of small fields and a few of large ones.
 //!
-//! Rules (DESIGN.md): a ray is **ambiguous** when the oracle's clearance is under
+//! Rules (docs/DESIGN.md): a ray is **ambiguous** when the oracle's clearance is under
 //! 2⁻¹³ · max(1, |z|) (`f32` traces; 1e-9 · max(1, |z|) for `f64` traces): counted on
 //! its own, never as right. An `f32` ray is **wrong** when hit/miss differs from the
 //! oracle or the hit is farther than `max(1e-3, 8 · eps32 · (|o|∞ + |p|∞))` texels from
@@ -627,7 +627,7 @@ fn trace_all(case: &mut Case, field: &Field, baked: &Baked, surface: Surface, sp
 
 /// Runs a case: every ray on every surface given; brute force checks the oracle
 /// itself (every ray on small fields, the first 8 per field and surface on large ones;
-/// the `f64` ray, and the `f32` ray at DESIGN.md's 1e-3
+/// the `f64` ray, and the `f32` ray at docs/DESIGN.md's 1e-3
 /// unless `far`: heights or origins so large that `f32` coordinates are coarser than
 /// that, where the `f32` traces are judged against the oracle with the documented
 /// bound instead).

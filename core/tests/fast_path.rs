@@ -1,9 +1,9 @@
 //! The fast path against the oracle: `dda::trace` on `Query<f32>` must give the same
 //! answers as on the same query in `f64` (the cast is exact, so both trace exactly the
 //! same ray) on fractal fields, except for ambiguous rays (the oracle's clearance below
-//! DESIGN.md's `2⁻¹³ · max(1, |z|)`), which are counted and printed. Hit points must
+//! docs/DESIGN.md's `2⁻¹³ · max(1, |z|)`), which are counted and printed. Hit points must
 //! agree within 1e-4 texel (growing with the coordinates beyond 32, see `tight`;
-//! DESIGN.md's "wrong" is 1e-3).
+//! docs/DESIGN.md's "wrong" is 1e-3).
 //!
 //! On the discontinuous surfaces (height planes, linear planes) a ray passing within
 //! 1e-4 texel of a point where two walls touch along a vertical edge (a "pinch": quarter
@@ -210,7 +210,7 @@ fn moller_trumbore(o: [f32; 3], d: [f32; 3], v: [[f32; 3]; 3]) -> Option<f32> {
     (t >= 0.0).then_some(t)
 }
 
-/// `true` when the naive intersector finds any triangle of the split DESIGN.md uses.
+/// `true` when the naive intersector finds any triangle of the split docs/DESIGN.md uses.
 fn naive_hits(field: &Field, q: &Query<f32>) -> bool {
     let (o, d) = (q.origin(), q.dir());
     let hf = field.hf();

@@ -8,13 +8,13 @@
 //! against the geometry), the normal. Left out of the comparison, counted and printed:
 //!
 //! - ambiguous rays, *in `f64`*: the oracle's clearance is below `1e-9 · max(1, |z|)`
-//!   (DESIGN.md's `2⁻¹³` is the `f32` threshold; both sides here are `f64`, so this
+//!   (docs/DESIGN.md's `2⁻¹³` is the `f32` threshold; both sides here are `f64`, so this
 //!   test uses a far tighter one);
 //! - touches: the two disagree because one of them meets the surface at zero clearance
 //!   without going under it (e.g. a horizontal ray at exactly the height of a ridge);
-//!   rounding decides, and by DESIGN.md's rule such a ray is ambiguous.
+//!   rounding decides, and by docs/DESIGN.md's rule such a ray is ambiguous.
 //!
-//! Contract readings this test documents (the code implements them; DESIGN.md does not
+//! Contract readings this test documents (the code implements them; docs/DESIGN.md does not
 //! spell them out):
 //!
 //! - The discontinuous surfaces (height planes, linear planes) are the graph of a

@@ -135,7 +135,7 @@ enum Verdict {
     Wrong,
 }
 
-/// Judges one ray as DESIGN.md says: hit/miss and position (1e-3 texel) against the
+/// Judges one ray as docs/DESIGN.md says: hit/miss and position (1e-3 texel) against the
 /// f64 exact traversal; grazing rays and touches are ambiguous.
 fn judge<R: Real>(field: &Field, got: &Trace<R>, q: &Query<R>, oracle: &Trace<f64>) -> Verdict {
     let eps = eps_f32(field.z_scale());

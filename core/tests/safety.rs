@@ -54,7 +54,7 @@ fn judge<R: Real>(
         _ => false,
     };
     // A touch (the ray meets the surface at zero clearance without going under it,
-    // e.g. level with a ridge) is decided by rounding: ambiguous, as in DESIGN.md.
+    // e.g. level with a ridge) is decided by rounding: ambiguous, as in docs/DESIGN.md.
     match oracle.hit {
         Some(hit) if !right && is_touch(field, surface, &q.cast(), hit.t, eps_f32(zs)) => None,
         _ => Some(right),

@@ -8,7 +8,7 @@
 //! far-apart roots, `A = 0` exactly, a (near-)double root, and rays parallel to cell
 //! edges and along diagonals of saddle cells.
 //!
-//! "Wrong" for `f32` is DESIGN.md's: hit/miss differs or the hit point is more than
+//! "Wrong" for `f32` is docs/DESIGN.md's: hit/miss differs or the hit point is more than
 //! 1e-3 from brute force's, as a 3-D distance in grid units. Readings documented here:
 //! for the 1e6 height range the `z` of a hit cannot be within 1e-3 in `f32` (its spacing
 //! there is 0.06), so that case measures the `f32` error as the horizontal distance plus

@@ -108,8 +108,9 @@ Trace maxmip_trace(uint surface, Query q) {
     uint level = min(start_level, top);
     float t = span.t0;
     bool start = true;
-    // How the current cell was entered: on[axis] >= 0 through a centerline crossing.
-    ivec2 on = ivec2(-1);
+    // How the current cell was entered: on[axis] >= 0 through a centerline crossing or a
+    // side of the footprint.
+    ivec2 on = dda_entry_on(surface, span);
     uint fetches = 0u;
     float clearance = real_infinity();
     while (true) {
@@ -141,7 +142,7 @@ Trace maxmip_trace(uint surface, Query q) {
             vec4 c = surface_corners(cell[0], cell[1]);
             fetches += 4u;
             vec3 a;
-            float ca = dda_local_clearance(surface, c, cell, p, start ? dda_entry_on(surface, span) : on, a);
+            float ca = dda_local_clearance(surface, c, cell, p, on, a);
             if (ca <= 0.0 && (start || surface_is_continuous(surface))) {
                 Hit hit;
                 if (start) {

@@ -1,7 +1,7 @@
 //! # hfcast-shaders
 //!
 //! The GLSL (`shaders/glsl`) and WGSL (`shaders/wgsl`) ports of hfcast's marches as
-//! source text, and shader generation from a scene description (DESIGN.md, "Leave
+//! source text, and shader generation from a scene description (docs/DESIGN.md, "Leave
 //! out what a scene does not need"):
 //!
 //! - [`general`]: a method's general shader, its files concatenated: every surface and

@@ -100,8 +100,9 @@ fn maxmip_trace(surface: u32, q: Query) -> Trace {
     var level = min(start_level, top);
     var t = span.t0;
     var start = true;
-    // How the current cell was entered: on[axis] >= 0 through a centerline crossing.
-    var on = vec2<i32>(-1);
+    // How the current cell was entered: on[axis] >= 0 through a centerline crossing or a
+    // side of the footprint.
+    var on = dda_entry_on(surface, span);
     var fetches = 0u;
     var clearance = real_infinity();
     loop {
@@ -135,7 +136,7 @@ fn maxmip_trace(surface: u32, q: Query) -> Trace {
             let c = surface_corners(cell[0], cell[1]);
             fetches += 4u;
             var a: vec3<f32>;
-            let ca = dda_local_clearance(surface, c, cell, p, select(on, dda_entry_on(surface, span), start), &a);
+            let ca = dda_local_clearance(surface, c, cell, p, on, &a);
             if (ca <= 0.0 && (start || surface_is_continuous(surface))) {
                 var hit: Hit;
                 if (start) {

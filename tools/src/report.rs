@@ -68,7 +68,7 @@ impl ReportOptions {
 pub const SHADOW_LIFT: f64 = 4.0;
 
 /// The unit of [`SHADOW_LIFT`]: `2⁻¹³ · max(1, |z|)`, `|z|` the field's largest
-/// |height| (the ambiguity threshold before DESIGN.md's resolution δ; kept so that the
+/// |height| (the ambiguity threshold before docs/DESIGN.md's resolution δ; kept so that the
 /// shadow rays stay the same rays).
 pub const LIFT_UNIT: f64 = 1.0 / 8192.0;
 

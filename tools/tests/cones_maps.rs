@@ -39,7 +39,7 @@ fn rays(hf: &HeightField, n_random: usize) -> Vec<Query<f32>> {
     rays
 }
 
-/// DESIGN.md's ambiguity threshold `2⁻¹³ · max(1, |z|)`, `|z|` over the field.
+/// docs/DESIGN.md's ambiguity threshold `2⁻¹³ · max(1, |z|)`, `|z|` over the field.
 fn eps_of(hf: &HeightField) -> f64 {
     1f64.max(hf.max_height().abs().into())
         .max(hf.min_height().abs().into())
@@ -81,7 +81,7 @@ fn conservative(
         let d = q.cast::<f64>().dir();
         let len = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
         // f32 marches round: a step may stand a few ulps past the hit (up to 4e-4
-        // texel seen on these maps); the slack is DESIGN.md's 1e-3-texel "wrong" bound.
+        // texel seen on these maps); the slack is docs/DESIGN.md's 1e-3-texel "wrong" bound.
         let limit = oracle.hit.map_or(f64::INFINITY, |h| h.t + 1e-3 / len);
         let mut worst = f64::NEG_INFINITY;
         let got = trace(q, &mut |t| worst = worst.max(f64::from(t)));

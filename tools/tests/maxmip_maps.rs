@@ -18,7 +18,7 @@ fn maxmip_exact_on_every_map() {
         let mut pyr = vec![0f32; maxmip::pyramid_len(hf.width(), hf.height())];
         maxmip::bake(&hf, &mut pyr).unwrap();
         let mip = MaxMip::new(&hf, &pyr).unwrap();
-        // DESIGN.md's ambiguity threshold 2⁻¹³ · max(1, |z|), |z| over the whole map.
+        // docs/DESIGN.md's ambiguity threshold 2⁻¹³ · max(1, |z|), |z| over the whole map.
         let eps = ambiguity_eps(&hf);
         let rays = test_rays(&hf);
         for surface in [Surface::Triangles, Surface::Bilinear] {

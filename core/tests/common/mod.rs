@@ -1,5 +1,5 @@
 //! Shared helpers of the integration tests: a seeded RNG, owned height fields, the
-//! ambiguity rule of DESIGN.md, ray generators and a tally that prints per-case counts.
+//! ambiguity rule of docs/DESIGN.md, ray generators and a tally that prints per-case counts.
 #![allow(dead_code)] // every test binary uses a different part of this module
 
 use hfcast::{brute, dda, Flags, HeightField, Query, RayClass, Real, Surface, Trace};
@@ -251,12 +251,12 @@ pub fn march_fields(
     v
 }
 
-/// DESIGN.md's ambiguity threshold `2⁻¹³ · max(1, |z|)`.
+/// docs/DESIGN.md's ambiguity threshold `2⁻¹³ · max(1, |z|)`.
 pub fn eps_f32(z_scale: f64) -> f64 {
     z_scale / 8192.0
 }
 
-/// DESIGN.md's ambiguity rule on an exact trace: its clearance is below `eps`. (For a
+/// docs/DESIGN.md's ambiguity rule on an exact trace: its clearance is below `eps`. (For a
 /// hit where the traced span begins the clearance is the depth under the surface
 /// there, so an origin just under the surface is ambiguous too.)
 pub fn is_ambiguous<R: Real>(oracle: &Trace<R>, eps: f64) -> bool {
@@ -699,7 +699,7 @@ pub fn tie_point(surface: Surface, q: &Query<f64>, xm: f64, ym: f64) -> bool {
 
 /// Relative tolerance of `f64` comparisons (positions, ambiguity).
 pub const TOL64: f64 = 1e-9;
-/// DESIGN.md's "wrong" distance (texels), used for `f32`.
+/// docs/DESIGN.md's "wrong" distance (texels), used for `f32`.
 pub const WRONG: f64 = 1e-3;
 /// Horizontal distance (texels) from a wall pinch point under which an `f32` ray on a
 /// discontinuous surface is ambiguous (see [`near_pinch`]).
@@ -714,7 +714,7 @@ pub enum Outcome {
     /// wall pinch point).
     Ambiguous,
     /// The `f64` traversal and brute force disagree on a touch: one of them meets the
-    /// surface at zero clearance without going under it (ambiguous by DESIGN.md's rule).
+    /// surface at zero clearance without going under it (ambiguous by docs/DESIGN.md's rule).
     Touch,
     /// The `f64` traversal and brute force disagree at a wall tie point of a
     /// discontinuous surface (see [`tie_point`]); the DDA's hit was checked to be no
@@ -727,7 +727,7 @@ pub enum Outcome {
 /// Traces `q` (in its own precision) and judges it against `brute::first_hit` on the
 /// same ray in `f64`. `f64` traces must match to [`TOL64`] of the scene's length scale
 /// and are ambiguous below `TOL64 · max(1, |z|)`; `f32` traces must match to
-/// [`WRONG`] and are ambiguous by DESIGN.md's `2⁻¹³ · max(1, |z|)` on the `f64`
+/// [`WRONG`] and are ambiguous by docs/DESIGN.md's `2⁻¹³ · max(1, |z|)` on the `f64`
 /// traversal's clearance, or near a wall pinch. Returns the outcome and whether brute
 /// force hits.
 pub fn judge<R: Real>(field: &Field, surface: Surface, q: &Query<R>) -> (Outcome, bool) {
@@ -973,7 +973,7 @@ pub fn clearance(field: &Field, surface: Surface, q: &Query<f64>, t: f64) -> f64
 
 /// A touch: at the hit `t_hit` the ray meets `surface` without going under it (its
 /// clearance 1e-4, 1e-3 and 1e-2 texel further on is at least `-eps`), so that which
-/// side of the surface it passes by is decided by rounding (ambiguous, DESIGN.md).
+/// side of the surface it passes by is decided by rounding (ambiguous, docs/DESIGN.md).
 pub fn is_touch(field: &Field, surface: Surface, q: &Query<f64>, t_hit: f64, eps: f64) -> bool {
     let d = q.dir();
     let len = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();

@@ -423,7 +423,7 @@ fn exact_wrong_note(all: &[Setting], results: &[SceneResult]) -> String {
          the surface for a few millionths of a texel just before a centerline and comes out \
          again, while the `f32` ray passes over that centerline with a clearance of about 1e-3, \
          under the ambiguity threshold; the oracle's clearance, taken only *before* its hit, \
-         does not see that graze, so DESIGN.md's rule does not call the ray ambiguous. \
+         does not see that graze, so docs/DESIGN.md's rule does not call the ray ambiguous. \
          (2) Hits on those slopes seen from about 900 texels away: `f32` rounds the crossing \
          coordinates to about 6e-5 texel, which the slope turns into about 3e-3 of height, and \
          the hit lands 1.2–1.5 × the `f32` tolerance away. Both are limits of `f32` on such \

@@ -1,5 +1,5 @@
 //! Shared helpers of the real-map tests: the maps and their test windows, the ray set,
-//! DESIGN.md's ambiguity threshold and touch rule, the comparison with the f64 exact
+//! docs/DESIGN.md's ambiguity threshold and touch rule, the comparison with the f64 exact
 //! DDA, and two-thread bakes (each test includes this file with `mod common;`).
 #![allow(dead_code)] // every test binary uses a different part of this module
 
@@ -31,7 +31,7 @@ pub fn window(map: &Map) -> HeightField<'_> {
     HeightField::new(&map.heights[y0 * stride + x0..], w, h, stride).expect("window")
 }
 
-/// DESIGN.md's ambiguity threshold 2⁻¹³ · max(1, |z|), |z| over the whole field.
+/// docs/DESIGN.md's ambiguity threshold 2⁻¹³ · max(1, |z|), |z| over the whole field.
 pub fn ambiguity_eps(hf: &HeightField) -> f64 {
     let z = 1f64
         .max(hf.max_height().abs().into())
