@@ -10,6 +10,7 @@
 
 #include "hfcast.h"
 
+#include <float.h>
 #include <math.h>
 #include <stddef.h>
 #include <stdint.h>
@@ -206,17 +207,38 @@ static inline int fz_identical(const hf_hit *want, const hf_hit *got) {
            memcmp(want->point, got->point, sizeof want->point) == 0;
 }
 
-/* The methods other than maxmip are exact "up to rounding on rays that graze the
- * surface": a ray counts as stable when the exact answer does not change (under
- * fz_agree) as the ray is lifted and lowered by 1e-4; only stable rays must agree. */
+/* docs/DESIGN.md's ambiguity rule (core/src/judge.rs), on hf_trace_exact's answers:
+ * a ray is stable when moving its origin by its f32 resolution
+ * delta = 2 eps32 (|o|inf + E), E = max(W - 1, H - 1, |min height|, |max height|), along
+ * each axis, either way, keeps the answer: the same hit or miss, and a hit within
+ * fz_agree's 1e-3 (relative) plus 2 delta (1 + 1/|n . d|), how far a hit slides when
+ * the ray moves by delta. Only stable rays must agree; touches, near-touches and
+ * clipped ridges are ambiguous. */
 static inline int fz_stable(const hf_field *f, uint32_t surface, const hf_ray *ray,
                      const hf_hit *exact) {
-    for (int s = -1; s <= 1; s += 2) {
+    hf_field_info info;
+    if (hf_field_get_info(f, &info) != HF_OK) return 0;
+    double o = 0.0, extent = (double)(info.width > info.height ? info.width : info.height) - 1.0;
+    for (int k = 0; k < 3; k++) o = fmax(o, fabs((double)ray->origin[k]));
+    extent = fmax(extent, fmax(fabs((double)info.min_height), fabs((double)info.max_height)));
+    double delta = 2.0 * FLT_EPSILON * (o + extent);
+    double len = sqrt((double)ray->dir[0] * ray->dir[0] + (double)ray->dir[1] * ray->dir[1] +
+                      (double)ray->dir[2] * ray->dir[2]);
+    double cosine = exact->hit ? fabs((double)exact->normal[0] * ray->dir[0] +
+                                      (double)exact->normal[1] * ray->dir[1] +
+                                      (double)exact->normal[2] * ray->dir[2]) / len
+                               : 1.0;
+    double slide = 2.0 * delta * (1.0 + 1.0 / fmax(cosine, 1e-3));
+    for (int k = 0; k < 6; k++) {
         hf_ray moved = *ray;
-        moved.origin[2] += (float)s * 1e-4f * (1.0f + fabsf(ray->origin[2]));
+        moved.origin[k / 2] = (float)((double)ray->origin[k / 2] + (k % 2 ? -delta : delta));
         hf_hit h;
         if (hf_trace_exact(f, surface, &moved, &h) != HF_OK) return 0;
-        if (!fz_agree(exact, &h)) return 0;
+        if (exact->hit != h.hit) return 0;
+        for (int a = 0; exact->hit && a < 3; a++) {
+            double e = fabs((double)exact->point[a] - h.point[a]);
+            if (e > 1e-3 * (1.0 + fabs((double)exact->point[a])) + slide) return 0;
+        }
     }
     return 1;
 }

@@ -22,7 +22,7 @@
  *    another field, method, cap or class set, HF_ERR_STALE_MAP for a map baked
  *    before hf_field_update_rect changed the field (hf_map_read_desc reads one).
  *
- * Grid space (DESIGN.md): sample (i, j) of a W x H field sits at (x = i, y = j); the
+ * Grid space (docs/DESIGN.md): sample (i, j) of a W x H field sits at (x = i, y = j); the
  * surface covers [0, W-1] x [0, H-1]; cell (i, j) is [i, i+1] x [j, j+1]; heights and
  * ray coordinates are in grid units (one sample spacing), or in world units once
  * hf_field_set_transform placed the field (hf_transform). Everything below the surface
@@ -216,7 +216,7 @@ typedef uint32_t hf_result;
 #endif // __STDC_VERSION__ >= 202311L
 #endif // __cplusplus
 
-// Height reconstruction between samples (DESIGN.md, "Surfaces"). Passed as `uint32_t`.
+// Height reconstruction between samples (docs/DESIGN.md, "Surfaces"). Passed as `uint32_t`.
 enum hf_surface
 #if defined(__cplusplus) || __STDC_VERSION__ >= 202311L
   : uint32_t

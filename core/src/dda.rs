@@ -468,3 +468,57 @@ fn walk<R: Real>(hf: &HeightField, surface: Surface, q: &Query<R>) -> Trace<R> {
         flags: Flags::default(),
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::maxmip::{self, MaxMip, Options};
+    use alloc::vec;
+
+    /// The fuzz finding `maxmip_side_wall` rebuilt: a 2 × 5 field whose sample (1, 3)
+    /// is −1.7·10³⁸, the others near −24 and −5. A ray in the plane x = 0 enters
+    /// through the side y = 4 at t = 6, 18 units above the corner (0, 4); evaluated
+    /// from the cell's planes there, −1.7·10³⁸ cancelled into a wall (both precisions
+    /// answered a side hit at t = 6), while the side's edge samples give −24.22. The
+    /// real hit is on the edge x = 0 of cell (0, 2), at y = 42.84 / 19.92.
+    #[test]
+    fn side_entry_takes_its_height_from_the_edge_samples() {
+        let heights = vec![
+            -5.0,
+            -5.0,
+            -5.0,
+            -5.0,
+            -5.0,
+            -5.0,
+            -23.92,
+            -1.701_463_5e38,
+            -24.22,
+            -23.92,
+        ];
+        let hf = HeightField::new(&heights, 2, 5, 2).unwrap();
+        let want_y = 42.84 / 19.92;
+        let want_t = 10.0 - want_y;
+        let q = Query::<f64>::from_arrays([0.0, 10.0, 0.0], [0.0, -1.0, -1.0], 4.5, f64::INFINITY)
+            .unwrap();
+        for tr in [
+            trace(&hf, Surface::Triangles, &q),
+            trace(&hf, Surface::Bilinear, &q),
+        ] {
+            let h = tr.hit.expect("hits the edge x = 0");
+            assert!(!h.flags.contains(Flags::SIDE), "{h:?}");
+            assert!((h.t - want_t).abs() < 1e-3, "{h:?}");
+        }
+        let q32 = q.cast::<f32>();
+        let mut pyramid = vec![0f32; maxmip::pyramid_len(2, 5)];
+        maxmip::bake(&hf, &mut pyramid).unwrap();
+        let mip = MaxMip::new(&hf, &pyramid).unwrap();
+        for h in [
+            trace(&hf, Surface::Triangles, &q32).hit,
+            maxmip::trace(&hf, &mip, Surface::Triangles, &q32, &Options::default()).hit,
+        ] {
+            let h = h.expect("hits the edge x = 0");
+            assert!(!h.flags.contains(Flags::SIDE), "{h:?}");
+            assert!((f64::from(h.t) - want_t).abs() < 1e-3, "{h:?}");
+        }
+    }
+}

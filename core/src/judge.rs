@@ -84,20 +84,27 @@ pub fn agree(
     }
 }
 
+/// The oracle's answers to `q` with its origin moved by ±δ ([`resolution`]) along each
+/// axis: `+x, −x, +y, −y, +z, −z` (`None` where the moved ray is not a valid query).
+pub fn moved(hf: &HeightField, surface: Surface, q: &Query<f64>) -> [Option<Trace<f64>>; 6] {
+    let (o, d) = (q.origin(), q.dir());
+    let delta = resolution(hf, o);
+    core::array::from_fn(|k| {
+        let mut moved = o;
+        moved[k / 2] += if k % 2 == 0 { delta } else { -delta };
+        let m = Query::from_arrays(moved, d, q.t_min(), q.t_max()).ok()?;
+        Some(dda::trace(hf, surface, &m))
+    })
+}
+
 /// Whether `q` is ambiguous on `surface` of `hf` (module doc), given the oracle's answer
-/// `base` (`dda::trace` of `q`): six more oracle traces, the origin moved by ±δ along
-/// each axis.
+/// `base` (`dda::trace` of `q`): six more oracle traces ([`moved`]).
 pub fn ambiguous(hf: &HeightField, surface: Surface, q: &Query<f64>, base: &Trace<f64>) -> bool {
     let (o, d) = (q.origin(), q.dir());
     let delta = resolution(hf, o);
-    (0..6).any(|k| {
-        let mut moved = o;
-        moved[k / 2] += if k % 2 == 0 { delta } else { -delta };
-        let Ok(m) = Query::from_arrays(moved, d, q.t_min(), q.t_max()) else {
-            return true;
-        };
-        !agree(base, &dda::trace(hf, surface, &m), o, d, delta)
-    })
+    moved(hf, surface, q)
+        .iter()
+        .any(|m| m.as_ref().is_none_or(|m| !agree(base, m, o, d, delta)))
 }
 
 #[cfg(test)]
@@ -142,6 +149,11 @@ mod tests {
         assert!(!judge(&hf, [-3.0, 2.0, 1.5], [1.0, 0.0, 0.0]));
         // Straight down onto the slope: stable.
         assert!(!judge(&hf, [1.5, 2.0, 3.0], [0.0, 0.0, -1.0]));
+        // The old rule (clearance before the hit under 2^-13) did not see the clipped
+        // tip: the clearance it measured is the ray's height over the flat ground.
+        let q = Query::from_arrays([-3.0, 2.0, 1.0 - 1e-9], [1.0, 0.0, 0.0], 0.0, f64::INFINITY);
+        let before = dda::trace(&hf, Surface::Triangles, &q.unwrap()).clearance;
+        assert!(before > 1.0 / 8192.0, "{before}");
     }
 
     #[test]
@@ -152,6 +164,11 @@ mod tests {
         let hf = HeightField::new(&s, 9, 9, 9).unwrap();
         let over = [4.3, 4.6, 1e5 + 2.0];
         assert!(!judge(&hf, over, [0.3, 0.1, -1.0]));
+        // The old rule called it ambiguous: its clearance before the hit (at most the
+        // relief plus the 2 above it) is under 2^-13 · 1e5.
+        let q = Query::from_arrays(over, [0.3, 0.1, -1.0], 0.0, f64::INFINITY).unwrap();
+        let old_rule = dda::trace(&hf, Surface::Triangles, &q).clearance < 1e5 / 8192.0;
+        assert!(old_rule);
         let delta = resolution(&hf, over);
         assert!(delta < 0.05 && delta > 0.045, "{delta}");
     }

@@ -417,18 +417,9 @@ fn exact_wrong_note(all: &[Setting], results: &[SceneResult]) -> String {
         );
     }
     format!(
-        "Exact settings with wrong rays (the `f64` oracle has none by definition):\n\n{s}\n\
-         Examined on the checkerboard (samples alternately 0 and 51: slopes of 51 texels per \
-         texel), they are of two kinds. (1) The oracle's hit clips a ridge: the ray goes under \
-         the surface for a few millionths of a texel just before a centerline and comes out \
-         again, while the `f32` ray passes over that centerline with a clearance of about 1e-3, \
-         under the ambiguity threshold; the oracle's clearance, taken only *before* its hit, \
-         does not see that graze, so docs/DESIGN.md's rule does not call the ray ambiguous. \
-         (2) Hits on those slopes seen from about 900 texels away: `f32` rounds the crossing \
-         coordinates to about 6e-5 texel, which the slope turns into about 3e-3 of height, and \
-         the hit lands 1.2–1.5 × the `f32` tolerance away. Both are limits of `f32` on such \
-         slopes, not of a march; a symmetric ambiguity measure (the depth of a clipped ridge \
-         after the hit) and a slope-aware tolerance would classify them.\n\n"
+        "Exact settings with wrong rays (the `f64` oracle has none by definition; every \
+         exact march ends with the robust finish and the judge is docs/DESIGN.md's, so \
+         each is a bug to chase):\n\n{s}\n"
     )
 }
 
