@@ -133,11 +133,18 @@ float dda_local_clearance(uint surface, vec4 c, uvec2 cell, vec3 p, ivec2 on, ou
 // `entry_on`: how the span's first point lies on its cell's edges (a side entry of a
 // continuous surface: on that side's edge).
 ivec2 dda_entry_on(uint surface, Span span) {
-    if (span.entry != HF_ENTRY_SIDE || !surface_is_continuous(surface)) {
+//#if any_surface
+    if (!surface_is_continuous(surface)) {
         return ivec2(-1);
     }
-    vec3 n = span.entry_normal;
-    return ivec2(n[0] != 0.0 ? int(n[0] > 0.0) : -1, n[1] != 0.0 ? int(n[1] > 0.0) : -1);
+//#endif
+//#if triangles|bilinear|view_linear
+    if (span.entry == HF_ENTRY_SIDE) {
+        vec3 n = span.entry_normal;
+        return ivec2(n[0] != 0.0 ? int(n[0] > 0.0) : -1, n[1] != 0.0 ? int(n[1] > 0.0) : -1);
+    }
+//#endif
+    return ivec2(-1);
 }
 
 // `start_clearance`: `Trace::clearance` of a hit where the span begins.

@@ -144,12 +144,19 @@ fn dda_local_clearance(surface: u32, c: vec4<f32>, cell: vec2<u32>, p: vec3<f32>
 // `entry_on`: how the span's first point lies on its cell's edges (a side entry of a
 // continuous surface: on that side's edge).
 fn dda_entry_on(surface: u32, span: Span) -> vec2<i32> {
-    if (span.entry != HF_ENTRY_SIDE || !surface_is_continuous(surface)) {
+//#if any_surface
+    if (!surface_is_continuous(surface)) {
         return vec2<i32>(-1);
     }
-    let n = span.entry_normal;
-    return vec2<i32>(select(-1, i32(n[0] > 0.0), n[0] != 0.0),
-                     select(-1, i32(n[1] > 0.0), n[1] != 0.0));
+//#endif
+//#if triangles|bilinear|view_linear
+    if (span.entry == HF_ENTRY_SIDE) {
+        let n = span.entry_normal;
+        return vec2<i32>(select(-1, i32(n[0] > 0.0), n[0] != 0.0),
+                         select(-1, i32(n[1] > 0.0), n[1] != 0.0));
+    }
+//#endif
+    return vec2<i32>(-1);
 }
 
 // `start_clearance`: `Trace::clearance` of a hit where the span begins.
