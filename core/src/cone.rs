@@ -516,24 +516,13 @@ fn march_cells<R: Real>(
     let p0_on = [start[0], start[1], p0[2]];
     let (mut a, mut ca) = local_clearance(TRI, c, cell, p0_on, entry_on(TRI, &span.entry));
     if ca <= R::ZERO {
-        return Trace {
-            hit: Some(start_hit(TRI, &span, c, cell, a, p0)),
-            fetches,
-            clearance: R::ZERO,
-            flags: Flags::default(),
-        };
+        return Trace::hit(start_hit(TRI, &span, c, cell, a, p0), fetches, R::ZERO);
     }
     let mut clearance = ca;
     // `a, ca` valid for the current point; `have_c`: `c` holds the current cell's corners.
     let (mut have_ca, mut have_c) = (true, true);
     let mut t = span.t0;
     let mut iter = 0u32;
-    let miss = |fetches, clearance| Trace {
-        hit: None,
-        fetches,
-        clearance,
-        flags: Flags::default(),
-    };
     let cell_exit = |cell: [u32; 2]| {
         let t_cross = [0, 1].map(|k| next_crossing(cell[k], dstep[k], o[k], d[k]));
         t_cross[0].min(t_cross[1]).min(span.t1)
@@ -558,13 +547,13 @@ fn march_cells<R: Real>(
         let (s, f) = step(cell, p);
         fetches += f;
         match s {
-            Step::Miss => return miss(fetches, clearance),
+            Step::Miss => return Trace::miss(fetches, clearance),
             // A jump that stays in the cell would crawl (cone steps converge only
             // geometrically near a wall): the cell test reaches its exit at once.
             Step::Jump(dt) if dt > R::ZERO && t + dt >= cell_exit(cell) => {
                 let tn = t + dt;
                 if !(tn < span.t1) {
-                    return miss(fetches, clearance);
+                    return Trace::miss(fetches, clearance);
                 }
                 t = tn;
                 on_step(t);
@@ -584,18 +573,17 @@ fn march_cells<R: Real>(
             (a, ca) = local_clearance(TRI, c, cell, p, [None; 2]);
             clearance = clearance.min(ca);
             if ca <= R::ZERO {
-                return Trace {
-                    hit: Some(Hit {
+                return Trace::hit(
+                    Hit {
                         t,
                         point: R::v3(p),
                         cell,
                         normal: R::v3(TRI.cell_normal(c, a[0], a[1])),
                         flags: Flags::default(),
-                    }),
+                    },
                     fetches,
                     clearance,
-                    flags: Flags::default(),
-                };
+                );
             }
         }
         let t_cross = [0, 1].map(|k| next_crossing(cell[k], dstep[k], o[k], d[k]));
@@ -611,21 +599,20 @@ fn march_cells<R: Real>(
         clearance = clearance.min(seg.clearance);
         if let Some(found) = seg.hit {
             on_step(t + found.0 * (tb - t));
-            return Trace {
-                hit: Some(segment_point(cell, ((t, tb), (a, b)), found)),
+            return Trace::hit(
+                segment_point(cell, ((t, tb), (a, b)), found),
                 fetches,
                 clearance,
-                flags: Flags::default(),
-            };
+            );
         }
         if cross == [false; 2] {
-            return miss(fetches, clearance);
+            return Trace::miss(fetches, clearance);
         }
         for k in 0..2 {
             if cross[k] {
                 let next = cell[k] as i64 + dstep[k];
                 if next < 0 || next >= cells[k] as i64 {
-                    return miss(fetches, clearance);
+                    return Trace::miss(fetches, clearance);
                 }
                 cell[k] = next as u32;
             }

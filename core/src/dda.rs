@@ -400,12 +400,11 @@ fn walk<R: Real>(hf: &HeightField, surface: Surface, q: &Query<R>) -> Trace<R> {
     let (mut a, mut ca) = local_clearance(surface, c, cell, p0_on, entry_on(surface, &span.entry));
 
     if ca <= R::ZERO {
-        return Trace {
-            hit: Some(start_hit(surface, &span, c, cell, a, p0)),
+        return Trace::hit(
+            start_hit(surface, &span, c, cell, a, p0),
             fetches,
-            clearance: start_clearance(&span.entry, ca),
-            flags: Flags::default(),
-        };
+            start_clearance(&span.entry, ca),
+        );
     }
 
     let mut clearance = ca;
@@ -425,12 +424,11 @@ fn walk<R: Real>(hf: &HeightField, surface: Surface, q: &Query<R>) -> Trace<R> {
         let seg = surface.segment_hit(c, a, b, ca, cb, wall);
         clearance = clearance.min(seg.clearance);
         if let Some(found) = seg.hit {
-            return Trace {
-                hit: Some(segment_point(cell, ((ta, tb), (a, b)), found)),
+            return Trace::hit(
+                segment_point(cell, ((ta, tb), (a, b)), found),
                 fetches,
                 clearance,
-                flags: Flags::default(),
-            };
+            );
         }
         if cross == [false; 2] {
             break;
@@ -461,12 +459,7 @@ fn walk<R: Real>(hf: &HeightField, surface: Surface, q: &Query<R>) -> Trace<R> {
         ca = cb;
         ta = tb;
     }
-    Trace {
-        hit: None,
-        fetches,
-        clearance,
-        flags: Flags::default(),
-    }
+    Trace::miss(fetches, clearance)
 }
 
 #[cfg(test)]

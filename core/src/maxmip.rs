@@ -521,12 +521,6 @@ fn march<R: Real>(
     // `entry_on`).
     let mut on = entry_on(surface, &span.entry);
     let (mut fetches, mut clearance) = (0u32, R::INFINITY);
-    let miss = |fetches, clearance| Trace {
-        hit: None,
-        fetches,
-        clearance,
-        flags: Flags::default(),
-    };
     loop {
         // The node holding the cell at this level, and where the ray leaves it.
         let mut lo = [0u32; 2];
@@ -556,12 +550,7 @@ fn march<R: Real>(
         } else if level > 0 {
             // Level of detail: the node's box up to its maximum is the surface.
             let hit = lod_hit(q, &span, start, on, step, t, tb, top_z, lo, hi);
-            return Trace {
-                hit: Some(hit),
-                fetches,
-                clearance,
-                flags: Flags::default(),
-            };
+            return Trace::hit(hit, fetches, clearance);
         } else {
             // Level 0: the exact test of dda::trace, on the same shared edge clearances.
             let c: [R; 4] = corners(hf, cell[0], cell[1]);
@@ -586,12 +575,7 @@ fn march<R: Real>(
                     true => start_clearance(&span.entry, ca),
                     false => clearance.min(ca),
                 };
-                return Trace {
-                    hit: Some(hit),
-                    fetches,
-                    clearance,
-                    flags: Flags::default(),
-                };
+                return Trace::hit(hit, fetches, clearance);
             }
             let exit = |k: usize| (crossing && t_out[k] <= t_next).then_some(step[k] > 0);
             let (b, cb) = local_clearance(surface, c, cell, pb, [exit(0), exit(1)]);
@@ -604,24 +588,19 @@ fn march<R: Real>(
             if let Some(found) = seg.hit {
                 // As dda::trace (the iterative bilinear search's `s` included).
                 let hit = segment_point(cell, ((t, tb), (a, b)), found);
-                return Trace {
-                    hit: Some(hit),
-                    fetches,
-                    clearance,
-                    flags: Flags::default(),
-                };
+                return Trace::hit(hit, fetches, clearance);
             }
         }
         // Leave the node: step over the crossed boundaries, bring the other axis up to
         // date, ascend.
         if !crossing {
-            return miss(fetches, clearance);
+            return Trace::miss(fetches, clearance);
         }
         let mut crossed_level = level;
         for k in 0..2 {
             if step[k] != 0 && t_out[k] <= t_next {
                 if bound[k] == if step[k] > 0 { cells[k] } else { 0 } {
-                    return miss(fetches, clearance);
+                    return Trace::miss(fetches, clearance);
                 }
                 cell[k] = if step[k] > 0 { bound[k] } else { bound[k] - 1 };
                 on[k] = Some(step[k] < 0);

@@ -257,4 +257,28 @@ impl<R: Real> Trace<R> {
         clearance: R::INFINITY,
         flags: Flags(0),
     };
+
+    /// The trace of a march that found `hit` after `fetches` fetches, having seen
+    /// `clearance` at least before it (no trace flags).
+    #[inline]
+    pub fn hit(hit: Hit<R>, fetches: u32, clearance: R) -> Trace<R> {
+        Trace {
+            hit: Some(hit),
+            fetches,
+            clearance,
+            flags: Flags::default(),
+        }
+    }
+
+    /// The trace of a march that missed after `fetches` fetches, having seen
+    /// `clearance` at least along the ray (no trace flags).
+    #[inline]
+    pub fn miss(fetches: u32, clearance: R) -> Trace<R> {
+        Trace {
+            hit: None,
+            fetches,
+            clearance,
+            flags: Flags::default(),
+        }
+    }
 }

@@ -1287,12 +1287,11 @@ pub(crate) fn march_with<R: Real, J: Fn(&Line<R>, RayClass, u32, u32) -> Jump>(
         entry_on(surface, &span.entry),
     );
     if ca <= R::ZERO {
-        return Trace {
-            hit: Some(start_hit(surface, &span, c, ic, a, p0)),
-            fetches: 4,
-            clearance: start_clearance(&span.entry, ca),
-            flags: Flags::default(),
-        };
+        return Trace::hit(
+            start_hit(surface, &span, c, ic, a, p0),
+            4,
+            start_clearance(&span.entry, ca),
+        );
     }
     let start = Start {
         span,

@@ -120,16 +120,15 @@ fn search<R: Real>(
         Entry::Side(_) => Flags::SIDE,
         Entry::Top => Flags::default(),
     };
-    Trace {
-        hit: Some(Hit {
+    Trace::hit(
+        Hit {
             t,
             point: R::v3(p),
             cell,
             normal: R::v3(surface.cell_normal(c, u, v)),
             flags,
-        }),
+        },
         fetches,
-        clearance: R::INFINITY,
-        flags: Flags::default(),
-    }
+        R::INFINITY,
+    )
 }
