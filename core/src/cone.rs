@@ -513,8 +513,8 @@ fn march_cells<R: Real>(
     let mut cell = locate(p0);
     let mut c: [R; 4] = corners(hf, cell[0], cell[1]);
     let mut fetches = 4u32;
-    let p0_on = [start[0], start[1], p0[2]];
-    let (mut a, mut ca) = local_clearance(TRI, c, cell, p0_on, entry_on(TRI, &span.entry));
+    let on = entry_on(TRI, &span.entry);
+    let (mut a, mut ca) = local_clearance(TRI, c, cell, [start[0], start[1], p0[2]], on);
     if ca <= R::ZERO {
         return Trace::hit(start_hit(TRI, &span, c, cell, a, p0), fetches, R::ZERO);
     }

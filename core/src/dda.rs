@@ -272,9 +272,9 @@ pub(crate) fn segment_point<R: Real>(
 /// on the hit's cell, from the `R` hit ([`refine`]). Where the `R` march found the
 /// right cell the point is then the `f64` oracle's, whatever the march's rounding of
 /// its crossings (`f32` coordinates of ~1000 texels round to ~6e-5, which a slope of
-/// 51 turns into 3e-3 of height), at the cost of one division per step, once per ray;
-/// every exact march ends here, so they agree bit for bit wherever they find the hit
-/// in the same cell. Kept as found: hits where the span begins (origin inside, side
+/// 51 turns into 3e-3 of height), at the cost of one division per step, once per ray.
+/// Every exact march ends here, so marches that reach the same `R` hit (the DDA and the
+/// maximum mipmap) still agree bit for bit. Kept as found: hits where the span begins (origin inside, side
 /// entries), walls (their `t` is a quotient `(X − o) / d` already), approximate hits
 /// (a budget ran out), the view-linear surface (its height along the ray is not a
 /// function of the point), and a refinement that would leave the cell or `[t_min,
@@ -299,7 +299,7 @@ pub(crate) fn finish<R: Real>(
         return trace;
     }
     let c = corners(hf, hit.cell[0], hit.cell[1]);
-    if let Some((t, point)) = refine(surface, q, (q.t_min(), q.t_max()), (hit.cell, c), hit.t) {
+    if let Some((t, point)) = refine(surface, q, (hit.cell, c), hit.t) {
         (hit.t, hit.point) = (t, R::v3(point));
     }
     trace
@@ -308,7 +308,7 @@ pub(crate) fn finish<R: Real>(
 /// [`finish`] past its early returns: Newton's steps in `f64` on `cell` (corners `c`)
 /// from `t`, in the cell's frame (its corner at the origin), and the refined `t` and
 /// point back in `R`; `None` when a step finds the ray level with the surface or the
-/// result leaves the cell or the span `[t0, t1]`. A plane (a triangle, a linear or
+/// result leaves the cell or `[t_min, t_max]`. A plane (a triangle, a linear or
 /// height plane's top) takes one step, and the triangle surface a second only when the
 /// upper of its two planes changed on the way; the bilinear patch takes two. Kept out
 /// of line: once per ray, off every march's loop.
@@ -316,7 +316,6 @@ pub(crate) fn finish<R: Real>(
 fn refine<R: Real>(
     surface: Surface,
     q: &Query<R>,
-    (t0, t1): (R, R),
     (cell, c): ([u32; 2], [R; 4]),
     t: R,
 ) -> Option<(R, [R; 3])> {
@@ -367,10 +366,10 @@ fn refine<R: Real>(
         }
     };
     let p = at(t);
-    // In the cell up to rounding of the local coordinates, and in the span.
+    // In the cell up to rounding of the local coordinates, and in `[t_min, t_max]`.
     const SLACK: f64 = 1e-9;
     let inside = |x: f64| (-SLACK..=1.0 + SLACK).contains(&x);
-    let kept = inside(p[0]) && inside(p[1]) && t >= t0.to_f64() && t <= t1.to_f64();
+    let kept = inside(p[0]) && inside(p[1]) && t >= q.t_min().to_f64() && t <= q.t_max().to_f64();
     let point = [corner[0] + p[0], corner[1] + p[1], p[2]].map(R::from_f64);
     kept.then(|| (R::from_f64(t), point))
 }
@@ -396,8 +395,8 @@ fn walk<R: Real>(hf: &HeightField, surface: Surface, q: &Query<R>) -> Trace<R> {
     let step = [step_of(d[0]), step_of(d[1])];
     let mut c: [R; 4] = corners(hf, cell[0], cell[1]);
     let mut fetches = 4u32;
-    let p0_on = [start[0], start[1], p0[2]];
-    let (mut a, mut ca) = local_clearance(surface, c, cell, p0_on, entry_on(surface, &span.entry));
+    let on = entry_on(surface, &span.entry);
+    let (mut a, mut ca) = local_clearance(surface, c, cell, [start[0], start[1], p0[2]], on);
 
     if ca <= R::ZERO {
         return Trace::hit(

@@ -466,12 +466,12 @@ pub fn trace<R: Real>(
     opts: &Options,
 ) -> Trace<R> {
     let trace = march(hf, mip, surface, q, opts);
-    // The exact answer gets the DDA's robust finish, the approximate ones keep theirs.
-    let exact =
-        opts.lod.is_none() && (opts.iterative_bilinear.is_none() || surface != Surface::Bilinear);
-    match exact {
-        true => finish(hf, surface, q, trace),
-        false => trace,
+    // The exact answer gets the DDA's robust finish, the approximate ones keep theirs
+    // (the iterative bilinear search is approximate on the bilinear surface only).
+    if opts.lod.is_none() && (opts.iterative_bilinear.is_none() || surface != Surface::Bilinear) {
+        finish(hf, surface, q, trace)
+    } else {
+        trace
     }
 }
 
