@@ -429,28 +429,34 @@ pub fn bake_brute(hf: &HeightField, out: &mut [f32]) -> Result<(), BakeError> {
     Ok(())
 }
 
-/// A baked cone map: the read-only view the march uses.
+/// A baked map of `N` floats per cell (the cone map, `N` = [`CHANNELS`]; the QDM,
+/// `crate::qdm::QdmMap`): the read-only view the march uses.
 #[derive(Clone, Copy, Debug)]
-pub struct ConeMap<'a> {
+pub struct CellMap<'a, const N: usize> {
     data: &'a [f32],
     cells_w: u32,
 }
 
-impl<'a> ConeMap<'a> {
-    /// Views `data` (baked by [`bake`] for `hf`) as `hf`'s cone map.
+/// A baked cone map: texels `[top, ratio]`.
+pub type ConeMap<'a> = CellMap<'a, CHANNELS>;
+
+impl<'a, const N: usize> CellMap<'a, N> {
+    /// Views `data` (baked for `hf` by [`bake`], or `crate::qdm::bake`) as `hf`'s map.
     pub fn new(hf: &HeightField, data: &'a [f32]) -> Result<Self, BakeError> {
-        check(map_len(hf.width(), hf.height()), data.len())?;
-        Ok(ConeMap {
+        check(N * cell_count(hf.width(), hf.height()), data.len())?;
+        Ok(CellMap {
             data,
             cells_w: hf.width() - 1,
         })
     }
 
-    /// Texel `[top, ratio]` of cell (i, j).
+    /// The texel of cell (i, j).
     #[inline]
-    pub fn texel(&self, i: u32, j: u32) -> [f32; 2] {
-        let k = CHANNELS * (j as usize * self.cells_w as usize + i as usize);
-        [self.data[k], self.data[k + 1]]
+    pub fn texel(&self, i: u32, j: u32) -> [f32; N] {
+        let k = N * (j as usize * self.cells_w as usize + i as usize);
+        let mut t = [0.0; N];
+        t.copy_from_slice(&self.data[k..k + N]);
+        t
     }
 }
 

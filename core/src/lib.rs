@@ -41,6 +41,7 @@ pub mod field;
 pub mod judge;
 pub mod ktx2;
 pub mod mapdesc;
+pub mod march;
 pub mod math;
 #[cfg(feature = "maxmip")]
 pub mod maxmip;
@@ -60,6 +61,7 @@ pub mod surface;
 pub mod world;
 
 pub use field::{FieldError, HeightField};
+pub use march::Marcher;
 pub use math::Real;
 pub use ray::{Flags, Hit, Query, RayClass, RayError, Trace};
 #[cfg(feature = "search")]

@@ -268,35 +268,8 @@ pub fn bake_brute(hf: &HeightField, out: &mut [f32]) -> Result<(), BakeError> {
     Ok(())
 }
 
-/// A baked QDM: the read-only view the march uses.
-#[derive(Clone, Copy, Debug)]
-pub struct QdmMap<'a> {
-    data: &'a [f32],
-    cells_w: u32,
-}
-
-impl<'a> QdmMap<'a> {
-    /// Views `data` (baked by [`bake`] for `hf`) as `hf`'s QDM.
-    pub fn new(hf: &HeightField, data: &'a [f32]) -> Result<Self, BakeError> {
-        check(map_len(hf.width(), hf.height()), data.len())?;
-        Ok(QdmMap {
-            data,
-            cells_w: hf.width() - 1,
-        })
-    }
-
-    /// Texel `[a, b, c, h]` of cell (i, j).
-    #[inline]
-    pub fn texel(&self, i: u32, j: u32) -> [f32; 4] {
-        let k = CHANNELS * (j as usize * self.cells_w as usize + i as usize);
-        [
-            self.data[k],
-            self.data[k + 1],
-            self.data[k + 2],
-            self.data[k + 3],
-        ]
-    }
-}
+/// A baked QDM: texels `[a, b, c, h]` (a [`cone::CellMap`] of [`CHANNELS`] floats).
+pub type QdmMap<'a> = cone::CellMap<'a, CHANNELS>;
 
 /// Smallest root `x ≥ 0` of `A x² + B x + C`, without cancellation: with
 /// `q = −(B + sign(B) √D) / 2` the roots are `q / A` and `C / q` (the QDM paper's

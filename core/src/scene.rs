@@ -5,6 +5,7 @@
 //! generation (crate `hfcast-shaders`) emits only the code it needs; the bakes skip
 //! the data it never reads (see [`Scene::bake_plan`]).
 
+use crate::ktx2::MapKind;
 use crate::ray::RayClass;
 use crate::Surface;
 
@@ -54,25 +55,265 @@ impl MethodKind {
     /// Short lower-case name (`exact`, `linear-binary`, …, `radius`), as the CLI spells
     /// it.
     pub fn name(self) -> &'static str {
-        match self {
-            MethodKind::Exact => "exact",
-            MethodKind::LinearBinary => "linear-binary",
-            MethodKind::LinearSecant => "linear-secant",
-            MethodKind::MaxMip => "maxmip",
-            MethodKind::Safety => "safety",
-            MethodKind::Cone => "cone",
-            MethodKind::Relaxed => "relaxed",
-            MethodKind::Qdm => "qdm",
-            MethodKind::Cc => "cc",
-            MethodKind::Radius => "radius",
-        }
+        self.info().name
     }
 
     /// The method with this number, if any.
     pub fn from_u32(v: u32) -> Option<MethodKind> {
         MethodKind::ALL.get(v as usize).copied()
     }
+
+    /// The method's row of the registry: everything the C API, the shaders, the
+    /// report and the tools derive from a method's identity.
+    pub fn info(self) -> &'static MethodInfo {
+        &METHODS[self as usize]
+    }
+
+    /// The method named `name` (as [`MethodInfo::name`] spells it), if any.
+    pub fn from_name(name: &str) -> Option<MethodKind> {
+        MethodKind::ALL.into_iter().find(|m| m.name() == name)
+    }
 }
+
+/// How close a method's answer is to the exact traversal's (docs/DESIGN.md, "Accuracy
+/// and cost").
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Accuracy {
+    /// Always the exact traversal's hit (zero wrong rays).
+    Exact,
+    /// The exact hit while its step budget lasts (`BUDGET_EXHAUSTED` when it runs out).
+    ExactWithinBudget,
+    /// Approximate: its error is measured, not bounded.
+    Approximate,
+}
+
+/// A march parameter of a method with a step budget, and its default.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct StepParam {
+    /// What it counts (`linear step count`, `binary step count`, `iteration cap`,
+    /// `cone step count`), as the CLI's messages about `method:N:M` name it.
+    pub name: &'static str,
+    /// Its default.
+    pub default: u32,
+}
+
+/// One row of the method registry ([`MethodKind::info`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct MethodInfo {
+    /// The method.
+    pub kind: MethodKind,
+    /// Short lower-case name (`exact`, `linear-binary`, …): the CLI's, the report's and
+    /// `hf_method_name`'s.
+    pub name: &'static str,
+    /// The cargo feature (of this crate and the C API) that builds it; `None`: always.
+    pub feature: Option<&'static str>,
+    /// Whether this build has it.
+    pub built: bool,
+    /// How exact its answer is.
+    pub accuracy: Accuracy,
+    /// The surfaces its march traces.
+    pub surfaces: &'static [Surface],
+    /// The map its march reads (`None`: it needs no bake).
+    pub map: Option<MapKind>,
+    /// Its step parameters in order (the first is the C API's `steps`, the second its
+    /// `binary_steps`), with their defaults.
+    pub steps: &'static [StepParam],
+    /// Its shader files (stems in `shaders/wgsl` and `shaders/glsl`) after the ones every
+    /// march shares, in dependency order, the last defining `hf_trace`
+    /// (`hfcast_shaders::parts`).
+    pub shader: &'static [&'static str],
+}
+
+/// The surfaces every traversal-based method traces.
+const EVERY_SURFACE: &[Surface] = &Surface::ALL;
+/// The surfaces the safety-shape maps bound (`safety::MarchSurface`).
+const SAFETY_SURFACES: &[Surface] = &[Surface::Triangles, Surface::ViewLinear];
+/// The triangle surface alone (the cone family's bakes).
+const TRIANGLES: &[Surface] = &[Surface::Triangles];
+/// A linear search's budget: equal steps through the box, then bisections.
+const SEARCH_STEPS: &[StepParam] = &[
+    StepParam {
+        name: "linear step count",
+        default: 64,
+    },
+    StepParam {
+        name: "binary step count",
+        default: 8,
+    },
+];
+/// An iteration budget.
+const ITERATIONS: &[StepParam] = &[StepParam {
+    name: "iteration cap",
+    default: 64,
+}];
+
+/// The registry: one row per method, in [`MethodKind`] order.
+const METHODS: [MethodInfo; 10] = {
+    const fn row(
+        kind: MethodKind,
+        name: &'static str,
+        feature: Option<&'static str>,
+        built: bool,
+    ) -> MethodInfo {
+        MethodInfo {
+            kind,
+            name,
+            feature,
+            built,
+            accuracy: Accuracy::Exact,
+            surfaces: EVERY_SURFACE,
+            map: None,
+            steps: &[],
+            shader: &[],
+        }
+    }
+    let search = (Some("search"), cfg!(feature = "search"));
+    let safety = (Some("safety"), cfg!(feature = "safety"));
+    [
+        MethodInfo {
+            shader: &["method_exact"],
+            ..row(MethodKind::Exact, "exact", None, true)
+        },
+        MethodInfo {
+            accuracy: Accuracy::Approximate,
+            steps: SEARCH_STEPS,
+            shader: &["search", "method_linear_binary"],
+            ..row(
+                MethodKind::LinearBinary,
+                "linear-binary",
+                search.0,
+                search.1,
+            )
+        },
+        MethodInfo {
+            accuracy: Accuracy::Approximate,
+            steps: SEARCH_STEPS.split_at(1).0,
+            shader: &["search", "method_linear_secant"],
+            ..row(
+                MethodKind::LinearSecant,
+                "linear-secant",
+                search.0,
+                search.1,
+            )
+        },
+        MethodInfo {
+            map: Some(MapKind::MaxMip),
+            shader: &["maxmip", "method_maxmip"],
+            ..row(
+                MethodKind::MaxMip,
+                "maxmip",
+                Some("maxmip"),
+                cfg!(feature = "maxmip"),
+            )
+        },
+        MethodInfo {
+            surfaces: SAFETY_SURFACES,
+            map: Some(MapKind::Safety),
+            shader: &["safety", "method_safety"],
+            ..row(MethodKind::Safety, "safety", safety.0, safety.1)
+        },
+        MethodInfo {
+            accuracy: Accuracy::ExactWithinBudget,
+            surfaces: TRIANGLES,
+            map: Some(MapKind::Cone),
+            steps: ITERATIONS,
+            shader: &["cone", "method_cone"],
+            ..row(
+                MethodKind::Cone,
+                "cone",
+                Some("cone"),
+                cfg!(feature = "cone"),
+            )
+        },
+        MethodInfo {
+            accuracy: Accuracy::Approximate,
+            surfaces: TRIANGLES,
+            map: Some(MapKind::Relaxed),
+            steps: &[
+                StepParam {
+                    name: "cone step count",
+                    default: 64,
+                },
+                StepParam {
+                    name: "binary step count",
+                    default: 8,
+                },
+            ],
+            shader: &["relaxed", "method_relaxed"],
+            ..row(
+                MethodKind::Relaxed,
+                "relaxed",
+                Some("relaxed"),
+                cfg!(feature = "relaxed"),
+            )
+        },
+        MethodInfo {
+            accuracy: Accuracy::ExactWithinBudget,
+            surfaces: TRIANGLES,
+            map: Some(MapKind::Qdm),
+            steps: ITERATIONS,
+            shader: &["cone", "qdm", "method_qdm"],
+            ..row(MethodKind::Qdm, "qdm", Some("qdm"), cfg!(feature = "qdm"))
+        },
+        MethodInfo {
+            surfaces: SAFETY_SURFACES,
+            map: Some(MapKind::Cc),
+            shader: &["safety", "cc", "method_cc"],
+            ..row(MethodKind::Cc, "cc", safety.0, safety.1)
+        },
+        MethodInfo {
+            surfaces: SAFETY_SURFACES,
+            map: Some(MapKind::Radius),
+            shader: &["safety", "radius", "method_radius"],
+            ..row(MethodKind::Radius, "radius", safety.0, safety.1)
+        },
+    ]
+};
+
+/// A cargo feature that leaves methods out ([`FEATURES`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Feature {
+    /// Its name, in this crate's and the C API's `Cargo.toml`.
+    pub name: &'static str,
+    /// The features it turns on.
+    pub needs: &'static [&'static str],
+    /// Whether this build has it on.
+    pub built: bool,
+    /// The C header's macro for it (`capi/cbindgen.toml`'s `[defines]`).
+    pub have_macro: &'static str,
+}
+
+/// The cargo features that leave methods out, in `Cargo.toml` order: the one list
+/// `core/Cargo.toml`, `capi/Cargo.toml` and `capi/cbindgen.toml` are checked against
+/// (`capi/tests/header.rs`). `all-methods` turns them all on.
+pub const FEATURES: [Feature; 6] = {
+    const fn f(
+        name: &'static str,
+        needs: &'static [&'static str],
+        built: bool,
+        have_macro: &'static str,
+    ) -> Feature {
+        Feature {
+            name,
+            needs,
+            built,
+            have_macro,
+        }
+    }
+    [
+        f("maxmip", &[], cfg!(feature = "maxmip"), "HF_HAVE_MAXMIP"),
+        f("safety", &[], cfg!(feature = "safety"), "HF_HAVE_SAFETY"),
+        f("cone", &["maxmip"], cfg!(feature = "cone"), "HF_HAVE_CONE"),
+        f("qdm", &["cone"], cfg!(feature = "qdm"), "HF_HAVE_QDM"),
+        f(
+            "relaxed",
+            &["cone"],
+            cfg!(feature = "relaxed"),
+            "HF_HAVE_RELAXED",
+        ),
+        f("search", &[], cfg!(feature = "search"), "HF_HAVE_SEARCH"),
+    ]
+};
 
 /// A set of [`RayClass`]es: bit `1 << class`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -151,17 +392,7 @@ impl MethodKind {
     /// Whether this build of the core has the method (its cargo feature is on; the
     /// exact traversal always is).
     pub fn built(self) -> bool {
-        match self {
-            MethodKind::Exact => true,
-            MethodKind::LinearBinary | MethodKind::LinearSecant => cfg!(feature = "search"),
-            MethodKind::MaxMip => cfg!(feature = "maxmip"),
-            MethodKind::Safety | MethodKind::Cc | MethodKind::Radius => {
-                cfg!(feature = "safety")
-            }
-            MethodKind::Cone => cfg!(feature = "cone"),
-            MethodKind::Relaxed => cfg!(feature = "relaxed"),
-            MethodKind::Qdm => cfg!(feature = "qdm"),
-        }
+        self.info().built
     }
 }
 
