@@ -21,9 +21,9 @@
  * the whole box in view; 640 x 512 in the benchmark) and random rays inside the box,
  * any direction (a quarter as many). Random rays that start under the surface are a hit
  * at t = 0 for hfcast (the solid is solid) but not for a triangle mesh, so only those
- * that start above it are kept. hfcast traces through its C API (hf_trace_cc_batch:
- * the exact CC map, cap 64; hf_trace_maxmip_batch; hf_trace_safety_batch: the exact
- * directional safety distances; hf_trace_exact_batch: the exact DDA, no bake); Embree
+ * that start above it are kept. hfcast traces through its C API (hf_trace_batch with
+ * HF_METHOD_CC: the exact CC map, cap 64; HF_METHOD_MAXMIP; HF_METHOD_SAFETY: the exact
+ * directional safety distances; HF_METHOD_EXACT: the exact DDA, no bake); Embree
  * traces single rays (rtcIntersect1) and, for the cameras, packets of 8 rays from
  * 4 x 2 pixel tiles (rtcIntersect8).
  *
@@ -368,8 +368,8 @@ static size_t ray_set(const field_data *fd, int k, uint32_t cam_w, uint32_t cam_
     size_t drawn = n / 4;
     random_rays(fd->w, fd->h, fd->zmin, fd->zmax, drawn, 7, rays);
     hf_hit *probe = (hf_hit *)malloc(sizeof(hf_hit) * drawn);
-    check_hf("hf_trace_exact_batch",
-             hf_trace_exact_batch(fd->field, HF_SURFACE_TRIANGLES, rays, drawn, probe, drawn));
+    check_hf("hf_trace_batch (exact)", hf_trace_batch(fd->field, HF_METHOD_EXACT, NULL, 0, NULL,
+                                                      rays, drawn, probe, drawn));
     size_t above = 0;
     for (size_t i = 0; i < drawn; i++) {
         if (!(probe[i].flags & HF_FLAG_ORIGIN_INSIDE)) rays[above++] = rays[i];
@@ -400,21 +400,15 @@ static const char *const METHOD_NAMES[METHODS] = {"cc exact", "maxmip exact", "s
                                                   "dda exact"};
 
 /* Traces `rays` with hfcast's exact `method` (triangle surface) into `hits`. */
-static void hf_trace_method(const field_data *fd, int method, const hf_ray *rays, size_t n,
-                            hf_hit *hits) {
-    hf_result r;
-    if (method == METHOD_CC) {
-        r = hf_trace_cc_batch(fd->field, fd->cc, fd->cc_len, CC_CAP, rays, n, hits, n);
-    } else if (method == METHOD_SD) {
-        r = hf_trace_safety_batch(fd->field, fd->sd, fd->sd_len, HF_SAFETY_DIRECTIONAL, rays, n,
-                                  hits, n);
-    } else if (method == METHOD_MAXMIP) {
-        r = hf_trace_maxmip_batch(fd->field, fd->pyramid, fd->pyramid_len, HF_SURFACE_TRIANGLES,
-                                  rays, n, hits, n);
-    } else {
-        r = hf_trace_exact_batch(fd->field, HF_SURFACE_TRIANGLES, rays, n, hits, n);
-    }
-    check_hf(METHOD_NAMES[method], r);
+static void trace_method(const field_data *fd, int method, const hf_ray *rays, size_t n,
+                         hf_hit *hits) {
+    static const uint32_t api[METHODS] = {HF_METHOD_CC, HF_METHOD_MAXMIP, HF_METHOD_SAFETY,
+                                          HF_METHOD_EXACT};
+    const void *map[METHODS] = {fd->cc, fd->pyramid, fd->sd, NULL};
+    const size_t len[METHODS] = {fd->cc_len, fd->pyramid_len, fd->sd_len, 0};
+    check_hf(METHOD_NAMES[method],
+             hf_trace_batch(fd->field, api[method], map[method], len[method], NULL, rays, n,
+                            hits, n));
 }
 
 /* ---- benchmark ------------------------------------------------------------------- */
@@ -438,7 +432,7 @@ static double time_run(const field_data *fd, RTCScene scenes[2], int run, const 
                        size_t n, hf_hit *hits[METHODS], float *t[RUNS - METHODS]) {
     double t0 = now();
     if (run < METHODS) {
-        hf_trace_method(fd, run, rays, n, hits[run]);
+        trace_method(fd, run, rays, n, hits[run]);
     } else if (run == RUN_E8 || run == RUN_R8) {
         embree_trace8(scenes[run >= RUN_R1], rays, BENCH_W, BENCH_H, t[run - RUN_E1]);
     } else {
@@ -627,7 +621,7 @@ static void check_map(const char *path, RTCDevice dev, int *passed, int *failed)
         size_t n = ray_set(&fd, k, CHECK_W, CHECK_H, rays, name, sizeof name);
         embree_trace1(scene, rays, n, t);
         for (int method = 0; method < METHODS; method++) {
-            hf_trace_method(&fd, method, rays, n, hits);
+            trace_method(&fd, method, rays, n, hits);
             size_t differ = disagreements(hits, t, n, bad), unexplained = 0, hit_count = 0;
             for (size_t i = 0; i < n; i++) hit_count += hits[i].hit;
             for (size_t b = 0; b < differ; b++) {

@@ -19,13 +19,13 @@
 /* These names are functions in the full header: declaring them as objects here only
  * compiles when the header of this build does not declare them. */
 static int hf_maxmip_bake = 1, hf_safety_bake = 2, hf_cc_bake = 3, hf_qdm_bake = 4,
-           hf_relaxed_bake = 5, hf_trace_linear_binary = 6, hf_trace_maxmip = 7;
+           hf_relaxed_bake = 5, hf_radius_bake = 6, hf_maxmip_len = 7;
 
 enum { W = 33, H = 25 };
 
 int main(void) {
     CHECK(hf_maxmip_bake + hf_safety_bake + hf_cc_bake + hf_qdm_bake + hf_relaxed_bake +
-              hf_trace_linear_binary + hf_trace_maxmip ==
+              hf_radius_bake + hf_maxmip_len ==
           28);
 
     /* What the build has. */
@@ -59,6 +59,15 @@ int main(void) {
     CHECK(hf_field_create_f32(heights, W * H, W, H, W, &field) == HF_OK);
     if (!field) return 1;
 
+    /* The one trace function refuses the methods left out, before it looks at a map. */
+    hf_ray down = {{5.5f, 5.5f, 20.0f}, {0.0f, 0.0f, -1.0f}, 0.0f, INFINITY};
+    for (size_t k = 0; k < sizeof build / sizeof build[0]; k++) {
+        hf_hit hit;
+        hf_result r = hf_trace(field, build[k].method, NULL, 0, NULL, &down, &hit);
+        if (!build[k].has) CHECK(r == HF_ERR_NOT_BUILT);
+        else if (build[k].method == HF_METHOD_EXACT) CHECK(r == HF_OK && hit.hit == 1);
+    }
+
     /* The bake plan of a cone scene: the pyramid as scratch, the cone map kept. */
     hf_scene scene;
     CHECK(hf_scene_general(HF_METHOD_CONE, HF_SURFACE_TRIANGLES, &scene) == HF_OK);
@@ -73,6 +82,9 @@ int main(void) {
     float *map = malloc(map_len * sizeof *map);
     if (!map) return 1;
     CHECK(hf_cone_bake(field, 2, map, map_len) == HF_OK);
+    hf_trace_options o;
+    CHECK(hf_trace_options_default(&o) == HF_OK);
+    o.steps = 1000;
     int hits = 0;
     for (int k = 0; k < 400; k++) {
         float a = 0.37f * (float)k, e = 0.2f + 0.6f * (float)(k % 17) / 17.0f;
@@ -81,8 +93,8 @@ int main(void) {
                       0.0f,
                       INFINITY};
         hf_hit exact, cone;
-        CHECK(hf_trace_exact(field, HF_SURFACE_TRIANGLES, &ray, &exact) == HF_OK);
-        CHECK(hf_trace_cone(field, map, map_len, 1000, &ray, &cone) == HF_OK);
+        CHECK(hf_trace(field, HF_METHOD_EXACT, NULL, 0, NULL, &ray, &exact) == HF_OK);
+        CHECK(hf_trace(field, HF_METHOD_CONE, map, map_len, &o, &ray, &cone) == HF_OK);
         CHECK(exact.hit == cone.hit);
         if (exact.hit && cone.hit) {
             hits++;

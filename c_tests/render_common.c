@@ -12,31 +12,18 @@
 /* Towards the light (unit): a low sun, for long shadows. */
 const float LIGHT_DIR[3] = {0.75f, -0.45f, 0.48541f};
 
+/* hf_method_name's name of `method` ("?" for none), in a static buffer. */
 const char *method_name(uint32_t method) {
-    switch (method) {
-    case HF_METHOD_EXACT: return "exact";
-    case HF_METHOD_LINEAR_BINARY: return "linear-binary";
-    case HF_METHOD_LINEAR_SECANT: return "linear-secant";
-    case HF_METHOD_MAXMIP: return "maxmip";
-    case HF_METHOD_SAFETY: return "safety";
-    case HF_METHOD_CONE: return "cone";
-    case HF_METHOD_RELAXED: return "relaxed";
-    case HF_METHOD_QDM: return "qdm";
-    case HF_METHOD_CC: return "cc";
-    case HF_METHOD_RADIUS: return "radius";
-    default: return "?";
-    }
+    static char name[32];
+    size_t n = 0;
+    return hf_method_name(method, name, sizeof name, &n) == HF_OK ? name : "?";
 }
 
+/* hf_surface_name's name of `surface` ("?" for none), in a static buffer. */
 const char *surface_name(uint32_t surface) {
-    switch (surface) {
-    case HF_SURFACE_TRIANGLES: return "triangles";
-    case HF_SURFACE_BILINEAR: return "bilinear";
-    case HF_SURFACE_HEIGHT_PLANES: return "height-planes";
-    case HF_SURFACE_LINEAR_PLANES: return "linear-planes";
-    case HF_SURFACE_VIEW_LINEAR: return "view-linear";
-    default: return "?";
-    }
+    static char name[32];
+    size_t n = 0;
+    return hf_surface_name(surface, name, sizeof name, &n) == HF_OK ? name : "?";
 }
 
 double now_seconds(void) {
@@ -281,40 +268,27 @@ void make_rays(const scene *s, const camera *c, int w, int h, hf_ray *rays) {
 }
 
 hf_result cpu_trace(const scene *s, method_cfg cfg, const hf_ray *rays, size_t n, hf_hit *hits) {
-    switch (cfg.method) {
-    case HF_METHOD_EXACT: return hf_trace_exact_batch(s->field, cfg.surface, rays, n, hits, n);
-    case HF_METHOD_LINEAR_BINARY:
-        return hf_trace_linear_binary_batch(s->field, cfg.surface, cfg.linear, cfg.binary, rays, n,
-                                            hits, n);
-    case HF_METHOD_LINEAR_SECANT:
-        return hf_trace_linear_secant_batch(s->field, cfg.surface, cfg.linear, rays, n, hits, n);
-    case HF_METHOD_MAXMIP:
-        return hf_trace_maxmip_batch(s->field, s->pyramid, s->pyramid_len, cfg.surface, rays, n,
-                                     hits, n);
-    case HF_METHOD_SAFETY:
-        /* The maps' ray classes, as the shaders' hf_safety_classes. */
-        if (cfg.variant == HF_SAFETY_ISOTROPIC)
-            return hf_trace_safety_on_batch(s->field, s->safety_iso, s->safety_iso_len,
-                                            HF_SAFETY_ISOTROPIC, s->classes, cfg.surface, rays,
-                                            n, hits, n);
-        return hf_trace_safety_on_batch(s->field, s->safety, s->safety_len, HF_SAFETY_DIRECTIONAL,
-                                        s->classes, cfg.surface, rays, n, hits, n);
-    case HF_METHOD_CONE:
-        return hf_trace_cone_batch(s->field, s->cone, s->cone_len, cfg.linear, rays, n, hits, n);
-    case HF_METHOD_RELAXED:
-        return hf_trace_relaxed_batch(s->field, s->relaxed, s->relaxed_len, cfg.linear, cfg.binary,
-                                      rays, n, hits, n);
-    case HF_METHOD_QDM:
-        return hf_trace_qdm_batch(s->field, s->qdm, s->qdm_len, cfg.linear, rays, n, hits, n);
-    case HF_METHOD_CC:
-        /* The map's ray classes, as the shaders' hf_cc_classes. */
-        return hf_trace_cc_on_batch(s->field, s->cc, s->cc_len, CC_CAP, s->classes, cfg.surface,
-                                    rays, n, hits, n);
-    case HF_METHOD_RADIUS:
-        return hf_trace_radius_on_batch(s->field, s->radius, s->radius_len, cfg.zero, cfg.surface,
-                                        rays, n, hits, n);
-    default: return HF_ERR_INVALID_ENUM;
-    }
+    /* Each method's map (the safety map of cfg's layout); none for exact and the searches. */
+    const int iso = cfg.variant == HF_SAFETY_ISOTROPIC;
+    const void *map[NUM_METHODS] = {NULL, NULL, NULL, s->pyramid,
+                                    iso ? s->safety_iso : s->safety,
+                                    s->cone, s->relaxed, s->qdm, s->cc, s->radius};
+    const size_t len[NUM_METHODS] = {0, 0, 0, s->pyramid_len,
+                                     iso ? s->safety_iso_len : s->safety_len,
+                                     s->cone_len, s->relaxed_len, s->qdm_len, s->cc_len,
+                                     s->radius_len};
+    if (cfg.method >= NUM_METHODS) return HF_ERR_INVALID_ENUM;
+    hf_trace_options o;
+    hf_result r = hf_trace_options_default(&o);
+    if (r != HF_OK) return r;
+    o.surface = cfg.surface;
+    o.steps = cfg.linear;
+    o.binary_steps = cfg.binary;
+    o.radius_zero = cfg.zero;
+    /* The maps' ray classes, as the shaders' hf_safety_classes and hf_cc_classes. */
+    if (cfg.method == HF_METHOD_SAFETY || cfg.method == HF_METHOD_CC) o.ray_classes = s->classes;
+    return hf_trace_batch(s->field, cfg.method, map[cfg.method], len[cfg.method], &o, rays, n,
+                          hits, n);
 }
 
 /* ---- shaders ---------------------------------------------------------------------- */

@@ -16,13 +16,16 @@ int main(int argc, char **argv) {
     if (hf_field_create_f32(heights, W * H, W, H, W, &field) != HF_OK) return 1;
     hf_ray ray = {{0.5f, 0.5f, 20.0f}, {1.0f, 0.7f, -1.0f}, 0.0f, 1e30f};
     hf_hit hit;
-    int ok = hf_trace_exact(field, HF_SURFACE_TRIANGLES, &ray, &hit) == HF_OK;
+    int ok = hf_trace(field, HF_METHOD_EXACT, NULL, 0, NULL, &ray, &hit) == HF_OK;
 #if defined(HF_HAVE_CONE)
     size_t len = 0;
     ok &= hf_cone_map_len(W, H, &len) == HF_OK;
     float *map = malloc(len * sizeof *map);
     ok &= map && hf_cone_bake(field, 1, map, len) == HF_OK;
-    ok &= hf_trace_cone(field, map, len, 256, &ray, &hit) == HF_OK;
+    hf_trace_options o;
+    ok &= hf_trace_options_default(&o) == HF_OK;
+    o.steps = 256;
+    ok &= hf_trace(field, HF_METHOD_CONE, map, len, &o, &ray, &hit) == HF_OK;
     free(map);
 #endif
     hf_field_destroy(field);

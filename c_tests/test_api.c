@@ -43,24 +43,58 @@ static int agreeing(const hf_hit *want, const hf_hit *got, int n) {
     return same;
 }
 
-/* The view-linear surface (Baboud et al. §7) from maps baked for triangles: `trace`
- * fills `out` for all `n` rays on `surface`; on the view-linear surface it must give
- * the exact method's hits there, which differ from the triangle surface's. */
+/* The default trace options with surface `surface`. */
+static hf_trace_options on(uint32_t surface) {
+    hf_trace_options o;
+    hf_trace_options_default(&o);
+    o.surface = surface;
+    return o;
+}
+
+/* The default trace options with surface `surface` and the step budgets `steps`
+ * (linear steps, cone iterations) and `binary` (bisections). */
+static hf_trace_options budget(uint32_t surface, uint32_t steps, uint32_t binary) {
+    hf_trace_options o = on(surface);
+    o.steps = steps;
+    o.binary_steps = binary;
+    return o;
+}
+
+/* A map and its field (the method, the ray classes the trace names: 0 for the
+ * descriptor's), for trace_on below. */
+struct safety_ctx {
+    hf_field *f;
+    uint32_t method;
+    const unsigned char *map;
+    size_t len;
+    uint32_t classes;
+};
+
+/* The `n` rays traced with the map of `c` on `surface`. */
+static hf_result trace_on(const struct safety_ctx *c, uint32_t surface, const hf_ray *rays, int n,
+                          hf_hit *out) {
+    hf_trace_options o = on(surface);
+    o.ray_classes = c->classes;
+    return hf_trace_batch(c->f, c->method, c->map, c->len, &o, rays, (size_t)n, out, (size_t)n);
+}
+
+/* The view-linear surface (Baboud et al. §7) from maps baked for triangles: the map of
+ * `ctx` fills `out` for all `n` rays on that surface; it must give the exact method's
+ * hits there, which differ from the triangle surface's. */
 static int view_linear_agrees(hf_field *f, const hf_ray *rays, int n, hf_hit *out,
-                              hf_result (*trace)(void *, uint32_t, const hf_ray *, int,
-                                                 hf_hit *),
-                              void *ctx) {
+                              const struct safety_ctx *ctx) {
     hf_hit *tri = (hf_hit *)malloc(sizeof(hf_hit) * n);
     hf_hit *vl = (hf_hit *)malloc(sizeof(hf_hit) * n);
-    CHECK_OK(hf_trace_exact_batch(f, HF_SURFACE_TRIANGLES, rays, n, tri, n));
-    CHECK_OK(hf_trace_exact_batch(f, HF_SURFACE_VIEW_LINEAR, rays, n, vl, n));
-    CHECK_OK(trace(ctx, HF_SURFACE_VIEW_LINEAR, rays, n, out));
+    hf_trace_options o = on(HF_SURFACE_VIEW_LINEAR);
+    CHECK_OK(hf_trace_batch(f, HF_METHOD_EXACT, NULL, 0, NULL, rays, n, tri, n));
+    CHECK_OK(hf_trace_batch(f, HF_METHOD_EXACT, NULL, 0, &o, rays, n, vl, n));
+    CHECK_OK(trace_on(ctx, HF_SURFACE_VIEW_LINEAR, rays, n, out));
     int same = agreeing(vl, out, n);
     CHECK(same == n);
     CHECK(agreeing(tri, vl, n) < n);
     /* Surfaces the maps do not bound are refused; unknown ones are bad enums. */
-    CHECK(trace(ctx, HF_SURFACE_BILINEAR, rays, n, out) == HF_ERR_INVALID_ARGUMENT);
-    CHECK(trace(ctx, 99, rays, n, out) == HF_ERR_INVALID_ENUM);
+    CHECK(trace_on(ctx, HF_SURFACE_BILINEAR, rays, n, out) == HF_ERR_INVALID_ARGUMENT);
+    CHECK(trace_on(ctx, 99, rays, n, out) == HF_ERR_INVALID_ENUM);
     free(tri);
     free(vl);
     return same;
@@ -226,6 +260,23 @@ static void test_field_constructors(void) {
 /* Floats of a 2 x 2 field's pyramid: one texel and the descriptor. */
 #define P1 (1 + HF_MAP_DESC_BYTES / 4)
 
+/* A method and its map (NULL and 0 for none). */
+typedef struct method_map {
+    uint32_t method;
+    const void *map;
+    size_t len;
+} method_map;
+
+/* The methods a 2 x 2 field traces with its pyramid `pyr` (P1 floats): exact, the two
+ * searches and the maximum mipmap. */
+static void four_methods(const float *pyr, method_map four[4]) {
+    const method_map m[4] = {{HF_METHOD_EXACT, NULL, 0},
+                             {HF_METHOD_LINEAR_BINARY, NULL, 0},
+                             {HF_METHOD_LINEAR_SECANT, NULL, 0},
+                             {HF_METHOD_MAXMIP, pyr, P1}};
+    memcpy(four, m, sizeof m);
+}
+
 static void test_known_hits(void) {
     const float h4[4] = {0.0f, 1.0f, 1.0f, 2.0f};
     hf_field *f = NULL;
@@ -240,15 +291,13 @@ static void test_known_hits(void) {
     /* A vertical ray onto the plane z = x + y at (0.5, 0.5): z = 1, t = 4. */
     hf_ray r = ray(0.5f, 0.5f, 5.0f, 0.0f, 0.0f, -1.0f);
     hf_hit h;
+    /* Exact, the searches (64 steps, 24 bisections) and the pyramid. */
+    method_map four[4];
+    four_methods(pyr, four);
+    hf_trace_options o = budget(HF_SURFACE_TRIANGLES, 64, 24);
     for (uint32_t m = 0; m < 4; m++) {
         memset(&h, 0, sizeof h);
-        hf_result res = HF_OK;
-        switch (m) {
-        case 0: res = hf_trace_exact(f, HF_SURFACE_TRIANGLES, &r, &h); break;
-        case 1: res = hf_trace_linear_binary(f, HF_SURFACE_TRIANGLES, 64, 24, &r, &h); break;
-        case 2: res = hf_trace_linear_secant(f, HF_SURFACE_TRIANGLES, 64, &r, &h); break;
-        default: res = hf_trace_maxmip(f, pyr, P1, HF_SURFACE_TRIANGLES, &r, &h); break;
-        }
+        hf_result res = hf_trace(f, four[m].method, four[m].map, four[m].len, &o, &r, &h);
         CHECK(res == HF_OK);
         CHECK(h.hit == 1 && h.flags == 0 && h.cell[0] == 0 && h.cell[1] == 0);
         CHECK(near(h.t, 4.0f, 1e-4f) && near(h.point[2], 1.0f, 1e-4f));
@@ -258,12 +307,13 @@ static void test_known_hits(void) {
               near(h.normal[2], n, 1e-5f));
         CHECK(h.fetches >= 4);
     }
-    CHECK_OK(hf_trace_exact(f, HF_SURFACE_TRIANGLES, &r, &h));
+    CHECK_OK(hf_trace(f, HF_METHOD_EXACT, NULL, 0, NULL, &r, &h));
     CHECK(h.fetches == 4 && h.t == 4.0f && h.point[2] == 1.0f);
 
     /* Every surface of this field is the plane z = x + y except height planes. */
     for (uint32_t s = HF_SURFACE_TRIANGLES; s <= HF_SURFACE_VIEW_LINEAR; s++) {
-        CHECK_OK(hf_trace_exact(f, s, &r, &h));
+        o = on(s);
+        CHECK_OK(hf_trace(f, HF_METHOD_EXACT, NULL, 0, &o, &r, &h));
         CHECK(h.hit == 1);
         if (s == HF_SURFACE_HEIGHT_PLANES) {
             CHECK(near(h.point[2], 2.0f, 1e-6f)); /* (0.5, 0.5) ties to sample (1, 1) */
@@ -275,29 +325,29 @@ static void test_known_hits(void) {
     /* Under the surface: hit at t_min, flagged. */
     r = ray(0.5f, 0.5f, 0.25f, 1.0f, 0.0f, 0.0f);
     r.t_min = 0.0f;
-    CHECK_OK(hf_trace_exact(f, HF_SURFACE_TRIANGLES, &r, &h));
+    CHECK_OK(hf_trace(f, HF_METHOD_EXACT, NULL, 0, NULL, &r, &h));
     CHECK(h.hit == 1 && h.t == 0.0f && (h.flags & HF_FLAG_ORIGIN_INSIDE));
-    CHECK_OK(hf_trace_maxmip(f, pyr, P1, HF_SURFACE_TRIANGLES, &r, &h));
+    CHECK_OK(hf_trace(f, HF_METHOD_MAXMIP, pyr, P1, NULL, &r, &h));
     CHECK(h.hit == 1 && h.t == 0.0f && (h.flags & HF_FLAG_ORIGIN_INSIDE));
 
     /* A horizontal ray entering the side x = 0 below the edge: a side hit at x = 0. */
     r = ray(-3.0f, 0.75f, 0.5f, 1.0f, 0.0f, 0.0f);
-    CHECK_OK(hf_trace_exact(f, HF_SURFACE_TRIANGLES, &r, &h));
+    CHECK_OK(hf_trace(f, HF_METHOD_EXACT, NULL, 0, NULL, &r, &h));
     CHECK(h.hit == 1 && (h.flags & HF_FLAG_SIDE) && near(h.t, 3.0f, 1e-6f) &&
           h.normal[0] == -1.0f);
 
     /* Upwards from above: a miss that reads nothing or little. */
     r = ray(0.5f, 0.5f, 3.0f, 0.1f, 0.2f, 1.0f);
-    CHECK_OK(hf_trace_exact(f, HF_SURFACE_TRIANGLES, &r, &h));
+    CHECK_OK(hf_trace(f, HF_METHOD_EXACT, NULL, 0, NULL, &r, &h));
     CHECK(h.hit == 0 && h.t == 0.0f);
     /* Outside the footprint. */
     r = ray(10.0f, 10.0f, 0.0f, 0.0f, 0.0f, -1.0f);
-    CHECK_OK(hf_trace_exact(f, HF_SURFACE_TRIANGLES, &r, &h));
+    CHECK_OK(hf_trace(f, HF_METHOD_EXACT, NULL, 0, NULL, &r, &h));
     CHECK(h.hit == 0 && h.fetches == 0);
     /* t_max before the surface. */
     r = ray(0.5f, 0.5f, 5.0f, 0.0f, 0.0f, -1.0f);
     r.t_max = 3.5f;
-    CHECK_OK(hf_trace_exact(f, HF_SURFACE_TRIANGLES, &r, &h));
+    CHECK_OK(hf_trace(f, HF_METHOD_EXACT, NULL, 0, NULL, &r, &h));
     CHECK(h.hit == 0);
     hf_field_destroy(f);
 }
@@ -313,6 +363,9 @@ static void test_bad_queries(void) {
     hf_ray good = ray(0.5f, 0.5f, 5.0f, 0.0f, 0.0f, -1.0f);
     hf_hit h;
     memset(&h, 0x5A, sizeof h);
+    method_map four[4];
+    four_methods(pyr, four);
+    hf_trace_options o = budget(HF_SURFACE_TRIANGLES, 8, 8);
 
     hf_ray bad[9];
     hf_result bad_code = HF_ERR_INVALID_RAY;
@@ -328,85 +381,75 @@ static void test_bad_queries(void) {
     bad[8].t_min = 2.0f;
     bad[8].t_max = 1.0f; /* empty range */
 
-    for (int k = 0; k < 9; k++) {
-        CHECK_BAD(hf_trace_exact(f, HF_SURFACE_TRIANGLES, &bad[k], &h), bad_code, &h, sizeof h);
-        CHECK_BAD(hf_trace_linear_binary(f, HF_SURFACE_TRIANGLES, 8, 8, &bad[k], &h), bad_code,
-                  &h, sizeof h);
-        CHECK_BAD(hf_trace_linear_secant(f, HF_SURFACE_TRIANGLES, 8, &bad[k], &h), bad_code,
-                  &h, sizeof h);
-        CHECK_BAD(hf_trace_maxmip(f, pyr, P1, HF_SURFACE_TRIANGLES, &bad[k], &h), bad_code, &h,
-                  sizeof h);
-    }
-    /* NULL pointers of every single-ray function. */
-    CHECK_BAD(hf_trace_exact(NULL, 0, &good, &h), HF_ERR_NULL_POINTER, &h, sizeof h);
-    CHECK_BAD(hf_trace_exact(f, 0, NULL, &h), HF_ERR_NULL_POINTER, &h, sizeof h);
-    CHECK_BAD(hf_trace_exact(f, 0, &good, NULL), HF_ERR_NULL_POINTER, nothing, 0);
-    CHECK_BAD(hf_trace_linear_binary(NULL, 0, 8, 8, &good, &h), HF_ERR_NULL_POINTER, &h,
-              sizeof h);
-    CHECK_BAD(hf_trace_linear_binary(f, 0, 8, 8, NULL, &h), HF_ERR_NULL_POINTER, &h, sizeof h);
-    CHECK_BAD(hf_trace_linear_binary(f, 0, 8, 8, &good, NULL), HF_ERR_NULL_POINTER, nothing, 0);
-    CHECK_BAD(hf_trace_linear_secant(NULL, 0, 8, &good, &h), HF_ERR_NULL_POINTER, &h, sizeof h);
-    CHECK_BAD(hf_trace_linear_secant(f, 0, 8, NULL, &h), HF_ERR_NULL_POINTER, &h, sizeof h);
-    CHECK_BAD(hf_trace_linear_secant(f, 0, 8, &good, NULL), HF_ERR_NULL_POINTER, nothing, 0);
-    CHECK_BAD(hf_trace_maxmip(NULL, pyr, P1, 0, &good, &h), HF_ERR_NULL_POINTER, &h, sizeof h);
-    CHECK_BAD(hf_trace_maxmip(f, NULL, 1, 0, &good, &h), HF_ERR_NULL_POINTER, &h, sizeof h);
-    CHECK_BAD(hf_trace_maxmip(f, pyr, P1, 0, NULL, &h), HF_ERR_NULL_POINTER, &h, sizeof h);
-    CHECK_BAD(hf_trace_maxmip(f, pyr, P1, 0, &good, NULL), HF_ERR_NULL_POINTER, nothing, 0);
-    /* Unknown enums, zero steps, short pyramid. */
+    for (int k = 0; k < 9; k++)
+        for (int m = 0; m < 4; m++)
+            CHECK_BAD(hf_trace(f, four[m].method, four[m].map, four[m].len, &o, &bad[k], &h),
+                      bad_code, &h, sizeof h);
+    /* NULL pointers, unknown enums, zero steps of every method. */
     const uint32_t bad_surfaces[3] = {5, 6, 0xFFFFFFFFu};
-    for (int k = 0; k < 3; k++) {
-        uint32_t s = bad_surfaces[k];
-        CHECK_BAD(hf_trace_exact(f, s, &good, &h), HF_ERR_INVALID_ENUM, &h, sizeof h);
-        CHECK_BAD(hf_trace_linear_binary(f, s, 8, 8, &good, &h), HF_ERR_INVALID_ENUM, &h,
-                  sizeof h);
-        CHECK_BAD(hf_trace_linear_secant(f, s, 8, &good, &h), HF_ERR_INVALID_ENUM, &h, sizeof h);
-        CHECK_BAD(hf_trace_maxmip(f, pyr, P1, s, &good, &h), HF_ERR_INVALID_ENUM, &h, sizeof h);
+    for (int m = 0; m < 4; m++) {
+        uint32_t me = four[m].method;
+        const void *map = four[m].map;
+        size_t len = four[m].len;
+        CHECK_BAD(hf_trace(NULL, me, map, len, &o, &good, &h), HF_ERR_NULL_POINTER, &h, sizeof h);
+        CHECK_BAD(hf_trace(f, me, map, len, &o, NULL, &h), HF_ERR_NULL_POINTER, &h, sizeof h);
+        CHECK_BAD(hf_trace(f, me, map, len, &o, &good, NULL), HF_ERR_NULL_POINTER, nothing, 0);
+        for (int k = 0; k < 3; k++) {
+            hf_trace_options bs = budget(bad_surfaces[k], 8, 8);
+            CHECK_BAD(hf_trace(f, me, map, len, &bs, &good, &h), HF_ERR_INVALID_ENUM, &h, sizeof h);
+        }
     }
-    CHECK_BAD(hf_trace_linear_binary(f, 0, 0, 8, &good, &h), HF_ERR_INVALID_ARGUMENT, &h,
+    CHECK_BAD(hf_trace(f, HF_METHOD_MAXMIP, NULL, 1, &o, &good, &h), HF_ERR_NULL_POINTER, &h,
               sizeof h);
-    CHECK_BAD(hf_trace_linear_secant(f, 0, 0, &good, &h), HF_ERR_INVALID_ARGUMENT, &h, sizeof h);
-    CHECK_BAD(hf_trace_maxmip(f, pyr, 0, 0, &good, &h), HF_ERR_BUFFER_TOO_SMALL, &h, sizeof h);
+    hf_trace_options zero = budget(HF_SURFACE_TRIANGLES, 0, 8);
+    CHECK_BAD(hf_trace(f, HF_METHOD_LINEAR_BINARY, NULL, 0, &zero, &good, &h),
+              HF_ERR_INVALID_ARGUMENT, &h, sizeof h);
+    CHECK_BAD(hf_trace(f, HF_METHOD_LINEAR_SECANT, NULL, 0, &zero, &good, &h),
+              HF_ERR_INVALID_ARGUMENT, &h, sizeof h);
+    CHECK_BAD(hf_trace(f, HF_METHOD_MAXMIP, pyr, 0, &o, &good, &h), HF_ERR_BUFFER_TOO_SMALL, &h,
+              sizeof h);
 
     /* Batches: empty, short output, NULLs, one bad ray among good ones. */
     hf_ray rays[3] = {good, good, good};
     hf_hit hits[3];
     memset(hits, 0x5A, sizeof hits);
-    CHECK_OK(hf_trace_exact_batch(f, 0, rays, 0, hits, 3)); /* empty: HF_OK (test_errors.c) */
-    CHECK_BAD(hf_trace_exact_batch(f, 0, rays, 3, hits, 2), HF_ERR_BUFFER_TOO_SMALL, hits,
-              sizeof hits);
-    CHECK_BAD(hf_trace_exact_batch(f, 0, NULL, 3, hits, 3), HF_ERR_NULL_POINTER, hits,
-              sizeof hits);
-    CHECK_BAD(hf_trace_exact_batch(f, 0, rays, 3, NULL, 3), HF_ERR_NULL_POINTER, nothing, 0);
-    CHECK_BAD(hf_trace_exact_batch(NULL, 0, rays, 3, hits, 3), HF_ERR_NULL_POINTER, hits,
-              sizeof hits);
-    CHECK_BAD(hf_trace_exact_batch(f, 9, rays, 3, hits, 3), HF_ERR_INVALID_ENUM, hits,
-              sizeof hits);
-    CHECK_BAD(hf_trace_exact_batch(f, 0, rays, SIZE_MAX, hits, SIZE_MAX), HF_ERR_INVALID_SIZE,
+    const uint32_t ex = HF_METHOD_EXACT;
+    /* Empty: HF_OK (test_errors.c). */
+    CHECK_OK(hf_trace_batch(f, ex, NULL, 0, NULL, rays, 0, hits, 3));
+    CHECK_BAD(hf_trace_batch(f, ex, NULL, 0, NULL, rays, 3, hits, 2), HF_ERR_BUFFER_TOO_SMALL,
               hits, sizeof hits);
+    CHECK_BAD(hf_trace_batch(f, ex, NULL, 0, NULL, NULL, 3, hits, 3), HF_ERR_NULL_POINTER, hits,
+              sizeof hits);
+    CHECK_BAD(hf_trace_batch(f, ex, NULL, 0, NULL, rays, 3, NULL, 3), HF_ERR_NULL_POINTER,
+              nothing, 0);
+    CHECK_BAD(hf_trace_batch(NULL, ex, NULL, 0, NULL, rays, 3, hits, 3), HF_ERR_NULL_POINTER, hits,
+              sizeof hits);
+    hf_trace_options nine = on(9);
+    CHECK_BAD(hf_trace_batch(f, ex, NULL, 0, &nine, rays, 3, hits, 3), HF_ERR_INVALID_ENUM, hits,
+              sizeof hits);
+    CHECK_BAD(hf_trace_batch(f, ex, NULL, 0, NULL, rays, SIZE_MAX, hits, SIZE_MAX),
+              HF_ERR_INVALID_SIZE, hits, sizeof hits);
     rays[2] = bad[2];
-    CHECK_BAD(hf_trace_exact_batch(f, 0, rays, 3, hits, 3), HF_ERR_INVALID_RAY, hits,
-              sizeof hits);
-    CHECK_BAD(hf_trace_linear_binary_batch(f, 0, 8, 8, rays, 3, hits, 3), HF_ERR_INVALID_RAY,
-              hits, sizeof hits);
-    CHECK_BAD(hf_trace_linear_secant_batch(f, 0, 8, rays, 3, hits, 3), HF_ERR_INVALID_RAY,
-              hits, sizeof hits);
-    CHECK_BAD(hf_trace_maxmip_batch(f, pyr, P1, 0, rays, 3, hits, 3), HF_ERR_INVALID_RAY, hits,
-              sizeof hits);
+    for (int m = 0; m < 4; m++)
+        CHECK_BAD(hf_trace_batch(f, four[m].method, four[m].map, four[m].len, &o, rays, 3, hits, 3),
+                  HF_ERR_INVALID_RAY, hits, sizeof hits);
     rays[2] = good;
-    CHECK_BAD(hf_trace_linear_binary_batch(f, 0, 0, 8, rays, 3, hits, 3),
+    CHECK_BAD(hf_trace_batch(f, HF_METHOD_LINEAR_BINARY, NULL, 0, &zero, rays, 3, hits, 3),
               HF_ERR_INVALID_ARGUMENT, hits, sizeof hits);
-    CHECK_OK(hf_trace_linear_secant_batch(f, 0, 8, rays, 0, hits, 3));
-    CHECK_BAD(hf_trace_linear_binary_batch(f, 7, 8, 8, rays, 3, hits, 3), HF_ERR_INVALID_ENUM,
-              hits, sizeof hits);
-    CHECK_BAD(hf_trace_linear_secant_batch(NULL, 0, 8, rays, 3, hits, 3), HF_ERR_NULL_POINTER,
-              hits, sizeof hits);
-    CHECK_BAD(hf_trace_maxmip_batch(f, NULL, 1, 0, rays, 3, hits, 3), HF_ERR_NULL_POINTER, hits,
+    CHECK_OK(hf_trace_batch(f, HF_METHOD_LINEAR_SECANT, NULL, 0, &o, rays, 0, hits, 3));
+    hf_trace_options seven = budget(7, 8, 8);
+    CHECK_BAD(hf_trace_batch(f, HF_METHOD_LINEAR_BINARY, NULL, 0, &seven, rays, 3, hits, 3),
+              HF_ERR_INVALID_ENUM, hits, sizeof hits);
+    CHECK_BAD(hf_trace_batch(NULL, HF_METHOD_LINEAR_SECANT, NULL, 0, &o, rays, 3, hits, 3),
+              HF_ERR_NULL_POINTER, hits, sizeof hits);
+    const uint32_t mm = HF_METHOD_MAXMIP;
+    CHECK_BAD(hf_trace_batch(f, mm, NULL, 1, NULL, rays, 3, hits, 3), HF_ERR_NULL_POINTER, hits,
               sizeof hits);
-    CHECK_BAD(hf_trace_maxmip_batch(f, pyr, 0, 0, rays, 3, hits, 3), HF_ERR_BUFFER_TOO_SMALL,
+    CHECK_BAD(hf_trace_batch(f, mm, pyr, 0, NULL, rays, 3, hits, 3), HF_ERR_BUFFER_TOO_SMALL, hits,
+              sizeof hits);
+    CHECK_BAD(hf_trace_batch(f, mm, pyr, P1, NULL, rays, 3, hits, 1), HF_ERR_BUFFER_TOO_SMALL,
               hits, sizeof hits);
-    CHECK_BAD(hf_trace_maxmip_batch(f, pyr, P1, 0, rays, 3, hits, 1), HF_ERR_BUFFER_TOO_SMALL,
-              hits, sizeof hits);
-    CHECK_OK(hf_trace_maxmip_batch(f, pyr, P1, 0, rays, 3, hits, 3));
+    CHECK_OK(hf_trace_batch(f, mm, pyr, P1, NULL, rays, 3, hits, 3));
     CHECK(hits[2].hit == 1 && hits[2].t == 4.0f);
     hf_field_destroy(f);
 }
@@ -441,15 +484,16 @@ static void test_methods_agree(void) {
     hf_hit *other = (hf_hit *)malloc(sizeof(hf_hit) * N);
     int hits = 0, lb_close = 0, lb_hits = 0, sec_hits = 0;
     for (uint32_t s = HF_SURFACE_TRIANGLES; s <= HF_SURFACE_VIEW_LINEAR; s++) {
-        CHECK_OK(hf_trace_exact_batch(f, s, rays, N, exact, N));
+        hf_trace_options o = on(s);
+        CHECK_OK(hf_trace_batch(f, HF_METHOD_EXACT, NULL, 0, &o, rays, N, exact, N));
         /* The batch answers as the single-ray call. */
         for (int k = 0; k < N; k += 97) {
             hf_hit one;
-            CHECK_OK(hf_trace_exact(f, s, &rays[k], &one));
+            CHECK_OK(hf_trace(f, HF_METHOD_EXACT, NULL, 0, &o, &rays[k], &one));
             CHECK(memcmp(&one, &exact[k], sizeof one) == 0);
         }
         /* Maxmip is exact: the same hit as the exact method, bit for bit. */
-        CHECK_OK(hf_trace_maxmip_batch(f, pyr, plen, s, rays, N, other, N));
+        CHECK_OK(hf_trace_batch(f, HF_METHOD_MAXMIP, pyr, plen, &o, rays, N, other, N));
         int same = 0;
         for (int k = 0; k < N; k++) {
             hits += exact[k].hit;
@@ -459,7 +503,8 @@ static void test_methods_agree(void) {
         }
         CHECK(same == N);
         /* The search baselines: approximate; with many steps, mostly right. */
-        CHECK_OK(hf_trace_linear_binary_batch(f, s, 256, 20, rays, N, other, N));
+        hf_trace_options search = budget(s, 256, 20);
+        CHECK_OK(hf_trace_batch(f, HF_METHOD_LINEAR_BINARY, NULL, 0, &search, rays, N, other, N));
         for (int k = 0; k < N; k++) {
             lb_hits += other[k].hit;
             if (exact[k].hit && other[k].hit) {
@@ -469,7 +514,7 @@ static void test_methods_agree(void) {
                 lb_close += sqrtf(dx * dx + dy * dy + dz * dz) < 1e-2f;
             }
         }
-        CHECK_OK(hf_trace_linear_secant_batch(f, s, 256, rays, N, other, N));
+        CHECK_OK(hf_trace_batch(f, HF_METHOD_LINEAR_SECANT, NULL, 0, &search, rays, N, other, N));
         for (int k = 0; k < N; k++) sec_hits += other[k].hit;
     }
     CHECK(hits > N); /* most rays hit */
@@ -553,8 +598,8 @@ static void test_world_units(void) {
     hf_hit *gh = (hf_hit *)malloc(sizeof(hf_hit) * N);
     hf_hit *wh = (hf_hit *)malloc(sizeof(hf_hit) * N);
     hf_hit *mh = (hf_hit *)malloc(sizeof(hf_hit) * N);
-    CHECK_OK(hf_trace_exact_batch(grid, HF_SURFACE_TRIANGLES, g, N, gh, N));
-    CHECK_OK(hf_trace_exact_batch(world, HF_SURFACE_TRIANGLES, w, N, wh, N));
+    CHECK_OK(hf_trace_batch(grid, HF_METHOD_EXACT, NULL, 0, NULL, g, N, gh, N));
+    CHECK_OK(hf_trace_batch(world, HF_METHOD_EXACT, NULL, 0, NULL, w, N, wh, N));
     int hits = 0, same = 0;
     for (int k = 0; k < N; k++) {
         hits += gh[k].hit;
@@ -589,7 +634,7 @@ static void test_world_units(void) {
     CHECK_OK(hf_maxmip_len(W, H, &plen));
     float *pyr = (float *)malloc(sizeof(float) * plen);
     CHECK_OK(hf_maxmip_bake(world, pyr, plen));
-    CHECK_OK(hf_trace_maxmip_batch(world, pyr, plen, HF_SURFACE_TRIANGLES, w, N, mh, N));
+    CHECK_OK(hf_trace_batch(world, HF_METHOD_MAXMIP, pyr, plen, NULL, w, N, mh, N));
     int ident = 0;
     for (int k = 0; k < N; k++)
         ident += wh[k].hit == mh[k].hit && wh[k].t == mh[k].t && wh[k].flags == mh[k].flags &&
@@ -597,7 +642,7 @@ static void test_world_units(void) {
                  memcmp(wh[k].normal, mh[k].normal, sizeof wh[k].normal) == 0;
     CHECK(ident == N);
     hf_hit one;
-    CHECK_OK(hf_trace_exact(world, HF_SURFACE_TRIANGLES, &w[7], &one));
+    CHECK_OK(hf_trace(world, HF_METHOD_EXACT, NULL, 0, NULL, &w[7], &one));
     CHECK(memcmp(&one, &wh[7], sizeof one) == 0);
 
     /* A world ray whose grid image overflows is an invalid ray, not a miss. */
@@ -606,7 +651,7 @@ static void test_world_units(void) {
     CHECK_OK(hf_field_create_f32(heights, W * H, W, H, W, &tf));
     CHECK_OK(hf_field_set_transform(tf, &tiny));
     hf_ray far = ray(1e10f, 0, 1, 1, 0, -1);
-    CHECK_BAD(hf_trace_exact(tf, HF_SURFACE_TRIANGLES, &far, &one), HF_ERR_INVALID_RAY, &one,
+    CHECK_BAD(hf_trace(tf, HF_METHOD_EXACT, NULL, 0, NULL, &far, &one), HF_ERR_INVALID_RAY, &one,
               sizeof one);
     hf_field_destroy(tf);
 
@@ -624,12 +669,12 @@ static void test_world_units(void) {
             lit++;
             hf_ray at = ray(h->point[0], h->point[1], h->point[2], light[0], light[1], light[2]);
             hf_hit s;
-            CHECK_OK(hf_trace_exact(fields[f], HF_SURFACE_TRIANGLES, &at, &s));
+            CHECK_OK(hf_trace(fields[f], HF_METHOD_EXACT, NULL, 0, NULL, &at, &s));
             naive_inside += s.hit && (s.flags & HF_FLAG_ORIGIN_INSIDE);
             hf_ray sr;
             CHECK_OK(hf_shadow_ray(fields[f], HF_SURFACE_TRIANGLES, &primaries[f][k], h, &light,
                                    &sr));
-            CHECK_OK(hf_trace_exact(fields[f], HF_SURFACE_TRIANGLES, &sr, &s));
+            CHECK_OK(hf_trace(fields[f], HF_METHOD_EXACT, NULL, 0, NULL, &sr, &s));
             lifted_inside += s.hit && (s.flags & HF_FLAG_ORIGIN_INSIDE);
         }
         CHECK(lit > N / 2 && naive_inside > lit / 20);
@@ -765,8 +810,9 @@ static void test_bake_and_update(void) {
     CHECK(memcmp(p, q, sizeof p) == 0 && p[4] == 23.0f);
     hf_ray r = ray(1.5f, 1.5f, 50.0f, 0.0f, 0.0f, -1.0f);
     hf_hit a, b;
-    CHECK_OK(hf_trace_maxmip(f, p, PL, HF_SURFACE_BILINEAR, &r, &a));
-    CHECK_OK(hf_trace_exact(g, HF_SURFACE_BILINEAR, &r, &b));
+    hf_trace_options bilinear = on(HF_SURFACE_BILINEAR);
+    CHECK_OK(hf_trace(f, HF_METHOD_MAXMIP, p, PL, &bilinear, &r, &a));
+    CHECK_OK(hf_trace(g, HF_METHOD_EXACT, NULL, 0, &bilinear, &r, &b));
     CHECK(a.hit && b.hit && a.t == b.t && near(a.point[2], 21.5f, 1e-5f));
     hf_field_destroy(g);
     hf_field_destroy(f);
@@ -793,30 +839,6 @@ static void test_bake_and_update(void) {
 
 /* ---- safety distances -------------------------------------------------------------- */
 
-/* A map and its field (the cylinder–cone reach, the ray classes the map holds), for
- * the trampolines below. */
-struct safety_ctx {
-    hf_field *f;
-    const unsigned char *map;
-    size_t len;
-    uint32_t cap;
-    uint32_t classes;
-};
-
-static hf_result trace_safety_vl(void *ctx, uint32_t surface, const hf_ray *rays, int n,
-                                 hf_hit *out) {
-    struct safety_ctx *c = (struct safety_ctx *)ctx;
-    return hf_trace_safety_on_batch(c->f, c->map, c->len, HF_SAFETY_DIRECTIONAL, c->classes,
-                                    surface, rays, n, out, n);
-}
-
-static hf_result trace_cc_vl(void *ctx, uint32_t surface, const hf_ray *rays, int n,
-                             hf_hit *out) {
-    struct safety_ctx *c = (struct safety_ctx *)ctx;
-    return hf_trace_cc_on_batch(c->f, c->map, c->len, c->cap, c->classes, surface, rays, n, out,
-                                n);
-}
-
 /* HF_RAYS_* bit of a ray's class: x+ if dx >= |dy|, x- if -dx >= |dy|, y+ if dy > |dx|,
  * else y-. */
 static uint32_t class_bit(const hf_ray *r) {
@@ -826,16 +848,33 @@ static uint32_t class_bit(const hf_ray *r) {
     return dy > fabsf(dx) ? HF_RAYS_Y_POS : HF_RAYS_Y_NEG;
 }
 
-/* A map of the ray classes `ctx->classes` only, traced by `trace` on the triangle
- * surface: every ray finds its exact hit (`exact`; rays of the other classes read zero
- * jumps and walk), and the rays of its classes trace bit for bit as on the whole map
- * (`full`). */
+/* The options of a map of the ray classes `classes` (`len` elements at `map`, of
+ * `method`): one element short is too small; `ray_classes` 0 takes the descriptor's
+ * classes (the same hit as naming them); 16 is no class set. */
+static void check_class_options(const hf_field *f, uint32_t method, const void *map, size_t len,
+                                uint32_t classes, const hf_ray *ray) {
+    hf_hit bad_hit, named, any;
+    memset(&bad_hit, 0x5A, sizeof bad_hit);
+    hf_trace_options o = on(HF_SURFACE_TRIANGLES);
+    o.ray_classes = classes;
+    CHECK_BAD(hf_trace(f, method, map, len - 1, &o, ray, &bad_hit), HF_ERR_BUFFER_TOO_SMALL,
+              &bad_hit, sizeof bad_hit);
+    CHECK_OK(hf_trace(f, method, map, len, &o, ray, &named));
+    o.ray_classes = 0;
+    CHECK_OK(hf_trace(f, method, map, len, &o, ray, &any));
+    CHECK(memcmp(&named, &any, sizeof any) == 0);
+    o.ray_classes = 16;
+    CHECK_BAD(hf_trace(f, method, map, len, &o, ray, &bad_hit), HF_ERR_INVALID_ARGUMENT, &bad_hit,
+              sizeof bad_hit);
+}
+
+/* A map of the ray classes `ctx->classes` only, traced on the triangle surface: every
+ * ray finds its exact hit (`exact`; rays of the other classes read zero jumps and
+ * walk), and the rays of its classes trace bit for bit as on the whole map (`full`). */
 static void check_class_map(const char *what, const hf_ray *rays, int n, const hf_hit *exact,
-                            const hf_hit *full,
-                            hf_result (*trace)(void *, uint32_t, const hf_ray *, int, hf_hit *),
-                            struct safety_ctx *ctx) {
+                            const hf_hit *full, const struct safety_ctx *ctx) {
     hf_hit *got = (hf_hit *)malloc(sizeof(hf_hit) * n);
-    CHECK_OK(trace(ctx, HF_SURFACE_TRIANGLES, rays, n, got));
+    CHECK_OK(trace_on(ctx, HF_SURFACE_TRIANGLES, rays, n, got));
     int held = 0, same = 0;
     for (int k = 0; k < n; k++) {
         if (!(class_bit(&rays[k]) & ctx->classes)) continue;
@@ -847,13 +886,6 @@ static void check_class_map(const char *what, const hf_ray *rays, int n, const h
     printf("%s: %zu bytes; exact on %d of %d rays, as the whole map on %d of its %d\n", what,
            ctx->len, ok, n, same, held);
     free(got);
-}
-
-static hf_result trace_radius_vl(void *ctx, uint32_t surface, const hf_ray *rays, int n,
-                                 hf_hit *out) {
-    struct safety_ctx *c = (struct safety_ctx *)ctx;
-    return hf_trace_radius_on_batch(c->f, c->map, c->len, HF_RADIUS_WALK, surface, rays, n, out,
-                                    n);
 }
 
 static void test_safety(void) {
@@ -974,39 +1006,35 @@ static void test_safety(void) {
     }
     hf_hit *exact = (hf_hit *)malloc(sizeof(hf_hit) * N);
     hf_hit *sd = (hf_hit *)malloc(sizeof(hf_hit) * N);
-    CHECK_OK(hf_trace_exact_batch(f, HF_SURFACE_TRIANGLES, rays, N, exact, N));
+    CHECK_OK(hf_trace_batch(f, HF_METHOD_EXACT, NULL, 0, NULL, rays, N, exact, N));
+    const uint32_t sm = HF_METHOD_SAFETY;
     int same[2] = {0, 0}, hits = 0;
     for (int v = 0; v < 2; v++) {
+        /* The trace reads the layout from the map's descriptor. */
         const unsigned char *map = v == 0 ? dmap : imap;
         size_t len = v == 0 ? dlen : ilen;
-        CHECK_OK(hf_trace_safety_batch(f, map, len, (uint32_t)v, rays, N, sd, N));
+        CHECK_OK(hf_trace_batch(f, sm, map, len, NULL, rays, N, sd, N));
         for (int k = 0; v == 0 && k < N; k++) hits += exact[k].hit;
         same[v] = agreeing(exact, sd, N);
         hf_hit one;
-        CHECK_OK(hf_trace_safety(f, map, len, (uint32_t)v, &rays[7], &one));
+        CHECK_OK(hf_trace(f, sm, map, len, NULL, &rays[7], &one));
         CHECK(memcmp(&one, &sd[7], sizeof one) == 0);
     }
     CHECK(same[0] == N && same[1] == N);
     printf("safety: %d rays, %d exact hits; directional agrees on %d, isotropic on %d\n", N, hits,
            same[0], same[1]);
     /* The two-class map (still in `rows`). */
-    CHECK_OK(hf_trace_safety_batch(f, dmap, dlen, 0, rays, N, sd, N));
-    struct safety_ctx two_ctx = {f, rows, tlen, 0, two};
-    check_class_map("safety, two classes", rays, N, exact, sd, trace_safety_vl, &two_ctx);
-    hf_hit bad_hit;
-    memset(&bad_hit, 0x5A, sizeof bad_hit);
-    CHECK_BAD(hf_trace_safety_on(f, rows, tlen - 1, 0, two, HF_SURFACE_TRIANGLES, &rays[0],
-                                 &bad_hit),
-              HF_ERR_BUFFER_TOO_SMALL, &bad_hit, sizeof bad_hit);
-    CHECK_BAD(hf_trace_safety_on(f, rows, tlen, 0, 0, HF_SURFACE_TRIANGLES, &rays[0], &bad_hit),
-              HF_ERR_INVALID_ARGUMENT, &bad_hit, sizeof bad_hit);
-    CHECK_BAD(hf_trace_safety_on(f, rows, tlen, 0, 16, HF_SURFACE_TRIANGLES, &rays[0], &bad_hit),
-              HF_ERR_INVALID_ARGUMENT, &bad_hit, sizeof bad_hit);
-    struct safety_ctx sctx = {f, dmap, dlen, 0, HF_RAYS_ALL};
-    int vl = view_linear_agrees(f, rays, N, sd, trace_safety_vl, &sctx);
+    CHECK_OK(hf_trace_batch(f, sm, dmap, dlen, NULL, rays, N, sd, N));
+    struct safety_ctx two_ctx = {f, sm, rows, tlen, two};
+    check_class_map("safety, two classes", rays, N, exact, sd, &two_ctx);
+    check_class_options(f, sm, rows, tlen, two, &rays[0]);
+    hf_trace_options o = on(HF_SURFACE_TRIANGLES);
+    struct safety_ctx sctx = {f, sm, dmap, dlen, HF_RAYS_ALL};
+    int vl = view_linear_agrees(f, rays, N, sd, &sctx);
     hf_hit one_vl;
-    CHECK_OK(hf_trace_safety_on(f, dmap, dlen, 0, HF_RAYS_ALL, HF_SURFACE_VIEW_LINEAR, &rays[7],
-                                &one_vl));
+    o = on(HF_SURFACE_VIEW_LINEAR);
+    o.ray_classes = HF_RAYS_ALL;
+    CHECK_OK(hf_trace(f, sm, dmap, dlen, &o, &rays[7], &one_vl));
     CHECK(memcmp(&one_vl, &sd[7], sizeof one_vl) == 0);
     printf("safety on the view-linear surface: agrees on %d of %d\n", vl, N);
 
@@ -1015,26 +1043,35 @@ static void test_safety(void) {
     memset(&h, 0x5A, sizeof h);
     hf_ray nan_ray = rays[0];
     nan_ray.dir[2] = NAN;
-    CHECK_BAD(hf_trace_safety(NULL, dmap, dlen, 0, &rays[0], &h), HF_ERR_NULL_POINTER, &h, sizeof h);
-    CHECK_BAD(hf_trace_safety(f, NULL, dlen, 0, &rays[0], &h), HF_ERR_NULL_POINTER, &h, sizeof h);
-    CHECK_BAD(hf_trace_safety(f, dmap, dlen, 0, NULL, &h), HF_ERR_NULL_POINTER, &h, sizeof h);
-    CHECK_BAD(hf_trace_safety(f, dmap, dlen, 0, &rays[0], NULL), HF_ERR_NULL_POINTER, nothing, 0);
-    CHECK_BAD(hf_trace_safety(f, dmap, dlen - 1, 0, &rays[0], &h), HF_ERR_BUFFER_TOO_SMALL, &h,
+    CHECK_BAD(hf_trace(NULL, sm, dmap, dlen, NULL, &rays[0], &h), HF_ERR_NULL_POINTER, &h,
               sizeof h);
-    CHECK_BAD(hf_trace_safety(f, imap, ilen, 0, &rays[0], &h), HF_ERR_BUFFER_TOO_SMALL, &h,
+    CHECK_BAD(hf_trace(f, sm, NULL, dlen, NULL, &rays[0], &h), HF_ERR_NULL_POINTER, &h, sizeof h);
+    CHECK_BAD(hf_trace(f, sm, dmap, dlen, NULL, NULL, &h), HF_ERR_NULL_POINTER, &h, sizeof h);
+    CHECK_BAD(hf_trace(f, sm, dmap, dlen, NULL, &rays[0], NULL), HF_ERR_NULL_POINTER, nothing, 0);
+    CHECK_BAD(hf_trace(f, sm, dmap, dlen - 1, NULL, &rays[0], &h), HF_ERR_BUFFER_TOO_SMALL, &h,
               sizeof h);
-    CHECK_BAD(hf_trace_safety(f, dmap, dlen, 2, &rays[0], &h), HF_ERR_INVALID_ENUM, &h, sizeof h);
-    CHECK_BAD(hf_trace_safety(f, dmap, dlen, 0, &nan_ray, &h), HF_ERR_INVALID_RAY, &h, sizeof h);
+    /* The layout is no longer passed: the isotropic map traces as itself (it was refused
+     * when named directional). */
+    CHECK_OK(hf_trace(f, sm, imap, ilen, NULL, &rays[7], &h));
+    CHECK(agreeing(&exact[7], &h, 1) == 1);
+    memset(&h, 0x5A, sizeof h);
+    /* Nor a bad layout: an unknown enum of the options is the bad enum now. */
+    hf_trace_options five = on(5);
+    CHECK_BAD(hf_trace(f, sm, dmap, dlen, &five, &rays[0], &h), HF_ERR_INVALID_ENUM, &h, sizeof h);
+    CHECK_BAD(hf_trace(f, sm, dmap, dlen, NULL, &nan_ray, &h), HF_ERR_INVALID_RAY, &h, sizeof h);
     memset(sd, 0x5A, sizeof(hf_hit) * N);
     rays[N - 1] = nan_ray;
-    CHECK_BAD(hf_trace_safety_batch(f, dmap, dlen, 0, rays, N, sd, N), HF_ERR_INVALID_RAY, sd,
+    CHECK_BAD(hf_trace_batch(f, sm, dmap, dlen, NULL, rays, N, sd, N), HF_ERR_INVALID_RAY, sd,
               512);
-    CHECK_OK(hf_trace_safety_batch(f, dmap, dlen, 0, rays, 0, sd, N));
-    CHECK_BAD(hf_trace_safety_batch(f, dmap, dlen, 0, rays, 2, sd, 1), HF_ERR_BUFFER_TOO_SMALL, sd,
+    CHECK_OK(hf_trace_batch(f, sm, dmap, dlen, NULL, rays, 0, sd, N));
+    CHECK_BAD(hf_trace_batch(f, sm, dmap, dlen, NULL, rays, 2, sd, 1), HF_ERR_BUFFER_TOO_SMALL, sd,
               512);
-    CHECK_BAD(hf_trace_safety_batch(f, dmap, dlen, 9, rays, 2, sd, 2), HF_ERR_INVALID_ENUM, sd, 512);
-    CHECK_BAD(hf_trace_safety_batch(f, dmap, dlen, 0, NULL, 2, sd, 2), HF_ERR_NULL_POINTER, sd, 512);
-    CHECK_BAD(hf_trace_safety_batch(f, dmap, dlen, 0, rays, 2, NULL, 2), HF_ERR_NULL_POINTER,
+    hf_trace_options nine = on(9);
+    CHECK_BAD(hf_trace_batch(f, sm, dmap, dlen, &nine, rays, 2, sd, 2), HF_ERR_INVALID_ENUM, sd,
+              512);
+    CHECK_BAD(hf_trace_batch(f, sm, dmap, dlen, NULL, NULL, 2, sd, 2), HF_ERR_NULL_POINTER, sd,
+              512);
+    CHECK_BAD(hf_trace_batch(f, sm, dmap, dlen, NULL, rays, 2, NULL, 2), HF_ERR_NULL_POINTER,
               nothing, 0);
     free(rays);
     free(exact);
@@ -1121,23 +1158,26 @@ static void test_radius(void) {
     }
     hf_hit *exact = (hf_hit *)malloc(sizeof(hf_hit) * N);
     hf_hit *rd = (hf_hit *)malloc(sizeof(hf_hit) * N);
-    CHECK_OK(hf_trace_exact_batch(f, HF_SURFACE_TRIANGLES, rays, N, exact, N));
-    CHECK_OK(hf_trace_radius_batch(f, map, len, HF_RADIUS_WALK, rays, N, rd, N));
+    const uint32_t rm = HF_METHOD_RADIUS;
+    CHECK_OK(hf_trace_batch(f, HF_METHOD_EXACT, NULL, 0, NULL, rays, N, exact, N));
+    CHECK_OK(hf_trace_batch(f, rm, map, len, NULL, rays, N, rd, N)); /* HF_RADIUS_WALK */
     int same = agreeing(exact, rd, N), hits = 0;
     for (int k = 0; k < N; k++) hits += exact[k].hit;
     CHECK(same == N);
+    hf_trace_options o = on(HF_SURFACE_TRIANGLES);
     for (uint32_t z = HF_RADIUS_WALK; z <= HF_RADIUS_CLAMP; z++) {
         hf_hit one;
-        CHECK_OK(hf_trace_radius_batch(f, map, len, z, rays, N, rd, N));
-        CHECK_OK(hf_trace_radius(f, map, len, z, &rays[7], &one));
+        o.radius_zero = z;
+        CHECK_OK(hf_trace_batch(f, rm, map, len, &o, rays, N, rd, N));
+        CHECK_OK(hf_trace(f, rm, map, len, &o, &rays[7], &one));
         CHECK(memcmp(&one, &rd[7], sizeof one) == 0);
     }
     printf("radius: %d rays, %d exact hits; walk agrees on %d\n", N, hits, same);
-    struct safety_ctx rctx = {f, map, len, 0, HF_RAYS_ALL};
-    int vl = view_linear_agrees(f, rays, N, rd, trace_radius_vl, &rctx);
+    struct safety_ctx rctx = {f, rm, map, len, 0};
+    int vl = view_linear_agrees(f, rays, N, rd, &rctx);
     hf_hit one_vl;
-    CHECK_OK(hf_trace_radius_on(f, map, len, HF_RADIUS_WALK, HF_SURFACE_VIEW_LINEAR, &rays[7],
-                                &one_vl));
+    o = on(HF_SURFACE_VIEW_LINEAR);
+    CHECK_OK(hf_trace(f, rm, map, len, &o, &rays[7], &one_vl));
     CHECK(memcmp(&one_vl, &rd[7], sizeof one_vl) == 0);
     printf("radius on the view-linear surface: agrees on %d of %d\n", vl, N);
 
@@ -1146,23 +1186,28 @@ static void test_radius(void) {
     memset(&h, 0x5A, sizeof h);
     hf_ray nan_ray = rays[0];
     nan_ray.dir[2] = NAN;
-    CHECK_BAD(hf_trace_radius(NULL, map, len, 0, &rays[0], &h), HF_ERR_NULL_POINTER, &h, sizeof h);
-    CHECK_BAD(hf_trace_radius(f, NULL, len, 0, &rays[0], &h), HF_ERR_NULL_POINTER, &h, sizeof h);
-    CHECK_BAD(hf_trace_radius(f, map, len, 0, NULL, &h), HF_ERR_NULL_POINTER, &h, sizeof h);
-    CHECK_BAD(hf_trace_radius(f, map, len, 0, &rays[0], NULL), HF_ERR_NULL_POINTER, nothing, 0);
-    CHECK_BAD(hf_trace_radius(f, map, len - 1, 0, &rays[0], &h), HF_ERR_BUFFER_TOO_SMALL, &h,
+    CHECK_BAD(hf_trace(NULL, rm, map, len, NULL, &rays[0], &h), HF_ERR_NULL_POINTER, &h, sizeof h);
+    CHECK_BAD(hf_trace(f, rm, NULL, len, NULL, &rays[0], &h), HF_ERR_NULL_POINTER, &h, sizeof h);
+    CHECK_BAD(hf_trace(f, rm, map, len, NULL, NULL, &h), HF_ERR_NULL_POINTER, &h, sizeof h);
+    CHECK_BAD(hf_trace(f, rm, map, len, NULL, &rays[0], NULL), HF_ERR_NULL_POINTER, nothing, 0);
+    CHECK_BAD(hf_trace(f, rm, map, len - 1, NULL, &rays[0], &h), HF_ERR_BUFFER_TOO_SMALL, &h,
               sizeof h);
-    CHECK_BAD(hf_trace_radius(f, map, len, 2, &rays[0], &h), HF_ERR_INVALID_ENUM, &h, sizeof h);
-    CHECK_BAD(hf_trace_radius(f, map, len, 0, &nan_ray, &h), HF_ERR_INVALID_RAY, &h, sizeof h);
+    hf_trace_options bad_zero = on(HF_SURFACE_TRIANGLES);
+    bad_zero.radius_zero = 2;
+    CHECK_BAD(hf_trace(f, rm, map, len, &bad_zero, &rays[0], &h), HF_ERR_INVALID_ENUM, &h,
+              sizeof h);
+    CHECK_BAD(hf_trace(f, rm, map, len, NULL, &nan_ray, &h), HF_ERR_INVALID_RAY, &h, sizeof h);
     memset(rd, 0x5A, sizeof(hf_hit) * N);
     rays[N - 1] = nan_ray;
-    CHECK_BAD(hf_trace_radius_batch(f, map, len, 0, rays, N, rd, N), HF_ERR_INVALID_RAY, rd, 512);
-    CHECK_OK(hf_trace_radius_batch(f, map, len, 0, rays, 0, rd, N));
-    CHECK_BAD(hf_trace_radius_batch(f, map, len, 0, rays, 2, rd, 1), HF_ERR_BUFFER_TOO_SMALL, rd,
+    CHECK_BAD(hf_trace_batch(f, rm, map, len, NULL, rays, N, rd, N), HF_ERR_INVALID_RAY, rd, 512);
+    CHECK_OK(hf_trace_batch(f, rm, map, len, NULL, rays, 0, rd, N));
+    CHECK_BAD(hf_trace_batch(f, rm, map, len, NULL, rays, 2, rd, 1), HF_ERR_BUFFER_TOO_SMALL, rd,
               512);
-    CHECK_BAD(hf_trace_radius_batch(f, map, len, 9, rays, 2, rd, 2), HF_ERR_INVALID_ENUM, rd, 512);
-    CHECK_BAD(hf_trace_radius_batch(f, map, len, 0, NULL, 2, rd, 2), HF_ERR_NULL_POINTER, rd, 512);
-    CHECK_BAD(hf_trace_radius_batch(f, map, len, 0, rays, 2, NULL, 2), HF_ERR_NULL_POINTER,
+    bad_zero.radius_zero = 9;
+    CHECK_BAD(hf_trace_batch(f, rm, map, len, &bad_zero, rays, 2, rd, 2), HF_ERR_INVALID_ENUM, rd,
+              512);
+    CHECK_BAD(hf_trace_batch(f, rm, map, len, NULL, NULL, 2, rd, 2), HF_ERR_NULL_POINTER, rd, 512);
+    CHECK_BAD(hf_trace_batch(f, rm, map, len, NULL, rays, 2, NULL, 2), HF_ERR_NULL_POINTER,
               nothing, 0);
     free(rays);
     free(exact);
@@ -1252,70 +1297,76 @@ static void test_cones(void) {
     }
     hf_hit *exact = (hf_hit *)malloc(sizeof(hf_hit) * N);
     hf_hit *other = (hf_hit *)malloc(sizeof(hf_hit) * N);
-    CHECK_OK(hf_trace_exact_batch(f, HF_SURFACE_TRIANGLES, rays, N, exact, N));
+    CHECK_OK(hf_trace_batch(f, HF_METHOD_EXACT, NULL, 0, NULL, rays, N, exact, N));
+    /* Each method, its map, its budget (iterations; relaxed: cone steps, bisections). */
+    const struct {
+        method_map m;
+        uint32_t steps, binary;
+    } cones[3] = {{{HF_METHOD_CONE, cmap, clen}, 1000, 8},
+                  {{HF_METHOD_QDM, qmap, qlen}, 1000, 8},
+                  {{HF_METHOD_RELAXED, rmap, rlen}, 64, 16}};
     int same[3] = {0, 0, 0}, hits = 0;
+    hf_hit one, h;
     for (int m = 0; m < 3; m++) {
-        if (m == 0) CHECK_OK(hf_trace_cone_batch(f, cmap, clen, 1000, rays, N, other, N));
-        if (m == 1) CHECK_OK(hf_trace_qdm_batch(f, qmap, qlen, 1000, rays, N, other, N));
-        if (m == 2) CHECK_OK(hf_trace_relaxed_batch(f, rmap, rlen, 64, 16, rays, N, other, N));
+        hf_trace_options o = budget(HF_SURFACE_TRIANGLES, cones[m].steps, cones[m].binary);
+        const method_map *c = &cones[m].m;
+        CHECK_OK(hf_trace_batch(f, c->method, c->map, c->len, &o, rays, N, other, N));
         for (int k = 0; m == 0 && k < N; k++) hits += exact[k].hit;
         same[m] = agreeing(exact, other, N);
+        /* The single call answers as the batch. */
+        CHECK_OK(hf_trace(f, c->method, c->map, c->len, &o, &rays[3], &one));
+        CHECK_OK(hf_trace_batch(f, c->method, c->map, c->len, &o, &rays[3], 1, &h, 1));
+        CHECK(memcmp(&one, &h, sizeof h) == 0);
     }
     CHECK(same[0] == N && same[1] == N && same[2] > N * 9 / 10);
     printf("cones: %d rays, %d exact hits; agree with the exact method: cone %d, qdm %d, relaxed "
            "%d (approximate)\n",
            N, hits, same[0], same[1], same[2]);
-    hf_hit one, h;
-    CHECK_OK(hf_trace_cone(f, cmap, clen, 1000, &rays[3], &one));
-    CHECK_OK(hf_trace_cone_batch(f, cmap, clen, 1000, &rays[3], 1, &h, 1));
-    CHECK(memcmp(&one, &h, sizeof h) == 0);
-    CHECK_OK(hf_trace_qdm(f, qmap, qlen, 1000, &rays[3], &one));
-    CHECK_OK(hf_trace_relaxed(f, rmap, rlen, 64, 16, &rays[3], &one));
     /* A budget of one iteration: the current point, flagged. */
     hf_ray down = ray(16.0f, 12.0f, 100.0f, 0.0f, 0.0f, -1.0f);
-    CHECK_OK(hf_trace_cone(f, cmap, clen, 1, &down, &one));
+    hf_trace_options o = budget(HF_SURFACE_TRIANGLES, 1, 8);
+    CHECK_OK(hf_trace(f, HF_METHOD_CONE, cmap, clen, &o, &down, &one));
     CHECK((one.flags & HF_FLAG_BUDGET_EXHAUSTED) || one.hit);
 
+    /* Bad inputs, each of the three methods. */
     memset(&h, 0x5A, sizeof h);
+    memset(other, 0x5A, sizeof(hf_hit) * N);
     hf_ray nan_ray = rays[0];
     nan_ray.origin[1] = NAN;
-    CHECK_BAD(hf_trace_cone(f, cmap, clen, 0, &rays[0], &h), HF_ERR_INVALID_ARGUMENT, &h, sizeof h);
-    CHECK_BAD(hf_trace_qdm(f, qmap, qlen, 0, &rays[0], &h), HF_ERR_INVALID_ARGUMENT, &h, sizeof h);
-    CHECK_BAD(hf_trace_relaxed(f, rmap, rlen, 0, 8, &rays[0], &h), HF_ERR_INVALID_ARGUMENT, &h,
-              sizeof h);
-    CHECK_BAD(hf_trace_cone(f, cmap, clen - 1, 10, &rays[0], &h), HF_ERR_BUFFER_TOO_SMALL, &h,
-              sizeof h);
-    CHECK_BAD(hf_trace_qdm(f, qmap, qlen - 1, 10, &rays[0], &h), HF_ERR_BUFFER_TOO_SMALL, &h,
-              sizeof h);
-    CHECK_BAD(hf_trace_relaxed(f, rmap, rlen - 1, 10, 8, &rays[0], &h), HF_ERR_BUFFER_TOO_SMALL,
-              &h, sizeof h);
-    CHECK_BAD(hf_trace_cone(f, NULL, clen, 10, &rays[0], &h), HF_ERR_NULL_POINTER, &h, sizeof h);
-    CHECK_BAD(hf_trace_qdm(NULL, qmap, qlen, 10, &rays[0], &h), HF_ERR_NULL_POINTER, &h, sizeof h);
-    CHECK_BAD(hf_trace_relaxed(f, rmap, rlen, 10, 8, NULL, &h), HF_ERR_NULL_POINTER, &h, sizeof h);
-    CHECK_BAD(hf_trace_cone(f, cmap, clen, 10, &rays[0], NULL), HF_ERR_NULL_POINTER, nothing, 0);
-    CHECK_BAD(hf_trace_cone(f, cmap, clen, 10, &nan_ray, &h), HF_ERR_INVALID_RAY, &h, sizeof h);
-    CHECK_BAD(hf_trace_qdm(f, qmap, qlen, 10, &nan_ray, &h), HF_ERR_INVALID_RAY, &h, sizeof h);
-    CHECK_BAD(hf_trace_relaxed(f, rmap, rlen, 10, 8, &nan_ray, &h), HF_ERR_INVALID_RAY, &h,
-              sizeof h);
-    memset(other, 0x5A, sizeof(hf_hit) * N);
-    rays[N / 2] = nan_ray;
-    CHECK_BAD(hf_trace_cone_batch(f, cmap, clen, 10, rays, N, other, N), HF_ERR_INVALID_RAY, other,
-              512);
-    CHECK_BAD(hf_trace_qdm_batch(f, qmap, qlen, 10, rays, N, other, N), HF_ERR_INVALID_RAY, other,
-              512);
-    CHECK_BAD(hf_trace_relaxed_batch(f, rmap, rlen, 10, 8, rays, N, other, N), HF_ERR_INVALID_RAY,
-              other, 512);
-    CHECK_OK(hf_trace_cone_batch(f, cmap, clen, 10, rays, 0, other, N));
-    CHECK_BAD(hf_trace_qdm_batch(f, qmap, qlen, 10, rays, 3, other, 2), HF_ERR_BUFFER_TOO_SMALL,
-              other, 512);
-    CHECK_BAD(hf_trace_relaxed_batch(f, rmap, rlen, 0, 8, rays, 3, other, 3),
-              HF_ERR_INVALID_ARGUMENT, other, 512);
-    CHECK_BAD(hf_trace_cone_batch(f, cmap, clen, 10, NULL, 3, other, 3), HF_ERR_NULL_POINTER, other,
-              512);
-    CHECK_BAD(hf_trace_qdm_batch(f, NULL, qlen, 10, rays, 3, other, 3), HF_ERR_NULL_POINTER, other,
-              512);
-    CHECK_BAD(hf_trace_relaxed_batch(f, rmap, rlen, 10, 8, rays, 3, NULL, 3), HF_ERR_NULL_POINTER,
-              nothing, 0);
+    hf_ray *bad_rays = (hf_ray *)malloc(sizeof(hf_ray) * N);
+    memcpy(bad_rays, rays, sizeof(hf_ray) * N);
+    bad_rays[N / 2] = nan_ray;
+    hf_trace_options zero = budget(HF_SURFACE_TRIANGLES, 0, 8);
+    o = budget(HF_SURFACE_TRIANGLES, 10, 8);
+    for (int m = 0; m < 3; m++) {
+        uint32_t me = cones[m].m.method;
+        const void *map = cones[m].m.map;
+        size_t len = cones[m].m.len;
+        CHECK_BAD(hf_trace(f, me, map, len, &zero, &rays[0], &h), HF_ERR_INVALID_ARGUMENT, &h,
+                  sizeof h);
+        CHECK_BAD(hf_trace(f, me, map, len - 1, &o, &rays[0], &h), HF_ERR_BUFFER_TOO_SMALL, &h,
+                  sizeof h);
+        CHECK_BAD(hf_trace(f, me, NULL, len, &o, &rays[0], &h), HF_ERR_NULL_POINTER, &h, sizeof h);
+        CHECK_BAD(hf_trace(NULL, me, map, len, &o, &rays[0], &h), HF_ERR_NULL_POINTER, &h,
+                  sizeof h);
+        CHECK_BAD(hf_trace(f, me, map, len, &o, NULL, &h), HF_ERR_NULL_POINTER, &h, sizeof h);
+        CHECK_BAD(hf_trace(f, me, map, len, &o, &rays[0], NULL), HF_ERR_NULL_POINTER, nothing, 0);
+        CHECK_BAD(hf_trace(f, me, map, len, &o, &nan_ray, &h), HF_ERR_INVALID_RAY, &h, sizeof h);
+        CHECK_BAD(hf_trace_batch(f, me, map, len, &o, bad_rays, N, other, N), HF_ERR_INVALID_RAY,
+                  other, 512);
+        CHECK_OK(hf_trace_batch(f, me, map, len, &o, rays, 0, other, N));
+        CHECK_BAD(hf_trace_batch(f, me, map, len, &o, rays, 3, other, 2), HF_ERR_BUFFER_TOO_SMALL,
+                  other, 512);
+        CHECK_BAD(hf_trace_batch(f, me, map, len, &zero, rays, 3, other, 3),
+                  HF_ERR_INVALID_ARGUMENT, other, 512);
+        CHECK_BAD(hf_trace_batch(f, me, map, len, &o, NULL, 3, other, 3), HF_ERR_NULL_POINTER,
+                  other, 512);
+        CHECK_BAD(hf_trace_batch(f, me, NULL, len, &o, rays, 3, other, 3), HF_ERR_NULL_POINTER,
+                  other, 512);
+        CHECK_BAD(hf_trace_batch(f, me, map, len, &o, rays, 3, NULL, 3), HF_ERR_NULL_POINTER,
+                  nothing, 0);
+    }
+    free(bad_rays);
     free(rays);
     free(exact);
     free(other);
@@ -1428,10 +1479,11 @@ static void test_cc(void) {
         if (k % 13 == 0) rays[k].dir[1] = 0.0f;
     }
     hf_hit *exact = (hf_hit *)malloc(sizeof(hf_hit) * N), *cc = (hf_hit *)malloc(sizeof(hf_hit) * N);
-    CHECK_OK(hf_trace_exact_batch(f, HF_SURFACE_TRIANGLES, rays, N, exact, N));
+    CHECK_OK(hf_trace_batch(f, HF_METHOD_EXACT, NULL, 0, NULL, rays, N, exact, N));
+    const uint32_t cm = HF_METHOD_CC; /* the cap is the map's (its descriptor names it) */
     int same[2] = {0, 0}, hits = 0;
     for (int v = 0; v < 2; v++) {
-        CHECK_OK(hf_trace_cc_batch(f, v == 0 ? map : nbmap, mlen, CAP, rays, N, cc, N));
+        CHECK_OK(hf_trace_batch(f, cm, v == 0 ? map : nbmap, mlen, NULL, rays, N, cc, N));
         for (int k = 0; v == 0 && k < N; k++) hits += exact[k].hit;
         same[v] = agreeing(exact, cc, N);
     }
@@ -1439,40 +1491,38 @@ static void test_cc(void) {
     printf("cc: %d rays, %d exact hits; exact slopes agree on %d, n-buffer slopes on %d\n", N, hits,
            same[0], same[1]);
     /* The one-class map (still in `rows`); `cc` holds the whole exact-slope map's hits. */
-    CHECK_OK(hf_trace_cc_batch(f, map, mlen, CAP, rays, N, cc, N));
-    struct safety_ctx y_ctx = {f, rows, ylen, CAP, HF_RAYS_Y_POS};
-    check_class_map("cc, one class", rays, N, exact, cc, trace_cc_vl, &y_ctx);
-    hf_hit bad_hit;
-    memset(&bad_hit, 0x5A, sizeof bad_hit);
-    CHECK_BAD(hf_trace_cc_on(f, rows, ylen - 1, CAP, HF_RAYS_Y_POS, HF_SURFACE_TRIANGLES, &rays[0],
-                             &bad_hit),
-              HF_ERR_BUFFER_TOO_SMALL, &bad_hit, sizeof bad_hit);
-    CHECK_BAD(hf_trace_cc_on(f, rows, ylen, CAP, 0, HF_SURFACE_TRIANGLES, &rays[0], &bad_hit),
-              HF_ERR_INVALID_ARGUMENT, &bad_hit, sizeof bad_hit);
-    struct safety_ctx cctx = {f, map, mlen, CAP, HF_RAYS_ALL};
-    int vl = view_linear_agrees(f, rays, N, cc, trace_cc_vl, &cctx);
+    CHECK_OK(hf_trace_batch(f, cm, map, mlen, NULL, rays, N, cc, N));
+    struct safety_ctx y_ctx = {f, cm, rows, ylen, HF_RAYS_Y_POS};
+    check_class_map("cc, one class", rays, N, exact, cc, &y_ctx);
+    check_class_options(f, cm, rows, ylen, HF_RAYS_Y_POS, &rays[0]);
+    hf_trace_options o = on(HF_SURFACE_TRIANGLES);
+    struct safety_ctx cctx = {f, cm, map, mlen, HF_RAYS_ALL};
+    int vl = view_linear_agrees(f, rays, N, cc, &cctx);
     printf("cc on the view-linear surface: agrees on %d of %d\n", vl, N);
     hf_hit one, h;
-    CHECK_OK(hf_trace_cc(f, map, mlen, CAP, &rays[5], &one));
-    CHECK_OK(hf_trace_cc_batch(f, map, mlen, CAP, &rays[5], 1, &h, 1));
+    CHECK_OK(hf_trace(f, cm, map, mlen, NULL, &rays[5], &one));
+    CHECK_OK(hf_trace_batch(f, cm, map, mlen, NULL, &rays[5], 1, &h, 1));
     CHECK(memcmp(&one, &h, sizeof h) == 0);
     memset(&h, 0x5A, sizeof h);
     hf_ray nan_ray = rays[0];
     nan_ray.t_max = NAN;
-    CHECK_BAD(hf_trace_cc(f, map, mlen, 256, &rays[0], &h), HF_ERR_INVALID_ARGUMENT, &h, sizeof h);
-    CHECK_BAD(hf_trace_cc(f, map, mlen - 1, CAP, &rays[0], &h), HF_ERR_BUFFER_TOO_SMALL, &h,
+    /* The cap is no longer passed (a bad one was HF_ERR_INVALID_ARGUMENT): a class set
+     * other than the map's is refused instead. */
+    o.ray_classes = HF_RAYS_Y_POS;
+    CHECK_BAD(hf_trace(f, cm, map, mlen, &o, &rays[0], &h), HF_ERR_MAP_MISMATCH, &h, sizeof h);
+    CHECK_BAD(hf_trace(f, cm, map, mlen - 1, NULL, &rays[0], &h), HF_ERR_BUFFER_TOO_SMALL, &h,
               sizeof h);
-    CHECK_BAD(hf_trace_cc(f, NULL, mlen, CAP, &rays[0], &h), HF_ERR_NULL_POINTER, &h, sizeof h);
-    CHECK_BAD(hf_trace_cc(f, map, mlen, CAP, NULL, &h), HF_ERR_NULL_POINTER, &h, sizeof h);
-    CHECK_BAD(hf_trace_cc(f, map, mlen, CAP, &rays[0], NULL), HF_ERR_NULL_POINTER, nothing, 0);
-    CHECK_BAD(hf_trace_cc(f, map, mlen, CAP, &nan_ray, &h), HF_ERR_INVALID_RAY, &h, sizeof h);
+    CHECK_BAD(hf_trace(f, cm, NULL, mlen, NULL, &rays[0], &h), HF_ERR_NULL_POINTER, &h, sizeof h);
+    CHECK_BAD(hf_trace(f, cm, map, mlen, NULL, NULL, &h), HF_ERR_NULL_POINTER, &h, sizeof h);
+    CHECK_BAD(hf_trace(f, cm, map, mlen, NULL, &rays[0], NULL), HF_ERR_NULL_POINTER, nothing, 0);
+    CHECK_BAD(hf_trace(f, cm, map, mlen, NULL, &nan_ray, &h), HF_ERR_INVALID_RAY, &h, sizeof h);
     memset(cc, 0x5A, sizeof(hf_hit) * N);
     rays[1] = nan_ray;
-    CHECK_BAD(hf_trace_cc_batch(f, map, mlen, CAP, rays, N, cc, N), HF_ERR_INVALID_RAY, cc, 512);
-    CHECK_OK(hf_trace_cc_batch(f, map, mlen, CAP, rays, 0, cc, N));
-    CHECK_BAD(hf_trace_cc_batch(f, map, mlen, CAP, rays, 4, cc, 3), HF_ERR_BUFFER_TOO_SMALL, cc,
+    CHECK_BAD(hf_trace_batch(f, cm, map, mlen, NULL, rays, N, cc, N), HF_ERR_INVALID_RAY, cc, 512);
+    CHECK_OK(hf_trace_batch(f, cm, map, mlen, NULL, rays, 0, cc, N));
+    CHECK_BAD(hf_trace_batch(f, cm, map, mlen, NULL, rays, 4, cc, 3), HF_ERR_BUFFER_TOO_SMALL, cc,
               512);
-    CHECK_BAD(hf_trace_cc_batch(NULL, map, mlen, CAP, rays, 4, cc, 4), HF_ERR_NULL_POINTER, cc,
+    CHECK_BAD(hf_trace_batch(NULL, cm, map, mlen, NULL, rays, 4, cc, 4), HF_ERR_NULL_POINTER, cc,
               512);
     free(rays);
     free(exact);
@@ -1483,6 +1533,172 @@ static void test_cc(void) {
     free(scratch);
     free(nb);
     free(heights);
+    hf_field_destroy(f);
+}
+
+/* ---- the trace options, method and surface numbers and names --------------------- */
+
+/* 1 when `method` traces `surface` (hf_trace_options::surface): the safety-shape
+ * methods the triangle and view-linear surfaces, the cone family triangles only. */
+static int traces_surface(uint32_t method, uint32_t surface) {
+    switch (method) {
+    case HF_METHOD_SAFETY:
+    case HF_METHOD_CC:
+    case HF_METHOD_RADIUS:
+        return surface == HF_SURFACE_TRIANGLES || surface == HF_SURFACE_VIEW_LINEAR;
+    case HF_METHOD_CONE:
+    case HF_METHOD_RELAXED:
+    case HF_METHOD_QDM: return surface == HF_SURFACE_TRIANGLES;
+    default: return 1;
+    }
+}
+
+static void test_trace_options(void) {
+    enum { W = 9, H = 7, R = 16 };
+    float heights[W * H];
+    for (int k = 0; k < W * H; k++) heights[k] = 5.0f * frand();
+    hf_field *f = NULL;
+    CHECK_OK(hf_field_create_f32(heights, W * H, W, H, W, &f));
+
+    /* The defaults; NULL is an error. */
+    hf_trace_options d;
+    memset(&d, 0xAB, sizeof d);
+    CHECK_OK(hf_trace_options_default(&d));
+    int reserved_zero = 1;
+    for (int k = 0; k < 11; k++) reserved_zero &= d.reserved[k] == 0;
+    CHECK(d.surface == HF_SURFACE_TRIANGLES && d.ray_classes == 0 && d.steps == 64 &&
+          d.binary_steps == 8 && d.radius_zero == HF_RADIUS_WALK && reserved_zero);
+    CHECK_BAD(hf_trace_options_default(NULL), HF_ERR_NULL_POINTER, nothing, 0);
+
+    /* Every method's map of this field (NULL and 0 for the three without one). */
+    size_t plen, slen, clen, rlen, qlen, cclen, radlen;
+    CHECK_OK(hf_maxmip_len(W, H, &plen));
+    CHECK_OK(hf_safety_map_len(W, H, HF_SAFETY_DIRECTIONAL, &slen));
+    CHECK_OK(hf_cone_map_len(W, H, &clen));
+    CHECK_OK(hf_relaxed_map_len(W, H, &rlen));
+    CHECK_OK(hf_qdm_map_len(W, H, &qlen));
+    CHECK_OK(hf_cc_map_len(W, H, &cclen));
+    CHECK_OK(hf_radius_map_len(W, H, &radlen));
+    float *pyr = (float *)malloc(sizeof(float) * plen);
+    float *cone = (float *)malloc(sizeof(float) * clen);
+    float *relaxed = (float *)malloc(sizeof(float) * rlen);
+    float *qdm = (float *)malloc(sizeof(float) * qlen);
+    unsigned char *safety = (unsigned char *)malloc(slen), *cc = (unsigned char *)malloc(cclen);
+    unsigned char *radius = (unsigned char *)malloc(radlen);
+    hf_safety_options so = {HF_SAFETY_DIRECTIONAL, 0, 255};
+    hf_cc_options co = {HF_CC_SLOPE_EXACT, 32};
+    hf_radius_options ro = {0.0f, 255};
+    CHECK_OK(hf_maxmip_bake(f, pyr, plen));
+    CHECK_OK(hf_safety_bake(f, &so, 1, safety, slen));
+    CHECK_OK(hf_cone_bake(f, 1, cone, clen));
+    CHECK_OK(hf_relaxed_bake(f, 1, relaxed, rlen));
+    CHECK_OK(hf_qdm_bake(f, 1, qdm, qlen));
+    CHECK_OK(hf_cc_bake(f, &co, 1, cc, cclen));
+    CHECK_OK(hf_radius_bake(f, &ro, 1, radius, radlen));
+    const method_map all[10] = {
+        {HF_METHOD_EXACT, NULL, 0},      {HF_METHOD_LINEAR_BINARY, NULL, 0},
+        {HF_METHOD_LINEAR_SECANT, NULL, 0}, {HF_METHOD_MAXMIP, pyr, plen},
+        {HF_METHOD_SAFETY, safety, slen}, {HF_METHOD_CONE, cone, clen},
+        {HF_METHOD_RELAXED, relaxed, rlen}, {HF_METHOD_QDM, qdm, qlen},
+        {HF_METHOD_CC, cc, cclen},       {HF_METHOD_RADIUS, radius, radlen}};
+
+    hf_ray rays[R];
+    for (int k = 0; k < R; k++)
+        rays[k] = ray(-2.0f + (W + 4) * frand(), -2.0f + (H + 4) * frand(), 6.0f + 4.0f * frand(),
+                      frand() - 0.5f, frand() - 0.5f, -0.1f - frand());
+    hf_hit a[R], b[R], h;
+    for (int m = 0; m < 10; m++) {
+        uint32_t me = all[m].method;
+        const void *map = all[m].map;
+        size_t len = all[m].len;
+        /* NULL options are the defaults: the same hits, single and batch. */
+        CHECK(all[m].method == (uint32_t)m);
+        CHECK_OK(hf_trace_batch(f, me, map, len, NULL, rays, R, a, R));
+        CHECK_OK(hf_trace_batch(f, me, map, len, &d, rays, R, b, R));
+        CHECK(memcmp(a, b, sizeof a) == 0);
+        CHECK_OK(hf_trace(f, me, map, len, NULL, &rays[3], &h));
+        CHECK(memcmp(&h, &a[3], sizeof h) == 0);
+        /* A nonzero reserved word, whichever, is refused. */
+        memset(b, 0x5A, sizeof b);
+        for (int k = 0; k < 11; k++) {
+            hf_trace_options o = d;
+            o.reserved[k] = 1;
+            CHECK_BAD(hf_trace(f, me, map, len, &o, &rays[0], &h), HF_ERR_INVALID_ARGUMENT, &h,
+                      sizeof h);
+            CHECK_BAD(hf_trace_batch(f, me, map, len, &o, rays, R, b, R), HF_ERR_INVALID_ARGUMENT,
+                      b, sizeof b);
+        }
+        /* The surfaces it does not trace are refused, unknown ones are bad enums. */
+        for (uint32_t s = HF_SURFACE_TRIANGLES; s <= HF_SURFACE_VIEW_LINEAR + 1; s++) {
+            hf_trace_options o = on(s);
+            if (s <= HF_SURFACE_VIEW_LINEAR && traces_surface(me, s)) {
+                CHECK_OK(hf_trace_batch(f, me, map, len, &o, rays, R, a, R));
+                continue;
+            }
+            hf_result want =
+                s > HF_SURFACE_VIEW_LINEAR ? HF_ERR_INVALID_ENUM : HF_ERR_INVALID_ARGUMENT;
+            CHECK_BAD(hf_trace(f, me, map, len, &o, &rays[0], &h), want, &h, sizeof h);
+            CHECK_BAD(hf_trace_batch(f, me, map, len, &o, rays, R, b, R), want, b, sizeof b);
+        }
+    }
+    /* A method without a map takes NULL and 0: a length is refused, with or without a
+     * pointer. */
+    for (uint32_t me = HF_METHOD_EXACT; me <= HF_METHOD_LINEAR_SECANT; me++) {
+        CHECK_BAD(hf_trace(f, me, NULL, 1, NULL, &rays[0], &h), HF_ERR_INVALID_ARGUMENT, &h,
+                  sizeof h);
+        CHECK_BAD(hf_trace(f, me, pyr, plen, NULL, &rays[0], &h), HF_ERR_INVALID_ARGUMENT, &h,
+                  sizeof h);
+        CHECK_BAD(hf_trace_batch(f, me, NULL, 1, NULL, rays, R, b, R), HF_ERR_INVALID_ARGUMENT, b,
+                  sizeof b);
+    }
+    /* Unknown methods. */
+    const uint32_t bad_methods[3] = {HF_METHOD_RADIUS + 1, 99, 0xFFFFFFFFu};
+    for (int k = 0; k < 3; k++) {
+        CHECK_BAD(hf_trace(f, bad_methods[k], NULL, 0, NULL, &rays[0], &h), HF_ERR_INVALID_ENUM,
+                  &h, sizeof h);
+        CHECK_BAD(hf_trace_batch(f, bad_methods[k], pyr, plen, NULL, rays, R, b, R),
+                  HF_ERR_INVALID_ENUM, b, sizeof b);
+    }
+
+    /* Names of every method and surface; short buffers, unknown values, NULLs. */
+    static const char *const methods[10] = {"exact", "linear-binary", "linear-secant", "maxmip",
+                                            "safety", "cone", "relaxed", "qdm", "cc", "radius"};
+    static const char *const surfaces[5] = {"triangles", "bilinear", "height-planes",
+                                            "linear-planes", "view-linear"};
+    hf_result (*const name_of[2])(uint32_t, char *, size_t, size_t *) = {hf_method_name,
+                                                                        hf_surface_name};
+    const char *const *names[2] = {methods, surfaces};
+    const uint32_t counts[2] = {10, 5};
+    for (int t = 0; t < 2; t++) {
+        char buf[32];
+        size_t written = 777;
+        for (uint32_t v = 0; v < counts[t]; v++) {
+            size_t n = strlen(names[t][v]);
+            memset(buf, 'x', sizeof buf);
+            CHECK_OK(name_of[t](v, buf, sizeof buf, &written));
+            CHECK(written == n && strcmp(buf, names[t][v]) == 0);
+            CHECK_OK(name_of[t](v, buf, n + 1, &written));
+            CHECK(written == n && strcmp(buf, names[t][v]) == 0);
+            memset(buf, 'x', sizeof buf);
+            CHECK_BAD(name_of[t](v, buf, n, &written), HF_ERR_BUFFER_TOO_SMALL, buf, sizeof buf);
+            CHECK_BAD(name_of[t](v, buf, 0, &written), HF_ERR_BUFFER_TOO_SMALL, &written,
+                      sizeof written);
+        }
+        CHECK_BAD(name_of[t](counts[t], buf, sizeof buf, &written), HF_ERR_INVALID_ENUM, buf,
+                  sizeof buf);
+        CHECK_BAD(name_of[t](0xFFFFFFFFu, buf, sizeof buf, &written), HF_ERR_INVALID_ENUM,
+                  &written, sizeof written);
+        CHECK_BAD(name_of[t](0, NULL, sizeof buf, &written), HF_ERR_NULL_POINTER, &written,
+                  sizeof written);
+        CHECK_BAD(name_of[t](0, buf, sizeof buf, NULL), HF_ERR_NULL_POINTER, buf, sizeof buf);
+    }
+    free(pyr);
+    free(cone);
+    free(relaxed);
+    free(qdm);
+    free(safety);
+    free(cc);
+    free(radius);
     hf_field_destroy(f);
 }
 
@@ -1673,6 +1889,7 @@ int main(void) {
     test_radius();
     test_cones();
     test_cc();
+    test_trace_options();
     test_concurrent_rows();
     test_build_and_plan();
     test_shader_source();

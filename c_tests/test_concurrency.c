@@ -97,14 +97,17 @@ static void *reader(void *arg) {
         r->t_max = INFINITY;
     }
     for (int b = 0; b < BATCHES * s->rounds; b++) {
-        uint32_t surface = HF_SURFACE_TRIANGLES + (uint32_t)b % 5; /* the five surfaces */
+        hf_trace_options o;
+        hf_trace_options_default(&o);
+        o.surface = HF_SURFACE_TRIANGLES + (uint32_t)b % 5; /* the five surfaces */
         lock(s, 0);
         /* Without the lock the count is not read: the only races left are the
          * library's reads of what the writer changes. */
         unsigned g = s->use_lock ? s->generation : 0;
-        hf_result r1 = hf_trace_exact_batch(s->field, surface, rays, RAYS, exact, RAYS);
-        hf_result r2 = hf_trace_maxmip_batch(s->field, s->pyramid, s->pyramid_len, surface,
-                                             rays, RAYS, maxmip, RAYS);
+        hf_result r1 = hf_trace_batch(s->field, HF_METHOD_EXACT, NULL, 0, &o, rays, RAYS, exact,
+                                      RAYS);
+        hf_result r2 = hf_trace_batch(s->field, HF_METHOD_MAXMIP, s->pyramid, s->pyramid_len, &o,
+                                      rays, RAYS, maxmip, RAYS);
         unlock(s);
         if (b == 0) j->first_generation = g;
         j->last_generation = g;

@@ -141,9 +141,10 @@ static void check_batches(const hf_field *f) {
     memset(hits, 0x5A, sizeof hits);
 
     /* The first bad ray of a batch: its index, as a number and in the detail. */
+    const uint32_t ex = HF_METHOD_EXACT;
     rays[5].dir[0] = rays[5].dir[1] = rays[5].dir[2] = 0.0f;
     rays[6].origin[0] = NAN;
-    CHECK_BAD(hf_trace_exact_batch(f, 0, rays, R, hits, R), HF_ERR_INVALID_RAY, hits,
+    CHECK_BAD(hf_trace_batch(f, ex, NULL, 0, NULL, rays, R, hits, R), HF_ERR_INVALID_RAY, hits,
               sizeof hits);
     CHECK_DETAIL("rays[5]: ray direction is zero");
     size_t index = 0;
@@ -164,33 +165,47 @@ static void check_batches(const hf_field *f) {
     bad.t_min = 2.0f;
     bad.t_max = 1.0f;
     hf_hit h = nothing_hit;
-    CHECK_BAD(hf_trace_exact(f, 0, &bad, &h), HF_ERR_INVALID_RAY, &h, sizeof h);
+    CHECK_BAD(hf_trace(f, ex, NULL, 0, NULL, &bad, &h), HF_ERR_INVALID_RAY, &h, sizeof h);
     CHECK_DETAIL("ray: t_min is greater than t_max");
     CHECK_OK(hf_last_error_index(&index));
     CHECK(index == SIZE_MAX);
 
-    /* Which pointer is NULL, which enum is unknown. */
-    CHECK_BAD(hf_trace_exact_batch(NULL, 0, rays, R, hits, R), HF_ERR_NULL_POINTER, hits,
+    /* Which pointer is NULL, which enum or option is bad. */
+    CHECK_BAD(hf_trace_batch(NULL, ex, NULL, 0, NULL, rays, R, hits, R), HF_ERR_NULL_POINTER, hits,
               sizeof hits);
     CHECK_DETAIL("field: pointer is NULL");
-    CHECK_BAD(hf_trace_exact_batch(f, 0, NULL, R, hits, R), HF_ERR_NULL_POINTER, hits,
+    CHECK_BAD(hf_trace_batch(f, ex, NULL, 0, NULL, NULL, R, hits, R), HF_ERR_NULL_POINTER, hits,
               sizeof hits);
     CHECK_DETAIL("rays: pointer is NULL");
-    CHECK_BAD(hf_trace_exact_batch(f, 0, rays, R, NULL, R), HF_ERR_NULL_POINTER, rays, 0);
+    CHECK_BAD(hf_trace_batch(f, ex, NULL, 0, NULL, rays, R, NULL, R), HF_ERR_NULL_POINTER, rays, 0);
     CHECK_DETAIL("out_hits: pointer is NULL");
-    CHECK_BAD(hf_trace_exact(f, 0, &good, NULL), HF_ERR_NULL_POINTER, rays, 0);
+    CHECK_BAD(hf_trace(f, ex, NULL, 0, NULL, &good, NULL), HF_ERR_NULL_POINTER, rays, 0);
     CHECK_DETAIL("out_hit: pointer is NULL");
-    CHECK_BAD(hf_trace_exact_batch(f, 9, rays, R, hits, R), HF_ERR_INVALID_ENUM, hits,
+    hf_trace_options o;
+    CHECK_OK(hf_trace_options_default(&o));
+    o.surface = 9;
+    CHECK_BAD(hf_trace_batch(f, ex, NULL, 0, &o, rays, R, hits, R), HF_ERR_INVALID_ENUM, hits,
               sizeof hits);
     CHECK_DETAIL("surface: 9");
-    CHECK_BAD(hf_trace_exact_batch(f, 0, rays, R, hits, R - 1), HF_ERR_BUFFER_TOO_SMALL, hits,
+    CHECK_BAD(hf_trace_batch(f, 99, NULL, 0, NULL, rays, R, hits, R), HF_ERR_INVALID_ENUM, hits,
               sizeof hits);
+    CHECK_DETAIL("method: 99");
+    o.surface = HF_SURFACE_TRIANGLES;
+    o.reserved[3] = 1;
+    CHECK_BAD(hf_trace_batch(f, ex, NULL, 0, &o, rays, R, hits, R), HF_ERR_INVALID_ARGUMENT, hits,
+              sizeof hits);
+    CHECK_DETAIL("options.reserved[3]");
+    CHECK_BAD(hf_trace_batch(f, ex, NULL, 1, NULL, rays, R, hits, R), HF_ERR_INVALID_ARGUMENT,
+              hits, sizeof hits);
+    CHECK_DETAIL("map_len");
+    CHECK_BAD(hf_trace_batch(f, ex, NULL, 0, NULL, rays, R, hits, R - 1), HF_ERR_BUFFER_TOO_SMALL,
+              hits, sizeof hits);
     CHECK_DETAIL("out_hits: 7 hits for 8 rays");
-    CHECK_BAD(hf_trace_exact_batch(f, 0, (const hf_ray *)((char *)rays + 1), 1, hits, R),
+    CHECK_BAD(hf_trace_batch(f, ex, NULL, 0, NULL, (const hf_ray *)((char *)rays + 1), 1, hits, R),
               HF_ERR_MISALIGNED_POINTER, hits, sizeof hits);
     CHECK_DETAIL("rays: pointer is not aligned to 4 bytes");
     /* A success leaves the index meaningless, but a new failure replaces it. */
-    CHECK_OK(hf_trace_exact_batch(f, 0, rays, R, hits, R));
+    CHECK_OK(hf_trace_batch(f, ex, NULL, 0, NULL, rays, R, hits, R));
 
     /* Outputs overlapping the rays: found before anything is written. */
     union {
@@ -201,32 +216,32 @@ static void check_batches(const hf_field *f) {
     for (int k = 0; k < R; k++) both.rays[k] = good;
     unsigned char saved[sizeof both];
     memcpy(saved, &both, sizeof both);
-    CHECK_BAD(hf_trace_exact_batch(f, 0, both.rays, R, both.hits, R), HF_ERR_INVALID_ARGUMENT,
-              &both, sizeof both);
+    CHECK_BAD(hf_trace_batch(f, ex, NULL, 0, NULL, both.rays, R, both.hits, R),
+              HF_ERR_INVALID_ARGUMENT, &both, sizeof both);
     CHECK_DETAIL("out_hits overlaps rays");
     /* Overlap by one element's tail: hits start inside the last ray. */
     hf_hit *late = (hf_hit *)(void *)((char *)both.bytes + (R - 1) * sizeof(hf_ray) + 4);
-    CHECK_BAD(hf_trace_exact_batch(f, 0, both.rays, R, late, 1), HF_ERR_INVALID_ARGUMENT,
+    CHECK_BAD(hf_trace_batch(f, ex, NULL, 0, NULL, both.rays, R, late, 1), HF_ERR_INVALID_ARGUMENT,
               &both, sizeof both);
-    CHECK_BAD(hf_trace_exact_batch(f, 0, both.rays, 4, both.hits + 4, 1),
+    CHECK_BAD(hf_trace_batch(f, ex, NULL, 0, NULL, both.rays, 4, both.hits + 4, 1),
               HF_ERR_BUFFER_TOO_SMALL, &both, sizeof both);
     CHECK(memcmp(saved, &both, sizeof both) == 0);
     /* Adjacent, not overlapping: fine. */
     hf_hit *after = (hf_hit *)(void *)((char *)both.bytes + 2 * sizeof(hf_ray));
-    CHECK_OK(hf_trace_exact_batch(f, 0, both.rays, 2, after, 2));
+    CHECK_OK(hf_trace_batch(f, ex, NULL, 0, NULL, both.rays, 2, after, 2));
     CHECK(after[0].hit == 1);
 
     /* Empty batches: HF_OK, nothing written; the pointers must still be valid. */
     memset(hits, 0x5A, sizeof hits);
     unsigned char before[sizeof hits];
     memcpy(before, hits, sizeof hits);
-    CHECK_OK(hf_trace_exact_batch(f, 0, rays, 0, hits, 0));
-    CHECK_OK(hf_trace_exact_batch(f, 0, rays, 0, hits, R));
-    CHECK_OK(hf_trace_linear_secant_batch(f, 0, 8, rays, 0, hits, R));
+    CHECK_OK(hf_trace_batch(f, ex, NULL, 0, NULL, rays, 0, hits, 0));
+    CHECK_OK(hf_trace_batch(f, ex, NULL, 0, NULL, rays, 0, hits, R));
+    CHECK_OK(hf_trace_batch(f, HF_METHOD_LINEAR_SECANT, NULL, 0, NULL, rays, 0, hits, R));
     CHECK(memcmp(before, hits, sizeof hits) == 0);
-    CHECK_BAD(hf_trace_exact_batch(f, 0, NULL, 0, hits, R), HF_ERR_NULL_POINTER, hits,
+    CHECK_BAD(hf_trace_batch(f, ex, NULL, 0, NULL, NULL, 0, hits, R), HF_ERR_NULL_POINTER, hits,
               sizeof hits);
-    CHECK_BAD(hf_trace_exact_batch(f, 0, rays, 0, NULL, 0), HF_ERR_NULL_POINTER, hits, 0);
+    CHECK_BAD(hf_trace_batch(f, ex, NULL, 0, NULL, rays, 0, NULL, 0), HF_ERR_NULL_POINTER, hits, 0);
 }
 
 static void check_rects(void) {

@@ -4,7 +4,7 @@
  *  - a map of another field of the same size: HF_ERR_MAP_MISMATCH (before: HF_OK and
  *    wrong answers, e.g. 140 of 2,000 rays for the pyramid);
  *  - a map of the heights before an update: HF_ERR_STALE_MAP (before: stale answers);
- *  - a wrong cap, class set or variant, another method's map, a damaged descriptor:
+ *  - a wrong class set or layout, another method's map, a damaged descriptor:
  *    HF_ERR_MAP_MISMATCH;
  *  - hf_maxmip_update_rect refreshes only over a rectangle covering every update
  *    since the bake, and then equals a fresh bake byte for byte;
@@ -97,29 +97,34 @@ enum { MAXMIP, SAFETY_DIR, SAFETY_ISO, CC, RADIUS, CONE, QDM, RELAXED, METHODS }
 static const char *const names[METHODS] = {"maxmip", "safety", "safety-iso", "cc",
                                            "radius", "cone",   "qdm",        "relaxed"};
 
-/* Traces the batch with method m's map of `m` on field f. */
+/* The default trace options naming the ray classes `classes` (0: the map's). */
+static hf_trace_options with_classes(uint32_t classes) {
+    hf_trace_options o;
+    hf_trace_options_default(&o);
+    o.ray_classes = classes;
+    return o;
+}
+
+/* Traces the batch with method m's map of `m` on field f (cone, QDM: 1000 iterations;
+ * relaxed: the default 64 cone steps, 8 bisections; cc: the map's classes named). */
 static hf_result trace(int method, const hf_field *f, const maps *m, const hf_ray *rays,
                        hf_hit *out) {
-    const uint32_t tri = HF_SURFACE_TRIANGLES;
-    switch (method) {
-    case MAXMIP: return hf_trace_maxmip_batch(f, m->pyr, m->pyr_len, tri, rays, N, out, N);
-    case SAFETY_DIR: return hf_trace_safety_batch(f, m->sd, m->sd_len, 0, rays, N, out, N);
-    case SAFETY_ISO: return hf_trace_safety_batch(f, m->si, m->si_len, 1, rays, N, out, N);
-    case CC:
-        return hf_trace_cc_on_batch(f, m->cc, m->cc_len, CAP, CLASSES, tri, rays, N, out, N);
-    case RADIUS: return hf_trace_radius_batch(f, m->rad, m->rad_len, 0, rays, N, out, N);
-    case CONE: return hf_trace_cone_batch(f, m->cone, m->cone_len, 1000, rays, N, out, N);
-    case QDM: return hf_trace_qdm_batch(f, m->qdm, m->qdm_len, 1000, rays, N, out, N);
-    default:
-        return hf_trace_relaxed_batch(f, m->relaxed, m->relaxed_len, 64, 8, rays, N, out, N);
-    }
+    static const uint32_t api[METHODS] = {HF_METHOD_MAXMIP, HF_METHOD_SAFETY, HF_METHOD_SAFETY,
+                                          HF_METHOD_CC,     HF_METHOD_RADIUS, HF_METHOD_CONE,
+                                          HF_METHOD_QDM,    HF_METHOD_RELAXED};
+    const void *map[METHODS] = {m->pyr, m->sd, m->si, m->cc, m->rad, m->cone, m->qdm, m->relaxed};
+    const size_t len[METHODS] = {m->pyr_len, m->sd_len,   m->si_len,  m->cc_len,
+                                 m->rad_len, m->cone_len, m->qdm_len, m->relaxed_len};
+    hf_trace_options o = with_classes(method == CC ? CLASSES : 0);
+    if (method == CONE || method == QDM) o.steps = 1000;
+    return hf_trace_batch(f, api[method], map[method], len[method], &o, rays, N, out, N);
 }
 
 /* Every method answers the batch as the exact DDA on f (hits equal up to 1e-3 in t;
  * relaxed cone stepping is approximate and only has to answer). */
 static void check_exact(const hf_field *f, const maps *m, const hf_ray *rays, const char *when) {
     static hf_hit exact[N], got[N];
-    CHECK_OK(hf_trace_exact_batch(f, HF_SURFACE_TRIANGLES, rays, N, exact, N));
+    CHECK_OK(hf_trace_batch(f, HF_METHOD_EXACT, NULL, 0, NULL, rays, N, exact, N));
     for (int method = 0; method < METHODS; method++) {
         hf_result r = trace(method, f, m, rays, got);
         CHECK(r == HF_OK);
@@ -182,36 +187,43 @@ static void check_descriptor_reads(const hf_field *f, const maps *m) {
 /* Wrong arguments for a right map, and maps of the wrong kind. */
 static void check_wrong_arguments(const hf_field *f, const maps *m, const hf_ray *rays) {
     static hf_hit got[N];
-    const uint32_t tri = HF_SURFACE_TRIANGLES;
+    const uint32_t cc = HF_METHOD_CC, sm = HF_METHOD_SAFETY, rm = HF_METHOD_RADIUS;
     memset(got, 0x5A, sizeof got);
-    /* The cc cap the trace names must be the bake's. */
-    CHECK_BAD(hf_trace_cc_on_batch(f, m->cc, m->cc_len, CAP - 1, CLASSES, tri, rays, N, got, N),
-              HF_ERR_MAP_MISMATCH, got, sizeof got);
-    CHECK_DETAIL("cap");
+    /* The cap is no longer passed (a wrong one was HF_ERR_MAP_MISMATCH): the descriptor
+     * names it. Another method's map is refused instead: the cc map (as long as a
+     * directional safety map) traced as a safety map. */
+    CHECK_BAD(hf_trace_batch(f, sm, m->cc, m->cc_len, NULL, rays, N, got, N), HF_ERR_MAP_MISMATCH,
+              got, sizeof got);
+    CHECK_DETAIL("a cc map, a directional safety map expected");
     /* Another class set: the descriptor is not where that set's texels end. */
-    CHECK_BAD(hf_trace_cc_on_batch(f, m->cc, m->cc_len, CAP, HF_RAYS_X_POS, tri, rays, N, got, N),
+    hf_trace_options x_pos = with_classes(HF_RAYS_X_POS);
+    CHECK_BAD(hf_trace_batch(f, cc, m->cc, m->cc_len, &x_pos, rays, N, got, N),
               HF_ERR_MAP_MISMATCH, got, sizeof got);
-    /* A directional map traced as isotropic (four times the bytes: no descriptor at the
-     * isotropic length) and an isotropic map (W x H bytes) as a radius map (W x H). */
-    CHECK_BAD(hf_trace_safety_batch(f, m->sd, m->sd_len, 1, rays, N, got, N),
+    /* The layout is no longer passed (a directional map named isotropic was refused): the
+     * descriptor names it. Either layout of the four classes named as holding two is
+     * refused instead; and an isotropic map (W x H bytes) as a radius map (W x H). */
+    hf_trace_options two = with_classes(CLASSES);
+    CHECK_BAD(hf_trace_batch(f, sm, m->sd, m->sd_len, &two, rays, N, got, N),
               HF_ERR_MAP_MISMATCH, got, sizeof got);
-    CHECK_BAD(hf_trace_radius_batch(f, m->si, m->si_len, 0, rays, N, got, N),
+    CHECK_BAD(hf_trace_batch(f, sm, m->si, m->si_len, &two, rays, N, got, N),
+              HF_ERR_MAP_MISMATCH, got, sizeof got);
+    CHECK_BAD(hf_trace_batch(f, rm, m->si, m->si_len, NULL, rays, N, got, N),
               HF_ERR_MAP_MISMATCH, got, sizeof got);
     CHECK_DETAIL("isotropic safety map, a radius map expected");
     /* A cone map traced as a relaxed map (long enough: the relaxed texels end inside
      * the cone texels, where no descriptor is). */
-    CHECK_BAD(hf_trace_relaxed_batch(f, m->cone, m->cone_len, 64, 8, rays, N, got, N),
+    CHECK_BAD(hf_trace_batch(f, HF_METHOD_RELAXED, m->cone, m->cone_len, NULL, rays, N, got, N),
               HF_ERR_MAP_MISMATCH, got, sizeof got);
     CHECK_DETAIL("descriptor after its");
     /* A damaged descriptor, then repaired. */
     m->rad[m->rad_len - 30] ^= 4;
-    CHECK_BAD(hf_trace_radius_batch(f, m->rad, m->rad_len, 0, rays, N, got, N),
+    CHECK_BAD(hf_trace_batch(f, rm, m->rad, m->rad_len, NULL, rays, N, got, N),
               HF_ERR_MAP_MISMATCH, got, sizeof got);
     CHECK_DETAIL("damaged");
     m->rad[m->rad_len - 30] ^= 4;
-    CHECK_OK(hf_trace_radius_batch(f, m->rad, m->rad_len, 0, rays, N, got, N));
+    CHECK_OK(hf_trace_batch(f, rm, m->rad, m->rad_len, NULL, rays, N, got, N));
     /* A map without room for its descriptor. */
-    CHECK_BAD(hf_trace_maxmip_batch(f, m->pyr, m->pyr_len - 1, tri, rays, N, got, N),
+    CHECK_BAD(hf_trace_batch(f, HF_METHOD_MAXMIP, m->pyr, m->pyr_len - 1, NULL, rays, N, got, N),
               HF_ERR_BUFFER_TOO_SMALL, got, sizeof got);
 }
 
@@ -290,9 +302,9 @@ static void check_ktx2(const hf_field *f, const maps *m, const hf_ray *rays) {
     CHECK_OK(hf_ktx2_read_map(file, n, back, map_len));
     CHECK(memcmp(back, m->cc, map_len) == 0);
     static hf_hit a[N], b[N];
-    const uint32_t tri = HF_SURFACE_TRIANGLES;
-    CHECK_OK(hf_trace_cc_on_batch(f, m->cc, map_len, CAP, CLASSES, tri, rays, N, a, N));
-    CHECK_OK(hf_trace_cc_on_batch(f, back, map_len, CAP, CLASSES, tri, rays, N, b, N));
+    hf_trace_options o = with_classes(CLASSES);
+    CHECK_OK(hf_trace_batch(f, HF_METHOD_CC, m->cc, map_len, &o, rays, N, a, N));
+    CHECK_OK(hf_trace_batch(f, HF_METHOD_CC, back, map_len, &o, rays, N, b, N));
     CHECK(memcmp(a, b, sizeof a) == 0);
     free(file);
     free(back);

@@ -2,7 +2,8 @@
  * fuzz_trace.c; built and run by scripts/fuzz.sh): a byte reader that turns the
  * fuzzer's input into sizes, heights, options and rays; the checks every call gets
  * (a code `hf_error_message` knows, never `HF_ERR_PANIC`, a failing call leaves its
- * outputs untouched); and the comparison of a method's hits with `hf_trace_exact`.
+ * outputs untouched); and the comparison of a method's hits with the exact method's
+ * (`hf_trace` with `HF_METHOD_EXACT`).
  * A violation prints what was wrong and calls abort(), which libFuzzer reports as a
  * crash with the input that caused it. */
 #ifndef HFCAST_FUZZ_COMMON_H
@@ -207,7 +208,15 @@ static inline int fz_identical(const hf_hit *want, const hf_hit *got) {
            memcmp(want->point, got->point, sizeof want->point) == 0;
 }
 
-/* docs/DESIGN.md's ambiguity rule (core/src/judge.rs), on hf_trace_exact's answers:
+/* The default trace options with surface `surface`. */
+static inline hf_trace_options fz_on(uint32_t surface) {
+    hf_trace_options o;
+    hf_trace_options_default(&o);
+    o.surface = surface;
+    return o;
+}
+
+/* docs/DESIGN.md's ambiguity rule (core/src/judge.rs), on the exact method's answers:
  * a ray is stable when moving its origin by its f32 resolution
  * delta = 2 eps32 (|o|inf + E), E = max(W - 1, H - 1, |min height|, |max height|), along
  * each axis, either way, keeps the answer: the same hit or miss, and a hit within
@@ -229,11 +238,12 @@ static inline int fz_stable(const hf_field *f, uint32_t surface, const hf_ray *r
                                       (double)exact->normal[2] * ray->dir[2]) / len
                                : 1.0;
     double slide = 2.0 * delta * (1.0 + 1.0 / fmax(cosine, 1e-3));
+    hf_trace_options on = fz_on(surface);
     for (int k = 0; k < 6; k++) {
         hf_ray moved = *ray;
         moved.origin[k / 2] = (float)((double)ray->origin[k / 2] + (k % 2 ? -delta : delta));
         hf_hit h;
-        if (hf_trace_exact(f, surface, &moved, &h) != HF_OK) return 0;
+        if (hf_trace(f, HF_METHOD_EXACT, NULL, 0, &on, &moved, &h) != HF_OK) return 0;
         if (exact->hit != h.hit) return 0;
         for (int a = 0; exact->hit && a < 3; a++) {
             double e = fabs((double)exact->point[a] - h.point[a]);
@@ -306,7 +316,7 @@ static inline void fz_compare(const hf_field *f, uint32_t surface, const hf_ray 
         fz_print_hit("exact", &exact[k]);
         fz_print_hit(what, &got[k]);
         fz_print_field(f);
-        FZ_FAIL("%s disagrees with hf_trace_exact on surface %u, ray %d", what,
+        FZ_FAIL("%s disagrees with the exact method on surface %u, ray %d", what,
                 (unsigned)surface, k);
     }
 }

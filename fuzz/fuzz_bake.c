@@ -5,7 +5,7 @@
  * off the needed one by a fuzzed amount, a row split, then a few rays. Checks: a valid
  * code; a failing bake writes nothing, a succeeding one nothing past its length;
  * the whole bake equals the same bake in two row ranges and on one thread; the map
- * then traces the rays as hf_trace_exact does (bit for bit for maxmip; on stable rays
+ * then traces the rays as the exact method does (bit for bit for maxmip; on stable rays
  * for the exact options of the others, fz_compare); its descriptor (hf_map_read_desc)
  * names the field's fingerprint and size. */
 #include "common.h"
@@ -188,33 +188,22 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
             rays[k] = fz_ray(&in, w, h, &raw);
             any_raw |= raw;
         }
-        hf_result re = n ? hf_trace_exact_batch(f, HF_SURFACE_TRIANGLES, rays, n, exact, n)
+        hf_result re = n ? hf_trace_batch(f, HF_METHOD_EXACT, NULL, 0, NULL, rays, n, exact, n)
                          : HF_ERR_INVALID_ARGUMENT;
-        fz_code(re, "hf_trace_exact_batch");
+        fz_code(re, "exact batch");
         if (re != HF_OK && n && !any_raw) FZ_FAIL("exact refused valid rays");
         if (re == HF_OK && bake != B_RELAXED) {
-            hf_result rt;
-            switch (bake) {
-            case B_MAXMIP:
-            case B_MAXMIP_THREADED:
-                rt = hf_trace_maxmip_batch(f, (float *)map, len, HF_SURFACE_TRIANGLES, rays, n,
-                                           got, n);
-                break;
-            case B_SAFETY:
-                rt = hf_trace_safety_on_batch(f, (uint8_t *)map, len, so.variant, classes,
-                                              HF_SURFACE_TRIANGLES, rays, n, got, n);
-                break;
-            case B_CC:
-                rt = hf_trace_cc_on_batch(f, (uint8_t *)map, len, co.cap, classes,
-                                          HF_SURFACE_TRIANGLES, rays, n, got, n);
-                break;
-            case B_RADIUS:
-                rt = hf_trace_radius_batch(f, (uint8_t *)map, len, HF_RADIUS_WALK, rays, n, got,
-                                           n);
-                break;
-            case B_CONE: rt = hf_trace_cone_batch(f, (float *)map, len, 1000, rays, n, got, n); break;
-            default: rt = hf_trace_qdm_batch(f, (float *)map, len, 1000, rays, n, got, n); break;
-            }
+            /* The bake's method; the safety and cc traces name the bake's classes, the
+             * cap and the safety layout are the descriptor's. */
+            static const uint32_t api[B_COUNT] = {HF_METHOD_MAXMIP, HF_METHOD_MAXMIP,
+                                                  HF_METHOD_SAFETY, HF_METHOD_CC,
+                                                  HF_METHOD_RADIUS, HF_METHOD_CONE,
+                                                  HF_METHOD_RELAXED, HF_METHOD_QDM};
+            hf_trace_options o;
+            hf_trace_options_default(&o);
+            o.ray_classes = bake == B_SAFETY || bake == B_CC ? classes : 0;
+            o.steps = 1000; /* cone, QDM iterations */
+            hf_result rt = hf_trace_batch(f, api[bake], map, len, &o, rays, n, got, n);
             if (fz_code(rt, what) != HF_OK)
                 FZ_FAIL("%s: tracing its own map failed with %u", what, (unsigned)rt);
             if (exact_opts)

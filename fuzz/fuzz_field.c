@@ -128,9 +128,10 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
         int raw;
         hf_ray ray = fz_ray(&in, w, h, &raw);
         hf_hit e, m;
-        hf_result re = fz_code(hf_trace_exact(f, HF_SURFACE_TRIANGLES, &ray, &e), "hf_trace_exact");
-        hf_result rm = fz_code(hf_trace_maxmip(f, pyr, plen, HF_SURFACE_TRIANGLES, &ray, &m),
-                               "hf_trace_maxmip");
+        hf_result re =
+            fz_code(hf_trace(f, HF_METHOD_EXACT, NULL, 0, NULL, &ray, &e), "hf_trace (exact)");
+        hf_result rm = fz_code(hf_trace(f, HF_METHOD_MAXMIP, pyr, plen, NULL, &ray, &m),
+                               "hf_trace (maxmip)");
         if ((re == HF_OK) != (rm == HF_OK)) FZ_FAIL("exact %u, maxmip %u", re, rm);
         if (re == HF_OK) fz_compare(f, HF_SURFACE_TRIANGLES, &ray, 1, &e, &m, 1, "maxmip");
     }

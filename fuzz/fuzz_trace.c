@@ -1,12 +1,13 @@
 /* libFuzzer target: every trace of libhfcast with arbitrary rays.
  * Input: a field (fz_field), the options of its maps (caps, cc slope, ray classes), a
  * surface, then up to FZ_MAX_RAYS rays (fz_ray: valid ones near the field, lattice
- * and axis-parallel ones, and now and then raw bits). Every method traces the batch;
- * each answer is checked against hf_trace_exact_batch on the same rays: maximum
- * mipmaps bit for bit, safety distances (both layouts, and a map of some classes
- * only), cylinder–cone, radius with the walk, cone and QDM within their budget up to
- * rounding on grazing rays (fz_compare); the search and relaxed methods only for
- * their codes. A batch that fails writes nothing; a single call answers as the batch.
+ * and axis-parallel ones, and now and then raw bits). Every method traces the batch
+ * (hf_trace_batch); each answer is checked against the exact method's on the same
+ * rays: maximum mipmaps bit for bit, safety distances (both layouts, and a map of some
+ * classes only), cylinder–cone, radius with the walk, cone and QDM within their budget
+ * up to rounding on grazing rays (fz_compare); the search and relaxed methods only for
+ * their codes; a surface a method does not trace is refused. A batch that fails writes
+ * nothing; a single call (hf_trace) answers as the batch.
  * Then the maps' descriptors (check_descriptors): a flipped descriptor byte is
  * HF_ERR_MAP_MISMATCH, an updated sample makes every map HF_ERR_STALE_MAP, and a
  * pyramid refreshed over the update answers as the exact DDA again. */
@@ -17,7 +18,7 @@ typedef struct maps {
     size_t pyr_len;
     uint8_t *sd, *si, *sc, *cc, *rad;
     size_t sd_len, si_len, sc_len, cc_len, rad_len;
-    uint32_t cc_cap, classes;
+    uint32_t classes;
     float *cone, *qdm, *relaxed;
     size_t cone_len, qdm_len, relaxed_len;
 } maps;
@@ -31,7 +32,6 @@ static void bake_all(hf_field *f, uint32_t w, uint32_t h, fz_in *in, maps *m) {
     hf_cc_options co = {fz_u8(in) & 1, fz_u8(in)};
     hf_radius_options ro = {0.0f, fz_u8(in)};
     m->classes = 1 + fz_u8(in) % 15;
-    m->cc_cap = co.cap;
     must(hf_maxmip_len(w, h, &m->pyr_len), "hf_maxmip_len");
     m->pyr = (float *)fz_buf(m->pyr_len * sizeof(float));
     must(hf_maxmip_bake(f, m->pyr, m->pyr_len), "hf_maxmip_bake");
@@ -95,57 +95,29 @@ static const char *const names[M_COUNT] = {
     "maxmip", "safety directional", "safety isotropic", "safety classes", "cc",
     "radius", "cone", "qdm", "relaxed", "linear-binary", "linear-secant"};
 
-/* Method m on the batch (n == 1: the single-ray call). */
+/* Method m on the batch (`single`: the single-ray call on rays[0]) on surface `s`, with
+ * `iter` steps (cone, QDM iterations; relaxed cone steps; linear steps) and 8
+ * bisections; the safety and cc traces name the classes their maps hold. */
 static hf_result trace(int m, const hf_field *f, const maps *mp, uint32_t s, uint32_t iter,
                        const hf_ray *rays, size_t n, hf_hit *out, size_t out_len, int single) {
-    if (single) {
-        switch (m) {
-        case M_MAXMIP: return hf_trace_maxmip(f, mp->pyr, mp->pyr_len, s, rays, out);
-        case M_SAFETY_DIR:
-            return hf_trace_safety_on(f, mp->sd, mp->sd_len, 0, HF_RAYS_ALL, s, rays, out);
-        case M_SAFETY_ISO:
-            return hf_trace_safety_on(f, mp->si, mp->si_len, 1, HF_RAYS_ALL, s, rays, out);
-        case M_SAFETY_CLASSES:
-            return hf_trace_safety_on(f, mp->sc, mp->sc_len, 0, mp->classes, s, rays, out);
-        case M_CC:
-            return hf_trace_cc_on(f, mp->cc, mp->cc_len, mp->cc_cap, mp->classes, s, rays, out);
-        case M_RADIUS:
-            return hf_trace_radius_on(f, mp->rad, mp->rad_len, HF_RADIUS_WALK, s, rays, out);
-        case M_CONE: return hf_trace_cone(f, mp->cone, mp->cone_len, iter, rays, out);
-        case M_QDM: return hf_trace_qdm(f, mp->qdm, mp->qdm_len, iter, rays, out);
-        case M_RELAXED:
-            return hf_trace_relaxed(f, mp->relaxed, mp->relaxed_len, iter, 8, rays, out);
-        case M_LINEAR_BINARY: return hf_trace_linear_binary(f, s, iter, 8, rays, out);
-        default: return hf_trace_linear_secant(f, s, iter, rays, out);
-        }
-    }
-    switch (m) {
-    case M_MAXMIP:
-        return hf_trace_maxmip_batch(f, mp->pyr, mp->pyr_len, s, rays, n, out, out_len);
-    case M_SAFETY_DIR:
-        return hf_trace_safety_on_batch(f, mp->sd, mp->sd_len, 0, HF_RAYS_ALL, s, rays, n, out,
-                                        out_len);
-    case M_SAFETY_ISO:
-        return hf_trace_safety_on_batch(f, mp->si, mp->si_len, 1, HF_RAYS_ALL, s, rays, n, out,
-                                        out_len);
-    case M_SAFETY_CLASSES:
-        return hf_trace_safety_on_batch(f, mp->sc, mp->sc_len, 0, mp->classes, s, rays, n, out,
-                                        out_len);
-    case M_CC:
-        return hf_trace_cc_on_batch(f, mp->cc, mp->cc_len, mp->cc_cap, mp->classes, s, rays, n,
-                                    out, out_len);
-    case M_RADIUS:
-        return hf_trace_radius_on_batch(f, mp->rad, mp->rad_len, HF_RADIUS_WALK, s, rays, n, out,
-                                        out_len);
-    case M_CONE:
-        return hf_trace_cone_batch(f, mp->cone, mp->cone_len, iter, rays, n, out, out_len);
-    case M_QDM: return hf_trace_qdm_batch(f, mp->qdm, mp->qdm_len, iter, rays, n, out, out_len);
-    case M_RELAXED:
-        return hf_trace_relaxed_batch(f, mp->relaxed, mp->relaxed_len, iter, 8, rays, n, out,
-                                      out_len);
-    case M_LINEAR_BINARY: return hf_trace_linear_binary_batch(f, s, iter, 8, rays, n, out, out_len);
-    default: return hf_trace_linear_secant_batch(f, s, iter, rays, n, out, out_len);
-    }
+    static const uint32_t api[M_COUNT] = {
+        HF_METHOD_MAXMIP, HF_METHOD_SAFETY, HF_METHOD_SAFETY,  HF_METHOD_SAFETY,
+        HF_METHOD_CC,     HF_METHOD_RADIUS, HF_METHOD_CONE,    HF_METHOD_QDM,
+        HF_METHOD_RELAXED, HF_METHOD_LINEAR_BINARY, HF_METHOD_LINEAR_SECANT};
+    const void *map[M_COUNT] = {mp->pyr, mp->sd,  mp->si,      mp->sc, mp->cc, mp->rad,
+                                mp->cone, mp->qdm, mp->relaxed, NULL,   NULL};
+    const size_t len[M_COUNT] = {mp->pyr_len,  mp->sd_len,  mp->si_len,      mp->sc_len,
+                                 mp->cc_len,   mp->rad_len, mp->cone_len,    mp->qdm_len,
+                                 mp->relaxed_len, 0,        0};
+    const uint32_t classes[M_COUNT] = {0, HF_RAYS_ALL, HF_RAYS_ALL, mp->classes, mp->classes};
+    hf_trace_options o;
+    hf_trace_options_default(&o);
+    o.surface = s;
+    o.ray_classes = classes[m];
+    o.steps = iter;
+    o.binary_steps = 8;
+    if (single) return hf_trace(f, api[m], map[m], len[m], &o, rays, out);
+    return hf_trace_batch(f, api[m], map[m], len[m], &o, rays, n, out, out_len);
 }
 
 /* Which surfaces a method traces (others: an error, never a wrong answer). */
@@ -157,7 +129,7 @@ static int takes_surface(int m, uint32_t s) {
     case M_LINEAR_SECANT: return 1;
     case M_CONE:
     case M_QDM:
-    case M_RELAXED: return 1; /* no surface argument: the triangles */
+    case M_RELAXED: return s == HF_SURFACE_TRIANGLES;
     default: return s == HF_SURFACE_TRIANGLES || s == HF_SURFACE_VIEW_LINEAR;
     }
 }
@@ -218,7 +190,9 @@ static void check_descriptors(fz_in *in, hf_field *f, uint32_t w, maps *mp, cons
         must(hf_maxmip_update_rect(f, 0, 0, 1, 1, mp->pyr, mp->pyr_len), "hf_maxmip_update_rect");
         if (!traced[M_MAXMIP] || n == 0) return;
         hf_hit exact[FZ_MAX_RAYS];
-        must(hf_trace_exact_batch(f, s, rays, n, exact, n), "hf_trace_exact_batch (updated)");
+        hf_trace_options on = fz_on(s);
+        must(hf_trace_batch(f, HF_METHOD_EXACT, NULL, 0, &on, rays, n, exact, n),
+             "exact (updated)");
         must(trace(M_MAXMIP, f, mp, s, iter, rays, n, got, n, 0), "maxmip (refreshed)");
         fz_compare(f, s, rays, (int)n, exact, got, 1, "maxmip (refreshed)");
     }
@@ -243,30 +217,28 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
         rays[k] = fz_ray(&in, w, h, &raw);
         any_raw |= raw;
     }
-    hf_hit exact[FZ_MAX_RAYS], exact_tri[FZ_MAX_RAYS];
+    hf_hit exact[FZ_MAX_RAYS];
     hf_hit *got = (hf_hit *)fz_buf(sizeof(hf_hit) * FZ_MAX_RAYS);
     size_t bytes = sizeof(hf_hit) * n;
 
     memset(exact, FZ_POISON, sizeof exact);
-    hf_result re = fz_code(hf_trace_exact_batch(f, s, rays, n, exact, n), "hf_trace_exact_batch");
+    hf_trace_options on = fz_on(s);
+    hf_result re = fz_code(hf_trace_batch(f, HF_METHOD_EXACT, NULL, 0, &on, rays, n, exact, n),
+                           "exact batch");
     if (re != HF_OK && !fz_all_poison(exact, bytes))
-        FZ_FAIL("hf_trace_exact_batch failed with %u but wrote hits", (unsigned)re);
+        FZ_FAIL("the exact batch failed with %u but wrote hits", (unsigned)re);
     if (re == HF_OK && n > 0 && s <= HF_SURFACE_VIEW_LINEAR) {
         /* A single exact call answers as the batch; any ray of the batch was valid. */
         for (size_t k = 0; k < n; k++) {
             hf_hit one;
-            if (fz_code(hf_trace_exact(f, s, &rays[k], &one), "hf_trace_exact") != HF_OK ||
+            if (fz_code(hf_trace(f, HF_METHOD_EXACT, NULL, 0, &on, &rays[k], &one), "exact") !=
+                    HF_OK ||
                 memcmp(&one, &exact[k], sizeof one) != 0)
-                FZ_FAIL("hf_trace_exact differs from its batch on ray %zu", k);
+                FZ_FAIL("the exact single call differs from its batch on ray %zu", k);
         }
     }
-    if (re == HF_OK && n > 0 && s != HF_SURFACE_TRIANGLES)
-        must(hf_trace_exact_batch(f, HF_SURFACE_TRIANGLES, rays, n, exact_tri, n),
-             "hf_trace_exact_batch (triangles)");
-    else
-        memcpy(exact_tri, exact, sizeof exact);
     if (re != HF_OK && n > 0 && s <= HF_SURFACE_VIEW_LINEAR && !any_raw)
-        FZ_FAIL("hf_trace_exact_batch refused %zu valid rays with %u", n, (unsigned)re);
+        FZ_FAIL("the exact batch refused %zu valid rays with %u", n, (unsigned)re);
 
     int traced[M_COUNT] = {0};
     for (int m = 0; m < M_COUNT; m++) {
@@ -275,15 +247,15 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
         traced[m] = r == HF_OK;
         fz_after(r, got, bytes, names[m]);
         if (n == 0) continue; /* an empty batch: HF_OK or an error, both fine */
-        int no_surface = m == M_CONE || m == M_QDM || m == M_RELAXED;
-        if (re != HF_OK && r == HF_OK && !(no_surface && s > HF_SURFACE_VIEW_LINEAR))
-            FZ_FAIL("%s accepted a batch hf_trace_exact refused (%u)", names[m], (unsigned)re);
+        if (re != HF_OK && r == HF_OK)
+            FZ_FAIL("%s accepted a batch the exact method refused (%u)", names[m], (unsigned)re);
         if (re != HF_OK) continue;
         int takes = takes_surface(m, s);
         if (takes && r != HF_OK && !(iter == 0 && m >= M_CONE))
-            FZ_FAIL("%s refused rays hf_trace_exact took, with %u", names[m], (unsigned)r);
-        if (!takes && r == HF_OK && !no_surface)
-            FZ_FAIL("%s accepted surface %u", names[m], (unsigned)s);
+            FZ_FAIL("%s refused rays the exact method took, with %u", names[m], (unsigned)r);
+        if (!takes && r != HF_ERR_INVALID_ARGUMENT)
+            FZ_FAIL("%s answered %u on surface %u, not HF_ERR_INVALID_ARGUMENT", names[m],
+                    (unsigned)r, (unsigned)s);
         if (r != HF_OK) continue;
         /* The single-ray call answers as the batch. */
         for (size_t k = 0; k < n; k += 7) {
@@ -294,8 +266,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
         }
         if (m == M_MAXMIP) fz_compare(f, s, rays, (int)n, exact, got, 1, names[m]);
         else if (m <= M_RADIUS) fz_compare(f, s, rays, (int)n, exact, got, 0, names[m]);
-        else if (m <= M_QDM)
-            fz_compare(f, HF_SURFACE_TRIANGLES, rays, (int)n, exact_tri, got, 0, names[m]);
+        else if (m <= M_QDM) fz_compare(f, s, rays, (int)n, exact, got, 0, names[m]);
     }
     check_descriptors(&in, f, w, &mp, traced, s, iter, rays, n, got);
     free(got);

@@ -53,9 +53,9 @@
 
 /* Version of the header; hf_version() returns the library's. */
 #define HFCAST_VERSION_MAJOR 0
-#define HFCAST_VERSION_MINOR 1
+#define HFCAST_VERSION_MINOR 2
 #define HFCAST_VERSION_PATCH 0
-#define HFCAST_VERSION_STRING "0.1.0"
+#define HFCAST_VERSION_STRING "0.2.0"
 
 /* The methods this build of the library has (cargo features of hfcast-capi; see
    hf_build_has_method). The declarations of each are inside
@@ -440,49 +440,6 @@ typedef struct hf_cc_options {
 } hf_cc_options;
 #endif
 
-// A ray: the points `origin + t * dir` for `t` in `[t_min, t_max]`, in grid space, or
-// in the field's world units when it has a transform (`hf_field_set_transform`).
-// `dir` need not be normalised (t is then in units of `|dir|`) but must be finite
-// and non-zero, also after conversion to grid space; `t_min` finite; `t_max ≥ t_min`,
-// `INFINITY` allowed. Grid space: x along sample columns i, y along rows j, z up, all
-// in sample spacings.
-typedef struct hf_ray {
-  // Origin (x, y, z) in grid units (world units with a transform).
-  float origin[3];
-  // Direction (x, y, z), finite and non-zero.
-  float dir[3];
-  // Start of the parameter range (finite).
-  float t_min;
-  // End of the parameter range (`INFINITY` allowed).
-  float t_max;
-} hf_ray;
-
-// The answer to one query. On a miss `hit` is 0 and every field but `fetches`,
-// `flags` and `clearance` is 0.
-typedef struct hf_hit {
-  // 1 when the ray meets the surface in `[t_min, t_max]`, else 0.
-  uint32_t hit;
-  // `HF_FLAG_*` bits: those of the hit (`ORIGIN_INSIDE`, `SIDE`, `WALL`) and of the
-  // trace (`BUDGET_EXHAUSTED`).
-  uint32_t flags;
-  // Texture fetches used (one per texel read; a cell's four corners are four): the
-  // hardware-independent cost.
-  uint32_t fetches;
-  // The cell (i, j) holding the hit: the unit square [i, i+1] × [j, j+1].
-  uint32_t cell[2];
-  // Ray parameter of the hit.
-  float t;
-  // Hit point in grid space (world units with a transform).
-  float point[3];
-  // Unit surface normal at the hit (a wall's normal for side and step hits).
-  float normal[3];
-  // Smallest clearance (ray height − surface height, grid units; world height units
-  // with a transform) seen before the hit
-  // or along the whole ray for a miss; `INFINITY` when the ray never overlaps the
-  // field. Exact methods fill it; approximate ones report `INFINITY`.
-  float clearance;
-} hf_hit;
-
 // Width, height and height bounds of a field.
 typedef struct hf_field_info {
   // Samples along x (W ≥ 2).
@@ -665,6 +622,74 @@ typedef struct hf_bake_plan {
   uint32_t radius_map;
 } hf_bake_plan;
 
+// How a trace runs: the surface, what the map must hold, the step budgets. Pass NULL
+// for the defaults, or start from `hf_trace_options_default` and change fields. Each
+// method reads the fields whose comment names it and ignores the others (a field it
+// ignores is still checked for a valid value: a known surface, a class set); a surface
+// it does not trace is `HF_ERR_INVALID_ARGUMENT`, and so is a non-zero `reserved`.
+typedef struct hf_trace_options {
+  // The surface to trace, an `hf_surface` (default `HF_SURFACE_TRIANGLES`). The
+  // safety-shape methods (safety, cc, radius) trace the triangle and view-linear
+  // surfaces, the cone family the triangle surface only, the others every surface.
+  uint32_t surface;
+  // The ray classes (`HF_RAYS_*` bits) the map must hold (safety, cc): 0 (the
+  // default) accepts the classes its descriptor names; another set that differs
+  // from them is `HF_ERR_MAP_MISMATCH`.
+  uint32_t ray_classes;
+  // The step budget, at least 1: linear steps (linear-binary, linear-secant),
+  // iterations (cone, qdm), cone steps (relaxed). Default 64.
+  uint32_t steps;
+  // Bisection steps (linear-binary, relaxed); default 8.
+  uint32_t binary_steps;
+  // What a zero radius does (radius), an `hf_radius_zero`; default `HF_RADIUS_WALK`.
+  uint32_t radius_zero;
+  // Room for later options: must be 0 (else `HF_ERR_INVALID_ARGUMENT`).
+  uint32_t reserved[11];
+} hf_trace_options;
+
+// A ray: the points `origin + t * dir` for `t` in `[t_min, t_max]`, in grid space, or
+// in the field's world units when it has a transform (`hf_field_set_transform`).
+// `dir` need not be normalised (t is then in units of `|dir|`) but must be finite
+// and non-zero, also after conversion to grid space; `t_min` finite; `t_max ≥ t_min`,
+// `INFINITY` allowed. Grid space: x along sample columns i, y along rows j, z up, all
+// in sample spacings.
+typedef struct hf_ray {
+  // Origin (x, y, z) in grid units (world units with a transform).
+  float origin[3];
+  // Direction (x, y, z), finite and non-zero.
+  float dir[3];
+  // Start of the parameter range (finite).
+  float t_min;
+  // End of the parameter range (`INFINITY` allowed).
+  float t_max;
+} hf_ray;
+
+// The answer to one query. On a miss `hit` is 0 and every field but `fetches`,
+// `flags` and `clearance` is 0.
+typedef struct hf_hit {
+  // 1 when the ray meets the surface in `[t_min, t_max]`, else 0.
+  uint32_t hit;
+  // `HF_FLAG_*` bits: those of the hit (`ORIGIN_INSIDE`, `SIDE`, `WALL`) and of the
+  // trace (`BUDGET_EXHAUSTED`).
+  uint32_t flags;
+  // Texture fetches used (one per texel read; a cell's four corners are four): the
+  // hardware-independent cost.
+  uint32_t fetches;
+  // The cell (i, j) holding the hit: the unit square [i, i+1] × [j, j+1].
+  uint32_t cell[2];
+  // Ray parameter of the hit.
+  float t;
+  // Hit point in grid space (world units with a transform).
+  float point[3];
+  // Unit surface normal at the hit (a wall's normal for side and step hits).
+  float normal[3];
+  // Smallest clearance (ray height − surface height, grid units; world height units
+  // with a transform) seen before the hit
+  // or along the whole ray for a miss; `INFINITY` when the ray never overlaps the
+  // field. Exact methods fill it; approximate ones report `INFINITY`.
+  float clearance;
+} hf_hit;
+
 #ifdef __cplusplus
 extern "C" {
 #endif // __cplusplus
@@ -679,6 +704,32 @@ extern "C" {
 // `out` is NULL (an error) or valid for writing one `uint32_t`.
 hf_result hf_build_has_method(uint32_t method,
                               uint32_t *out);
+
+// Writes the short lower-case name of `method` (an `hf_method`: `exact`,
+// `linear-binary`, `linear-secant`, `maxmip`, `safety`, `cone`, `relaxed`, `qdm`,
+// `cc`, `radius`, as the CLI and the report spell them) into `buf` as a
+// NUL-terminated ASCII string and its length without the NUL into `*out_written`;
+// 32 bytes always suffice. Methods left out of this build have names too. An unknown
+// method is `HF_ERR_INVALID_ENUM`. Thread safe.
+//
+// # Safety
+// `buf` is NULL (an error) or valid for writing `buf_len` bytes; `out_written` is NULL
+// (an error) or valid for writing one `size_t`.
+hf_result hf_method_name(uint32_t method,
+                         char *buf,
+                         size_t buf_len,
+                         size_t *out_written);
+
+// Writes the short lower-case name of `surface` (an `hf_surface`: `triangles`,
+// `bilinear`, `height-planes`, `linear-planes`, `view-linear`) as `hf_method_name`
+// does. Thread safe.
+//
+// # Safety
+// As `hf_method_name`.
+hf_result hf_surface_name(uint32_t surface,
+                          char *buf,
+                          size_t buf_len,
+                          size_t *out_written);
 
 // Writes the library version. The same numbers as the `HFCAST_VERSION_*` macros of
 // the header the caller compiled against; compare them to detect a mismatched
@@ -844,81 +895,6 @@ hf_result hf_cc_bake_classes(const struct hf_field *field,
                              size_t out_map_len);
 #endif
 
-#if defined(HF_HAVE_SAFETY)
-// Traces one ray on the triangle surface with the cylinder–cone map `map` (from
-// `hf_cc_bake` with the same `cap`, checked against the map's descriptor): exact, the
-// hit of `hf_trace_exact` with `HF_SURFACE_TRIANGLES` (up to rounding on grazing
-// rays). Costs one fetch per shape read and one for the third height sample of a
-// cone's base, two per centerline clearance, four per cell walked. Thread safe.
-//
-// # Safety
-// `field` is NULL (an error) or a live handle; `map` NULL (an error) or valid for
-// reading `map_len` bytes; `ray` NULL (an error) or valid; `out_hit` NULL (an error)
-// or valid for writing one `hf_hit`.
-hf_result hf_trace_cc(const struct hf_field *field,
-                      const uint8_t *map,
-                      size_t map_len,
-                      uint32_t cap,
-                      const struct hf_ray *ray,
-                      struct hf_hit *out_hit);
-#endif
-
-#if defined(HF_HAVE_SAFETY)
-// `hf_trace_cc` with a map of the ray classes `ray_classes` (`HF_RAYS_*` bits, not 0;
-// `HF_RAYS_ALL` for `hf_cc_bake`'s, those passed to `hf_cc_bake_classes` otherwise;
-// `map_len ≥ hf_cc_map_len_classes`), finishing on `surface` (an `hf_surface`):
-// `HF_SURFACE_TRIANGLES`, or `HF_SURFACE_VIEW_LINEAR` (Baboud et al. §7), whose hit is
-// then that of `hf_trace_exact` on the view-linear surface, from the same map. Other
-// surfaces: `HF_ERR_INVALID_ARGUMENT`. A ray of a class the map does not hold reads
-// radius 0 without a cone (it walks cell by cell, still exact). Thread safe.
-//
-// # Safety
-// As `hf_trace_cc`.
-hf_result hf_trace_cc_on(const struct hf_field *field,
-                         const uint8_t *map,
-                         size_t map_len,
-                         uint32_t cap,
-                         uint32_t ray_classes,
-                         uint32_t surface,
-                         const struct hf_ray *ray,
-                         struct hf_hit *out_hit);
-#endif
-
-#if defined(HF_HAVE_SAFETY)
-// `hf_trace_cc` for a batch, with the conventions of `hf_trace_exact_batch`.
-// Thread safe.
-//
-// # Safety
-// As `hf_trace_cc`; `rays` valid for reading `rays_len` rays, `out_hits` for writing
-// `out_hits_len` hits (overlap is an error).
-hf_result hf_trace_cc_batch(const struct hf_field *field,
-                            const uint8_t *map,
-                            size_t map_len,
-                            uint32_t cap,
-                            const struct hf_ray *rays,
-                            size_t rays_len,
-                            struct hf_hit *out_hits,
-                            size_t out_hits_len);
-#endif
-
-#if defined(HF_HAVE_SAFETY)
-// `hf_trace_cc_on` for a batch, with the conventions of `hf_trace_exact_batch`.
-// Thread safe.
-//
-// # Safety
-// As `hf_trace_cc_batch`.
-hf_result hf_trace_cc_on_batch(const struct hf_field *field,
-                               const uint8_t *map,
-                               size_t map_len,
-                               uint32_t cap,
-                               uint32_t ray_classes,
-                               uint32_t surface,
-                               const struct hf_ray *rays,
-                               size_t rays_len,
-                               struct hf_hit *out_hits,
-                               size_t out_hits_len);
-#endif
-
 #if defined(HF_HAVE_CONE)
 // Writes the number of floats of the bake scratch of a `width × height` field to
 // `*out_len`: the maximum-mipmap pyramid (`hf_maxmip_len`) the cone, relaxed-cone
@@ -994,42 +970,6 @@ hf_result hf_cone_bake(const struct hf_field *field,
                        size_t out_map_len);
 #endif
 
-#if defined(HF_HAVE_CONE)
-// Traces one ray on the triangle surface with conservative cone steps over `map`
-// (from `hf_cone_bake`), at most `max_iter ≥ 1` iterations (cone step or exact cell
-// test; when they run out the current point is returned, flagged
-// `HF_FLAG_BUDGET_EXHAUSTED`). Within the budget the hit is the exact one. Costs one
-// fetch per cone texel, four per exact cell test. Thread safe.
-//
-// # Safety
-// `field` is NULL (an error) or a live handle; `map` NULL (an error) or valid for
-// reading `map_len` floats; `ray` NULL (an error) or valid; `out_hit` NULL (an error)
-// or valid for writing one `hf_hit`.
-hf_result hf_trace_cone(const struct hf_field *field,
-                        const float *map,
-                        size_t map_len,
-                        uint32_t max_iter,
-                        const struct hf_ray *ray,
-                        struct hf_hit *out_hit);
-#endif
-
-#if defined(HF_HAVE_CONE)
-// `hf_trace_cone` for a batch, with the conventions of `hf_trace_exact_batch`.
-// Thread safe.
-//
-// # Safety
-// As `hf_trace_cone`; `rays` valid for reading `rays_len` rays, `out_hits` for writing
-// `out_hits_len` hits (overlap is an error).
-hf_result hf_trace_cone_batch(const struct hf_field *field,
-                              const float *map,
-                              size_t map_len,
-                              uint32_t max_iter,
-                              const struct hf_ray *rays,
-                              size_t rays_len,
-                              struct hf_hit *out_hits,
-                              size_t out_hits_len);
-#endif
-
 #if (defined(HF_HAVE_CONE) && defined(HF_HAVE_RELAXED))
 // Writes the number of floats of the relaxed cone map of a `width × height` field to
 // `*out_len`: one ratio per sample, sample (i, j) at `map[j * W + i]` (an `R32F`
@@ -1070,40 +1010,6 @@ hf_result hf_relaxed_bake(const struct hf_field *field,
                           uint32_t threads,
                           float *out_map,
                           size_t out_map_len);
-#endif
-
-#if (defined(HF_HAVE_CONE) && defined(HF_HAVE_RELAXED))
-// Traces one ray with relaxed cone stepping (approximate: a relaxed cone lets a ray
-// cross the surface once, so thin peaks can be missed): at most `cone_steps ≥ 1` cone
-// steps, then `binary_steps` bisections. Costs four fetches per surface height, one
-// per ratio. Thread safe.
-//
-// # Safety
-// As `hf_trace_cone`.
-hf_result hf_trace_relaxed(const struct hf_field *field,
-                           const float *map,
-                           size_t map_len,
-                           uint32_t cone_steps,
-                           uint32_t binary_steps,
-                           const struct hf_ray *ray,
-                           struct hf_hit *out_hit);
-#endif
-
-#if (defined(HF_HAVE_CONE) && defined(HF_HAVE_RELAXED))
-// `hf_trace_relaxed` for a batch, with the conventions of `hf_trace_exact_batch`.
-// Thread safe.
-//
-// # Safety
-// As `hf_trace_cone_batch`.
-hf_result hf_trace_relaxed_batch(const struct hf_field *field,
-                                 const float *map,
-                                 size_t map_len,
-                                 uint32_t cone_steps,
-                                 uint32_t binary_steps,
-                                 const struct hf_ray *rays,
-                                 size_t rays_len,
-                                 struct hf_hit *out_hits,
-                                 size_t out_hits_len);
 #endif
 
 #if (defined(HF_HAVE_CONE) && defined(HF_HAVE_QDM))
@@ -1147,37 +1053,6 @@ hf_result hf_qdm_bake(const struct hf_field *field,
                       uint32_t threads,
                       float *out_map,
                       size_t out_map_len);
-#endif
-
-#if (defined(HF_HAVE_CONE) && defined(HF_HAVE_QDM))
-// Traces one ray on the triangle surface with quadratic displacement steps over `map`
-// (from `hf_qdm_bake`), at most `max_iter ≥ 1` iterations, as `hf_trace_cone`: within
-// the budget the hit is the exact one. Thread safe.
-//
-// # Safety
-// As `hf_trace_cone`.
-hf_result hf_trace_qdm(const struct hf_field *field,
-                       const float *map,
-                       size_t map_len,
-                       uint32_t max_iter,
-                       const struct hf_ray *ray,
-                       struct hf_hit *out_hit);
-#endif
-
-#if (defined(HF_HAVE_CONE) && defined(HF_HAVE_QDM))
-// `hf_trace_qdm` for a batch, with the conventions of `hf_trace_exact_batch`.
-// Thread safe.
-//
-// # Safety
-// As `hf_trace_cone_batch`.
-hf_result hf_trace_qdm_batch(const struct hf_field *field,
-                             const float *map,
-                             size_t map_len,
-                             uint32_t max_iter,
-                             const struct hf_ray *rays,
-                             size_t rays_len,
-                             struct hf_hit *out_hits,
-                             size_t out_hits_len);
 #endif
 
 // Writes what was wrong in the last failing `hf_` call on the calling thread into
@@ -1638,79 +1513,6 @@ hf_result hf_radius_bake(const struct hf_field *field,
 #endif
 
 #if defined(HF_HAVE_SAFETY)
-// Traces one ray on the triangle surface with the radii `map` (baked for this field
-// by `hf_radius_bake`, `map_len ≥ hf_radius_map_len`); `zero` (an `hf_radius_zero`)
-// says what a zero radius does. Exact, the hit of `hf_trace_exact` with
-// `HF_SURFACE_TRIANGLES` (up to rounding on rays that graze the surface), when the
-// map was baked with tolerance 0 and `zero` is `HF_RADIUS_WALK`. Costs one fetch per
-// radius read, two per centerline clearance, four per cell walked. A map of another
-// field, or baked before an update, is refused (`HF_ERR_MAP_MISMATCH`,
-// `HF_ERR_STALE_MAP`: its descriptor). Thread safe.
-//
-// # Safety
-// `field` is NULL (an error) or a live handle; `map` NULL (an error) or valid for
-// reading `map_len` bytes; `ray` NULL (an error) or valid; `out_hit` NULL (an error)
-// or valid for writing one `hf_hit`.
-hf_result hf_trace_radius(const struct hf_field *field,
-                          const uint8_t *map,
-                          size_t map_len,
-                          uint32_t zero,
-                          const struct hf_ray *ray,
-                          struct hf_hit *out_hit);
-#endif
-
-#if defined(HF_HAVE_SAFETY)
-// `hf_trace_radius` finishing on `surface` (an `hf_surface`): `HF_SURFACE_TRIANGLES`,
-// or `HF_SURFACE_VIEW_LINEAR` (Baboud et al. 2011 §7), whose hit is then (exact map,
-// `HF_RADIUS_WALK`) that of `hf_trace_exact` on the view-linear surface, from the
-// same map. Other surfaces: `HF_ERR_INVALID_ARGUMENT`. Thread safe.
-//
-// # Safety
-// As `hf_trace_radius`.
-hf_result hf_trace_radius_on(const struct hf_field *field,
-                             const uint8_t *map,
-                             size_t map_len,
-                             uint32_t zero,
-                             uint32_t surface,
-                             const struct hf_ray *ray,
-                             struct hf_hit *out_hit);
-#endif
-
-#if defined(HF_HAVE_SAFETY)
-// `hf_trace_radius` for a batch, with the conventions of `hf_trace_exact_batch`
-// (every ray checked first; an error writes nothing). Thread safe.
-//
-// # Safety
-// As `hf_trace_radius`; `rays` valid for reading `rays_len` rays, `out_hits` for
-// writing `out_hits_len` hits (overlap is an error).
-hf_result hf_trace_radius_batch(const struct hf_field *field,
-                                const uint8_t *map,
-                                size_t map_len,
-                                uint32_t zero,
-                                const struct hf_ray *rays,
-                                size_t rays_len,
-                                struct hf_hit *out_hits,
-                                size_t out_hits_len);
-#endif
-
-#if defined(HF_HAVE_SAFETY)
-// `hf_trace_radius_on` for a batch, with the conventions of `hf_trace_exact_batch`.
-// Thread safe.
-//
-// # Safety
-// As `hf_trace_radius_batch`.
-hf_result hf_trace_radius_on_batch(const struct hf_field *field,
-                                   const uint8_t *map,
-                                   size_t map_len,
-                                   uint32_t zero,
-                                   uint32_t surface,
-                                   const struct hf_ray *rays,
-                                   size_t rays_len,
-                                   struct hf_hit *out_hits,
-                                   size_t out_hits_len);
-#endif
-
-#if defined(HF_HAVE_SAFETY)
 // Writes the size in bytes of the safety-distance map of a `width × height` field
 // with `variant` (an `hf_safety_variant`) to `*out_len`: `W * H * 4` (directional) or
 // `W * H` (isotropic), then `HF_MAP_DESC_BYTES` of descriptor (`hf_map_desc`; upload
@@ -1842,85 +1644,6 @@ hf_result hf_safety_bake_classes(const struct hf_field *field,
                                  size_t out_map_len);
 #endif
 
-#if defined(HF_HAVE_SAFETY)
-// Traces one ray on the triangle surface with the safety distances `map` (baked for
-// this field by `hf_safety_bake`, `map_len ≥ hf_safety_map_len`, layout `variant`):
-// exact, the hit of `hf_trace_exact` with `HF_SURFACE_TRIANGLES` (up to rounding on
-// rays that graze the surface) when the map was baked with `positive = 0`. Costs one
-// fetch per distance read, two per centerline clearance, four per cell walked. A map
-// of another field, variant or class set, or baked before an update, is refused
-// (`HF_ERR_MAP_MISMATCH`, `HF_ERR_STALE_MAP`: its descriptor). Thread safe.
-//
-// # Safety
-// `field` is NULL (an error) or a live handle; `map` NULL (an error) or valid for
-// reading `map_len` bytes; `ray` NULL (an error) or valid; `out_hit` NULL (an error)
-// or valid for writing one `hf_hit`.
-hf_result hf_trace_safety(const struct hf_field *field,
-                          const uint8_t *map,
-                          size_t map_len,
-                          uint32_t variant,
-                          const struct hf_ray *ray,
-                          struct hf_hit *out_hit);
-#endif
-
-#if defined(HF_HAVE_SAFETY)
-// `hf_trace_safety` with a map of the ray classes `ray_classes` (`HF_RAYS_*` bits,
-// not 0; `HF_RAYS_ALL` for `hf_safety_bake`'s, those passed to
-// `hf_safety_bake_classes` otherwise; `map_len ≥ hf_safety_map_len_classes`), finishing
-// on `surface` (an `hf_surface`): `HF_SURFACE_TRIANGLES`, or `HF_SURFACE_VIEW_LINEAR`
-// (Baboud et al. §7), whose hit is then that of `hf_trace_exact` on the view-linear
-// surface, from the same map. Other surfaces: `HF_ERR_INVALID_ARGUMENT`. A ray of a
-// class the map does not hold reads distance 0 (it walks cell by cell, still exact).
-// Thread safe.
-//
-// # Safety
-// As `hf_trace_safety`.
-hf_result hf_trace_safety_on(const struct hf_field *field,
-                             const uint8_t *map,
-                             size_t map_len,
-                             uint32_t variant,
-                             uint32_t ray_classes,
-                             uint32_t surface,
-                             const struct hf_ray *ray,
-                             struct hf_hit *out_hit);
-#endif
-
-#if defined(HF_HAVE_SAFETY)
-// `hf_trace_safety` for `rays_len` rays, with the conventions of
-// `hf_trace_exact_batch` (every ray checked first; an error writes nothing).
-// Thread safe.
-//
-// # Safety
-// As `hf_trace_safety`; `rays` valid for reading `rays_len` rays, `out_hits` for
-// writing `out_hits_len` hits (overlap is an error).
-hf_result hf_trace_safety_batch(const struct hf_field *field,
-                                const uint8_t *map,
-                                size_t map_len,
-                                uint32_t variant,
-                                const struct hf_ray *rays,
-                                size_t rays_len,
-                                struct hf_hit *out_hits,
-                                size_t out_hits_len);
-#endif
-
-#if defined(HF_HAVE_SAFETY)
-// `hf_trace_safety_on` for a batch, with the conventions of `hf_trace_exact_batch`.
-// Thread safe.
-//
-// # Safety
-// As `hf_trace_safety_batch`.
-hf_result hf_trace_safety_on_batch(const struct hf_field *field,
-                                   const uint8_t *map,
-                                   size_t map_len,
-                                   uint32_t variant,
-                                   uint32_t ray_classes,
-                                   uint32_t surface,
-                                   const struct hf_ray *rays,
-                                   size_t rays_len,
-                                   struct hf_hit *out_hits,
-                                   size_t out_hits_len);
-#endif
-
 // Writes the general scene of `method` on `surface` to `*out`: every ray class,
 // viewpoints anywhere, any direction, shadows, no LOD, depth output, `F32` heights.
 // Thread safe.
@@ -2050,6 +1773,76 @@ hf_result hf_shader_generate(const struct hf_scene *scene,
                              size_t buf_len,
                              size_t *out_written);
 
+// Writes the default trace options to `*out_options` (what NULL options mean).
+// Thread safe.
+//
+// # Safety
+// `out_options` is NULL (an error) or valid for writing one `hf_trace_options`.
+hf_result hf_trace_options_default(struct hf_trace_options *out_options);
+
+// Traces one ray with `method` (an `hf_method`) over its baked `map` and writes the
+// answer to `*out_hit` (a miss is success with `hit = 0`): the one trace function of
+// every method. `map` is the buffer the method's bake filled for this field, of
+// `map_len` elements (floats for maxmip, cone, relaxed and qdm, bytes for safety, cc
+// and radius: as their `_len` query counts them); methods without a bake (exact,
+// linear-binary, linear-secant) take NULL and 0. `options` NULL means the defaults
+// (`hf_trace_options`). The map's descriptor is checked first: `HF_ERR_MAP_MISMATCH`
+// for a map of another method, field, size or class set, `HF_ERR_STALE_MAP` for one
+// baked before an update of this field (rebake it, or refresh a pyramid with
+// `hf_maxmip_update_rect`). A method left out of this build is `HF_ERR_NOT_BUILT`.
+//
+// What each method answers, and costs (fetches: one per texel read, four per exact
+// cell test):
+// - exact: the first hit in `[t_min, t_max]` on `options->surface`, watertight in
+//   `float`; four fetches per cell visited.
+// - maxmip (Tevs et al. 2008): exact, the hit of exact (the linear-planes surface is
+//   traced by the exact traversal); one fetch per pyramid texel.
+// - safety, cc, radius (Baboud et al. 2011; Baboud & Décoret 2006): exact, the hit of
+//   exact on the triangle surface, or with `HF_SURFACE_VIEW_LINEAR` on the
+//   view-linear surface (Baboud et al. §7), from the same map, when the map was baked
+//   exact (safety `positive = 0`, radius tolerance 0, `HF_RADIUS_WALK`); a ray of a
+//   class the map does not hold walks cell by cell, still exact.
+// - cone, qdm: exact within `options->steps` iterations; when they run out the
+//   current point is returned, flagged `HF_FLAG_BUDGET_EXHAUSTED`.
+// - linear-binary, linear-secant, relaxed: approximate (features thinner than a step
+//   are missed), `options->steps` linear or cone steps then `binary_steps`
+//   bisections (linear-secant: one secant step).
+//
+// Thread safe (reads the field and the map only).
+//
+// # Safety
+// `field` is NULL (an error) or a live handle; `map` NULL or valid for reading
+// `map_len` elements, not written during the call; `options` NULL or valid; `ray`
+// NULL (an error) or valid; `out_hit` NULL (an error) or valid for writing one
+// `hf_hit`.
+hf_result hf_trace(const struct hf_field *field,
+                   uint32_t method,
+                   const void *map,
+                   size_t map_len,
+                   const struct hf_trace_options *options,
+                   const struct hf_ray *ray,
+                   struct hf_hit *out_hit);
+
+// `hf_trace` for `rays_len` rays: `out_hits[k]` answers `rays[k]`; `out_hits_len ≥
+// rays_len`. Everything is checked before any ray is traced, and an error writes
+// nothing: `out_hits` sharing a byte with `rays` (over their whole lengths) is
+// `HF_ERR_INVALID_ARGUMENT`; one bad ray fails the call (`HF_ERR_INVALID_RAY`;
+// `hf_last_error_index` gives the first bad ray). An empty batch (`rays_len` 0) is
+// `HF_OK` and writes nothing; its pointers must still be non-NULL. Thread safe.
+//
+// # Safety
+// As `hf_trace`; `rays` is NULL (an error) or valid for reading `rays_len` rays;
+// `out_hits` NULL (an error) or valid for writing `out_hits_len` hits.
+hf_result hf_trace_batch(const struct hf_field *field,
+                         uint32_t method,
+                         const void *map,
+                         size_t map_len,
+                         const struct hf_trace_options *options,
+                         const struct hf_ray *rays,
+                         size_t rays_len,
+                         struct hf_hit *out_hits,
+                         size_t out_hits_len);
+
 // A shadow ray from `hit` (the answer `hf_trace_*` gave for `primary` on `surface`, an
 // `hf_surface` value, of `field`; in world units when the field has a transform)
 // towards a light in direction `to_light`, written to `*out_ray`: its origin is the
@@ -2070,135 +1863,6 @@ hf_result hf_shadow_ray(const struct hf_field *field,
                         const struct hf_hit *hit,
                         const float (*to_light)[3],
                         struct hf_ray *out_ray);
-
-// Traces one ray with the exact method (grid traversal with the exact per-cell test
-// of `surface`, an `hf_surface` value): the first hit in `[t_min, t_max]`, watertight
-// in `float`. Writes `*out_hit` (a miss is success with `hit = 0`). Costs four
-// fetches per cell visited. Thread safe (reads the field only).
-//
-// # Safety
-// `field` is NULL (an error) or a live handle; `ray` is NULL (an error) or valid;
-// `out_hit` is NULL (an error) or valid for writing one `hf_hit`.
-hf_result hf_trace_exact(const struct hf_field *field,
-                         uint32_t surface,
-                         const struct hf_ray *ray,
-                         struct hf_hit *out_hit);
-
-// `hf_trace_exact` for `rays_len` rays: `out_hits[k]` answers `rays[k]`;
-// `out_hits_len ≥ rays_len`. Everything is checked before any ray is traced, and an
-// error writes nothing: `out_hits` sharing a byte with `rays` (over their whole
-// lengths) is `HF_ERR_INVALID_ARGUMENT`; one bad ray fails the call
-// (`HF_ERR_INVALID_RAY`; `hf_last_error_index` gives the first bad ray). An empty
-// batch (`rays_len` 0) is `HF_OK` and writes nothing; its pointers must still be
-// non-NULL. Thread safe.
-//
-// # Safety
-// `rays` is NULL (an error) or valid for reading `rays_len` rays; `out_hits` NULL (an
-// error) or valid for writing `out_hits_len` hits.
-hf_result hf_trace_exact_batch(const struct hf_field *field,
-                               uint32_t surface,
-                               const struct hf_ray *rays,
-                               size_t rays_len,
-                               struct hf_hit *out_hits,
-                               size_t out_hits_len);
-
-#if defined(HF_HAVE_SEARCH)
-// Traces one ray with linear search then bisection (Policarpo et al. 2005):
-// `linear_steps ≥ 1` equal steps through the field's bounding box, then
-// `binary_steps` bisections of the first step that ends under `surface`.
-// Approximate: features thinner than a step are missed. Costs four fetches per
-// height sample. Thread safe.
-//
-// # Safety
-// As `hf_trace_exact`.
-hf_result hf_trace_linear_binary(const struct hf_field *field,
-                                 uint32_t surface,
-                                 uint32_t linear_steps,
-                                 uint32_t binary_steps,
-                                 const struct hf_ray *ray,
-                                 struct hf_hit *out_hit);
-#endif
-
-#if defined(HF_HAVE_SEARCH)
-// `hf_trace_linear_binary` for a batch, with the conventions of
-// `hf_trace_exact_batch`. Thread safe.
-//
-// # Safety
-// As `hf_trace_exact_batch`.
-hf_result hf_trace_linear_binary_batch(const struct hf_field *field,
-                                       uint32_t surface,
-                                       uint32_t linear_steps,
-                                       uint32_t binary_steps,
-                                       const struct hf_ray *rays,
-                                       size_t rays_len,
-                                       struct hf_hit *out_hits,
-                                       size_t out_hits_len);
-#endif
-
-#if defined(HF_HAVE_SEARCH)
-// Traces one ray with linear search then one secant step (parallax occlusion
-// mapping): `linear_steps ≥ 1` equal steps, then the secant of the bracketing step.
-// Approximate. Costs four fetches per height sample. Thread safe.
-//
-// # Safety
-// As `hf_trace_exact`.
-hf_result hf_trace_linear_secant(const struct hf_field *field,
-                                 uint32_t surface,
-                                 uint32_t linear_steps,
-                                 const struct hf_ray *ray,
-                                 struct hf_hit *out_hit);
-#endif
-
-#if defined(HF_HAVE_SEARCH)
-// `hf_trace_linear_secant` for a batch, with the conventions of
-// `hf_trace_exact_batch`. Thread safe.
-//
-// # Safety
-// As `hf_trace_exact_batch`.
-hf_result hf_trace_linear_secant_batch(const struct hf_field *field,
-                                       uint32_t surface,
-                                       uint32_t linear_steps,
-                                       const struct hf_ray *rays,
-                                       size_t rays_len,
-                                       struct hf_hit *out_hits,
-                                       size_t out_hits_len);
-#endif
-
-#if defined(HF_HAVE_MAXMIP)
-// Traces one ray with maximum mipmaps (Tevs et al. 2008) over `pyramid`, the buffer
-// `hf_maxmip_bake` filled for this field (`pyramid_len ≥ hf_maxmip_len`): exact, the
-// same hit as `hf_trace_exact` (the linear-planes surface is traced by the exact
-// method). The pyramid's descriptor is checked first: `HF_ERR_MAP_MISMATCH` for a
-// pyramid of another field or size, `HF_ERR_STALE_MAP` for one baked before an
-// update of this field (refresh it with `hf_maxmip_update_rect`). Costs one fetch per
-// pyramid texel, four per exact cell test. Thread safe.
-//
-// # Safety
-// As `hf_trace_exact`; `pyramid` is NULL (an error) or valid for reading
-// `pyramid_len` floats, not written during the call.
-hf_result hf_trace_maxmip(const struct hf_field *field,
-                          const float *pyramid,
-                          size_t pyramid_len,
-                          uint32_t surface,
-                          const struct hf_ray *ray,
-                          struct hf_hit *out_hit);
-#endif
-
-#if defined(HF_HAVE_MAXMIP)
-// `hf_trace_maxmip` for a batch, with the conventions of `hf_trace_exact_batch`.
-// Thread safe.
-//
-// # Safety
-// As `hf_trace_exact_batch` and `hf_trace_maxmip`.
-hf_result hf_trace_maxmip_batch(const struct hf_field *field,
-                                const float *pyramid,
-                                size_t pyramid_len,
-                                uint32_t surface,
-                                const struct hf_ray *rays,
-                                size_t rays_len,
-                                struct hf_hit *out_hits,
-                                size_t out_hits_len);
-#endif
 
 #ifdef __cplusplus
 }  // extern "C"

@@ -114,14 +114,14 @@ cmake_build() {
   cmake -S "$tmp/src" -B "$tmp/build" -DCMAKE_PREFIX_PATH="$prefix" &&
     cmake --build "$tmp/build" && no_repo_path "$tmp/build/CMakeCache.txt"
 }
-check "CMake: find_package(hfcast 0.1 CONFIG REQUIRED), hfcast::hfcast, hfcast::hfcast_static" cmake_build
+check "CMake: find_package(hfcast 0.2 CONFIG REQUIRED), hfcast::hfcast, hfcast::hfcast_static" cmake_build
 # The CMake build's rpath finds the installed library: no LD_LIBRARY_PATH.
 cmake_shared() { needs "$tmp/build/hfcast_example" && "$tmp/build/hfcast_example"; }
 check "CMake: the shared build runs, traces agree" cmake_shared
 check "CMake: the static build runs, traces agree" run_static "$tmp/build/hfcast_example_static"
 # The version file refuses an ABI this library is not.
 cmake_wrong_version() {
-  sed 's/find_package(hfcast 0.1 /find_package(hfcast 9.0 /' "$tmp/src/CMakeLists.txt" > "$tmp/src/v.txt"
+  sed 's/find_package(hfcast 0.2 /find_package(hfcast 9.0 /' "$tmp/src/CMakeLists.txt" > "$tmp/src/v.txt"
   mkdir -p "$tmp/src9" && cp "$tmp/src/main.cpp" "$tmp/src9/" && mv "$tmp/src/v.txt" "$tmp/src9/CMakeLists.txt"
   ! cmake -S "$tmp/src9" -B "$tmp/build9" -DCMAKE_PREFIX_PATH="$prefix"
 }

@@ -18,22 +18,15 @@
 /// The full build's header.
 const FULL: &str = include_str!("../../include/hfcast.h");
 
+#[path = "../src/features.rs"]
+pub mod features;
+
 /// The `HF_HAVE_*` macros of the methods this build has (the capi crate's features).
 pub fn this_build() -> Vec<&'static str> {
-    let mut on = Vec::new();
-    for (name, enabled) in [
-        ("HF_HAVE_MAXMIP", cfg!(feature = "maxmip")),
-        ("HF_HAVE_SAFETY", cfg!(feature = "safety")),
-        ("HF_HAVE_CONE", cfg!(feature = "cone")),
-        ("HF_HAVE_QDM", cfg!(feature = "qdm")),
-        ("HF_HAVE_RELAXED", cfg!(feature = "relaxed")),
-        ("HF_HAVE_SEARCH", cfg!(feature = "search")),
-    ] {
-        if enabled {
-            on.push(name);
-        }
-    }
-    on
+    let on = hfcore::scene::FEATURES
+        .iter()
+        .filter(|f| features::feature_on(f.name) == Some(true));
+    on.map(|f| f.have_macro).collect()
 }
 
 /// A `#if` condition over `HF_HAVE_*` macros, as cbindgen writes them: `defined(X)`,

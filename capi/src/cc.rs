@@ -2,16 +2,17 @@
 //! (whole, by rows, threaded) and the march, for the triangle surface.
 
 use crate::hf_result::{self, *};
-use crate::mapdesc::{bake_stamped, check, elems, stamp, Expect};
-use crate::safety::trace_inputs;
+use crate::mapdesc::{bake_stamped, check_layout, elems, stamp};
+use crate::safety::march_surface;
 use crate::scene::{classes_of, HF_RAYS_ALL};
-use crate::trace::{batch, hf_hit, hf_ray, one};
+use crate::trace::TraceOptions;
 use crate::{check_size, size_query};
-use crate::{guard, hf_field, hf_surface, par, ptr};
+use crate::{guard, hf_field, par, ptr};
 use hfcore::ktx2::{Desc, MapKind};
 use hfcore::safety::cc::{self, CcMap, CcOptions, Slope};
 use hfcore::safety::{self, SafetyError};
 use hfcore::scene::RayClasses;
+use hfcore::Marcher;
 
 /// How the cone slope of a cylinder–cone bake is computed. Passed as `uint32_t`.
 #[repr(u32)]
@@ -315,161 +316,19 @@ pub unsafe extern "C" fn hf_cc_bake_classes(
     })
 }
 
-/// Traces one ray on the triangle surface with the cylinder–cone map `map` (from
-/// `hf_cc_bake` with the same `cap`, checked against the map's descriptor): exact, the
-/// hit of `hf_trace_exact` with `HF_SURFACE_TRIANGLES` (up to rounding on grazing
-/// rays). Costs one fetch per shape read and one for the third height sample of a
-/// cone's base, two per centerline clearance, four per cell walked. Thread safe.
-///
-/// # Safety
-/// `field` is NULL (an error) or a live handle; `map` NULL (an error) or valid for
-/// reading `map_len` bytes; `ray` NULL (an error) or valid; `out_hit` NULL (an error)
-/// or valid for writing one `hf_hit`.
-#[no_mangle]
-pub unsafe extern "C" fn hf_trace_cc(
-    field: *const hf_field,
-    map: *const u8,
-    map_len: usize,
-    cap: u32,
-    ray: *const hf_ray,
-    out_hit: *mut hf_hit,
-) -> hf_result {
-    let tri = hf_surface::HF_SURFACE_TRIANGLES as u32;
-    // SAFETY: the caller's promises, passed on.
-    unsafe { hf_trace_cc_on(field, map, map_len, cap, HF_RAYS_ALL, tri, ray, out_hit) }
-}
-
-/// `hf_trace_cc` with a map of the ray classes `ray_classes` (`HF_RAYS_*` bits, not 0;
-/// `HF_RAYS_ALL` for `hf_cc_bake`'s, those passed to `hf_cc_bake_classes` otherwise;
-/// `map_len ≥ hf_cc_map_len_classes`), finishing on `surface` (an `hf_surface`):
-/// `HF_SURFACE_TRIANGLES`, or `HF_SURFACE_VIEW_LINEAR` (Baboud et al. §7), whose hit is
-/// then that of `hf_trace_exact` on the view-linear surface, from the same map. Other
-/// surfaces: `HF_ERR_INVALID_ARGUMENT`. A ray of a class the map does not hold reads
-/// radius 0 without a cone (it walks cell by cell, still exact). Thread safe.
-///
-/// # Safety
-/// As `hf_trace_cc`.
-#[no_mangle]
-#[allow(clippy::too_many_arguments)]
-pub unsafe extern "C" fn hf_trace_cc_on(
-    field: *const hf_field,
-    map: *const u8,
-    map_len: usize,
-    cap: u32,
-    ray_classes: u32,
-    surface: u32,
-    ray: *const hf_ray,
-    out_hit: *mut hf_hit,
-) -> hf_result {
-    // SAFETY: the caller's promise, passed on.
-    let (data, surface) = match unsafe { trace_inputs(map, map_len, surface) } {
-        Ok(v) => v,
-        Err(e) => return e,
-    };
-    // SAFETY: the caller's promises, passed on.
-    unsafe {
-        one(
-            field,
-            ray,
-            out_hit,
-            |f| map_of(f, data, cap, ray_classes),
-            |hf, m, q| cc::trace_on(m, hf, surface, q),
-        )
-    }
-}
-
-/// `hf_trace_cc` for a batch, with the conventions of `hf_trace_exact_batch`.
-/// Thread safe.
-///
-/// # Safety
-/// As `hf_trace_cc`; `rays` valid for reading `rays_len` rays, `out_hits` for writing
-/// `out_hits_len` hits (overlap is an error).
-#[no_mangle]
-#[allow(clippy::too_many_arguments)]
-pub unsafe extern "C" fn hf_trace_cc_batch(
-    field: *const hf_field,
-    map: *const u8,
-    map_len: usize,
-    cap: u32,
-    rays: *const hf_ray,
-    rays_len: usize,
-    out_hits: *mut hf_hit,
-    out_hits_len: usize,
-) -> hf_result {
-    let tri = hf_surface::HF_SURFACE_TRIANGLES as u32;
-    // SAFETY: the caller's promises, passed on.
-    unsafe {
-        hf_trace_cc_on_batch(
-            field,
-            map,
-            map_len,
-            cap,
-            HF_RAYS_ALL,
-            tri,
-            rays,
-            rays_len,
-            out_hits,
-            out_hits_len,
-        )
-    }
-}
-
-/// `hf_trace_cc_on` for a batch, with the conventions of `hf_trace_exact_batch`.
-/// Thread safe.
-///
-/// # Safety
-/// As `hf_trace_cc_batch`.
-#[no_mangle]
-#[allow(clippy::too_many_arguments)]
-pub unsafe extern "C" fn hf_trace_cc_on_batch(
-    field: *const hf_field,
-    map: *const u8,
-    map_len: usize,
-    cap: u32,
-    ray_classes: u32,
-    surface: u32,
-    rays: *const hf_ray,
-    rays_len: usize,
-    out_hits: *mut hf_hit,
-    out_hits_len: usize,
-) -> hf_result {
-    // SAFETY: the caller's promise, passed on.
-    let (data, surface) = match unsafe { trace_inputs(map, map_len, surface) } {
-        Ok(v) => v,
-        Err(e) => return e,
-    };
-    // SAFETY: the caller's promises, passed on.
-    unsafe {
-        batch(
-            field,
-            rays,
-            rays_len,
-            out_hits,
-            out_hits_len,
-            |f| map_of(f, data, cap, ray_classes),
-            |hf, m, q| cc::trace_on(m, hf, surface, q),
-        )
-    }
-}
-
-/// The map's view (a map of the classes `ray_classes`, cone reach `cap`), its
-/// descriptor checked for `f`.
-fn map_of<'a>(
-    f: &hf_field,
+/// The cylinder–cone marcher over `data`: the map's ray classes and cap are its
+/// descriptor's (the classes checked against `o.classes` when named), the descriptor
+/// checked for `f`.
+pub(crate) fn marcher<'a>(
+    f: &'a hf_field,
     data: &'a [u8],
-    cap: u32,
-    ray_classes: u32,
-) -> Result<CcMap<'a>, hf_result> {
-    let (cap, classes) = (cap_of(cap)?, classes_of(ray_classes)?);
+    o: &TraceOptions,
+) -> Result<Marcher<'a>, hf_result> {
     let hf = f.view();
-    let n = cc::map_len_classes(hf.width(), hf.height(), classes);
-    let want = Expect {
-        map: MapKind::Cc,
-        cap: Some(cap),
-        classes: Some(classes),
-    };
-    check(f, want, data, n)?;
-    Ok(CcMap::with_classes(hf, &data[..n], cap, classes)?)
+    let len = |_, classes| cc::map_len_classes(hf.width(), hf.height(), classes);
+    let (got, n) = check_layout(f, data, &[MapKind::Cc], o.classes, len)?;
+    let map = CcMap::with_classes(hf, &data[..n], got.desc.cap, got.desc.classes)?;
+    Ok(Marcher::Cc(map, march_surface(o.surface)))
 }
 
 /// The description of a cylinder–cone map of `hf` baked with `cap` for `classes`.

@@ -5,7 +5,7 @@
 use crate::hf_result::{self, *};
 use crate::mapdesc::{bake_stamped, check, elems, stamp, Expect};
 use crate::size_query;
-use crate::trace::{batch, hf_hit, hf_ray, one, pyramid_slice};
+use crate::trace::TraceOptions;
 use crate::{guard, hf_field, ptr};
 use hfcore::cone::{self, BakeError, ConeMap};
 use hfcore::ktx2::{Desc, MapKind};
@@ -13,7 +13,8 @@ use hfcore::ktx2::{Desc, MapKind};
 use hfcore::qdm::{self, QdmMap};
 #[cfg(feature = "relaxed")]
 use hfcore::relaxed;
-use hfcore::HeightField;
+use hfcore::scene::MethodKind;
+use hfcore::{HeightField, Marcher};
 use std::ops::Range;
 
 impl From<BakeError> for hf_result {
@@ -213,17 +214,6 @@ fn texels_of<'a>(fam: Family, f: &hf_field, map: &'a [f32]) -> Result<&'a [f32],
     Ok(&map[..n])
 }
 
-/// Checks an iteration budget.
-fn budget(n: u32) -> Result<u32, hf_result> {
-    if n == 0 {
-        return Err(crate::detail::fail(
-            HF_ERR_INVALID_ARGUMENT,
-            "max_iter: must be at least 1",
-        ));
-    }
-    Ok(n)
-}
-
 /// Writes the number of floats of the bake scratch of a `width × height` field to
 /// `*out_len`: the maximum-mipmap pyramid (`hf_maxmip_len`) the cone, relaxed-cone
 /// and QDM bakes search. Thread safe.
@@ -342,87 +332,6 @@ pub unsafe extern "C" fn hf_cone_bake(
     unsafe { bake(CONE, field, threads, out_map, out_map_len) }
 }
 
-/// Traces one ray on the triangle surface with conservative cone steps over `map`
-/// (from `hf_cone_bake`), at most `max_iter ≥ 1` iterations (cone step or exact cell
-/// test; when they run out the current point is returned, flagged
-/// `HF_FLAG_BUDGET_EXHAUSTED`). Within the budget the hit is the exact one. Costs one
-/// fetch per cone texel, four per exact cell test. Thread safe.
-///
-/// # Safety
-/// `field` is NULL (an error) or a live handle; `map` NULL (an error) or valid for
-/// reading `map_len` floats; `ray` NULL (an error) or valid; `out_hit` NULL (an error)
-/// or valid for writing one `hf_hit`.
-#[no_mangle]
-pub unsafe extern "C" fn hf_trace_cone(
-    field: *const hf_field,
-    map: *const f32,
-    map_len: usize,
-    max_iter: u32,
-    ray: *const hf_ray,
-    out_hit: *mut hf_hit,
-) -> hf_result {
-    // SAFETY: the caller's promise.
-    let data = match unsafe { pyramid_slice(map, map_len) } {
-        Ok(d) => d,
-        Err(e) => return e,
-    };
-    let n = match budget(max_iter) {
-        Ok(n) => n,
-        Err(e) => return e,
-    };
-    // SAFETY: the caller's promises, passed on.
-    unsafe {
-        one(
-            field,
-            ray,
-            out_hit,
-            |f| Ok(ConeMap::new(f.view(), texels_of(CONE, f, data)?)?),
-            |hf, m, q| cone::trace(m, hf, q, n),
-        )
-    }
-}
-
-/// `hf_trace_cone` for a batch, with the conventions of `hf_trace_exact_batch`.
-/// Thread safe.
-///
-/// # Safety
-/// As `hf_trace_cone`; `rays` valid for reading `rays_len` rays, `out_hits` for writing
-/// `out_hits_len` hits (overlap is an error).
-#[no_mangle]
-#[allow(clippy::too_many_arguments)]
-pub unsafe extern "C" fn hf_trace_cone_batch(
-    field: *const hf_field,
-    map: *const f32,
-    map_len: usize,
-    max_iter: u32,
-    rays: *const hf_ray,
-    rays_len: usize,
-    out_hits: *mut hf_hit,
-    out_hits_len: usize,
-) -> hf_result {
-    // SAFETY: the caller's promise.
-    let data = match unsafe { pyramid_slice(map, map_len) } {
-        Ok(d) => d,
-        Err(e) => return e,
-    };
-    let n = match budget(max_iter) {
-        Ok(n) => n,
-        Err(e) => return e,
-    };
-    // SAFETY: the caller's promises, passed on.
-    unsafe {
-        batch(
-            field,
-            rays,
-            rays_len,
-            out_hits,
-            out_hits_len,
-            |f| Ok(ConeMap::new(f.view(), texels_of(CONE, f, data)?)?),
-            |hf, m, q| cone::trace(m, hf, q, n),
-        )
-    }
-}
-
 #[cfg(feature = "relaxed")]
 /// Writes the number of floats of the relaxed cone map of a `width × height` field to
 /// `*out_len`: one ratio per sample, sample (i, j) at `map[j * W + i]` (an `R32F`
@@ -491,93 +400,6 @@ pub unsafe extern "C" fn hf_relaxed_bake(
     unsafe { bake(RELAXED, field, threads, out_map, out_map_len) }
 }
 
-#[cfg(feature = "relaxed")]
-/// Traces one ray with relaxed cone stepping (approximate: a relaxed cone lets a ray
-/// cross the surface once, so thin peaks can be missed): at most `cone_steps ≥ 1` cone
-/// steps, then `binary_steps` bisections. Costs four fetches per surface height, one
-/// per ratio. Thread safe.
-///
-/// # Safety
-/// As `hf_trace_cone`.
-#[no_mangle]
-pub unsafe extern "C" fn hf_trace_relaxed(
-    field: *const hf_field,
-    map: *const f32,
-    map_len: usize,
-    cone_steps: u32,
-    binary_steps: u32,
-    ray: *const hf_ray,
-    out_hit: *mut hf_hit,
-) -> hf_result {
-    // SAFETY: the caller's promise.
-    let data = match unsafe { pyramid_slice(map, map_len) } {
-        Ok(d) => d,
-        Err(e) => return e,
-    };
-    let steps = match budget(cone_steps) {
-        Ok(cone) => relaxed::Steps {
-            cone,
-            binary: binary_steps,
-        },
-        Err(e) => return e,
-    };
-    // SAFETY: the caller's promises, passed on.
-    unsafe {
-        one(
-            field,
-            ray,
-            out_hit,
-            |f| texels_of(RELAXED, f, data),
-            |hf, m, q| relaxed::trace(m, hf, q, steps),
-        )
-    }
-}
-
-#[cfg(feature = "relaxed")]
-/// `hf_trace_relaxed` for a batch, with the conventions of `hf_trace_exact_batch`.
-/// Thread safe.
-///
-/// # Safety
-/// As `hf_trace_cone_batch`.
-#[no_mangle]
-#[allow(clippy::too_many_arguments)]
-pub unsafe extern "C" fn hf_trace_relaxed_batch(
-    field: *const hf_field,
-    map: *const f32,
-    map_len: usize,
-    cone_steps: u32,
-    binary_steps: u32,
-    rays: *const hf_ray,
-    rays_len: usize,
-    out_hits: *mut hf_hit,
-    out_hits_len: usize,
-) -> hf_result {
-    // SAFETY: the caller's promise.
-    let data = match unsafe { pyramid_slice(map, map_len) } {
-        Ok(d) => d,
-        Err(e) => return e,
-    };
-    let steps = match budget(cone_steps) {
-        Ok(cone) => relaxed::Steps {
-            cone,
-            binary: binary_steps,
-        },
-        Err(e) => return e,
-    };
-    // SAFETY: the caller's promises, passed on.
-    unsafe {
-        batch(
-            field,
-            rays,
-            rays_len,
-            out_hits,
-            out_hits_len,
-            |f| texels_of(RELAXED, f, data),
-            |hf, m, q| relaxed::trace(m, hf, q, steps),
-        )
-    }
-}
-
 #[cfg(feature = "qdm")]
 /// Writes the number of floats of the quadratic displacement map of a `width ×
 /// height` field to `*out_len`: four per cell, `[a, b, c, h]` (cone ratio, cone
@@ -643,80 +465,27 @@ pub unsafe extern "C" fn hf_qdm_bake(
     unsafe { bake(QDM, field, threads, out_map, out_map_len) }
 }
 
-#[cfg(feature = "qdm")]
-/// Traces one ray on the triangle surface with quadratic displacement steps over `map`
-/// (from `hf_qdm_bake`), at most `max_iter ≥ 1` iterations, as `hf_trace_cone`: within
-/// the budget the hit is the exact one. Thread safe.
-///
-/// # Safety
-/// As `hf_trace_cone`.
-#[no_mangle]
-pub unsafe extern "C" fn hf_trace_qdm(
-    field: *const hf_field,
-    map: *const f32,
-    map_len: usize,
-    max_iter: u32,
-    ray: *const hf_ray,
-    out_hit: *mut hf_hit,
-) -> hf_result {
-    // SAFETY: the caller's promise.
-    let data = match unsafe { pyramid_slice(map, map_len) } {
-        Ok(d) => d,
-        Err(e) => return e,
-    };
-    let n = match budget(max_iter) {
-        Ok(n) => n,
-        Err(e) => return e,
-    };
-    // SAFETY: the caller's promises, passed on.
-    unsafe {
-        one(
-            field,
-            ray,
-            out_hit,
-            |f| Ok(QdmMap::new(f.view(), texels_of(QDM, f, data)?)?),
-            |hf, m, q| qdm::trace(m, hf, q, n),
-        )
-    }
-}
-
-#[cfg(feature = "qdm")]
-/// `hf_trace_qdm` for a batch, with the conventions of `hf_trace_exact_batch`.
-/// Thread safe.
-///
-/// # Safety
-/// As `hf_trace_cone_batch`.
-#[no_mangle]
-#[allow(clippy::too_many_arguments)]
-pub unsafe extern "C" fn hf_trace_qdm_batch(
-    field: *const hf_field,
-    map: *const f32,
-    map_len: usize,
-    max_iter: u32,
-    rays: *const hf_ray,
-    rays_len: usize,
-    out_hits: *mut hf_hit,
-    out_hits_len: usize,
-) -> hf_result {
-    // SAFETY: the caller's promise.
-    let data = match unsafe { pyramid_slice(map, map_len) } {
-        Ok(d) => d,
-        Err(e) => return e,
-    };
-    let n = match budget(max_iter) {
-        Ok(n) => n,
-        Err(e) => return e,
-    };
-    // SAFETY: the caller's promises, passed on.
-    unsafe {
-        batch(
-            field,
-            rays,
-            rays_len,
-            out_hits,
-            out_hits_len,
-            |f| Ok(QdmMap::new(f.view(), texels_of(QDM, f, data)?)?),
-            |hf, m, q| qdm::trace(m, hf, q, n),
-        )
-    }
+/// The marcher of `kind` (cone, relaxed or qdm) over `data`, its descriptor checked
+/// for `f`, with the step budgets of `o`.
+pub(crate) fn marcher<'a>(
+    kind: MethodKind,
+    f: &'a hf_field,
+    data: &'a [f32],
+    o: &TraceOptions,
+) -> Result<Marcher<'a>, hf_result> {
+    let hf = f.view();
+    Ok(match kind {
+        #[cfg(feature = "relaxed")]
+        MethodKind::Relaxed => {
+            let steps = relaxed::Steps {
+                cone: o.steps,
+                binary: o.binary_steps,
+            };
+            Marcher::Relaxed(texels_of(RELAXED, f, data)?, steps)
+        }
+        #[cfg(feature = "qdm")]
+        MethodKind::Qdm => Marcher::Qdm(QdmMap::new(hf, texels_of(QDM, f, data)?)?, o.steps),
+        MethodKind::Cone => Marcher::Cone(ConeMap::new(hf, texels_of(CONE, f, data)?)?, o.steps),
+        _ => return Err(HF_ERR_NOT_BUILT),
+    })
 }

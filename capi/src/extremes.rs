@@ -4,18 +4,18 @@
 //! ray; each failed before the rays were conditioned (`hfcore::condition`), as the
 //! tests show by tracing the same rays unconditioned with the core's `f32` DDA.
 
-use crate::cc::{hf_cc_bake, hf_cc_map_len, hf_cc_options, hf_trace_cc};
-use crate::cones::{
-    hf_cone_bake, hf_cone_map_len, hf_qdm_bake, hf_qdm_map_len, hf_trace_cone, hf_trace_qdm,
-};
+use crate::cc::{hf_cc_bake, hf_cc_map_len, hf_cc_options};
+use crate::cones::{hf_cone_bake, hf_cone_map_len, hf_qdm_bake, hf_qdm_map_len};
 use crate::field::{hf_field, hf_field_create_f32, hf_field_create_u16, hf_field_destroy};
 use crate::field::{hf_field_get_info, hf_field_info};
+use crate::hf_method::*;
 use crate::hf_result::{self, *};
 use crate::maxmip::{hf_maxmip_bake, hf_maxmip_len};
-use crate::radius::{hf_radius_bake, hf_radius_map_len, hf_radius_options, hf_trace_radius};
-use crate::safety::{hf_safety_bake, hf_safety_map_len, hf_safety_options, hf_trace_safety};
-use crate::trace::{hf_hit, hf_ray, hf_trace_exact, hf_trace_maxmip};
+use crate::radius::{hf_radius_bake, hf_radius_map_len, hf_radius_options};
+use crate::safety::{hf_safety_bake, hf_safety_map_len, hf_safety_options};
+use crate::trace::{hf_hit, hf_ray, hf_trace, hf_trace_options};
 use hfcore::{dda, HeightField, Query, Surface};
+use std::ffi::c_void;
 
 /// A field through the C API, its heights kept for the oracle, and its maps.
 struct Field {
@@ -105,35 +105,27 @@ impl Field {
 
     /// Every exact method's answer to `r` through the C API, named.
     fn trace_all(&self, r: &hf_ray) -> Vec<(&'static str, hf_result, hf_hit)> {
-        let tri = 0;
-        let f = self.handle;
-        let mut out = Vec::new();
-        let mut one = |name, call: &dyn Fn(*mut hf_hit) -> hf_result| {
-            let mut hit = hf_hit::default();
-            let code = call(&mut hit);
-            out.push((name, code, hit));
+        let opts = hf_trace_options {
+            steps: 100_000,
+            ..hf_trace_options::default()
         };
-        // SAFETY: live handle, valid maps and pointers.
-        unsafe {
-            one("exact", &|h| hf_trace_exact(f, tri, r, h));
-            one("maxmip", &|h| {
-                hf_trace_maxmip(f, self.pyr.as_ptr(), self.pyr.len(), tri, r, h)
-            });
-            one("safety", &|h| {
-                hf_trace_safety(f, self.sd.as_ptr(), self.sd.len(), 0, r, h)
-            });
-            one("cc", &|h| {
-                hf_trace_cc(f, self.cc.as_ptr(), self.cc.len(), CC_CAP, r, h)
-            });
-            one("radius", &|h| {
-                hf_trace_radius(f, self.rad.as_ptr(), self.rad.len(), 0, r, h)
-            });
-            one("cone", &|h| {
-                hf_trace_cone(f, self.cone.as_ptr(), self.cone.len(), 100_000, r, h)
-            });
-            one("qdm", &|h| {
-                hf_trace_qdm(f, self.qdm.as_ptr(), self.qdm.len(), 100_000, r, h)
-            });
+        let bytes = |m: &[u8]| (m.as_ptr().cast::<c_void>(), m.len());
+        let floats = |m: &[f32]| (m.as_ptr().cast::<c_void>(), m.len());
+        let maps = [
+            (HF_METHOD_EXACT, (std::ptr::null(), 0)),
+            (HF_METHOD_MAXMIP, floats(&self.pyr)),
+            (HF_METHOD_SAFETY, bytes(&self.sd)),
+            (HF_METHOD_CC, bytes(&self.cc)),
+            (HF_METHOD_RADIUS, bytes(&self.rad)),
+            (HF_METHOD_CONE, floats(&self.cone)),
+            (HF_METHOD_QDM, floats(&self.qdm)),
+        ];
+        let mut out = Vec::new();
+        for (m, (map, len)) in maps {
+            let mut hit = hf_hit::default();
+            // SAFETY: live handle, valid maps and pointers.
+            let code = unsafe { hf_trace(self.handle, m as u32, map, len, &opts, r, &mut hit) };
+            out.push((m.name(), code, hit));
         }
         out
     }
@@ -396,7 +388,19 @@ fn heights_near_1e38_are_traced() {
         );
         let mut hit = hf_hit::default();
         // SAFETY: live handle, valid pointers.
-        assert_eq!(unsafe { hf_trace_exact(f.handle, 0, &r, &mut hit) }, HF_OK);
+        let exact = HF_METHOD_EXACT as u32;
+        let code = unsafe {
+            hf_trace(
+                f.handle,
+                exact,
+                std::ptr::null(),
+                0,
+                std::ptr::null(),
+                &r,
+                &mut hit,
+            )
+        };
+        assert_eq!(code, HF_OK);
         assert_eq!(hit.hit, 1, "{o:?}: {hit:?}");
         let rel = dist(hit.point.map(f64::from), want) / 1e38;
         assert!(rel < 1e-6, "{o:?}: {hit:?}, want {want:?}");

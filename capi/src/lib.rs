@@ -29,6 +29,7 @@ pub mod cones;
 pub mod detail;
 #[cfg(all(test, feature = "all-methods"))]
 mod extremes;
+mod features;
 pub mod field;
 pub mod ktx2;
 pub mod mapdesc;
@@ -335,21 +336,15 @@ pub(crate) const METHODS: [hf_method; 10] = [
 ];
 
 impl hf_method {
-    /// Short lower-case name (`exact`, `linear-binary`, `linear-secant`, `maxmip`,
-    /// `safety`, `cone`, `relaxed`, `qdm`, `cc`, `radius`).
+    /// The core's method of the same number: its row of the registry
+    /// (`hfcore::scene::MethodKind::info`).
+    pub fn kind(self) -> hfcore::scene::MethodKind {
+        hfcore::scene::MethodKind::ALL[self as usize]
+    }
+
+    /// Short lower-case name (`exact`, `linear-binary`, …), the registry's.
     pub fn name(self) -> &'static str {
-        match self {
-            hf_method::HF_METHOD_EXACT => "exact",
-            hf_method::HF_METHOD_LINEAR_BINARY => "linear-binary",
-            hf_method::HF_METHOD_LINEAR_SECANT => "linear-secant",
-            hf_method::HF_METHOD_MAXMIP => "maxmip",
-            hf_method::HF_METHOD_SAFETY => "safety",
-            hf_method::HF_METHOD_CONE => "cone",
-            hf_method::HF_METHOD_RELAXED => "relaxed",
-            hf_method::HF_METHOD_QDM => "qdm",
-            hf_method::HF_METHOD_CC => "cc",
-            hf_method::HF_METHOD_RADIUS => "radius",
-        }
+        self.kind().name()
     }
 }
 
@@ -364,21 +359,11 @@ pub(crate) fn method_of(v: u32) -> Result<hf_method, hf_result> {
 }
 
 impl hf_method {
-    /// Whether this build of the library has the method (its cargo feature was on).
+    /// Whether this build of the library has the method (its cargo feature, the
+    /// registry's, was on in the C API).
     pub fn built(self) -> bool {
-        match self {
-            hf_method::HF_METHOD_EXACT => true,
-            hf_method::HF_METHOD_LINEAR_BINARY | hf_method::HF_METHOD_LINEAR_SECANT => {
-                cfg!(feature = "search")
-            }
-            hf_method::HF_METHOD_MAXMIP => cfg!(feature = "maxmip"),
-            hf_method::HF_METHOD_SAFETY | hf_method::HF_METHOD_CC | hf_method::HF_METHOD_RADIUS => {
-                cfg!(feature = "safety")
-            }
-            hf_method::HF_METHOD_CONE => cfg!(feature = "cone"),
-            hf_method::HF_METHOD_RELAXED => cfg!(feature = "relaxed"),
-            hf_method::HF_METHOD_QDM => cfg!(feature = "qdm"),
-        }
+        let feature = self.kind().info().feature;
+        feature.is_none_or(|f| features::feature_on(f) == Some(true))
     }
 }
 
@@ -412,6 +397,71 @@ pub unsafe extern "C" fn hf_build_has_method(method: u32, out: *mut u32) -> hf_r
         // SAFETY: the caller promises `out` is writable.
         unsafe { out.set(u32::from(m.built())) };
         Ok(())
+    })
+}
+
+/// Writes the short lower-case name of `method` (an `hf_method`: `exact`,
+/// `linear-binary`, `linear-secant`, `maxmip`, `safety`, `cone`, `relaxed`, `qdm`,
+/// `cc`, `radius`, as the CLI and the report spell them) into `buf` as a
+/// NUL-terminated ASCII string and its length without the NUL into `*out_written`;
+/// 32 bytes always suffice. Methods left out of this build have names too. An unknown
+/// method is `HF_ERR_INVALID_ENUM`. Thread safe.
+///
+/// # Safety
+/// `buf` is NULL (an error) or valid for writing `buf_len` bytes; `out_written` is NULL
+/// (an error) or valid for writing one `size_t`.
+#[no_mangle]
+pub unsafe extern "C" fn hf_method_name(
+    method: u32,
+    buf: *mut c_char,
+    buf_len: usize,
+    out_written: *mut usize,
+) -> hf_result {
+    // SAFETY: the caller's promises, passed on.
+    unsafe { write_name(|| Ok(method_of(method)?.name()), buf, buf_len, out_written) }
+}
+
+/// Writes the short lower-case name of `surface` (an `hf_surface`: `triangles`,
+/// `bilinear`, `height-planes`, `linear-planes`, `view-linear`) as `hf_method_name`
+/// does. Thread safe.
+///
+/// # Safety
+/// As `hf_method_name`.
+#[no_mangle]
+pub unsafe extern "C" fn hf_surface_name(
+    surface: u32,
+    buf: *mut c_char,
+    buf_len: usize,
+    out_written: *mut usize,
+) -> hf_result {
+    // SAFETY: the caller's promises, passed on.
+    unsafe {
+        write_name(
+            || Ok(surface_of(surface)?.name()),
+            buf,
+            buf_len,
+            out_written,
+        )
+    }
+}
+
+/// Shared body of the name queries: `name()` (its error first), written as a C string.
+///
+/// # Safety
+/// As `hf_method_name`.
+unsafe fn write_name(
+    name: impl FnOnce() -> Result<&'static str, hf_result>,
+    buf: *mut c_char,
+    buf_len: usize,
+    out_written: *mut usize,
+) -> hf_result {
+    guard(|| {
+        let name = name()?;
+        // SAFETY: the caller promises `buf` is valid for `buf_len` bytes.
+        let buf = unsafe { ptr::slice_mut(buf, buf_len) }?;
+        let written = ptr::out(out_written)?;
+        // SAFETY: the caller promises `out_written` is valid for one `size_t`.
+        unsafe { ptr::write_c_string(name, buf, written) }
     })
 }
 
@@ -479,14 +529,13 @@ pub unsafe extern "C" fn hf_error_message(
     buf_len: usize,
     out_written: *mut usize,
 ) -> hf_result {
-    guard(|| {
-        let code = hf_result::from_u32(code).ok_or(HF_ERR_INVALID_ENUM)?;
-        // SAFETY: the caller promises `buf` is valid for `buf_len` bytes.
-        let buf = unsafe { ptr::slice_mut(buf, buf_len) }?;
-        let written = ptr::out(out_written)?;
-        // SAFETY: the caller promises `out_written` is valid for one `size_t`.
-        unsafe { ptr::write_c_string(code.message(), buf, written) }
-    })
+    let message = || {
+        Ok(hf_result::from_u32(code)
+            .ok_or(HF_ERR_INVALID_ENUM)?
+            .message())
+    };
+    // SAFETY: the caller's promises, passed on.
+    unsafe { write_name(message, buf, buf_len, out_written) }
 }
 
 #[cfg(test)]

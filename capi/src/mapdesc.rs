@@ -203,6 +203,62 @@ pub(crate) fn check<T: Texel>(
     }
 }
 
+#[cfg(feature = "safety")]
+/// Checks a map whose texel count depends on how it was baked: one of `kinds` (the
+/// variants of a safety map) holding some set of ray classes, `len(kind, classes)`
+/// texels. The descriptor is looked for after each such layout; the one found (or,
+/// when none is, the layout of `kinds[0]` with `classes`, or all four classes, for
+/// the error) is checked for `f` and, when named, `classes`. Returns the descriptor
+/// and the texel count.
+pub(crate) fn check_layout<T: Texel>(
+    f: &hf_field,
+    data: &[T],
+    kinds: &[MapKind],
+    classes: Option<RayClasses>,
+    len: impl Fn(MapKind, RayClasses) -> usize,
+) -> Result<(MapDescriptor, usize), hf_result> {
+    let found = kinds.iter().find_map(|&kind| {
+        (1..=4).find_map(|count| {
+            let held = RayClasses((1 << count) - 1);
+            let n = len(kind, held);
+            let bytes = T::get(data.get(n..n.checked_add(elems::<T>())?)?);
+            let d = MapDescriptor::decode(&bytes).ok()?;
+            let fits = d.desc.map == kind && d.texel_bytes == (n * T::SIZE) as u64;
+            (fits && d.desc.classes.count() == count).then_some((kind, d.desc.classes))
+        })
+    });
+    // No descriptor found: report on the layout that ends where the buffer does (its
+    // descriptor is damaged), else on the smallest the buffer falls short of (it is too
+    // short), else on the largest (a buffer longer than any layout).
+    let (kind, held) = found.unwrap_or_else(|| {
+        let layouts = kinds.iter().flat_map(|&kind| {
+            let sets = (1..=4).map(|count| RayClasses((1 << count) - 1));
+            let sets = sets.filter(|c| classes.is_none_or(|want| want.count() == c.count()));
+            sets.map(move |c| (kind, c))
+        });
+        let layouts: Vec<_> = layouts
+            .map(|(k, c)| (len(k, c) + elems::<T>(), (k, c)))
+            .collect();
+        let exact = layouts.iter().find(|(end, _)| *end == data.len());
+        let short = layouts
+            .iter()
+            .filter(|(end, _)| *end > data.len())
+            .min_by_key(|(e, _)| *e);
+        let largest = layouts.iter().max_by_key(|(end, _)| *end);
+        exact
+            .or(short)
+            .or(largest)
+            .map_or((kinds[0], RayClasses::ALL), |(_, l)| *l)
+    });
+    let n = len(kind, held);
+    let want = Expect {
+        map: kind,
+        cap: None,
+        classes: Some(classes.unwrap_or(held)),
+    };
+    Ok((check(f, want, data, n)?, n))
+}
+
 #[cfg(feature = "maxmip")]
 /// Checks the descriptor of a pyramid about to be refreshed over the samples
 /// `rect` (`[x0, y0, x1, y1]`): it must name the current heights, or heights the field

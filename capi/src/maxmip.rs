@@ -2,10 +2,12 @@
 
 use crate::hf_result::{self, *};
 use crate::mapdesc::{check_refresh, elems, stamp};
+use crate::trace::TraceOptions;
 use crate::{guard, hf_field, ptr};
 use hfcore::ktx2::{Desc, MapKind};
-use hfcore::maxmip::{self, Layout};
+use hfcore::maxmip::{self, Layout, MaxMip};
 use hfcore::HeightField;
+use hfcore::Marcher;
 
 /// One level of a maximum-mipmap pyramid: its texels lie at
 /// `pyramid[offset + j * width + i]`, row-major.
@@ -286,4 +288,16 @@ pub unsafe extern "C" fn hf_maxmip_update_rect(
         stamp_pyramid(f, &l, p);
         Ok(())
     })
+}
+
+/// The maxmip marcher over the pyramid `texels`, its descriptor checked for `f`.
+pub(crate) fn marcher<'a>(
+    f: &'a hf_field,
+    texels: &'a [f32],
+    o: &TraceOptions,
+) -> Result<Marcher<'a>, hf_result> {
+    let n = maxmip::Layout::of(f.view()).texel_count();
+    crate::mapdesc::check(f, crate::mapdesc::Expect::map(MapKind::MaxMip), texels, n)?;
+    let mip = MaxMip::new(f.view(), &texels[..n])?;
+    Ok(Marcher::MaxMip(mip, o.surface, maxmip::Options::default()))
 }

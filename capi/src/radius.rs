@@ -6,11 +6,11 @@ use crate::hf_result::{self, *};
 use crate::mapdesc::{bake_stamped, check, elems, stamp, Expect};
 use crate::safety;
 use crate::size_query;
-use crate::trace::{batch, hf_hit, hf_ray, one};
-use crate::{guard, hf_field, hf_surface, par, ptr};
+use crate::trace::TraceOptions;
+use crate::{guard, hf_field, par, ptr};
 use hfcore::ktx2::{Desc, MapKind};
 use hfcore::radius::{self, BakeOptions, Options, RadiusMap, Zero};
-use hfcore::HeightField;
+use hfcore::{HeightField, Marcher};
 
 /// What the radius march does at a texel of radius zero. Passed as `uint32_t`.
 #[repr(u32)]
@@ -51,7 +51,12 @@ fn zero_of(v: u32) -> Result<Options, hf_result> {
     let zero = match v {
         0 => Zero::Walk,
         1 => Zero::Clamp,
-        _ => return Err(crate::detail::fail(HF_ERR_INVALID_ENUM, "zero: not 0 or 1")),
+        _ => {
+            return Err(crate::detail::fail(
+                HF_ERR_INVALID_ENUM,
+                "options.radius_zero: not an hf_radius_zero",
+            ))
+        }
     };
     Ok(Options {
         zero,
@@ -202,12 +207,21 @@ pub unsafe extern "C" fn hf_radius_bake(
     })
 }
 
-/// The radius map over `data`, its descriptor checked for `f`.
-fn map_of<'a>(f: &hf_field, data: &'a [u8]) -> Result<RadiusMap<'a>, hf_result> {
+/// The radius marcher over `data`, its descriptor checked for `f`, with the zero mode
+/// and surface of `o`.
+pub(crate) fn marcher<'a>(
+    f: &'a hf_field,
+    data: &'a [u8],
+    o: &TraceOptions,
+) -> Result<Marcher<'a>, hf_result> {
     let hf = f.view();
     let n = radius::map_len(hf.width(), hf.height());
     check(f, Expect::map(MapKind::Radius), data, n)?;
-    Ok(RadiusMap::new(hf, &data[..n])?)
+    let opts = Options {
+        surface: safety::march_surface(o.surface),
+        ..zero_of(o.radius_zero)?
+    };
+    Ok(Marcher::Radius(RadiusMap::new(hf, &data[..n])?, opts))
 }
 
 /// The description of a radius map of `hf` baked with `opts`.
@@ -216,160 +230,5 @@ fn desc_of(hf: &HeightField, opts: &BakeOptions) -> Desc {
         cap: opts.cap,
         tolerance: opts.tolerance,
         ..Desc::new(MapKind::Radius, hf.width(), hf.height())
-    }
-}
-
-/// The map slice and the march options of a trace call, checked behind the panic
-/// boundary.
-///
-/// # Safety
-/// `map` NULL or valid for reading `map_len` bytes.
-unsafe fn trace_inputs<'a>(
-    map: *const u8,
-    map_len: usize,
-    zero: u32,
-    surface: u32,
-) -> Result<(&'a [u8], Options), hf_result> {
-    // SAFETY: the caller's promise.
-    let (data, surface) = unsafe { safety::trace_inputs(map, map_len, surface) }?;
-    Ok((
-        data,
-        Options {
-            surface,
-            ..zero_of(zero)?
-        },
-    ))
-}
-
-/// Traces one ray on the triangle surface with the radii `map` (baked for this field
-/// by `hf_radius_bake`, `map_len ≥ hf_radius_map_len`); `zero` (an `hf_radius_zero`)
-/// says what a zero radius does. Exact, the hit of `hf_trace_exact` with
-/// `HF_SURFACE_TRIANGLES` (up to rounding on rays that graze the surface), when the
-/// map was baked with tolerance 0 and `zero` is `HF_RADIUS_WALK`. Costs one fetch per
-/// radius read, two per centerline clearance, four per cell walked. A map of another
-/// field, or baked before an update, is refused (`HF_ERR_MAP_MISMATCH`,
-/// `HF_ERR_STALE_MAP`: its descriptor). Thread safe.
-///
-/// # Safety
-/// `field` is NULL (an error) or a live handle; `map` NULL (an error) or valid for
-/// reading `map_len` bytes; `ray` NULL (an error) or valid; `out_hit` NULL (an error)
-/// or valid for writing one `hf_hit`.
-#[no_mangle]
-pub unsafe extern "C" fn hf_trace_radius(
-    field: *const hf_field,
-    map: *const u8,
-    map_len: usize,
-    zero: u32,
-    ray: *const hf_ray,
-    out_hit: *mut hf_hit,
-) -> hf_result {
-    let tri = hf_surface::HF_SURFACE_TRIANGLES as u32;
-    // SAFETY: the caller's promises, passed on.
-    unsafe { hf_trace_radius_on(field, map, map_len, zero, tri, ray, out_hit) }
-}
-
-/// `hf_trace_radius` finishing on `surface` (an `hf_surface`): `HF_SURFACE_TRIANGLES`,
-/// or `HF_SURFACE_VIEW_LINEAR` (Baboud et al. 2011 §7), whose hit is then (exact map,
-/// `HF_RADIUS_WALK`) that of `hf_trace_exact` on the view-linear surface, from the
-/// same map. Other surfaces: `HF_ERR_INVALID_ARGUMENT`. Thread safe.
-///
-/// # Safety
-/// As `hf_trace_radius`.
-#[no_mangle]
-pub unsafe extern "C" fn hf_trace_radius_on(
-    field: *const hf_field,
-    map: *const u8,
-    map_len: usize,
-    zero: u32,
-    surface: u32,
-    ray: *const hf_ray,
-    out_hit: *mut hf_hit,
-) -> hf_result {
-    // SAFETY: the caller's promise, passed on.
-    let (data, opts) = match unsafe { trace_inputs(map, map_len, zero, surface) } {
-        Ok(v) => v,
-        Err(e) => return e,
-    };
-    // SAFETY: the caller's promises, passed on.
-    unsafe {
-        one(
-            field,
-            ray,
-            out_hit,
-            |f| map_of(f, data),
-            |hf, m, q| radius::trace(m, hf, q, &opts),
-        )
-    }
-}
-
-/// `hf_trace_radius` for a batch, with the conventions of `hf_trace_exact_batch`
-/// (every ray checked first; an error writes nothing). Thread safe.
-///
-/// # Safety
-/// As `hf_trace_radius`; `rays` valid for reading `rays_len` rays, `out_hits` for
-/// writing `out_hits_len` hits (overlap is an error).
-#[no_mangle]
-#[allow(clippy::too_many_arguments)]
-pub unsafe extern "C" fn hf_trace_radius_batch(
-    field: *const hf_field,
-    map: *const u8,
-    map_len: usize,
-    zero: u32,
-    rays: *const hf_ray,
-    rays_len: usize,
-    out_hits: *mut hf_hit,
-    out_hits_len: usize,
-) -> hf_result {
-    let tri = hf_surface::HF_SURFACE_TRIANGLES as u32;
-    // SAFETY: the caller's promises, passed on.
-    unsafe {
-        hf_trace_radius_on_batch(
-            field,
-            map,
-            map_len,
-            zero,
-            tri,
-            rays,
-            rays_len,
-            out_hits,
-            out_hits_len,
-        )
-    }
-}
-
-/// `hf_trace_radius_on` for a batch, with the conventions of `hf_trace_exact_batch`.
-/// Thread safe.
-///
-/// # Safety
-/// As `hf_trace_radius_batch`.
-#[no_mangle]
-#[allow(clippy::too_many_arguments)]
-pub unsafe extern "C" fn hf_trace_radius_on_batch(
-    field: *const hf_field,
-    map: *const u8,
-    map_len: usize,
-    zero: u32,
-    surface: u32,
-    rays: *const hf_ray,
-    rays_len: usize,
-    out_hits: *mut hf_hit,
-    out_hits_len: usize,
-) -> hf_result {
-    // SAFETY: the caller's promise, passed on.
-    let (data, opts) = match unsafe { trace_inputs(map, map_len, zero, surface) } {
-        Ok(v) => v,
-        Err(e) => return e,
-    };
-    // SAFETY: the caller's promises, passed on.
-    unsafe {
-        batch(
-            field,
-            rays,
-            rays_len,
-            out_hits,
-            out_hits_len,
-            |f| map_of(f, data),
-            |hf, m, q| radius::trace(m, hf, q, &opts),
-        )
     }
 }

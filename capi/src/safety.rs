@@ -2,15 +2,15 @@
 //! (whole, by rows, threaded) and the march, for the triangle surface.
 
 use crate::hf_result::{self, *};
-use crate::mapdesc::{bake_stamped, check, elems, stamp, Expect};
+use crate::mapdesc::{bake_stamped, check_layout, elems, stamp};
 use crate::scene::{classes_of, HF_RAYS_ALL};
 use crate::size_query;
-use crate::trace::{batch, hf_hit, hf_ray, one, pyramid_slice};
-use crate::{guard, hf_field, hf_surface, par, ptr};
+use crate::trace::TraceOptions;
+use crate::{guard, hf_field, par, ptr};
 use hfcore::ktx2::{Desc, MapKind};
 use hfcore::safety::{self, AllRays, MarchSurface, Options, SafetyError, SafetyMap, Variant};
 use hfcore::scene::RayClasses;
-use hfcore::HeightField;
+use hfcore::{HeightField, Marcher};
 
 /// Layout of a safety-distance map. Passed as `uint32_t`.
 #[repr(u32)]
@@ -331,23 +331,26 @@ pub(crate) fn strip_scratch(hf: &HeightField) -> Result<Vec<f32>, hf_result> {
     Ok(scratch)
 }
 
-/// The map's view (a map of the classes `ray_classes`), its descriptor checked for `f`.
-fn map_of<'a>(
-    f: &hf_field,
+/// The safety marcher over `data`: the map's variant and ray classes are its
+/// descriptor's (checked against `o.classes` when named), the descriptor checked for
+/// `f`.
+pub(crate) fn marcher<'a>(
+    f: &'a hf_field,
     data: &'a [u8],
-    variant: u32,
-    ray_classes: u32,
-) -> Result<SafetyMap<'a>, hf_result> {
-    let (variant, classes) = (variant_of(variant)?, classes_of(ray_classes)?);
+    o: &TraceOptions,
+) -> Result<Marcher<'a>, hf_result> {
     let hf = f.view();
-    let n = safety::map_len_classes(hf.width(), hf.height(), variant, classes);
-    let want = Expect {
-        map: kind_of(variant),
-        cap: None,
-        classes: Some(classes),
+    let kinds = [MapKind::Safety, MapKind::SafetyIsotropic];
+    let variant = |kind| match kind {
+        MapKind::Safety => Variant::Directional,
+        _ => Variant::Isotropic,
     };
-    check(f, want, data, n)?;
-    Ok(SafetyMap::with_classes(hf, &data[..n], variant, classes)?)
+    let len =
+        |kind, classes| safety::map_len_classes(hf.width(), hf.height(), variant(kind), classes);
+    let (got, n) = check_layout(f, data, &kinds, o.classes, len)?;
+    let (v, classes) = (variant(got.desc.map), got.desc.classes);
+    let map = SafetyMap::with_classes(hf, &data[..n], v, classes)?;
+    Ok(Marcher::Safety(map, march_surface(o.surface)))
 }
 
 /// The map kind of a safety variant.
@@ -367,166 +370,8 @@ fn desc_of(hf: &HeightField, opts: &Options, classes: RayClasses) -> Desc {
     }
 }
 
-/// Checks the surface (an `hf_surface`, as `uint32_t`) a safety-shape march finishes
-/// on: `HF_SURFACE_TRIANGLES` or `HF_SURFACE_VIEW_LINEAR` (the maps bound both);
-/// another surface is `HF_ERR_INVALID_ARGUMENT`, an unknown value
-/// `HF_ERR_INVALID_ENUM`.
-pub(crate) fn march_surface_of(v: u32) -> Result<MarchSurface, hf_result> {
-    MarchSurface::of(crate::surface_of(v)?).ok_or(HF_ERR_INVALID_ARGUMENT)
-}
-
-/// Traces one ray on the triangle surface with the safety distances `map` (baked for
-/// this field by `hf_safety_bake`, `map_len ≥ hf_safety_map_len`, layout `variant`):
-/// exact, the hit of `hf_trace_exact` with `HF_SURFACE_TRIANGLES` (up to rounding on
-/// rays that graze the surface) when the map was baked with `positive = 0`. Costs one
-/// fetch per distance read, two per centerline clearance, four per cell walked. A map
-/// of another field, variant or class set, or baked before an update, is refused
-/// (`HF_ERR_MAP_MISMATCH`, `HF_ERR_STALE_MAP`: its descriptor). Thread safe.
-///
-/// # Safety
-/// `field` is NULL (an error) or a live handle; `map` NULL (an error) or valid for
-/// reading `map_len` bytes; `ray` NULL (an error) or valid; `out_hit` NULL (an error)
-/// or valid for writing one `hf_hit`.
-#[no_mangle]
-pub unsafe extern "C" fn hf_trace_safety(
-    field: *const hf_field,
-    map: *const u8,
-    map_len: usize,
-    variant: u32,
-    ray: *const hf_ray,
-    out_hit: *mut hf_hit,
-) -> hf_result {
-    let tri = hf_surface::HF_SURFACE_TRIANGLES as u32;
-    // SAFETY: the caller's promises, passed on.
-    unsafe { hf_trace_safety_on(field, map, map_len, variant, HF_RAYS_ALL, tri, ray, out_hit) }
-}
-
-/// `hf_trace_safety` with a map of the ray classes `ray_classes` (`HF_RAYS_*` bits,
-/// not 0; `HF_RAYS_ALL` for `hf_safety_bake`'s, those passed to
-/// `hf_safety_bake_classes` otherwise; `map_len ≥ hf_safety_map_len_classes`), finishing
-/// on `surface` (an `hf_surface`): `HF_SURFACE_TRIANGLES`, or `HF_SURFACE_VIEW_LINEAR`
-/// (Baboud et al. §7), whose hit is then that of `hf_trace_exact` on the view-linear
-/// surface, from the same map. Other surfaces: `HF_ERR_INVALID_ARGUMENT`. A ray of a
-/// class the map does not hold reads distance 0 (it walks cell by cell, still exact).
-/// Thread safe.
-///
-/// # Safety
-/// As `hf_trace_safety`.
-#[no_mangle]
-#[allow(clippy::too_many_arguments)]
-pub unsafe extern "C" fn hf_trace_safety_on(
-    field: *const hf_field,
-    map: *const u8,
-    map_len: usize,
-    variant: u32,
-    ray_classes: u32,
-    surface: u32,
-    ray: *const hf_ray,
-    out_hit: *mut hf_hit,
-) -> hf_result {
-    // SAFETY: the caller's promise, passed on.
-    let (data, surface) = match unsafe { trace_inputs(map, map_len, surface) } {
-        Ok(v) => v,
-        Err(e) => return e,
-    };
-    // SAFETY: the caller's promises, passed on.
-    unsafe {
-        one(
-            field,
-            ray,
-            out_hit,
-            |f| map_of(f, data, variant, ray_classes),
-            |hf, m, q| safety::trace_on(m, hf, surface, q),
-        )
-    }
-}
-
-/// The map slice and the march surface of a safety-shape trace call (safety, cc,
-/// radius), checked.
-///
-/// # Safety
-/// `map` NULL or valid for reading `map_len` bytes.
-pub(crate) unsafe fn trace_inputs<'a>(
-    map: *const u8,
-    map_len: usize,
-    surface: u32,
-) -> Result<(&'a [u8], MarchSurface), hf_result> {
-    // SAFETY: the caller's promise.
-    let data = unsafe { pyramid_slice(map, map_len) }?;
-    Ok((data, march_surface_of(surface)?))
-}
-
-/// `hf_trace_safety` for `rays_len` rays, with the conventions of
-/// `hf_trace_exact_batch` (every ray checked first; an error writes nothing).
-/// Thread safe.
-///
-/// # Safety
-/// As `hf_trace_safety`; `rays` valid for reading `rays_len` rays, `out_hits` for
-/// writing `out_hits_len` hits (overlap is an error).
-#[no_mangle]
-#[allow(clippy::too_many_arguments)]
-pub unsafe extern "C" fn hf_trace_safety_batch(
-    field: *const hf_field,
-    map: *const u8,
-    map_len: usize,
-    variant: u32,
-    rays: *const hf_ray,
-    rays_len: usize,
-    out_hits: *mut hf_hit,
-    out_hits_len: usize,
-) -> hf_result {
-    let tri = hf_surface::HF_SURFACE_TRIANGLES as u32;
-    // SAFETY: the caller's promises, passed on.
-    unsafe {
-        hf_trace_safety_on_batch(
-            field,
-            map,
-            map_len,
-            variant,
-            HF_RAYS_ALL,
-            tri,
-            rays,
-            rays_len,
-            out_hits,
-            out_hits_len,
-        )
-    }
-}
-
-/// `hf_trace_safety_on` for a batch, with the conventions of `hf_trace_exact_batch`.
-/// Thread safe.
-///
-/// # Safety
-/// As `hf_trace_safety_batch`.
-#[no_mangle]
-#[allow(clippy::too_many_arguments)]
-pub unsafe extern "C" fn hf_trace_safety_on_batch(
-    field: *const hf_field,
-    map: *const u8,
-    map_len: usize,
-    variant: u32,
-    ray_classes: u32,
-    surface: u32,
-    rays: *const hf_ray,
-    rays_len: usize,
-    out_hits: *mut hf_hit,
-    out_hits_len: usize,
-) -> hf_result {
-    // SAFETY: the caller's promise, passed on.
-    let (data, surface) = match unsafe { trace_inputs(map, map_len, surface) } {
-        Ok(v) => v,
-        Err(e) => return e,
-    };
-    // SAFETY: the caller's promises, passed on.
-    unsafe {
-        batch(
-            field,
-            rays,
-            rays_len,
-            out_hits,
-            out_hits_len,
-            |f| map_of(f, data, variant, ray_classes),
-            |hf, m, q| safety::trace_on(m, hf, surface, q),
-        )
-    }
+/// The march surface of a surface the registry lets the safety-shape methods trace
+/// (`TraceOptions` checked it).
+pub(crate) fn march_surface(surface: hfcore::Surface) -> MarchSurface {
+    MarchSurface::of(surface).unwrap_or_default()
 }

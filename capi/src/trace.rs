@@ -5,13 +5,12 @@ use crate::hf_result::{self, *};
 use crate::ptr::Named;
 use crate::{guard, hf_field, ptr, surface_of};
 use hfcore::condition::{condition, condition_query, Local};
-#[cfg(feature = "maxmip")]
-use hfcore::maxmip::{self, MaxMip};
+use hfcore::scene::MethodKind;
+use hfcore::scene::RayClasses;
 #[cfg(feature = "search")]
-use hfcore::search::{self, SearchSteps};
-#[cfg(feature = "maxmip")]
-use hfcore::Surface;
-use hfcore::{dda, Flags, HeightField, Hit, Query, Trace};
+use hfcore::search::SearchSteps;
+use hfcore::{Flags, HeightField, Hit, Marcher, Query, Surface, Trace};
+use std::ffi::c_void;
 
 /// A ray: the points `origin + t * dir` for `t` in `[t_min, t_max]`, in grid space, or
 /// in the field's world units when it has a transform (`hf_field_set_transform`).
@@ -121,17 +120,236 @@ fn answer(hf: &HeightField, tr: Trace<f32>) -> hf_hit {
     hf_hit::from(hf.transform().trace_to_world(tr))
 }
 
-/// Shared body of the single-ray functions: checks the pointers, prepares what the
-/// method reads (its map, checked against the field, once), traces, writes.
+/// How a trace runs: the surface, what the map must hold, the step budgets. Pass NULL
+/// for the defaults, or start from `hf_trace_options_default` and change fields. Each
+/// method reads the fields whose comment names it and ignores the others (a field it
+/// ignores is still checked for a valid value: a known surface, a class set); a surface
+/// it does not trace is `HF_ERR_INVALID_ARGUMENT`, and so is a non-zero `reserved`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct hf_trace_options {
+    /// The surface to trace, an `hf_surface` (default `HF_SURFACE_TRIANGLES`). The
+    /// safety-shape methods (safety, cc, radius) trace the triangle and view-linear
+    /// surfaces, the cone family the triangle surface only, the others every surface.
+    pub surface: u32,
+    /// The ray classes (`HF_RAYS_*` bits) the map must hold (safety, cc): 0 (the
+    /// default) accepts the classes its descriptor names; another set that differs
+    /// from them is `HF_ERR_MAP_MISMATCH`.
+    pub ray_classes: u32,
+    /// The step budget, at least 1: linear steps (linear-binary, linear-secant),
+    /// iterations (cone, qdm), cone steps (relaxed). Default 64.
+    pub steps: u32,
+    /// Bisection steps (linear-binary, relaxed); default 8.
+    pub binary_steps: u32,
+    /// What a zero radius does (radius), an `hf_radius_zero`; default `HF_RADIUS_WALK`.
+    pub radius_zero: u32,
+    /// Room for later options: must be 0 (else `HF_ERR_INVALID_ARGUMENT`).
+    pub reserved: [u32; 11],
+}
+
+impl Default for hf_trace_options {
+    fn default() -> Self {
+        let steps = MethodKind::LinearBinary.info().steps;
+        hf_trace_options {
+            surface: 0,
+            ray_classes: 0,
+            steps: steps[0].default,
+            binary_steps: steps[1].default,
+            radius_zero: 0,
+            reserved: [0; 11],
+        }
+    }
+}
+
+/// Writes the default trace options to `*out_options` (what NULL options mean).
+/// Thread safe.
 ///
 /// # Safety
-/// `field` NULL or live; `ray` NULL or valid; `out_hit` NULL or writable.
-pub(crate) unsafe fn one<P>(
+/// `out_options` is NULL (an error) or valid for writing one `hf_trace_options`.
+#[no_mangle]
+pub unsafe extern "C" fn hf_trace_options_default(out_options: *mut hf_trace_options) -> hf_result {
+    guard(|| {
+        let out = ptr::out(out_options).named("out_options")?;
+        // SAFETY: the caller promises `out_options` is writable.
+        unsafe { out.set(hf_trace_options::default()) };
+        Ok(())
+    })
+}
+
+/// The trace options, checked for `method`: the surface it traces and the fields it
+/// reads; what a method's `marcher` builds from.
+#[derive(Clone, Copy, Debug)]
+// A build without some methods leaves the fields only they read unread.
+#[cfg_attr(not(feature = "all-methods"), allow(dead_code))]
+pub(crate) struct TraceOptions {
+    /// The surface.
+    pub surface: Surface,
+    /// The ray classes the map must hold, when named.
+    pub classes: Option<RayClasses>,
+    /// The step budget (at least 1 where the method reads it).
+    pub steps: u32,
+    /// Bisection steps.
+    pub binary_steps: u32,
+    /// The radius march's zero mode, as passed.
+    pub radius_zero: u32,
+}
+
+impl TraceOptions {
+    /// Checks `o` for `method`.
+    fn of(method: MethodKind, o: &hf_trace_options) -> Result<TraceOptions, hf_result> {
+        use crate::detail::fail;
+        if let Some(k) = o.reserved.iter().position(|&v| v != 0) {
+            return Err(fail(
+                HF_ERR_INVALID_ARGUMENT,
+                format_args!("options.reserved[{k}]: must be 0"),
+            ));
+        }
+        let info = method.info();
+        let surface = surface_of(o.surface)?;
+        if !info.surfaces.contains(&surface) {
+            return Err(fail(
+                HF_ERR_INVALID_ARGUMENT,
+                format_args!(
+                    "options.surface: {} does not trace the {} surface",
+                    info.name,
+                    surface.name()
+                ),
+            ));
+        }
+        if !info.steps.is_empty() && o.steps == 0 {
+            return Err(fail(
+                HF_ERR_INVALID_ARGUMENT,
+                format_args!("options.steps: {} needs at least 1", info.name),
+            ));
+        }
+        let classes = match o.ray_classes {
+            0 => None,
+            v => Some(crate::scene::classes_of(v)?),
+        };
+        Ok(TraceOptions {
+            surface,
+            classes,
+            steps: o.steps,
+            binary_steps: o.binary_steps,
+            radius_zero: o.radius_zero,
+        })
+    }
+}
+
+/// The marcher of `method` over the `map_len` elements at `map` (floats or bytes, as
+/// the method's map is), its descriptor checked for `f`, with options `o`.
+///
+/// # Safety
+/// `map` NULL or valid for reading `map_len` elements of the method's map.
+unsafe fn marcher<'a>(
+    f: &'a hf_field,
+    method: u32,
+    map: *const c_void,
+    map_len: usize,
+    options: *const hf_trace_options,
+) -> Result<Marcher<'a>, hf_result> {
+    let kind = MethodKind::ALL[crate::built_method_of(method)? as usize];
+    let o = match options.is_null() {
+        true => hf_trace_options::default(),
+        // SAFETY: the caller promises non-NULL options are readable.
+        false => *unsafe { ptr::get(options) }.named("options")?,
+    };
+    let o = TraceOptions::of(kind, &o)?;
+    if kind.info().map.is_none() {
+        if map_len != 0 {
+            return Err(crate::detail::fail(
+                HF_ERR_INVALID_ARGUMENT,
+                format_args!("map_len: {} reads no map; pass NULL and 0", kind.name()),
+            ));
+        }
+        return plain(kind, &o);
+    }
+    // SAFETY: the caller's promise, for the method's element type.
+    let floats = || unsafe { ptr::slice(map.cast::<f32>(), map_len) }.named("map");
+    #[cfg(feature = "safety")]
+    // SAFETY: the caller's promise, for the method's element type.
+    let bytes = || unsafe { ptr::slice(map.cast::<u8>(), map_len) }.named("map");
+    match kind {
+        #[cfg(feature = "maxmip")]
+        MethodKind::MaxMip => crate::maxmip::marcher(f, floats()?, &o),
+        #[cfg(feature = "safety")]
+        MethodKind::Safety => crate::safety::marcher(f, bytes()?, &o),
+        #[cfg(feature = "safety")]
+        MethodKind::Cc => crate::cc::marcher(f, bytes()?, &o),
+        #[cfg(feature = "safety")]
+        MethodKind::Radius => crate::radius::marcher(f, bytes()?, &o),
+        #[cfg(feature = "cone")]
+        k @ (MethodKind::Cone | MethodKind::Relaxed | MethodKind::Qdm) => {
+            crate::cones::marcher(k, f, floats()?, &o)
+        }
+        _ => {
+            let _ = (f, floats);
+            Err(HF_ERR_NOT_BUILT)
+        }
+    }
+}
+
+/// The marcher of a method that reads no map.
+fn plain(kind: MethodKind, o: &TraceOptions) -> Result<Marcher<'static>, hf_result> {
+    Ok(match kind {
+        #[cfg(feature = "search")]
+        MethodKind::LinearBinary => Marcher::LinearBinary(
+            o.surface,
+            SearchSteps {
+                linear: o.steps,
+                binary: o.binary_steps,
+            },
+        ),
+        #[cfg(feature = "search")]
+        MethodKind::LinearSecant => Marcher::LinearSecant(o.surface, o.steps),
+        _ => Marcher::Exact(o.surface),
+    })
+}
+
+/// Traces one ray with `method` (an `hf_method`) over its baked `map` and writes the
+/// answer to `*out_hit` (a miss is success with `hit = 0`): the one trace function of
+/// every method. `map` is the buffer the method's bake filled for this field, of
+/// `map_len` elements (floats for maxmip, cone, relaxed and qdm, bytes for safety, cc
+/// and radius: as their `_len` query counts them); methods without a bake (exact,
+/// linear-binary, linear-secant) take NULL and 0. `options` NULL means the defaults
+/// (`hf_trace_options`). The map's descriptor is checked first: `HF_ERR_MAP_MISMATCH`
+/// for a map of another method, field, size or class set, `HF_ERR_STALE_MAP` for one
+/// baked before an update of this field (rebake it, or refresh a pyramid with
+/// `hf_maxmip_update_rect`). A method left out of this build is `HF_ERR_NOT_BUILT`.
+///
+/// What each method answers, and costs (fetches: one per texel read, four per exact
+/// cell test):
+/// - exact: the first hit in `[t_min, t_max]` on `options->surface`, watertight in
+///   `float`; four fetches per cell visited.
+/// - maxmip (Tevs et al. 2008): exact, the hit of exact (the linear-planes surface is
+///   traced by the exact traversal); one fetch per pyramid texel.
+/// - safety, cc, radius (Baboud et al. 2011; Baboud & Décoret 2006): exact, the hit of
+///   exact on the triangle surface, or with `HF_SURFACE_VIEW_LINEAR` on the
+///   view-linear surface (Baboud et al. §7), from the same map, when the map was baked
+///   exact (safety `positive = 0`, radius tolerance 0, `HF_RADIUS_WALK`); a ray of a
+///   class the map does not hold walks cell by cell, still exact.
+/// - cone, qdm: exact within `options->steps` iterations; when they run out the
+///   current point is returned, flagged `HF_FLAG_BUDGET_EXHAUSTED`.
+/// - linear-binary, linear-secant, relaxed: approximate (features thinner than a step
+///   are missed), `options->steps` linear or cone steps then `binary_steps`
+///   bisections (linear-secant: one secant step).
+///
+/// Thread safe (reads the field and the map only).
+///
+/// # Safety
+/// `field` is NULL (an error) or a live handle; `map` NULL or valid for reading
+/// `map_len` elements, not written during the call; `options` NULL or valid; `ray`
+/// NULL (an error) or valid; `out_hit` NULL (an error) or valid for writing one
+/// `hf_hit`.
+#[no_mangle]
+pub unsafe extern "C" fn hf_trace(
     field: *const hf_field,
+    method: u32,
+    map: *const c_void,
+    map_len: usize,
+    options: *const hf_trace_options,
     ray: *const hf_ray,
     out_hit: *mut hf_hit,
-    prepare: impl FnOnce(&hf_field) -> Result<P, hf_result>,
-    trace: impl Fn(&HeightField, &P, &Query<f32>) -> Trace<f32>,
 ) -> hf_result {
     guard(|| {
         // SAFETY: the caller promises a live handle and a valid ray (copied, so that
@@ -143,32 +361,39 @@ pub(crate) unsafe fn one<P>(
             )
         };
         let out = ptr::out(out_hit).named("out_hit")?;
+        // SAFETY: the caller's promises, passed on.
+        let m = unsafe { marcher(f, method, map, map_len, options) }?;
         let hf = f.view();
-        let prepared = prepare(f)?;
         let local = query(hf, &r, None)?;
-        let hit = answer(hf, local.trace(|q| trace(hf, &prepared, q)));
+        let hit = answer(hf, local.trace(|q| m.trace(hf, q)));
         // SAFETY: the caller promises `out_hit` is writable.
         unsafe { out.set(hit) };
         Ok(())
     })
 }
 
-/// Shared body of the batch functions: checks everything (the pointers, that `rays`
-/// and `out_hits` share no byte, the output's length, every ray) first and prepares
-/// what the method reads once, then traces into the output, so an error writes
-/// nothing. An empty batch (`rays_len` 0) passes the same checks and writes nothing.
+/// `hf_trace` for `rays_len` rays: `out_hits[k]` answers `rays[k]`; `out_hits_len ≥
+/// rays_len`. Everything is checked before any ray is traced, and an error writes
+/// nothing: `out_hits` sharing a byte with `rays` (over their whole lengths) is
+/// `HF_ERR_INVALID_ARGUMENT`; one bad ray fails the call (`HF_ERR_INVALID_RAY`;
+/// `hf_last_error_index` gives the first bad ray). An empty batch (`rays_len` 0) is
+/// `HF_OK` and writes nothing; its pointers must still be non-NULL. Thread safe.
 ///
 /// # Safety
-/// `field` NULL or live; `rays` NULL or valid for `rays_len`; `out_hits` NULL or
-/// writable for `out_hits_len`.
-pub(crate) unsafe fn batch<P>(
+/// As `hf_trace`; `rays` is NULL (an error) or valid for reading `rays_len` rays;
+/// `out_hits` NULL (an error) or valid for writing `out_hits_len` hits.
+#[no_mangle]
+#[allow(clippy::too_many_arguments)]
+pub unsafe extern "C" fn hf_trace_batch(
     field: *const hf_field,
+    method: u32,
+    map: *const c_void,
+    map_len: usize,
+    options: *const hf_trace_options,
     rays: *const hf_ray,
     rays_len: usize,
     out_hits: *mut hf_hit,
     out_hits_len: usize,
-    prepare: impl FnOnce(&hf_field) -> Result<P, hf_result>,
-    trace: impl Fn(&HeightField, &P, &Query<f32>) -> Trace<f32>,
 ) -> hf_result {
     guard(|| {
         // SAFETY: the caller promises a live handle.
@@ -187,14 +412,15 @@ pub(crate) unsafe fn batch<P>(
                 format_args!("out_hits: {} hits for {} rays", hits.len(), rays.len()),
             ));
         }
+        // SAFETY: the caller's promises, passed on.
+        let m = unsafe { marcher(f, method, map, map_len, options) }?;
         let hf = f.view();
-        let prepared = prepare(f)?;
         for (k, r) in rays.iter().enumerate() {
             check(hf, r, Some(k))?;
         }
         for (k, (r, h)) in rays.iter().zip(hits.iter_mut()).enumerate() {
             let local = query(hf, r, Some(k))?;
-            *h = answer(hf, local.trace(|q| trace(hf, &prepared, q)));
+            *h = answer(hf, local.trace(|q| m.trace(hf, q)));
         }
         Ok(())
     })
@@ -260,336 +486,4 @@ pub unsafe extern "C" fn hf_shadow_ray(
         unsafe { out.set(ray) };
         Ok(())
     })
-}
-
-#[cfg(feature = "search")]
-/// The search step counts, checked.
-fn steps(linear: u32, binary: u32) -> Result<SearchSteps, hf_result> {
-    if linear == 0 {
-        return Err(crate::detail::fail(
-            HF_ERR_INVALID_ARGUMENT,
-            "linear_steps: must be at least 1",
-        ));
-    }
-    Ok(SearchSteps { linear, binary })
-}
-
-/// Traces one ray with the exact method (grid traversal with the exact per-cell test
-/// of `surface`, an `hf_surface` value): the first hit in `[t_min, t_max]`, watertight
-/// in `float`. Writes `*out_hit` (a miss is success with `hit = 0`). Costs four
-/// fetches per cell visited. Thread safe (reads the field only).
-///
-/// # Safety
-/// `field` is NULL (an error) or a live handle; `ray` is NULL (an error) or valid;
-/// `out_hit` is NULL (an error) or valid for writing one `hf_hit`.
-#[no_mangle]
-pub unsafe extern "C" fn hf_trace_exact(
-    field: *const hf_field,
-    surface: u32,
-    ray: *const hf_ray,
-    out_hit: *mut hf_hit,
-) -> hf_result {
-    let surface = match surface_of(surface) {
-        Ok(s) => s,
-        Err(e) => return e,
-    };
-    // SAFETY: the caller's promises, passed on.
-    unsafe {
-        one(
-            field,
-            ray,
-            out_hit,
-            |_| Ok(()),
-            |hf, _, q| dda::trace(hf, surface, q),
-        )
-    }
-}
-
-/// `hf_trace_exact` for `rays_len` rays: `out_hits[k]` answers `rays[k]`;
-/// `out_hits_len ≥ rays_len`. Everything is checked before any ray is traced, and an
-/// error writes nothing: `out_hits` sharing a byte with `rays` (over their whole
-/// lengths) is `HF_ERR_INVALID_ARGUMENT`; one bad ray fails the call
-/// (`HF_ERR_INVALID_RAY`; `hf_last_error_index` gives the first bad ray). An empty
-/// batch (`rays_len` 0) is `HF_OK` and writes nothing; its pointers must still be
-/// non-NULL. Thread safe.
-///
-/// # Safety
-/// `rays` is NULL (an error) or valid for reading `rays_len` rays; `out_hits` NULL (an
-/// error) or valid for writing `out_hits_len` hits.
-#[no_mangle]
-pub unsafe extern "C" fn hf_trace_exact_batch(
-    field: *const hf_field,
-    surface: u32,
-    rays: *const hf_ray,
-    rays_len: usize,
-    out_hits: *mut hf_hit,
-    out_hits_len: usize,
-) -> hf_result {
-    let surface = match surface_of(surface) {
-        Ok(s) => s,
-        Err(e) => return e,
-    };
-    // SAFETY: the caller's promises, passed on.
-    unsafe {
-        batch(
-            field,
-            rays,
-            rays_len,
-            out_hits,
-            out_hits_len,
-            |_| Ok(()),
-            |hf, _, q| dda::trace(hf, surface, q),
-        )
-    }
-}
-
-#[cfg(feature = "search")]
-/// Traces one ray with linear search then bisection (Policarpo et al. 2005):
-/// `linear_steps ≥ 1` equal steps through the field's bounding box, then
-/// `binary_steps` bisections of the first step that ends under `surface`.
-/// Approximate: features thinner than a step are missed. Costs four fetches per
-/// height sample. Thread safe.
-///
-/// # Safety
-/// As `hf_trace_exact`.
-#[no_mangle]
-pub unsafe extern "C" fn hf_trace_linear_binary(
-    field: *const hf_field,
-    surface: u32,
-    linear_steps: u32,
-    binary_steps: u32,
-    ray: *const hf_ray,
-    out_hit: *mut hf_hit,
-) -> hf_result {
-    let (surface, steps) = match (surface_of(surface), steps(linear_steps, binary_steps)) {
-        (Ok(s), Ok(n)) => (s, n),
-        (Err(e), _) | (_, Err(e)) => return e,
-    };
-    // SAFETY: the caller's promises, passed on.
-    unsafe {
-        one(
-            field,
-            ray,
-            out_hit,
-            |_| Ok(()),
-            |hf, _, q| search::linear_binary(hf, surface, q, steps),
-        )
-    }
-}
-
-#[cfg(feature = "search")]
-/// `hf_trace_linear_binary` for a batch, with the conventions of
-/// `hf_trace_exact_batch`. Thread safe.
-///
-/// # Safety
-/// As `hf_trace_exact_batch`.
-#[no_mangle]
-#[allow(clippy::too_many_arguments)]
-pub unsafe extern "C" fn hf_trace_linear_binary_batch(
-    field: *const hf_field,
-    surface: u32,
-    linear_steps: u32,
-    binary_steps: u32,
-    rays: *const hf_ray,
-    rays_len: usize,
-    out_hits: *mut hf_hit,
-    out_hits_len: usize,
-) -> hf_result {
-    let (surface, steps) = match (surface_of(surface), steps(linear_steps, binary_steps)) {
-        (Ok(s), Ok(n)) => (s, n),
-        (Err(e), _) | (_, Err(e)) => return e,
-    };
-    // SAFETY: the caller's promises, passed on.
-    unsafe {
-        batch(
-            field,
-            rays,
-            rays_len,
-            out_hits,
-            out_hits_len,
-            |_| Ok(()),
-            |hf, _, q| search::linear_binary(hf, surface, q, steps),
-        )
-    }
-}
-
-#[cfg(feature = "search")]
-/// Traces one ray with linear search then one secant step (parallax occlusion
-/// mapping): `linear_steps ≥ 1` equal steps, then the secant of the bracketing step.
-/// Approximate. Costs four fetches per height sample. Thread safe.
-///
-/// # Safety
-/// As `hf_trace_exact`.
-#[no_mangle]
-pub unsafe extern "C" fn hf_trace_linear_secant(
-    field: *const hf_field,
-    surface: u32,
-    linear_steps: u32,
-    ray: *const hf_ray,
-    out_hit: *mut hf_hit,
-) -> hf_result {
-    let (surface, steps) = match (surface_of(surface), steps(linear_steps, 0)) {
-        (Ok(s), Ok(n)) => (s, n),
-        (Err(e), _) | (_, Err(e)) => return e,
-    };
-    // SAFETY: the caller's promises, passed on.
-    unsafe {
-        one(
-            field,
-            ray,
-            out_hit,
-            |_| Ok(()),
-            |hf, _, q| search::linear_secant(hf, surface, q, steps.linear),
-        )
-    }
-}
-
-#[cfg(feature = "search")]
-/// `hf_trace_linear_secant` for a batch, with the conventions of
-/// `hf_trace_exact_batch`. Thread safe.
-///
-/// # Safety
-/// As `hf_trace_exact_batch`.
-#[no_mangle]
-pub unsafe extern "C" fn hf_trace_linear_secant_batch(
-    field: *const hf_field,
-    surface: u32,
-    linear_steps: u32,
-    rays: *const hf_ray,
-    rays_len: usize,
-    out_hits: *mut hf_hit,
-    out_hits_len: usize,
-) -> hf_result {
-    let (surface, steps) = match (surface_of(surface), steps(linear_steps, 0)) {
-        (Ok(s), Ok(n)) => (s, n),
-        (Err(e), _) | (_, Err(e)) => return e,
-    };
-    // SAFETY: the caller's promises, passed on.
-    unsafe {
-        batch(
-            field,
-            rays,
-            rays_len,
-            out_hits,
-            out_hits_len,
-            |_| Ok(()),
-            |hf, _, q| search::linear_secant(hf, surface, q, steps.linear),
-        )
-    }
-}
-
-#[cfg(feature = "maxmip")]
-/// Traces one ray with maximum mipmaps (Tevs et al. 2008) over `pyramid`, the buffer
-/// `hf_maxmip_bake` filled for this field (`pyramid_len ≥ hf_maxmip_len`): exact, the
-/// same hit as `hf_trace_exact` (the linear-planes surface is traced by the exact
-/// method). The pyramid's descriptor is checked first: `HF_ERR_MAP_MISMATCH` for a
-/// pyramid of another field or size, `HF_ERR_STALE_MAP` for one baked before an
-/// update of this field (refresh it with `hf_maxmip_update_rect`). Costs one fetch per
-/// pyramid texel, four per exact cell test. Thread safe.
-///
-/// # Safety
-/// As `hf_trace_exact`; `pyramid` is NULL (an error) or valid for reading
-/// `pyramid_len` floats, not written during the call.
-#[no_mangle]
-pub unsafe extern "C" fn hf_trace_maxmip(
-    field: *const hf_field,
-    pyramid: *const f32,
-    pyramid_len: usize,
-    surface: u32,
-    ray: *const hf_ray,
-    out_hit: *mut hf_hit,
-) -> hf_result {
-    let surface = match surface_of(surface) {
-        Ok(s) => s,
-        Err(e) => return e,
-    };
-    // SAFETY: the caller's promises, passed on.
-    let texels = match unsafe { pyramid_slice(pyramid, pyramid_len) } {
-        Ok(t) => t,
-        Err(e) => return e,
-    };
-    // SAFETY: the caller's promises, passed on.
-    unsafe {
-        one(
-            field,
-            ray,
-            out_hit,
-            |f| mip_of(f, texels),
-            |hf, mip, q| trace_mip(hf, mip, surface, q),
-        )
-    }
-}
-
-#[cfg(feature = "maxmip")]
-/// `hf_trace_maxmip` for a batch, with the conventions of `hf_trace_exact_batch`.
-/// Thread safe.
-///
-/// # Safety
-/// As `hf_trace_exact_batch` and `hf_trace_maxmip`.
-#[no_mangle]
-#[allow(clippy::too_many_arguments)]
-pub unsafe extern "C" fn hf_trace_maxmip_batch(
-    field: *const hf_field,
-    pyramid: *const f32,
-    pyramid_len: usize,
-    surface: u32,
-    rays: *const hf_ray,
-    rays_len: usize,
-    out_hits: *mut hf_hit,
-    out_hits_len: usize,
-) -> hf_result {
-    let surface = match surface_of(surface) {
-        Ok(s) => s,
-        Err(e) => return e,
-    };
-    // SAFETY: the caller's promises, passed on.
-    let texels = match unsafe { pyramid_slice(pyramid, pyramid_len) } {
-        Ok(t) => t,
-        Err(e) => return e,
-    };
-    // SAFETY: the caller's promises, passed on.
-    unsafe {
-        batch(
-            field,
-            rays,
-            rays_len,
-            out_hits,
-            out_hits_len,
-            |f| mip_of(f, texels),
-            |hf, mip, q| trace_mip(hf, mip, surface, q),
-        )
-    }
-}
-
-#[cfg(any(feature = "maxmip", feature = "cone", feature = "safety"))]
-/// A baked buffer (pyramid or map) as a slice, checked behind the panic boundary.
-///
-/// # Safety
-/// `p` NULL or valid for reading `len` floats.
-pub(crate) unsafe fn pyramid_slice<'a, T>(p: *const T, len: usize) -> Result<&'a [T], hf_result> {
-    let mut out = Err(HF_ERR_PANIC);
-    let r = guard(|| {
-        // SAFETY: the caller's promise.
-        out = Ok(unsafe { ptr::slice(p, len) }?);
-        Ok(())
-    });
-    if r != HF_OK {
-        return Err(r);
-    }
-    out
-}
-
-#[cfg(feature = "maxmip")]
-/// The pyramid over `texels`, its descriptor checked for `f`.
-fn mip_of<'a>(f: &hf_field, texels: &'a [f32]) -> Result<MaxMip<'a>, hf_result> {
-    let n = maxmip::Layout::of(f.view()).texel_count();
-    let want = crate::mapdesc::Expect::map(hfcore::ktx2::MapKind::MaxMip);
-    crate::mapdesc::check(f, want, texels, n)?;
-    Ok(MaxMip::new(f.view(), &texels[..n])?)
-}
-
-#[cfg(feature = "maxmip")]
-/// One maxmip trace with exact options.
-fn trace_mip(hf: &HeightField, mip: &MaxMip, surface: Surface, q: &Query<f32>) -> Trace<f32> {
-    maxmip::trace(hf, mip, surface, q, &maxmip::Options::default())
 }

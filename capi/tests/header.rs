@@ -8,15 +8,7 @@ use std::path::PathBuf;
 #[allow(dead_code)]
 mod header_example;
 
-/// The `HF_HAVE_*` macro of each method feature of the crate, in Cargo.toml order.
-const FEATURES: [(&str, &str); 6] = [
-    ("maxmip", "HF_HAVE_MAXMIP"),
-    ("safety", "HF_HAVE_SAFETY"),
-    ("cone", "HF_HAVE_CONE"),
-    ("qdm", "HF_HAVE_QDM"),
-    ("relaxed", "HF_HAVE_RELAXED"),
-    ("search", "HF_HAVE_SEARCH"),
-];
+use hfcore::scene::FEATURES;
 
 /// The generated header text: cbindgen's output for this crate, with the version
 /// macros of Cargo.toml.
@@ -41,8 +33,8 @@ fn generate() -> String {
          `cargo run -p hfcast-capi --no-default-features --features <methods> --example\n   \
          header`, defines fewer and has the others' declarations removed. */",
     );
-    for (_, name) in FEATURES {
-        after.push_str(&format!("\n#define {name} 1"));
+    for f in FEATURES {
+        after.push_str(&format!("\n#define {} 1", f.have_macro));
     }
     let mut out = Vec::new();
     cbindgen::Builder::new()
@@ -99,26 +91,105 @@ fn version_macros_match_cargo_toml() {
     }
 }
 
+/// The `[features]` table of a `Cargo.toml`: each feature's line, `name = [...]`.
+fn features_of(manifest: &str) -> Vec<(String, Vec<String>)> {
+    let table = manifest
+        .lines()
+        .skip_while(|l| l.trim() != "[features]")
+        .skip(1);
+    let lines = table.take_while(|l| !l.trim_start().starts_with('['));
+    lines
+        .filter_map(|l| {
+            let (name, list) = l.split_once(" = ")?;
+            let items = list.trim_matches(|c| c == '[' || c == ']').split(',');
+            let items = items.map(|i| i.trim().trim_matches('"').to_string());
+            Some((
+                name.trim().to_string(),
+                items.filter(|i| !i.is_empty()).collect(),
+            ))
+        })
+        .collect()
+}
+
+/// The registry's feature list (`hfcore::scene::FEATURES`) is the one list: both
+/// `Cargo.toml`s declare exactly those features (plus `all-methods` turning them all
+/// on, and the core's `alloc` and `std`) with the registry's dependencies, the C
+/// API's forwarding each to the core, and `cbindgen.toml` defines the registry's macro
+/// for each.
 #[test]
-fn cbindgen_defines_every_method_feature() {
+fn feature_lists_match_the_registry() {
     let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR"));
-    let toml = std::fs::read_to_string(dir.join("cbindgen.toml")).expect("read cbindgen.toml");
-    let manifest = std::fs::read_to_string(dir.join("Cargo.toml")).expect("read Cargo.toml");
-    for (feature, name) in FEATURES {
-        let line = format!("\"feature = {feature}\" = \"{name}\"");
-        assert!(toml.contains(&line), "cbindgen.toml lacks `{line}`");
-        assert!(
-            manifest.contains(&format!("\n{feature} = [")),
-            "no feature {feature}"
+    let read = |p: &str| std::fs::read_to_string(dir.join(p)).expect(p);
+    let (toml, capi, core) = (
+        read("cbindgen.toml"),
+        read("Cargo.toml"),
+        read("../core/Cargo.toml"),
+    );
+    let names: Vec<String> = FEATURES.iter().map(|f| f.name.to_string()).collect();
+    for (manifest, who, extra) in [(&core, "core", &["alloc", "std"][..]), (&capi, "capi", &[])] {
+        let table = features_of(manifest);
+        let find = |n: &str| table.iter().find(|(k, _)| k == n).map(|(_, v)| v.clone());
+        assert_eq!(
+            find("all-methods"),
+            Some(names.clone()),
+            "{who}: all-methods"
         );
+        let declared: Vec<&String> = table.iter().map(|(k, _)| k).collect();
+        let mut want: Vec<String> = ["default", "all-methods"]
+            .iter()
+            .map(|s| s.to_string())
+            .collect();
+        want.extend(names.iter().cloned());
+        want.extend(extra.iter().map(|s| s.to_string()));
+        let mut got: Vec<String> = declared.into_iter().cloned().collect();
+        got.sort();
+        want.sort();
+        assert_eq!(got, want, "{who}: the features declared");
+        for f in FEATURES {
+            let deps = find(f.name).unwrap_or_default();
+            let needs: Vec<String> = f.needs.iter().map(|s| s.to_string()).collect();
+            if who == "core" {
+                assert_eq!(deps, needs, "core: feature {}", f.name);
+                continue;
+            }
+            // The C API's turns on the core's, and may leave out exports of what the
+            // core's needs (a cone build does not export the maxmip functions).
+            let core = format!("hfcore/{}", f.name);
+            assert!(
+                deps.contains(&core),
+                "capi: feature {} lacks {core}",
+                f.name
+            );
+            let other = deps.iter().find(|d| **d != core && !needs.contains(d));
+            assert_eq!(other, None, "capi: feature {}", f.name);
+        }
     }
+    for f in FEATURES {
+        let on = header_example::features::feature_on(f.name);
+        assert!(
+            on.is_some(),
+            "capi/src/features.rs does not know {}",
+            f.name
+        );
+        let line = format!("\"feature = {}\" = \"{}\"", f.name, f.have_macro);
+        assert!(toml.contains(&line), "cbindgen.toml lacks `{line}`");
+    }
+    let defines = toml
+        .lines()
+        .filter(|l| l.starts_with("\"feature = "))
+        .count();
+    assert_eq!(
+        defines,
+        FEATURES.len(),
+        "cbindgen.toml defines other features"
+    );
 }
 
 #[test]
 fn smaller_builds_declare_only_their_methods() {
     use header_example::strip;
     let full = generate();
-    let all: Vec<&str> = FEATURES.iter().map(|(_, n)| *n).collect();
+    let all: Vec<&str> = FEATURES.iter().map(|f| f.have_macro).collect();
     assert_eq!(
         strip(&full, &all),
         full,
@@ -141,13 +212,13 @@ fn smaller_builds_declare_only_their_methods() {
     let cone_code = code(&cone);
     for gone in [
         "hf_maxmip_bake",
-        "hf_trace_maxmip",
+        "hf_maxmip_levels",
         "hf_safety_bake",
         "hf_safety_options",
         "hf_cc_bake",
-        "hf_trace_qdm",
+        "hf_qdm_bake",
         "hf_relaxed_bake",
-        "hf_trace_linear_binary",
+        "hf_radius_bake",
         "HF_HAVE_SAFETY",
         "HF_MAX_LEVELS",
     ] {
@@ -158,8 +229,10 @@ fn smaller_builds_declare_only_their_methods() {
     }
     for kept in [
         "hf_cone_bake(",
-        "hf_trace_cone(",
-        "hf_trace_exact(",
+        "hf_trace(",
+        "hf_trace_batch(",
+        "hf_trace_options_default(",
+        "hf_method_name(",
         "hf_build_has_method(",
         "hf_scene_bake_plan(",
         "#define HF_HAVE_CONE 1",
@@ -167,7 +240,7 @@ fn smaller_builds_declare_only_their_methods() {
         assert!(cone.contains(kept), "the cone build's header lacks {kept}");
     }
     let none = strip(&full, &[]);
-    assert!(!none.contains("HF_HAVE_CONE") && none.contains("hf_trace_exact("));
+    assert!(!none.contains("HF_HAVE_CONE") && none.contains("hf_trace("));
     for h in [&cone, &none] {
         let opens = h.lines().filter(|l| l.starts_with("#if")).count();
         let closes = h.lines().filter(|l| l.starts_with("#endif")).count();

@@ -73,14 +73,19 @@ int main() {
     const hf_ray up = {{10.0f, 10.0f, 12.0f}, {0.3f, 0.2f, 1.0f}, 0.0f, INFINITY};
     rays.push_back(up);
 
+    // Both traces on the triangle surface (the default options; nullptr means the same).
+    hf_trace_options options;
+    if (!ok(hf_trace_options_default(&options), "hf_trace_options_default")) return 1;
+    options.surface = HF_SURFACE_TRIANGLES;
+
     int mismatches = 0, hits = 0;
     for (size_t k = 0; k < rays.size(); k++) {
         hf_hit exact, maxmip;
-        if (!ok(hf_trace_exact(field.get(), HF_SURFACE_TRIANGLES, &rays[k], &exact),
-                "hf_trace_exact") ||
-            !ok(hf_trace_maxmip(field.get(), pyramid.data(), pyramid.size(),
-                                HF_SURFACE_TRIANGLES, &rays[k], &maxmip),
-                "hf_trace_maxmip"))
+        if (!ok(hf_trace(field.get(), HF_METHOD_EXACT, nullptr, 0, &options, &rays[k], &exact),
+                "hf_trace (exact)") ||
+            !ok(hf_trace(field.get(), HF_METHOD_MAXMIP, pyramid.data(), pyramid.size(), &options,
+                         &rays[k], &maxmip),
+                "hf_trace (maxmip)"))
             return 1;
         const bool same = exact.hit == maxmip.hit && exact.cell[0] == maxmip.cell[0] &&
                           exact.cell[1] == maxmip.cell[1] &&
