@@ -1,22 +1,28 @@
+// Generated from shaders/wgsl/cc.wgsl by shaders/src/translate.rs: do not edit.
+// Regenerate with: HFCAST_BLESS=1 cargo test -p hfcast-shaders --test validate
 // Mirror of core/src/safety/cc.rs (the march; the bake stays on the CPU): cylinder-cone
 // safety shapes (Baboud, Eisemann, Seidel 2011, section 6.3) on the triangle surface,
 // or the view-linear one from the same map, stepping with the safety march of
-// safety.glsl.
+// safety.wgsl.
 //
-// Texture layout: the map of hf_cc_bake as `hf_cc_map`, an RG8UI texture of W x nH
-// texels for the n ray classes it holds, `hf_cc_classes` (HF_RAYS_* bits, HF_RAYS_ALL
-// for a whole map; `CcMap::with_classes`): texel (i, n j + slot) = [r, s] of texel
-// (i, j) for the ray class of that slot (r: cylinder radius, s: slope code,
+// Texture layout: the map of hf_cc_bake as `hf_cc_map`, an Rg8Uint texture of W x nH
+// texels for the n ray classes it holds, the override `hf_cc_classes` (HF_RAYS_* bits,
+// HF_RAYS_ALL for a whole map; `CcMap::with_classes`): texel (i, n j + slot) = [r, s]
+// of texel (i, j) for the ray class of that slot (r: cylinder radius, s: slope code,
 // HF_CC_NO_CONE without a cone; each texel row as n rows, one per held class in class
 // order x+, x-, y+, y-; slot = how many held classes come before it; a whole map:
 // W x 4H, texel (i, 4 j + class)). A ray of a class the map does not hold reads
 // [0, HF_CC_NO_CONE] without a fetch (radius 0, no cone: it walks cell by cell, still
-// exact). `hf_cc_cap` is the bake's cap. The cone's base height is not stored: the
+// exact). `hf_cc.cap` (GLSL: `hf_cc_cap`) is the bake's cap. The cone's base height is not stored: the
 // march computes it from the heights (cc_line_base).
 
 uniform usampler2D hf_cc_map;
 uniform uint hf_cc_classes = 15u;
+
 uniform uint hf_cc_cap;
+
+// The bake's cap.
+uint cc_cap() { return hf_cc_cap; }
 
 // `CcMap::texel`: the bytes [r, s] of texel (i, j) for `ray_class` ([0, HF_CC_NO_CONE],
 // without a fetch, when the map does not hold it).
@@ -37,13 +43,20 @@ float cc_decode_slope(uint code) {
 // samples along the minor axis), the highest point of the surface on the texel's
 // widened segment (half a sample spacing plus HF_SAFETY_SEG_PAD towards each
 // neighbour, the one-sided slope at the field's border). Beyond the line's two samples
-// it reads the third only inside the field.
+// it reads the third only inside the field (`if`, not `select`, which would load
+// outside it).
 float cc_line_base(int ax, uint m, uint n, uint ln) {
     float h = safety_sample(ax, m, n);
-    float lo = n > 0u ? safety_sample(ax, m, n - 1u) : 0.0;
-    float hi = n + 1u < ln ? safety_sample(ax, m, n + 1u) : 0.0;
-    float below = n > 0u ? h - lo : hi - h;
-    float above = n + 1u < ln ? hi - h : h - lo;
+    float lo = 0.0;
+    if (n > 0u) {
+        lo = safety_sample(ax, m, n - 1u);
+    }
+    float hi = 0.0;
+    if (n + 1u < ln) {
+        hi = safety_sample(ax, m, n + 1u);
+    }
+    float below = ((n > 0u) ? (h - lo) : (hi - h));
+    float above = ((n + 1u < ln) ? (hi - h) : (h - lo));
     float w = 0.5 + HF_SAFETY_SEG_PAD;
     return real_max(real_max(h - below * w, h), h + above * w);
 }
@@ -54,14 +67,14 @@ float cc_line_base(int ax, uint m, uint n, uint ln) {
 // field, none at its border, none when no cone is tested).
 uvec2 cc_cone_step(uvec2 b, int ax, SafetyLine l, float sd, float sd_err) {
     uint r = b[0];
-    uint cap = hf_cc_cap;
+    uint cap = cc_cap();
     if (b[1] == HF_CC_NO_CONE || r >= cap) {
         return uvec2(r, 0u);
     }
     uint n = l.texel;
     uint ln = safety_extents(ax)[1];
     float zc = cc_line_base(ax, l.m, n, ln);
-    uint extra = n > 0u && n + 1u < ln ? 1u : 0u;
+    uint extra = ((n > 0u && n + 1u < ln) ? (1u) : (0u));
     float sc = cc_decode_slope(b[1]);
     // zc's own rounding: relative EPSILON of the heights.
     float zs = real_max(abs(field_min_height()), abs(field_max_height()));
@@ -89,7 +102,7 @@ vec2 cc_rise(vec3 d) {
     uint ray_class = ray_class_of(d[0], d[1]);
     int ax = safety_axis_of(ray_class);
     float dm = abs(d[ax]);
-    float sd = dm > 0.0 ? d[2] / dm : 0.0;
+    float sd = ((dm > 0.0) ? (d[2] / dm) : (0.0));
     float sd_err = 2.0 * REAL_EPSILON * abs(sd);
     return vec2(sd, sd_err);
 }

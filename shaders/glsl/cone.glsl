@@ -1,10 +1,11 @@
+// Generated from shaders/wgsl/cone.wgsl by shaders/src/translate.rs: do not edit.
+// Regenerate with: HFCAST_BLESS=1 cargo test -p hfcast-shaders --test validate
 // Mirror of core/src/cone.rs (the march; the bake stays on the CPU): conservative cone
 // step mapping for the triangle surface, and `cone::march`, the step-then-cell-test
-// march that qdm.glsl shares. The closure `step` of the Rust march is the function
-// `cone_march_step`, declared here and defined by the method's file
-// (method_cone.glsl, method_qdm.glsl).
+// march that qdm.wgsl shares. The closure `step` of the Rust march is the function
+// `cone_march_step`, defined by the method's file (method_cone.wgsl, method_qdm.wgsl).
 //
-// Texture layout: the map of hf_cone_bake as `hf_cone_map`, an RG32F texture of
+// Texture layout: the map of hf_cone_bake as `hf_cone_map`, an RG32Float texture of
 // (W - 1) x (H - 1) texels, texel (i, j) = [top, ratio] of cell (i, j).
 
 uniform sampler2D hf_cone_map;
@@ -16,7 +17,9 @@ const int CONE_STEP_CELL = 2; // no safe step: run the exact cell test
 
 // The closure `step(cell, point)` of `march` (`d` is the query's direction, which
 // the Rust closures capture): returns the step (and `dt` for a jump) and the fetches
-// it cost.
+// it cost. Defined by the method's file:
+// fn cone_march_step(cell: vec2<u32>, p: vec3<f32>, d: vec3<f32>, dt: ptr<function, f32>,
+//                    fetches: ptr<function, u32>) -> i32
 int cone_march_step(uvec2 cell, vec3 p, vec3 d, out float dt, out uint fetches);
 
 // `ConeMap::texel`: [top, ratio] of cell (i, j).
@@ -27,8 +30,7 @@ float cone_margin(float z, float top) { return 64.0 * REAL_EPSILON * (1.0 + abs(
 
 // The closure `locate` of `march`.
 uvec2 cone_locate(vec3 p, vec3 d, uvec2 cells) {
-    return uvec2(dda_cell_index(real_clamp_to(p[0], 0.0, float(cells[0])), d[0], cells[0]),
-                 dda_cell_index(real_clamp_to(p[1], 0.0, float(cells[1])), d[1], cells[1]));
+    return uvec2(dda_cell_index(real_clamp_to(p[0], 0.0, float(cells[0])), d[0], cells[0]), dda_cell_index(real_clamp_to(p[1], 0.0, float(cells[1])), d[1], cells[1]));
 }
 
 // The closure `cell_exit` of `march`.
@@ -45,27 +47,27 @@ Trace cone_march(Query q, uint max_iter) {
     if (!dda_clip(q, span)) {
         return trace_miss(0u, real_infinity());
     }
-    vec3 o = q.origin, d = q.dir;
+    vec3 o = q.origin;
+    vec3 d = q.dir;
     uvec2 cells = uvec2(field_width() - 1u, field_height() - 1u);
     ivec2 dstep = ivec2(dda_step_of(d[0]), dda_step_of(d[1]));
     vec3 p0 = query_at(q, span.t0);
-    vec2 start = vec2(real_clamp_to(p0[0], 0.0, float(cells[0])),
-                      real_clamp_to(p0[1], 0.0, float(cells[1])));
+    vec2 start = vec2(real_clamp_to(p0[0], 0.0, float(cells[0])), real_clamp_to(p0[1], 0.0, float(cells[1])));
     uvec2 cell = cone_locate(p0, d, cells);
     vec4 c = surface_corners(cell[0], cell[1]);
     uint fetches = 4u;
     vec3 a;
-    float ca = dda_local_clearance(HF_SURFACE_TRIANGLES, c, cell, vec3(start[0], start[1], p0[2]),
-                                   dda_entry_on(HF_SURFACE_TRIANGLES, span), a);
+    float ca = dda_local_clearance(HF_SURFACE_TRIANGLES, c, cell, vec3(start[0], start[1], p0[2]), dda_entry_on(HF_SURFACE_TRIANGLES, span), a);
     if (ca <= 0.0) {
         return trace_hit(dda_start_hit(HF_SURFACE_TRIANGLES, span, c, cell, a, p0), fetches, 0.0);
     }
     float clearance = ca;
     // `a, ca` valid for the current point; `have_c`: `c` holds the current cell's corners.
-    bool have_ca = true, have_c = true;
+    bool have_ca = true;
+    bool have_c = true;
     float t = span.t0;
     uint iter = 0u;
-    while (true) {
+    for (;;) {
         vec3 p = query_at(q, t);
         if (iter >= max_iter) {
             Trace tr = trace_hit(Hit(t, p, cell, vec3(0.0, 0.0, 1.0), 0u), fetches, clearance);
@@ -105,8 +107,7 @@ Trace cone_march(Query q, uint max_iter) {
                 return trace_hit(Hit(t, p, cell, n, 0u), fetches, clearance);
             }
         }
-        vec2 t_cross = vec2(dda_next_crossing(cell[0], dstep[0], o[0], d[0]),
-                            dda_next_crossing(cell[1], dstep[1], o[1], d[1]));
+        vec2 t_cross = vec2(dda_next_crossing(cell[0], dstep[0], o[0], d[0]), dda_next_crossing(cell[1], dstep[1], o[1], d[1]));
         float t_next = real_min(t_cross[0], t_cross[1]);
         float tb;
         bvec2 cross;
@@ -117,18 +118,15 @@ Trace cone_march(Query q, uint max_iter) {
             tb = span.t1;
             cross = bvec2(false);
         }
-        ivec2 on = ivec2(cross[0] ? int(dstep[0] > 0) : -1, cross[1] ? int(dstep[1] > 0) : -1);
+        ivec2 on = ivec2(((cross[0]) ? (int(dstep[0] > 0)) : (-1)), ((cross[1]) ? (int(dstep[1] > 0)) : (-1)));
         vec3 b;
         float cb = dda_local_clearance(HF_SURFACE_TRIANGLES, c, cell, query_at(q, tb), on, b);
-        SegmentHit seg = surface_segment_hit(HF_SURFACE_TRIANGLES, c, a, b, ca, cb,
-                                             vec3(0.0, 0.0, 1.0));
+        SegmentHit seg = surface_segment_hit(HF_SURFACE_TRIANGLES, c, a, b, ca, cb, vec3(0.0, 0.0, 1.0));
         clearance = real_min(clearance, seg.clearance);
         if (seg.has_hit) {
             float sh = seg.s;
             float th = t + sh * (tb - t);
-            vec3 point = vec3(float(cell[0]) + (a[0] + sh * (b[0] - a[0])),
-                              float(cell[1]) + (a[1] + sh * (b[1] - a[1])),
-                              a[2] + sh * (b[2] - a[2]));
+            vec3 point = vec3(float(cell[0]) + (a[0] + sh * (b[0] - a[0])), float(cell[1]) + (a[1] + sh * (b[1] - a[1])), a[2] + sh * (b[2] - a[2]));
             return trace_hit(Hit(th, point, cell, seg.normal, seg.flags), fetches, clearance);
         }
         if (!cross[0] && !cross[1]) {
@@ -143,7 +141,7 @@ Trace cone_march(Query q, uint max_iter) {
                 cell[k] = uint(next);
             }
         }
-        a = vec3(cross[0] ? 1.0 - b[0] : b[0], cross[1] ? 1.0 - b[1] : b[1], b[2]);
+        a = vec3(((cross[0]) ? (1.0 - b[0]) : (b[0])), ((cross[1]) ? (1.0 - b[1]) : (b[1])), b[2]);
         ca = cb;
         t = tb;
         have_ca = true;
@@ -153,7 +151,7 @@ Trace cone_march(Query q, uint max_iter) {
 }
 
 // `cone_step`: the cone step from ray point p with direction d over a texel [top, ratio].
-int cone_cone_step(vec3 p, vec3 d, float top, float ratio, out float dt) {
+int cone_cone_step(vec3 p, vec3 d, float top, float ratio, inout float dt) {
     dt = 0.0;
     float tol = cone_margin(p[2], top);
     float e = p[2] - top - tol;

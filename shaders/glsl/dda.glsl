@@ -1,10 +1,12 @@
+// Generated from shaders/wgsl/dda.wgsl by shaders/src/translate.rs: do not edit.
+// Regenerate with: HFCAST_BLESS=1 cargo test -p hfcast-shaders --test validate
 // Mirror of core/src/dda.rs: the exact Amanatides-Woo traversal over cells with the
 // exact per-cell test of the surface. Watertight as on the CPU: the clearance at each
 // centerline crossing comes from that edge's two samples only and is shared by the
 // cells on both sides; cell indices are integers and every crossing's t is recomputed
 // from them.
 //
-// `Option<bool>` (the `on` arrays) is an int: -1 = None, 0 = Some(false), 1 = Some(true).
+// `Option<bool>` (the `on` vectors) is an i32: -1 = None, 0 = Some(false), 1 = Some(true).
 
 // `Span<f32>`; `entry` is HF_ENTRY_START, HF_ENTRY_SIDE (normal in `entry_normal`) or
 // HF_ENTRY_TOP.
@@ -17,10 +19,12 @@ struct Span {
 
 // `clip_surface`: clips a query to the box that holds `surface` over the field; false
 // when the ray misses it.
-bool dda_clip_surface(uint surface, Query q, out Span span) {
-    vec3 o = q.origin, d = q.dir;
+bool dda_clip_surface(uint surface, Query q, inout Span span) {
+    vec3 o = q.origin;
+    vec3 d = q.dir;
     vec2 lim = vec2(float(field_width() - 1u), float(field_height() - 1u));
-    float t0 = q.t_min, t1 = q.t_max;
+    float t0 = q.t_min;
+    float t1 = q.t_max;
     uint entry = HF_ENTRY_START;
     vec3 entry_normal = vec3(0.0);
     span = Span(0.0, 0.0, HF_ENTRY_START, vec3(0.0));
@@ -33,22 +37,24 @@ bool dda_clip_surface(uint surface, Query q, out Span span) {
         }
         float a = (0.0 - o[axis]) / d[axis];
         float b = (lim[axis] - o[axis]) / d[axis];
-        float near = d[axis] > 0.0 ? a : b;
-        float far = d[axis] > 0.0 ? b : a;
+        float near = ((d[axis] > 0.0) ? (a) : (b));
+        float far = ((d[axis] > 0.0) ? (b) : (a));
         if (near > t0) {
             t0 = near;
             vec3 n = vec3(0.0);
-            n[axis] = d[axis] > 0.0 ? -1.0 : 1.0;
+            n[axis] = ((d[axis] > 0.0) ? (-1.0) : (1.0));
             entry = HF_ENTRY_SIDE;
             entry_normal = n;
         }
         t1 = real_min(t1, far);
     }
-    float zmin = field_min_height(), zmax = field_max_height();
+    float zmin = field_min_height();
+    float zmax = field_max_height();
 //#if linear_planes
     if (surface == HF_SURFACE_LINEAR_PLANES) {
         float range = zmax - zmin;
-        float lo = zmin - range, hi = zmax + range;
+        float lo = zmin - range;
+        float hi = zmax + range;
         zmin = lo;
         zmax = hi;
     }
@@ -76,7 +82,7 @@ bool dda_clip_surface(uint surface, Query q, out Span span) {
 }
 
 // `clip`: the box of the triangle surface (the sample range in z).
-bool dda_clip(Query q, out Span span) { return dda_clip_surface(HF_SURFACE_TRIANGLES, q, span); }
+bool dda_clip(Query q, inout Span span) { return dda_clip_surface(HF_SURFACE_TRIANGLES, q, span); }
 
 // `cell_index`: first cell index along one axis for coordinate x in [0, cells] moving
 // with direction d; a point on a cell boundary belongs to the cell the ray moves into.
@@ -112,22 +118,28 @@ float dda_next_crossing(uint i, int step, float o, float d) {
 // `local_clearance`: local point (written to `b`) and clearance of the grid point p in
 // `cell`; on a centerline crossing (`on[axis] >= 0`) the height comes from that edge's
 // two samples only, so both cells sharing the edge compute the same clearance.
-float dda_local_clearance(uint surface, vec4 c, uvec2 cell, vec3 p, ivec2 on, out vec3 b) {
-    float lx = on[0] >= 0 ? float(on[0]) : real_clamp_to(p[0] - float(cell[0]), 0.0, 1.0);
-    float ly = on[1] >= 0 ? float(on[1]) : real_clamp_to(p[1] - float(cell[1]), 0.0, 1.0);
+float dda_local_clearance(uint surface, vec4 c, uvec2 cell, vec3 p, ivec2 on, inout vec3 b) {
+    float lx = real_clamp_to(p[0] - float(cell[0]), 0.0, 1.0);
+    if (on[0] >= 0) {
+        lx = float(on[0]);
+    }
+    float ly = real_clamp_to(p[1] - float(cell[1]), 0.0, 1.0);
+    if (on[1] >= 0) {
+        ly = float(on[1]);
+    }
     b = vec3(lx, ly, p[2]);
     float height;
     if (on[0] >= 0 && on[1] >= 0) {
-        height = c[on[0] | (on[1] << 1)];
+        height = c[on[0] | (on[1] << 1u)];
     } else if (on[0] >= 0) {
-        height = real_lerp(c[on[0]], c[on[0] + 2], b[1]);
+        height = real_lerp(c[on[0]], c[on[0] + 2], (b)[1]);
     } else if (on[1] >= 0) {
-        int k = on[1] << 1;
-        height = real_lerp(c[k], c[k + 1], b[0]);
+        int k = on[1] << 1u;
+        height = real_lerp(c[k], c[k + 1], (b)[0]);
     } else {
-        height = surface_cell_height(surface, c, b[0], b[1]);
+        height = surface_cell_height(surface, c, (b)[0], (b)[1]);
     }
-    return b[2] - height;
+    return (b)[2] - height;
 }
 
 // `entry_on`: how the span's first point lies on its cell's edges (a side entry of a
@@ -141,7 +153,7 @@ ivec2 dda_entry_on(uint surface, Span span) {
 //#if triangles|bilinear|view_linear
     if (span.entry == HF_ENTRY_SIDE) {
         vec3 n = span.entry_normal;
-        return ivec2(n[0] != 0.0 ? int(n[0] > 0.0) : -1, n[1] != 0.0 ? int(n[1] > 0.0) : -1);
+        return ivec2(((n[0] != 0.0) ? (int(n[0] > 0.0)) : (-1)), ((n[1] != 0.0) ? (int(n[1] > 0.0)) : (-1)));
     }
 //#endif
     return ivec2(-1);
@@ -149,7 +161,7 @@ ivec2 dda_entry_on(uint surface, Span span) {
 
 // `start_clearance`: `Trace::clearance` of a hit where the span begins.
 float dda_start_clearance(Span span, float ca) {
-    return span.entry == HF_ENTRY_TOP ? real_infinity() : -ca;
+    return ((span.entry == HF_ENTRY_TOP) ? (real_infinity()) : (-ca));
 }
 
 // `start_hit`: the hit of a ray already under the surface where its span begins.
@@ -176,32 +188,28 @@ Trace dda_trace(uint surface, Query q) {
     if (!dda_clip_surface(surface, q, span)) {
         return trace_miss(0u, real_infinity());
     }
-    vec3 o = q.origin, d = q.dir;
+    vec3 o = q.origin;
+    vec3 d = q.dir;
     // Per-axis state, index 0 = x, 1 = y.
     uvec2 cells = uvec2(field_width() - 1u, field_height() - 1u);
     vec3 p0 = query_at(q, span.t0);
-    vec2 start = vec2(real_clamp_to(p0[0], 0.0, float(cells[0])),
-                      real_clamp_to(p0[1], 0.0, float(cells[1])));
-    uvec2 cell = uvec2(dda_cell_index(start[0], d[0], cells[0]),
-                       dda_cell_index(start[1], d[1], cells[1]));
+    vec2 start = vec2(real_clamp_to(p0[0], 0.0, float(cells[0])), real_clamp_to(p0[1], 0.0, float(cells[1])));
+    uvec2 cell = uvec2(dda_cell_index(start[0], d[0], cells[0]), dda_cell_index(start[1], d[1], cells[1]));
     ivec2 step = ivec2(dda_step_of(d[0]), dda_step_of(d[1]));
     vec4 c = surface_corners(cell[0], cell[1]);
     uint fetches = 4u;
     vec3 a;
-    float ca = dda_local_clearance(surface, c, cell, vec3(start[0], start[1], p0[2]),
-                                   dda_entry_on(surface, span), a);
+    float ca = dda_local_clearance(surface, c, cell, vec3(start[0], start[1], p0[2]), dda_entry_on(surface, span), a);
 
     if (ca <= 0.0) {
-        return trace_hit(dda_start_hit(surface, span, c, cell, a, p0), fetches,
-                         dda_start_clearance(span, ca));
+        return trace_hit(dda_start_hit(surface, span, c, cell, a, p0), fetches, dda_start_clearance(span, ca));
     }
 
     float clearance = ca;
     float ta = span.t0;
     vec3 wall = vec3(0.0, 0.0, 1.0);
-    vec2 t_cross = vec2(dda_next_crossing(cell[0], step[0], o[0], d[0]),
-                        dda_next_crossing(cell[1], step[1], o[1], d[1]));
-    while (true) {
+    vec2 t_cross = vec2(dda_next_crossing(cell[0], step[0], o[0], d[0]), dda_next_crossing(cell[1], step[1], o[1], d[1]));
+    for (;;) {
         float t_next = real_min(t_cross[0], t_cross[1]);
         float tb;
         bvec2 cross;
@@ -213,7 +221,7 @@ Trace dda_trace(uint surface, Query q) {
             cross = bvec2(false);
         }
         // Clearance at the exit point; on a centerline, from that edge's two samples only.
-        ivec2 on = ivec2(cross[0] ? int(step[0] > 0) : -1, cross[1] ? int(step[1] > 0) : -1);
+        ivec2 on = ivec2(((cross[0]) ? (int(step[0] > 0)) : (-1)), ((cross[1]) ? (int(step[1] > 0)) : (-1)));
         vec3 b;
         float cb = dda_local_clearance(surface, c, cell, query_at(q, tb), on, b);
         SegmentHit seg = surface_segment_hit(surface, c, a, b, ca, cb, wall);
@@ -222,9 +230,7 @@ Trace dda_trace(uint surface, Query q) {
             float s = seg.s;
             float t = ta + s * (tb - ta);
             // The point from the cell's integer corner plus local coordinates.
-            vec3 point = vec3(float(cell[0]) + (a[0] + s * (b[0] - a[0])),
-                              float(cell[1]) + (a[1] + s * (b[1] - a[1])),
-                              a[2] + s * (b[2] - a[2]));
+            vec3 point = vec3(float(cell[0]) + (a[0] + s * (b[0] - a[0])), float(cell[1]) + (a[1] + s * (b[1] - a[1])), a[2] + s * (b[2] - a[2]));
             return trace_hit(Hit(t, point, cell, seg.normal, seg.flags), fetches, clearance);
         }
         if (!cross[0] && !cross[1]) {
@@ -246,12 +252,12 @@ Trace dda_trace(uint surface, Query q) {
             break;
         }
         // The face entered (x's when the ray passes exactly through a corner).
-        int k = cross[0] ? 0 : 1;
+        int k = ((cross[0]) ? (0) : (1));
         wall = vec3(0.0);
-        wall[k] = step[k] > 0 ? -1.0 : 1.0;
+        wall[k] = ((step[k] > 0) ? (-1.0) : (1.0));
         c = surface_corners(cell[0], cell[1]);
         fetches += 4u;
-        a = vec3(cross[0] ? 1.0 - b[0] : b[0], cross[1] ? 1.0 - b[1] : b[1], b[2]);
+        a = vec3(((cross[0]) ? (1.0 - b[0]) : (b[0])), ((cross[1]) ? (1.0 - b[1]) : (b[1])), b[2]);
         ca = cb;
         ta = tb;
     }

@@ -1,15 +1,24 @@
+// Generated from shaders/wgsl/maxmip.wgsl by shaders/src/translate.rs: do not edit.
+// Regenerate with: HFCAST_BLESS=1 cargo test -p hfcast-shaders --test validate
 // Mirror of core/src/maxmip.rs: the hierarchical march over the maximum mipmap
 // (Tevs et al. 2008) with exact options (Ascent::OneLevel, no LOD, exact bilinear).
 //
 // Texture layout: the pyramid buffer of hf_maxmip_bake (level 0 first, row-major) is
-// uploaded as one R32F texture `hf_pyramid` HF_PYRAMID_TEX_WIDTH texels wide: pyramid
-// texel k is texel (k % HF_PYRAMID_TEX_WIDTH, k / HF_PYRAMID_TEX_WIDTH). The levels
-// (hf_maxmip_levels) are the uniforms `hf_levels`, `hf_level_dims`, `hf_level_offset`.
+// uploaded as one R32Float texture `hf_pyramid` HF_PYRAMID_TEX_WIDTH texels wide:
+// pyramid texel k is texel (k % HF_PYRAMID_TEX_WIDTH, k / HF_PYRAMID_TEX_WIDTH). The
+// levels (hf_maxmip_levels) are, in WGSL, the uniform `hf_maxmip`: `levels` the level
+// count, `level[l]` = (width, height, offset, 0) of level l; in GLSL the uniforms
+// `hf_levels`, `hf_level_dims`, `hf_level_offset`.
 
 uniform sampler2D hf_pyramid;
+
 uniform int hf_levels;
 uniform ivec2 hf_level_dims[HF_MAX_LEVELS];
 uniform int hf_level_offset[HF_MAX_LEVELS];
+
+// The level count, and level l's (width, height, offset, 0).
+int maxmip_levels() { return hf_levels; }
+ivec4 maxmip_level(uint level) { return ivec4(hf_level_dims[level], hf_level_offset[level], 0); }
 
 // `u32::ilog2` (GLSL 3.30 has no findMSB); v >= 1.
 uint maxmip_ilog2(uint v) {
@@ -33,15 +42,15 @@ uint maxmip_trailing_zeros(uint v) {
 
 // `MaxMip::texel`: texel (i, j) of `level`, the highest sample of that node's cells.
 float maxmip_texel(uint level, uint i, uint j) {
-    int k = hf_level_offset[level] + int(j) * hf_level_dims[level].x + int(i);
+    ivec4 l = maxmip_level(level);
+    int k = l.z + int(j) * l.x + int(i);
     return texelFetch(hf_pyramid, ivec2(k % HF_PYRAMID_TEX_WIDTH, k / HF_PYRAMID_TEX_WIDTH), 0).r;
 }
 
 // `sync_axis`: moves one axis to the cell the ray is in just after parameter t, from
 // cell i inside the node's cells [lo, hi); `exact` says whether the last boundary
 // crossed lies exactly at t.
-uint maxmip_sync_axis(uint i, int step, uint lo, uint hi, float o, float d, float t,
-                      out bool exact) {
+uint maxmip_sync_axis(uint i, int step, uint lo, uint hi, float o, float d, float t, inout bool exact) {
     // The estimate; x >= 0, so truncation is the floor.
     float x = real_clamp_to(o + t * d, float(lo), float(hi - 1u));
     uint j = uint(x);
@@ -70,9 +79,9 @@ uint maxmip_sync_axis(uint i, int step, uint lo, uint hi, float o, float d, floa
 // `entry_wall`: normal of the wall a cell was entered through (up at the start).
 vec3 maxmip_entry_wall(ivec2 on, ivec2 step) {
     if (on[0] >= 0) {
-        return vec3(step[0] > 0 ? -1.0 : 1.0, 0.0, 0.0);
+        return vec3(((step[0] > 0) ? (-1.0) : (1.0)), 0.0, 0.0);
     } else if (on[1] >= 0) {
-        return vec3(0.0, step[1] > 0 ? -1.0 : 1.0, 0.0);
+        return vec3(0.0, ((step[1] > 0) ? (-1.0) : (1.0)), 0.0);
     }
     return vec3(0.0, 0.0, 1.0);
 }
@@ -94,17 +103,17 @@ Trace maxmip_trace(uint surface, Query q) {
     if (!dda_clip(q, span)) {
         return trace_miss(0u, real_infinity());
     }
-    vec3 o = q.origin, d = q.dir;
+    vec3 o = q.origin;
+    vec3 d = q.dir;
     uvec2 cells = uvec2(field_width() - 1u, field_height() - 1u);
     ivec2 step = ivec2(dda_step_of(d[0]), dda_step_of(d[1]));
     vec3 p = query_at(q, span.t0);
-    uvec2 cell = uvec2(dda_cell_index(real_clamp_to(p[0], 0.0, float(cells[0])), d[0], cells[0]),
-                       dda_cell_index(real_clamp_to(p[1], 0.0, float(cells[1])), d[1], cells[1]));
-    uint top = uint(hf_levels) - 1u;
+    uvec2 cell = uvec2(dda_cell_index(real_clamp_to(p[0], 0.0, float(cells[0])), d[0], cells[0]), dda_cell_index(real_clamp_to(p[1], 0.0, float(cells[1])), d[1], cells[1]));
+    uint top = uint(maxmip_levels()) - 1u;
     // Start where nodes are a quarter to an eighth of the ray's horizontal reach.
     float reach = real_max(abs(d[0]), abs(d[1])) * (span.t1 - span.t0);
     uint msb = maxmip_ilog2(uint(real_min(reach, 1073741824.0)) + 1u);
-    uint start_level = msb >= 2u ? msb - 2u : 0u;
+    uint start_level = ((msb >= 2u) ? (msb - 2u) : (0u));
     uint level = min(start_level, top);
     float t = span.t0;
     bool start = true;
@@ -113,21 +122,23 @@ Trace maxmip_trace(uint surface, Query q) {
     ivec2 on = dda_entry_on(surface, span);
     uint fetches = 0u;
     float clearance = real_infinity();
-    while (true) {
+    for (;;) {
         // The node holding the cell at this level, and where the ray leaves it.
-        uvec2 lo, hi, bound;
+        uvec2 lo;
+        uvec2 hi;
+        uvec2 bound;
         vec2 t_out = vec2(real_infinity());
         for (int k = 0; k < 2; k++) {
             lo[k] = (cell[k] >> level) << level;
             hi[k] = min(lo[k] + (1u << level), cells[k]);
-            bound[k] = step[k] > 0 ? hi[k] : lo[k];
+            bound[k] = ((step[k] > 0) ? (hi[k]) : (lo[k]));
             if (step[k] != 0) {
                 t_out[k] = (float(bound[k]) - o[k]) / d[k];
             }
         }
         float t_next = real_min(t_out[0], t_out[1]);
         bool crossing = t_next < span.t1;
-        float tb = crossing ? real_max(t_next, t) : span.t1;
+        float tb = ((crossing) ? (real_max(t_next, t)) : (span.t1));
         vec3 pb = query_at(q, tb);
         float top_z = maxmip_texel(level, cell[0] >> level, cell[1] >> level);
         fetches += 1u;
@@ -151,11 +162,15 @@ Trace maxmip_trace(uint surface, Query q) {
                     // A graze of the edge the ray came in through.
                     hit = Hit(t, p, cell, surface_cell_normal(surface, c, a[0], a[1]), 0u);
                 }
-                float cl = start ? dda_start_clearance(span, ca) : real_min(clearance, ca);
+                float cl;
+                if (start) {
+                    cl = dda_start_clearance(span, ca);
+                } else {
+                    cl = real_min(clearance, ca);
+                }
                 return trace_hit(hit, fetches, cl);
             }
-            ivec2 exit_on = ivec2(crossing && t_out[0] <= t_next ? int(step[0] > 0) : -1,
-                                  crossing && t_out[1] <= t_next ? int(step[1] > 0) : -1);
+            ivec2 exit_on = ivec2(((crossing && t_out[0] <= t_next) ? (int(step[0] > 0)) : (-1)), ((crossing && t_out[1] <= t_next) ? (int(step[1] > 0)) : (-1)));
             vec3 b;
             float cb = dda_local_clearance(surface, c, cell, pb, exit_on, b);
             vec3 wall = maxmip_entry_wall(on, step);
@@ -165,9 +180,7 @@ Trace maxmip_trace(uint surface, Query q) {
                 float s = seg.s;
                 float th = t + s * (tb - t);
                 // As dda_trace: the cell's corner plus local coordinates.
-                vec3 point = vec3(float(cell[0]) + (a[0] + s * (b[0] - a[0])),
-                                  float(cell[1]) + (a[1] + s * (b[1] - a[1])),
-                                  a[2] + s * (b[2] - a[2]));
+                vec3 point = vec3(float(cell[0]) + (a[0] + s * (b[0] - a[0])), float(cell[1]) + (a[1] + s * (b[1] - a[1])), a[2] + s * (b[2] - a[2]));
                 return trace_hit(Hit(th, point, cell, seg.normal, seg.flags), fetches, clearance);
             }
         }
@@ -179,22 +192,21 @@ Trace maxmip_trace(uint surface, Query q) {
         uint crossed_level = level;
         for (int k = 0; k < 2; k++) {
             if (step[k] != 0 && t_out[k] <= t_next) {
-                if (bound[k] == (step[k] > 0 ? cells[k] : 0u)) {
+                if (bound[k] == ((step[k] > 0) ? (cells[k]) : (0u))) {
                     return trace_miss(fetches, clearance);
                 }
-                cell[k] = step[k] > 0 ? bound[k] : bound[k] - 1u;
+                cell[k] = ((step[k] > 0) ? (bound[k]) : (bound[k] - 1u));
                 on[k] = int(step[k] < 0);
                 crossed_level = max(crossed_level, maxmip_trailing_zeros(bound[k]));
             } else if (step[k] != 0 && level > 0u) {
                 bool exact;
-                cell[k] = maxmip_sync_axis(cell[k], step[k], lo[k], hi[k], o[k], d[k], t_next,
-                                           exact);
-                on[k] = exact ? int(step[k] < 0) : -1;
+                cell[k] = maxmip_sync_axis(cell[k], step[k], lo[k], hi[k], o[k], d[k], t_next, exact);
+                on[k] = ((exact) ? (int(step[k] < 0)) : (-1));
             } else {
                 on[k] = -1;
             }
         }
-        level = min(crossed_level > level ? level + 1u : level, top);
+        level = min(((crossed_level > level) ? (level + 1u) : (level)), top);
         t = tb;
         p = pb;
         start = false;

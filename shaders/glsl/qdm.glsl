@@ -1,8 +1,10 @@
+// Generated from shaders/wgsl/qdm.wgsl by shaders/src/translate.rs: do not edit.
+// Regenerate with: HFCAST_BLESS=1 cargo test -p hfcast-shaders --test validate
 // Mirror of core/src/qdm.rs (the march; the bake stays on the CPU): quadratic
 // displacement maps, per cell a cone (a, b) topped by a revolved parabola c over the
-// cell's top h; steps by cone_march (cone.glsl).
+// cell's top h; steps by cone_march (cone.wgsl).
 //
-// Texture layout: the map of hf_qdm_bake as `hf_qdm_map`, an RGBA32F texture of
+// Texture layout: the map of hf_qdm_bake as `hf_qdm_map`, an RGBA32Float texture of
 // (W - 1) x (H - 1) texels, texel (i, j) = [a, b, c, h] of cell (i, j).
 
 uniform sampler2D hf_qdm_map;
@@ -12,7 +14,7 @@ vec4 qdm_texel(uint i, uint j) { return texelFetch(hf_qdm_map, ivec2(i, j), 0); 
 
 // `solve_stable`: smallest root x >= 0 of `A x^2 + B x + C` without cancellation;
 // `found` false for none.
-float qdm_solve_stable(float qa, float qb, float qc, out bool found) {
+float qdm_solve_stable(float qa, float qb, float qc, inout bool found) {
     found = false;
     float best = 0.0;
     float disc = qb * qb - 4.0 * qa * qc;
@@ -20,16 +22,19 @@ float qdm_solve_stable(float qa, float qb, float qc, out bool found) {
         return best;
     }
     float sq = sqrt(disc);
-    float q = qb >= 0.0 ? -0.5 * (qb + sq) : -0.5 * (qb - sq);
-    float roots[2];
+    float q = ((qb >= 0.0) ? (-0.5 * (qb + sq)) : (-0.5 * (qb - sq)));
+    float[2] roots;
     int n = 0;
     if (q == 0.0) {
         if (qc == 0.0) {
-            roots[n++] = 0.0;
+            roots[n] = 0.0;
+            n++;
         }
     } else {
-        roots[n++] = q / qa;
-        roots[n++] = qc / q;
+        roots[n] = q / qa;
+        n++;
+        roots[n] = qc / q;
+        n++;
     }
     for (int k = 0; k < n; k++) {
         float r = roots[k];
@@ -43,9 +48,11 @@ float qdm_solve_stable(float qa, float qb, float qc, out bool found) {
 
 // `free_distance`: horizontal distance rho the ray (height e0 above h, rise g per unit
 // of horizontal distance) may go before it meets F(rho); `found` false: never.
-float qdm_free_distance(vec4 tex, float e0, float g, out bool found) {
+float qdm_free_distance(vec4 tex, float e0, float g, inout bool found) {
     found = true;
-    float a = tex[0], b = tex[1], c = tex[2];
+    float a = tex[0];
+    float b = tex[1];
+    float c = tex[2];
     float inv_a = 1.0 / a;
     float k = inv_a - g;
     float ab = a * b;
@@ -70,7 +77,7 @@ float qdm_free_distance(vec4 tex, float e0, float g, out bool found) {
 }
 
 // The closure of `qdm::trace_steps`: one fetch of the cell's texel, then the step.
-int qdm_step(uvec2 cell, vec3 p, vec3 d, out float dt, out uint fetches) {
+int qdm_step(uvec2 cell, vec3 p, vec3 d, inout float dt, inout uint fetches) {
     dt = 0.0;
     fetches = 1u;
     float hs = sqrt(d[0] * d[0] + d[1] * d[1]);

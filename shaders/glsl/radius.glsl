@@ -1,8 +1,10 @@
+// Generated from shaders/wgsl/radius.wgsl by shaders/src/translate.rs: do not edit.
+// Regenerate with: HFCAST_BLESS=1 cargo test -p hfcast-shaders --test validate
 // Mirror of core/src/radius.rs (the march; the bake stays on the CPU): the safety
 // radius (Baboud & Decoret 2006) on the triangle surface, or the view-linear one from
-// the same map, stepping with the safety march of safety.glsl.
+// the same map, stepping with the safety march of safety.wgsl.
 //
-// Texture layout: the map of hf_radius_bake as `hf_radius_map`, an R8UI texture of
+// Texture layout: the map of hf_radius_bake as `hf_radius_map`, an R8Uint texture of
 // W x H texels: the radius of texel (i, j).
 
 uniform usampler2D hf_radius_map;

@@ -1,3 +1,5 @@
+// Generated from shaders/wgsl/ray.wgsl by shaders/src/translate.rs: do not edit.
+// Regenerate with: HFCAST_BLESS=1 cargo test -p hfcast-shaders --test validate
 // Mirror of core/src/ray.rs: queries, hits, traces, ray classes.
 
 // `Query<f32>`: `origin + t * dir` for t in [t_min, t_max] (validated by the caller).

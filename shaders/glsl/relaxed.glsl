@@ -1,9 +1,11 @@
+// Generated from shaders/wgsl/relaxed.wgsl by shaders/src/translate.rs: do not edit.
+// Regenerate with: HFCAST_BLESS=1 cargo test -p hfcast-shaders --test validate
 // Mirror of core/src/relaxed.rs (the march; the bake stays on the CPU): relaxed cone
 // stepping (Policarpo & Oliveira 2007), approximate: cone steps until the ray is under
 // the surface, then a binary search between the last two points.
 //
-// Texture layout: the map of hf_relaxed_bake as `hf_relaxed_map`, an R32F texture of
-// W x H texels, texel (i, j) = the ratio of sample (i, j).
+// Texture layout: the map of hf_relaxed_bake as `hf_relaxed_map`, an R32Float texture
+// of W x H texels, texel (i, j) = the ratio of sample (i, j).
 
 uniform sampler2D hf_relaxed_map;
 
@@ -17,13 +19,12 @@ float relaxed_above(Query q, float t, inout uint fetches) {
 // The closure `hit` of `trace_steps`.
 Trace relaxed_hit(Query q, float t, uint fetches, uint flags) {
     vec3 p = query_at(q, t);
-    float xm = float(field_width() - 1u), ym = float(field_height() - 1u);
+    float xm = float(field_width() - 1u);
+    float ym = float(field_height() - 1u);
     float x = real_clamp_to(p[0], 0.0, xm);
     float y = real_clamp_to(p[1], 0.0, ym);
-    uvec2 cell = uvec2(min(uint(floor(x)), field_width() - 2u),
-                       min(uint(floor(y)), field_height() - 2u));
-    Trace tr = trace_hit(Hit(t, p, cell, surface_normal_at(HF_SURFACE_TRIANGLES, x, y), 0u),
-                         fetches, real_infinity());
+    uvec2 cell = uvec2(min(uint(floor(x)), field_width() - 2u), min(uint(floor(y)), field_height() - 2u));
+    Trace tr = trace_hit(Hit(t, p, cell, surface_normal_at(HF_SURFACE_TRIANGLES, x, y), 0u), fetches, real_infinity());
     tr.flags = flags;
     return tr;
 }
@@ -37,7 +38,8 @@ Trace relaxed_trace(Query q, uint cone_steps, uint binary) {
     vec3 d = q.dir;
     float hs = sqrt(d[0] * d[0] + d[1] * d[1]);
     uint w = field_width();
-    float xm = float(w - 1u), ym = float(field_height() - 1u);
+    float xm = float(w - 1u);
+    float ym = float(field_height() - 1u);
     uint fetches = 0u;
     float t = span.t0;
     float dh = relaxed_above(q, t, fetches);
@@ -56,7 +58,7 @@ Trace relaxed_trace(Query q, uint cone_steps, uint binary) {
         uint j = uint(floor(real_clamp_to(p[1], 0.0, ym) + 0.5));
         float r = texelFetch(hf_relaxed_map, ivec2(min(i, w - 1u), j), 0).r;
         fetches += 1u;
-        float denom = hs == 0.0 ? -d[2] : hs / r - d[2];
+        float denom = ((hs == 0.0) ? (-d[2]) : (hs / r - d[2]));
         if (!(denom > 0.0)) {
             return trace_miss(fetches, real_infinity());
         }
@@ -68,7 +70,8 @@ Trace relaxed_trace(Query q, uint cone_steps, uint binary) {
         dh = relaxed_above(q, t, fetches);
     }
     // Binary search between the last point above and the first one under.
-    float lo = t_prev, hi = t;
+    float lo = t_prev;
+    float hi = t;
     for (uint k = 0u; k < binary; k++) {
         float mid = 0.5 * (lo + hi);
         if (relaxed_above(q, mid, fetches) > 0.0) {

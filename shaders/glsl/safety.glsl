@@ -1,3 +1,5 @@
+// Generated from shaders/wgsl/safety.wgsl by shaders/src/translate.rs: do not edit.
+// Regenerate with: HFCAST_BLESS=1 cargo test -p hfcast-shaders --test validate
 // Mirror of core/src/safety.rs (the march; the bake stays on the CPU): safety
 // distances (Baboud, Eisemann, Seidel 2011) on the triangle surface, or (§7 of the
 // paper, `MarchSurface`) on the view-linear surface from the same triangle-baked maps.
@@ -6,27 +8,28 @@
 // samples on that centerline; above, jump; below, bisect on integer centerlines and
 // finish with the exact cell test of the march's surface.
 //
-// Texture layout: the map of hf_safety_bake as `hf_safety_map`, an R8UI texture;
-// `hf_safety_variant` says which layout, `hf_safety_classes` which ray classes the map
-// holds (HF_RAYS_* bits, HF_RAYS_ALL for a whole map; `SafetyMap::with_classes`):
-// HF_SAFETY_DIRECTIONAL W x nH texels for the n classes held, texel (i, n j + slot) =
-// the distance of texel (i, j) for the ray class of that slot (each texel row as n rows,
-// one per held class in class order x+, x-, y+, y-; slot = how many held classes come
-// before it; a whole map: W x 4H, texel (i, 4 j + ray_class)); HF_SAFETY_ISOTROPIC
-// W x H, texel (i, j), valid for the held classes only. A ray of a class the map does
-// not hold reads distance 0 without a fetch (it walks cell by cell, still exact).
+// Texture layout: the map of hf_safety_bake as `hf_safety_map`, an R8Uint texture;
+// the override `hf_safety_variant` says which layout, the override `hf_safety_classes`
+// which ray classes the map holds (HF_RAYS_* bits, HF_RAYS_ALL for a whole map;
+// `SafetyMap::with_classes`): HF_SAFETY_DIRECTIONAL W x nH texels for the n classes
+// held, texel (i, n j + slot) = the distance of texel (i, j) for the ray class of that
+// slot (each texel row as n rows, one per held class in class order x+, x-, y+, y-;
+// slot = how many held classes come before it; a whole map: W x 4H, texel
+// (i, 4 j + ray_class)); HF_SAFETY_ISOTROPIC W x H, texel (i, j), valid for the held
+// classes only. A ray of a class the map does not hold reads distance 0 without a
+// fetch (it walks cell by cell, still exact).
 
 uniform usampler2D hf_safety_map;
-uniform uint hf_safety_variant;
+uniform uint hf_safety_variant = 0u;
 uniform uint hf_safety_classes = 15u;
 
 // `RayClasses::contains`: whether the set `classes` (HF_RAYS_* bits) holds ray_class.
 bool safety_holds(uint classes, uint ray_class) { return (classes & (1u << ray_class)) != 0u; }
 
-// `RayClasses::count`: how many of the four classes `classes` holds (GLSL 3.30 has no
-// bitCount).
+// `RayClasses::count`: how many of the four classes `classes` holds (bit by bit:
+// GLSL 3.30 has no bitCount).
 uint safety_class_count(uint classes) {
-    return (classes & 1u) + ((classes >> 1) & 1u) + ((classes >> 2) & 1u) + ((classes >> 3) & 1u);
+    return (classes & 1u) + ((classes >> 1u) & 1u) + ((classes >> 2u) & 1u) + ((classes >> 3u) & 1u);
 }
 
 // `ClassRows::index` (the row): texel row j of a class-per-row map holding `classes`
@@ -43,8 +46,7 @@ uint safety_distance(uint ray_class, uint i, uint j) {
         return 0u;
     }
 //#if any_variant
-    uint row = hf_safety_variant == HF_SAFETY_DIRECTIONAL
-        ? safety_class_row(hf_safety_classes, ray_class, j) : j;
+    uint row = ((hf_safety_variant == HF_SAFETY_DIRECTIONAL) ? (safety_class_row(hf_safety_classes, ray_class, j)) : (j));
     return texelFetch(hf_safety_map, ivec2(i, row), 0).r;
 //#else
 //#if directional
@@ -58,15 +60,20 @@ uint safety_distance(uint ray_class, uint i, uint j) {
 
 // `axis_of`: main axis (0 = x, 1 = y) of a ray_class.
 int safety_axis_of(uint ray_class) {
-    return ray_class == HF_RAY_CLASS_X_POS || ray_class == HF_RAY_CLASS_X_NEG ? 0 : 1;
+    return ((ray_class == HF_RAY_CLASS_X_POS || ray_class == HF_RAY_CLASS_X_NEG) ? (0) : (1));
 }
 
 // `sample`: sample at main index m, minor index n of axis ax.
-float safety_sample(int ax, uint m, uint n) { return ax == 0 ? field_at(m, n) : field_at(n, m); }
+float safety_sample(int ax, uint m, uint n) {
+    if (ax == 0) {
+        return field_at(m, n);
+    }
+    return field_at(n, m);
+}
 
 // `extents`: samples along (main, minor) of axis ax.
 uvec2 safety_extents(int ax) {
-    return ax == 0 ? uvec2(field_width(), field_height()) : uvec2(field_height(), field_width());
+    return ((ax == 0) ? (uvec2(field_width(), field_height())) : (uvec2(field_height(), field_width())));
 }
 
 // `Line<f32>`: the ray where it crosses the main-axis centerline m.
@@ -82,7 +89,8 @@ struct SafetyLine {
 
 // `line_at`: evaluates the crossing of centerline m of axis ax; two fetches.
 SafetyLine safety_line_at(Query q, int ax, uint m) {
-    vec3 o = q.origin, d = q.dir;
+    vec3 o = q.origin;
+    vec3 d = q.dir;
     int mi = 1 - ax;
     uint ln = safety_extents(ax)[1];
     float t = (float(m) - o[ax]) / d[ax];
@@ -94,11 +102,11 @@ SafetyLine safety_line_at(Query q, int ax, uint m) {
     float h0 = safety_sample(ax, m, edge);
     float h1 = safety_sample(ax, m, edge + 1u);
     float c = p[2] - real_lerp(h0, h1, v);
-    uint texel = v < 0.5 ? edge : edge + 1u;
+    uint texel = ((v < 0.5) ? (edge) : (edge + 1u));
     float ys = 1.0 + abs(o[mi]) + abs(p[mi]);
     float zs = 1.0 + abs(o[2]) + abs(p[2]) + abs(h0) + abs(h1 - h0) * ys;
     float rel = real_max(32.0 * REAL_EPSILON, 9.313225746154785e-10);
-    float tol = 8.0 * REAL_EPSILON * ys > HF_SAFETY_SEG_PAD ? real_infinity() : rel * zs;
+    float tol = ((8.0 * REAL_EPSILON * ys > HF_SAFETY_SEG_PAD) ? (real_infinity()) : (rel * zs));
     return SafetyLine(m, t, p, c, edge, texel, tol);
 }
 
@@ -128,10 +136,10 @@ struct SafetyMarch {
 
 // `March::line`: a centerline evaluation, counted.
 SafetyLine safety_march_line(inout SafetyMarch mr, Query q, uint m) {
-    mr.fetches += 2u;
-    SafetyLine l = safety_line_at(q, mr.ax, m);
+    (mr).fetches += 2u;
+    SafetyLine l = safety_line_at(q, (mr).ax, m);
     if (l.c > 0.0) {
-        mr.clearance = real_min(mr.clearance, l.c);
+        (mr).clearance = real_min((mr).clearance, l.c);
     }
     return l;
 }
@@ -139,79 +147,81 @@ SafetyLine safety_march_line(inout SafetyMarch mr, Query q, uint m) {
 // `March::wall_of`: normal of a wall facing the ray on `axis`.
 vec3 safety_march_wall_of(SafetyMarch mr, int axis) {
     vec3 n = vec3(0.0);
-    n[axis] = mr.step[axis] > 0 ? -1.0 : 1.0;
+    n[axis] = ((mr.step[axis] > 0) ? (-1.0) : (1.0));
     return n;
 }
 
 // `March::enter`: puts the walk just past the crossing l (above the surface).
 void safety_march_enter(inout SafetyMarch mr, Query q, SafetyLine l) {
-    int ax = mr.ax, mi = 1 - mr.ax;
-    vec3 o = q.origin, d = q.dir;
-    mr.ic[ax] = mr.step[ax] > 0 ? l.m : l.m - 1u;
-    float y = real_clamp_to(l.p[mi], 0.0, float(mr.cells[mi]));
-    mr.ic[mi] = dda_cell_index(y, d[mi], mr.cells[mi]);
-    mr.a[ax] = mr.step[ax] > 0 ? 0.0 : 1.0;
-    mr.a[mi] = real_clamp_to(l.p[mi] - float(mr.ic[mi]), 0.0, 1.0);
-    mr.a[2] = l.p[2];
-    mr.ca = l.c;
-    mr.ta = l.t;
-    mr.wall = safety_march_wall_of(mr, ax);
+    int ax = (mr).ax;
+    int mi = 1 - (mr).ax;
+    vec3 o = q.origin;
+    vec3 d = q.dir;
+    (mr).ic[ax] = (((mr).step[ax] > 0) ? (l.m) : (l.m - 1u));
+    float y = real_clamp_to(l.p[mi], 0.0, float((mr).cells[mi]));
+    (mr).ic[mi] = dda_cell_index(y, d[mi], (mr).cells[mi]);
+    (mr).a[ax] = (((mr).step[ax] > 0) ? (0.0) : (1.0));
+    (mr).a[mi] = real_clamp_to(l.p[mi] - float((mr).ic[mi]), 0.0, 1.0);
+    (mr).a[2] = l.p[2];
+    (mr).ca = l.c;
+    (mr).ta = l.t;
+    (mr).wall = safety_march_wall_of(mr, ax);
     for (int k = 0; k < 2; k++) {
-        mr.tn[k] = dda_next_crossing(mr.ic[k], mr.step[k], o[k], d[k]);
+        (mr).tn[k] = dda_next_crossing((mr).ic[k], (mr).step[k], o[k], d[k]);
     }
-    mr.stale = true;
+    (mr).stale = true;
 }
 
 // `March::walk`: walks cell by cell, as dda_trace, up to the next main-axis
 // centerline (SAFETY_STEP_LINE, `line`), the hit (SAFETY_STEP_HIT, `hit`), or the end.
-int safety_march_walk(inout SafetyMarch mr, Query q, out Hit hit, out SafetyLine line) {
-    int ax = mr.ax, mi = 1 - mr.ax;
-    vec3 o = q.origin, d = q.dir;
+int safety_march_walk(inout SafetyMarch mr, Query q, inout Hit hit, inout SafetyLine line) {
+    int ax = (mr).ax;
+    int mi = 1 - (mr).ax;
+    vec3 o = q.origin;
+    vec3 d = q.dir;
     hit = hit_none();
     line = SafetyLine(0u, 0.0, vec3(0.0), 0.0, 0u, 0u, 0.0);
-    while (true) {
-        if (mr.stale) {
-            mr.c = surface_corners(mr.ic[0], mr.ic[1]);
-            mr.fetches += 4u;
-            mr.stale = false;
+    for (;;) {
+        if ((mr).stale) {
+            (mr).c = surface_corners((mr).ic[0], (mr).ic[1]);
+            (mr).fetches += 4u;
+            (mr).stale = false;
         }
-        float t_next = real_min(mr.tn[0], mr.tn[1]);
+        float t_next = real_min((mr).tn[0], (mr).tn[1]);
         float tb;
         bvec2 cross;
-        if (t_next < mr.span.t1) {
-            tb = real_max(t_next, mr.ta);
-            cross = bvec2(mr.tn[0] <= t_next, mr.tn[1] <= t_next);
+        if (t_next < (mr).span.t1) {
+            tb = real_max(t_next, (mr).ta);
+            cross = bvec2((mr).tn[0] <= t_next, (mr).tn[1] <= t_next);
         } else {
-            tb = mr.span.t1;
+            tb = (mr).span.t1;
             cross = bvec2(false);
         }
-        ivec2 on = ivec2(cross[0] ? int(mr.step[0] > 0) : -1, cross[1] ? int(mr.step[1] > 0) : -1);
+        ivec2 on = ivec2(((cross[0]) ? (int((mr).step[0] > 0)) : (-1)), ((cross[1]) ? (int((mr).step[1] > 0)) : (-1)));
         vec3 p = query_at(q, tb);
         vec3 b;
-        float cb = dda_local_clearance(mr.surface, mr.c, mr.ic, p, on, b);
+        float cb = dda_local_clearance((mr).surface, (mr).c, (mr).ic, p, on, b);
         bool has_line = false;
         if (cross[ax]) {
             // The clearance the jumps use at this centerline (same samples, same
             // arithmetic), so walking and jumping agree.
-            uint m = mr.step[ax] > 0 ? mr.ic[ax] + 1u : mr.ic[ax];
+            uint m = (((mr).step[ax] > 0) ? ((mr).ic[ax] + 1u) : ((mr).ic[ax]));
             SafetyLine l = safety_line_at(q, ax, m);
-            if (l.edge != mr.ic[mi]) {
-                mr.fetches += 2u;
+            if (l.edge != (mr).ic[mi]) {
+                (mr).fetches += 2u;
             }
             cb = l.c;
             line = l;
             has_line = true;
         }
-        SegmentHit seg = surface_segment_hit(mr.surface, mr.c, mr.a, b, mr.ca, cb, mr.wall);
-        mr.clearance = real_min(mr.clearance, seg.clearance);
+        SegmentHit seg = surface_segment_hit((mr).surface, (mr).c, (mr).a, b, (mr).ca, cb, (mr).wall);
+        (mr).clearance = real_min((mr).clearance, seg.clearance);
         if (seg.has_hit) {
             float s = seg.s;
-            vec3 a = mr.a;
-            uvec2 ic = mr.ic;
-            vec3 point = vec3(float(ic[0]) + (a[0] + s * (b[0] - a[0])),
-                              float(ic[1]) + (a[1] + s * (b[1] - a[1])),
-                              a[2] + s * (b[2] - a[2]));
-            hit = Hit(mr.ta + s * (tb - mr.ta), point, ic, seg.normal, seg.flags);
+            vec3 a = (mr).a;
+            uvec2 ic = (mr).ic;
+            vec3 point = vec3(float(ic[0]) + (a[0] + s * (b[0] - a[0])), float(ic[1]) + (a[1] + s * (b[1] - a[1])), a[2] + s * (b[2] - a[2]));
+            hit = Hit((mr).ta + s * (tb - (mr).ta), point, ic, seg.normal, seg.flags);
             return SAFETY_STEP_HIT;
         }
         if (!(cross[0] || cross[1])) {
@@ -219,19 +229,19 @@ int safety_march_walk(inout SafetyMarch mr, Query q, out Hit hit, out SafetyLine
         }
         for (int k = 0; k < 2; k++) {
             if (cross[k]) {
-                int next = int(mr.ic[k]) + mr.step[k];
-                if (next < 0 || next >= int(mr.cells[k])) {
+                int next = int((mr).ic[k]) + (mr).step[k];
+                if (next < 0 || next >= int((mr).cells[k])) {
                     return SAFETY_STEP_END;
                 }
-                mr.ic[k] = uint(next);
-                mr.tn[k] = dda_next_crossing(mr.ic[k], mr.step[k], o[k], d[k]);
+                (mr).ic[k] = uint(next);
+                (mr).tn[k] = dda_next_crossing((mr).ic[k], (mr).step[k], o[k], d[k]);
             }
         }
-        mr.wall = safety_march_wall_of(mr, cross[0] ? 0 : 1);
-        mr.a = vec3(cross[0] ? 1.0 - b[0] : b[0], cross[1] ? 1.0 - b[1] : b[1], b[2]);
-        mr.ca = cb;
-        mr.ta = tb;
-        mr.stale = true;
+        (mr).wall = safety_march_wall_of(mr, ((cross[0]) ? (0) : (1)));
+        (mr).a = vec3(((cross[0]) ? (1.0 - b[0]) : (b[0])), ((cross[1]) ? (1.0 - b[1]) : (b[1])), b[2]);
+        (mr).ca = cb;
+        (mr).ta = tb;
+        (mr).stale = true;
         if (has_line) {
             return SAFETY_STEP_LINE;
         }
@@ -246,8 +256,9 @@ Trace safety_march_done(SafetyMarch mr, bool has_hit, Hit hit, uint flags) {
 
 // `last_line`: last main-axis centerline the ray crosses strictly before t1 (false
 // when there is none), with the crossing formula of the walk.
-bool safety_last_line(Query q, int ax, int sg, float t1, out uint last) {
-    vec3 o = q.origin, d = q.dir;
+bool safety_last_line(Query q, int ax, int sg, float t1, inout uint last) {
+    vec3 o = q.origin;
+    vec3 d = q.dir;
     int lm = int(safety_extents(ax)[0]);
     float x1 = real_clamp_to(o[ax] + t1 * d[ax], 0.0, float(lm - 1));
     int m = int(floor(x1)) + int(sg < 0 && floor(x1) != x1);
@@ -265,7 +276,8 @@ bool safety_last_line(Query q, int ax, int sg, float t1, out uint last) {
 // (i, j) (one fetch, counted by the march) and returns (x) how many centerlines the ray
 // crossing `l` above that texel's segment may skip and (y) the fetches it took beyond
 // that one (`d` is the query's direction, which the Rust closures capture). Defined by
-// the method's file (method_safety.glsl, method_cc.glsl, method_radius.glsl).
+// the method's file (method_safety.wgsl, method_cc.wgsl, method_radius.wgsl):
+// fn safety_march_jump(l: SafetyLine, ray_class: u32, i: u32, j: u32, d: vec3<f32>) -> vec2<u32>
 uvec2 safety_march_jump(SafetyLine l, uint ray_class, uint i, uint j, vec3 d);
 
 // `MarchSurface::of(surface)` then `MarchSurface::surface`: the surface a safety-shape
@@ -275,7 +287,7 @@ uvec2 safety_march_jump(SafetyLine l, uint ray_class, uint i, uint j, vec3 d);
 // since a generated shader of another surface is refused (`supports`).
 uint safety_march_surface(uint surface) {
 //#if any_surface
-    return surface == HF_SURFACE_VIEW_LINEAR ? HF_SURFACE_VIEW_LINEAR : HF_SURFACE_TRIANGLES;
+    return ((surface == HF_SURFACE_VIEW_LINEAR) ? (HF_SURFACE_VIEW_LINEAR) : (HF_SURFACE_TRIANGLES));
 //#else
     return surface;
 //#endif
@@ -288,7 +300,8 @@ Trace safety_march(uint march_surface, Query q) {
     if (!dda_clip(q, span)) {
         return trace_miss(0u, real_infinity());
     }
-    vec3 o = q.origin, d = q.dir;
+    vec3 o = q.origin;
+    vec3 d = q.dir;
     uint ray_class = ray_class_of(d[0], d[1]);
     int ax = safety_axis_of(ray_class);
     uvec2 cells = uvec2(field_width() - 1u, field_height() - 1u);
@@ -302,14 +315,9 @@ Trace safety_march(uint march_surface, Query q) {
     vec3 a;
     float ca = dda_local_clearance(surface, c, ic, vec3(x0, y0, p0[2]), dda_entry_on(surface, span), a);
     if (ca <= 0.0) {
-        return trace_hit(dda_start_hit(surface, span, c, ic, a, p0), 4u,
-                         dda_start_clearance(span, ca));
+        return trace_hit(dda_start_hit(surface, span, c, ic, a, p0), 4u, dda_start_clearance(span, ca));
     }
-    SafetyMarch mr = SafetyMarch(surface, span, ax, step, cells, ic, c, false, a, ca, span.t0,
-                                 vec3(0.0, 0.0, 1.0),
-                                 vec2(dda_next_crossing(ic[0], step[0], o[0], d[0]),
-                                      dda_next_crossing(ic[1], step[1], o[1], d[1])),
-                                 4u, ca);
+    SafetyMarch mr = SafetyMarch(surface, span, ax, step, cells, ic, c, false, a, ca, span.t0, vec3(0.0, 0.0, 1.0), vec2(dda_next_crossing(ic[0], step[0], o[0], d[0]), dda_next_crossing(ic[1], step[1], o[1], d[1])), 4u, ca);
     int sg = step[ax];
     uint last = 0u;
     bool has_last = sg != 0 && safety_last_line(q, ax, sg, span.t1, last);
@@ -317,7 +325,7 @@ Trace safety_march(uint march_surface, Query q) {
     Hit hit;
     SafetyLine l;
     int st = safety_march_walk(mr, q, hit, l);
-    while (true) {
+    for (;;) {
         if (st == SAFETY_STEP_HIT) {
             return safety_march_done(mr, true, hit, 0u);
         } else if (st == SAFETY_STEP_END) {
@@ -334,7 +342,7 @@ Trace safety_march(uint march_surface, Query q) {
         uint k = 0u;
         if (l.c > l.tol) {
             mr.fetches += 1u;
-            uvec2 ij = ax == 0 ? uvec2(l.m, l.texel) : uvec2(l.texel, l.m);
+            uvec2 ij = ((ax == 0) ? (uvec2(l.m, l.texel)) : (uvec2(l.texel, l.m)));
             uvec2 jump = safety_march_jump(l, ray_class, ij[0], ij[1], d);
             k = jump.x;
             mr.fetches += jump.y;
@@ -344,8 +352,9 @@ Trace safety_march(uint march_surface, Query q) {
             continue;
         }
         uint room = uint(abs(int(last) - int(l.m)));
-        uint target = uint(int(l.m) + sg * int(min(k, room)));
-        SafetyLine lt = safety_march_line(mr, q, target);
+        // `target` in Rust and GLSL, a reserved word in WGSL.
+        uint goal = uint(int(l.m) + sg * int(min(k, room)));
+        SafetyLine lt = safety_march_line(mr, q, goal);
         if (lt.c > 0.0) {
             safety_march_enter(mr, q, lt);
             l = lt;
@@ -354,7 +363,7 @@ Trace safety_march(uint march_surface, Query q) {
         }
         // Below at the target, above at m, and no exit in between: bisect.
         SafetyLine lo = l;
-        uint hi = target;
+        uint hi = goal;
         while (abs(int(hi) - int(lo.m)) > 1) {
             uint mid = uint((int(hi) + int(lo.m)) / 2);
             SafetyLine lm = safety_march_line(mr, q, mid);

@@ -1,3 +1,5 @@
+// Generated from shaders/wgsl/search.wgsl by shaders/src/translate.rs: do not edit.
+// Regenerate with: HFCAST_BLESS=1 cargo test -p hfcast-shaders --test validate
 // Mirror of core/src/search.rs: the bake-free baselines, linear search through the
 // field's box then a refinement (bisection, or one secant step as in parallax
 // occlusion mapping). Approximate. Cost: four fetches per height sample.
@@ -11,24 +13,25 @@ float search_clearance_at(uint surface, Query q, float t, inout uint fetches) {
 
 // `search`: `linear` equal steps, then `binary` bisections (`secant` false) or one
 // secant step (`secant` true).
-Trace search_search(uint surface, Query q, uint linear, bool secant, uint binary) {
+Trace search_search(uint surface, Query q, uint linear_in, bool secant, uint binary) {
     Span span;
     if (!dda_clip_surface(surface, q, span)) {
         return trace_miss(0u, real_infinity());
     }
     uint fetches = 0u;
-    linear = max(linear, 1u);
+    uint linear = max(linear_in, 1u);
     float dt = (span.t1 - span.t0) / float(linear);
     vec2 prev = vec2(span.t0, search_clearance_at(surface, q, span.t0, fetches));
     bool bracket = false;
-    vec2 above = vec2(0.0), under = vec2(0.0);
+    vec2 above = vec2(0.0);
+    vec2 under = vec2(0.0);
     if (prev[1] <= 0.0) {
         bracket = true;
         above = prev;
         under = prev;
     } else {
         for (uint k = 1u; k <= linear; k++) {
-            float t = k == linear ? span.t1 : span.t0 + dt * float(k);
+            float t = ((k == linear) ? (span.t1) : (span.t0 + dt * float(k)));
             float c = search_clearance_at(surface, q, t, fetches);
             if (c <= 0.0) {
                 bracket = true;
@@ -61,7 +64,8 @@ Trace search_search(uint surface, Query q, uint linear, bool secant, uint binary
     }
     vec3 p = query_at(q, t);
     vec4 c;
-    float u, v;
+    float u;
+    float v;
     uvec2 cell;
     surface_locate(p[0], p[1], c, u, v, cell);
     uint flags = 0u;
@@ -72,8 +76,7 @@ Trace search_search(uint surface, Query q, uint linear, bool secant, uint binary
             flags = HF_FLAG_SIDE;
         }
     }
-    return trace_hit(Hit(t, p, cell, surface_cell_normal(surface, c, u, v), flags), fetches,
-                     real_infinity());
+    return trace_hit(Hit(t, p, cell, surface_cell_normal(surface, c, u, v), flags), fetches, real_infinity());
 }
 
 // `linear_binary`.

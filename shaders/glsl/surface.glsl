@@ -1,3 +1,5 @@
+// Generated from shaders/wgsl/surface.wgsl by shaders/src/translate.rs: do not edit.
+// Regenerate with: HFCAST_BLESS=1 cargo test -p hfcast-shaders --test validate
 // Mirror of core/src/surface.rs: the five surface reconstructions and their exact
 // segment tests, in one cell's local coordinates (u = x - i, v = y - j in [0, 1]) with
 // the corners c = [h00, h10, h01, h11] (vec4). A segment runs from local point a
@@ -33,8 +35,11 @@ float surface_bilinear(vec4 c, float u, float v) {
 }
 
 // `triangle_planes`: the two planes of the split along the lower diagonal.
-void surface_triangle_planes(vec4 c, out vec3 p, out vec3 q) {
-    float h00 = c[0], h10 = c[1], h01 = c[2], h11 = c[3];
+void surface_triangle_planes(vec4 c, inout vec3 p, inout vec3 q) {
+    float h00 = c[0];
+    float h10 = c[1];
+    float h01 = c[2];
+    float h11 = c[3];
     if (h00 + h11 <= h10 + h01) {
         // Diagonal 00-11: triangles (00, 10, 11) and (00, 01, 11).
         p = vec3(h00, h10 - h00, h11 - h10);
@@ -51,7 +56,7 @@ vec3 surface_linear_plane(vec4 c) { return vec3(c[0], c[1] - c[0], c[2] - c[0]);
 
 // `nearest_corner`: index into c of the sample nearest to (u, v).
 int surface_nearest_corner(float u, float v) {
-    return int(u >= 0.5) | (int(v >= 0.5) << 1);
+    return int(u >= 0.5) | (int(v >= 0.5) << 1u);
 }
 
 // `Surface::cell_height`.
@@ -60,7 +65,8 @@ float surface_cell_height(uint surface, vec4 c, float u, float v) {
     if (surface == HF_SURFACE_TRIANGLES) {
 //#endif
 //#if triangles
-        vec3 p, q;
+        vec3 p;
+        vec3 q;
         surface_triangle_planes(c, p, q);
         return real_max(surface_plane(p, u, v), surface_plane(q, u, v));
 //#endif
@@ -90,9 +96,10 @@ vec2 surface_cell_gradient(uint surface, vec4 c, float u, float v) {
     if (surface == HF_SURFACE_TRIANGLES) {
 //#endif
 //#if triangles
-        vec3 p, q;
+        vec3 p;
+        vec3 q;
         surface_triangle_planes(c, p, q);
-        vec3 top = surface_plane(p, u, v) >= surface_plane(q, u, v) ? p : q;
+        vec3 top = ((surface_plane(p, u, v) >= surface_plane(q, u, v)) ? (p) : (q));
         return vec2(top[1], top[2]);
 //#endif
 //#if any_surface
@@ -128,9 +135,9 @@ vec4 surface_corners(uint i, uint j) { return field_cell_corners(i, j); }
 
 // `locate`: corners, local coordinates and cell of grid point (x, y), clamped into
 // the footprint.
-void surface_locate(float x, float y, out vec4 c, out float u, out float v, out uvec2 cell) {
-    x = real_clamp_to(x, 0.0, float(field_width() - 1u));
-    y = real_clamp_to(y, 0.0, float(field_height() - 1u));
+void surface_locate(float x_in, float y_in, inout vec4 c, inout float u, inout float v, inout uvec2 cell) {
+    float x = real_clamp_to(x_in, 0.0, float(field_width() - 1u));
+    float y = real_clamp_to(y_in, 0.0, float(field_height() - 1u));
     uint i = min(uint(floor(x)), field_width() - 2u);
     uint j = min(uint(floor(y)), field_height() - 2u);
     c = surface_corners(i, j);
@@ -142,7 +149,8 @@ void surface_locate(float x, float y, out vec4 c, out float u, out float v, out 
 // `Surface::height_at`.
 float surface_height_at(uint surface, float x, float y) {
     vec4 c;
-    float u, v;
+    float u;
+    float v;
     uvec2 cell;
     surface_locate(x, y, c, u, v, cell);
     return surface_cell_height(surface, c, u, v);
@@ -151,7 +159,8 @@ float surface_height_at(uint surface, float x, float y) {
 // `Surface::normal_at`.
 vec3 surface_normal_at(uint surface, float x, float y) {
     vec4 c;
-    float u, v;
+    float u;
+    float v;
     uvec2 cell;
     surface_locate(x, y, c, u, v, cell);
     vec2 g = surface_cell_gradient(surface, c, u, v);
@@ -168,14 +177,16 @@ SegmentHit surface_triangles_segment(vec4 c, vec3 a, vec3 b, float ca, float cb)
     bool has_best = false;
     float best_s = 0.0;
     vec3 best_p = vec3(0.0);
-    vec3 planes[2];
-    surface_triangle_planes(c, planes[0], planes[1]);
+    vec3 p0;
+    vec3 p1;
+    surface_triangle_planes(c, p0, p1);
+    vec3[2] planes = vec3[2](p0, p1);
     for (int k = 0; k < 2; k++) {
         vec3 p = planes[k];
         float la = a[2] - surface_plane(p, a[0], a[1]);
         float lb = b[2] - surface_plane(p, b[0], b[1]);
         if (lb <= 0.0) {
-            float s = la <= 0.0 ? 0.0 : la / (la - lb);
+            float s = ((la <= 0.0) ? (0.0) : (la / (la - lb)));
             if (!has_best || s < best_s) {
                 has_best = true;
                 best_s = s;
@@ -186,9 +197,7 @@ SegmentHit surface_triangles_segment(vec4 c, vec3 a, vec3 b, float ca, float cb)
     // Rounding may leave both plane clearances just above zero while the shared edge
     // clearance `cb` is not: the contact is then at the end of the segment.
     if (!has_best) {
-        vec3 top = surface_plane(planes[0], b[0], b[1]) >= surface_plane(planes[1], b[0], b[1])
-                       ? planes[0]
-                       : planes[1];
+        vec3 top = ((surface_plane(planes[0], b[0], b[1]) >= surface_plane(planes[1], b[0], b[1])) ? (planes[0]) : (planes[1]));
         best_s = 1.0;
         best_p = top;
     }
@@ -197,7 +206,7 @@ SegmentHit surface_triangles_segment(vec4 c, vec3 a, vec3 b, float ca, float cb)
 
 // `smallest_root_in_unit`: smallest root of `A s^2 + B s + C` in [0, 1] (within a few
 // ulps, then clamped); `found` is false for none.
-float surface_smallest_root_in_unit(float qa, float qb, float qc, out bool found) {
+float surface_smallest_root_in_unit(float qa, float qb, float qc, inout bool found) {
     found = false;
     float best = 0.0;
     float disc = qb * qb - 4.0 * qa * qc;
@@ -205,18 +214,21 @@ float surface_smallest_root_in_unit(float qa, float qb, float qc, out bool found
         return best;
     }
     float sq = sqrt(disc);
-    float q = qb >= 0.0 ? -0.5 * (qb + sq) : -0.5 * (qb - sq);
+    float q = ((qb >= 0.0) ? (-0.5 * (qb + sq)) : (-0.5 * (qb - sq)));
     float tol = 64.0 * REAL_EPSILON;
-    float roots[2];
+    float[2] roots;
     int n = 0;
     if (q == 0.0) {
         // B = 0 and D = 0: a double root at 0 when C = 0, or no root (A = B = 0, C != 0).
         if (qc == 0.0) {
-            roots[n++] = 0.0;
+            roots[n] = 0.0;
+            n++;
         }
     } else {
-        roots[n++] = q / qa;
-        roots[n++] = qc / q;
+        roots[n] = q / qa;
+        n++;
+        roots[n] = qc / q;
+        n++;
     }
     for (int k = 0; k < n; k++) {
         float r = roots[k];
@@ -233,7 +245,8 @@ float surface_smallest_root_in_unit(float qa, float qb, float qc, out bool found
 
 // `bisect`: first sign change of `A s^2 + B s + C` on [0, 1], given C > 0 >= A+B+C.
 float surface_bisect(float qa, float qb, float qc) {
-    float lo = 0.0, hi = 1.0;
+    float lo = 0.0;
+    float hi = 1.0;
     for (int k = 0; k < 64; k++) {
         float mid = 0.5 * (lo + hi);
         if ((qa * mid + qb) * mid + qc > 0.0) {
@@ -261,7 +274,11 @@ SegmentHit surface_bilinear_segment(vec4 c, vec3 a, vec3 b, float ca, float cb) 
         bool found;
         float r = surface_smallest_root_in_unit(qa, qb, qc, found);
         has_s = true;
-        s = found ? r : surface_bisect(qa, qb, qc);
+        if (found) {
+            s = r;
+        } else {
+            s = surface_bisect(qa, qb, qc);
+        }
     } else if (qa > 0.0) {
         // Both ends clear: the ray can still dip under a saddle between them.
         float vertex = -qb / (2.0 * qa);
@@ -272,14 +289,15 @@ SegmentHit surface_bilinear_segment(vec4 c, vec3 a, vec3 b, float ca, float cb) 
                 bool found;
                 float r = surface_smallest_root_in_unit(qa, qb, qc, found);
                 has_s = true;
-                s = found ? r : vertex;
+                s = ((found) ? (r) : (vertex));
             }
         }
     }
     if (!has_s) {
         return segment_none(clearance);
     }
-    float u = a[0] + (b[0] - a[0]) * s, v = a[1] + (b[1] - a[1]) * s;
+    float u = a[0] + (b[0] - a[0]) * s;
+    float v = a[1] + (b[1] - a[1]) * s;
     // Up to its first root the quadratic has no minimum below min(ca, 0): nothing but `ca`.
     return segment_some(s, surface_cell_normal(HF_SURFACE_BILINEAR, c, u, v), 0u, ca);
 }
@@ -289,15 +307,15 @@ SegmentHit surface_bilinear_segment(vec4 c, vec3 a, vec3 b, float ca, float cb) 
 SegmentHit surface_height_planes_segment(vec4 c, vec3 a, vec3 b, vec3 entry_wall) {
     vec3 d = vec3(b[0] - a[0], b[1] - a[1], b[2] - a[2]);
     // Split parameters where u or v crosses 1/2, with the wall normal met there.
-    float cut_s[2];
-    vec3 cut_n[2];
+    float[2] cut_s;
+    vec3[2] cut_n;
     int cuts = 0;
     for (int axis = 0; axis < 2; axis++) {
         if (d[axis] != 0.0) {
             float s = (0.5 - a[axis]) / d[axis];
             if (s > 0.0 && s < 1.0) {
                 vec3 n = vec3(0.0);
-                n[axis] = d[axis] > 0.0 ? -1.0 : 1.0;
+                n[axis] = ((d[axis] > 0.0) ? (-1.0) : (1.0));
                 cut_s[cuts] = s;
                 cut_n[cuts] = n;
                 cuts++;
@@ -316,8 +334,12 @@ SegmentHit surface_height_planes_segment(vec4 c, vec3 a, vec3 b, vec3 entry_wall
     float start_s = 0.0;
     vec3 start_n = entry_wall;
     for (int k = 0; k <= cuts; k++) {
-        float end = k < cuts ? cut_s[k] : 1.0;
-        vec3 next_wall = k < cuts ? cut_n[k] : entry_wall;
+        float end = 1.0;
+        vec3 next_wall = entry_wall;
+        if (k < cuts) {
+            end = cut_s[k];
+            next_wall = cut_n[k];
+        }
         float mid = 0.5 * (start_s + end);
         float h = c[surface_nearest_corner(a[0] + d[0] * mid, a[1] + d[1] * mid)];
         float c0 = a[2] + d[2] * start_s - h;
@@ -339,8 +361,7 @@ SegmentHit surface_height_planes_segment(vec4 c, vec3 a, vec3 b, vec3 entry_wall
 
 // `Surface::segment_hit`: first contact of the segment a -> b with the surface over
 // one cell, from the clearances ca > 0 and cb the caller computed at its ends.
-SegmentHit surface_segment_hit(uint surface, vec4 c, vec3 a, vec3 b, float ca, float cb,
-                               vec3 entry_wall) {
+SegmentHit surface_segment_hit(uint surface, vec4 c, vec3 a, vec3 b, float ca, float cb, vec3 entry_wall) {
 //#if any_surface
     if (surface == HF_SURFACE_TRIANGLES) {
 //#endif
@@ -359,7 +380,8 @@ SegmentHit surface_segment_hit(uint surface, vec4 c, vec3 a, vec3 b, float ca, f
 //#if view_linear
         if (cb <= 0.0) {
             float s = ca / (ca - cb);
-            float u = a[0] + (b[0] - a[0]) * s, v = a[1] + (b[1] - a[1]) * s;
+            float u = a[0] + (b[0] - a[0]) * s;
+            float v = a[1] + (b[1] - a[1]) * s;
             return segment_some(s, surface_cell_normal(surface, c, u, v), 0u, ca);
         }
         return segment_none(real_min(ca, cb));

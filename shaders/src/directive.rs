@@ -6,7 +6,13 @@
 //!                  of the flags a, b, c is set
 //! //#else          keep the lines up to //#endif when the //#if did not hold
 //! //#endif
+//! //#wgsl          WGSL-only lines up to //#end (kept here: these are WGSL files)
+//! //#glsl          GLSL-only lines up to //#end, commented out (dropped here)
+//! //#end
 //! ```
+//!
+//! The language regions appear only in the WGSL files the GLSL ports are generated
+//! from (`crate::translate`); the generated GLSL has none.
 //!
 //! Blocks nest. A marker line is a line whose first non-blank characters are `//#`;
 //! marker lines never reach the output. Flag names are those of [`crate::FLAGS`];
@@ -34,6 +40,7 @@ pub(crate) fn evaluate(
 ) -> Result<String, String> {
     let mut out = String::with_capacity(text.len());
     let mut stack: Vec<Open> = Vec::new();
+    let mut glsl_only = false;
     let active = |stack: &[Open]| {
         stack
             .last()
@@ -42,7 +49,7 @@ pub(crate) fn evaluate(
     for (n, line) in text.lines().enumerate() {
         let at = || format!("{file}:{}", n + 1);
         let Some(directive) = line.trim_start().strip_prefix("//#") else {
-            if active(&stack) {
+            if active(&stack) && !glsl_only {
                 out.push_str(line);
                 out.push('\n');
             }
@@ -69,6 +76,9 @@ pub(crate) fn evaluate(
                 Some(o) if !o.in_else => o.in_else = true,
                 _ => return Err(format!("{}: //#else without //#if", at())),
             },
+            (Some("wgsl"), None, None) => {}
+            (Some("glsl"), None, None) => glsl_only = true,
+            (Some("end"), None, None) => glsl_only = false,
             (Some("endif"), None, None) => {
                 if stack.pop().is_none() {
                     return Err(format!("{}: //#endif without //#if", at()));

@@ -25,13 +25,22 @@
 //! `hf_trace` nothing (shader compilers drop the unused function, an unused GLSL uniform
 //! is inactive, and a WGSL binding is needed only by an entry point that uses it).
 //!
+//! The marches are written once, in WGSL: [`translate`] generates the GLSL of every
+//! file in [`translate::TRANSLATED`] (committed, drift-checked by `tests/validate.rs`,
+//! regenerated with `HFCAST_BLESS=1 cargo test -p hfcast-shaders --test validate`);
+//! only the files whose resources differ by language (`field`, `field_int`, `world`, the
+//! `method_*` files) are written in both.
+//!
 //! The markers are comments, the same in both languages (WGSL has no preprocessor):
 //! `//#if a|b`, `//#else`, `//#endif`, nestable; the general shader sets every flag,
-//! so it is exactly the files with the marker lines removed.
+//! so it is exactly the files with the marker lines removed. The WGSL sources also hold
+//! language regions for the translation (`//#wgsl` … `//#end`, `//#glsl` … `//#end`),
+//! which the WGSL shaders drop.
 
 mod directive;
 mod shake;
 mod shared;
+pub mod translate;
 pub mod wgsl_layout;
 
 pub use shared::{
@@ -176,27 +185,13 @@ impl fmt::Display for GenError {
 impl std::error::Error for GenError {}
 
 /// The files (stems, in dependency order) of `method`'s general shader: the shared
-/// constants, the core modules its march uses, the method's file defining
-/// `hf_trace`, and [`WORLD`] defining `hf_trace_world` on it.
-pub fn parts(method: MethodKind) -> &'static [&'static str] {
+/// constants, the core modules every march uses, the method's own files (the registry's,
+/// `MethodInfo::shader`, the last defining `hf_trace`), and [`WORLD`] defining
+/// `hf_trace_world` on it.
+pub fn parts(method: MethodKind) -> Vec<&'static str> {
     const BASE: [&str; 6] = ["hfcast_shared", "math", "ray", "field", "surface", "dda"];
-    macro_rules! with_base {
-        ($($f:literal),*) => {
-            &[BASE[0], BASE[1], BASE[2], BASE[3], BASE[4], BASE[5], $($f,)* WORLD]
-        };
-    }
-    match method {
-        MethodKind::Exact => with_base!("method_exact"),
-        MethodKind::LinearBinary => with_base!("search", "method_linear_binary"),
-        MethodKind::LinearSecant => with_base!("search", "method_linear_secant"),
-        MethodKind::MaxMip => with_base!("maxmip", "method_maxmip"),
-        MethodKind::Safety => with_base!("safety", "method_safety"),
-        MethodKind::Cone => with_base!("cone", "method_cone"),
-        MethodKind::Relaxed => with_base!("relaxed", "method_relaxed"),
-        MethodKind::Qdm => with_base!("cone", "qdm", "method_qdm"),
-        MethodKind::Cc => with_base!("safety", "cc", "method_cc"),
-        MethodKind::Radius => with_base!("safety", "radius", "method_radius"),
-    }
+    let own = method.info().shader;
+    BASE.iter().chain(own).copied().chain([WORLD]).collect()
 }
 
 /// The file of world units (`world.glsl`, `world.wgsl`: `hf_trace_world`), last in
@@ -205,8 +200,7 @@ pub const WORLD: &str = "world";
 
 /// The file of `method` defining `hf_trace`: its last part before [`WORLD`].
 fn method_file(method: MethodKind) -> &'static str {
-    let p = parts(method);
-    p[p.len() - 2]
+    method.info().shader.last().copied().unwrap_or(WORLD)
 }
 
 /// Whether `method` traces `surface`: the exact, search and maxmip methods trace
@@ -219,17 +213,7 @@ fn method_file(method: MethodKind) -> &'static str {
 /// surface it does not trace falls back to the triangle surface
 /// (`safety_march_surface`).
 pub fn supports(method: MethodKind, surface: Surface) -> bool {
-    match method {
-        MethodKind::Exact
-        | MethodKind::LinearBinary
-        | MethodKind::LinearSecant
-        | MethodKind::MaxMip => true,
-        // `MarchSurface::of(surface).is_some()` (the safety module is not built here).
-        MethodKind::Safety | MethodKind::Cc | MethodKind::Radius => {
-            matches!(surface, Surface::Triangles | Surface::ViewLinear)
-        }
-        MethodKind::Cone | MethodKind::Qdm | MethodKind::Relaxed => surface == Surface::Triangles,
-    }
+    method.info().surfaces.contains(&surface)
 }
 
 /// The file of 16- and 8-bit heights, used instead of `field`'s `F32` texture.
@@ -341,7 +325,7 @@ fn separator(stem: &str, lang: Lang) -> String {
 /// source `hf_shader_source` returns.
 pub fn general(method: MethodKind, lang: Lang) -> Result<String, GenError> {
     let mut s = String::new();
-    for (stem, text) in load(lang, parts(method), &|_| true)? {
+    for (stem, text) in load(lang, &parts(method), &|_| true)? {
         s.push_str(&separator(stem, lang));
         s.push_str(&text);
     }
@@ -408,7 +392,7 @@ pub fn generate(scene: &Scene, lang: Lang) -> Result<String, GenError> {
 /// the caller to set.
 pub fn generate_with(scene: &Scene, lang: Lang, opts: &Options) -> Result<String, GenError> {
     let flags = scene_flags(scene, opts)?;
-    let mut stems: Vec<&'static str> = parts(scene.method).to_vec();
+    let mut stems: Vec<&'static str> = parts(scene.method);
     if scene.heights != HeightFormat::F32 {
         // Before `field`, whose functions read the heights through `field_at`.
         let at = stems.iter().position(|s| *s == "field").unwrap_or(0);

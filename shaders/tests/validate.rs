@@ -187,8 +187,13 @@ fn marker_free(method: MethodKind, lang: Lang) -> String {
         let text = hfcast_shaders::file(lang, stem).unwrap();
         s.push_str(&format!("// ---- {stem}.{}\n", lang.ext()));
         let mut skipping: Vec<bool> = Vec::new();
+        let mut glsl_only = false;
         for line in text.lines() {
             match line.trim() {
+                "//#glsl" => glsl_only = true,
+                "//#end" => glsl_only = false,
+                "//#wgsl" => {}
+                _ if glsl_only => {}
                 t if t.starts_with("//#if") => skipping.push(false),
                 "//#else" => *skipping.last_mut().unwrap() = true,
                 "//#endif" => {
@@ -474,5 +479,28 @@ fn every_shader_has_one_world_entry_after_hf_trace() {
         let gen = generate(&Scene::general(MethodKind::Exact, Surface::Triangles), lang).unwrap();
         let head = gen.lines().find(|l| l.contains("Inputs to set")).unwrap();
         assert!(head.ends_with(inputs), "{head}");
+    }
+}
+
+/// The GLSL of every translated file is the translation of its WGSL
+/// (`hfcast_shaders::translate`), committed; `HFCAST_BLESS=1` rewrites it.
+#[test]
+fn glsl_ports_are_generated_from_the_wgsl() {
+    let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR"));
+    for stem in hfcast_shaders::translate::TRANSLATED {
+        let wgsl = std::fs::read_to_string(dir.join(format!("wgsl/{stem}.wgsl"))).expect("wgsl");
+        let glsl = hfcast_shaders::translate::glsl_from_wgsl(&wgsl, stem)
+            .unwrap_or_else(|e| panic!("{e}"));
+        let path = dir.join(format!("glsl/{stem}.glsl"));
+        if std::env::var_os("HFCAST_BLESS").is_some() {
+            std::fs::write(&path, &glsl).expect("write the generated GLSL");
+            continue;
+        }
+        let committed = std::fs::read_to_string(&path).unwrap_or_default();
+        assert!(
+            committed == glsl,
+            "glsl/{stem}.glsl is not the translation of wgsl/{stem}.wgsl: regenerate it with \
+             `HFCAST_BLESS=1 cargo test -p hfcast-shaders --test validate`"
+        );
     }
 }

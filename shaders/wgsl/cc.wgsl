@@ -11,17 +11,29 @@
 // order x+, x-, y+, y-; slot = how many held classes come before it; a whole map:
 // W x 4H, texel (i, 4 j + class)). A ray of a class the map does not hold reads
 // [0, HF_CC_NO_CONE] without a fetch (radius 0, no cone: it walks cell by cell, still
-// exact). `hf_cc.cap` is the bake's cap. The cone's base height is not stored: the
+// exact). `hf_cc.cap` (GLSL: `hf_cc_cap`) is the bake's cap. The cone's base height is not stored: the
 // march computes it from the heights (cc_line_base).
 
+@group(0) @binding(9) var hf_cc_map: texture_2d<u32>;
+override hf_cc_classes: u32 = 15u;
+
+//#wgsl
 // A 4-byte uniform: WGSL and wgpu need no padding for a struct of one u32.
 struct CcParams {
     cap: u32,
 }
 
-@group(0) @binding(9) var hf_cc_map: texture_2d<u32>;
 @group(0) @binding(10) var<uniform> hf_cc: CcParams;
-override hf_cc_classes: u32 = 15u;
+
+// The bake's cap.
+fn cc_cap() -> u32 { return hf_cc.cap; }
+//#end
+//#glsl
+// uniform uint hf_cc_cap;
+//
+// // The bake's cap.
+// uint cc_cap() { return hf_cc_cap; }
+//#end
 
 // `CcMap::texel`: the bytes [r, s] of texel (i, j) for `ray_class` ([0, HF_CC_NO_CONE],
 // without a fetch, when the map does not hold it).
@@ -34,7 +46,7 @@ fn cc_texel(ray_class: u32, i: u32, j: u32) -> vec2<u32> {
 
 // `decode_slope` (finite codes): `t |t| / 2048` with `t = code - 128`, exact in float.
 fn cc_decode_slope(code: u32) -> f32 {
-    let t = f32(i32(code) - 128);
+    let t: f32 = f32(i32(code) - 128);
     return t * abs(t) / 2048.0;
 }
 
@@ -45,18 +57,18 @@ fn cc_decode_slope(code: u32) -> f32 {
 // it reads the third only inside the field (`if`, not `select`, which would load
 // outside it).
 fn cc_line_base(ax: i32, m: u32, n: u32, ln: u32) -> f32 {
-    let h = safety_sample(ax, m, n);
-    var lo = 0.0;
+    let h: f32 = safety_sample(ax, m, n);
+    var lo: f32 = 0.0;
     if (n > 0u) {
         lo = safety_sample(ax, m, n - 1u);
     }
-    var hi = 0.0;
+    var hi: f32 = 0.0;
     if (n + 1u < ln) {
         hi = safety_sample(ax, m, n + 1u);
     }
-    let below = select(hi - h, h - lo, n > 0u);
-    let above = select(h - lo, hi - h, n + 1u < ln);
-    let w = 0.5 + HF_SAFETY_SEG_PAD;
+    let below: f32 = select(hi - h, h - lo, n > 0u);
+    let above: f32 = select(h - lo, hi - h, n + 1u < ln);
+    let w: f32 = 0.5 + HF_SAFETY_SEG_PAD;
     return real_max(real_max(h - below * w, h), h + above * w);
 }
 
@@ -65,31 +77,31 @@ fn cc_line_base(ax: i32, m: u32, n: u32, ln: u32) -> f32 {
 // b = [r, s], and the fetches its base height took beyond the shape's (one inside the
 // field, none at its border, none when no cone is tested).
 fn cc_cone_step(b: vec2<u32>, ax: i32, l: SafetyLine, sd: f32, sd_err: f32) -> vec2<u32> {
-    let r = b[0];
-    let cap = hf_cc.cap;
+    let r: u32 = b[0];
+    let cap: u32 = cc_cap();
     if (b[1] == HF_CC_NO_CONE || r >= cap) {
         return vec2<u32>(r, 0u);
     }
-    let n = l.texel;
-    let ln = safety_extents(ax)[1];
-    let zc = cc_line_base(ax, l.m, n, ln);
-    let extra = select(0u, 1u, n > 0u && n + 1u < ln);
-    let sc = cc_decode_slope(b[1]);
+    let n: u32 = l.texel;
+    let ln: u32 = safety_extents(ax)[1];
+    let zc: f32 = cc_line_base(ax, l.m, n, ln);
+    let extra: u32 = select(0u, 1u, n > 0u && n + 1u < ln);
+    let sc: f32 = cc_decode_slope(b[1]);
     // zc's own rounding: relative EPSILON of the heights.
-    let zs = real_max(abs(field_min_height()), abs(field_max_height()));
-    let zerr = 8.0 * REAL_EPSILON * (zs + abs(zc));
-    let num = l.p[2] - zc - l.tol - l.tol - zerr;
-    let above = num > 0.0; // false for NaN too
+    let zs: f32 = real_max(abs(field_min_height()), abs(field_max_height()));
+    let zerr: f32 = 8.0 * REAL_EPSILON * (zs + abs(zc));
+    let num: f32 = l.p[2] - zc - l.tol - l.tol - zerr;
+    let above: bool = num > 0.0; // false for NaN too
     if (!above) {
         return vec2<u32>(r, extra);
     }
-    let sd_lo = sd - sd_err;
+    let sd_lo: f32 = sd - sd_err;
     if (sd_lo >= sc) {
         return vec2<u32>(max(cap, r), extra);
     }
-    let den = (sc - sd_lo) * (1.0 + 4.0 * REAL_EPSILON);
-    let x = num / den * (1.0 - 4.0 * REAL_EPSILON);
-    let short_step = x < f32(cap); // false for NaN and +inf
+    let den: f32 = (sc - sd_lo) * (1.0 + 4.0 * REAL_EPSILON);
+    let x: f32 = num / den * (1.0 - 4.0 * REAL_EPSILON);
+    let short_step: bool = x < f32(cap); // false for NaN and +inf
     if (!short_step) {
         return vec2<u32>(max(cap, r), extra);
     }
@@ -98,11 +110,11 @@ fn cc_cone_step(b: vec2<u32>, ax: i32, l: SafetyLine, sd: f32, sd_err: f32) -> v
 
 // The rise per centerline of the closure of `cc::trace`, and its rounding bound.
 fn cc_rise(d: vec3<f32>) -> vec2<f32> {
-    let ray_class = ray_class_of(d[0], d[1]);
-    let ax = safety_axis_of(ray_class);
-    let dm = abs(d[ax]);
-    let sd = select(0.0, d[2] / dm, dm > 0.0);
-    let sd_err = 2.0 * REAL_EPSILON * abs(sd);
+    let ray_class: u32 = ray_class_of(d[0], d[1]);
+    let ax: i32 = safety_axis_of(ray_class);
+    let dm: f32 = abs(d[ax]);
+    let sd: f32 = select(0.0, d[2] / dm, dm > 0.0);
+    let sd_err: f32 = 2.0 * REAL_EPSILON * abs(sd);
     return vec2<f32>(sd, sd_err);
 }
 

@@ -18,6 +18,9 @@ const CONE_STEP_CELL: i32 = 2; // no safe step: run the exact cell test
 // it cost. Defined by the method's file:
 // fn cone_march_step(cell: vec2<u32>, p: vec3<f32>, d: vec3<f32>, dt: ptr<function, f32>,
 //                    fetches: ptr<function, u32>) -> i32
+//#glsl
+// int cone_march_step(uvec2 cell, vec3 p, vec3 d, out float dt, out uint fetches);
+//#end
 
 // `ConeMap::texel`: [top, ratio] of cell (i, j).
 fn cone_texel(i: u32, j: u32) -> vec2<f32> { return textureLoad(hf_cone_map, vec2<u32>(i, j), 0).rg; }
@@ -33,8 +36,8 @@ fn cone_locate(p: vec3<f32>, d: vec3<f32>, cells: vec2<u32>) -> vec2<u32> {
 
 // The closure `cell_exit` of `march`.
 fn cone_cell_exit(cell: vec2<u32>, dstep: vec2<i32>, o: vec3<f32>, d: vec3<f32>, t1: f32) -> f32 {
-    let t0 = dda_next_crossing(cell[0], dstep[0], o[0], d[0]);
-    let t1c = dda_next_crossing(cell[1], dstep[1], o[1], d[1]);
+    let t0: f32 = dda_next_crossing(cell[0], dstep[0], o[0], d[0]);
+    let t1c: f32 = dda_next_crossing(cell[1], dstep[1], o[1], d[1]);
     return real_min(real_min(t0, t1c), t1);
 }
 
@@ -45,46 +48,46 @@ fn cone_march(q: Query, max_iter: u32) -> Trace {
     if (!dda_clip(q, &span)) {
         return trace_miss(0u, real_infinity());
     }
-    let o = q.origin;
-    let d = q.dir;
-    let cells = vec2<u32>(field_width() - 1u, field_height() - 1u);
-    let dstep = vec2<i32>(dda_step_of(d[0]), dda_step_of(d[1]));
-    let p0 = query_at(q, span.t0);
-    let start = vec2<f32>(real_clamp_to(p0[0], 0.0, f32(cells[0])),
+    let o: vec3<f32> = q.origin;
+    let d: vec3<f32> = q.dir;
+    let cells: vec2<u32> = vec2<u32>(field_width() - 1u, field_height() - 1u);
+    let dstep: vec2<i32> = vec2<i32>(dda_step_of(d[0]), dda_step_of(d[1]));
+    let p0: vec3<f32> = query_at(q, span.t0);
+    let start: vec2<f32> = vec2<f32>(real_clamp_to(p0[0], 0.0, f32(cells[0])),
                           real_clamp_to(p0[1], 0.0, f32(cells[1])));
-    var cell = cone_locate(p0, d, cells);
-    var c = surface_corners(cell[0], cell[1]);
-    var fetches = 4u;
+    var cell: vec2<u32> = cone_locate(p0, d, cells);
+    var c: vec4<f32> = surface_corners(cell[0], cell[1]);
+    var fetches: u32 = 4u;
     var a: vec3<f32>;
-    var ca = dda_local_clearance(HF_SURFACE_TRIANGLES, c, cell, vec3<f32>(start[0], start[1], p0[2]),
+    var ca: f32 = dda_local_clearance(HF_SURFACE_TRIANGLES, c, cell, vec3<f32>(start[0], start[1], p0[2]),
                                  dda_entry_on(HF_SURFACE_TRIANGLES, span), &a);
     if (ca <= 0.0) {
         return trace_hit(dda_start_hit(HF_SURFACE_TRIANGLES, span, c, cell, a, p0), fetches, 0.0);
     }
-    var clearance = ca;
+    var clearance: f32 = ca;
     // `a, ca` valid for the current point; `have_c`: `c` holds the current cell's corners.
-    var have_ca = true;
-    var have_c = true;
-    var t = span.t0;
-    var iter = 0u;
+    var have_ca: bool = true;
+    var have_c: bool = true;
+    var t: f32 = span.t0;
+    var iter: u32 = 0u;
     loop {
-        let p = query_at(q, t);
+        let p: vec3<f32> = query_at(q, t);
         if (iter >= max_iter) {
-            var tr = trace_hit(Hit(t, p, cell, vec3<f32>(0.0, 0.0, 1.0), 0u), fetches, clearance);
+            var tr: Trace = trace_hit(Hit(t, p, cell, vec3<f32>(0.0, 0.0, 1.0), 0u), fetches, clearance);
             tr.flags = HF_FLAG_BUDGET_EXHAUSTED;
             return tr;
         }
         iter += 1u;
         var dt: f32;
         var f: u32;
-        let s = cone_march_step(cell, p, d, &dt, &f);
+        let s: i32 = cone_march_step(cell, p, d, &dt, &f);
         fetches += f;
         if (s == CONE_STEP_MISS) {
             return trace_miss(fetches, clearance);
         }
         // A jump that stays in the cell would crawl: the cell test reaches its exit at once.
         if (s == CONE_STEP_JUMP && dt > 0.0 && t + dt >= cone_cell_exit(cell, dstep, o, d, span.t1)) {
-            let tn = t + dt;
+            let tn: f32 = t + dt;
             if (!(tn < span.t1)) {
                 return trace_miss(fetches, clearance);
             }
@@ -103,13 +106,13 @@ fn cone_march(q: Query, max_iter: u32) -> Trace {
             ca = dda_local_clearance(HF_SURFACE_TRIANGLES, c, cell, p, vec2<i32>(-1), &a);
             clearance = real_min(clearance, ca);
             if (ca <= 0.0) {
-                let n = surface_cell_normal(HF_SURFACE_TRIANGLES, c, a[0], a[1]);
+                let n: vec3<f32> = surface_cell_normal(HF_SURFACE_TRIANGLES, c, a[0], a[1]);
                 return trace_hit(Hit(t, p, cell, n, 0u), fetches, clearance);
             }
         }
-        let t_cross = vec2<f32>(dda_next_crossing(cell[0], dstep[0], o[0], d[0]),
+        let t_cross: vec2<f32> = vec2<f32>(dda_next_crossing(cell[0], dstep[0], o[0], d[0]),
                                 dda_next_crossing(cell[1], dstep[1], o[1], d[1]));
-        let t_next = real_min(t_cross[0], t_cross[1]);
+        let t_next: f32 = real_min(t_cross[0], t_cross[1]);
         var tb: f32;
         var cross: vec2<bool>;
         if (t_next < span.t1) {
@@ -119,16 +122,16 @@ fn cone_march(q: Query, max_iter: u32) -> Trace {
             tb = span.t1;
             cross = vec2<bool>(false);
         }
-        let on = vec2<i32>(select(-1, i32(dstep[0] > 0), cross[0]), select(-1, i32(dstep[1] > 0), cross[1]));
+        let on: vec2<i32> = vec2<i32>(select(-1, i32(dstep[0] > 0), cross[0]), select(-1, i32(dstep[1] > 0), cross[1]));
         var b: vec3<f32>;
-        let cb = dda_local_clearance(HF_SURFACE_TRIANGLES, c, cell, query_at(q, tb), on, &b);
-        let seg = surface_segment_hit(HF_SURFACE_TRIANGLES, c, a, b, ca, cb,
+        let cb: f32 = dda_local_clearance(HF_SURFACE_TRIANGLES, c, cell, query_at(q, tb), on, &b);
+        let seg: SegmentHit = surface_segment_hit(HF_SURFACE_TRIANGLES, c, a, b, ca, cb,
                                       vec3<f32>(0.0, 0.0, 1.0));
         clearance = real_min(clearance, seg.clearance);
         if (seg.has_hit) {
-            let sh = seg.s;
-            let th = t + sh * (tb - t);
-            let point = vec3<f32>(f32(cell[0]) + (a[0] + sh * (b[0] - a[0])),
+            let sh: f32 = seg.s;
+            let th: f32 = t + sh * (tb - t);
+            let point: vec3<f32> = vec3<f32>(f32(cell[0]) + (a[0] + sh * (b[0] - a[0])),
                                   f32(cell[1]) + (a[1] + sh * (b[1] - a[1])),
                                   a[2] + sh * (b[2] - a[2]));
             return trace_hit(Hit(th, point, cell, seg.normal, seg.flags), fetches, clearance);
@@ -136,9 +139,9 @@ fn cone_march(q: Query, max_iter: u32) -> Trace {
         if (!cross[0] && !cross[1]) {
             return trace_miss(fetches, clearance);
         }
-        for (var k = 0; k < 2; k++) {
+        for (var k: i32 = 0; k < 2; k++) {
             if (cross[k]) {
-                let next = i32(cell[k]) + dstep[k];
+                let next: i32 = i32(cell[k]) + dstep[k];
                 if (next < 0 || next >= i32(cells[k])) {
                     return trace_miss(fetches, clearance);
                 }
@@ -157,13 +160,13 @@ fn cone_march(q: Query, max_iter: u32) -> Trace {
 // `cone_step`: the cone step from ray point p with direction d over a texel [top, ratio].
 fn cone_cone_step(p: vec3<f32>, d: vec3<f32>, top: f32, ratio: f32, dt: ptr<function, f32>) -> i32 {
     *dt = 0.0;
-    let tol = cone_margin(p[2], top);
-    let e = p[2] - top - tol;
+    let tol: f32 = cone_margin(p[2], top);
+    let e: f32 = p[2] - top - tol;
     if (!(e > 0.0) || ratio <= 0.0) {
         return CONE_STEP_CELL;
     }
-    let hs = sqrt(d[0] * d[0] + d[1] * d[1]);
-    let denom = hs / ratio - d[2];
+    let hs: f32 = sqrt(d[0] * d[0] + d[1] * d[1]);
+    let denom: f32 = hs / ratio - d[2];
     if (!(denom > 0.0)) {
         return CONE_STEP_MISS;
     }

@@ -18,41 +18,41 @@ struct Span {
 // `clip_surface`: clips a query to the box that holds `surface` over the field; false
 // when the ray misses it.
 fn dda_clip_surface(surface: u32, q: Query, span: ptr<function, Span>) -> bool {
-    let o = q.origin;
-    let d = q.dir;
-    let lim = vec2<f32>(f32(field_width() - 1u), f32(field_height() - 1u));
-    var t0 = q.t_min;
-    var t1 = q.t_max;
-    var entry = HF_ENTRY_START;
-    var entry_normal = vec3<f32>(0.0);
+    let o: vec3<f32> = q.origin;
+    let d: vec3<f32> = q.dir;
+    let lim: vec2<f32> = vec2<f32>(f32(field_width() - 1u), f32(field_height() - 1u));
+    var t0: f32 = q.t_min;
+    var t1: f32 = q.t_max;
+    var entry: u32 = HF_ENTRY_START;
+    var entry_normal: vec3<f32> = vec3<f32>(0.0);
     *span = Span(0.0, 0.0, HF_ENTRY_START, vec3<f32>(0.0));
-    for (var axis = 0; axis < 2; axis++) {
+    for (var axis: i32 = 0; axis < 2; axis++) {
         if (d[axis] == 0.0) {
             if (o[axis] < 0.0 || o[axis] > lim[axis]) {
                 return false;
             }
             continue;
         }
-        let a = (0.0 - o[axis]) / d[axis];
-        let b = (lim[axis] - o[axis]) / d[axis];
-        let near = select(b, a, d[axis] > 0.0);
-        let far = select(a, b, d[axis] > 0.0);
+        let a: f32 = (0.0 - o[axis]) / d[axis];
+        let b: f32 = (lim[axis] - o[axis]) / d[axis];
+        let near: f32 = select(b, a, d[axis] > 0.0);
+        let far: f32 = select(a, b, d[axis] > 0.0);
         if (near > t0) {
             t0 = near;
-            var n = vec3<f32>(0.0);
+            var n: vec3<f32> = vec3<f32>(0.0);
             n[axis] = select(1.0, -1.0, d[axis] > 0.0);
             entry = HF_ENTRY_SIDE;
             entry_normal = n;
         }
         t1 = real_min(t1, far);
     }
-    var zmin = field_min_height();
-    var zmax = field_max_height();
+    var zmin: f32 = field_min_height();
+    var zmax: f32 = field_max_height();
 //#if linear_planes
     if (surface == HF_SURFACE_LINEAR_PLANES) {
-        let range = zmax - zmin;
-        let lo = zmin - range;
-        let hi = zmax + range;
+        let range: f32 = zmax - zmin;
+        let lo: f32 = zmin - range;
+        let hi: f32 = zmax + range;
         zmin = lo;
         zmax = hi;
     }
@@ -66,13 +66,13 @@ fn dda_clip_surface(surface: u32, q: Query, span: ptr<function, Span>) -> bool {
         t1 = real_min(t1, (zmax - o[2]) / d[2]);
 //#endif
     } else {
-        let top = (zmax - o[2]) / d[2];
+        let top: f32 = (zmax - o[2]) / d[2];
         if (top > t0) {
             t0 = top;
             entry = HF_ENTRY_TOP;
         }
         // Well under the lowest sample the ray is inside the solid: the hit comes first.
-        let margin = 1.0 + (zmax - zmin);
+        let margin: f32 = 1.0 + (zmax - zmin);
         t1 = real_min(t1, real_max((zmin - margin - o[2]) / d[2], t0));
     }
     *span = Span(t0, t1, entry, entry_normal);
@@ -85,8 +85,8 @@ fn dda_clip(q: Query, span: ptr<function, Span>) -> bool { return dda_clip_surfa
 // `cell_index`: first cell index along one axis for coordinate x in [0, cells] moving
 // with direction d; a point on a cell boundary belongs to the cell the ray moves into.
 fn dda_cell_index(x: f32, d: f32, cells: u32) -> u32 {
-    let f = floor(x);
-    var i = u32(f);
+    let f: f32 = floor(x);
+    var i: u32 = u32(f);
     if (d < 0.0 && f == x && i > 0u) {
         i -= 1u;
     }
@@ -118,11 +118,11 @@ fn dda_next_crossing(i: u32, step: i32, o: f32, d: f32) -> f32 {
 // two samples only, so both cells sharing the edge compute the same clearance.
 fn dda_local_clearance(surface: u32, c: vec4<f32>, cell: vec2<u32>, p: vec3<f32>, on: vec2<i32>,
                        b: ptr<function, vec3<f32>>) -> f32 {
-    var lx = real_clamp_to(p[0] - f32(cell[0]), 0.0, 1.0);
+    var lx: f32 = real_clamp_to(p[0] - f32(cell[0]), 0.0, 1.0);
     if (on[0] >= 0) {
         lx = f32(on[0]);
     }
-    var ly = real_clamp_to(p[1] - f32(cell[1]), 0.0, 1.0);
+    var ly: f32 = real_clamp_to(p[1] - f32(cell[1]), 0.0, 1.0);
     if (on[1] >= 0) {
         ly = f32(on[1]);
     }
@@ -133,7 +133,7 @@ fn dda_local_clearance(surface: u32, c: vec4<f32>, cell: vec2<u32>, p: vec3<f32>
     } else if (on[0] >= 0) {
         height = real_lerp(c[on[0]], c[on[0] + 2], (*b)[1]);
     } else if (on[1] >= 0) {
-        let k = on[1] << 1u;
+        let k: i32 = on[1] << 1u;
         height = real_lerp(c[k], c[k + 1], (*b)[0]);
     } else {
         height = surface_cell_height(surface, c, (*b)[0], (*b)[1]);
@@ -151,7 +151,7 @@ fn dda_entry_on(surface: u32, span: Span) -> vec2<i32> {
 //#endif
 //#if triangles|bilinear|view_linear
     if (span.entry == HF_ENTRY_SIDE) {
-        let n = span.entry_normal;
+        let n: vec3<f32> = span.entry_normal;
         return vec2<i32>(select(-1, i32(n[0] > 0.0), n[0] != 0.0),
                          select(-1, i32(n[1] > 0.0), n[1] != 0.0));
     }
@@ -188,20 +188,20 @@ fn dda_trace(surface: u32, q: Query) -> Trace {
     if (!dda_clip_surface(surface, q, &span)) {
         return trace_miss(0u, real_infinity());
     }
-    let o = q.origin;
-    let d = q.dir;
+    let o: vec3<f32> = q.origin;
+    let d: vec3<f32> = q.dir;
     // Per-axis state, index 0 = x, 1 = y.
-    let cells = vec2<u32>(field_width() - 1u, field_height() - 1u);
-    let p0 = query_at(q, span.t0);
-    let start = vec2<f32>(real_clamp_to(p0[0], 0.0, f32(cells[0])),
+    let cells: vec2<u32> = vec2<u32>(field_width() - 1u, field_height() - 1u);
+    let p0: vec3<f32> = query_at(q, span.t0);
+    let start: vec2<f32> = vec2<f32>(real_clamp_to(p0[0], 0.0, f32(cells[0])),
                           real_clamp_to(p0[1], 0.0, f32(cells[1])));
-    var cell = vec2<u32>(dda_cell_index(start[0], d[0], cells[0]),
+    var cell: vec2<u32> = vec2<u32>(dda_cell_index(start[0], d[0], cells[0]),
                          dda_cell_index(start[1], d[1], cells[1]));
-    let step = vec2<i32>(dda_step_of(d[0]), dda_step_of(d[1]));
-    var c = surface_corners(cell[0], cell[1]);
-    var fetches = 4u;
+    let step: vec2<i32> = vec2<i32>(dda_step_of(d[0]), dda_step_of(d[1]));
+    var c: vec4<f32> = surface_corners(cell[0], cell[1]);
+    var fetches: u32 = 4u;
     var a: vec3<f32>;
-    var ca = dda_local_clearance(surface, c, cell, vec3<f32>(start[0], start[1], p0[2]), dda_entry_on(surface, span),
+    var ca: f32 = dda_local_clearance(surface, c, cell, vec3<f32>(start[0], start[1], p0[2]), dda_entry_on(surface, span),
                                  &a);
 
     if (ca <= 0.0) {
@@ -209,13 +209,13 @@ fn dda_trace(surface: u32, q: Query) -> Trace {
                          dda_start_clearance(span, ca));
     }
 
-    var clearance = ca;
-    var ta = span.t0;
-    var wall = vec3<f32>(0.0, 0.0, 1.0);
-    var t_cross = vec2<f32>(dda_next_crossing(cell[0], step[0], o[0], d[0]),
+    var clearance: f32 = ca;
+    var ta: f32 = span.t0;
+    var wall: vec3<f32> = vec3<f32>(0.0, 0.0, 1.0);
+    var t_cross: vec2<f32> = vec2<f32>(dda_next_crossing(cell[0], step[0], o[0], d[0]),
                             dda_next_crossing(cell[1], step[1], o[1], d[1]));
     loop {
-        let t_next = real_min(t_cross[0], t_cross[1]);
+        let t_next: f32 = real_min(t_cross[0], t_cross[1]);
         var tb: f32;
         var cross: vec2<bool>;
         if (t_next < span.t1) {
@@ -226,16 +226,16 @@ fn dda_trace(surface: u32, q: Query) -> Trace {
             cross = vec2<bool>(false);
         }
         // Clearance at the exit point; on a centerline, from that edge's two samples only.
-        let on = vec2<i32>(select(-1, i32(step[0] > 0), cross[0]), select(-1, i32(step[1] > 0), cross[1]));
+        let on: vec2<i32> = vec2<i32>(select(-1, i32(step[0] > 0), cross[0]), select(-1, i32(step[1] > 0), cross[1]));
         var b: vec3<f32>;
-        let cb = dda_local_clearance(surface, c, cell, query_at(q, tb), on, &b);
-        let seg = surface_segment_hit(surface, c, a, b, ca, cb, wall);
+        let cb: f32 = dda_local_clearance(surface, c, cell, query_at(q, tb), on, &b);
+        let seg: SegmentHit = surface_segment_hit(surface, c, a, b, ca, cb, wall);
         clearance = real_min(clearance, seg.clearance);
         if (seg.has_hit) {
-            let s = seg.s;
-            let t = ta + s * (tb - ta);
+            let s: f32 = seg.s;
+            let t: f32 = ta + s * (tb - ta);
             // The point from the cell's integer corner plus local coordinates.
-            let point = vec3<f32>(f32(cell[0]) + (a[0] + s * (b[0] - a[0])),
+            let point: vec3<f32> = vec3<f32>(f32(cell[0]) + (a[0] + s * (b[0] - a[0])),
                                   f32(cell[1]) + (a[1] + s * (b[1] - a[1])),
                                   a[2] + s * (b[2] - a[2]));
             return trace_hit(Hit(t, point, cell, seg.normal, seg.flags), fetches, clearance);
@@ -243,10 +243,10 @@ fn dda_trace(surface: u32, q: Query) -> Trace {
         if (!cross[0] && !cross[1]) {
             break;
         }
-        var leave = false;
-        for (var k = 0; k < 2; k++) {
+        var leave: bool = false;
+        for (var k: i32 = 0; k < 2; k++) {
             if (cross[k]) {
-                let next = i32(cell[k]) + step[k];
+                let next: i32 = i32(cell[k]) + step[k];
                 if (next < 0 || next >= i32(cells[k])) {
                     leave = true;
                     break;
@@ -259,7 +259,7 @@ fn dda_trace(surface: u32, q: Query) -> Trace {
             break;
         }
         // The face entered (x's when the ray passes exactly through a corner).
-        let k = select(1, 0, cross[0]);
+        let k: i32 = select(1, 0, cross[0]);
         wall = vec3<f32>(0.0);
         wall[k] = select(1.0, -1.0, step[k] > 0);
         c = surface_corners(cell[0], cell[1]);

@@ -4,7 +4,7 @@
 
 // A run-time value: a WGSL const-expression may not be infinite.
 fn real_infinity() -> f32 {
-    var bits = 0x7F800000u;
+    var bits: u32 = 0x7F800000u;
     return bitcast<f32>(bits);
 }
 
@@ -28,6 +28,6 @@ fn real_lerp(a: f32, b: f32, f: f32) -> f32 { return a * (1.0 - f) + b * f; }
 
 // `math::normal_from_gradient`: unit normal `(-gx, -gy, 1) / |...|`.
 fn math_normal_from_gradient(gx: f32, gy: f32) -> vec3<f32> {
-    let len = sqrt(gx * gx + gy * gy + 1.0);
+    let len: f32 = sqrt(gx * gx + gy * gy + 1.0);
     return vec3<f32>(-gx / len, -gy / len, 1.0 / len);
 }

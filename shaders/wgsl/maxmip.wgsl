@@ -4,27 +4,64 @@
 // Texture layout: the pyramid buffer of hf_maxmip_bake (level 0 first, row-major) is
 // uploaded as one R32Float texture `hf_pyramid` HF_PYRAMID_TEX_WIDTH texels wide:
 // pyramid texel k is texel (k % HF_PYRAMID_TEX_WIDTH, k / HF_PYRAMID_TEX_WIDTH). The
-// levels (hf_maxmip_levels) are the uniform `hf_maxmip`: `levels` the level count,
-// `level[l]` = (width, height, offset, 0) of level l.
+// levels (hf_maxmip_levels) are, in WGSL, the uniform `hf_maxmip`: `levels` the level
+// count, `level[l]` = (width, height, offset, 0) of level l; in GLSL the uniforms
+// `hf_levels`, `hf_level_dims`, `hf_level_offset`.
 
+@group(0) @binding(3) var hf_pyramid: texture_2d<f32>;
+
+//#wgsl
 struct MaxMipParams {
     levels: i32,
     level: array<vec4<i32>, HF_MAX_LEVELS>,
 }
 
-@group(0) @binding(3) var hf_pyramid: texture_2d<f32>;
 @group(0) @binding(4) var<uniform> hf_maxmip: MaxMipParams;
+
+// The level count, and level l's (width, height, offset, 0).
+fn maxmip_levels() -> i32 { return hf_maxmip.levels; }
+fn maxmip_level(level: u32) -> vec4<i32> { return hf_maxmip.level[level]; }
 
 // `u32::ilog2`; v >= 1.
 fn maxmip_ilog2(v: u32) -> u32 { return firstLeadingBit(v); }
 
 // `u32::trailing_zeros` (32 for 0).
 fn maxmip_trailing_zeros(v: u32) -> u32 { return countTrailingZeros(v); }
+//#end
+//#glsl
+// uniform int hf_levels;
+// uniform ivec2 hf_level_dims[HF_MAX_LEVELS];
+// uniform int hf_level_offset[HF_MAX_LEVELS];
+//
+// // The level count, and level l's (width, height, offset, 0).
+// int maxmip_levels() { return hf_levels; }
+// ivec4 maxmip_level(uint level) { return ivec4(hf_level_dims[level], hf_level_offset[level], 0); }
+//
+// // `u32::ilog2` (GLSL 3.30 has no findMSB); v >= 1.
+// uint maxmip_ilog2(uint v) {
+//     uint r = 0u;
+//     while (v > 1u) {
+//         v >>= 1u;
+//         r += 1u;
+//     }
+//     return r;
+// }
+//
+// // `u32::trailing_zeros` (GLSL 3.30 has no findLSB).
+// uint maxmip_trailing_zeros(uint v) {
+//     uint r = 0u;
+//     while (r < 32u && (v & 1u) == 0u) {
+//         v >>= 1u;
+//         r += 1u;
+//     }
+//     return r;
+// }
+//#end
 
 // `MaxMip::texel`: texel (i, j) of `level`, the highest sample of that node's cells.
 fn maxmip_texel(level: u32, i: u32, j: u32) -> f32 {
-    let l = hf_maxmip.level[level];
-    let k = l.z + i32(j) * l.x + i32(i);
+    let l: vec4<i32> = maxmip_level(level);
+    let k: i32 = l.z + i32(j) * l.x + i32(i);
     return textureLoad(hf_pyramid, vec2<i32>(k % HF_PYRAMID_TEX_WIDTH, k / HF_PYRAMID_TEX_WIDTH), 0).r;
 }
 
@@ -34,8 +71,8 @@ fn maxmip_texel(level: u32, i: u32, j: u32) -> f32 {
 fn maxmip_sync_axis(i: u32, step: i32, lo: u32, hi: u32, o: f32, d: f32, t: f32,
                     exact: ptr<function, bool>) -> u32 {
     // The estimate; x >= 0, so truncation is the floor.
-    let x = real_clamp_to(o + t * d, f32(lo), f32(hi - 1u));
-    var j = u32(x);
+    let x: f32 = real_clamp_to(o + t * d, f32(lo), f32(hi - 1u));
+    var j: u32 = u32(x);
     if (step > 0) {
         j = max(j, i);
         while (j > i && (f32(j) - o) / d > t) {
@@ -85,33 +122,33 @@ fn maxmip_trace(surface: u32, q: Query) -> Trace {
     if (!dda_clip(q, &span)) {
         return trace_miss(0u, real_infinity());
     }
-    let o = q.origin;
-    let d = q.dir;
-    let cells = vec2<u32>(field_width() - 1u, field_height() - 1u);
-    let step = vec2<i32>(dda_step_of(d[0]), dda_step_of(d[1]));
-    var p = query_at(q, span.t0);
-    var cell = vec2<u32>(dda_cell_index(real_clamp_to(p[0], 0.0, f32(cells[0])), d[0], cells[0]),
+    let o: vec3<f32> = q.origin;
+    let d: vec3<f32> = q.dir;
+    let cells: vec2<u32> = vec2<u32>(field_width() - 1u, field_height() - 1u);
+    let step: vec2<i32> = vec2<i32>(dda_step_of(d[0]), dda_step_of(d[1]));
+    var p: vec3<f32> = query_at(q, span.t0);
+    var cell: vec2<u32> = vec2<u32>(dda_cell_index(real_clamp_to(p[0], 0.0, f32(cells[0])), d[0], cells[0]),
                          dda_cell_index(real_clamp_to(p[1], 0.0, f32(cells[1])), d[1], cells[1]));
-    let top = u32(hf_maxmip.levels) - 1u;
+    let top: u32 = u32(maxmip_levels()) - 1u;
     // Start where nodes are a quarter to an eighth of the ray's horizontal reach.
-    let reach = real_max(abs(d[0]), abs(d[1])) * (span.t1 - span.t0);
-    let msb = maxmip_ilog2(u32(real_min(reach, 1073741824.0)) + 1u);
-    let start_level = select(0u, msb - 2u, msb >= 2u);
-    var level = min(start_level, top);
-    var t = span.t0;
-    var start = true;
+    let reach: f32 = real_max(abs(d[0]), abs(d[1])) * (span.t1 - span.t0);
+    let msb: u32 = maxmip_ilog2(u32(real_min(reach, 1073741824.0)) + 1u);
+    let start_level: u32 = select(0u, msb - 2u, msb >= 2u);
+    var level: u32 = min(start_level, top);
+    var t: f32 = span.t0;
+    var start: bool = true;
     // How the current cell was entered: on[axis] >= 0 through a centerline crossing or a
     // side of the footprint.
-    var on = dda_entry_on(surface, span);
-    var fetches = 0u;
-    var clearance = real_infinity();
+    var on: vec2<i32> = dda_entry_on(surface, span);
+    var fetches: u32 = 0u;
+    var clearance: f32 = real_infinity();
     loop {
         // The node holding the cell at this level, and where the ray leaves it.
         var lo: vec2<u32>;
         var hi: vec2<u32>;
         var bound: vec2<u32>;
-        var t_out = vec2<f32>(real_infinity());
-        for (var k = 0; k < 2; k++) {
+        var t_out: vec2<f32> = vec2<f32>(real_infinity());
+        for (var k: i32 = 0; k < 2; k++) {
             lo[k] = (cell[k] >> level) << level;
             hi[k] = min(lo[k] + (1u << level), cells[k]);
             bound[k] = select(lo[k], hi[k], step[k] > 0);
@@ -119,13 +156,13 @@ fn maxmip_trace(surface: u32, q: Query) -> Trace {
                 t_out[k] = (f32(bound[k]) - o[k]) / d[k];
             }
         }
-        let t_next = real_min(t_out[0], t_out[1]);
-        let crossing = t_next < span.t1;
-        let tb = select(span.t1, real_max(t_next, t), crossing);
-        let pb = query_at(q, tb);
-        let top_z = maxmip_texel(level, cell[0] >> level, cell[1] >> level);
+        let t_next: f32 = real_min(t_out[0], t_out[1]);
+        let crossing: bool = t_next < span.t1;
+        let tb: f32 = select(span.t1, real_max(t_next, t), crossing);
+        let pb: vec3<f32> = query_at(q, tb);
+        let top_z: f32 = maxmip_texel(level, cell[0] >> level, cell[1] >> level);
         fetches += 1u;
-        let low = real_min(p[2], pb[2]);
+        let low: f32 = real_min(p[2], pb[2]);
         if (low > top_z) {
             clearance = real_min(clearance, low - top_z);
         } else if (level > 0u) {
@@ -133,10 +170,10 @@ fn maxmip_trace(surface: u32, q: Query) -> Trace {
             continue;
         } else {
             // Level 0: the exact test of dda_trace, on the same shared edge clearances.
-            let c = surface_corners(cell[0], cell[1]);
+            let c: vec4<f32> = surface_corners(cell[0], cell[1]);
             fetches += 4u;
             var a: vec3<f32>;
-            let ca = dda_local_clearance(surface, c, cell, p, on, &a);
+            let ca: f32 = dda_local_clearance(surface, c, cell, p, on, &a);
             if (ca <= 0.0 && (start || surface_is_continuous(surface))) {
                 var hit: Hit;
                 if (start) {
@@ -153,18 +190,18 @@ fn maxmip_trace(surface: u32, q: Query) -> Trace {
                 }
                 return trace_hit(hit, fetches, cl);
             }
-            let exit_on = vec2<i32>(select(-1, i32(step[0] > 0), crossing && t_out[0] <= t_next),
+            let exit_on: vec2<i32> = vec2<i32>(select(-1, i32(step[0] > 0), crossing && t_out[0] <= t_next),
                                     select(-1, i32(step[1] > 0), crossing && t_out[1] <= t_next));
             var b: vec3<f32>;
-            let cb = dda_local_clearance(surface, c, cell, pb, exit_on, &b);
-            let wall = maxmip_entry_wall(on, step);
-            let seg = surface_segment_hit(surface, c, a, b, ca, cb, wall);
+            let cb: f32 = dda_local_clearance(surface, c, cell, pb, exit_on, &b);
+            let wall: vec3<f32> = maxmip_entry_wall(on, step);
+            let seg: SegmentHit = surface_segment_hit(surface, c, a, b, ca, cb, wall);
             clearance = real_min(clearance, seg.clearance);
             if (seg.has_hit) {
-                let s = seg.s;
-                let th = t + s * (tb - t);
+                let s: f32 = seg.s;
+                let th: f32 = t + s * (tb - t);
                 // As dda_trace: the cell's corner plus local coordinates.
-                let point = vec3<f32>(f32(cell[0]) + (a[0] + s * (b[0] - a[0])),
+                let point: vec3<f32> = vec3<f32>(f32(cell[0]) + (a[0] + s * (b[0] - a[0])),
                                       f32(cell[1]) + (a[1] + s * (b[1] - a[1])),
                                       a[2] + s * (b[2] - a[2]));
                 return trace_hit(Hit(th, point, cell, seg.normal, seg.flags), fetches, clearance);
@@ -175,8 +212,8 @@ fn maxmip_trace(surface: u32, q: Query) -> Trace {
         if (!crossing) {
             return trace_miss(fetches, clearance);
         }
-        var crossed_level = level;
-        for (var k = 0; k < 2; k++) {
+        var crossed_level: u32 = level;
+        for (var k: i32 = 0; k < 2; k++) {
             if (step[k] != 0 && t_out[k] <= t_next) {
                 if (bound[k] == select(0u, cells[k], step[k] > 0)) {
                     return trace_miss(fetches, clearance);

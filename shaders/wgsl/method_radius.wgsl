@@ -13,7 +13,7 @@ struct RadiusParams {
 // The closure of `radius::trace_steps`: the texel's radius, at least `floor` (no extra
 // fetch).
 fn safety_march_jump(l: SafetyLine, ray_class: u32, i: u32, j: u32, d: vec3<f32>) -> vec2<u32> {
-    let floor_ = select(0u, 1u, hf_params.clamp == 1u);
+    let floor_: u32 = select(0u, 1u, hf_params.clamp == 1u);
     return vec2<u32>(max(radius_at(i, j), floor_), 0u);
 }
 

@@ -14,15 +14,15 @@ fn qdm_texel(i: u32, j: u32) -> vec4<f32> { return textureLoad(hf_qdm_map, vec2<
 // `found` false for none.
 fn qdm_solve_stable(qa: f32, qb: f32, qc: f32, found: ptr<function, bool>) -> f32 {
     *found = false;
-    var best = 0.0;
-    let disc = qb * qb - 4.0 * qa * qc;
+    var best: f32 = 0.0;
+    let disc: f32 = qb * qb - 4.0 * qa * qc;
     if (disc < 0.0) {
         return best;
     }
-    let sq = sqrt(disc);
-    let q = select(-0.5 * (qb - sq), -0.5 * (qb + sq), qb >= 0.0);
+    let sq: f32 = sqrt(disc);
+    let q: f32 = select(-0.5 * (qb - sq), -0.5 * (qb + sq), qb >= 0.0);
     var roots: array<f32, 2>;
-    var n = 0;
+    var n: i32 = 0;
     if (q == 0.0) {
         if (qc == 0.0) {
             roots[n] = 0.0;
@@ -34,8 +34,8 @@ fn qdm_solve_stable(qa: f32, qb: f32, qc: f32, found: ptr<function, bool>) -> f3
         roots[n] = qc / q;
         n++;
     }
-    for (var k = 0; k < n; k++) {
-        let r = roots[k];
+    for (var k: i32 = 0; k < n; k++) {
+        let r: f32 = roots[k];
         if (real_is_finite(r) && r >= 0.0 && (!*found || r < best)) {
             *found = true;
             best = r;
@@ -48,25 +48,25 @@ fn qdm_solve_stable(qa: f32, qb: f32, qc: f32, found: ptr<function, bool>) -> f3
 // of horizontal distance) may go before it meets F(rho); `found` false: never.
 fn qdm_free_distance(tex: vec4<f32>, e0: f32, g: f32, found: ptr<function, bool>) -> f32 {
     *found = true;
-    let a = tex[0];
-    let b = tex[1];
-    let c = tex[2];
-    let inv_a = 1.0 / a;
-    let k = inv_a - g;
-    let ab = a * b;
+    let a: f32 = tex[0];
+    let b: f32 = tex[1];
+    let c: f32 = tex[2];
+    let inv_a: f32 = 1.0 / a;
+    let k: f32 = inv_a - g;
+    let ab: f32 = a * b;
     if (k > 0.0) {
-        let rho = e0 / k;
+        let rho: f32 = e0 / k;
         if (rho <= ab) {
             return rho;
         }
     }
-    let xp = 0.5 / (a * c);
+    let xp: f32 = 0.5 / (a * c);
     var has_x: bool;
-    let x = qdm_solve_stable(c, g - inv_a, e0 + g * ab - b, &has_x);
+    let x: f32 = qdm_solve_stable(c, g - inv_a, e0 + g * ab - b, &has_x);
     if (has_x && x <= xp) {
         return ab + x;
     }
-    let plateau = b + 0.25 / (a * a * c);
+    let plateau: f32 = b + 0.25 / (a * a * c);
     if (g < 0.0) {
         return (e0 - plateau) / -g;
     }
@@ -79,14 +79,14 @@ fn qdm_step(cell: vec2<u32>, p: vec3<f32>, d: vec3<f32>, dt: ptr<function, f32>,
             fetches: ptr<function, u32>) -> i32 {
     *dt = 0.0;
     *fetches = 1u;
-    let hs = sqrt(d[0] * d[0] + d[1] * d[1]);
-    let tex = qdm_texel(cell[0], cell[1]);
-    let top = tex[3];
-    let e0 = p[2] - top - cone_margin(p[2], top);
+    let hs: f32 = sqrt(d[0] * d[0] + d[1] * d[1]);
+    let tex: vec4<f32> = qdm_texel(cell[0], cell[1]);
+    let top: f32 = tex[3];
+    let e0: f32 = p[2] - top - cone_margin(p[2], top);
     if (!(e0 > 0.0) || !(tex[0] > 0.0)) {
         return CONE_STEP_CELL;
     }
-    let shrink = 1.0 - 16.0 * REAL_EPSILON;
+    let shrink: f32 = 1.0 - 16.0 * REAL_EPSILON;
     if (hs == 0.0) {
         if (d[2] < 0.0) {
             *dt = e0 / -d[2] * shrink;
@@ -95,7 +95,7 @@ fn qdm_step(cell: vec2<u32>, p: vec3<f32>, d: vec3<f32>, dt: ptr<function, f32>,
         return CONE_STEP_MISS;
     }
     var found: bool;
-    let rho = qdm_free_distance(tex, e0, d[2] / hs, &found);
+    let rho: f32 = qdm_free_distance(tex, e0, d[2] / hs, &found);
     if (found) {
         *dt = rho / hs * shrink;
         return CONE_STEP_JUMP;

@@ -15,7 +15,7 @@ fn query_at(q: Query, t: f32) -> vec3<f32> {
 
 // `RayClass::of`.
 fn ray_class_of(dx: f32, dy: f32) -> u32 {
-    let zero = dx == 0.0 && dy == 0.0;
+    let zero: bool = dx == 0.0 && dy == 0.0;
     if (dx >= abs(dy) && !zero) {
         return HF_RAY_CLASS_X_POS;
     } else if (-dx >= abs(dy) && !zero) {

@@ -24,9 +24,10 @@ override hf_safety_classes: u32 = 15u;
 // `RayClasses::contains`: whether the set `classes` (HF_RAYS_* bits) holds ray_class.
 fn safety_holds(classes: u32, ray_class: u32) -> bool { return (classes & (1u << ray_class)) != 0u; }
 
-// `RayClasses::count`: how many of the four classes `classes` holds.
+// `RayClasses::count`: how many of the four classes `classes` holds (bit by bit:
+// GLSL 3.30 has no bitCount).
 fn safety_class_count(classes: u32) -> u32 {
-    return countOneBits(classes & 15u);
+    return (classes & 1u) + ((classes >> 1u) & 1u) + ((classes >> 2u) & 1u) + ((classes >> 3u) & 1u);
 }
 
 // `ClassRows::index` (the row): texel row j of a class-per-row map holding `classes`
@@ -43,7 +44,7 @@ fn safety_distance(ray_class: u32, i: u32, j: u32) -> u32 {
         return 0u;
     }
 //#if any_variant
-    let row = select(j, safety_class_row(hf_safety_classes, ray_class, j),
+    let row: u32 = select(j, safety_class_row(hf_safety_classes, ray_class, j),
                      hf_safety_variant == HF_SAFETY_DIRECTIONAL);
     return textureLoad(hf_safety_map, vec2<u32>(i, row), 0).r;
 //#else
@@ -88,24 +89,24 @@ struct SafetyLine {
 
 // `line_at`: evaluates the crossing of centerline m of axis ax; two fetches.
 fn safety_line_at(q: Query, ax: i32, m: u32) -> SafetyLine {
-    let o = q.origin;
-    let d = q.dir;
-    let mi = 1 - ax;
-    let ln = safety_extents(ax)[1];
-    let t = (f32(m) - o[ax]) / d[ax];
-    var p = query_at(q, t);
+    let o: vec3<f32> = q.origin;
+    let d: vec3<f32> = q.dir;
+    let mi: i32 = 1 - ax;
+    let ln: u32 = safety_extents(ax)[1];
+    let t: f32 = (f32(m) - o[ax]) / d[ax];
+    var p: vec3<f32> = query_at(q, t);
     p[ax] = f32(m);
-    let y = real_clamp_to(p[mi], 0.0, f32(ln - 1u));
-    let edge = min(u32(floor(y)), ln - 2u);
-    let v = y - f32(edge);
-    let h0 = safety_sample(ax, m, edge);
-    let h1 = safety_sample(ax, m, edge + 1u);
-    let c = p[2] - real_lerp(h0, h1, v);
-    let texel = select(edge + 1u, edge, v < 0.5);
-    let ys = 1.0 + abs(o[mi]) + abs(p[mi]);
-    let zs = 1.0 + abs(o[2]) + abs(p[2]) + abs(h0) + abs(h1 - h0) * ys;
-    let rel = real_max(32.0 * REAL_EPSILON, 9.313225746154785e-10);
-    let tol = select(rel * zs, real_infinity(), 8.0 * REAL_EPSILON * ys > HF_SAFETY_SEG_PAD);
+    let y: f32 = real_clamp_to(p[mi], 0.0, f32(ln - 1u));
+    let edge: u32 = min(u32(floor(y)), ln - 2u);
+    let v: f32 = y - f32(edge);
+    let h0: f32 = safety_sample(ax, m, edge);
+    let h1: f32 = safety_sample(ax, m, edge + 1u);
+    let c: f32 = p[2] - real_lerp(h0, h1, v);
+    let texel: u32 = select(edge + 1u, edge, v < 0.5);
+    let ys: f32 = 1.0 + abs(o[mi]) + abs(p[mi]);
+    let zs: f32 = 1.0 + abs(o[2]) + abs(p[2]) + abs(h0) + abs(h1 - h0) * ys;
+    let rel: f32 = real_max(32.0 * REAL_EPSILON, 9.313225746154785e-10);
+    let tol: f32 = select(rel * zs, real_infinity(), 8.0 * REAL_EPSILON * ys > HF_SAFETY_SEG_PAD);
     return SafetyLine(m, t, p, c, edge, texel, tol);
 }
 
@@ -136,7 +137,7 @@ struct SafetyMarch {
 // `March::line`: a centerline evaluation, counted.
 fn safety_march_line(mr: ptr<function, SafetyMarch>, q: Query, m: u32) -> SafetyLine {
     (*mr).fetches += 2u;
-    let l = safety_line_at(q, (*mr).ax, m);
+    let l: SafetyLine = safety_line_at(q, (*mr).ax, m);
     if (l.c > 0.0) {
         (*mr).clearance = real_min((*mr).clearance, l.c);
     }
@@ -145,19 +146,19 @@ fn safety_march_line(mr: ptr<function, SafetyMarch>, q: Query, m: u32) -> Safety
 
 // `March::wall_of`: normal of a wall facing the ray on `axis`.
 fn safety_march_wall_of(mr: SafetyMarch, axis: i32) -> vec3<f32> {
-    var n = vec3<f32>(0.0);
+    var n: vec3<f32> = vec3<f32>(0.0);
     n[axis] = select(1.0, -1.0, mr.step[axis] > 0);
     return n;
 }
 
 // `March::enter`: puts the walk just past the crossing l (above the surface).
 fn safety_march_enter(mr: ptr<function, SafetyMarch>, q: Query, l: SafetyLine) {
-    let ax = (*mr).ax;
-    let mi = 1 - (*mr).ax;
-    let o = q.origin;
-    let d = q.dir;
+    let ax: i32 = (*mr).ax;
+    let mi: i32 = 1 - (*mr).ax;
+    let o: vec3<f32> = q.origin;
+    let d: vec3<f32> = q.dir;
     (*mr).ic[ax] = select(l.m - 1u, l.m, (*mr).step[ax] > 0);
-    let y = real_clamp_to(l.p[mi], 0.0, f32((*mr).cells[mi]));
+    let y: f32 = real_clamp_to(l.p[mi], 0.0, f32((*mr).cells[mi]));
     (*mr).ic[mi] = dda_cell_index(y, d[mi], (*mr).cells[mi]);
     (*mr).a[ax] = select(1.0, 0.0, (*mr).step[ax] > 0);
     (*mr).a[mi] = real_clamp_to(l.p[mi] - f32((*mr).ic[mi]), 0.0, 1.0);
@@ -165,7 +166,7 @@ fn safety_march_enter(mr: ptr<function, SafetyMarch>, q: Query, l: SafetyLine) {
     (*mr).ca = l.c;
     (*mr).ta = l.t;
     (*mr).wall = safety_march_wall_of(*mr, ax);
-    for (var k = 0; k < 2; k++) {
+    for (var k: i32 = 0; k < 2; k++) {
         (*mr).tn[k] = dda_next_crossing((*mr).ic[k], (*mr).step[k], o[k], d[k]);
     }
     (*mr).stale = true;
@@ -175,10 +176,10 @@ fn safety_march_enter(mr: ptr<function, SafetyMarch>, q: Query, l: SafetyLine) {
 // centerline (SAFETY_STEP_LINE, `line`), the hit (SAFETY_STEP_HIT, `hit`), or the end.
 fn safety_march_walk(mr: ptr<function, SafetyMarch>, q: Query, hit: ptr<function, Hit>,
                      line: ptr<function, SafetyLine>) -> i32 {
-    let ax = (*mr).ax;
-    let mi = 1 - (*mr).ax;
-    let o = q.origin;
-    let d = q.dir;
+    let ax: i32 = (*mr).ax;
+    let mi: i32 = 1 - (*mr).ax;
+    let o: vec3<f32> = q.origin;
+    let d: vec3<f32> = q.dir;
     *hit = hit_none();
     *line = SafetyLine(0u, 0.0, vec3<f32>(0.0), 0.0, 0u, 0u, 0.0);
     loop {
@@ -187,7 +188,7 @@ fn safety_march_walk(mr: ptr<function, SafetyMarch>, q: Query, hit: ptr<function
             (*mr).fetches += 4u;
             (*mr).stale = false;
         }
-        let t_next = real_min((*mr).tn[0], (*mr).tn[1]);
+        let t_next: f32 = real_min((*mr).tn[0], (*mr).tn[1]);
         var tb: f32;
         var cross: vec2<bool>;
         if (t_next < (*mr).span.t1) {
@@ -197,17 +198,17 @@ fn safety_march_walk(mr: ptr<function, SafetyMarch>, q: Query, hit: ptr<function
             tb = (*mr).span.t1;
             cross = vec2<bool>(false);
         }
-        let on = vec2<i32>(select(-1, i32((*mr).step[0] > 0), cross[0]),
+        let on: vec2<i32> = vec2<i32>(select(-1, i32((*mr).step[0] > 0), cross[0]),
                            select(-1, i32((*mr).step[1] > 0), cross[1]));
-        let p = query_at(q, tb);
+        let p: vec3<f32> = query_at(q, tb);
         var b: vec3<f32>;
-        var cb = dda_local_clearance((*mr).surface, (*mr).c, (*mr).ic, p, on, &b);
-        var has_line = false;
+        var cb: f32 = dda_local_clearance((*mr).surface, (*mr).c, (*mr).ic, p, on, &b);
+        var has_line: bool = false;
         if (cross[ax]) {
             // The clearance the jumps use at this centerline (same samples, same
             // arithmetic), so walking and jumping agree.
-            let m = select((*mr).ic[ax], (*mr).ic[ax] + 1u, (*mr).step[ax] > 0);
-            let l = safety_line_at(q, ax, m);
+            let m: u32 = select((*mr).ic[ax], (*mr).ic[ax] + 1u, (*mr).step[ax] > 0);
+            let l: SafetyLine = safety_line_at(q, ax, m);
             if (l.edge != (*mr).ic[mi]) {
                 (*mr).fetches += 2u;
             }
@@ -215,13 +216,13 @@ fn safety_march_walk(mr: ptr<function, SafetyMarch>, q: Query, hit: ptr<function
             *line = l;
             has_line = true;
         }
-        let seg = surface_segment_hit((*mr).surface, (*mr).c, (*mr).a, b, (*mr).ca, cb, (*mr).wall);
+        let seg: SegmentHit = surface_segment_hit((*mr).surface, (*mr).c, (*mr).a, b, (*mr).ca, cb, (*mr).wall);
         (*mr).clearance = real_min((*mr).clearance, seg.clearance);
         if (seg.has_hit) {
-            let s = seg.s;
-            let a = (*mr).a;
-            let ic = (*mr).ic;
-            let point = vec3<f32>(f32(ic[0]) + (a[0] + s * (b[0] - a[0])),
+            let s: f32 = seg.s;
+            let a: vec3<f32> = (*mr).a;
+            let ic: vec2<u32> = (*mr).ic;
+            let point: vec3<f32> = vec3<f32>(f32(ic[0]) + (a[0] + s * (b[0] - a[0])),
                                   f32(ic[1]) + (a[1] + s * (b[1] - a[1])),
                                   a[2] + s * (b[2] - a[2]));
             *hit = Hit((*mr).ta + s * (tb - (*mr).ta), point, ic, seg.normal, seg.flags);
@@ -230,9 +231,9 @@ fn safety_march_walk(mr: ptr<function, SafetyMarch>, q: Query, hit: ptr<function
         if (!(cross[0] || cross[1])) {
             return SAFETY_STEP_END;
         }
-        for (var k = 0; k < 2; k++) {
+        for (var k: i32 = 0; k < 2; k++) {
             if (cross[k]) {
-                let next = i32((*mr).ic[k]) + (*mr).step[k];
+                let next: i32 = i32((*mr).ic[k]) + (*mr).step[k];
                 if (next < 0 || next >= i32((*mr).cells[k])) {
                     return SAFETY_STEP_END;
                 }
@@ -260,11 +261,11 @@ fn safety_march_done(mr: SafetyMarch, has_hit: bool, hit: Hit, flags: u32) -> Tr
 // `last_line`: last main-axis centerline the ray crosses strictly before t1 (false
 // when there is none), with the crossing formula of the walk.
 fn safety_last_line(q: Query, ax: i32, sg: i32, t1: f32, last: ptr<function, u32>) -> bool {
-    let o = q.origin;
-    let d = q.dir;
-    let lm = i32(safety_extents(ax)[0]);
-    let x1 = real_clamp_to(o[ax] + t1 * d[ax], 0.0, f32(lm - 1));
-    var m = i32(floor(x1)) + i32(sg < 0 && floor(x1) != x1);
+    let o: vec3<f32> = q.origin;
+    let d: vec3<f32> = q.dir;
+    let lm: i32 = i32(safety_extents(ax)[0]);
+    let x1: f32 = real_clamp_to(o[ax] + t1 * d[ax], 0.0, f32(lm - 1));
+    var m: i32 = i32(floor(x1)) + i32(sg < 0 && floor(x1) != x1);
     while (m >= 0 && m < lm && (f32(u32(m)) - o[ax]) / d[ax] >= t1) {
         m -= sg;
     }
@@ -281,6 +282,9 @@ fn safety_last_line(q: Query, ax: i32, sg: i32, t1: f32, last: ptr<function, u32
 // that one (`d` is the query's direction, which the Rust closures capture). Defined by
 // the method's file (method_safety.wgsl, method_cc.wgsl, method_radius.wgsl):
 // fn safety_march_jump(l: SafetyLine, ray_class: u32, i: u32, j: u32, d: vec3<f32>) -> vec2<u32>
+//#glsl
+// uvec2 safety_march_jump(SafetyLine l, uint ray_class, uint i, uint j, vec3 d);
+//#end
 
 // `MarchSurface::of(surface)` then `MarchSurface::surface`: the surface a safety-shape
 // march finishes on, HF_SURFACE_TRIANGLES or HF_SURFACE_VIEW_LINEAR (the surfaces the
@@ -302,36 +306,36 @@ fn safety_march(march_surface: u32, q: Query) -> Trace {
     if (!dda_clip(q, &span)) {
         return trace_miss(0u, real_infinity());
     }
-    let o = q.origin;
-    let d = q.dir;
-    let ray_class = ray_class_of(d[0], d[1]);
-    let ax = safety_axis_of(ray_class);
-    let cells = vec2<u32>(field_width() - 1u, field_height() - 1u);
-    let p0 = query_at(q, span.t0);
-    let x0 = real_clamp_to(p0[0], 0.0, f32(cells[0]));
-    let y0 = real_clamp_to(p0[1], 0.0, f32(cells[1]));
-    let step = vec2<i32>(dda_step_of(d[0]), dda_step_of(d[1]));
-    let ic = vec2<u32>(dda_cell_index(x0, d[0], cells[0]), dda_cell_index(y0, d[1], cells[1]));
-    let c = surface_corners(ic[0], ic[1]);
-    let surface = safety_march_surface(march_surface);
+    let o: vec3<f32> = q.origin;
+    let d: vec3<f32> = q.dir;
+    let ray_class: u32 = ray_class_of(d[0], d[1]);
+    let ax: i32 = safety_axis_of(ray_class);
+    let cells: vec2<u32> = vec2<u32>(field_width() - 1u, field_height() - 1u);
+    let p0: vec3<f32> = query_at(q, span.t0);
+    let x0: f32 = real_clamp_to(p0[0], 0.0, f32(cells[0]));
+    let y0: f32 = real_clamp_to(p0[1], 0.0, f32(cells[1]));
+    let step: vec2<i32> = vec2<i32>(dda_step_of(d[0]), dda_step_of(d[1]));
+    let ic: vec2<u32> = vec2<u32>(dda_cell_index(x0, d[0], cells[0]), dda_cell_index(y0, d[1], cells[1]));
+    let c: vec4<f32> = surface_corners(ic[0], ic[1]);
+    let surface: u32 = safety_march_surface(march_surface);
     var a: vec3<f32>;
-    let ca = dda_local_clearance(surface, c, ic, vec3<f32>(x0, y0, p0[2]), dda_entry_on(surface, span), &a);
+    let ca: f32 = dda_local_clearance(surface, c, ic, vec3<f32>(x0, y0, p0[2]), dda_entry_on(surface, span), &a);
     if (ca <= 0.0) {
         return trace_hit(dda_start_hit(surface, span, c, ic, a, p0), 4u,
                          dda_start_clearance(span, ca));
     }
-    var mr = SafetyMarch(surface, span, ax, step, cells, ic, c, false, a, ca, span.t0,
+    var mr: SafetyMarch = SafetyMarch(surface, span, ax, step, cells, ic, c, false, a, ca, span.t0,
                          vec3<f32>(0.0, 0.0, 1.0),
                          vec2<f32>(dda_next_crossing(ic[0], step[0], o[0], d[0]),
                                    dda_next_crossing(ic[1], step[1], o[1], d[1])),
                          4u, ca);
-    let sg = step[ax];
-    var last = 0u;
-    let has_last = sg != 0 && safety_last_line(q, ax, sg, span.t1, &last);
-    var budget = safety_extents(ax)[0] + 8u;
+    let sg: i32 = step[ax];
+    var last: u32 = 0u;
+    let has_last: bool = sg != 0 && safety_last_line(q, ax, sg, span.t1, &last);
+    var budget: u32 = safety_extents(ax)[0] + 8u;
     var hit: Hit;
     var l: SafetyLine;
-    var st = safety_march_walk(&mr, q, &hit, &l);
+    var st: i32 = safety_march_walk(&mr, q, &hit, &l);
     loop {
         if (st == SAFETY_STEP_HIT) {
             return safety_march_done(mr, true, hit, 0u);
@@ -346,11 +350,11 @@ fn safety_march(march_surface: u32, q: Query) -> Trace {
             st = safety_march_walk(&mr, q, &hit, &l);
             continue;
         }
-        var k = 0u;
+        var k: u32 = 0u;
         if (l.c > l.tol) {
             mr.fetches += 1u;
-            let ij = select(vec2<u32>(l.texel, l.m), vec2<u32>(l.m, l.texel), ax == 0);
-            let jump = safety_march_jump(l, ray_class, ij[0], ij[1], d);
+            let ij: vec2<u32> = select(vec2<u32>(l.texel, l.m), vec2<u32>(l.m, l.texel), ax == 0);
+            let jump: vec2<u32> = safety_march_jump(l, ray_class, ij[0], ij[1], d);
             k = jump.x;
             mr.fetches += jump.y;
         }
@@ -358,10 +362,10 @@ fn safety_march(march_surface: u32, q: Query) -> Trace {
             st = safety_march_walk(&mr, q, &hit, &l);
             continue;
         }
-        let room = u32(abs(i32(last) - i32(l.m)));
+        let room: u32 = u32(abs(i32(last) - i32(l.m)));
         // `target` in Rust and GLSL, a reserved word in WGSL.
-        let goal = u32(i32(l.m) + sg * i32(min(k, room)));
-        let lt = safety_march_line(&mr, q, goal);
+        let goal: u32 = u32(i32(l.m) + sg * i32(min(k, room)));
+        let lt: SafetyLine = safety_march_line(&mr, q, goal);
         if (lt.c > 0.0) {
             safety_march_enter(&mr, q, lt);
             l = lt;
@@ -369,11 +373,11 @@ fn safety_march(march_surface: u32, q: Query) -> Trace {
             continue;
         }
         // Below at the target, above at m, and no exit in between: bisect.
-        var lo = l;
-        var hi = goal;
+        var lo: SafetyLine = l;
+        var hi: u32 = goal;
         while (abs(i32(hi) - i32(lo.m)) > 1) {
-            let mid = u32((i32(hi) + i32(lo.m)) / 2);
-            let lm = safety_march_line(&mr, q, mid);
+            let mid: u32 = u32((i32(hi) + i32(lo.m)) / 2);
+            let lm: SafetyLine = safety_march_line(&mr, q, mid);
             if (lm.c > 0.0) {
                 lo = lm;
             } else {

@@ -5,7 +5,7 @@
 // `search` (the closure `clearance_at` is `search_clearance_at`, counting fetches).
 fn search_clearance_at(surface: u32, q: Query, t: f32, fetches: ptr<function, u32>) -> f32 {
     *fetches += 4u;
-    let p = query_at(q, t);
+    let p: vec3<f32> = query_at(q, t);
     return p[2] - surface_height_at(surface, p[0], p[1]);
 }
 
@@ -16,21 +16,21 @@ fn search_search(surface: u32, q: Query, linear_in: u32, secant: bool, binary: u
     if (!dda_clip_surface(surface, q, &span)) {
         return trace_miss(0u, real_infinity());
     }
-    var fetches = 0u;
-    let linear = max(linear_in, 1u);
-    let dt = (span.t1 - span.t0) / f32(linear);
-    var prev = vec2<f32>(span.t0, search_clearance_at(surface, q, span.t0, &fetches));
-    var bracket = false;
-    var above = vec2<f32>(0.0);
-    var under = vec2<f32>(0.0);
+    var fetches: u32 = 0u;
+    let linear: u32 = max(linear_in, 1u);
+    let dt: f32 = (span.t1 - span.t0) / f32(linear);
+    var prev: vec2<f32> = vec2<f32>(span.t0, search_clearance_at(surface, q, span.t0, &fetches));
+    var bracket: bool = false;
+    var above: vec2<f32> = vec2<f32>(0.0);
+    var under: vec2<f32> = vec2<f32>(0.0);
     if (prev[1] <= 0.0) {
         bracket = true;
         above = prev;
         under = prev;
     } else {
-        for (var k = 1u; k <= linear; k++) {
-            let t = select(span.t0 + dt * f32(k), span.t1, k == linear);
-            let c = search_clearance_at(surface, q, t, &fetches);
+        for (var k: u32 = 1u; k <= linear; k++) {
+            let t: f32 = select(span.t0 + dt * f32(k), span.t1, k == linear);
+            let c: f32 = search_clearance_at(surface, q, t, &fetches);
             if (c <= 0.0) {
                 bracket = true;
                 above = prev;
@@ -47,9 +47,9 @@ fn search_search(surface: u32, q: Query, linear_in: u32, secant: bool, binary: u
     if (above[0] == under[0]) {
         t = under[0];
     } else if (!secant) {
-        for (var n = 0u; n < binary; n++) {
-            let mid = 0.5 * (above[0] + under[0]);
-            let c = search_clearance_at(surface, q, mid, &fetches);
+        for (var n: u32 = 0u; n < binary; n++) {
+            let mid: f32 = 0.5 * (above[0] + under[0]);
+            let c: f32 = search_clearance_at(surface, q, mid, &fetches);
             if (c <= 0.0) {
                 under = vec2<f32>(mid, c);
             } else {
@@ -60,13 +60,13 @@ fn search_search(surface: u32, q: Query, linear_in: u32, secant: bool, binary: u
     } else {
         t = above[0] + (under[0] - above[0]) * above[1] / (above[1] - under[1]);
     }
-    let p = query_at(q, t);
+    let p: vec3<f32> = query_at(q, t);
     var c: vec4<f32>;
     var u: f32;
     var v: f32;
     var cell: vec2<u32>;
     surface_locate(p[0], p[1], &c, &u, &v, &cell);
-    var flags = 0u;
+    var flags: u32 = 0u;
     if (!(t > span.t0)) {
         if (span.entry == HF_ENTRY_START) {
             flags = HF_FLAG_ORIGIN_INSIDE;

@@ -34,10 +34,10 @@ fn surface_bilinear(c: vec4<f32>, u: f32, v: f32) -> f32 {
 
 // `triangle_planes`: the two planes of the split along the lower diagonal.
 fn surface_triangle_planes(c: vec4<f32>, p: ptr<function, vec3<f32>>, q: ptr<function, vec3<f32>>) {
-    let h00 = c[0];
-    let h10 = c[1];
-    let h01 = c[2];
-    let h11 = c[3];
+    let h00: f32 = c[0];
+    let h10: f32 = c[1];
+    let h01: f32 = c[2];
+    let h11: f32 = c[3];
     if (h00 + h11 <= h10 + h01) {
         // Diagonal 00-11: triangles (00, 10, 11) and (00, 01, 11).
         *p = vec3<f32>(h00, h10 - h00, h11 - h10);
@@ -97,14 +97,14 @@ fn surface_cell_gradient(surface: u32, c: vec4<f32>, u: f32, v: f32) -> vec2<f32
         var p: vec3<f32>;
         var q: vec3<f32>;
         surface_triangle_planes(c, &p, &q);
-        let top = select(q, p, surface_plane(p, u, v) >= surface_plane(q, u, v));
+        let top: vec3<f32> = select(q, p, surface_plane(p, u, v) >= surface_plane(q, u, v));
         return vec2<f32>(top[1], top[2]);
 //#endif
 //#if any_surface
     } else if (surface == HF_SURFACE_BILINEAR || surface == HF_SURFACE_VIEW_LINEAR) {
 //#endif
 //#if bilinear|view_linear
-        let e = c[0] - c[1] - c[2] + c[3];
+        let e: f32 = c[0] - c[1] - c[2] + c[3];
         return vec2<f32>(c[1] - c[0] + e * v, c[2] - c[0] + e * u);
 //#endif
 //#if any_surface
@@ -117,14 +117,14 @@ fn surface_cell_gradient(surface: u32, c: vec4<f32>, u: f32, v: f32) -> vec2<f32
     }
 //#endif
 //#if linear_planes
-    let p = surface_linear_plane(c);
+    let p: vec3<f32> = surface_linear_plane(c);
     return vec2<f32>(p[1], p[2]);
 //#endif
 }
 
 // `Surface::cell_normal`.
 fn surface_cell_normal(surface: u32, c: vec4<f32>, u: f32, v: f32) -> vec3<f32> {
-    let g = surface_cell_gradient(surface, c, u, v);
+    let g: vec2<f32> = surface_cell_gradient(surface, c, u, v);
     return math_normal_from_gradient(g.x, g.y);
 }
 
@@ -135,10 +135,10 @@ fn surface_corners(i: u32, j: u32) -> vec4<f32> { return field_cell_corners(i, j
 // the footprint.
 fn surface_locate(x_in: f32, y_in: f32, c: ptr<function, vec4<f32>>, u: ptr<function, f32>,
                   v: ptr<function, f32>, cell: ptr<function, vec2<u32>>) {
-    let x = real_clamp_to(x_in, 0.0, f32(field_width() - 1u));
-    let y = real_clamp_to(y_in, 0.0, f32(field_height() - 1u));
-    let i = min(u32(floor(x)), field_width() - 2u);
-    let j = min(u32(floor(y)), field_height() - 2u);
+    let x: f32 = real_clamp_to(x_in, 0.0, f32(field_width() - 1u));
+    let y: f32 = real_clamp_to(y_in, 0.0, f32(field_height() - 1u));
+    let i: u32 = min(u32(floor(x)), field_width() - 2u);
+    let j: u32 = min(u32(floor(y)), field_height() - 2u);
     *c = surface_corners(i, j);
     *u = x - f32(i);
     *v = y - f32(j);
@@ -162,30 +162,30 @@ fn surface_normal_at(surface: u32, x: f32, y: f32) -> vec3<f32> {
     var v: f32;
     var cell: vec2<u32>;
     surface_locate(x, y, &c, &u, &v, &cell);
-    let g = surface_cell_gradient(surface, c, u, v);
+    let g: vec2<f32> = surface_cell_gradient(surface, c, u, v);
     return math_normal_from_gradient(g.x, g.y);
 }
 
 // `triangles_segment`: the clearance is concave along the segment, so the segment is
 // clear iff both ends are; the contact is the first root of either plane's clearance.
 fn surface_triangles_segment(c: vec4<f32>, a: vec3<f32>, b: vec3<f32>, ca: f32, cb: f32) -> SegmentHit {
-    let clearance = real_min(ca, cb);
+    let clearance: f32 = real_min(ca, cb);
     if (cb > 0.0) {
         return segment_none(clearance);
     }
-    var has_best = false;
-    var best_s = 0.0;
-    var best_p = vec3<f32>(0.0);
+    var has_best: bool = false;
+    var best_s: f32 = 0.0;
+    var best_p: vec3<f32> = vec3<f32>(0.0);
     var p0: vec3<f32>;
     var p1: vec3<f32>;
     surface_triangle_planes(c, &p0, &p1);
-    var planes = array<vec3<f32>, 2>(p0, p1);
-    for (var k = 0; k < 2; k++) {
-        let p = planes[k];
-        let la = a[2] - surface_plane(p, a[0], a[1]);
-        let lb = b[2] - surface_plane(p, b[0], b[1]);
+    var planes: array<vec3<f32>, 2> = array<vec3<f32>, 2>(p0, p1);
+    for (var k: i32 = 0; k < 2; k++) {
+        let p: vec3<f32> = planes[k];
+        let la: f32 = a[2] - surface_plane(p, a[0], a[1]);
+        let lb: f32 = b[2] - surface_plane(p, b[0], b[1]);
         if (lb <= 0.0) {
-            let s = select(la / (la - lb), 0.0, la <= 0.0);
+            let s: f32 = select(la / (la - lb), 0.0, la <= 0.0);
             if (!has_best || s < best_s) {
                 has_best = true;
                 best_s = s;
@@ -196,7 +196,7 @@ fn surface_triangles_segment(c: vec4<f32>, a: vec3<f32>, b: vec3<f32>, ca: f32, 
     // Rounding may leave both plane clearances just above zero while the shared edge
     // clearance `cb` is not: the contact is then at the end of the segment.
     if (!has_best) {
-        let top = select(planes[1], planes[0],
+        let top: vec3<f32> = select(planes[1], planes[0],
                          surface_plane(planes[0], b[0], b[1]) >= surface_plane(planes[1], b[0], b[1]));
         best_s = 1.0;
         best_p = top;
@@ -208,16 +208,16 @@ fn surface_triangles_segment(c: vec4<f32>, a: vec3<f32>, b: vec3<f32>, ca: f32, 
 // ulps, then clamped); `found` is false for none.
 fn surface_smallest_root_in_unit(qa: f32, qb: f32, qc: f32, found: ptr<function, bool>) -> f32 {
     *found = false;
-    var best = 0.0;
-    let disc = qb * qb - 4.0 * qa * qc;
+    var best: f32 = 0.0;
+    let disc: f32 = qb * qb - 4.0 * qa * qc;
     if (disc < 0.0) {
         return best;
     }
-    let sq = sqrt(disc);
-    let q = select(-0.5 * (qb - sq), -0.5 * (qb + sq), qb >= 0.0);
-    let tol = 64.0 * REAL_EPSILON;
+    let sq: f32 = sqrt(disc);
+    let q: f32 = select(-0.5 * (qb - sq), -0.5 * (qb + sq), qb >= 0.0);
+    let tol: f32 = 64.0 * REAL_EPSILON;
     var roots: array<f32, 2>;
-    var n = 0;
+    var n: i32 = 0;
     if (q == 0.0) {
         // B = 0 and D = 0: a double root at 0 when C = 0, or no root (A = B = 0, C != 0).
         if (qc == 0.0) {
@@ -230,8 +230,8 @@ fn surface_smallest_root_in_unit(qa: f32, qb: f32, qc: f32, found: ptr<function,
         roots[n] = qc / q;
         n++;
     }
-    for (var k = 0; k < n; k++) {
-        var r = roots[k];
+    for (var k: i32 = 0; k < n; k++) {
+        var r: f32 = roots[k];
         if (real_is_finite(r) && r >= -tol && r <= 1.0 + tol) {
             r = real_clamp_to(r, 0.0, 1.0);
             if (!*found || r < best) {
@@ -245,10 +245,10 @@ fn surface_smallest_root_in_unit(qa: f32, qb: f32, qc: f32, found: ptr<function,
 
 // `bisect`: first sign change of `A s^2 + B s + C` on [0, 1], given C > 0 >= A+B+C.
 fn surface_bisect(qa: f32, qb: f32, qc: f32) -> f32 {
-    var lo = 0.0;
-    var hi = 1.0;
-    for (var k = 0; k < 64; k++) {
-        let mid = 0.5 * (lo + hi);
+    var lo: f32 = 0.0;
+    var hi: f32 = 1.0;
+    for (var k: i32 = 0; k < 64; k++) {
+        let mid: f32 = 0.5 * (lo + hi);
         if ((qa * mid + qb) * mid + qc > 0.0) {
             lo = mid;
         } else {
@@ -261,18 +261,18 @@ fn surface_bisect(qa: f32, qb: f32, qc: f32) -> f32 {
 // `bilinear_segment`: the clearance along the segment is `A s^2 + B s + C` with
 // C = ca, A + B + C = cb and A = -e du dv.
 fn surface_bilinear_segment(c: vec4<f32>, a: vec3<f32>, b: vec3<f32>, ca: f32, cb: f32) -> SegmentHit {
-    let e = c[0] - c[1] - c[2] + c[3];
-    let qa = -e * (b[0] - a[0]) * (b[1] - a[1]);
-    let qc = ca;
-    let qb = cb - ca - qa;
-    var clearance = real_min(ca, cb);
-    var has_s = false;
-    var s = 0.0;
+    let e: f32 = c[0] - c[1] - c[2] + c[3];
+    let qa: f32 = -e * (b[0] - a[0]) * (b[1] - a[1]);
+    let qc: f32 = ca;
+    let qb: f32 = cb - ca - qa;
+    var clearance: f32 = real_min(ca, cb);
+    var has_s: bool = false;
+    var s: f32 = 0.0;
     if (cb <= 0.0) {
         // A sign change: a root in (0, 1] exists; fall back on bisection if rounding
         // pushed the discriminant below zero.
         var found: bool;
-        let r = surface_smallest_root_in_unit(qa, qb, qc, &found);
+        let r: f32 = surface_smallest_root_in_unit(qa, qb, qc, &found);
         has_s = true;
         if (found) {
             s = r;
@@ -281,13 +281,13 @@ fn surface_bilinear_segment(c: vec4<f32>, a: vec3<f32>, b: vec3<f32>, ca: f32, c
         }
     } else if (qa > 0.0) {
         // Both ends clear: the ray can still dip under a saddle between them.
-        let vertex = -qb / (2.0 * qa);
+        let vertex: f32 = -qb / (2.0 * qa);
         if (vertex > 0.0 && vertex < 1.0) {
-            let lowest = qc - qb * qb / (4.0 * qa);
+            let lowest: f32 = qc - qb * qb / (4.0 * qa);
             clearance = real_min(clearance, lowest);
             if (lowest <= 0.0) {
                 var found: bool;
-                let r = surface_smallest_root_in_unit(qa, qb, qc, &found);
+                let r: f32 = surface_smallest_root_in_unit(qa, qb, qc, &found);
                 has_s = true;
                 s = select(vertex, r, found);
             }
@@ -296,8 +296,8 @@ fn surface_bilinear_segment(c: vec4<f32>, a: vec3<f32>, b: vec3<f32>, ca: f32, c
     if (!has_s) {
         return segment_none(clearance);
     }
-    let u = a[0] + (b[0] - a[0]) * s;
-    let v = a[1] + (b[1] - a[1]) * s;
+    let u: f32 = a[0] + (b[0] - a[0]) * s;
+    let v: f32 = a[1] + (b[1] - a[1]) * s;
     // Up to its first root the quadratic has no minimum below min(ca, 0): nothing but `ca`.
     return segment_some(s, surface_cell_normal(HF_SURFACE_BILINEAR, c, u, v), 0u, ca);
 }
@@ -305,16 +305,16 @@ fn surface_bilinear_segment(c: vec4<f32>, a: vec3<f32>, b: vec3<f32>, ca: f32, c
 // `height_planes_segment`: the cell holds four constant quarters; the segment is split
 // where it crosses u = 1/2 and v = 1/2 and each piece tested against its quarter.
 fn surface_height_planes_segment(c: vec4<f32>, a: vec3<f32>, b: vec3<f32>, entry_wall: vec3<f32>) -> SegmentHit {
-    let d = vec3<f32>(b[0] - a[0], b[1] - a[1], b[2] - a[2]);
+    let d: vec3<f32> = vec3<f32>(b[0] - a[0], b[1] - a[1], b[2] - a[2]);
     // Split parameters where u or v crosses 1/2, with the wall normal met there.
     var cut_s: array<f32, 2>;
     var cut_n: array<vec3<f32>, 2>;
-    var cuts = 0;
-    for (var axis = 0; axis < 2; axis++) {
+    var cuts: i32 = 0;
+    for (var axis: i32 = 0; axis < 2; axis++) {
         if (d[axis] != 0.0) {
-            let s = (0.5 - a[axis]) / d[axis];
+            let s: f32 = (0.5 - a[axis]) / d[axis];
             if (s > 0.0 && s < 1.0) {
-                var n = vec3<f32>(0.0);
+                var n: vec3<f32> = vec3<f32>(0.0);
                 n[axis] = select(1.0, -1.0, d[axis] > 0.0);
                 cut_s[cuts] = s;
                 cut_n[cuts] = n;
@@ -323,33 +323,33 @@ fn surface_height_planes_segment(c: vec4<f32>, a: vec3<f32>, b: vec3<f32>, entry
         }
     }
     if (cuts == 2 && cut_s[1] < cut_s[0]) {
-        let ts = cut_s[0];
+        let ts: f32 = cut_s[0];
         cut_s[0] = cut_s[1];
         cut_s[1] = ts;
-        let tn = cut_n[0];
+        let tn: vec3<f32> = cut_n[0];
         cut_n[0] = cut_n[1];
         cut_n[1] = tn;
     }
-    var clearance = real_infinity();
-    var start_s = 0.0;
-    var start_n = entry_wall;
-    for (var k = 0; k <= cuts; k++) {
-        var end = 1.0;
-        var next_wall = entry_wall;
+    var clearance: f32 = real_infinity();
+    var start_s: f32 = 0.0;
+    var start_n: vec3<f32> = entry_wall;
+    for (var k: i32 = 0; k <= cuts; k++) {
+        var end: f32 = 1.0;
+        var next_wall: vec3<f32> = entry_wall;
         if (k < cuts) {
             end = cut_s[k];
             next_wall = cut_n[k];
         }
-        let mid = 0.5 * (start_s + end);
-        let h = c[surface_nearest_corner(a[0] + d[0] * mid, a[1] + d[1] * mid)];
-        let c0 = a[2] + d[2] * start_s - h;
-        let c1 = a[2] + d[2] * end - h;
+        let mid: f32 = 0.5 * (start_s + end);
+        let h: f32 = c[surface_nearest_corner(a[0] + d[0] * mid, a[1] + d[1] * mid)];
+        let c0: f32 = a[2] + d[2] * start_s - h;
+        let c1: f32 = a[2] + d[2] * end - h;
         if (c0 <= 0.0) {
             return segment_some(start_s, start_n, HF_FLAG_WALL, real_min(clearance, -c0));
         }
         clearance = real_min(clearance, c0);
         if (c1 <= 0.0) {
-            let s = start_s + (end - start_s) * c0 / (c0 - c1);
+            let s: f32 = start_s + (end - start_s) * c0 / (c0 - c1);
             return segment_some(s, vec3<f32>(0.0, 0.0, 1.0), 0u, clearance);
         }
         clearance = real_min(clearance, c1);
@@ -380,9 +380,9 @@ fn surface_segment_hit(surface: u32, c: vec4<f32>, a: vec3<f32>, b: vec3<f32>, c
 //#endif
 //#if view_linear
         if (cb <= 0.0) {
-            let s = ca / (ca - cb);
-            let u = a[0] + (b[0] - a[0]) * s;
-            let v = a[1] + (b[1] - a[1]) * s;
+            let s: f32 = ca / (ca - cb);
+            let u: f32 = a[0] + (b[0] - a[0]) * s;
+            let v: f32 = a[1] + (b[1] - a[1]) * s;
             return segment_some(s, surface_cell_normal(surface, c, u, v), 0u, ca);
         }
         return segment_none(real_min(ca, cb));
@@ -391,10 +391,10 @@ fn surface_segment_hit(surface: u32, c: vec4<f32>, a: vec3<f32>, b: vec3<f32>, c
     } else if (surface == HF_SURFACE_LINEAR_PLANES) {
 //#endif
 //#if linear_planes
-        let p = surface_linear_plane(c);
-        let la = a[2] - surface_plane(p, a[0], a[1]);
-        let lb = b[2] - surface_plane(p, b[0], b[1]);
-        let n = math_normal_from_gradient(p[1], p[2]);
+        let p: vec3<f32> = surface_linear_plane(c);
+        let la: f32 = a[2] - surface_plane(p, a[0], a[1]);
+        let lb: f32 = b[2] - surface_plane(p, b[0], b[1]);
+        let n: vec3<f32> = math_normal_from_gradient(p[1], p[2]);
         if (la <= 0.0) {
             return segment_some(0.0, entry_wall, HF_FLAG_WALL, -la);
         } else if (lb <= 0.0) {

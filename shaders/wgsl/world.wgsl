@@ -44,14 +44,14 @@ fn world_query_to_grid(world: Query) -> Query {
     if (world_is_identity()) {
         return world;
     }
-    let o = (world.origin - hf_world.offset) / hf_world.scale;
+    let o: vec3<f32> = (world.origin - hf_world.offset) / hf_world.scale;
     return Query(o, world.dir / hf_world.scale, world.t_min, world.t_max);
 }
 
 // `WorldTransform::normal_to_world`: the inverse transpose, renormalised.
 fn world_normal_to_world(n: vec3<f32>) -> vec3<f32> {
-    let m = n / hf_world.scale;
-    let len = length(m);
+    let m: vec3<f32> = n / hf_world.scale;
+    let len: f32 = length(m);
     return select(m, m / len, len > 0.0);
 }
 
@@ -62,7 +62,7 @@ fn world_trace_to_world(tr: Trace) -> Trace {
     if (world_is_identity()) {
         return tr;
     }
-    var out = tr;
+    var out: Trace = tr;
     if (tr.has_hit) {
         out.hit.point = hf_world.offset + hf_world.scale * tr.hit.point;
         out.hit.normal = world_normal_to_world(tr.hit.normal);

@@ -13,7 +13,7 @@ use hfcast::safety::cc::{self, CcMap, CcOptions, Slope};
 use hfcast::safety::{self, MarchSurface, SafetyMap, Variant};
 use hfcast::scene::{HeightFormat, MethodKind, RayClasses};
 use hfcast::world::WorldTransform;
-use hfcast::{HeightField, Query, SearchSteps, Surface, Trace};
+use hfcast::{HeightField, Marcher, Query, SearchSteps, Surface, Trace};
 use hfcast_shaders::{wgsl_layout as binding, Lang, SafetyVariant, PYRAMID_TEX_WIDTH};
 use hfcast_tools::Rng;
 use wgpu::util::DeviceExt;
@@ -376,35 +376,32 @@ impl Case {
                 _ => MarchSurface::Triangles,
             },
         };
-        let trace = |q: &Query<f32>| match self.method {
-            MethodKind::Exact => hfcast::Method::Exact.trace(&hf, self.surface, q),
-            MethodKind::LinearBinary => {
-                let steps = SearchSteps {
+        let marcher = match self.method {
+            MethodKind::Exact => Marcher::Exact(self.surface),
+            MethodKind::LinearBinary => Marcher::LinearBinary(
+                self.surface,
+                SearchSteps {
                     linear: p[0],
                     binary: p[1],
-                };
-                hfcast::Method::LinearBinary(steps).trace(&hf, self.surface, q)
-            }
-            MethodKind::LinearSecant => {
-                hfcast::Method::LinearSecant(p[0]).trace(&hf, self.surface, q)
-            }
-            MethodKind::MaxMip => {
-                maxmip::trace(&hf, &mip, self.surface, q, &maxmip::Options::default())
-            }
-            MethodKind::Safety => safety::trace_on(&safety_map, &hf, march_surface(), q),
-            MethodKind::Cc => cc::trace_on(&cc_map, &hf, march_surface(), q),
-            MethodKind::Radius => radius::trace(&radius_map, &hf, q, &radius_opts),
-            MethodKind::Cone => cone::trace(&cone_map, &hf, q, p[0]),
-            MethodKind::Qdm => qdm::trace(&qdm_map, &hf, q, p[0]),
+                },
+            ),
+            MethodKind::LinearSecant => Marcher::LinearSecant(self.surface, p[0]),
+            MethodKind::MaxMip => Marcher::MaxMip(mip, self.surface, maxmip::Options::default()),
+            MethodKind::Safety => Marcher::Safety(safety_map, march_surface()),
+            MethodKind::Cc => Marcher::Cc(cc_map, march_surface()),
+            MethodKind::Radius => Marcher::Radius(radius_map, radius_opts),
+            MethodKind::Cone => Marcher::Cone(cone_map, p[0]),
+            MethodKind::Qdm => Marcher::Qdm(qdm_map, p[0]),
             MethodKind::Relaxed => {
                 let map = scene.relaxed.as_ref().expect("relaxed bake");
                 let steps = relaxed::Steps {
                     cone: p[0],
                     binary: p[1],
                 };
-                relaxed::trace(map, &hf, q, steps)
+                Marcher::Relaxed(map, steps)
             }
         };
+        let trace = |q: &Query<f32>| marcher.trace(&hf, q);
         match self.world {
             Some(world) => rays
                 .iter()
