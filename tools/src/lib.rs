@@ -43,16 +43,15 @@ pub enum MethodSpec {
     Relaxed(RelaxedSteps),
 }
 
-/// The march parameters of each method kind: `(name, default values)`; a method is
-/// written `kind` (the defaults) or `kind:v1[:v2]` with every value given.
-fn parameters(kind: MethodKind) -> (&'static [&'static str], &'static [u32]) {
-    match kind {
-        MethodKind::LinearBinary => (&["linear step count", "binary step count"], &[64, 8]),
-        MethodKind::LinearSecant => (&["linear step count"], &[64]),
-        MethodKind::Cone | MethodKind::Qdm => (&["iteration cap"], &[64]),
-        MethodKind::Relaxed => (&["cone step count", "binary step count"], &[64, 8]),
-        _ => (&[], &[]),
-    }
+/// The march parameters of each method kind (the registry's, `MethodInfo::steps`):
+/// `(names, default values)`; a method is written `kind` (the defaults) or
+/// `kind:v1[:v2]` with every value given.
+fn parameters(kind: MethodKind) -> (Vec<&'static str>, Vec<u32>) {
+    let steps = kind.info().steps;
+    (
+        steps.iter().map(|p| p.name).collect(),
+        steps.iter().map(|p| p.default).collect(),
+    )
 }
 
 /// Help text of the method names, for usage messages.
@@ -124,18 +123,9 @@ impl MethodSpec {
         MethodSpec::EXACT.contains(&self)
     }
 
-    /// Whether the method traces `surface`: the safety-shape marches the triangle and
-    /// view-linear surfaces, the cone family the triangle surface only, the others all.
+    /// Whether the method traces `surface` (the registry's `MethodInfo::surfaces`).
     pub fn supports(self, surface: Surface) -> bool {
-        match self {
-            MethodSpec::Plain(_) | MethodSpec::MaxMip => true,
-            MethodSpec::Safety | MethodSpec::Cc | MethodSpec::Radius => {
-                matches!(surface, Surface::Triangles | Surface::ViewLinear)
-            }
-            MethodSpec::Cone(_) | MethodSpec::Qdm(_) | MethodSpec::Relaxed(_) => {
-                surface == Surface::Triangles
-            }
-        }
+        self.kind().info().surfaces.contains(&surface)
     }
 
     /// The name [`parse_method`] reads back (`secant:N` for the linear-secant search).
@@ -185,7 +175,7 @@ pub fn parse_method(name: &str) -> Result<MethodSpec, String> {
         .collect::<Result<Vec<u32>, String>>()?;
     Ok(MethodSpec::of(
         kind,
-        if given.is_empty() { defaults } else { &values },
+        if given.is_empty() { &defaults } else { &values },
     ))
 }
 

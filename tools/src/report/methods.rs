@@ -6,9 +6,11 @@
 
 use hfcast::maxmip::{self, Ascent};
 use hfcast::safety::cc::{self, CcMap, CcOptions, Slope};
-use hfcast::safety::{self, SafetyMap, Variant};
+use hfcast::safety::{self, MarchSurface, SafetyMap, Variant};
 use hfcast::search::SearchSteps;
-use hfcast::{cone, dda, qdm, radius, relaxed, HeightField, Method, Query, Real, Surface, Trace};
+use hfcast::{
+    cone, dda, qdm, radius, relaxed, HeightField, Marcher, Method, Query, Real, Surface, Trace,
+};
 use std::sync::{Arc, Mutex};
 use std::time::Instant;
 
@@ -48,22 +50,6 @@ pub trait Caster: Sync {
     /// other settings ([`SharedBake`]) and so its own bake call only fetched it.
     fn bake_seconds(&self) -> Option<f64> {
         None
-    }
-}
-
-/// A [`Caster`] over a bake shared with other settings: batch function, baked bytes
-/// and the seconds the shared bake took.
-pub struct SharedBatch<F>(pub F, pub usize, pub f64);
-
-impl<F: Fn(&[Query<f32>], &mut [Out]) + Sync> Caster for SharedBatch<F> {
-    fn trace_all(&self, rays: &[Query<f32>], out: &mut [Out]) {
-        (self.0)(rays, out)
-    }
-    fn baked_bytes(&self) -> usize {
-        self.1
-    }
-    fn bake_seconds(&self) -> Option<f64> {
-        Some(self.2)
     }
 }
 
@@ -132,6 +118,47 @@ impl<F: Fn(&[Query<f32>], &mut [Out]) + Sync> Caster for Batch<F> {
     fn baked_bytes(&self) -> usize {
         self.1
     }
+}
+
+/// How a setting views its baked map as the core's [`Marcher`].
+type View<T> = Box<dyn for<'m> Fn(&HeightField, &'m [T]) -> Marcher<'m> + Sync>;
+
+/// A [`Caster`] through the core's one march interface: the field, its baked map
+/// (owned, or shared with other settings), how to view it, and the seconds of a shared
+/// bake.
+pub struct Marched<'a, T> {
+    hf: HeightField<'a>,
+    map: Arc<Vec<T>>,
+    view: View<T>,
+    shared_seconds: Option<f64>,
+}
+
+impl<T: Sync + Send> Caster for Marched<'_, T> {
+    fn trace_all(&self, rays: &[Query<f32>], out: &mut [Out]) {
+        let m = (self.view)(&self.hf, &self.map);
+        each(rays, out, |q| Out::of(&m.trace(&self.hf, q)))
+    }
+    fn baked_bytes(&self) -> usize {
+        self.map.len() * std::mem::size_of::<T>()
+    }
+    fn bake_seconds(&self) -> Option<f64> {
+        self.shared_seconds
+    }
+}
+
+/// The [`Marched`] caster of `map` on `hf`, viewed by `view`.
+fn marched<'a, T: Sync + Send + 'a>(
+    hf: &HeightField<'a>,
+    map: impl Into<Arc<Vec<T>>>,
+    shared_seconds: Option<f64>,
+    view: impl for<'m> Fn(&HeightField, &'m [T]) -> Marcher<'m> + Sync + 'static,
+) -> Box<dyn Caster + 'a> {
+    Box::new(Marched {
+        hf: *hf,
+        map: map.into(),
+        view: Box::new(view),
+        shared_seconds,
+    })
 }
 
 /// Runs `f` on every ray: the inner loop every caster shares.
@@ -362,78 +389,55 @@ fn core_method(m: Method) -> Baker {
 /// The maximum mipmap with `opts`.
 fn maxmip_setting(opts: maxmip::Options) -> Baker {
     baker(move |hf, surface| {
-        let hf = *hf;
         let mut pyramid = vec![0f32; maxmip::pyramid_len(hf.width(), hf.height())];
-        maxmip::bake(&hf, &mut pyramid).expect("sized by pyramid_len");
-        let bytes = pyramid.len() * 4;
-        Box::new(Batch(
-            move |rays: &[Query<f32>], out: &mut [Out]| {
-                let mip = maxmip::MaxMip::new(&hf, &pyramid).expect("baked for hf");
-                each(rays, out, |q| {
-                    Out::of(&maxmip::trace(&hf, &mip, surface, q, &opts))
-                })
-            },
-            bytes,
-        ))
+        maxmip::bake(hf, &mut pyramid).expect("sized by pyramid_len");
+        marched(hf, pyramid, None, move |hf, p| {
+            let mip = maxmip::MaxMip::new(hf, p).expect("baked for hf");
+            Marcher::MaxMip(mip, surface, opts)
+        })
     })
 }
 
 /// Safety distances with `opts` (triangle surface).
 fn safety_setting(opts: safety::Options) -> Baker {
     baker(move |hf, _surface| {
-        let hf = *hf;
         let mut scratch = vec![0f32; safety::scratch_len(hf.width(), hf.height())];
         let mut data = vec![0u8; safety::map_len(hf.width(), hf.height(), opts.variant)];
-        safety::bake(&hf, &mut scratch, opts, &mut data).expect("sized by the module");
-        let bytes = data.len();
-        Box::new(Batch(
-            move |rays: &[Query<f32>], out: &mut [Out]| {
-                let map = SafetyMap::new(&hf, &data, opts.variant).expect("baked for hf");
-                each(rays, out, |q| Out::of(&safety::trace(&map, &hf, q)))
-            },
-            bytes,
-        ))
+        safety::bake(hf, &mut scratch, opts, &mut data).expect("sized by the module");
+        marched(hf, data, None, move |hf, d| {
+            let map = SafetyMap::new(hf, d, opts.variant).expect("baked for hf");
+            Marcher::Safety(map, MarchSurface::Triangles)
+        })
     })
 }
 
 /// Cylinder–cone safety shapes with `opts` (triangle surface).
 fn cc_setting(opts: CcOptions) -> Baker {
     baker(move |hf, _surface| {
-        let hf = *hf;
         let (w, h) = (hf.width(), hf.height());
         let mut scratch = vec![0f32; safety::scratch_len(w, h)];
         let mut nb = vec![0f32; cc::nbuffer_len(w, h, opts.cap)];
         let mut data = vec![0u8; cc::map_len(w, h)];
-        cc::bake(&hf, &mut scratch, &mut nb, opts, &mut data).expect("sized by the module");
-        let bytes = data.len();
-        Box::new(Batch(
-            move |rays: &[Query<f32>], out: &mut [Out]| {
-                let map = CcMap::new(&hf, &data, opts.cap).expect("baked for hf");
-                each(rays, out, |q| Out::of(&cc::trace(&map, &hf, q)))
-            },
-            bytes,
-        ))
+        cc::bake(hf, &mut scratch, &mut nb, opts, &mut data).expect("sized by the module");
+        marched(hf, data, None, move |hf, d| {
+            let map = CcMap::new(hf, d, opts.cap).expect("baked for hf");
+            Marcher::Cc(map, MarchSurface::Triangles)
+        })
     })
 }
 
 /// Exact safety radii (triangle surface, zero radii walked).
 fn radius_setting() -> Baker {
     baker(move |hf, _surface| {
-        let hf = *hf;
         let (w, h) = (hf.width(), hf.height());
         let mut scratch = vec![0f32; radius::scratch_len(w, h)];
         let mut data = vec![0u8; radius::map_len(w, h)];
-        radius::bake(&hf, &mut scratch, radius::BakeOptions::default(), &mut data)
+        radius::bake(hf, &mut scratch, radius::BakeOptions::default(), &mut data)
             .expect("sized by the module");
-        let bytes = data.len();
-        Box::new(Batch(
-            move |rays: &[Query<f32>], out: &mut [Out]| {
-                let map = radius::RadiusMap::new(&hf, &data).expect("baked for hf");
-                let opts = radius::Options::default();
-                each(rays, out, |q| Out::of(&radius::trace(&map, &hf, q, &opts)))
-            },
-            bytes,
-        ))
+        marched(hf, data, None, |hf, d| {
+            let map = radius::RadiusMap::new(hf, d).expect("baked for hf");
+            Marcher::Radius(map, radius::Options::default())
+        })
     })
 }
 
@@ -446,69 +450,42 @@ fn bake_map(hf: &HeightField, scratch: usize, len: usize, bake: BakeFn) -> Vec<f
     out
 }
 
+/// A setting of the cone family: its bake (`scratch_len`, `map_len`, `bake`), shared
+/// by the family's settings, and how it views the map.
+fn cone_family(
+    shared: Arc<SharedBake>,
+    lens: [fn(u32, u32) -> usize; 2],
+    bake: BakeFn,
+    view: impl for<'m> Fn(&HeightField, &'m [f32]) -> Marcher<'m> + Sync + Copy + 'static,
+) -> Baker {
+    baker(move |hf, _surface| {
+        let (w, h) = (hf.width(), hf.height());
+        let (data, s) = shared.get(hf, |hf| bake_map(hf, lens[0](w, h), lens[1](w, h), bake));
+        marched(hf, data, Some(s), view)
+    })
+}
+
 /// Cone step mapping with at most `cap` iterations (triangle surface).
 fn cone_setting(shared: Arc<SharedBake>, cap: u32) -> Baker {
-    baker(move |hf, _surface| {
-        let hf = *hf;
-        let (w, h) = (hf.width(), hf.height());
-        let (data, s) = shared.get(&hf, |hf| {
-            bake_map(hf, cone::scratch_len(w, h), cone::map_len(w, h), cone::bake)
-        });
-        let bytes = data.len() * 4;
-        Box::new(SharedBatch(
-            move |rays: &[Query<f32>], out: &mut [Out]| {
-                let map = cone::ConeMap::new(&hf, &data).expect("baked for hf");
-                each(rays, out, |q| Out::of(&cone::trace(&map, &hf, q, cap)))
-            },
-            bytes,
-            s,
-        ))
+    let lens = [cone::scratch_len, cone::map_len];
+    cone_family(shared, lens, cone::bake, move |hf, d| {
+        Marcher::Cone(cone::ConeMap::new(hf, d).expect("baked for hf"), cap)
     })
 }
 
 /// Quadratic displacement maps with at most `cap` iterations (triangle surface).
 fn qdm_setting(shared: Arc<SharedBake>, cap: u32) -> Baker {
-    baker(move |hf, _surface| {
-        let hf = *hf;
-        let (w, h) = (hf.width(), hf.height());
-        let (data, s) = shared.get(&hf, |hf| {
-            bake_map(hf, qdm::scratch_len(w, h), qdm::map_len(w, h), qdm::bake)
-        });
-        let bytes = data.len() * 4;
-        Box::new(SharedBatch(
-            move |rays: &[Query<f32>], out: &mut [Out]| {
-                let map = qdm::QdmMap::new(&hf, &data).expect("baked for hf");
-                each(rays, out, |q| Out::of(&qdm::trace(&map, &hf, q, cap)))
-            },
-            bytes,
-            s,
-        ))
+    let lens = [qdm::scratch_len, qdm::map_len];
+    cone_family(shared, lens, qdm::bake, move |hf, d| {
+        Marcher::Qdm(qdm::QdmMap::new(hf, d).expect("baked for hf"), cap)
     })
 }
 
 /// Relaxed cone stepping with `steps` (triangle surface).
 fn relaxed_setting(shared: Arc<SharedBake>, steps: relaxed::Steps) -> Baker {
-    baker(move |hf, _surface| {
-        let hf = *hf;
-        let (w, h) = (hf.width(), hf.height());
-        let (data, s) = shared.get(&hf, |hf| {
-            bake_map(
-                hf,
-                relaxed::scratch_len(w, h),
-                relaxed::map_len(w, h),
-                relaxed::bake,
-            )
-        });
-        let bytes = data.len() * 4;
-        Box::new(SharedBatch(
-            move |rays: &[Query<f32>], out: &mut [Out]| {
-                each(rays, out, |q| {
-                    Out::of(&relaxed::trace(&data, &hf, q, steps))
-                })
-            },
-            bytes,
-            s,
-        ))
+    let lens = [relaxed::scratch_len, relaxed::map_len];
+    cone_family(shared, lens, relaxed::bake, move |_, d| {
+        Marcher::Relaxed(d, steps)
     })
 }
 
