@@ -324,9 +324,9 @@ static int field_load(const char *path, field_data *fd) {
     free(raw);
     check_hf("hf_field_create_f32",
              hf_field_create_f32(fd->heights, n, fd->w, fd->h, fd->w, &fd->field));
-    check_hf("hf_cc_map_len", hf_cc_map_len(fd->w, fd->h, &fd->cc_len));
+    hf_cc_options opts = {HF_CC_SLOPE_EXACT, CC_CAP, HF_RAYS_ALL};
+    check_hf("hf_cc_map_len", hf_cc_map_len(fd->w, fd->h, opts.ray_classes, &fd->cc_len));
     fd->cc = (uint8_t *)malloc(fd->cc_len);
-    hf_cc_options opts = {HF_CC_SLOPE_EXACT, CC_CAP};
     double t0 = now();
     check_hf("hf_cc_bake", hf_cc_bake(fd->field, &opts, 0, fd->cc, fd->cc_len));
     fd->cc_bake_s = now() - t0;
@@ -336,9 +336,10 @@ static int field_load(const char *path, field_data *fd) {
     check_hf("hf_maxmip_bake_threaded",
              hf_maxmip_bake_threaded(fd->field, 0, fd->pyramid, fd->pyramid_len));
     fd->pyramid_bake_s = now() - t0;
-    check_hf("hf_safety_map_len", hf_safety_map_len(fd->w, fd->h, HF_SAFETY_DIRECTIONAL, &fd->sd_len));
+    hf_safety_options sd_opts = {HF_SAFETY_DIRECTIONAL, 0, 255, HF_RAYS_ALL};
+    check_hf("hf_safety_map_len",
+             hf_safety_map_len(fd->w, fd->h, sd_opts.variant, sd_opts.ray_classes, &fd->sd_len));
     fd->sd = (uint8_t *)malloc(fd->sd_len);
-    hf_safety_options sd_opts = {HF_SAFETY_DIRECTIONAL, 0, 255};
     check_hf("hf_safety_bake", hf_safety_bake(fd->field, &sd_opts, 0, fd->sd, fd->sd_len));
     return 1;
 }

@@ -107,27 +107,26 @@ int scene_load(scene *s, const char *png_path) { return scene_load_ex(s, png_pat
  * classes s->classes (all cores): W x nH texels for n classes, isotropic W x H. */
 static void bake_class_maps(scene *s) {
     hf_result r;
-    hf_safety_options opts = {HF_SAFETY_DIRECTIONAL, 0, 255};
-    r = hf_safety_map_len_classes(s->w, s->h, HF_SAFETY_DIRECTIONAL, s->classes, &s->safety_len);
-    if (r != HF_OK) die_hf("hf_safety_map_len_classes", r);
+    hf_safety_options opts = {HF_SAFETY_DIRECTIONAL, 0, 255, s->classes};
+    r = hf_safety_map_len(s->w, s->h, opts.variant, opts.ray_classes, &s->safety_len);
+    if (r != HF_OK) die_hf("hf_safety_map_len", r);
     s->safety = (unsigned char *)malloc(s->safety_len);
     double t0 = now_seconds();
-    r = hf_safety_bake_classes(s->field, &opts, s->classes, 0, s->safety, s->safety_len);
-    if (r != HF_OK) die_hf("hf_safety_bake_classes", r);
+    r = hf_safety_bake(s->field, &opts, 0, s->safety, s->safety_len);
+    if (r != HF_OK) die_hf("hf_safety_bake", r);
     s->safety_bake_ms = 1e3 * (now_seconds() - t0);
-    hf_safety_options iso = {HF_SAFETY_ISOTROPIC, 0, 255};
-    r = hf_safety_map_len_classes(s->w, s->h, HF_SAFETY_ISOTROPIC, s->classes, &s->safety_iso_len);
-    if (r != HF_OK) die_hf("hf_safety_map_len_classes (isotropic)", r);
+    hf_safety_options iso = {HF_SAFETY_ISOTROPIC, 0, 255, s->classes};
+    r = hf_safety_map_len(s->w, s->h, iso.variant, iso.ray_classes, &s->safety_iso_len);
+    if (r != HF_OK) die_hf("hf_safety_map_len (isotropic)", r);
     s->safety_iso = (unsigned char *)malloc(s->safety_iso_len);
-    r = hf_safety_bake_classes(s->field, &iso, s->classes, 0, s->safety_iso, s->safety_iso_len);
-    if (r != HF_OK) die_hf("hf_safety_bake_classes (isotropic)", r);
-    hf_cc_options cco = {HF_CC_SLOPE_EXACT, CC_CAP};
-    if ((r = hf_cc_map_len_classes(s->w, s->h, s->classes, &s->cc_len)) != HF_OK)
-        die_hf("hf_cc_map_len_classes", r);
+    r = hf_safety_bake(s->field, &iso, 0, s->safety_iso, s->safety_iso_len);
+    if (r != HF_OK) die_hf("hf_safety_bake (isotropic)", r);
+    hf_cc_options cco = {HF_CC_SLOPE_EXACT, CC_CAP, s->classes};
+    if ((r = hf_cc_map_len(s->w, s->h, cco.ray_classes, &s->cc_len)) != HF_OK)
+        die_hf("hf_cc_map_len", r);
     s->cc = (unsigned char *)malloc(s->cc_len);
     t0 = now_seconds();
-    if ((r = hf_cc_bake_classes(s->field, &cco, s->classes, 0, s->cc, s->cc_len)) != HF_OK)
-        die_hf("hf_cc_bake_classes", r);
+    if ((r = hf_cc_bake(s->field, &cco, 0, s->cc, s->cc_len)) != HF_OK) die_hf("hf_cc_bake", r);
     s->cc_bake_ms = 1e3 * (now_seconds() - t0);
 }
 

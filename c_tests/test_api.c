@@ -897,14 +897,14 @@ static void test_safety(void) {
     CHECK_OK(hf_field_create_f32(heights, W * H, W, H, W, &f));
 
     size_t dlen = 0, ilen = 0, slen = 0, junk = 77;
-    CHECK_OK(hf_safety_map_len(W, H, HF_SAFETY_DIRECTIONAL, &dlen));
-    CHECK_OK(hf_safety_map_len(W, H, HF_SAFETY_ISOTROPIC, &ilen));
+    CHECK_OK(hf_safety_map_len(W, H, HF_SAFETY_DIRECTIONAL, 0, &dlen));
+    CHECK_OK(hf_safety_map_len(W, H, HF_SAFETY_ISOTROPIC, 0, &ilen));
     CHECK(dlen == (size_t)W * H * 4 + HF_MAP_DESC_BYTES && ilen == (size_t)W * H + HF_MAP_DESC_BYTES);
     CHECK_OK(hf_safety_scratch_len(W, H, &slen));
     CHECK(slen > 0);
-    CHECK_BAD(hf_safety_map_len(W, H, 2, &junk), HF_ERR_INVALID_ENUM, &junk, sizeof junk);
-    CHECK_BAD(hf_safety_map_len(1, H, 0, &junk), HF_ERR_INVALID_SIZE, &junk, sizeof junk);
-    CHECK_BAD(hf_safety_map_len(W, H, 0, NULL), HF_ERR_NULL_POINTER, nothing, 0);
+    CHECK_BAD(hf_safety_map_len(W, H, 2, 0, &junk), HF_ERR_INVALID_ENUM, &junk, sizeof junk);
+    CHECK_BAD(hf_safety_map_len(1, H, 0, 0, &junk), HF_ERR_INVALID_SIZE, &junk, sizeof junk);
+    CHECK_BAD(hf_safety_map_len(W, H, 0, 0, NULL), HF_ERR_NULL_POINTER, nothing, 0);
     CHECK_BAD(hf_safety_scratch_len(W, 0, &junk), HF_ERR_INVALID_SIZE, &junk, sizeof junk);
     CHECK_BAD(hf_safety_scratch_len(W, H, NULL), HF_ERR_NULL_POINTER, nothing, 0);
 
@@ -913,8 +913,9 @@ static void test_safety(void) {
     unsigned char *rows = (unsigned char *)malloc(dlen);
     float *scratch = (float *)malloc(sizeof(float) * slen);
     memset(dmap, 0xEE, dlen);
-    hf_safety_options good = {HF_SAFETY_DIRECTIONAL, 0, 255};
-    hf_safety_options bad_variant = {5, 0, 255}, bad_positive = {0, 2, 255}, bad_cap = {0, 0, 256};
+    hf_safety_options good = {HF_SAFETY_DIRECTIONAL, 0, 255, HF_RAYS_ALL};
+    hf_safety_options bad_variant = {5, 0, 255, 0}, bad_positive = {0, 2, 255, 0};
+    hf_safety_options bad_cap = {0, 0, 256, 0}, bad_classes = {0, 0, 255, 16};
     CHECK_BAD(hf_safety_bake(NULL, &good, 1, dmap, dlen), HF_ERR_NULL_POINTER, dmap, 64);
     CHECK_BAD(hf_safety_bake(f, NULL, 1, dmap, dlen), HF_ERR_NULL_POINTER, dmap, 64);
     CHECK_BAD(hf_safety_bake(f, &good, 1, NULL, dlen), HF_ERR_NULL_POINTER, nothing, 0);
@@ -922,6 +923,7 @@ static void test_safety(void) {
     CHECK_BAD(hf_safety_bake(f, &bad_variant, 1, dmap, dlen), HF_ERR_INVALID_ENUM, dmap, 64);
     CHECK_BAD(hf_safety_bake(f, &bad_positive, 1, dmap, dlen), HF_ERR_INVALID_ARGUMENT, dmap, 64);
     CHECK_BAD(hf_safety_bake(f, &bad_cap, 1, dmap, dlen), HF_ERR_INVALID_ARGUMENT, dmap, 64);
+    CHECK_BAD(hf_safety_bake(f, &bad_classes, 1, dmap, dlen), HF_ERR_INVALID_ARGUMENT, dmap, 64);
     CHECK_BAD(hf_safety_prepare(f, scratch, slen - 1), HF_ERR_BUFFER_TOO_SMALL, nothing, 0);
     CHECK_BAD(hf_safety_prepare(f, NULL, slen), HF_ERR_NULL_POINTER, nothing, 0);
     CHECK_BAD(hf_safety_prepare(NULL, scratch, slen), HF_ERR_NULL_POINTER, nothing, 0);
@@ -945,6 +947,8 @@ static void test_safety(void) {
               HF_ERR_NULL_POINTER, nothing, 0);
     CHECK_BAD(hf_safety_bake_rows(f, scratch, slen, &bad_variant, 0, 1, rows, dlen),
               HF_ERR_INVALID_ENUM, nothing, 0);
+    CHECK_BAD(hf_safety_bake_rows(f, scratch, slen, &bad_classes, 0, 1, rows, dlen),
+              HF_ERR_INVALID_ARGUMENT, nothing, 0);
     CHECK_OK(hf_safety_bake_rows(f, scratch, slen, &good, 10, H, rows, dlen));
     CHECK_OK(hf_safety_bake_rows(f, scratch, slen, &good, 0, 10, rows, dlen));
     CHECK(memcmp(rows, dmap, dlen) == 0);
@@ -953,7 +957,7 @@ static void test_safety(void) {
         CHECK_OK(hf_safety_bake(f, &good, t, rows, dlen));
         CHECK(memcmp(rows, dmap, dlen) == 0);
     }
-    hf_safety_options iso = {HF_SAFETY_ISOTROPIC, 0, 255};
+    hf_safety_options iso = {HF_SAFETY_ISOTROPIC, 0, 255, HF_RAYS_ALL};
     CHECK_OK(hf_safety_bake(f, &iso, 2, imap, ilen));
     /* Isotropic = the minimum over the four classes; directional: class c of texel
      * (i, j) at byte (j * 4 + c) * W + i. */
@@ -970,20 +974,23 @@ static void test_safety(void) {
      * order (byte k: texel row k / 2W, slot k / W % 2), equal to the full bake's rows;
      * the row bake with the same classes agrees. */
     uint32_t two = HF_RAYS_X_POS | HF_RAYS_Y_NEG;
-    size_t tlen = 0, ilen_two = 0;
-    CHECK_OK(hf_safety_map_len_classes(W, H, HF_SAFETY_DIRECTIONAL, two, &tlen));
-    CHECK_OK(hf_safety_map_len_classes(W, H, HF_SAFETY_ISOTROPIC, two, &ilen_two));
+    size_t tlen = 0, ilen_two = 0, alen = 0;
+    CHECK_OK(hf_safety_map_len(W, H, HF_SAFETY_DIRECTIONAL, two, &tlen));
+    CHECK_OK(hf_safety_map_len(W, H, HF_SAFETY_ISOTROPIC, two, &ilen_two));
     CHECK(tlen == (size_t)W * H * 2 + HF_MAP_DESC_BYTES && ilen_two == (size_t)W * H + HF_MAP_DESC_BYTES);
-    CHECK_BAD(hf_safety_map_len_classes(W, H, HF_SAFETY_DIRECTIONAL, 0, &tlen),
-              HF_ERR_INVALID_ARGUMENT, nothing, 0);
-    CHECK_BAD(hf_safety_map_len_classes(W, H, 7, two, &tlen), HF_ERR_INVALID_ENUM, nothing, 0);
-    CHECK_BAD(hf_safety_bake_classes(f, &good, 0, 1, rows, dlen), HF_ERR_INVALID_ARGUMENT, rows,
-              64);
-    CHECK_BAD(hf_safety_bake_classes(f, &good, 16, 1, rows, dlen), HF_ERR_INVALID_ARGUMENT,
-              rows, 64);
-    CHECK_BAD(hf_safety_bake_classes(f, &good, two, 1, rows, tlen - 1), HF_ERR_BUFFER_TOO_SMALL,
-              rows, 64);
-    CHECK_OK(hf_safety_bake_classes(f, &good, two, 2, rows, tlen));
+    /* ray_classes 0 means all four (the full map's size and bytes); above 15 is an error. */
+    CHECK_BAD(hf_safety_map_len(W, H, HF_SAFETY_DIRECTIONAL, 16, &tlen), HF_ERR_INVALID_ARGUMENT,
+              nothing, 0);
+    CHECK_OK(hf_safety_map_len(W, H, HF_SAFETY_DIRECTIONAL, HF_RAYS_ALL, &alen));
+    CHECK(alen == dlen);
+    CHECK_BAD(hf_safety_map_len(W, H, 7, two, &tlen), HF_ERR_INVALID_ENUM, nothing, 0);
+    hf_safety_options so = good;
+    so.ray_classes = 0;
+    CHECK_OK(hf_safety_bake(f, &so, 1, rows, dlen));
+    CHECK(memcmp(rows, dmap, dlen) == 0);
+    so.ray_classes = two;
+    CHECK_BAD(hf_safety_bake(f, &so, 1, rows, tlen - 1), HF_ERR_BUFFER_TOO_SMALL, rows, 64);
+    CHECK_OK(hf_safety_bake(f, &so, 2, rows, tlen));
     static const size_t two_classes[2] = {0, 3};
     int mask_ok = 1;
     for (size_t k = 0; k < tlen - HF_MAP_DESC_BYTES; k++)
@@ -991,8 +998,8 @@ static void test_safety(void) {
     CHECK(mask_ok);
     /* In two row ranges (each call writes its rows of the whole map). */
     unsigned char *rows2 = (unsigned char *)malloc(tlen);
-    CHECK_OK(hf_safety_bake_rows_classes(f, scratch, slen, &good, two, 7, H, rows2, tlen));
-    CHECK_OK(hf_safety_bake_rows_classes(f, scratch, slen, &good, two, 0, 7, rows2, tlen));
+    CHECK_OK(hf_safety_bake_rows(f, scratch, slen, &so, 7, H, rows2, tlen));
+    CHECK_OK(hf_safety_bake_rows(f, scratch, slen, &so, 0, 7, rows2, tlen));
     CHECK(memcmp(rows, rows2, tlen) == 0);
     free(rows2);
 
@@ -1391,20 +1398,22 @@ static void test_cc(void) {
     hf_field *f = NULL;
     CHECK_OK(hf_field_create_f32(heights, W * H, W, H, W, &f));
     size_t mlen = 0, nlen = 0, slen = 0, junk = 3;
-    CHECK_OK(hf_cc_map_len(W, H, &mlen));
+    CHECK_OK(hf_cc_map_len(W, H, 0, &mlen));
     CHECK(mlen == (size_t)W * H * 8 + HF_MAP_DESC_BYTES); /* [r, s] per texel and class */
     CHECK_OK(hf_cc_nbuffer_len(W, H, CAP, &nlen));
     CHECK_OK(hf_safety_scratch_len(W, H, &slen));
-    CHECK_BAD(hf_cc_map_len(1, H, &junk), HF_ERR_INVALID_SIZE, &junk, sizeof junk);
+    CHECK_BAD(hf_cc_map_len(1, H, 0, &junk), HF_ERR_INVALID_SIZE, &junk, sizeof junk);
     CHECK_BAD(hf_cc_nbuffer_len(W, H, 256, &junk), HF_ERR_INVALID_ARGUMENT, &junk, sizeof junk);
     CHECK_BAD(hf_cc_nbuffer_len(W, H, CAP, NULL), HF_ERR_NULL_POINTER, nothing, 0);
     unsigned char *map = (unsigned char *)malloc(mlen), *rows = (unsigned char *)malloc(mlen);
     float *scratch = (float *)malloc(sizeof(float) * slen), *nb = (float *)malloc(sizeof(float) * nlen);
-    hf_cc_options good = {HF_CC_SLOPE_EXACT, CAP}, nbo = {HF_CC_SLOPE_NBUFFER, CAP};
-    hf_cc_options bad_slope = {2, CAP}, bad_cap = {HF_CC_SLOPE_EXACT, 300};
+    hf_cc_options good = {HF_CC_SLOPE_EXACT, CAP, HF_RAYS_ALL};
+    hf_cc_options nbo = {HF_CC_SLOPE_NBUFFER, CAP, HF_RAYS_ALL}, bad_slope = {2, CAP, 0};
+    hf_cc_options bad_cap = {HF_CC_SLOPE_EXACT, 300, 0}, bad_classes = {HF_CC_SLOPE_EXACT, CAP, 16};
     memset(map, 0, mlen);
     CHECK_BAD(hf_cc_bake(f, &bad_slope, 1, map, mlen), HF_ERR_INVALID_ENUM, map, 64);
     CHECK_BAD(hf_cc_bake(f, &bad_cap, 1, map, mlen), HF_ERR_INVALID_ARGUMENT, map, 64);
+    CHECK_BAD(hf_cc_bake(f, &bad_classes, 1, map, mlen), HF_ERR_INVALID_ARGUMENT, map, 64);
     CHECK_BAD(hf_cc_bake(f, &good, 1, map, mlen - 1), HF_ERR_BUFFER_TOO_SMALL, map, 64);
     CHECK_BAD(hf_cc_bake(f, NULL, 1, map, mlen), HF_ERR_NULL_POINTER, map, 64);
     CHECK_BAD(hf_cc_bake(NULL, &good, 1, map, mlen), HF_ERR_NULL_POINTER, map, 64);
@@ -1431,6 +1440,8 @@ static void test_cc(void) {
               HF_ERR_NULL_POINTER, nothing, 0);
     CHECK_BAD(hf_cc_bake_rows(f, scratch, slen, nb, nlen, &bad_slope, 0, 1, rows, mlen),
               HF_ERR_INVALID_ENUM, nothing, 0);
+    CHECK_BAD(hf_cc_bake_rows(f, scratch, slen, nb, nlen, &bad_classes, 0, 1, rows, mlen),
+              HF_ERR_INVALID_ARGUMENT, nothing, 0);
     memset(rows, 0, mlen);
     CHECK_OK(hf_cc_bake_rows(f, scratch, slen, nb, nlen, &good, 9, H, rows, mlen));
     CHECK_OK(hf_cc_bake_rows(f, scratch, slen, nb, nlen, &good, 0, 9, rows, mlen));
@@ -1449,25 +1460,29 @@ static void test_cc(void) {
     /* One ray class (y+): a map of its rows only (a quarter of the bytes), equal to the
      * full bake's rows of that class (texel row j of class 2 holds bytes from ((j * 4 + 2)
      * * W) * 2); the row bake agrees. */
-    size_t ylen = 0;
-    CHECK_OK(hf_cc_map_len_classes(W, H, HF_RAYS_Y_POS, &ylen));
+    size_t ylen = 0, alen = 0;
+    CHECK_OK(hf_cc_map_len(W, H, HF_RAYS_Y_POS, &ylen));
     CHECK((ylen - HF_MAP_DESC_BYTES) * 4 == mlen - HF_MAP_DESC_BYTES);
-    CHECK_BAD(hf_cc_map_len_classes(W, H, 0, &ylen), HF_ERR_INVALID_ARGUMENT, nothing, 0);
-    CHECK_BAD(hf_cc_map_len_classes(W, H, HF_RAYS_Y_POS, NULL), HF_ERR_NULL_POINTER, nothing, 0);
-    CHECK_BAD(hf_cc_bake_classes(f, &good, 0, 1, rows, mlen), HF_ERR_INVALID_ARGUMENT, rows, 64);
-    CHECK_BAD(hf_cc_bake_classes(f, &good, HF_RAYS_Y_POS, 1, rows, ylen - 1),
-              HF_ERR_BUFFER_TOO_SMALL, rows, 64);
-    CHECK_OK(hf_cc_bake_classes(f, &good, HF_RAYS_Y_POS, 2, rows, ylen));
+    /* ray_classes 0 means all four (the full map's size and bytes); above 15 is an error. */
+    CHECK_BAD(hf_cc_map_len(W, H, 16, &ylen), HF_ERR_INVALID_ARGUMENT, nothing, 0);
+    CHECK_OK(hf_cc_map_len(W, H, HF_RAYS_ALL, &alen));
+    CHECK(alen == mlen);
+    CHECK_BAD(hf_cc_map_len(W, H, HF_RAYS_Y_POS, NULL), HF_ERR_NULL_POINTER, nothing, 0);
+    hf_cc_options co = good;
+    co.ray_classes = 0;
+    CHECK_OK(hf_cc_bake(f, &co, 1, rows, mlen));
+    CHECK(memcmp(rows, map, mlen) == 0);
+    co.ray_classes = HF_RAYS_Y_POS;
+    CHECK_BAD(hf_cc_bake(f, &co, 1, rows, ylen - 1), HF_ERR_BUFFER_TOO_SMALL, rows, 64);
+    CHECK_OK(hf_cc_bake(f, &co, 2, rows, ylen));
     int cc_mask_ok = 1;
     for (size_t j = 0; j < (size_t)H; j++)
         cc_mask_ok &= memcmp(rows + j * W * 2, map + (j * 4 + 2) * W * 2, (size_t)W * 2) == 0;
     CHECK(cc_mask_ok);
     /* In two row ranges (each call writes its rows of the whole map). */
     unsigned char *rows2 = (unsigned char *)malloc(ylen);
-    CHECK_OK(hf_cc_bake_rows_classes(f, scratch, slen, nb, nlen, &good, HF_RAYS_Y_POS, 5, H, rows2,
-                                     ylen));
-    CHECK_OK(hf_cc_bake_rows_classes(f, scratch, slen, nb, nlen, &good, HF_RAYS_Y_POS, 0, 5, rows2,
-                                     ylen));
+    CHECK_OK(hf_cc_bake_rows(f, scratch, slen, nb, nlen, &co, 5, H, rows2, ylen));
+    CHECK_OK(hf_cc_bake_rows(f, scratch, slen, nb, nlen, &co, 0, 5, rows2, ylen));
     CHECK(memcmp(rows, rows2, ylen) == 0);
     free(rows2);
 
@@ -1573,11 +1588,11 @@ static void test_trace_options(void) {
     /* Every method's map of this field (NULL and 0 for the three without one). */
     size_t plen, slen, clen, rlen, qlen, cclen, radlen;
     CHECK_OK(hf_maxmip_len(W, H, &plen));
-    CHECK_OK(hf_safety_map_len(W, H, HF_SAFETY_DIRECTIONAL, &slen));
+    CHECK_OK(hf_safety_map_len(W, H, HF_SAFETY_DIRECTIONAL, 0, &slen));
     CHECK_OK(hf_cone_map_len(W, H, &clen));
     CHECK_OK(hf_relaxed_map_len(W, H, &rlen));
     CHECK_OK(hf_qdm_map_len(W, H, &qlen));
-    CHECK_OK(hf_cc_map_len(W, H, &cclen));
+    CHECK_OK(hf_cc_map_len(W, H, 0, &cclen));
     CHECK_OK(hf_radius_map_len(W, H, &radlen));
     float *pyr = (float *)malloc(sizeof(float) * plen);
     float *cone = (float *)malloc(sizeof(float) * clen);
@@ -1585,8 +1600,8 @@ static void test_trace_options(void) {
     float *qdm = (float *)malloc(sizeof(float) * qlen);
     unsigned char *safety = (unsigned char *)malloc(slen), *cc = (unsigned char *)malloc(cclen);
     unsigned char *radius = (unsigned char *)malloc(radlen);
-    hf_safety_options so = {HF_SAFETY_DIRECTIONAL, 0, 255};
-    hf_cc_options co = {HF_CC_SLOPE_EXACT, 32};
+    hf_safety_options so = {HF_SAFETY_DIRECTIONAL, 0, 255, HF_RAYS_ALL};
+    hf_cc_options co = {HF_CC_SLOPE_EXACT, 32, HF_RAYS_ALL};
     hf_radius_options ro = {0.0f, 255};
     CHECK_OK(hf_maxmip_bake(f, pyr, plen));
     CHECK_OK(hf_safety_bake(f, &so, 1, safety, slen));
@@ -1721,7 +1736,7 @@ static void *bake_rows_thread(void *arg) {
     if (j->pyramid) {
         j->result = hf_maxmip_bake_rows(j->field, j->level, j->r0, j->r1, j->pyramid, j->len);
     } else {
-        hf_safety_options o = {HF_SAFETY_DIRECTIONAL, 0, 255};
+        hf_safety_options o = {HF_SAFETY_DIRECTIONAL, 0, 255, HF_RAYS_ALL};
         j->result = hf_safety_bake_rows(j->field, j->scratch, j->scratch_len, &o, j->r0, j->r1,
                                         j->map, j->map_len);
     }
@@ -1763,10 +1778,10 @@ static void test_concurrent_rows(void) {
 
     size_t slen = 0, mlen = 0;
     CHECK_OK(hf_safety_scratch_len(W, H, &slen));
-    CHECK_OK(hf_safety_map_len(W, H, HF_SAFETY_DIRECTIONAL, &mlen));
+    CHECK_OK(hf_safety_map_len(W, H, HF_SAFETY_DIRECTIONAL, 0, &mlen));
     float *scratch = (float *)malloc(sizeof(float) * slen);
     unsigned char *m1 = (unsigned char *)malloc(mlen), *m2 = (unsigned char *)calloc(mlen, 1);
-    hf_safety_options o = {HF_SAFETY_DIRECTIONAL, 0, 255};
+    hf_safety_options o = {HF_SAFETY_DIRECTIONAL, 0, 255, HF_RAYS_ALL};
     CHECK_OK(hf_safety_bake(f, &o, 1, m1, mlen));
     CHECK_OK(hf_safety_prepare(f, scratch, slen));
     uint32_t per = (H + T - 1) / T;

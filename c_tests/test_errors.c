@@ -99,9 +99,9 @@ static void check_threads(const hf_field *f) {
     free(p1);
     free(pm);
 
-    hf_safety_options so = {HF_SAFETY_DIRECTIONAL, 0, 255};
+    hf_safety_options so = {HF_SAFETY_DIRECTIONAL, 0, 255, HF_RAYS_ALL};
     size_t slen = 0;
-    CHECK_OK(hf_safety_map_len(N, N, so.variant, &slen));
+    CHECK_OK(hf_safety_map_len(N, N, so.variant, so.ray_classes, &slen));
     uint8_t *s1 = malloc(slen), *sm = malloc(slen);
     CHECK_OK(hf_safety_bake(f, &so, 1, s1, slen));
     SAMPLED(r, hf_safety_bake(f, &so, MANY, sm, slen));
@@ -113,9 +113,9 @@ static void check_threads(const hf_field *f) {
     free(s1);
     free(sm);
 
-    hf_cc_options co = {HF_CC_SLOPE_EXACT, 64};
+    hf_cc_options co = {HF_CC_SLOPE_EXACT, 64, HF_RAYS_ALL};
     size_t clen = 0;
-    CHECK_OK(hf_cc_map_len(N, N, &clen));
+    CHECK_OK(hf_cc_map_len(N, N, co.ray_classes, &clen));
     uint8_t *c1 = malloc(clen), *cm = malloc(clen);
     CHECK_OK(hf_cc_bake(f, &co, 1, c1, clen));
     SAMPLED(r, hf_cc_bake(f, &co, MANY, cm, clen));

@@ -36,8 +36,8 @@ static baked bake(const hf_field *field, uint32_t map, uint32_t classes) {
     CHECK(hf_ktx2_map_len(&b.desc, &n) == HF_OK);
     b.len = n;
     b.data = malloc(n);
-    hf_safety_options so = {HF_SAFETY_DIRECTIONAL, 0, 255};
-    hf_cc_options co = {HF_CC_SLOPE_EXACT, 64};
+    hf_safety_options so = {HF_SAFETY_DIRECTIONAL, 0, 255, classes};
+    hf_cc_options co = {HF_CC_SLOPE_EXACT, 64, classes};
     hf_radius_options ro = {0.5f, 200};
     size_t want = 0;
     switch (map) {
@@ -57,13 +57,13 @@ static baked bake(const hf_field *field, uint32_t map, uint32_t classes) {
         b.name = map == HF_KTX2_SAFETY ? "safety" : "safety-isotropic", b.vk_format = 13;
         so.variant = map == HF_KTX2_SAFETY ? HF_SAFETY_DIRECTIONAL : HF_SAFETY_ISOTROPIC;
         so.cap = b.desc.cap = 40;
-        CHECK(hf_safety_map_len_classes(W, H, so.variant, classes, &want) == HF_OK);
-        CHECK(hf_safety_bake_classes(field, &so, classes, 1, (uint8_t *)b.data, n) == HF_OK);
+        CHECK(hf_safety_map_len(W, H, so.variant, so.ray_classes, &want) == HF_OK);
+        CHECK(hf_safety_bake(field, &so, 1, (uint8_t *)b.data, n) == HF_OK);
         break;
     case HF_KTX2_CC:
         b.name = "cc", b.vk_format = 20;
-        CHECK(hf_cc_map_len_classes(W, H, classes, &want) == HF_OK);
-        CHECK(hf_cc_bake_classes(field, &co, classes, 2, (uint8_t *)b.data, n) == HF_OK);
+        CHECK(hf_cc_map_len(W, H, co.ray_classes, &want) == HF_OK);
+        CHECK(hf_cc_bake(field, &co, 2, (uint8_t *)b.data, n) == HF_OK);
         break;
     case HF_KTX2_CONE:
         b.name = "cone", b.vk_format = 103;

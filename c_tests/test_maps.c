@@ -52,22 +52,22 @@ typedef struct {
 static const uint32_t CLASSES = HF_RAYS_X_POS | HF_RAYS_Y_NEG;
 
 static void bake_all(const hf_field *f, maps *m) {
-    hf_safety_options so = {HF_SAFETY_DIRECTIONAL, 0, 64};
-    hf_cc_options co = {HF_CC_SLOPE_NBUFFER, CAP};
+    hf_safety_options so = {HF_SAFETY_DIRECTIONAL, 0, 64, HF_RAYS_ALL};
+    hf_cc_options co = {HF_CC_SLOPE_NBUFFER, CAP, CLASSES};
     hf_radius_options ro = {0.0f, 64};
     CHECK_OK(hf_maxmip_len(W, H, &m->pyr_len));
     m->pyr = (float *)malloc(m->pyr_len * sizeof(float));
     CHECK_OK(hf_maxmip_bake(f, m->pyr, m->pyr_len));
-    CHECK_OK(hf_safety_map_len(W, H, HF_SAFETY_DIRECTIONAL, &m->sd_len));
+    CHECK_OK(hf_safety_map_len(W, H, so.variant, so.ray_classes, &m->sd_len));
     m->sd = (uint8_t *)malloc(m->sd_len);
     CHECK_OK(hf_safety_bake(f, &so, 2, m->sd, m->sd_len));
     so.variant = HF_SAFETY_ISOTROPIC;
-    CHECK_OK(hf_safety_map_len(W, H, HF_SAFETY_ISOTROPIC, &m->si_len));
+    CHECK_OK(hf_safety_map_len(W, H, so.variant, so.ray_classes, &m->si_len));
     m->si = (uint8_t *)malloc(m->si_len);
     CHECK_OK(hf_safety_bake(f, &so, 2, m->si, m->si_len));
-    CHECK_OK(hf_cc_map_len_classes(W, H, CLASSES, &m->cc_len));
+    CHECK_OK(hf_cc_map_len(W, H, co.ray_classes, &m->cc_len));
     m->cc = (uint8_t *)malloc(m->cc_len);
-    CHECK_OK(hf_cc_bake_classes(f, &co, CLASSES, 2, m->cc, m->cc_len));
+    CHECK_OK(hf_cc_bake(f, &co, 2, m->cc, m->cc_len));
     CHECK_OK(hf_radius_map_len(W, H, &m->rad_len));
     m->rad = (uint8_t *)malloc(m->rad_len);
     CHECK_OK(hf_radius_bake(f, &ro, 2, m->rad, m->rad_len));

@@ -33,9 +33,9 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
     uint8_t lb = fz_u8(&in);
     long delta = lb < 200 ? 0 : (long)(lb % 16) - 8; /* buffer length off by -8..7 */
     uint32_t split = fz_u16(&in);
-    uint32_t classes = opt(&in, 16); /* 0 and > 15 are errors */
-    hf_safety_options so = {opt(&in, 2), opt(&in, 2), opt(&in, 256)};
-    hf_cc_options co = {opt(&in, 2), opt(&in, 256)};
+    uint32_t classes = opt(&in, 16); /* 0: all four; > 15 is an error */
+    hf_safety_options so = {opt(&in, 2), opt(&in, 2), opt(&in, 256), classes};
+    hf_cc_options co = {opt(&in, 2), opt(&in, 256), classes};
     hf_radius_options ro = {(fz_u8(&in) < 200) ? 0.0f : fz_range(&in, -1.0f, 4.0f), opt(&in, 256)};
     if (fz_u8(&in) == 255) ro.tolerance = fz_raw_float(&in);
 
@@ -49,9 +49,9 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
         lr = hf_maxmip_len(w, h, &need), elem = sizeof(float), what = "maxmip";
         break;
     case B_SAFETY:
-        lr = hf_safety_map_len_classes(w, h, so.variant, classes, &need), what = "safety";
+        lr = hf_safety_map_len(w, h, so.variant, classes, &need), what = "safety";
         break;
-    case B_CC: lr = hf_cc_map_len_classes(w, h, classes, &need), what = "cc"; break;
+    case B_CC: lr = hf_cc_map_len(w, h, classes, &need), what = "cc"; break;
     case B_RADIUS: lr = hf_radius_map_len(w, h, &need), what = "radius"; break;
     case B_CONE: lr = hf_cone_map_len(w, h, &need), elem = sizeof(float), what = "cone"; break;
     case B_RELAXED:
@@ -62,7 +62,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
     fz_code(lr, what);
     if (lr != HF_OK) {
         /* Only the options can be wrong here (classes, variant). */
-        if (classes >= 1 && classes <= 15 && so.variant <= 1)
+        if (classes <= 15 && so.variant <= 1)
             FZ_FAIL("%s: the length of a valid map was refused with %u", what, (unsigned)lr);
         hf_field_destroy(f);
         return 0;
@@ -94,12 +94,9 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
     case B_SAFETY:
     case B_CC:
     case B_RADIUS: {
-        if (bake == B_SAFETY)
-            r = hf_safety_bake_classes(f, &so, classes, threads, (uint8_t *)map, len);
-        else if (bake == B_CC)
-            r = hf_cc_bake_classes(f, &co, classes, threads, (uint8_t *)map, len);
-        else
-            r = hf_radius_bake(f, &ro, threads, (uint8_t *)map, len);
+        if (bake == B_SAFETY) r = hf_safety_bake(f, &so, threads, (uint8_t *)map, len);
+        else if (bake == B_CC) r = hf_cc_bake(f, &co, threads, (uint8_t *)map, len);
+        else r = hf_radius_bake(f, &ro, threads, (uint8_t *)map, len);
         if (r != HF_OK) break;
         size_t slen = 0, nlen = 0;
         if (fz_code(hf_safety_scratch_len(w, h, &slen), "hf_safety_scratch_len"))
@@ -119,11 +116,10 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
         for (int part = 0; part < 2 && r2 == HF_OK; part++) {
             uint32_t b = part ? 0 : mid, e = part ? mid : h;
             if (bake == B_SAFETY)
-                r2 = hf_safety_bake_rows_classes(f, scratch, slen, &so, classes, b, e,
-                                                 (uint8_t *)again, len);
+                r2 = hf_safety_bake_rows(f, scratch, slen, &so, b, e, (uint8_t *)again, len);
             else if (bake == B_CC)
-                r2 = hf_cc_bake_rows_classes(f, scratch, slen, nb, nlen, &co, classes, b, e,
-                                             (uint8_t *)again, len);
+                r2 = hf_cc_bake_rows(f, scratch, slen, nb, nlen, &co, b, e, (uint8_t *)again,
+                                     len);
             else
                 r2 = hf_radius_bake_rows(f, scratch, slen, &ro, b, e, (uint8_t *)again, len);
         }

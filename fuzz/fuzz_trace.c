@@ -28,29 +28,29 @@ static void must(hf_result r, const char *what) {
 }
 
 static void bake_all(hf_field *f, uint32_t w, uint32_t h, fz_in *in, maps *m) {
-    hf_safety_options so = {HF_SAFETY_DIRECTIONAL, 0, fz_u8(in)};
-    hf_cc_options co = {fz_u8(in) & 1, fz_u8(in)};
+    hf_safety_options so = {HF_SAFETY_DIRECTIONAL, 0, fz_u8(in), HF_RAYS_ALL};
+    hf_cc_options co = {fz_u8(in) & 1, fz_u8(in), HF_RAYS_ALL};
     hf_radius_options ro = {0.0f, fz_u8(in)};
     m->classes = 1 + fz_u8(in) % 15;
+    co.ray_classes = m->classes;
     must(hf_maxmip_len(w, h, &m->pyr_len), "hf_maxmip_len");
     m->pyr = (float *)fz_buf(m->pyr_len * sizeof(float));
     must(hf_maxmip_bake(f, m->pyr, m->pyr_len), "hf_maxmip_bake");
-    must(hf_safety_map_len(w, h, HF_SAFETY_DIRECTIONAL, &m->sd_len), "hf_safety_map_len");
+    must(hf_safety_map_len(w, h, so.variant, so.ray_classes, &m->sd_len), "hf_safety_map_len");
     m->sd = (uint8_t *)fz_buf(m->sd_len);
     must(hf_safety_bake(f, &so, 1, m->sd, m->sd_len), "hf_safety_bake");
     so.variant = HF_SAFETY_ISOTROPIC;
-    must(hf_safety_map_len(w, h, HF_SAFETY_ISOTROPIC, &m->si_len), "hf_safety_map_len");
+    must(hf_safety_map_len(w, h, so.variant, so.ray_classes, &m->si_len), "hf_safety_map_len");
     m->si = (uint8_t *)fz_buf(m->si_len);
     must(hf_safety_bake(f, &so, 1, m->si, m->si_len), "hf_safety_bake");
     so.variant = HF_SAFETY_DIRECTIONAL;
-    must(hf_safety_map_len_classes(w, h, HF_SAFETY_DIRECTIONAL, m->classes, &m->sc_len),
-         "hf_safety_map_len_classes");
+    so.ray_classes = m->classes;
+    must(hf_safety_map_len(w, h, so.variant, so.ray_classes, &m->sc_len), "hf_safety_map_len");
     m->sc = (uint8_t *)fz_buf(m->sc_len);
-    must(hf_safety_bake_classes(f, &so, m->classes, 1, m->sc, m->sc_len),
-         "hf_safety_bake_classes");
-    must(hf_cc_map_len_classes(w, h, m->classes, &m->cc_len), "hf_cc_map_len_classes");
+    must(hf_safety_bake(f, &so, 1, m->sc, m->sc_len), "hf_safety_bake");
+    must(hf_cc_map_len(w, h, co.ray_classes, &m->cc_len), "hf_cc_map_len");
     m->cc = (uint8_t *)fz_buf(m->cc_len);
-    must(hf_cc_bake_classes(f, &co, m->classes, 1, m->cc, m->cc_len), "hf_cc_bake_classes");
+    must(hf_cc_bake(f, &co, 1, m->cc, m->cc_len), "hf_cc_bake");
     must(hf_radius_map_len(w, h, &m->rad_len), "hf_radius_map_len");
     m->rad = (uint8_t *)fz_buf(m->rad_len);
     must(hf_radius_bake(f, &ro, 1, m->rad, m->rad_len), "hf_radius_bake");

@@ -104,14 +104,14 @@
 // powers of two of `W − 1`, `H − 1`), the rest `−∞`.
 #define HF_KTX2_MAXMIP 1
 
-// Map kind: the directional safety-distance map (`hf_safety_bake_classes`,
+// Map kind: the directional safety-distance map (`hf_safety_bake`,
 // `HF_SAFETY_DIRECTIONAL`), `R8_UINT`, `W × nH` for its `n` ray classes.
 #define HF_KTX2_SAFETY 2
 
 // Map kind: the isotropic safety-distance map (`HF_SAFETY_ISOTROPIC`), `R8_UINT`, `W × H`.
 #define HF_KTX2_SAFETY_ISOTROPIC 3
 
-// Map kind: the cylinder–cone map (`hf_cc_bake_classes`), `R8G8_UINT`, `W × nH`.
+// Map kind: the cylinder–cone map (`hf_cc_bake`), `R8G8_UINT`, `W × nH`.
 #define HF_KTX2_CC 4
 
 // Map kind: the cone map (`hf_cone_bake`), `R32G32_SFLOAT`, `(W − 1) × (H − 1)`.
@@ -293,7 +293,7 @@ enum hf_safety_variant
   // Four bytes per texel, one per ray class (x+, x−, y+, y−), each texel row
   // stored as four rows of W bytes, one per class in class order:
   // `map[(j * 4 + class) * W + i]`. Upload as an `R8UI` texture of W × 4H texels,
-  // texel (i, 4 j + class). A map of `n` classes (`hf_safety_bake_classes`) holds
+  // texel (i, 4 j + class). A map of `n` classes (`hf_safety_options::ray_classes`) holds
   // their rows only, in class order: `map[(j * n + slot) * W + i]`, `slot` the
   // number of its classes before `class` (W × nH texels, texel (i, n j + slot)).
   HF_SAFETY_DIRECTIONAL = 0,
@@ -433,10 +433,12 @@ typedef struct hf_field hf_field;
 typedef struct hf_cc_options {
   // An `hf_cc_slope`.
   uint32_t slope;
-  // Longest cone step in centerlines, 0..=255 (64 is the core's default); the march
-  // must be given the same value (the map's descriptor records it; another is
-  // `HF_ERR_MAP_MISMATCH`).
+  // Longest cone step in centerlines, 0..=255 (64 is the core's default); the map's
+  // descriptor records it for the march.
   uint32_t cap;
+  // The ray classes to bake (`HF_RAYS_*` bits; 0: all four): a map of fewer classes
+  // is smaller and faster to bake (`hf_cc_bake_rows`).
+  uint32_t ray_classes;
 } hf_cc_options;
 #endif
 
@@ -561,6 +563,9 @@ typedef struct hf_safety_options {
   uint32_t positive;
   // Largest distance stored, 0..=255 (255 is the default; smaller is conservative).
   uint32_t cap;
+  // The ray classes to bake (`HF_RAYS_*` bits; 0: all four): a map of fewer classes
+  // is smaller and faster to bake (`hf_safety_bake_rows`).
+  uint32_t ray_classes;
 } hf_safety_options;
 #endif
 
@@ -596,9 +601,9 @@ typedef struct hf_bake_plan {
   uint32_t pyramid;
   // The strip bounds of the safety-shape bakes (`hf_safety_prepare`).
   uint32_t safety_scratch;
-  // The safety-distance map (`hf_safety_bake_classes`).
+  // The safety-distance map (`hf_safety_bake`).
   uint32_t safety_map;
-  // The cylinder–cone map (`hf_cc_bake_classes`).
+  // The cylinder–cone map (`hf_cc_bake`).
   uint32_t cc_map;
   // The N-buffers of the cylinder–cone bake (`hf_cc_prepare_nbuffer`), with either
   // slope.
@@ -610,9 +615,9 @@ typedef struct hf_bake_plan {
   // The quadratic displacement map (`hf_qdm_bake`).
   uint32_t qdm_map;
   // `HF_RAYS_*` bits of the classes the safety-distance and cylinder–cone bakes
-  // compute (pass them to `hf_safety_map_len_classes`, `hf_safety_bake_classes`,
-  // `hf_cc_map_len_classes`, `hf_cc_bake_classes` and the `_on` trace calls): the
-  // maps hold these classes' rows only. 0 when neither is baked.
+  // compute (pass them to `hf_safety_map_len`, `hf_cc_map_len` and as the bake
+  // options' `ray_classes`): the maps hold these classes' rows only, and `hf_trace`
+  // reads them from the maps. 0 when neither is baked.
   uint32_t ray_classes;
   // The safety map's layout, an `hf_safety_variant`: `HF_SAFETY_ISOTROPIC` (one
   // byte per texel, that class's distances exactly) when one ray class occurs,
@@ -756,35 +761,22 @@ hf_result hf_error_message(uint32_t code,
 
 #if defined(HF_HAVE_SAFETY)
 // Writes the size in bytes of the packed cylinder–cone map of a `width × height`
-// field to `*out_len`: 8 per texel, two per ray class, `[r, s]` (cylinder radius,
-// slope code; the cone's base height is not stored: the march computes it from the
-// heights), each texel row stored as four rows of W, one per class in class order
-// (x+, x−, y+, y−): the bytes of texel (i, j) for class c start at
-// `((j * 4 + c) * W + i) * 2`; upload as an `RG8UI` texture of W × 4H texels, texel
-// (i, 4 j + class); then `HF_MAP_DESC_BYTES` of descriptor (`hf_map_desc`), which
-// stays on the CPU. Thread safe.
+// field for the ray classes `ray_classes` (`HF_RAYS_*` bits; 0: all four, as
+// `hf_cc_options::ray_classes`) to `*out_len`: `W * H * 2 * n` for its `n` classes,
+// `[r, s]` per texel and class (cylinder radius, slope code; the cone's base height
+// is not stored: the march computes it from the heights), each texel row stored as
+// `n` rows in class order (x+, x−, y+, y−): the bytes of texel (i, j) for class c at
+// `((j * n + slot) * W + i) * 2`, `slot` the number of its classes before c; upload
+// as an `RG8UI` texture of W × nH texels, texel (i, n j + slot); then
+// `HF_MAP_DESC_BYTES` of descriptor (`hf_map_desc`), which stays on the CPU. Thread
+// safe.
 //
 // # Safety
 // `out_len` is NULL (an error) or valid for writing one `size_t`.
 hf_result hf_cc_map_len(uint32_t width,
                         uint32_t height,
+                        uint32_t ray_classes,
                         size_t *out_len);
-#endif
-
-#if defined(HF_HAVE_SAFETY)
-// `hf_cc_map_len` for a map of the ray classes `ray_classes` only (`HF_RAYS_*` bits,
-// not 0; `hf_cc_bake_classes`): `W * H * 2 * n` for its `n` classes, each texel row
-// stored as `n` rows in class order (the bytes of texel (i, j) for class c at
-// `((j * n + slot) * W + i) * 2`, `slot` the number of its classes before c; an
-// `RG8UI` texture of W × nH texels, texel (i, n j + slot)), then `HF_MAP_DESC_BYTES`
-// of descriptor. Thread safe.
-//
-// # Safety
-// `out_len` is NULL (an error) or valid for writing one `size_t`.
-hf_result hf_cc_map_len_classes(uint32_t width,
-                                uint32_t height,
-                                uint32_t ray_classes,
-                                size_t *out_len);
 #endif
 
 #if defined(HF_HAVE_SAFETY)
@@ -816,10 +808,14 @@ hf_result hf_cc_prepare_nbuffer(const struct hf_field *field,
 
 #if defined(HF_HAVE_SAFETY)
 // Bakes the cylinder–cone shapes of texel rows `[row_begin, row_end)` (0 ≤ begin ≤
-// end ≤ H) into `map` (the whole map buffer, `map_len ≥ hf_cc_map_len`), reading
-// `scratch` (from `hf_safety_prepare`) and `nbuffer` (from `hf_cc_prepare_nbuffer`
-// with `options->cap`). Writes only those rows: threads may bake disjoint rows at
-// once, sharing both scratches.
+// end ≤ H) into `map` (the whole map buffer, `map_len ≥ hf_cc_map_len` of the same
+// classes), reading `scratch` (from `hf_safety_prepare`) and `nbuffer` (from
+// `hf_cc_prepare_nbuffer` with `options->cap`). Writes only those rows: threads may
+// bake disjoint rows at once, sharing both scratches. With `options->ray_classes`
+// naming some of the four classes (`hf_scene_bake_plan` gives a scene's), the others
+// are neither computed nor stored (rows `row_begin..row_end` from byte
+// `row_begin * W * 2n`), the kept classes' bytes equal the full bake's; `hf_trace`
+// reads the classes from the map's descriptor.
 // Thread safe (reads the field only) for disjoint rows of one map.
 //
 // # Safety
@@ -840,32 +836,11 @@ hf_result hf_cc_bake_rows(const struct hf_field *field,
 #endif
 
 #if defined(HF_HAVE_SAFETY)
-// `hf_cc_bake_rows` for the ray classes `ray_classes` only (`HF_RAYS_*` bits, not 0;
-// `hf_scene_bake_plan` gives a scene's) into a map of those classes only
-// (`hf_cc_map_len_classes` bytes; rows `row_begin..row_end` from byte `row_begin * W *
-// 4n`): the other classes are neither computed nor stored, the kept classes' bytes
-// equal the full bake's. Trace with the same `ray_classes` (`hf_trace_cc_on`).
-// Thread safe (reads the field only) for disjoint rows of one map.
-//
-// # Safety
-// As `hf_cc_bake_rows`.
-hf_result hf_cc_bake_rows_classes(const struct hf_field *field,
-                                  const float *scratch,
-                                  size_t scratch_len,
-                                  const float *nbuffer,
-                                  size_t nbuffer_len,
-                                  const struct hf_cc_options *options,
-                                  uint32_t ray_classes,
-                                  uint32_t row_begin,
-                                  uint32_t row_end,
-                                  uint8_t *map,
-                                  size_t map_len);
-#endif
-
-#if defined(HF_HAVE_SAFETY)
 // Bakes the whole cylinder–cone map of `field` into `out_map` (`out_map_len ≥
-// hf_cc_map_len`) on `threads` threads (0: one per available core), allocating both
-// scratches itself. Same result for any thread count.
+// hf_cc_map_len` of the same classes) on `threads` threads (0: one per available
+// core), allocating both scratches itself, as `hf_cc_bake_rows` (a scene that casts
+// one class bakes a quarter of the texels into a quarter of the bytes). Same result
+// for any thread count.
 // Thread safe for distinct output maps (reads the field only).
 //
 // # Safety
@@ -876,23 +851,6 @@ hf_result hf_cc_bake(const struct hf_field *field,
                      uint32_t threads,
                      uint8_t *out_map,
                      size_t out_map_len);
-#endif
-
-#if defined(HF_HAVE_SAFETY)
-// `hf_cc_bake` for the ray classes `ray_classes` only (`HF_RAYS_*` bits, not 0) into
-// `out_map` (`out_map_len ≥ hf_cc_map_len_classes` bytes), as
-// `hf_cc_bake_rows_classes`: a scene that casts one class bakes a quarter of the
-// texels into a quarter of the bytes.
-// Thread safe for distinct output maps (reads the field only).
-//
-// # Safety
-// As `hf_cc_bake`.
-hf_result hf_cc_bake_classes(const struct hf_field *field,
-                             const struct hf_cc_options *options,
-                             uint32_t ray_classes,
-                             uint32_t threads,
-                             uint8_t *out_map,
-                             size_t out_map_len);
 #endif
 
 #if defined(HF_HAVE_CONE)
@@ -1514,30 +1472,19 @@ hf_result hf_radius_bake(const struct hf_field *field,
 
 #if defined(HF_HAVE_SAFETY)
 // Writes the size in bytes of the safety-distance map of a `width × height` field
-// with `variant` (an `hf_safety_variant`) to `*out_len`: `W * H * 4` (directional) or
-// `W * H` (isotropic), then `HF_MAP_DESC_BYTES` of descriptor (`hf_map_desc`; upload
-// the bytes before it). Thread safe.
+// with `variant` (an `hf_safety_variant`) for the ray classes `ray_classes`
+// (`HF_RAYS_*` bits; 0: all four, as `hf_safety_options::ray_classes`) to `*out_len`:
+// `W * H * n` directional for its `n` classes (`W * H * 4` for all), `W * H`
+// isotropic, then `HF_MAP_DESC_BYTES` of descriptor (`hf_map_desc`; upload the bytes
+// before it). Thread safe.
 //
 // # Safety
 // `out_len` is NULL (an error) or valid for writing one `size_t`.
 hf_result hf_safety_map_len(uint32_t width,
                             uint32_t height,
                             uint32_t variant,
+                            uint32_t ray_classes,
                             size_t *out_len);
-#endif
-
-#if defined(HF_HAVE_SAFETY)
-// `hf_safety_map_len` for a map of the ray classes `ray_classes` only (`HF_RAYS_*`
-// bits, not 0; `hf_safety_bake_classes`): `W * H * n` directional for its `n`
-// classes, `W * H` isotropic, then `HF_MAP_DESC_BYTES` of descriptor. Thread safe.
-//
-// # Safety
-// `out_len` is NULL (an error) or valid for writing one `size_t`.
-hf_result hf_safety_map_len_classes(uint32_t width,
-                                    uint32_t height,
-                                    uint32_t variant,
-                                    uint32_t ray_classes,
-                                    size_t *out_len);
 #endif
 
 #if defined(HF_HAVE_SAFETY)
@@ -1567,10 +1514,16 @@ hf_result hf_safety_prepare(const struct hf_field *field,
 
 #if defined(HF_HAVE_SAFETY)
 // Bakes the safety distances of texel rows `[row_begin, row_end)` (0 ≤ begin ≤ end ≤
-// H) of `field` into `map`, the whole map buffer (`map_len ≥ hf_safety_map_len`),
-// reading `scratch` from `hf_safety_prepare`. Writes only those rows, so threads may
-// bake disjoint row ranges of one map at once, sharing one scratch. The costly part
-// of the bake.
+// H) of `field` into `map`, the whole map buffer (`map_len ≥ hf_safety_map_len` of the
+// same variant and classes), reading `scratch` from `hf_safety_prepare`. Writes only
+// those rows, so threads may bake disjoint row ranges of one map at once, sharing one
+// scratch. The costly part of the bake. With `options->ray_classes` naming some of the
+// four classes (`hf_scene_bake_plan` gives a scene's), the other classes are neither
+// computed nor stored: directional, the kept classes' rows, equal to the full bake's,
+// `n` rows per texel row in class order (rows `row_begin..row_end` from byte
+// `row_begin * W * n`); isotropic, the minimum over the kept classes (larger
+// distances, valid for rays of those classes only). `hf_trace` reads the classes from
+// the map's descriptor.
 // Thread safe (reads the field only) for disjoint rows of one map.
 //
 // # Safety
@@ -1589,32 +1542,11 @@ hf_result hf_safety_bake_rows(const struct hf_field *field,
 #endif
 
 #if defined(HF_HAVE_SAFETY)
-// `hf_safety_bake_rows` for the ray classes `ray_classes` only (`HF_RAYS_*` bits, not
-// 0; `hf_scene_bake_plan` gives a scene's) into a map of those classes only
-// (`hf_safety_map_len_classes` bytes; rows `row_begin..row_end` from byte `row_begin *
-// W * n`): the other classes are neither computed nor stored. Directional: the kept
-// classes' rows, equal to the full bake's, `n` rows per texel row in class order.
-// Isotropic: the minimum over the kept classes (larger distances, valid for rays of
-// those classes only). Trace with the same `ray_classes` (`hf_trace_safety_on`).
-// Thread safe (reads the field only) for disjoint rows of one map.
-//
-// # Safety
-// As `hf_safety_bake_rows`.
-hf_result hf_safety_bake_rows_classes(const struct hf_field *field,
-                                      const float *scratch,
-                                      size_t scratch_len,
-                                      const struct hf_safety_options *options,
-                                      uint32_t ray_classes,
-                                      uint32_t row_begin,
-                                      uint32_t row_end,
-                                      uint8_t *map,
-                                      size_t map_len);
-#endif
-
-#if defined(HF_HAVE_SAFETY)
 // Bakes the whole safety-distance map of `field` into `out_map` (`out_map_len ≥
-// hf_safety_map_len` bytes) on `threads` threads (0: one per available core; 1: the
-// calling thread), allocating the scratch itself. Same result for any thread count.
+// hf_safety_map_len` bytes of the same variant and classes) on `threads` threads (0:
+// one per available core; 1: the calling thread), allocating the scratch itself, as
+// `hf_safety_bake_rows` (a scene that casts two of the four classes bakes in about
+// half the time into half the bytes). Same result for any thread count.
 // Thread safe for distinct output maps (reads the field only).
 //
 // # Safety
@@ -1625,23 +1557,6 @@ hf_result hf_safety_bake(const struct hf_field *field,
                          uint32_t threads,
                          uint8_t *out_map,
                          size_t out_map_len);
-#endif
-
-#if defined(HF_HAVE_SAFETY)
-// `hf_safety_bake` for the ray classes `ray_classes` only (`HF_RAYS_*` bits, not 0)
-// into `out_map` (`out_map_len ≥ hf_safety_map_len_classes` bytes), as
-// `hf_safety_bake_rows_classes`: a scene that casts two of the four classes bakes
-// in about half the time into half the bytes.
-// Thread safe for distinct output maps (reads the field only).
-//
-// # Safety
-// As `hf_safety_bake`.
-hf_result hf_safety_bake_classes(const struct hf_field *field,
-                                 const struct hf_safety_options *options,
-                                 uint32_t ray_classes,
-                                 uint32_t threads,
-                                 uint8_t *out_map,
-                                 size_t out_map_len);
 #endif
 
 // Writes the general scene of `method` on `surface` to `*out`: every ray class,

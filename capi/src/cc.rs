@@ -4,7 +4,7 @@
 use crate::hf_result::{self, *};
 use crate::mapdesc::{bake_stamped, check_layout, elems, stamp};
 use crate::safety::march_surface;
-use crate::scene::{classes_of, HF_RAYS_ALL};
+use crate::scene::bake_classes_of;
 use crate::trace::TraceOptions;
 use crate::{check_size, size_query};
 use crate::{guard, hf_field, par, ptr};
@@ -31,10 +31,12 @@ pub enum hf_cc_slope {
 pub struct hf_cc_options {
     /// An `hf_cc_slope`.
     pub slope: u32,
-    /// Longest cone step in centerlines, 0..=255 (64 is the core's default); the march
-    /// must be given the same value (the map's descriptor records it; another is
-    /// `HF_ERR_MAP_MISMATCH`).
+    /// Longest cone step in centerlines, 0..=255 (64 is the core's default); the map's
+    /// descriptor records it for the march.
     pub cap: u32,
+    /// The ray classes to bake (`HF_RAYS_*` bits; 0: all four): a map of fewer classes
+    /// is smaller and faster to bake (`hf_cc_bake_rows`).
+    pub ray_classes: u32,
 }
 
 /// Checks a cap passed as `uint32_t`.
@@ -42,51 +44,34 @@ fn cap_of(cap: u32) -> Result<u8, hf_result> {
     u8::try_from(cap).map_err(|_| HF_ERR_INVALID_ARGUMENT)
 }
 
-/// Checks bake options.
-fn options_of(o: &hf_cc_options) -> Result<CcOptions, hf_result> {
+/// Checks bake options: the core's, and the ray classes to bake.
+fn options_of(o: &hf_cc_options) -> Result<(CcOptions, RayClasses), hf_result> {
     let slope = match o.slope {
         0 => Slope::Exact,
         1 => Slope::NBuffer,
         _ => return Err(HF_ERR_INVALID_ENUM),
     };
-    Ok(CcOptions {
+    let opts = CcOptions {
         slope,
         cap: cap_of(o.cap)?,
-    })
+    };
+    Ok((opts, bake_classes_of(o.ray_classes)?))
 }
-
 /// Writes the size in bytes of the packed cylinder–cone map of a `width × height`
-/// field to `*out_len`: 8 per texel, two per ray class, `[r, s]` (cylinder radius,
-/// slope code; the cone's base height is not stored: the march computes it from the
-/// heights), each texel row stored as four rows of W, one per class in class order
-/// (x+, x−, y+, y−): the bytes of texel (i, j) for class c start at
-/// `((j * 4 + c) * W + i) * 2`; upload as an `RG8UI` texture of W × 4H texels, texel
-/// (i, 4 j + class); then `HF_MAP_DESC_BYTES` of descriptor (`hf_map_desc`), which
-/// stays on the CPU. Thread safe.
+/// field for the ray classes `ray_classes` (`HF_RAYS_*` bits; 0: all four, as
+/// `hf_cc_options::ray_classes`) to `*out_len`: `W * H * 2 * n` for its `n` classes,
+/// `[r, s]` per texel and class (cylinder radius, slope code; the cone's base height
+/// is not stored: the march computes it from the heights), each texel row stored as
+/// `n` rows in class order (x+, x−, y+, y−): the bytes of texel (i, j) for class c at
+/// `((j * n + slot) * W + i) * 2`, `slot` the number of its classes before c; upload
+/// as an `RG8UI` texture of W × nH texels, texel (i, n j + slot); then
+/// `HF_MAP_DESC_BYTES` of descriptor (`hf_map_desc`), which stays on the CPU. Thread
+/// safe.
 ///
 /// # Safety
 /// `out_len` is NULL (an error) or valid for writing one `size_t`.
 #[no_mangle]
-pub unsafe extern "C" fn hf_cc_map_len(width: u32, height: u32, out_len: *mut usize) -> hf_result {
-    // SAFETY: the caller's promise, passed on.
-    unsafe {
-        size_query(width, height, out_len, |width, height| {
-            Ok(cc::map_len(width, height) + elems::<u8>())
-        })
-    }
-}
-
-/// `hf_cc_map_len` for a map of the ray classes `ray_classes` only (`HF_RAYS_*` bits,
-/// not 0; `hf_cc_bake_classes`): `W * H * 2 * n` for its `n` classes, each texel row
-/// stored as `n` rows in class order (the bytes of texel (i, j) for class c at
-/// `((j * n + slot) * W + i) * 2`, `slot` the number of its classes before c; an
-/// `RG8UI` texture of W × nH texels, texel (i, n j + slot)), then `HF_MAP_DESC_BYTES`
-/// of descriptor. Thread safe.
-///
-/// # Safety
-/// `out_len` is NULL (an error) or valid for writing one `size_t`.
-#[no_mangle]
-pub unsafe extern "C" fn hf_cc_map_len_classes(
+pub unsafe extern "C" fn hf_cc_map_len(
     width: u32,
     height: u32,
     ray_classes: u32,
@@ -95,7 +80,7 @@ pub unsafe extern "C" fn hf_cc_map_len_classes(
     // SAFETY: the caller's promise, passed on.
     unsafe {
         size_query(width, height, out_len, |width, height| {
-            Ok(cc::map_len_classes(width, height, classes_of(ray_classes)?) + elems::<u8>())
+            Ok(cc::map_len_classes(width, height, bake_classes_of(ray_classes)?) + elems::<u8>())
         })
     }
 }
@@ -151,10 +136,14 @@ pub unsafe extern "C" fn hf_cc_prepare_nbuffer(
 }
 
 /// Bakes the cylinder–cone shapes of texel rows `[row_begin, row_end)` (0 ≤ begin ≤
-/// end ≤ H) into `map` (the whole map buffer, `map_len ≥ hf_cc_map_len`), reading
-/// `scratch` (from `hf_safety_prepare`) and `nbuffer` (from `hf_cc_prepare_nbuffer`
-/// with `options->cap`). Writes only those rows: threads may bake disjoint rows at
-/// once, sharing both scratches.
+/// end ≤ H) into `map` (the whole map buffer, `map_len ≥ hf_cc_map_len` of the same
+/// classes), reading `scratch` (from `hf_safety_prepare`) and `nbuffer` (from
+/// `hf_cc_prepare_nbuffer` with `options->cap`). Writes only those rows: threads may
+/// bake disjoint rows at once, sharing both scratches. With `options->ray_classes`
+/// naming some of the four classes (`hf_scene_bake_plan` gives a scene's), the others
+/// are neither computed nor stored (rows `row_begin..row_end` from byte
+/// `row_begin * W * 2n`), the kept classes' bytes equal the full bake's; `hf_trace`
+/// reads the classes from the map's descriptor.
 /// Thread safe (reads the field only) for disjoint rows of one map.
 ///
 /// # Safety
@@ -176,48 +165,6 @@ pub unsafe extern "C" fn hf_cc_bake_rows(
     map: *mut u8,
     map_len: usize,
 ) -> hf_result {
-    // SAFETY: the caller's promises, passed on.
-    unsafe {
-        hf_cc_bake_rows_classes(
-            field,
-            scratch,
-            scratch_len,
-            nbuffer,
-            nbuffer_len,
-            options,
-            HF_RAYS_ALL,
-            row_begin,
-            row_end,
-            map,
-            map_len,
-        )
-    }
-}
-
-/// `hf_cc_bake_rows` for the ray classes `ray_classes` only (`HF_RAYS_*` bits, not 0;
-/// `hf_scene_bake_plan` gives a scene's) into a map of those classes only
-/// (`hf_cc_map_len_classes` bytes; rows `row_begin..row_end` from byte `row_begin * W *
-/// 4n`): the other classes are neither computed nor stored, the kept classes' bytes
-/// equal the full bake's. Trace with the same `ray_classes` (`hf_trace_cc_on`).
-/// Thread safe (reads the field only) for disjoint rows of one map.
-///
-/// # Safety
-/// As `hf_cc_bake_rows`.
-#[no_mangle]
-#[allow(clippy::too_many_arguments)]
-pub unsafe extern "C" fn hf_cc_bake_rows_classes(
-    field: *const hf_field,
-    scratch: *const f32,
-    scratch_len: usize,
-    nbuffer: *const f32,
-    nbuffer_len: usize,
-    options: *const hf_cc_options,
-    ray_classes: u32,
-    row_begin: u32,
-    row_end: u32,
-    map: *mut u8,
-    map_len: usize,
-) -> hf_result {
     guard(|| {
         // SAFETY: the caller's promises.
         let (f, scratch, nb, o) = unsafe {
@@ -229,7 +176,7 @@ pub unsafe extern "C" fn hf_cc_bake_rows_classes(
             )
         };
         let map = par::RowsOut::new(map, map_len, row_begin, row_end)?;
-        let (opts, classes) = (options_of(o)?, classes_of(ray_classes)?);
+        let (opts, classes) = options_of(o)?;
         let hf = f.view();
         let row = cc::map_len_classes(hf.width(), 1, classes);
         let needed = cc::map_len_classes(hf.width(), hf.height(), classes);
@@ -245,8 +192,10 @@ pub unsafe extern "C" fn hf_cc_bake_rows_classes(
 }
 
 /// Bakes the whole cylinder–cone map of `field` into `out_map` (`out_map_len ≥
-/// hf_cc_map_len`) on `threads` threads (0: one per available core), allocating both
-/// scratches itself. Same result for any thread count.
+/// hf_cc_map_len` of the same classes) on `threads` threads (0: one per available
+/// core), allocating both scratches itself, as `hf_cc_bake_rows` (a scene that casts
+/// one class bakes a quarter of the texels into a quarter of the bytes). Same result
+/// for any thread count.
 /// Thread safe for distinct output maps (reads the field only).
 ///
 /// # Safety
@@ -260,27 +209,6 @@ pub unsafe extern "C" fn hf_cc_bake(
     out_map: *mut u8,
     out_map_len: usize,
 ) -> hf_result {
-    // SAFETY: the caller's promises, passed on.
-    unsafe { hf_cc_bake_classes(field, options, HF_RAYS_ALL, threads, out_map, out_map_len) }
-}
-
-/// `hf_cc_bake` for the ray classes `ray_classes` only (`HF_RAYS_*` bits, not 0) into
-/// `out_map` (`out_map_len ≥ hf_cc_map_len_classes` bytes), as
-/// `hf_cc_bake_rows_classes`: a scene that casts one class bakes a quarter of the
-/// texels into a quarter of the bytes.
-/// Thread safe for distinct output maps (reads the field only).
-///
-/// # Safety
-/// As `hf_cc_bake`.
-#[no_mangle]
-pub unsafe extern "C" fn hf_cc_bake_classes(
-    field: *const hf_field,
-    options: *const hf_cc_options,
-    ray_classes: u32,
-    threads: u32,
-    out_map: *mut u8,
-    out_map_len: usize,
-) -> hf_result {
     guard(|| {
         // SAFETY: the caller's promises.
         let (f, o, out) = unsafe {
@@ -290,7 +218,7 @@ pub unsafe extern "C" fn hf_cc_bake_classes(
                 ptr::slice_mut(out_map, out_map_len)?,
             )
         };
-        let (opts, classes) = (options_of(o)?, classes_of(ray_classes)?);
+        let (opts, classes) = options_of(o)?;
         let hf = f.view();
         let needed = cc::map_len_classes(hf.width(), hf.height(), classes);
         let desc = desc_of(hf, opts.cap, classes);

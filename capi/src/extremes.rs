@@ -60,15 +60,17 @@ impl Field {
                 variant: 0,
                 positive: 0,
                 cap: 255,
+                ray_classes: 0,
             };
-            assert_eq!(hf_safety_map_len(w, h, 0, &mut n), HF_OK);
+            assert_eq!(hf_safety_map_len(w, h, 0, 0, &mut n), HF_OK);
             let mut sd = zeros(n);
             assert_eq!(hf_safety_bake(handle, &so, 2, sd.as_mut_ptr(), n), HF_OK);
             let co = hf_cc_options {
                 slope: 1,
                 cap: CC_CAP,
+                ray_classes: 0,
             };
-            assert_eq!(hf_cc_map_len(w, h, &mut n), HF_OK);
+            assert_eq!(hf_cc_map_len(w, h, 0, &mut n), HF_OK);
             let mut cc = zeros(n);
             assert_eq!(hf_cc_bake(handle, &co, 2, cc.as_mut_ptr(), n), HF_OK);
             let ro = hf_radius_options {

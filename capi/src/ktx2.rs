@@ -16,12 +16,12 @@ pub const HF_KTX2_HEIGHTS: u32 = 0;
 /// per pyramid level, in the top-left corner of a `P × Q` texture (`P`, `Q` the next
 /// powers of two of `W − 1`, `H − 1`), the rest `−∞`.
 pub const HF_KTX2_MAXMIP: u32 = 1;
-/// Map kind: the directional safety-distance map (`hf_safety_bake_classes`,
+/// Map kind: the directional safety-distance map (`hf_safety_bake`,
 /// `HF_SAFETY_DIRECTIONAL`), `R8_UINT`, `W × nH` for its `n` ray classes.
 pub const HF_KTX2_SAFETY: u32 = 2;
 /// Map kind: the isotropic safety-distance map (`HF_SAFETY_ISOTROPIC`), `R8_UINT`, `W × H`.
 pub const HF_KTX2_SAFETY_ISOTROPIC: u32 = 3;
-/// Map kind: the cylinder–cone map (`hf_cc_bake_classes`), `R8G8_UINT`, `W × nH`.
+/// Map kind: the cylinder–cone map (`hf_cc_bake`), `R8G8_UINT`, `W × nH`.
 pub const HF_KTX2_CC: u32 = 4;
 /// Map kind: the cone map (`hf_cone_bake`), `R32G32_SFLOAT`, `(W − 1) × (H − 1)`.
 pub const HF_KTX2_CONE: u32 = 5;

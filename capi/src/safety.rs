@@ -3,7 +3,7 @@
 
 use crate::hf_result::{self, *};
 use crate::mapdesc::{bake_stamped, check_layout, elems, stamp};
-use crate::scene::{classes_of, HF_RAYS_ALL};
+use crate::scene::bake_classes_of;
 use crate::size_query;
 use crate::trace::TraceOptions;
 use crate::{guard, hf_field, par, ptr};
@@ -19,7 +19,7 @@ pub enum hf_safety_variant {
     /// Four bytes per texel, one per ray class (x+, x−, y+, y−), each texel row
     /// stored as four rows of W bytes, one per class in class order:
     /// `map[(j * 4 + class) * W + i]`. Upload as an `R8UI` texture of W × 4H texels,
-    /// texel (i, 4 j + class). A map of `n` classes (`hf_safety_bake_classes`) holds
+    /// texel (i, 4 j + class). A map of `n` classes (`hf_safety_options::ray_classes`) holds
     /// their rows only, in class order: `map[(j * n + slot) * W + i]`, `slot` the
     /// number of its classes before `class` (W × nH texels, texel (i, n j + slot)).
     HF_SAFETY_DIRECTIONAL = 0,
@@ -39,6 +39,9 @@ pub struct hf_safety_options {
     pub positive: u32,
     /// Largest distance stored, 0..=255 (255 is the default; smaller is conservative).
     pub cap: u32,
+    /// The ray classes to bake (`HF_RAYS_*` bits; 0: all four): a map of fewer classes
+    /// is smaller and faster to bake (`hf_safety_bake_rows`).
+    pub ray_classes: u32,
 }
 
 impl From<SafetyError> for hf_result {
@@ -61,50 +64,31 @@ fn variant_of(v: u32) -> Result<Variant, hf_result> {
     }
 }
 
-/// Checks bake options.
-fn options_of(o: &hf_safety_options) -> Result<Options, hf_result> {
+/// Checks bake options: the core's, and the ray classes to bake.
+fn options_of(o: &hf_safety_options) -> Result<(Options, RayClasses), hf_result> {
     let variant = variant_of(o.variant)?;
     if o.positive > 1 {
         return Err(HF_ERR_INVALID_ARGUMENT);
     }
     let cap = u8::try_from(o.cap).map_err(|_| HF_ERR_INVALID_ARGUMENT)?;
-    Ok(Options {
+    let opts = Options {
         variant,
         positive: o.positive == 1,
         cap,
-    })
+    };
+    Ok((opts, bake_classes_of(o.ray_classes)?))
 }
-
 /// Writes the size in bytes of the safety-distance map of a `width × height` field
-/// with `variant` (an `hf_safety_variant`) to `*out_len`: `W * H * 4` (directional) or
-/// `W * H` (isotropic), then `HF_MAP_DESC_BYTES` of descriptor (`hf_map_desc`; upload
-/// the bytes before it). Thread safe.
+/// with `variant` (an `hf_safety_variant`) for the ray classes `ray_classes`
+/// (`HF_RAYS_*` bits; 0: all four, as `hf_safety_options::ray_classes`) to `*out_len`:
+/// `W * H * n` directional for its `n` classes (`W * H * 4` for all), `W * H`
+/// isotropic, then `HF_MAP_DESC_BYTES` of descriptor (`hf_map_desc`; upload the bytes
+/// before it). Thread safe.
 ///
 /// # Safety
 /// `out_len` is NULL (an error) or valid for writing one `size_t`.
 #[no_mangle]
 pub unsafe extern "C" fn hf_safety_map_len(
-    width: u32,
-    height: u32,
-    variant: u32,
-    out_len: *mut usize,
-) -> hf_result {
-    // SAFETY: the caller's promise, passed on.
-    unsafe {
-        size_query(width, height, out_len, |width, height| {
-            Ok(safety::map_len(width, height, variant_of(variant)?) + elems::<u8>())
-        })
-    }
-}
-
-/// `hf_safety_map_len` for a map of the ray classes `ray_classes` only (`HF_RAYS_*`
-/// bits, not 0; `hf_safety_bake_classes`): `W * H * n` directional for its `n`
-/// classes, `W * H` isotropic, then `HF_MAP_DESC_BYTES` of descriptor. Thread safe.
-///
-/// # Safety
-/// `out_len` is NULL (an error) or valid for writing one `size_t`.
-#[no_mangle]
-pub unsafe extern "C" fn hf_safety_map_len_classes(
     width: u32,
     height: u32,
     variant: u32,
@@ -114,7 +98,7 @@ pub unsafe extern "C" fn hf_safety_map_len_classes(
     // SAFETY: the caller's promise, passed on.
     unsafe {
         size_query(width, height, out_len, |width, height| {
-            let (variant, classes) = (variant_of(variant)?, classes_of(ray_classes)?);
+            let (variant, classes) = (variant_of(variant)?, bake_classes_of(ray_classes)?);
             Ok(safety::map_len_classes(width, height, variant, classes) + elems::<u8>())
         })
     }
@@ -166,10 +150,16 @@ pub unsafe extern "C" fn hf_safety_prepare(
 }
 
 /// Bakes the safety distances of texel rows `[row_begin, row_end)` (0 ≤ begin ≤ end ≤
-/// H) of `field` into `map`, the whole map buffer (`map_len ≥ hf_safety_map_len`),
-/// reading `scratch` from `hf_safety_prepare`. Writes only those rows, so threads may
-/// bake disjoint row ranges of one map at once, sharing one scratch. The costly part
-/// of the bake.
+/// H) of `field` into `map`, the whole map buffer (`map_len ≥ hf_safety_map_len` of the
+/// same variant and classes), reading `scratch` from `hf_safety_prepare`. Writes only
+/// those rows, so threads may bake disjoint row ranges of one map at once, sharing one
+/// scratch. The costly part of the bake. With `options->ray_classes` naming some of the
+/// four classes (`hf_scene_bake_plan` gives a scene's), the other classes are neither
+/// computed nor stored: directional, the kept classes' rows, equal to the full bake's,
+/// `n` rows per texel row in class order (rows `row_begin..row_end` from byte
+/// `row_begin * W * n`); isotropic, the minimum over the kept classes (larger
+/// distances, valid for rays of those classes only). `hf_trace` reads the classes from
+/// the map's descriptor.
 /// Thread safe (reads the field only) for disjoint rows of one map.
 ///
 /// # Safety
@@ -189,46 +179,6 @@ pub unsafe extern "C" fn hf_safety_bake_rows(
     map: *mut u8,
     map_len: usize,
 ) -> hf_result {
-    // SAFETY: the caller's promises, passed on.
-    unsafe {
-        hf_safety_bake_rows_classes(
-            field,
-            scratch,
-            scratch_len,
-            options,
-            HF_RAYS_ALL,
-            row_begin,
-            row_end,
-            map,
-            map_len,
-        )
-    }
-}
-
-/// `hf_safety_bake_rows` for the ray classes `ray_classes` only (`HF_RAYS_*` bits, not
-/// 0; `hf_scene_bake_plan` gives a scene's) into a map of those classes only
-/// (`hf_safety_map_len_classes` bytes; rows `row_begin..row_end` from byte `row_begin *
-/// W * n`): the other classes are neither computed nor stored. Directional: the kept
-/// classes' rows, equal to the full bake's, `n` rows per texel row in class order.
-/// Isotropic: the minimum over the kept classes (larger distances, valid for rays of
-/// those classes only). Trace with the same `ray_classes` (`hf_trace_safety_on`).
-/// Thread safe (reads the field only) for disjoint rows of one map.
-///
-/// # Safety
-/// As `hf_safety_bake_rows`.
-#[no_mangle]
-#[allow(clippy::too_many_arguments)]
-pub unsafe extern "C" fn hf_safety_bake_rows_classes(
-    field: *const hf_field,
-    scratch: *const f32,
-    scratch_len: usize,
-    options: *const hf_safety_options,
-    ray_classes: u32,
-    row_begin: u32,
-    row_end: u32,
-    map: *mut u8,
-    map_len: usize,
-) -> hf_result {
     guard(|| {
         // SAFETY: the caller's promises.
         let (f, scratch, o) = unsafe {
@@ -239,7 +189,7 @@ pub unsafe extern "C" fn hf_safety_bake_rows_classes(
             )
         };
         let map = par::RowsOut::new(map, map_len, row_begin, row_end)?;
-        let (opts, classes) = (options_of(o)?, classes_of(ray_classes)?);
+        let (opts, classes) = options_of(o)?;
         let hf = f.view();
         let row = safety::map_len_classes(hf.width(), 1, opts.variant, classes);
         let needed = safety::map_len_classes(hf.width(), hf.height(), opts.variant, classes);
@@ -258,8 +208,10 @@ pub unsafe extern "C" fn hf_safety_bake_rows_classes(
 }
 
 /// Bakes the whole safety-distance map of `field` into `out_map` (`out_map_len ≥
-/// hf_safety_map_len` bytes) on `threads` threads (0: one per available core; 1: the
-/// calling thread), allocating the scratch itself. Same result for any thread count.
+/// hf_safety_map_len` bytes of the same variant and classes) on `threads` threads (0:
+/// one per available core; 1: the calling thread), allocating the scratch itself, as
+/// `hf_safety_bake_rows` (a scene that casts two of the four classes bakes in about
+/// half the time into half the bytes). Same result for any thread count.
 /// Thread safe for distinct output maps (reads the field only).
 ///
 /// # Safety
@@ -273,27 +225,6 @@ pub unsafe extern "C" fn hf_safety_bake(
     out_map: *mut u8,
     out_map_len: usize,
 ) -> hf_result {
-    // SAFETY: the caller's promises, passed on.
-    unsafe { hf_safety_bake_classes(field, options, HF_RAYS_ALL, threads, out_map, out_map_len) }
-}
-
-/// `hf_safety_bake` for the ray classes `ray_classes` only (`HF_RAYS_*` bits, not 0)
-/// into `out_map` (`out_map_len ≥ hf_safety_map_len_classes` bytes), as
-/// `hf_safety_bake_rows_classes`: a scene that casts two of the four classes bakes
-/// in about half the time into half the bytes.
-/// Thread safe for distinct output maps (reads the field only).
-///
-/// # Safety
-/// As `hf_safety_bake`.
-#[no_mangle]
-pub unsafe extern "C" fn hf_safety_bake_classes(
-    field: *const hf_field,
-    options: *const hf_safety_options,
-    ray_classes: u32,
-    threads: u32,
-    out_map: *mut u8,
-    out_map_len: usize,
-) -> hf_result {
     guard(|| {
         // SAFETY: the caller's promises.
         let (f, o, out) = unsafe {
@@ -303,7 +234,7 @@ pub unsafe extern "C" fn hf_safety_bake_classes(
                 ptr::slice_mut(out_map, out_map_len)?,
             )
         };
-        let (opts, classes) = (options_of(o)?, classes_of(ray_classes)?);
+        let (opts, classes) = options_of(o)?;
         let hf = f.view();
         let needed = safety::map_len_classes(hf.width(), hf.height(), opts.variant, classes);
         let desc = desc_of(hf, &opts, classes);

@@ -62,6 +62,15 @@ pub(crate) fn classes_of(v: u32) -> Result<RayClasses, hf_result> {
     Ok(RayClasses(v as u8))
 }
 
+/// Checks the ray classes a bake's options name: 0 is all four.
+#[cfg(feature = "safety")]
+pub(crate) fn bake_classes_of(v: u32) -> Result<RayClasses, hf_result> {
+    match v {
+        0 => Ok(RayClasses::ALL),
+        v => classes_of(v),
+    }
+}
+
 /// Checks an `hf_scene` and turns it into the core's [`Scene`].
 pub(crate) fn scene_of(s: &hf_scene) -> Result<Scene, hf_result> {
     let flag = |v: u32| match v {
@@ -170,9 +179,9 @@ pub struct hf_bake_plan {
     pub pyramid: u32,
     /// The strip bounds of the safety-shape bakes (`hf_safety_prepare`).
     pub safety_scratch: u32,
-    /// The safety-distance map (`hf_safety_bake_classes`).
+    /// The safety-distance map (`hf_safety_bake`).
     pub safety_map: u32,
-    /// The cylinder–cone map (`hf_cc_bake_classes`).
+    /// The cylinder–cone map (`hf_cc_bake`).
     pub cc_map: u32,
     /// The N-buffers of the cylinder–cone bake (`hf_cc_prepare_nbuffer`), with either
     /// slope.
@@ -184,9 +193,9 @@ pub struct hf_bake_plan {
     /// The quadratic displacement map (`hf_qdm_bake`).
     pub qdm_map: u32,
     /// `HF_RAYS_*` bits of the classes the safety-distance and cylinder–cone bakes
-    /// compute (pass them to `hf_safety_map_len_classes`, `hf_safety_bake_classes`,
-    /// `hf_cc_map_len_classes`, `hf_cc_bake_classes` and the `_on` trace calls): the
-    /// maps hold these classes' rows only. 0 when neither is baked.
+    /// compute (pass them to `hf_safety_map_len`, `hf_cc_map_len` and as the bake
+    /// options' `ray_classes`): the maps hold these classes' rows only, and `hf_trace`
+    /// reads them from the maps. 0 when neither is baked.
     pub ray_classes: u32,
     /// The safety map's layout, an `hf_safety_variant`: `HF_SAFETY_ISOTROPIC` (one
     /// byte per texel, that class's distances exactly) when one ray class occurs,

@@ -3,21 +3,7 @@
 //! C API's traces, the report and the tools go through it, so a new method is one more
 //! variant here and one more row of the registry ([`MethodKind::info`]).
 
-#[cfg(feature = "cone")]
-use crate::cone::{self, ConeMap};
-#[cfg(feature = "maxmip")]
-use crate::maxmip::{self, MaxMip};
-#[cfg(feature = "qdm")]
-use crate::qdm::{self, QdmMap};
-#[cfg(feature = "safety")]
-use crate::radius::{self, RadiusMap};
-#[cfg(feature = "relaxed")]
-use crate::relaxed;
-#[cfg(feature = "safety")]
-use crate::safety::{self, cc, cc::CcMap, MarchSurface, SafetyMap};
 use crate::scene::MethodKind;
-#[cfg(feature = "search")]
-use crate::search::{self, SearchSteps};
 use crate::{dda, HeightField, Query, Real, Surface, Trace};
 
 /// A method ready to march: its map (borrowed), surface and options. Built by the
@@ -29,33 +15,33 @@ use crate::{dda, HeightField, Query, Real, Surface, Trace};
 pub enum Marcher<'a> {
     /// The exact traversal on a surface ([`dda::trace`]).
     Exact(Surface),
-    /// Linear search then bisection ([`search::linear_binary`]).
+    /// Linear search then bisection ([`crate::search::linear_binary`]).
     #[cfg(feature = "search")]
-    LinearBinary(Surface, SearchSteps),
-    /// Linear search then a secant step ([`search::linear_secant`]): the linear steps.
+    LinearBinary(Surface, crate::search::SearchSteps),
+    /// Linear search then a secant step ([`crate::search::linear_secant`]): the linear steps.
     #[cfg(feature = "search")]
     LinearSecant(Surface, u32),
-    /// Maximum mipmaps ([`maxmip::trace`]).
+    /// Maximum mipmaps ([`crate::maxmip::trace`]).
     #[cfg(feature = "maxmip")]
-    MaxMip(MaxMip<'a>, Surface, maxmip::Options),
-    /// Safety distances ([`safety::trace_on`]).
+    MaxMip(crate::maxmip::MaxMip<'a>, Surface, crate::maxmip::Options),
+    /// Safety distances ([`crate::safety::trace_on`]).
     #[cfg(feature = "safety")]
-    Safety(SafetyMap<'a>, MarchSurface),
-    /// Cylinder–cone safety shapes ([`cc::trace_on`]).
+    Safety(crate::safety::SafetyMap<'a>, crate::safety::MarchSurface),
+    /// Cylinder–cone safety shapes ([`crate::safety::cc::trace_on`]).
     #[cfg(feature = "safety")]
-    Cc(CcMap<'a>, MarchSurface),
-    /// Safety radii ([`radius::trace`]).
+    Cc(crate::safety::cc::CcMap<'a>, crate::safety::MarchSurface),
+    /// Safety radii ([`crate::radius::trace`]).
     #[cfg(feature = "safety")]
-    Radius(RadiusMap<'a>, radius::Options),
-    /// Conservative cone steps ([`cone::trace`]): the iteration budget.
+    Radius(crate::radius::RadiusMap<'a>, crate::radius::Options),
+    /// Conservative cone steps ([`crate::cone::trace`]): the iteration budget.
     #[cfg(feature = "cone")]
-    Cone(ConeMap<'a>, u32),
-    /// Relaxed cone steps ([`relaxed::trace`]) over the map's texels.
+    Cone(crate::cone::ConeMap<'a>, u32),
+    /// Relaxed cone steps ([`crate::relaxed::trace`]) over the map's texels.
     #[cfg(feature = "relaxed")]
-    Relaxed(&'a [f32], relaxed::Steps),
-    /// Quadratic displacement steps ([`qdm::trace`]): the iteration budget.
+    Relaxed(&'a [f32], crate::relaxed::Steps),
+    /// Quadratic displacement steps ([`crate::qdm::trace`]): the iteration budget.
     #[cfg(feature = "qdm")]
-    Qdm(QdmMap<'a>, u32),
+    Qdm(crate::qdm::QdmMap<'a>, u32),
     /// Never built: holds the lifetime in a build without baked methods.
     #[doc(hidden)]
     Unbuilt(core::convert::Infallible, core::marker::PhantomData<&'a ()>),
@@ -93,23 +79,27 @@ impl Marcher<'_> {
         match *self {
             Marcher::Exact(surface) => dda::trace(hf, surface, q),
             #[cfg(feature = "search")]
-            Marcher::LinearBinary(surface, steps) => search::linear_binary(hf, surface, q, steps),
+            Marcher::LinearBinary(surface, steps) => {
+                crate::search::linear_binary(hf, surface, q, steps)
+            }
             #[cfg(feature = "search")]
-            Marcher::LinearSecant(surface, n) => search::linear_secant(hf, surface, q, n),
+            Marcher::LinearSecant(surface, n) => crate::search::linear_secant(hf, surface, q, n),
             #[cfg(feature = "maxmip")]
-            Marcher::MaxMip(ref mip, surface, ref opts) => maxmip::trace(hf, mip, surface, q, opts),
+            Marcher::MaxMip(ref mip, surface, ref opts) => {
+                crate::maxmip::trace(hf, mip, surface, q, opts)
+            }
             #[cfg(feature = "safety")]
-            Marcher::Safety(ref map, surface) => safety::trace_on(map, hf, surface, q),
+            Marcher::Safety(ref map, surface) => crate::safety::trace_on(map, hf, surface, q),
             #[cfg(feature = "safety")]
-            Marcher::Cc(ref map, surface) => cc::trace_on(map, hf, surface, q),
+            Marcher::Cc(ref map, surface) => crate::safety::cc::trace_on(map, hf, surface, q),
             #[cfg(feature = "safety")]
-            Marcher::Radius(ref map, ref opts) => radius::trace(map, hf, q, opts),
+            Marcher::Radius(ref map, ref opts) => crate::radius::trace(map, hf, q, opts),
             #[cfg(feature = "cone")]
-            Marcher::Cone(ref map, n) => cone::trace(map, hf, q, n),
+            Marcher::Cone(ref map, n) => crate::cone::trace(map, hf, q, n),
             #[cfg(feature = "relaxed")]
-            Marcher::Relaxed(map, steps) => relaxed::trace(map, hf, q, steps),
+            Marcher::Relaxed(map, steps) => crate::relaxed::trace(map, hf, q, steps),
             #[cfg(feature = "qdm")]
-            Marcher::Qdm(ref map, n) => qdm::trace(map, hf, q, n),
+            Marcher::Qdm(ref map, n) => crate::qdm::trace(map, hf, q, n),
             Marcher::Unbuilt(never, _) => match never {},
         }
     }

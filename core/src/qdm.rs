@@ -41,6 +41,7 @@ use crate::field::HeightField;
 use crate::math::Real;
 use crate::maxmip::MaxMip;
 use crate::ray::{Query, Trace};
+use crate::surface::stable_roots;
 
 /// Channels per texel: `[a, b, c, h]`.
 pub const CHANNELS: usize = 4;
@@ -271,35 +272,12 @@ pub fn bake_brute(hf: &HeightField, out: &mut [f32]) -> Result<(), BakeError> {
 /// A baked QDM: texels `[a, b, c, h]` (a [`cone::CellMap`] of [`CHANNELS`] floats).
 pub type QdmMap<'a> = cone::CellMap<'a, CHANNELS>;
 
-/// Smallest root `x ≥ 0` of `A x² + B x + C`, without cancellation: with
-/// `q = −(B + sign(B) √D) / 2` the roots are `q / A` and `C / q` (the QDM paper's
-/// Algorithm 2; also right when `A` vanishes or is tiny, and for a double root).
+/// Smallest root `x ≥ 0` of `A x² + B x + C`, of the roots computed without
+/// cancellation ([`stable_roots`]: the QDM paper's Algorithm 2).
 pub fn solve_stable<R: Real>(qa: R, qb: R, qc: R) -> Option<R> {
-    let disc = qb * qb - R::from_f32(4.0) * qa * qc;
-    if disc < R::ZERO {
-        return None;
-    }
-    let sq = disc.sqrt();
-    let q = if qb >= R::ZERO {
-        -R::HALF * (qb + sq)
-    } else {
-        -R::HALF * (qb - sq)
-    };
-    let mut best: Option<R> = None;
-    let mut take = |r: R| {
-        if r.is_finite() && r >= R::ZERO && best.is_none_or(|b| r < b) {
-            best = Some(r);
-        }
-    };
-    if q == R::ZERO {
-        if qc == R::ZERO {
-            take(R::ZERO);
-        }
-    } else {
-        take(q / qa);
-        take(qc / q);
-    }
-    best
+    let ahead = |r: &R| r.is_finite() && *r >= R::ZERO;
+    let roots = stable_roots(qa, qb, qc).into_iter().filter(ahead);
+    roots.reduce(|a, b| if b < a { b } else { a })
 }
 
 /// Smallest root `x ≥ 0` of `A x² + B x + C` by the textbook formula

@@ -341,13 +341,17 @@ fn triangles_segment<R: Real>(c: [R; 4], a: [R; 3], b: [R; 3], ca: R) -> Segment
     }
 }
 
-/// Smallest root of `A s² + B s + C` in `[0, 1]` (within a few ulps, then clamped),
-/// computed without cancellation: `q = −(B + sign(B)·√D) / 2`, roots `q / A` and `C / q`.
-/// Correct when `A` vanishes (one root `−C / B`), for a double root, and far-apart roots.
-pub fn smallest_root_in_unit<R: Real>(qa: R, qb: R, qc: R) -> Option<R> {
+/// The roots of `A x² + B x + C` computed without cancellation: with
+/// `q = −(B + sign(B)·√D) / 2` they are `q / A` and `C / q` (a double root at 0 when
+/// `B = D = C = 0`, none when `D < 0` or `A = B = 0 ≠ C`). Right when `A` vanishes or is
+/// tiny (`q / A` is then infinite or huge: callers keep the finite roots they want), for
+/// a double root and for far-apart roots. Shared by the bilinear cell test and the QDM
+/// march.
+pub fn stable_roots<R: Real>(qa: R, qb: R, qc: R) -> heapless::Vec<R, 2> {
+    let mut roots = heapless::Vec::new();
     let disc = qb * qb - R::from_f32(4.0) * qa * qc;
     if disc < R::ZERO {
-        return None;
+        return roots;
     }
     let sq = disc.sqrt();
     let q = if qb >= R::ZERO {
@@ -355,26 +359,28 @@ pub fn smallest_root_in_unit<R: Real>(qa: R, qb: R, qc: R) -> Option<R> {
     } else {
         -R::HALF * (qb - sq)
     };
-    let tol = R::from_f32(64.0) * R::EPSILON;
-    let mut best: Option<R> = None;
-    let mut consider = |r: R| {
-        if r.is_finite() && r >= -tol && r <= R::ONE + tol {
-            let r = r.clamp_to(R::ZERO, R::ONE);
-            if best.is_none_or(|b| r < b) {
-                best = Some(r);
-            }
-        }
-    };
+    // Two pushes into room for two cannot fail.
     if q == R::ZERO {
         // B = 0 and D = 0: a double root at 0 when C = 0, or no root (A = B = 0, C ≠ 0).
         if qc == R::ZERO {
-            consider(R::ZERO);
+            let _ = roots.push(R::ZERO);
         }
     } else {
-        consider(q / qa);
-        consider(qc / q);
+        let _ = roots.push(q / qa);
+        let _ = roots.push(qc / q);
     }
-    best
+    roots
+}
+
+/// Smallest root of `A s² + B s + C` in `[0, 1]` (within a few ulps, then clamped), of
+/// the [`stable_roots`].
+pub fn smallest_root_in_unit<R: Real>(qa: R, qb: R, qc: R) -> Option<R> {
+    let tol = R::from_f32(64.0) * R::EPSILON;
+    let inside = |r: &R| r.is_finite() && *r >= -tol && *r <= R::ONE + tol;
+    let roots = stable_roots(qa, qb, qc).into_iter().filter(inside);
+    roots
+        .map(|r| r.clamp_to(R::ZERO, R::ONE))
+        .reduce(|a, b| if b < a { b } else { a })
 }
 
 /// Bilinear: along the segment the clearance is `A s² + B s + C` with `C = ca` and

@@ -17,25 +17,8 @@ vec4 qdm_texel(uint i, uint j) { return texelFetch(hf_qdm_map, ivec2(i, j), 0); 
 float qdm_solve_stable(float qa, float qb, float qc, inout bool found) {
     found = false;
     float best = 0.0;
-    float disc = qb * qb - 4.0 * qa * qc;
-    if (disc < 0.0) {
-        return best;
-    }
-    float sq = sqrt(disc);
-    float q = ((qb >= 0.0) ? (-0.5 * (qb + sq)) : (-0.5 * (qb - sq)));
     float[2] roots;
-    int n = 0;
-    if (q == 0.0) {
-        if (qc == 0.0) {
-            roots[n] = 0.0;
-            n++;
-        }
-    } else {
-        roots[n] = q / qa;
-        n++;
-        roots[n] = qc / q;
-        n++;
-    }
+    int n = surface_stable_roots(qa, qb, qc, roots);
     for (int k = 0; k < n; k++) {
         float r = roots[k];
         if (real_is_finite(r) && r >= 0.0 && (!found || r < best)) {

@@ -204,32 +204,36 @@ SegmentHit surface_triangles_segment(vec4 c, vec3 a, vec3 b, float ca, float cb)
     return segment_some(best_s, math_normal_from_gradient(best_p[1], best_p[2]), 0u, ca);
 }
 
-// `smallest_root_in_unit`: smallest root of `A s^2 + B s + C` in [0, 1] (within a few
-// ulps, then clamped); `found` is false for none.
-float surface_smallest_root_in_unit(float qa, float qb, float qc, inout bool found) {
-    found = false;
-    float best = 0.0;
+// `stable_roots`: the roots of `A x^2 + B x + C` without cancellation (q / A and C / q
+// with q = -(B + sign(B) sqrt(D)) / 2) into `roots`; returns how many (0 to 2).
+int surface_stable_roots(float qa, float qb, float qc, inout float[2] roots) {
     float disc = qb * qb - 4.0 * qa * qc;
     if (disc < 0.0) {
-        return best;
+        return 0;
     }
     float sq = sqrt(disc);
     float q = ((qb >= 0.0) ? (-0.5 * (qb + sq)) : (-0.5 * (qb - sq)));
-    float tol = 64.0 * REAL_EPSILON;
-    float[2] roots;
-    int n = 0;
     if (q == 0.0) {
         // B = 0 and D = 0: a double root at 0 when C = 0, or no root (A = B = 0, C != 0).
         if (qc == 0.0) {
-            roots[n] = 0.0;
-            n++;
+            (roots)[0] = 0.0;
+            return 1;
         }
-    } else {
-        roots[n] = q / qa;
-        n++;
-        roots[n] = qc / q;
-        n++;
+        return 0;
     }
+    (roots)[0] = q / qa;
+    (roots)[1] = qc / q;
+    return 2;
+}
+
+// `smallest_root_in_unit`: smallest root of `A s^2 + B s + C` in [0, 1] (within a few
+// ulps, then clamped), of the stable roots; `found` is false for none.
+float surface_smallest_root_in_unit(float qa, float qb, float qc, inout bool found) {
+    found = false;
+    float best = 0.0;
+    float tol = 64.0 * REAL_EPSILON;
+    float[2] roots;
+    int n = surface_stable_roots(qa, qb, qc, roots);
     for (int k = 0; k < n; k++) {
         float r = roots[k];
         if (real_is_finite(r) && r >= -tol && r <= 1.0 + tol) {

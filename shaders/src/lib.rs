@@ -26,7 +26,7 @@
 //! is inactive, and a WGSL binding is needed only by an entry point that uses it).
 //!
 //! The marches are written once, in WGSL: [`translate`] generates the GLSL of every
-//! file in [`translate::TRANSLATED`] (committed, drift-checked by `tests/validate.rs`,
+//! file [`translate::is_translated`] names (committed, drift-checked by `tests/validate.rs`,
 //! regenerated with `HFCAST_BLESS=1 cargo test -p hfcast-shaders --test validate`);
 //! only the files whose resources differ by language (`field`, `field_int`, `world`, the
 //! `method_*` files) are written in both.
@@ -189,10 +189,12 @@ impl std::error::Error for GenError {}
 /// `MethodInfo::shader`, the last defining `hf_trace`), and [`WORLD`] defining
 /// `hf_trace_world` on it.
 pub fn parts(method: MethodKind) -> Vec<&'static str> {
-    const BASE: [&str; 6] = ["hfcast_shared", "math", "ray", "field", "surface", "dda"];
     let own = method.info().shader;
     BASE.iter().chain(own).copied().chain([WORLD]).collect()
 }
+
+/// The files every march shares, in dependency order.
+const BASE: [&str; 6] = ["hfcast_shared", "math", "ray", "field", "surface", "dda"];
 
 /// The file of world units (`world.glsl`, `world.wgsl`: `hf_trace_world`), last in
 /// every shader since it calls `hf_trace`.
@@ -486,13 +488,14 @@ fn suffix(method: MethodKind) -> String {
 /// the runtime `hf_method` (a GLSL uniform, a WGSL override), every marker flag set;
 /// [`WORLD`]'s `hf_trace_world` follows the dispatch, on the dispatching `hf_trace`.
 pub fn all_methods(lang: Lang) -> Result<String, GenError> {
-    let files = load(lang, &FILE_ORDER, &|_| true)?;
+    let file_order = file_order();
+    let files = load(lang, &file_order, &|_| true)?;
     let segs = parse_all(lang, &files)?;
     let item = |&(f, k): &(usize, usize)| match &segs[f][k] {
         Seg::Item(it) => Some(it),
         _ => None,
     };
-    let index = |stem: &str| FILE_ORDER.iter().position(|f| *f == stem);
+    let index = |stem: &str| file_order.iter().position(|f| *f == stem);
     // Names the method files declare, with their texts: an input declared differently
     // by several of them (WGSL's `hf_params` at binding 2) becomes one struct with a
     // member per method.
@@ -598,7 +601,7 @@ pub fn all_methods(lang: Lang) -> Result<String, GenError> {
             }
             (!text.is_empty()).then_some(text)
         },
-        |f| separator(FILE_ORDER[f], lang),
+        |f| separator(file_order[f], lang),
     );
     for (name, (head, members)) in &merged_inputs {
         if lang == Lang::Glsl {
@@ -629,33 +632,22 @@ pub fn all_methods(lang: Lang) -> Result<String, GenError> {
     ))
 }
 
-/// The order of the files in a composed shader ([`WORLD`] follows them).
-const FILE_ORDER: [&str; 24] = [
-    "hfcast_shared",
-    "math",
-    "ray",
-    "field",
-    "surface",
-    "dda",
-    "search",
-    "maxmip",
-    "safety",
-    "cone",
-    "qdm",
-    "relaxed",
-    "cc",
-    "radius",
-    "method_exact",
-    "method_linear_binary",
-    "method_linear_secant",
-    "method_maxmip",
-    "method_safety",
-    "method_cone",
-    "method_qdm",
-    "method_relaxed",
-    "method_cc",
-    "method_radius",
-];
+/// The order of the files in a composed shader ([`WORLD`] follows them): the files
+/// every march shares, the methods' own modules (each once, in registry order, a
+/// method's in its dependency order), then the methods' files defining `hf_trace`.
+fn file_order() -> Vec<&'static str> {
+    let mut order: Vec<&'static str> = BASE.to_vec();
+    let own = MethodKind::ALL
+        .iter()
+        .flat_map(|m| m.info().shader.iter().copied());
+    let (methods, modules): (Vec<_>, Vec<_>) = own.partition(|f| f.starts_with("method_"));
+    for f in modules.into_iter().chain(methods) {
+        if !order.contains(&f) {
+            order.push(f);
+        }
+    }
+    order
+}
 
 /// The `hf_method` input and the dispatching `hf_trace` of the all-methods shader.
 fn dispatch(lang: Lang) -> String {

@@ -22,11 +22,16 @@
 //! region) is an error naming the line, so a construct without an exact mirror cannot
 //! slip through.
 
-/// The WGSL files whose GLSL is generated, in `parts` order.
-pub const TRANSLATED: [&str; 12] = [
-    "math", "ray", "surface", "dda", "search", "maxmip", "safety", "cc", "radius", "cone", "qdm",
-    "relaxed",
-];
+/// The files written in both languages: those whose resources differ by language (the
+/// field's textures, the world uniforms, each method's parameters in its `method_*`
+/// file) and the shared constants generated from Rust (`hfcast_shared`).
+pub const BOTH_LANGUAGES: [&str; 4] = ["hfcast_shared", "field", "field_int", "world"];
+
+/// Whether the GLSL of the file `stem` is generated from its WGSL: every file but the
+/// [`BOTH_LANGUAGES`] ones and the `method_*` files.
+pub fn is_translated(stem: &str) -> bool {
+    !BOTH_LANGUAGES.contains(&stem) && !stem.starts_with("method_")
+}
 
 /// Which language's region a line is in.
 #[derive(Clone, Copy, PartialEq)]

@@ -15,25 +15,8 @@ fn qdm_texel(i: u32, j: u32) -> vec4<f32> { return textureLoad(hf_qdm_map, vec2<
 fn qdm_solve_stable(qa: f32, qb: f32, qc: f32, found: ptr<function, bool>) -> f32 {
     *found = false;
     var best: f32 = 0.0;
-    let disc: f32 = qb * qb - 4.0 * qa * qc;
-    if (disc < 0.0) {
-        return best;
-    }
-    let sq: f32 = sqrt(disc);
-    let q: f32 = select(-0.5 * (qb - sq), -0.5 * (qb + sq), qb >= 0.0);
     var roots: array<f32, 2>;
-    var n: i32 = 0;
-    if (q == 0.0) {
-        if (qc == 0.0) {
-            roots[n] = 0.0;
-            n++;
-        }
-    } else {
-        roots[n] = q / qa;
-        n++;
-        roots[n] = qc / q;
-        n++;
-    }
+    let n: i32 = surface_stable_roots(qa, qb, qc, &roots);
     for (var k: i32 = 0; k < n; k++) {
         let r: f32 = roots[k];
         if (real_is_finite(r) && r >= 0.0 && (!*found || r < best)) {

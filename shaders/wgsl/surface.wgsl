@@ -204,32 +204,36 @@ fn surface_triangles_segment(c: vec4<f32>, a: vec3<f32>, b: vec3<f32>, ca: f32, 
     return segment_some(best_s, math_normal_from_gradient(best_p[1], best_p[2]), 0u, ca);
 }
 
-// `smallest_root_in_unit`: smallest root of `A s^2 + B s + C` in [0, 1] (within a few
-// ulps, then clamped); `found` is false for none.
-fn surface_smallest_root_in_unit(qa: f32, qb: f32, qc: f32, found: ptr<function, bool>) -> f32 {
-    *found = false;
-    var best: f32 = 0.0;
+// `stable_roots`: the roots of `A x^2 + B x + C` without cancellation (q / A and C / q
+// with q = -(B + sign(B) sqrt(D)) / 2) into `roots`; returns how many (0 to 2).
+fn surface_stable_roots(qa: f32, qb: f32, qc: f32, roots: ptr<function, array<f32, 2>>) -> i32 {
     let disc: f32 = qb * qb - 4.0 * qa * qc;
     if (disc < 0.0) {
-        return best;
+        return 0;
     }
     let sq: f32 = sqrt(disc);
     let q: f32 = select(-0.5 * (qb - sq), -0.5 * (qb + sq), qb >= 0.0);
-    let tol: f32 = 64.0 * REAL_EPSILON;
-    var roots: array<f32, 2>;
-    var n: i32 = 0;
     if (q == 0.0) {
         // B = 0 and D = 0: a double root at 0 when C = 0, or no root (A = B = 0, C != 0).
         if (qc == 0.0) {
-            roots[n] = 0.0;
-            n++;
+            (*roots)[0] = 0.0;
+            return 1;
         }
-    } else {
-        roots[n] = q / qa;
-        n++;
-        roots[n] = qc / q;
-        n++;
+        return 0;
     }
+    (*roots)[0] = q / qa;
+    (*roots)[1] = qc / q;
+    return 2;
+}
+
+// `smallest_root_in_unit`: smallest root of `A s^2 + B s + C` in [0, 1] (within a few
+// ulps, then clamped), of the stable roots; `found` is false for none.
+fn surface_smallest_root_in_unit(qa: f32, qb: f32, qc: f32, found: ptr<function, bool>) -> f32 {
+    *found = false;
+    var best: f32 = 0.0;
+    let tol: f32 = 64.0 * REAL_EPSILON;
+    var roots: array<f32, 2>;
+    let n: i32 = surface_stable_roots(qa, qb, qc, &roots);
     for (var k: i32 = 0; k < n; k++) {
         var r: f32 = roots[k];
         if (real_is_finite(r) && r >= -tol && r <= 1.0 + tol) {
