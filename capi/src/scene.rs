@@ -1,5 +1,6 @@
 //! The scene description (`hfcast::scene::Scene`) as a C struct.
 
+use crate::detail::fail;
 use crate::hf_result::{self, *};
 use crate::{guard, method_of, ptr, surface_of};
 use hfcore::scene::{BakePlan, HeightFormat, MethodKind, Need, RayClasses, Scene};
@@ -84,23 +85,22 @@ pub(crate) fn scene_of(s: &hf_scene) -> Result<Scene, hf_result> {
         2 => HeightFormat::U8,
         _ => return Err(HF_ERR_INVALID_ENUM),
     };
-    let ray_classes = classes_of(s.ray_classes)?;
-    let angle = s.max_view_angle_deg;
-    if !(angle > 0.0 && angle <= 180.0) {
-        return Err(HF_ERR_INVALID_ARGUMENT);
-    }
     let method = method_of(s.method)?;
-    Ok(Scene {
+    let scene = Scene {
         surface: surface_of(s.surface)?,
-        method: MethodKind::from_u32(method as u32).ok_or(HF_ERR_INVALID_ENUM)?,
-        ray_classes,
+        method: method.kind(),
+        ray_classes: RayClasses(u8::try_from(s.ray_classes).unwrap_or(u8::MAX)),
         outside_only: flag(s.outside_only)?,
-        max_view_angle_deg: angle,
+        max_view_angle_deg: s.max_view_angle_deg,
         shadows: flag(s.shadows)?,
         lod: flag(s.lod)?,
         depth_output: flag(s.depth_output)?,
         heights,
-    })
+    };
+    scene
+        .validate()
+        .map_err(|e| fail(HF_ERR_INVALID_ARGUMENT, e))?;
+    Ok(scene)
 }
 
 /// The C form of a core [`Scene`].

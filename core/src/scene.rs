@@ -370,7 +370,39 @@ pub struct Scene {
     pub heights: HeightFormat,
 }
 
+/// Why a [`Scene`] is invalid ([`Scene::validate`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SceneError {
+    /// The ray-class set is empty or has bits above the four classes.
+    RayClasses,
+    /// `max_view_angle_deg` is outside (0, 180].
+    ViewAngle,
+}
+
+impl core::fmt::Display for SceneError {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        f.write_str(match self {
+            SceneError::RayClasses => "the ray-class set is empty or unknown",
+            SceneError::ViewAngle => "max_view_angle_deg is outside (0, 180]",
+        })
+    }
+}
+
 impl Scene {
+    /// Checks the fields every user of a scene relies on (the C API's `hf_scene_check`,
+    /// shader generation): a ray-class set of one to four classes, a view angle in
+    /// (0, 180].
+    pub fn validate(&self) -> Result<(), SceneError> {
+        if self.ray_classes.0 == 0 || self.ray_classes.0 > RayClasses::ALL.0 {
+            return Err(SceneError::RayClasses);
+        }
+        let angle = self.max_view_angle_deg;
+        if !(angle > 0.0 && angle <= 180.0) {
+            return Err(SceneError::ViewAngle);
+        }
+        Ok(())
+    }
+
     /// The general scene of `method` on `surface`: every ray class, viewpoints
     /// anywhere, any direction, shadows, no LOD, depth output, `F32` heights.
     pub fn general(method: MethodKind, surface: Surface) -> Scene {

@@ -406,3 +406,29 @@ fn revalidating_a_changed_rectangle() {
     ));
     println!("revalidate_rect: bounds widened, NaN index and bad rectangles reported");
 }
+
+/// `Scene::validate`, the checks the C API's `hf_scene_check` and shader generation
+/// share: one to four ray classes, a view angle in (0, 180].
+#[test]
+fn scenes_validate_their_ray_classes_and_view_angle() {
+    use hfcast::scene::{MethodKind, RayClasses, Scene, SceneError};
+    let general = Scene::general(MethodKind::Cc, hfcast::Surface::Triangles);
+    assert_eq!(general.validate(), Ok(()));
+    let cases = [
+        (0, 90.0, Err(SceneError::RayClasses)),
+        (16, 90.0, Err(SceneError::RayClasses)),
+        (1, 0.0, Err(SceneError::ViewAngle)),
+        (1, 180.5, Err(SceneError::ViewAngle)),
+        (1, f32::NAN, Err(SceneError::ViewAngle)),
+        (1, 1e-3, Ok(())),
+        (15, 180.0, Ok(())),
+    ];
+    for (classes, angle, want) in cases {
+        let scene = Scene {
+            ray_classes: RayClasses(classes),
+            max_view_angle_deg: angle,
+            ..general
+        };
+        assert_eq!(scene.validate(), want, "classes {classes}, angle {angle}");
+    }
+}

@@ -48,7 +48,7 @@ pub use shared::{
     MAX_LEVELS, PYRAMID_TEX_WIDTH, SAFETY_SEG_PAD,
 };
 
-use hfcast::scene::{HeightFormat, MethodKind, RayClasses, Scene};
+use hfcast::scene::{HeightFormat, MethodKind, RayClasses, Scene, SceneError};
 use hfcast::Surface;
 use shake::{Item, Kind, Seg};
 use std::collections::{BTreeMap, BTreeSet};
@@ -263,13 +263,13 @@ pub struct Options {
 
 /// The flags a generated shader of `scene` sets, after checking the scene.
 pub fn scene_flags(scene: &Scene, opts: &Options) -> Result<Vec<&'static str>, GenError> {
-    if scene.ray_classes.0 == 0 || scene.ray_classes.0 > 15 {
-        return Err(GenError::Scene("the ray-class set is empty or unknown"));
-    }
+    scene.validate().map_err(|e| {
+        GenError::Scene(match e {
+            SceneError::RayClasses => "the ray-class set is empty or unknown",
+            SceneError::ViewAngle => "max_view_angle_deg is outside (0, 180]",
+        })
+    })?;
     let angle = scene.max_view_angle_deg;
-    if !(angle > 0.0 && angle <= 180.0) {
-        return Err(GenError::Scene("max_view_angle_deg is outside (0, 180]"));
-    }
     if scene.lod {
         return Err(GenError::Scene(if scene.method == MethodKind::MaxMip {
             "LOD marching has no shader port"
