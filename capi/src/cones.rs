@@ -17,15 +17,6 @@ use hfcore::scene::MethodKind;
 use hfcore::{HeightField, Marcher};
 use std::ops::Range;
 
-impl From<BakeError> for hf_result {
-    fn from(e: BakeError) -> Self {
-        match e {
-            BakeError::TooShort { .. } => HF_ERR_BUFFER_TOO_SMALL,
-            BakeError::BadRows => HF_ERR_INVALID_ARGUMENT,
-        }
-    }
-}
-
 /// The core's row bake of one family.
 type BakeRows = fn(&HeightField, &[f32], Range<u32>, &mut [f32]) -> Result<(), BakeError>;
 

@@ -176,14 +176,15 @@ impl From<hfcore::RayError> for hf_result {
     }
 }
 
-#[cfg(feature = "maxmip")]
-impl From<hfcore::maxmip::PyramidError> for hf_result {
-    fn from(e: hfcore::maxmip::PyramidError) -> Self {
+impl From<hfcore::buffer::BufferError> for hf_result {
+    fn from(e: hfcore::buffer::BufferError) -> Self {
+        use hfcore::buffer::BufferError as E;
         let code = match e {
-            hfcore::maxmip::PyramidError::TooShort { .. } => HF_ERR_BUFFER_TOO_SMALL,
-            hfcore::maxmip::PyramidError::BadRect => HF_ERR_INVALID_RECT,
+            E::TooShort { .. } => HF_ERR_BUFFER_TOO_SMALL,
+            E::BadRows => HF_ERR_INVALID_ARGUMENT,
+            E::BadRect => HF_ERR_INVALID_RECT,
         };
-        detail::fail(code, format_args!("pyramid: {e}"))
+        detail::fail(code, e)
     }
 }
 

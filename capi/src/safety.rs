@@ -8,7 +8,7 @@ use crate::size_query;
 use crate::trace::TraceOptions;
 use crate::{guard, hf_field, par, ptr};
 use hfcore::ktx2::{Desc, MapKind};
-use hfcore::safety::{self, AllRays, MarchSurface, Options, SafetyError, SafetyMap, Variant};
+use hfcore::safety::{self, AllRays, MarchSurface, Options, SafetyMap, Variant};
 use hfcore::scene::RayClasses;
 use hfcore::{HeightField, Marcher};
 
@@ -42,17 +42,6 @@ pub struct hf_safety_options {
     /// The ray classes to bake (`HF_RAYS_*` bits; 0: all four): a map of fewer classes
     /// is smaller and faster to bake (`hf_safety_bake_rows`).
     pub ray_classes: u32,
-}
-
-impl From<SafetyError> for hf_result {
-    fn from(e: SafetyError) -> Self {
-        match e {
-            SafetyError::ScratchTooShort { .. } | SafetyError::OutputTooShort { .. } => {
-                HF_ERR_BUFFER_TOO_SMALL
-            }
-            SafetyError::RowsOutOfRange => HF_ERR_INVALID_ARGUMENT,
-        }
-    }
 }
 
 /// Checks a variant passed as `uint32_t`.

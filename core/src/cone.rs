@@ -44,8 +44,9 @@
 // `!(x > 0)` is meant: it is true for NaN too, which must not step.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
-use core::fmt;
 use core::ops::Range;
+
+use crate::buffer::BufferError;
 
 use crate::dda::{
     cell_index, clip, entry_on, finish, local_clearance, next_crossing, segment_point, start_hit,
@@ -82,38 +83,13 @@ pub const DIRS: [(f64, f64); 9] = [
     (0.0, 1.0),
 ];
 
-/// Why a bake or a map view was refused.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum BakeError {
-    /// A slice is shorter than needed.
-    TooShort {
-        /// Elements needed.
-        needed: usize,
-        /// Elements given.
-        given: usize,
-    },
-    /// `rows` leaves the map.
-    BadRows,
-}
+/// Why a cone-family bake or map view refused its buffers (the crate's one
+/// [`BufferError`]).
+pub type BakeError = BufferError;
 
-impl fmt::Display for BakeError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self {
-            BakeError::TooShort { needed, given } => {
-                write!(f, "slice too short: {given} given, {needed} needed")
-            }
-            BakeError::BadRows => write!(f, "row range leaves the map"),
-        }
-    }
-}
-
-/// Checks `len ≥ needed`.
+/// Checks `len ≥ needed` for a slice.
 pub(crate) fn check(needed: usize, given: usize) -> Result<(), BakeError> {
-    if given < needed {
-        Err(BakeError::TooShort { needed, given })
-    } else {
-        Ok(())
-    }
+    crate::buffer::check("slice", needed, given)
 }
 
 /// Cells of a `width × height` field.
@@ -136,6 +112,7 @@ pub fn scratch_len(width: u32, height: u32) -> usize {
 pub fn prepare(hf: &HeightField, scratch: &mut [f32]) -> Result<(), BakeError> {
     check(scratch_len(hf.width(), hf.height()), scratch.len())?;
     maxmip::bake(hf, scratch).map_err(|_| BakeError::TooShort {
+        what: "scratch",
         needed: scratch_len(hf.width(), hf.height()),
         given: scratch.len(),
     })
@@ -377,6 +354,7 @@ pub fn bake_rows(
     out: &mut [f32],
 ) -> Result<(), BakeError> {
     let mip = MaxMip::new(hf, scratch).map_err(|_| BakeError::TooShort {
+        what: "scratch",
         needed: scratch_len(hf.width(), hf.height()),
         given: scratch.len(),
     })?;

@@ -31,7 +31,6 @@ use crate::field::{HeightField, MAX_SIDE};
 use crate::math::Real;
 use crate::ray::{Flags, Hit, Query, Trace};
 use crate::surface::{bilinear, corners, SegmentHit, Surface};
-use core::fmt;
 use core::ops::Range;
 
 /// Most levels a pyramid has: fewer than 2²⁴ cells per side need at most 25.
@@ -125,38 +124,13 @@ pub fn pyramid_len(width: u32, height: u32) -> usize {
     Layout::new(width, height).map_or(0, |l| l.texel_count())
 }
 
-/// Why a pyramid operation was refused.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum PyramidError {
-    /// The pyramid slice is shorter than [`pyramid_len`].
-    TooShort {
-        /// Texels needed.
-        needed: usize,
-        /// Texels given.
-        given: usize,
-    },
-    /// The rectangle of [`update_rect`] is reversed or reaches outside the field.
-    BadRect,
-}
-
-impl fmt::Display for PyramidError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self {
-            PyramidError::TooShort { needed, given } => {
-                write!(f, "pyramid slice too short: {given} given, {needed} needed")
-            }
-            PyramidError::BadRect => write!(f, "update rectangle reversed or outside the field"),
-        }
-    }
-}
+/// Why a pyramid view, bake or update refused its buffer or rectangle (the crate's
+/// one [`BufferError`](crate::buffer::BufferError)).
+pub type PyramidError = crate::buffer::BufferError;
 
 /// Checks the pyramid slice length for `hf`.
 fn check_len(layout: &Layout, len: usize) -> Result<(), PyramidError> {
-    let needed = layout.texel_count();
-    if len < needed {
-        return Err(PyramidError::TooShort { needed, given: len });
-    }
-    Ok(())
+    crate::buffer::check("pyramid", layout.texel_count(), len)
 }
 
 /// Maximum of two finite values (compiles to one `maxps`).

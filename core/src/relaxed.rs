@@ -386,6 +386,7 @@ pub fn bake_rows(
     out: &mut [f32],
 ) -> Result<(), BakeError> {
     let mip = MaxMip::new(hf, scratch).map_err(|_| BakeError::TooShort {
+        what: "scratch",
         needed: scratch_len(hf.width(), hf.height()),
         given: scratch.len(),
     })?;

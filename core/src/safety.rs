@@ -36,7 +36,6 @@
 //!
 //! [`dda::trace`]: crate::dda::trace
 
-use core::fmt;
 use core::ops::Range;
 
 use crate::dda::{
@@ -153,36 +152,9 @@ impl Default for Options {
     }
 }
 
-/// Why a bake or a map was refused.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum SafetyError {
-    /// The scratch slice is shorter than [`scratch_len`].
-    ScratchTooShort {
-        /// Elements needed.
-        needed: usize,
-    },
-    /// The output (or map) slice is too short.
-    OutputTooShort {
-        /// Bytes needed.
-        needed: usize,
-    },
-    /// The row range reaches past the field.
-    RowsOutOfRange,
-}
-
-impl fmt::Display for SafetyError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self {
-            SafetyError::ScratchTooShort { needed } => {
-                write!(f, "scratch too short: {needed} elements needed")
-            }
-            SafetyError::OutputTooShort { needed } => {
-                write!(f, "output too short: {needed} bytes needed")
-            }
-            SafetyError::RowsOutOfRange => write!(f, "row range reaches past the field"),
-        }
-    }
-}
+/// Why a safety-shape bake or map view refused its buffers or rows (the crate's one
+/// [`BufferError`](crate::buffer::BufferError)).
+pub type SafetyError = crate::buffer::BufferError;
 
 // ---------------------------------------------------------------------------------
 // Bake
@@ -236,9 +208,7 @@ fn cell_bound(hf: &HeightField, ci: u32, cj: u32) -> (f64, [f64; 4]) {
 /// Fills the strip bounds the bake reads (`scratch_len(W, H)` elements). `O(cells)`.
 pub fn prepare(hf: &HeightField, scratch: &mut [f32]) -> Result<(), SafetyError> {
     let needed = scratch_len(hf.width(), hf.height());
-    if scratch.len() < needed {
-        return Err(SafetyError::ScratchTooShort { needed });
-    }
+    crate::buffer::check("scratch", needed, scratch.len())?;
     let (cx, cy) = (hf.width() - 1, hf.height() - 1);
     let (sx, sy) = strips(hf);
     let (xs, ys) = scratch[..needed].split_at_mut(3 * cx as usize * sx);
@@ -760,23 +730,19 @@ pub(crate) fn check_rows(
     out: &[u8],
 ) -> Result<usize, SafetyError> {
     let needed = scratch_len(hf.width(), hf.height());
-    if scratch.len() < needed {
-        return Err(SafetyError::ScratchTooShort { needed });
-    }
+    crate::buffer::check("scratch", needed, scratch.len())?;
     if rows.end > hf.height() || rows.start > rows.end {
-        return Err(SafetyError::RowsOutOfRange);
+        return Err(SafetyError::BadRows);
     }
     let needed = (rows.end - rows.start) as usize * hf.width() as usize * bytes_per_texel;
     check_len(out, needed)?;
     Ok(needed)
 }
 
-/// `OutputTooShort` unless `data` holds at least `needed` bytes: a bake's output or
+/// `TooShort` unless `data` holds at least `needed` bytes: a bake's output or
 /// the baked data a map views ([`SafetyMap::new`], [`crate::radius::RadiusMap::new`]).
 pub(crate) fn check_len(data: &[u8], needed: usize) -> Result<(), SafetyError> {
-    if data.len() < needed {
-        return Err(SafetyError::OutputTooShort { needed });
-    }
+    crate::buffer::check("output", needed, data.len())?;
     Ok(())
 }
 

@@ -58,6 +58,7 @@ fn layout_sizes() {
     assert_eq!(
         maxmip::bake(&hf, &mut []),
         Err(PyramidError::TooShort {
+            what: "pyramid",
             needed: 1,
             given: 0
         })

@@ -202,9 +202,7 @@ fn nb_index(hf: &HeightField, cap: u8, ax: usize, l: u32, c: u32, y: u32) -> usi
 /// Fills the N-buffers ([`nbuffer_len`] elements). `O(cells · levels)`.
 pub fn prepare_nbuffer(hf: &HeightField, cap: u8, nb: &mut [f32]) -> Result<(), SafetyError> {
     let needed = nbuffer_len(hf.width(), hf.height(), cap);
-    if nb.len() < needed {
-        return Err(SafetyError::ScratchTooShort { needed });
-    }
+    crate::buffer::check("n-buffer", needed, nb.len())?;
     for ax in 0..2 {
         let (lm, ln) = extents(hf, ax);
         for c in 0..lm {
@@ -1096,20 +1094,14 @@ pub fn bake_rows_classes(
     out: &mut [u8],
 ) -> Result<(), SafetyError> {
     let needed = super::scratch_len(hf.width(), hf.height());
-    if scratch.len() < needed {
-        return Err(SafetyError::ScratchTooShort { needed });
-    }
+    crate::buffer::check("scratch", needed, scratch.len())?;
     let needed = nbuffer_len(hf.width(), hf.height(), opts.cap);
-    if nb.len() < needed {
-        return Err(SafetyError::ScratchTooShort { needed });
-    }
+    crate::buffer::check("n-buffer", needed, nb.len())?;
     if rows.end > hf.height() || rows.start > rows.end {
-        return Err(SafetyError::RowsOutOfRange);
+        return Err(SafetyError::BadRows);
     }
     let needed = (rows.end - rows.start) as usize * map_len_classes(hf.width(), 1, classes);
-    if out.len() < needed {
-        return Err(SafetyError::OutputTooShort { needed });
-    }
+    crate::buffer::check("output", needed, out.len())?;
     let views = views(hf, nb, opts.cap);
     let rows_of = CLASSES.map(|class| class_rows(hf.width(), classes, class));
     // The rows are baked in chunks of `SEED_SPAN` texels, a class at a time, so that
