@@ -290,17 +290,13 @@ enum hf_safety_variant
 #endif // defined(__cplusplus) || __STDC_VERSION__ >= 202311L
  {
 #if defined(HF_HAVE_SAFETY)
-  // Four bytes per texel, one per ray class (x+, x−, y+, y−), each texel row
-  // stored as four rows of W bytes, one per class in class order:
-  // `map[(j * 4 + class) * W + i]`. Upload as an `R8UI` texture of W × 4H texels,
-  // texel (i, 4 j + class). A map of `n` classes (`hf_safety_options::ray_classes`) holds
-  // their rows only, in class order: `map[(j * n + slot) * W + i]`, `slot` the
-  // number of its classes before `class` (W × nH texels, texel (i, n j + slot)).
+  // One byte per texel and ray class, each texel row as one row per class the map
+  // holds (layout: docs/DESIGN.md, "Texture layouts", safety, directional).
   HF_SAFETY_DIRECTIONAL = 0,
 #endif
 #if defined(HF_HAVE_SAFETY)
-  // One byte per texel, the minimum over the classes: `map[j * W + i]`. Upload as
-  // an `R8UI` texture of W × H texels.
+  // One byte per texel, the minimum over the classes the map holds (layout:
+  // docs/DESIGN.md, "Texture layouts", safety, isotropic).
   HF_SAFETY_ISOTROPIC = 1,
 #endif
 };
@@ -762,14 +758,9 @@ hf_result hf_error_message(uint32_t code,
 #if defined(HF_HAVE_SAFETY)
 // Writes the size in bytes of the packed cylinder–cone map of a `width × height`
 // field for the ray classes `ray_classes` (`HF_RAYS_*` bits; 0: all four, as
-// `hf_cc_options::ray_classes`) to `*out_len`: `W * H * 2 * n` for its `n` classes,
-// `[r, s]` per texel and class (cylinder radius, slope code; the cone's base height
-// is not stored: the march computes it from the heights), each texel row stored as
-// `n` rows in class order (x+, x−, y+, y−): the bytes of texel (i, j) for class c at
-// `((j * n + slot) * W + i) * 2`, `slot` the number of its classes before c; upload
-// as an `RG8UI` texture of W × nH texels, texel (i, n j + slot); then
-// `HF_MAP_DESC_BYTES` of descriptor (`hf_map_desc`), which stays on the CPU. Thread
-// safe.
+// `hf_cc_options::ray_classes`) to `*out_len`: `W * H * 2 * n` for its `n` classes
+// (layout: docs/DESIGN.md, "Texture layouts", cylinder–cone), then `HF_MAP_DESC_BYTES`
+// of descriptor (`hf_map_desc`), which stays on the CPU. Thread safe.
 //
 // # Safety
 // `out_len` is NULL (an error) or valid for writing one `size_t`.
@@ -881,10 +872,9 @@ hf_result hf_cone_prepare(const struct hf_field *field,
 
 #if defined(HF_HAVE_CONE)
 // Writes the number of floats of the cone map of a `width × height` field to
-// `*out_len`: two per cell, `[top, ratio]` (the cell's highest corner, the cone's
-// horizontal/vertical opening), cell (i, j) at `map[2 * (j * (W − 1) + i)]`: upload as
-// an `RG32F` texture of (W − 1) × (H − 1) texels; then `HF_MAP_DESC_BYTES / 4` floats
-// of descriptor (`hf_map_desc`), which stays on the CPU. Thread safe.
+// `*out_len`: two per cell (layout: docs/DESIGN.md, "Texture layouts", cone), then
+// `HF_MAP_DESC_BYTES / 4` floats of descriptor (`hf_map_desc`), which stays on the
+// CPU. Thread safe.
 //
 // # Safety
 // `out_len` is NULL (an error) or valid for writing one `size_t`.
@@ -930,9 +920,8 @@ hf_result hf_cone_bake(const struct hf_field *field,
 
 #if (defined(HF_HAVE_CONE) && defined(HF_HAVE_RELAXED))
 // Writes the number of floats of the relaxed cone map of a `width × height` field to
-// `*out_len`: one ratio per sample, sample (i, j) at `map[j * W + i]` (an `R32F`
-// texture of W × H texels), then `HF_MAP_DESC_BYTES / 4` floats of descriptor.
-// Thread safe.
+// `*out_len`: one ratio per sample (layout: docs/DESIGN.md, "Texture layouts",
+// relaxed cone), then `HF_MAP_DESC_BYTES / 4` floats of descriptor. Thread safe.
 //
 // # Safety
 // `out_len` is NULL (an error) or valid for writing one `size_t`.
@@ -972,10 +961,8 @@ hf_result hf_relaxed_bake(const struct hf_field *field,
 
 #if (defined(HF_HAVE_CONE) && defined(HF_HAVE_QDM))
 // Writes the number of floats of the quadratic displacement map of a `width ×
-// height` field to `*out_len`: four per cell, `[a, b, c, h]` (cone ratio, cone
-// height, parabola curvature, the cell's top), cell (i, j) at
-// `map[4 * (j * (W − 1) + i)]` (an `RGBA32F` texture of (W − 1) × (H − 1) texels),
-// then `HF_MAP_DESC_BYTES / 4` floats of descriptor. Thread safe.
+// height` field to `*out_len`: four per cell (layout: docs/DESIGN.md, "Texture
+// layouts", QDM), then `HF_MAP_DESC_BYTES / 4` floats of descriptor. Thread safe.
 //
 // # Safety
 // `out_len` is NULL (an error) or valid for writing one `size_t`.
@@ -1291,9 +1278,9 @@ hf_result hf_field_get_fingerprint(const struct hf_field *field,
 #if defined(HF_HAVE_MAXMIP)
 // Writes the number of floats of the maximum-mipmap pyramid of a `width × height`
 // field (2 ≤ width, height ≤ `HF_MAX_SIDE`) to `*out_len`: the size to allocate for
-// `hf_maxmip_bake`, the texels of every level (`hf_maxmip_levels`) then
-// `HF_MAP_DESC_BYTES / 4` floats of descriptor (`hf_map_desc`; upload the levels
-// only). Thread safe.
+// `hf_maxmip_bake`, the texels of every level (`hf_maxmip_levels`; layout:
+// docs/DESIGN.md, "Texture layouts", maxmip pyramid) then `HF_MAP_DESC_BYTES / 4`
+// floats of descriptor (`hf_map_desc`; upload the levels only). Thread safe.
 //
 // # Safety
 // `out_len` is NULL (an error) or valid for writing one `size_t`.
@@ -1396,8 +1383,9 @@ hf_result hf_maxmip_update_rect(const struct hf_field *field,
 
 #if defined(HF_HAVE_SAFETY)
 // Writes the size in bytes of the radius map of a `width × height` field to
-// `*out_len`: `W * H`, one radius per texel at `map[j * W + i]` (an `R8UI` texture),
-// then `HF_MAP_DESC_BYTES` of descriptor (`hf_map_desc`). Thread safe.
+// `*out_len`: `W * H`, one radius per texel (layout: docs/DESIGN.md, "Texture
+// layouts", safety radius), then `HF_MAP_DESC_BYTES` of descriptor (`hf_map_desc`).
+// Thread safe.
 //
 // # Safety
 // `out_len` is NULL (an error) or valid for writing one `size_t`.

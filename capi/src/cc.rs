@@ -57,16 +57,12 @@ fn options_of(o: &hf_cc_options) -> Result<(CcOptions, RayClasses), hf_result> {
     };
     Ok((opts, bake_classes_of(o.ray_classes)?))
 }
+
 /// Writes the size in bytes of the packed cylinder–cone map of a `width × height`
 /// field for the ray classes `ray_classes` (`HF_RAYS_*` bits; 0: all four, as
-/// `hf_cc_options::ray_classes`) to `*out_len`: `W * H * 2 * n` for its `n` classes,
-/// `[r, s]` per texel and class (cylinder radius, slope code; the cone's base height
-/// is not stored: the march computes it from the heights), each texel row stored as
-/// `n` rows in class order (x+, x−, y+, y−): the bytes of texel (i, j) for class c at
-/// `((j * n + slot) * W + i) * 2`, `slot` the number of its classes before c; upload
-/// as an `RG8UI` texture of W × nH texels, texel (i, n j + slot); then
-/// `HF_MAP_DESC_BYTES` of descriptor (`hf_map_desc`), which stays on the CPU. Thread
-/// safe.
+/// `hf_cc_options::ray_classes`) to `*out_len`: `W * H * 2 * n` for its `n` classes
+/// (layout: docs/DESIGN.md, "Texture layouts", cylinder–cone), then `HF_MAP_DESC_BYTES`
+/// of descriptor (`hf_map_desc`), which stays on the CPU. Thread safe.
 ///
 /// # Safety
 /// `out_len` is NULL (an error) or valid for writing one `size_t`.

@@ -252,10 +252,9 @@ pub unsafe extern "C" fn hf_cone_prepare(
 }
 
 /// Writes the number of floats of the cone map of a `width × height` field to
-/// `*out_len`: two per cell, `[top, ratio]` (the cell's highest corner, the cone's
-/// horizontal/vertical opening), cell (i, j) at `map[2 * (j * (W − 1) + i)]`: upload as
-/// an `RG32F` texture of (W − 1) × (H − 1) texels; then `HF_MAP_DESC_BYTES / 4` floats
-/// of descriptor (`hf_map_desc`), which stays on the CPU. Thread safe.
+/// `*out_len`: two per cell (layout: docs/DESIGN.md, "Texture layouts", cone), then
+/// `HF_MAP_DESC_BYTES / 4` floats of descriptor (`hf_map_desc`), which stays on the
+/// CPU. Thread safe.
 ///
 /// # Safety
 /// `out_len` is NULL (an error) or valid for writing one `size_t`.
@@ -325,9 +324,8 @@ pub unsafe extern "C" fn hf_cone_bake(
 
 #[cfg(feature = "relaxed")]
 /// Writes the number of floats of the relaxed cone map of a `width × height` field to
-/// `*out_len`: one ratio per sample, sample (i, j) at `map[j * W + i]` (an `R32F`
-/// texture of W × H texels), then `HF_MAP_DESC_BYTES / 4` floats of descriptor.
-/// Thread safe.
+/// `*out_len`: one ratio per sample (layout: docs/DESIGN.md, "Texture layouts",
+/// relaxed cone), then `HF_MAP_DESC_BYTES / 4` floats of descriptor. Thread safe.
 ///
 /// # Safety
 /// `out_len` is NULL (an error) or valid for writing one `size_t`.
@@ -393,10 +391,8 @@ pub unsafe extern "C" fn hf_relaxed_bake(
 
 #[cfg(feature = "qdm")]
 /// Writes the number of floats of the quadratic displacement map of a `width ×
-/// height` field to `*out_len`: four per cell, `[a, b, c, h]` (cone ratio, cone
-/// height, parabola curvature, the cell's top), cell (i, j) at
-/// `map[4 * (j * (W − 1) + i)]` (an `RGBA32F` texture of (W − 1) × (H − 1) texels),
-/// then `HF_MAP_DESC_BYTES / 4` floats of descriptor. Thread safe.
+/// height` field to `*out_len`: four per cell (layout: docs/DESIGN.md, "Texture
+/// layouts", QDM), then `HF_MAP_DESC_BYTES / 4` floats of descriptor. Thread safe.
 ///
 /// # Safety
 /// `out_len` is NULL (an error) or valid for writing one `size_t`.

@@ -29,9 +29,9 @@ fn layout(width: u32, height: u32) -> Result<Layout, hf_result> {
 
 /// Writes the number of floats of the maximum-mipmap pyramid of a `width × height`
 /// field (2 ≤ width, height ≤ `HF_MAX_SIDE`) to `*out_len`: the size to allocate for
-/// `hf_maxmip_bake`, the texels of every level (`hf_maxmip_levels`) then
-/// `HF_MAP_DESC_BYTES / 4` floats of descriptor (`hf_map_desc`; upload the levels
-/// only). Thread safe.
+/// `hf_maxmip_bake`, the texels of every level (`hf_maxmip_levels`; layout:
+/// docs/DESIGN.md, "Texture layouts", maxmip pyramid) then `HF_MAP_DESC_BYTES / 4`
+/// floats of descriptor (`hf_map_desc`; upload the levels only). Thread safe.
 ///
 /// # Safety
 /// `out_len` is NULL (an error) or valid for writing one `size_t`.

@@ -65,8 +65,9 @@ fn zero_of(v: u32) -> Result<Options, hf_result> {
 }
 
 /// Writes the size in bytes of the radius map of a `width × height` field to
-/// `*out_len`: `W * H`, one radius per texel at `map[j * W + i]` (an `R8UI` texture),
-/// then `HF_MAP_DESC_BYTES` of descriptor (`hf_map_desc`). Thread safe.
+/// `*out_len`: `W * H`, one radius per texel (layout: docs/DESIGN.md, "Texture
+/// layouts", safety radius), then `HF_MAP_DESC_BYTES` of descriptor (`hf_map_desc`).
+/// Thread safe.
 ///
 /// # Safety
 /// `out_len` is NULL (an error) or valid for writing one `size_t`.

@@ -16,15 +16,11 @@ use hfcore::{HeightField, Marcher};
 #[repr(u32)]
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum hf_safety_variant {
-    /// Four bytes per texel, one per ray class (x+, x−, y+, y−), each texel row
-    /// stored as four rows of W bytes, one per class in class order:
-    /// `map[(j * 4 + class) * W + i]`. Upload as an `R8UI` texture of W × 4H texels,
-    /// texel (i, 4 j + class). A map of `n` classes (`hf_safety_options::ray_classes`) holds
-    /// their rows only, in class order: `map[(j * n + slot) * W + i]`, `slot` the
-    /// number of its classes before `class` (W × nH texels, texel (i, n j + slot)).
+    /// One byte per texel and ray class, each texel row as one row per class the map
+    /// holds (layout: docs/DESIGN.md, "Texture layouts", safety, directional).
     HF_SAFETY_DIRECTIONAL = 0,
-    /// One byte per texel, the minimum over the classes: `map[j * W + i]`. Upload as
-    /// an `R8UI` texture of W × H texels.
+    /// One byte per texel, the minimum over the classes the map holds (layout:
+    /// docs/DESIGN.md, "Texture layouts", safety, isotropic).
     HF_SAFETY_ISOTROPIC = 1,
 }
 

@@ -108,15 +108,14 @@ fn extents(hf: &HeightField, ax: usize) -> (u32, u32) {
 /// How the baked distances are laid out.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum Variant {
-    /// One byte per texel and class, each texel row stored as four rows of `W` bytes,
-    /// one per class in class order: `data[(j·4 + class)·W + i]` ([`texel_offset`]; an
-    /// R8UI texture of W × 4H, texel `(i, 4j + class)`). A ray reads one class only, so
-    /// its distances lie side by side; row ranges stay contiguous for split bakes. A
-    /// map of fewer classes ([`bake_rows_classes`]) holds only their rows: `n` rows
-    /// per texel row for its `n` classes ([`ClassRows`]).
+    /// One byte per texel and class, each texel row as one row per class
+    /// ([`texel_offset`], [`ClassRows`]; the layout: docs/DESIGN.md, "Texture layouts",
+    /// safety, directional). A ray reads one class only, so its distances lie side by
+    /// side; row ranges stay contiguous for split bakes. A map of fewer classes
+    /// ([`bake_rows_classes`]) holds only their rows.
     Directional,
-    /// One byte per texel, the minimum over the four classes: `data[j·W + i]` (an R8UI
-    /// texture of W × H).
+    /// One byte per texel, the minimum over the classes (docs/DESIGN.md, "Texture
+    /// layouts", safety, isotropic).
     Isotropic,
 }
 

@@ -5,8 +5,7 @@
 // march that qdm.wgsl shares. The closure `step` of the Rust march is the function
 // `cone_march_step`, defined by the method's file (method_cone.wgsl, method_qdm.wgsl).
 //
-// Texture layout: the map of hf_cone_bake as `hf_cone_map`, an RG32Float texture of
-// (W - 1) x (H - 1) texels, texel (i, j) = [top, ratio] of cell (i, j).
+// Texture layout (docs/DESIGN.md, "Texture layouts", cone): `hf_cone_map`.
 
 uniform sampler2D hf_cone_map;
 

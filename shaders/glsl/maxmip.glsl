@@ -3,12 +3,9 @@
 // Mirror of core/src/maxmip.rs: the hierarchical march over the maximum mipmap
 // (Tevs et al. 2008) with exact options (Ascent::OneLevel, no LOD, exact bilinear).
 //
-// Texture layout: the pyramid buffer of hf_maxmip_bake (level 0 first, row-major) is
-// uploaded as one R32Float texture `hf_pyramid` HF_PYRAMID_TEX_WIDTH texels wide:
-// pyramid texel k is texel (k % HF_PYRAMID_TEX_WIDTH, k / HF_PYRAMID_TEX_WIDTH). The
-// levels (hf_maxmip_levels) are, in WGSL, the uniform `hf_maxmip`: `levels` the level
-// count, `level[l]` = (width, height, offset, 0) of level l; in GLSL the uniforms
-// `hf_levels`, `hf_level_dims`, `hf_level_offset`.
+// Texture layout (docs/DESIGN.md, "Texture layouts", maxmip pyramid): `hf_pyramid`, the levels as the uniform
+// `hf_maxmip` (WGSL: `levels`, `level[l]` = (width, height, offset, 0)) or `hf_levels`,
+// `hf_level_dims`, `hf_level_offset` (GLSL).
 
 uniform sampler2D hf_pyramid;
 

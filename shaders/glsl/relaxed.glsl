@@ -4,8 +4,7 @@
 // stepping (Policarpo & Oliveira 2007), approximate: cone steps until the ray is under
 // the surface, then a binary search between the last two points.
 //
-// Texture layout: the map of hf_relaxed_bake as `hf_relaxed_map`, an R32Float texture
-// of W x H texels, texel (i, j) = the ratio of sample (i, j).
+// Texture layout (docs/DESIGN.md, "Texture layouts", relaxed cone): `hf_relaxed_map`.
 
 uniform sampler2D hf_relaxed_map;
 

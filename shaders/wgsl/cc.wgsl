@@ -3,16 +3,11 @@
 // or the view-linear one from the same map, stepping with the safety march of
 // safety.wgsl.
 //
-// Texture layout: the map of hf_cc_bake as `hf_cc_map`, an Rg8Uint texture of W x nH
-// texels for the n ray classes it holds, the override `hf_cc_classes` (HF_RAYS_* bits,
-// HF_RAYS_ALL for a whole map; `CcMap::with_classes`): texel (i, n j + slot) = [r, s]
-// of texel (i, j) for the ray class of that slot (r: cylinder radius, s: slope code,
-// HF_CC_NO_CONE without a cone; each texel row as n rows, one per held class in class
-// order x+, x-, y+, y-; slot = how many held classes come before it; a whole map:
-// W x 4H, texel (i, 4 j + class)). A ray of a class the map does not hold reads
-// [0, HF_CC_NO_CONE] without a fetch (radius 0, no cone: it walks cell by cell, still
-// exact). `hf_cc.cap` (GLSL: `hf_cc_cap`) is the bake's cap. The cone's base height is not stored: the
-// march computes it from the heights (cc_line_base).
+// Texture layout (docs/DESIGN.md, "Texture layouts", cylinder-cone): `hf_cc_map`, the
+// override `hf_cc_classes` (the classes it holds; `CcMap::with_classes`) and the bake's
+// cap `hf_cc.cap` (GLSL: `hf_cc_cap`). A ray of a class the map does not hold reads [0, HF_CC_NO_CONE]
+// without a fetch (radius 0, no cone: it walks cell by cell, still exact). The cone's
+// base height is not stored: the march computes it from the heights (cc_line_base).
 
 @group(0) @binding(9) var hf_cc_map: texture_2d<u32>;
 override hf_cc_classes: u32 = 15u;

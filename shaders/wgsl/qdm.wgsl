@@ -2,8 +2,7 @@
 // displacement maps, per cell a cone (a, b) topped by a revolved parabola c over the
 // cell's top h; steps by cone_march (cone.wgsl).
 //
-// Texture layout: the map of hf_qdm_bake as `hf_qdm_map`, an RGBA32Float texture of
-// (W - 1) x (H - 1) texels, texel (i, j) = [a, b, c, h] of cell (i, j).
+// Texture layout (docs/DESIGN.md, "Texture layouts", QDM): `hf_qdm_map`.
 
 @group(0) @binding(7) var hf_qdm_map: texture_2d<f32>;
 

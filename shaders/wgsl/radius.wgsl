@@ -2,8 +2,7 @@
 // radius (Baboud & Decoret 2006) on the triangle surface, or the view-linear one from
 // the same map, stepping with the safety march of safety.wgsl.
 //
-// Texture layout: the map of hf_radius_bake as `hf_radius_map`, an R8Uint texture of
-// W x H texels: the radius of texel (i, j).
+// Texture layout (docs/DESIGN.md, "Texture layouts", safety radius): `hf_radius_map`.
 
 @group(0) @binding(11) var hf_radius_map: texture_2d<u32>;
 

@@ -6,16 +6,10 @@
 // samples on that centerline; above, jump; below, bisect on integer centerlines and
 // finish with the exact cell test of the march's surface.
 //
-// Texture layout: the map of hf_safety_bake as `hf_safety_map`, an R8Uint texture;
-// the override `hf_safety_variant` says which layout, the override `hf_safety_classes`
-// which ray classes the map holds (HF_RAYS_* bits, HF_RAYS_ALL for a whole map;
-// `SafetyMap::with_classes`): HF_SAFETY_DIRECTIONAL W x nH texels for the n classes
-// held, texel (i, n j + slot) = the distance of texel (i, j) for the ray class of that
-// slot (each texel row as n rows, one per held class in class order x+, x-, y+, y-;
-// slot = how many held classes come before it; a whole map: W x 4H, texel
-// (i, 4 j + ray_class)); HF_SAFETY_ISOTROPIC W x H, texel (i, j), valid for the held
-// classes only. A ray of a class the map does not hold reads distance 0 without a
-// fetch (it walks cell by cell, still exact).
+// Texture layout (docs/DESIGN.md, "Texture layouts", safety): `hf_safety_map`, the overrides
+// `hf_safety_variant` (directional or isotropic) and `hf_safety_classes` (the classes it
+// holds; `SafetyMap::with_classes`). A ray of a class the map does not hold reads
+// distance 0 without a fetch (it walks cell by cell, still exact).
 
 @group(0) @binding(5) var hf_safety_map: texture_2d<u32>;
 override hf_safety_variant: u32 = 0u;

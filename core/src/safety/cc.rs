@@ -61,10 +61,9 @@
 //! can (`Column::tip_under`), so its result does not depend on how the skipping is
 //! organised either.
 //!
-//! **Packing** (the GPU layout, [`map_len`], [`texel_offset`]): 8 bytes per texel,
-//! two per class, each texel row stored as four rows, one per class in class order:
-//! `data[((j·4 + class)·W + i)·2 ..]` = `[r, s]` (an RG8UI texture of W × 4H, texel
-//! `(i, 4j + class)`). A ray reads one class only, so its texels lie side by side (a
+//! **Packing** (the GPU layout: docs/DESIGN.md, "Texture layouts", cylinder–cone;
+//! [`map_len`], [`texel_offset`]): `[r, s]`, two bytes per texel and class, each texel
+//! row as one row per class. A ray reads one class only, so its texels lie side by side (a
 //! quarter of the cache lines a texel-interleaved map needs: ~20% faster CPU marches
 //! on the Himalaya benchmark), and row ranges stay contiguous for split bakes. A map
 //! of fewer classes ([`bake_rows_classes`]) holds only their rows, `n` rows per texel
