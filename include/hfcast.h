@@ -409,7 +409,7 @@ typedef uint32_t hf_need;
 // (i, j) sits at grid point (x = i, y = j); the surface covers [0, W−1] × [0, H−1].
 //
 // A field may carry an [`hf_transform`] (`hf_field_set_transform`): then every
-// `hf_trace_*` function takes rays and returns hits in world units.
+// trace (`hf_trace`, `hf_trace_batch`) takes rays and returns hits in world units.
 //
 // Thread safety, a readers–writer protocol: functions taking a `const hf_field *`
 // (traces, bakes, size and info queries) only read it and may run concurrently from
@@ -1128,7 +1128,7 @@ hf_result hf_field_update_rect(struct hf_field *field,
                                size_t values_stride);
 
 // Places the field in world units (see [`hf_transform`]); from then on every
-// `hf_trace_*` call on it takes world rays and returns world hits. Bakes and baked
+// `hf_trace` call on it takes world rays and returns world hits. Bakes and baked
 // maps are unaffected (they live in grid space). `HF_ERR_NOT_FINITE` for a NaN or
 // infinite component, `HF_ERR_INVALID_ARGUMENT` for a zero spacing or a height scale
 // that is not positive; on error the field keeps its transform. Needs exclusive
@@ -1239,7 +1239,7 @@ hf_result hf_ktx2_read_level(const uint8_t *bytes,
 
 // Copies the baked map of the KTX 2 file `bytes` into `out` (`out_len ≥` the info's
 // `map_len` bytes; floats for float maps, aligned for them): exactly what its bake
-// wrote, descriptor included, ready for the `hf_trace_*` call of its method on a field
+// wrote, descriptor included, ready for `hf_trace` with its method on a field
 // of the same heights (the pyramid with every level, unpadded; a file without
 // `hfcast.fingerprint` gives a descriptor that names no heights, which traces refuse).
 // Errors as `hf_ktx2_read_info`, plus `HF_ERR_BUFFER_TOO_SMALL`. Thread safe.
@@ -1611,20 +1611,18 @@ hf_result hf_shader_source_len(uint32_t method,
 // `hf_transform` in the uniforms `hf_world_offset` = (origin x, origin y, height
 // offset) and `hf_world_scale` = (spacing x, spacing y, height scale) (default: the
 // identity; the conversion runs in `float`, so answers agree with the C API's
-// double-precision conversion within a few ulps). The uniforms it declares: `hf_heights` (`R32F`, W × H, texel (i, j) = sample (i, j), read
-// with `texelFetch` only), `hf_size` = (W, H), `hf_height_range` = (min, max) from
-// `hf_field_get_info`; `hf_surface` (exact, search and maxmip methods; the others
-// trace the triangle surface); `hf_linear_steps`, `hf_binary_steps` (search
-// methods); cone and QDM: `hf_max_iter`, `hf_cone_map` (`RG32F`) or `hf_qdm_map`
-// (`RGBA32F`), (W − 1) × (H − 1) texels; relaxed: `hf_cone_steps`,
-// `hf_binary_steps`, `hf_relaxed_map` (`R32F`, W × H); maxmip: `hf_pyramid` (`R32F`, the
-// `hf_maxmip_bake` buffer in rows of `HF_PYRAMID_TEX_WIDTH` texels), `hf_levels`,
-// `hf_level_dims[]`, `hf_level_offset[]` (from `hf_maxmip_levels`); safety:
-// `hf_safety_map` (`R8UI`, W × 4H directional, W × H isotropic),
-// `hf_safety_variant`, `hf_safety_classes`; cylinder–cone: `hf_cc_map` (`RG8UI`,
-// W × 4H), `hf_cc_classes`, `hf_cc_cap`. `hf_safety_classes` and `hf_cc_classes` (`HF_RAYS_*` bits,
-// default `HF_RAYS_ALL`) are the ray classes the map holds: a map of `n` classes from
-// `hf_safety_bake_classes` / `hf_cc_bake_classes` is W × nH texels. Thread safe.
+// double-precision conversion within a few ulps). The uniforms it declares (the
+// textures' layouts: docs/DESIGN.md, "Texture layouts"): `hf_heights`, `hf_size` =
+// (W, H), `hf_height_range` = (min, max) from `hf_field_get_info`; `hf_surface` (every
+// method but the cone family, which traces the triangle surface); `hf_linear_steps`,
+// `hf_binary_steps` (search methods); cone and QDM: `hf_max_iter`, `hf_cone_map` or
+// `hf_qdm_map`; relaxed: `hf_cone_steps`, `hf_binary_steps`, `hf_relaxed_map`;
+// maxmip: `hf_pyramid`, `hf_levels`, `hf_level_dims[]`, `hf_level_offset[]` (from
+// `hf_maxmip_levels`); safety: `hf_safety_map`, `hf_safety_variant`,
+// `hf_safety_classes`; cylinder–cone: `hf_cc_map`, `hf_cc_classes`, `hf_cc_cap`;
+// radius: `hf_radius_map`, `hf_radius_clamp`. `hf_safety_classes` and
+// `hf_cc_classes` (`HF_RAYS_*` bits, default `HF_RAYS_ALL`) are the ray classes the
+// map holds (its bake options' `ray_classes`). Thread safe.
 //
 // # Safety
 // `buf` is NULL (an error) or valid for writing `buf_len` bytes; `out_written` NULL
@@ -1654,8 +1652,8 @@ hf_result hf_shader_generate_len(const struct hf_scene *scene,
 // textures its march reads; `hf_surface`, `hf_safety_variant` and the map's ray
 // classes `hf_safety_classes` / `hf_cc_classes` are constants (safety: the layout
 // `hf_bake_plan` picks, isotropic for a single ray class, else directional; the
-// classes: the scene's `ray_classes`, so the maps are those of `hf_safety_bake_classes`
-// / `hf_cc_bake_classes` with them, W × nH texels for `n` classes). Its entry point and its remaining inputs are those of
+// classes: the scene's `ray_classes`, so the maps are those baked with them as the
+// options' `ray_classes`). Its entry point and its remaining inputs are those of
 // `hf_shader_source` for the method, less what it does not read (a header comment
 // lists them): GLSL `hf_heights` (`R32F`; for `HF_HEIGHTS_U16` / `HF_HEIGHTS_U8` an
 // `R16UI` / `R8UI` texture of the samples and `hf_height_step` = depth / 65535 or
@@ -1746,7 +1744,7 @@ hf_result hf_trace_batch(const struct hf_field *field,
                          struct hf_hit *out_hits,
                          size_t out_hits_len);
 
-// A shadow ray from `hit` (the answer `hf_trace_*` gave for `primary` on `surface`, an
+// A shadow ray from `hit` (the answer `hf_trace` gave for `primary` on `surface`, an
 // `hf_surface` value, of `field`; in world units when the field has a transform)
 // towards a light in direction `to_light`, written to `*out_ray`: its origin is the
 // hit point lifted off the surface (along the normal by `64 · FLT_EPSILON · (1 + m)`

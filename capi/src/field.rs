@@ -13,7 +13,7 @@ use std::collections::VecDeque;
 /// (i, j) sits at grid point (x = i, y = j); the surface covers [0, W−1] × [0, H−1].
 ///
 /// A field may carry an [`hf_transform`] (`hf_field_set_transform`): then every
-/// `hf_trace_*` function takes rays and returns hits in world units.
+/// trace (`hf_trace`, `hf_trace_batch`) takes rays and returns hits in world units.
 ///
 /// Thread safety, a readers–writer protocol: functions taking a `const hf_field *`
 /// (traces, bakes, size and info queries) only read it and may run concurrently from
@@ -525,7 +525,7 @@ pub unsafe extern "C" fn hf_field_update_rect(
 }
 
 /// Places the field in world units (see [`hf_transform`]); from then on every
-/// `hf_trace_*` call on it takes world rays and returns world hits. Bakes and baked
+/// `hf_trace` call on it takes world rays and returns world hits. Bakes and baked
 /// maps are unaffected (they live in grid space). `HF_ERR_NOT_FINITE` for a NaN or
 /// infinite component, `HF_ERR_INVALID_ARGUMENT` for a zero spacing or a height scale
 /// that is not positive; on error the field keeps its transform. Needs exclusive

@@ -399,7 +399,7 @@ pub unsafe extern "C" fn hf_ktx2_read_level(
 
 /// Copies the baked map of the KTX 2 file `bytes` into `out` (`out_len ≥` the info's
 /// `map_len` bytes; floats for float maps, aligned for them): exactly what its bake
-/// wrote, descriptor included, ready for the `hf_trace_*` call of its method on a field
+/// wrote, descriptor included, ready for `hf_trace` with its method on a field
 /// of the same heights (the pyramid with every level, unpadded; a file without
 /// `hfcast.fingerprint` gives a descriptor that names no heights, which traces refuse).
 /// Errors as `hf_ktx2_read_info`, plus `HF_ERR_BUFFER_TOO_SMALL`. Thread safe.

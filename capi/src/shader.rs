@@ -101,20 +101,18 @@ pub unsafe extern "C" fn hf_shader_source_len(method: u32, out_len: *mut usize) 
 /// `hf_transform` in the uniforms `hf_world_offset` = (origin x, origin y, height
 /// offset) and `hf_world_scale` = (spacing x, spacing y, height scale) (default: the
 /// identity; the conversion runs in `float`, so answers agree with the C API's
-/// double-precision conversion within a few ulps). The uniforms it declares: `hf_heights` (`R32F`, W × H, texel (i, j) = sample (i, j), read
-/// with `texelFetch` only), `hf_size` = (W, H), `hf_height_range` = (min, max) from
-/// `hf_field_get_info`; `hf_surface` (exact, search and maxmip methods; the others
-/// trace the triangle surface); `hf_linear_steps`, `hf_binary_steps` (search
-/// methods); cone and QDM: `hf_max_iter`, `hf_cone_map` (`RG32F`) or `hf_qdm_map`
-/// (`RGBA32F`), (W − 1) × (H − 1) texels; relaxed: `hf_cone_steps`,
-/// `hf_binary_steps`, `hf_relaxed_map` (`R32F`, W × H); maxmip: `hf_pyramid` (`R32F`, the
-/// `hf_maxmip_bake` buffer in rows of `HF_PYRAMID_TEX_WIDTH` texels), `hf_levels`,
-/// `hf_level_dims[]`, `hf_level_offset[]` (from `hf_maxmip_levels`); safety:
-/// `hf_safety_map` (`R8UI`, W × 4H directional, W × H isotropic),
-/// `hf_safety_variant`, `hf_safety_classes`; cylinder–cone: `hf_cc_map` (`RG8UI`,
-/// W × 4H), `hf_cc_classes`, `hf_cc_cap`. `hf_safety_classes` and `hf_cc_classes` (`HF_RAYS_*` bits,
-/// default `HF_RAYS_ALL`) are the ray classes the map holds: a map of `n` classes from
-/// `hf_safety_bake_classes` / `hf_cc_bake_classes` is W × nH texels. Thread safe.
+/// double-precision conversion within a few ulps). The uniforms it declares (the
+/// textures' layouts: docs/DESIGN.md, "Texture layouts"): `hf_heights`, `hf_size` =
+/// (W, H), `hf_height_range` = (min, max) from `hf_field_get_info`; `hf_surface` (every
+/// method but the cone family, which traces the triangle surface); `hf_linear_steps`,
+/// `hf_binary_steps` (search methods); cone and QDM: `hf_max_iter`, `hf_cone_map` or
+/// `hf_qdm_map`; relaxed: `hf_cone_steps`, `hf_binary_steps`, `hf_relaxed_map`;
+/// maxmip: `hf_pyramid`, `hf_levels`, `hf_level_dims[]`, `hf_level_offset[]` (from
+/// `hf_maxmip_levels`); safety: `hf_safety_map`, `hf_safety_variant`,
+/// `hf_safety_classes`; cylinder–cone: `hf_cc_map`, `hf_cc_classes`, `hf_cc_cap`;
+/// radius: `hf_radius_map`, `hf_radius_clamp`. `hf_safety_classes` and
+/// `hf_cc_classes` (`HF_RAYS_*` bits, default `HF_RAYS_ALL`) are the ray classes the
+/// map holds (its bake options' `ray_classes`). Thread safe.
 ///
 /// # Safety
 /// `buf` is NULL (an error) or valid for writing `buf_len` bytes; `out_written` NULL
@@ -160,8 +158,8 @@ pub unsafe extern "C" fn hf_shader_generate_len(
 /// textures its march reads; `hf_surface`, `hf_safety_variant` and the map's ray
 /// classes `hf_safety_classes` / `hf_cc_classes` are constants (safety: the layout
 /// `hf_bake_plan` picks, isotropic for a single ray class, else directional; the
-/// classes: the scene's `ray_classes`, so the maps are those of `hf_safety_bake_classes`
-/// / `hf_cc_bake_classes` with them, W × nH texels for `n` classes). Its entry point and its remaining inputs are those of
+/// classes: the scene's `ray_classes`, so the maps are those baked with them as the
+/// options' `ray_classes`). Its entry point and its remaining inputs are those of
 /// `hf_shader_source` for the method, less what it does not read (a header comment
 /// lists them): GLSL `hf_heights` (`R32F`; for `HF_HEIGHTS_U16` / `HF_HEIGHTS_U8` an
 /// `R16UI` / `R8UI` texture of the samples and `hf_height_step` = depth / 65535 or

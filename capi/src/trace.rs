@@ -426,7 +426,7 @@ pub unsafe extern "C" fn hf_trace_batch(
     })
 }
 
-/// A shadow ray from `hit` (the answer `hf_trace_*` gave for `primary` on `surface`, an
+/// A shadow ray from `hit` (the answer `hf_trace` gave for `primary` on `surface`, an
 /// `hf_surface` value, of `field`; in world units when the field has a transform)
 /// towards a light in direction `to_light`, written to `*out_ray`: its origin is the
 /// hit point lifted off the surface (along the normal by `64 · FLT_EPSILON · (1 + m)`

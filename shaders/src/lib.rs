@@ -481,7 +481,7 @@ fn suffix(method: MethodKind) -> String {
 }
 
 /// Every method in one shader: each method's `hf_trace` becomes `hf_trace_<method>`
-/// (`hf_trace_linear_binary`, …), and so does every function that depends on code
+/// (in the shader: `hf_trace_linear_binary`, …), and so does every function that depends on code
 /// the method's file defines (the closures of the shared marches: `cone_march`,
 /// `safety_march`, …), so that the cone and safety marches appear once per method that
 /// uses them; everything else appears once. `Trace hf_trace(Query q)` dispatches on
