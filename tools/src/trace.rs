@@ -12,7 +12,7 @@ use hfcast::maxmip::{self, MaxMip};
 use hfcast::safety::cc::{self, CcMap, CcOptions};
 use hfcast::safety::{self, MarchSurface, SafetyMap, Variant};
 use hfcast::scene::{BakePlan, RayClasses, Scene};
-use hfcast::{cone, qdm, radius, relaxed, HeightField, Query, Surface, Trace};
+use hfcast::{cone, qdm, radius, relaxed, HeightField, Marcher, Method, Query, Surface, Trace};
 use std::time::{Duration, Instant};
 
 /// What a bake produced.
@@ -120,46 +120,49 @@ impl<'a> Tracer<'a> {
 
     /// Runs `f` with the method's march over the baked data (the map views built once).
     fn with_march<T>(&self, f: impl FnOnce(&dyn Fn(&Query<f32>) -> Trace<f32>) -> T) -> T {
+        let m = self.marcher();
+        f(&|q| m.trace(&self.hf, q))
+    }
+
+    /// The core's marcher of the method over the baked data.
+    fn marcher(&self) -> Marcher<'_> {
         const BAKED: &str = "baked for this field";
         let (hf, surface) = (&self.hf, self.surface);
         let ms = MarchSurface::of(surface).unwrap_or_default();
         let classes = self.plan.classes;
         match (self.method, &self.data) {
-            (MethodSpec::Plain(m), _) => f(&|q| m.trace(hf, surface, q)),
+            (MethodSpec::Plain(Method::Exact), _) => Marcher::Exact(surface),
+            (MethodSpec::Plain(Method::LinearBinary(steps)), _) => {
+                Marcher::LinearBinary(surface, steps)
+            }
+            (MethodSpec::Plain(Method::LinearSecant(n)), _) => Marcher::LinearSecant(surface, n),
             (MethodSpec::MaxMip, Baked::Floats(d)) => {
                 let mip = MaxMip::new(hf, d).expect(BAKED);
-                let opts = maxmip::Options::default();
-                f(&|q| maxmip::trace(hf, &mip, surface, q, &opts))
+                Marcher::MaxMip(mip, surface, maxmip::Options::default())
             }
             (MethodSpec::Safety, Baked::Bytes(d)) => {
-                let map = SafetyMap::with_classes(hf, d, safety_variant(&self.plan), classes)
-                    .expect(BAKED);
-                f(&|q| safety::trace_on(&map, hf, ms, q))
+                let variant = safety_variant(&self.plan);
+                let map = SafetyMap::with_classes(hf, d, variant, classes).expect(BAKED);
+                Marcher::Safety(map, ms)
             }
             (MethodSpec::Cc, Baked::Bytes(d)) => {
                 let cap = CcOptions::default().cap;
-                let map = CcMap::with_classes(hf, d, cap, classes).expect(BAKED);
-                f(&|q| cc::trace_on(&map, hf, ms, q))
+                Marcher::Cc(CcMap::with_classes(hf, d, cap, classes).expect(BAKED), ms)
             }
             (MethodSpec::Radius, Baked::Bytes(d)) => {
-                let map = radius::RadiusMap::new(hf, d).expect(BAKED);
                 let opts = radius::Options {
                     surface: ms,
                     ..Default::default()
                 };
-                f(&|q| radius::trace(&map, hf, q, &opts))
+                Marcher::Radius(radius::RadiusMap::new(hf, d).expect(BAKED), opts)
             }
             (MethodSpec::Cone(cap), Baked::Floats(d)) => {
-                let map = cone::ConeMap::new(hf, d).expect(BAKED);
-                f(&|q| cone::trace(&map, hf, q, cap))
+                Marcher::Cone(cone::ConeMap::new(hf, d).expect(BAKED), cap)
             }
             (MethodSpec::Qdm(cap), Baked::Floats(d)) => {
-                let map = qdm::QdmMap::new(hf, d).expect(BAKED);
-                f(&|q| qdm::trace(&map, hf, q, cap))
+                Marcher::Qdm(qdm::QdmMap::new(hf, d).expect(BAKED), cap)
             }
-            (MethodSpec::Relaxed(steps), Baked::Floats(d)) => {
-                f(&|q| relaxed::trace(d, hf, q, steps))
-            }
+            (MethodSpec::Relaxed(steps), Baked::Floats(d)) => Marcher::Relaxed(d, steps),
             _ => unreachable!("bake_data bakes each method's kind of data"),
         }
     }
