@@ -442,13 +442,17 @@ static double time_run(const field_data *fd, RTCScene scenes[2], int run, const 
     return (now() - t0) * 1e9 / n;
 }
 
+/* The speedup lines of each ray set benched so far ([0] single rays, [1] packets). */
+static char speedups[2][RAY_SETS][96];
+static int set_count = 0;
+
 /* Times every run on `rays` twice over and counts the hits of each hfcast method that
  * differ from each Embree run's. Cold: medians of `reps` passes, each pass running
  * every method once, so that each run finds the caches holding the others' data (the
  * figures quoted). Warm: each run's `reps` passes back to back, after the cold ones, so
  * that it finds what fits of its own data in the caches. */
 static void bench_set(const field_data *fd, RTCScene scenes[2], int reps, const char *name,
-                      const hf_ray *rays, size_t n, int camera) {
+                      const char *tag, const hf_ray *rays, size_t n, int camera) {
     hf_hit *hits[METHODS];
     float *t[RUNS - METHODS];
     for (int m = 0; m < METHODS; m++) hits[m] = (hf_hit *)malloc(sizeof(hf_hit) * n);
@@ -491,6 +495,23 @@ static void bench_set(const field_data *fd, RTCScene scenes[2], int reps, const 
             printf("\n");
         }
     }
+    /* hfcast's fastest exact method against Embree's best single-ray and packet runs
+     * (> 1: hfcast is faster), the lines scripts/embree_bench.sh ends with. */
+    double best = INFINITY;
+    for (int m = 0; m < METHODS; m++) best = fmin(best, median(ns + m * reps, reps));
+    double single = fmin(median(ns + RUN_E1 * reps, reps), median(ns + RUN_R1 * reps, reps));
+    snprintf(speedups[0][set_count], sizeof speedups[0][0], "speedup over embree-single %s: %.2f",
+             tag, single / best);
+    if (camera) {
+        double packets =
+            fmin(median(ns + RUN_E8 * reps, reps), median(ns + RUN_R8 * reps, reps));
+        snprintf(speedups[1][set_count], sizeof speedups[1][0],
+                 "speedup over embree-packets %s: %.2f", tag, packets / best);
+    } else {
+        snprintf(speedups[1][set_count], sizeof speedups[1][0],
+                 "speedup over embree-packets %s: n/a (Embree's packets trace camera tiles)", tag);
+    }
+    set_count++;
     free(warm);
     free(ns);
     for (int k = 0; k < RUNS - METHODS; k++) free(t[k]);
@@ -540,8 +561,10 @@ static int bench(const char *path, int reps) {
     for (int k = 0; k < RAY_SETS; k++) {
         char name[96];
         size_t m = ray_set(&fd, k, BENCH_W, BENCH_H, rays, name, sizeof name);
-        bench_set(&fd, scenes, reps, name, rays, m, k < 2);
+        static const char *const tags[RAY_SETS] = {"45deg", "5deg", "random"};
+        bench_set(&fd, scenes, reps, name, tags[k], rays, m, k < 2);
     }
+    for (int k = 0; k < set_count; k++) printf("%s\n%s\n", speedups[1][k], speedups[0][k]);
     free(rays);
     rtcReleaseScene(scenes[0]);
     rtcReleaseScene(scenes[1]);
