@@ -1580,9 +1580,10 @@ static void test_trace_options(void) {
     memset(&d, 0xAB, sizeof d);
     CHECK_OK(hf_trace_options_default(&d));
     int reserved_zero = 1;
-    for (int k = 0; k < 11; k++) reserved_zero &= d.reserved[k] == 0;
+    for (int k = 0; k < 10; k++) reserved_zero &= d.reserved[k] == 0;
     CHECK(d.surface == HF_SURFACE_TRIANGLES && d.ray_classes == 0 && d.steps == 64 &&
-          d.binary_steps == 8 && d.radius_zero == HF_RADIUS_WALK && reserved_zero);
+          d.binary_steps == 8 && d.radius_zero == HF_RADIUS_WALK && d.threads == 1 &&
+          reserved_zero);
     CHECK_BAD(hf_trace_options_default(NULL), HF_ERR_NULL_POINTER, nothing, 0);
 
     /* Every method's map of this field (NULL and 0 for the three without one). */
@@ -1635,7 +1636,7 @@ static void test_trace_options(void) {
         CHECK(memcmp(&h, &a[3], sizeof h) == 0);
         /* A nonzero reserved word, whichever, is refused. */
         memset(b, 0x5A, sizeof b);
-        for (int k = 0; k < 11; k++) {
+        for (int k = 0; k < 10; k++) {
             hf_trace_options o = d;
             o.reserved[k] = 1;
             CHECK_BAD(hf_trace(f, me, map, len, &o, &rays[0], &h), HF_ERR_INVALID_ARGUMENT, &h,
@@ -1656,6 +1657,37 @@ static void test_trace_options(void) {
             CHECK_BAD(hf_trace_batch(f, me, map, len, &o, rays, R, b, R), want, b, sizeof b);
         }
     }
+    /* A batch on several threads (bands of 256 rays) answers as on one, every method:
+     * threads 2, 3 and 0 (one per core) against the default 1. */
+    enum { BIG = 2000 };
+    hf_ray *many = (hf_ray *)malloc(sizeof(hf_ray) * BIG);
+    hf_hit *one_thread = (hf_hit *)malloc(sizeof(hf_hit) * BIG);
+    hf_hit *threaded = (hf_hit *)malloc(sizeof(hf_hit) * BIG);
+    for (int k = 0; k < BIG; k++) many[k] = rays[k % R];
+    for (int k = 0; k < BIG; k++) many[k].origin[0] += 0.001f * (float)(k / R);
+    for (int m = 0; m < 10; m++) {
+        CHECK_OK(hf_trace_batch(f, all[m].method, all[m].map, all[m].len, NULL, many, BIG,
+                                one_thread, BIG));
+        for (uint32_t t = 0; t < 4; t = t == 0 ? 2 : t + 1) {
+            hf_trace_options o = d;
+            o.threads = t;
+            memset(threaded, 0x5A, sizeof(hf_hit) * BIG);
+            CHECK_OK(hf_trace_batch(f, all[m].method, all[m].map, all[m].len, &o, many, BIG,
+                                    threaded, BIG));
+            CHECK(memcmp(one_thread, threaded, sizeof(hf_hit) * BIG) == 0);
+            if (t == 0) break;
+        }
+    }
+    /* A bad ray far into a threaded batch still fails it first and writes nothing. */
+    many[1500].dir[0] = many[1500].dir[1] = many[1500].dir[2] = 0.0f;
+    hf_trace_options o3 = d;
+    o3.threads = 3;
+    memset(threaded, 0x5A, sizeof(hf_hit) * BIG);
+    CHECK_BAD(hf_trace_batch(f, HF_METHOD_EXACT, NULL, 0, &o3, many, BIG, threaded, BIG),
+              HF_ERR_INVALID_RAY, threaded, sizeof(hf_hit) * BIG);
+    free(threaded);
+    free(one_thread);
+    free(many);
     /* A method without a map takes NULL and 0: a length is refused, with or without a
      * pointer. */
     for (uint32_t me = HF_METHOD_EXACT; me <= HF_METHOD_LINEAR_SECANT; me++) {

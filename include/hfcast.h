@@ -644,8 +644,12 @@ typedef struct hf_trace_options {
   uint32_t binary_steps;
   // What a zero radius does (radius), an `hf_radius_zero`; default `HF_RADIUS_WALK`.
   uint32_t radius_zero;
+  // Threads `hf_trace_batch` traces on: 1 (the default) the calling thread, `n` up to
+  // `n` (at most the available cores), 0 one per available core, as the bakes. The
+  // answers do not depend on it. `hf_trace` (one ray) ignores it.
+  uint32_t threads;
   // Room for later options: must be 0 (else `HF_ERR_INVALID_ARGUMENT`).
-  uint32_t reserved[11];
+  uint32_t reserved[10];
 } hf_trace_options;
 
 // A ray: the points `origin + t * dir` for `t` in `[t_min, t_max]`, in grid space, or
@@ -1724,7 +1728,8 @@ hf_result hf_trace(const struct hf_field *field,
                    const struct hf_ray *ray,
                    struct hf_hit *out_hit);
 
-// `hf_trace` for `rays_len` rays: `out_hits[k]` answers `rays[k]`; `out_hits_len ≥
+// `hf_trace` for `rays_len` rays on `options->threads` threads: `out_hits[k]` answers
+// `rays[k]`; `out_hits_len ≥
 // rays_len`. Everything is checked before any ray is traced, and an error writes
 // nothing: `out_hits` sharing a byte with `rays` (over their whole lengths) is
 // `HF_ERR_INVALID_ARGUMENT`; one bad ray fails the call (`HF_ERR_INVALID_RAY`;

@@ -35,7 +35,6 @@ pub mod ktx2;
 pub mod mapdesc;
 #[cfg(feature = "maxmip")]
 pub mod maxmip;
-#[cfg(any(feature = "maxmip", feature = "safety", feature = "cone"))]
 mod par;
 mod ptr;
 #[cfg(feature = "safety")]

@@ -143,8 +143,12 @@ pub struct hf_trace_options {
     pub binary_steps: u32,
     /// What a zero radius does (radius), an `hf_radius_zero`; default `HF_RADIUS_WALK`.
     pub radius_zero: u32,
+    /// Threads `hf_trace_batch` traces on: 1 (the default) the calling thread, `n` up to
+    /// `n` (at most the available cores), 0 one per available core, as the bakes. The
+    /// answers do not depend on it. `hf_trace` (one ray) ignores it.
+    pub threads: u32,
     /// Room for later options: must be 0 (else `HF_ERR_INVALID_ARGUMENT`).
-    pub reserved: [u32; 11],
+    pub reserved: [u32; 10],
 }
 
 impl Default for hf_trace_options {
@@ -156,7 +160,8 @@ impl Default for hf_trace_options {
             steps: steps[0].default,
             binary_steps: steps[1].default,
             radius_zero: 0,
-            reserved: [0; 11],
+            threads: 1,
+            reserved: [0; 10],
         }
     }
 }
@@ -192,6 +197,8 @@ pub(crate) struct TraceOptions {
     pub binary_steps: u32,
     /// The radius march's zero mode, as passed.
     pub radius_zero: u32,
+    /// The batch's thread count, as passed (0: one per core).
+    pub threads: u32,
 }
 
 impl TraceOptions {
@@ -232,6 +239,7 @@ impl TraceOptions {
             steps: o.steps,
             binary_steps: o.binary_steps,
             radius_zero: o.radius_zero,
+            threads: o.threads,
         })
     }
 }
@@ -247,7 +255,7 @@ unsafe fn marcher<'a>(
     map: *const c_void,
     map_len: usize,
     options: *const hf_trace_options,
-) -> Result<Marcher<'a>, hf_result> {
+) -> Result<(Marcher<'a>, TraceOptions), hf_result> {
     let kind = MethodKind::ALL[crate::built_method_of(method)? as usize];
     let o = match options.is_null() {
         true => hf_trace_options::default(),
@@ -262,14 +270,14 @@ unsafe fn marcher<'a>(
                 format_args!("map_len: {} reads no map; pass NULL and 0", kind.name()),
             ));
         }
-        return plain(kind, &o);
+        return Ok((plain(kind, &o)?, o));
     }
     // SAFETY: the caller's promise, for the method's element type.
     let floats = || unsafe { ptr::slice(map.cast::<f32>(), map_len) }.named("map");
     #[cfg(feature = "safety")]
     // SAFETY: the caller's promise, for the method's element type.
     let bytes = || unsafe { ptr::slice(map.cast::<u8>(), map_len) }.named("map");
-    match kind {
+    let m = match kind {
         #[cfg(feature = "maxmip")]
         MethodKind::MaxMip => crate::maxmip::marcher(f, floats()?, &o),
         #[cfg(feature = "safety")]
@@ -286,7 +294,8 @@ unsafe fn marcher<'a>(
             let _ = (f, floats);
             Err(HF_ERR_NOT_BUILT)
         }
-    }
+    };
+    Ok((m?, o))
 }
 
 /// The marcher of a method that reads no map.
@@ -362,7 +371,7 @@ pub unsafe extern "C" fn hf_trace(
         };
         let out = ptr::out(out_hit).named("out_hit")?;
         // SAFETY: the caller's promises, passed on.
-        let m = unsafe { marcher(f, method, map, map_len, options) }?;
+        let (m, _) = unsafe { marcher(f, method, map, map_len, options) }?;
         let hf = f.view();
         let local = query(hf, &r, None)?;
         let hit = answer(hf, local.trace(|q| m.trace(hf, q)));
@@ -372,7 +381,11 @@ pub unsafe extern "C" fn hf_trace(
     })
 }
 
-/// `hf_trace` for `rays_len` rays: `out_hits[k]` answers `rays[k]`; `out_hits_len ≥
+/// Rays a thread of `hf_trace_batch` takes at a time (the bands of `par::bake_bands`).
+const RAY_BAND: u32 = 256;
+
+/// `hf_trace` for `rays_len` rays on `options->threads` threads: `out_hits[k]` answers
+/// `rays[k]`; `out_hits_len ≥
 /// rays_len`. Everything is checked before any ray is traced, and an error writes
 /// nothing: `out_hits` sharing a byte with `rays` (over their whole lengths) is
 /// `HF_ERR_INVALID_ARGUMENT`; one bad ray fails the call (`HF_ERR_INVALID_RAY`;
@@ -413,16 +426,24 @@ pub unsafe extern "C" fn hf_trace_batch(
             ));
         }
         // SAFETY: the caller's promises, passed on.
-        let m = unsafe { marcher(f, method, map, map_len, options) }?;
+        let (m, o) = unsafe { marcher(f, method, map, map_len, options) }?;
         let hf = f.view();
         for (k, r) in rays.iter().enumerate() {
             check(hf, r, Some(k))?;
         }
-        for (k, (r, h)) in rays.iter().zip(hits.iter_mut()).enumerate() {
-            let local = query(hf, r, Some(k))?;
-            *h = answer(hf, local.trace(|q| m.trace(hf, q)));
-        }
-        Ok(())
+        let hits = &mut hits[..rays.len()];
+        // Bands of rays taken in turn by the threads; `u32` counts them.
+        let n = u32::try_from(rays.len()).unwrap_or(u32::MAX);
+        let threads = if n == u32::MAX { 1 } else { o.threads };
+        crate::par::bake_bands(n, 1, RAY_BAND, threads, hits, |band, out| {
+            let first = band.start as usize;
+            let band_rays = &rays[first..first + out.len()];
+            for (k, (r, h)) in band_rays.iter().zip(out.iter_mut()).enumerate() {
+                let local = query(hf, r, Some(first + k))?;
+                *h = answer(hf, local.trace(|q| m.trace(hf, q)));
+            }
+            Ok(())
+        })
     })
 }
 
