@@ -1568,6 +1568,91 @@ static int traces_surface(uint32_t method, uint32_t surface) {
     }
 }
 
+/* hf_trace_camera: its hits are hf_trace_batch's on hf_camera_ray's rays, bit for bit,
+ * for each of `n` methods `all` of field `f` (W x H), at 1 and 2 threads; its shadow
+ * pass is hf_shadow_ray then hf_trace per pixel; bad cameras and buffers are refused. */
+static void check_camera(const hf_field *f, const method_map *all, int n, uint32_t w,
+                         uint32_t h) {
+    enum { CW = 19, CH = 13, NP = CW * CH };
+    hf_camera cam = {{-3.0f, -4.0f, 12.0f}, {0.5f * w + 3.0f, 0.5f * h + 4.0f, -10.0f},
+                     {0.0f, 0.0f, 1.0f}, 50.0f, CW, CH, INFINITY};
+    static hf_ray rays[NP];
+    static hf_hit batch[NP], cam_hits[NP], shadows[NP];
+    for (uint32_t y = 0; y < CH; y++)
+        for (uint32_t x = 0; x < CW; x++) CHECK_OK(hf_camera_ray(&cam, x, y, &rays[y * CW + x]));
+    const float light[3] = {0.5f, -0.3f, 0.8f};
+    size_t hits = 0;
+    for (int m = 0; m < n; m++) {
+        CHECK_OK(hf_trace_batch(f, all[m].method, all[m].map, all[m].len, NULL, rays, NP, batch,
+                                NP));
+        for (uint32_t t = 1; t <= 2; t++) {
+            hf_trace_options o;
+            CHECK_OK(hf_trace_options_default(&o));
+            o.threads = t;
+            memset(cam_hits, 0x5A, sizeof cam_hits);
+            CHECK_OK(hf_trace_camera(f, all[m].method, all[m].map, all[m].len, &o, &cam,
+                                     cam_hits, NP));
+            CHECK(memcmp(cam_hits, batch, sizeof batch) == 0);
+        }
+        CHECK_OK(hf_trace_camera_shadows(f, all[m].method, all[m].map, all[m].len, NULL, &cam,
+                                         cam_hits, NP, &light, shadows, NP));
+        int same = 1;
+        for (int k = 0; k < NP; k++) {
+            if (!cam_hits[k].hit) {
+                same &= shadows[k].hit == 0;
+                continue;
+            }
+            hits += m == 0;
+            hf_ray sr;
+            hf_hit one;
+            CHECK_OK(hf_shadow_ray(f, HF_SURFACE_TRIANGLES, &rays[k], &cam_hits[k], &light, &sr));
+            CHECK_OK(hf_trace(f, all[m].method, all[m].map, all[m].len, NULL, &sr, &one));
+            same &= memcmp(&one, &shadows[k], sizeof one) == 0;
+        }
+        CHECK(same);
+    }
+    CHECK(hits > NP / 4 && hits < NP);
+    /* Bad cameras, pixels and buffers: refused, nothing written. */
+    const hf_camera good = cam;
+    hf_camera bad[7];
+    for (int k = 0; k < 7; k++) bad[k] = good;
+    bad[0].width = 0;
+    bad[1].fov_y_deg = 0.0f;
+    bad[2].fov_y_deg = 180.0f;
+    bad[3].forward[0] = bad[3].forward[1] = bad[3].forward[2] = 0.0f;
+    bad[4].up[0] = good.forward[0], bad[4].up[1] = good.forward[1], bad[4].up[2] = good.forward[2];
+    bad[5].eye[1] = NAN;
+    bad[6].t_max = 0.0f;
+    hf_ray r;
+    memset(&r, 0x5A, sizeof r);
+    memset(cam_hits, 0x5A, sizeof cam_hits);
+    for (int k = 0; k < 7; k++) {
+        CHECK_BAD(hf_camera_ray(&bad[k], 0, 0, &r), HF_ERR_INVALID_ARGUMENT, &r, sizeof r);
+        CHECK_BAD(hf_trace_camera(f, HF_METHOD_EXACT, NULL, 0, NULL, &bad[k], cam_hits, NP),
+                  HF_ERR_INVALID_ARGUMENT, cam_hits, sizeof cam_hits);
+    }
+    CHECK_BAD(hf_camera_ray(&good, CW, 0, &r), HF_ERR_INVALID_ARGUMENT, &r, sizeof r);
+    CHECK_BAD(hf_camera_ray(NULL, 0, 0, &r), HF_ERR_NULL_POINTER, &r, sizeof r);
+    CHECK_BAD(hf_trace_camera(f, HF_METHOD_EXACT, NULL, 0, NULL, &good, cam_hits, NP - 1),
+              HF_ERR_BUFFER_TOO_SMALL, cam_hits, sizeof cam_hits);
+    CHECK_BAD(hf_trace_camera(f, HF_METHOD_EXACT, NULL, 0, NULL, NULL, cam_hits, NP),
+              HF_ERR_NULL_POINTER, cam_hits, sizeof cam_hits);
+    CHECK_BAD(hf_trace_camera(f, 99, NULL, 0, NULL, &good, cam_hits, NP), HF_ERR_INVALID_ENUM,
+              cam_hits, sizeof cam_hits);
+    CHECK_OK(hf_trace_camera(f, HF_METHOD_EXACT, NULL, 0, NULL, &good, batch, NP));
+    CHECK_BAD(hf_trace_camera_shadows(f, HF_METHOD_EXACT, NULL, 0, NULL, &good, batch, NP - 1,
+                                      &light, shadows, NP),
+              HF_ERR_BUFFER_TOO_SMALL, nothing, 0);
+    CHECK_BAD(hf_trace_camera_shadows(f, HF_METHOD_EXACT, NULL, 0, NULL, &good, batch, NP,
+                                      &light, batch, NP),
+              HF_ERR_INVALID_ARGUMENT, nothing, 0);
+    CHECK_BAD(hf_trace_camera_shadows(f, HF_METHOD_EXACT, NULL, 0, NULL, &good, batch, NP, NULL,
+                                      shadows, NP),
+              HF_ERR_NULL_POINTER, nothing, 0);
+    printf("camera: %zu of %d pixels hit; hf_trace_camera and its shadow pass as the batch\n",
+           hits, NP);
+}
+
 static void test_trace_options(void) {
     enum { W = 9, H = 7, R = 16 };
     float heights[W * H];
@@ -1739,6 +1824,7 @@ static void test_trace_options(void) {
                   sizeof written);
         CHECK_BAD(name_of[t](0, buf, sizeof buf, NULL), HF_ERR_NULL_POINTER, buf, sizeof buf);
     }
+    check_camera(f, all, 10, W, H);
     free(pyr);
     free(cone);
     free(relaxed);

@@ -96,6 +96,9 @@
 #define HF_PYRAMID_TEX_WIDTH 4096
 #endif
 
+// The side, in pixels, of the square tiles `hf_trace_camera` traces pixels in.
+#define HF_CAMERA_TILE 8
+
 // Map kind (`hf_ktx2_desc::map`): the height field itself, `R32_SFLOAT`, `W × H`.
 #define HF_KTX2_HEIGHTS 0
 
@@ -424,6 +427,100 @@ typedef uint32_t hf_need;
 // old and new heights).
 typedef struct hf_field hf_field;
 
+// A pinhole camera in the field's world units (grid units for a field without a
+// transform): pixel (x, y), row 0 at the top, sees along
+// `forward + sx * right + sy * up` from `eye`, `sx`, `sy` in (−1, 1) across the image,
+// `right` and `up` square to `forward` and scaled by the half fields of view.
+typedef struct hf_camera {
+  // Eye position, finite.
+  float eye[3];
+  // View direction, finite and non-zero.
+  float forward[3];
+  // Up hint: the image's up is its part square to `forward` (not zero, not parallel
+  // to `forward`).
+  float up[3];
+  // Vertical field of view, degrees, in (0, 180).
+  float fov_y_deg;
+  // Image width, pixels (≥ 1).
+  uint32_t width;
+  // Image height, pixels (≥ 1).
+  uint32_t height;
+  // End of every primary ray's parameter range (`INFINITY` allowed; > 0).
+  float t_max;
+} hf_camera;
+
+// A ray: the points `origin + t * dir` for `t` in `[t_min, t_max]`, in grid space, or
+// in the field's world units when it has a transform (`hf_field_set_transform`).
+// `dir` need not be normalised (t is then in units of `|dir|`) but must be finite
+// and non-zero, also after conversion to grid space; `t_min` finite; `t_max ≥ t_min`,
+// `INFINITY` allowed. Grid space: x along sample columns i, y along rows j, z up, all
+// in sample spacings.
+typedef struct hf_ray {
+  // Origin (x, y, z) in grid units (world units with a transform).
+  float origin[3];
+  // Direction (x, y, z), finite and non-zero.
+  float dir[3];
+  // Start of the parameter range (finite).
+  float t_min;
+  // End of the parameter range (`INFINITY` allowed).
+  float t_max;
+} hf_ray;
+
+// How a trace runs: the surface, what the map must hold, the step budgets. Pass NULL
+// for the defaults, or start from `hf_trace_options_default` and change fields. Each
+// method reads the fields whose comment names it and ignores the others (a field it
+// ignores is still checked for a valid value: a known surface, a class set); a surface
+// it does not trace is `HF_ERR_INVALID_ARGUMENT`, and so is a non-zero `reserved`.
+typedef struct hf_trace_options {
+  // The surface to trace, an `hf_surface` (default `HF_SURFACE_TRIANGLES`). The
+  // safety-shape methods (safety, cc, radius) trace the triangle and view-linear
+  // surfaces, the cone family the triangle surface only, the others every surface.
+  uint32_t surface;
+  // The ray classes (`HF_RAYS_*` bits) the map must hold (safety, cc): 0 (the
+  // default) accepts the classes its descriptor names; another set that differs
+  // from them is `HF_ERR_MAP_MISMATCH`.
+  uint32_t ray_classes;
+  // The step budget, at least 1: linear steps (linear-binary, linear-secant),
+  // iterations (cone, qdm), cone steps (relaxed). Default 64.
+  uint32_t steps;
+  // Bisection steps (linear-binary, relaxed); default 8.
+  uint32_t binary_steps;
+  // What a zero radius does (radius), an `hf_radius_zero`; default `HF_RADIUS_WALK`.
+  uint32_t radius_zero;
+  // Threads `hf_trace_batch` traces on: 1 (the default) the calling thread, `n` up to
+  // `n` (at most the available cores), 0 one per available core, as the bakes. The
+  // answers do not depend on it. `hf_trace` (one ray) ignores it.
+  uint32_t threads;
+  // Room for later options: must be 0 (else `HF_ERR_INVALID_ARGUMENT`).
+  uint32_t reserved[10];
+} hf_trace_options;
+
+// The answer to one query. On a miss `hit` is 0 and every field but `fetches`,
+// `flags` and `clearance` is 0.
+typedef struct hf_hit {
+  // 1 when the ray meets the surface in `[t_min, t_max]`, else 0.
+  uint32_t hit;
+  // `HF_FLAG_*` bits: those of the hit (`ORIGIN_INSIDE`, `SIDE`, `WALL`) and of the
+  // trace (`BUDGET_EXHAUSTED`).
+  uint32_t flags;
+  // Texture fetches used (one per texel read; a cell's four corners are four): the
+  // hardware-independent cost.
+  uint32_t fetches;
+  // The cell (i, j) holding the hit: the unit square [i, i+1] × [j, j+1].
+  uint32_t cell[2];
+  // Ray parameter of the hit.
+  float t;
+  // Hit point in grid space (world units with a transform).
+  float point[3];
+  // Unit surface normal at the hit (a wall's normal for side and step hits).
+  float normal[3];
+  // Smallest clearance (ray height − surface height, grid units; world height units
+  // with a transform) seen before the hit
+  // or along the whole ray for a miss; `INFINITY` when the ray never overlaps the
+  // field. Exact methods fill it; approximate ones report `INFINITY`.
+  float clearance;
+} hf_hit;
+
 #if defined(HF_HAVE_SAFETY)
 // What a cylinder–cone bake computes.
 typedef struct hf_cc_options {
@@ -623,78 +720,6 @@ typedef struct hf_bake_plan {
   uint32_t radius_map;
 } hf_bake_plan;
 
-// How a trace runs: the surface, what the map must hold, the step budgets. Pass NULL
-// for the defaults, or start from `hf_trace_options_default` and change fields. Each
-// method reads the fields whose comment names it and ignores the others (a field it
-// ignores is still checked for a valid value: a known surface, a class set); a surface
-// it does not trace is `HF_ERR_INVALID_ARGUMENT`, and so is a non-zero `reserved`.
-typedef struct hf_trace_options {
-  // The surface to trace, an `hf_surface` (default `HF_SURFACE_TRIANGLES`). The
-  // safety-shape methods (safety, cc, radius) trace the triangle and view-linear
-  // surfaces, the cone family the triangle surface only, the others every surface.
-  uint32_t surface;
-  // The ray classes (`HF_RAYS_*` bits) the map must hold (safety, cc): 0 (the
-  // default) accepts the classes its descriptor names; another set that differs
-  // from them is `HF_ERR_MAP_MISMATCH`.
-  uint32_t ray_classes;
-  // The step budget, at least 1: linear steps (linear-binary, linear-secant),
-  // iterations (cone, qdm), cone steps (relaxed). Default 64.
-  uint32_t steps;
-  // Bisection steps (linear-binary, relaxed); default 8.
-  uint32_t binary_steps;
-  // What a zero radius does (radius), an `hf_radius_zero`; default `HF_RADIUS_WALK`.
-  uint32_t radius_zero;
-  // Threads `hf_trace_batch` traces on: 1 (the default) the calling thread, `n` up to
-  // `n` (at most the available cores), 0 one per available core, as the bakes. The
-  // answers do not depend on it. `hf_trace` (one ray) ignores it.
-  uint32_t threads;
-  // Room for later options: must be 0 (else `HF_ERR_INVALID_ARGUMENT`).
-  uint32_t reserved[10];
-} hf_trace_options;
-
-// A ray: the points `origin + t * dir` for `t` in `[t_min, t_max]`, in grid space, or
-// in the field's world units when it has a transform (`hf_field_set_transform`).
-// `dir` need not be normalised (t is then in units of `|dir|`) but must be finite
-// and non-zero, also after conversion to grid space; `t_min` finite; `t_max ≥ t_min`,
-// `INFINITY` allowed. Grid space: x along sample columns i, y along rows j, z up, all
-// in sample spacings.
-typedef struct hf_ray {
-  // Origin (x, y, z) in grid units (world units with a transform).
-  float origin[3];
-  // Direction (x, y, z), finite and non-zero.
-  float dir[3];
-  // Start of the parameter range (finite).
-  float t_min;
-  // End of the parameter range (`INFINITY` allowed).
-  float t_max;
-} hf_ray;
-
-// The answer to one query. On a miss `hit` is 0 and every field but `fetches`,
-// `flags` and `clearance` is 0.
-typedef struct hf_hit {
-  // 1 when the ray meets the surface in `[t_min, t_max]`, else 0.
-  uint32_t hit;
-  // `HF_FLAG_*` bits: those of the hit (`ORIGIN_INSIDE`, `SIDE`, `WALL`) and of the
-  // trace (`BUDGET_EXHAUSTED`).
-  uint32_t flags;
-  // Texture fetches used (one per texel read; a cell's four corners are four): the
-  // hardware-independent cost.
-  uint32_t fetches;
-  // The cell (i, j) holding the hit: the unit square [i, i+1] × [j, j+1].
-  uint32_t cell[2];
-  // Ray parameter of the hit.
-  float t;
-  // Hit point in grid space (world units with a transform).
-  float point[3];
-  // Unit surface normal at the hit (a wall's normal for side and step hits).
-  float normal[3];
-  // Smallest clearance (ray height − surface height, grid units; world height units
-  // with a transform) seen before the hit
-  // or along the whole ray for a miss; `INFINITY` when the ray never overlaps the
-  // field. Exact methods fill it; approximate ones report `INFINITY`.
-  float clearance;
-} hf_hit;
-
 #ifdef __cplusplus
 extern "C" {
 #endif // __cplusplus
@@ -758,6 +783,64 @@ hf_result hf_error_message(uint32_t code,
                            char *buf,
                            size_t buf_len,
                            size_t *out_written);
+
+// Writes the primary ray of pixel (`x`, `y`) of `*camera` to `*out_ray`: the ray
+// `hf_trace_camera` traces for that pixel, bit for bit. `HF_ERR_INVALID_ARGUMENT`
+// for a degenerate camera or a pixel outside the image. Thread safe.
+//
+// # Safety
+// `camera` is NULL (an error) or valid for reading; `out_ray` NULL (an error) or
+// valid for writing one `hf_ray`.
+hf_result hf_camera_ray(const struct hf_camera *camera,
+                        uint32_t x,
+                        uint32_t y,
+                        struct hf_ray *out_ray);
+
+// Traces every pixel's primary ray of `*camera` (`hf_camera_ray`) with `method` over
+// its `map`, as `hf_trace_batch` does (the same options, `options->threads` threads;
+// NULL: the defaults) into `out_hits[y * width + x]` (`out_hits_len ≥ width *
+// height`). The rays are generated by the library and traced in tiles of
+// `HF_CAMERA_TILE` × `HF_CAMERA_TILE` pixels, neighbours in turn, so that successive
+// rays share cells and map texels; the hits equal `hf_trace_batch`'s on the same rays
+// bit for bit. Everything is checked first; an error writes nothing. Thread safe.
+//
+// # Safety
+// `field` is NULL (an error) or a live handle; `map` as `hf_trace`; `options` NULL or
+// valid; `camera` NULL (an error) or valid; `out_hits` NULL (an error) or valid for
+// writing `out_hits_len` hits.
+hf_result hf_trace_camera(const struct hf_field *field,
+                          uint32_t method,
+                          const void *map,
+                          size_t map_len,
+                          const struct hf_trace_options *options,
+                          const struct hf_camera *camera,
+                          struct hf_hit *out_hits,
+                          size_t out_hits_len);
+
+// The shadow pass of `hf_trace_camera`: for every pixel whose primary hit `hits[y *
+// width + x]` (from `hf_trace_camera` with the same camera and `options->surface`,
+// `hits_len ≥ width * height`) is a hit, the shadow ray `hf_shadow_ray` makes from it
+// towards `to_light` (a direction in the field's world units), traced with `method`
+// over its `map` in the same tile order into `out_shadows[y * width + x]` (hit 1: the
+// point is in shadow); a pixel whose primary ray missed gets a miss without a trace.
+// The answers equal `hf_shadow_ray` then `hf_trace` per pixel, bit for bit.
+// Everything is checked first; an error writes nothing. Thread safe.
+//
+// # Safety
+// As `hf_trace_camera`; `hits` NULL (an error) or valid for reading `hits_len` hits;
+// `to_light` NULL (an error) or valid for reading 3 floats; `out_shadows` may not
+// overlap `hits`.
+hf_result hf_trace_camera_shadows(const struct hf_field *field,
+                                  uint32_t method,
+                                  const void *map,
+                                  size_t map_len,
+                                  const struct hf_trace_options *options,
+                                  const struct hf_camera *camera,
+                                  const struct hf_hit *hits,
+                                  size_t hits_len,
+                                  const float (*to_light)[3],
+                                  struct hf_hit *out_shadows,
+                                  size_t out_shadows_len);
 
 #if defined(HF_HAVE_SAFETY)
 // Writes the size in bytes of the packed cylinder–cone map of a `width × height`

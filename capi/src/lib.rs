@@ -22,6 +22,7 @@
 // The C names (`hf_field`, `hf_ray`, …) are the API.
 #![allow(non_camel_case_types)]
 
+pub mod camera;
 #[cfg(feature = "safety")]
 pub mod cc;
 #[cfg(feature = "cone")]

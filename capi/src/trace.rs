@@ -59,6 +59,19 @@ pub struct hf_hit {
     pub clearance: f32,
 }
 
+impl hf_hit {
+    /// The core's hit this answer reports (the caller checked `hit` is 1).
+    pub(crate) fn to_hit(self) -> Hit<f32> {
+        Hit {
+            t: self.t,
+            point: self.point.into(),
+            cell: self.cell,
+            normal: self.normal.into(),
+            flags: Flags(self.flags),
+        }
+    }
+}
+
 impl From<Trace<f32>> for hf_hit {
     fn from(tr: Trace<f32>) -> hf_hit {
         let mut out = hf_hit {
@@ -83,7 +96,11 @@ impl From<Trace<f32>> for hf_hit {
 /// conditions it for the f32 march (`hfcore::condition`: a far origin rebased near the
 /// field, a tiny or huge direction scaled); an invalid ray's detail names it `ray`, or
 /// `rays[index]` (and records `index`) in a batch.
-fn query(hf: &HeightField, r: &hf_ray, index: Option<usize>) -> Result<Local, hf_result> {
+pub(crate) fn query(
+    hf: &HeightField,
+    r: &hf_ray,
+    index: Option<usize>,
+) -> Result<Local, hf_result> {
     let err = |e| ray_error(e, index);
     // The world ray's own faults first, named as such.
     let q = Query::from_arrays(r.origin, r.dir, r.t_min, r.t_max).map_err(err)?;
@@ -98,7 +115,7 @@ fn query(hf: &HeightField, r: &hf_ray, index: Option<usize>) -> Result<Local, hf
 
 /// [`query`]'s checks alone (a batch's first pass): for a field without a transform,
 /// the ray's own (conditioning a valid grid ray cannot fail).
-fn check(hf: &HeightField, r: &hf_ray, index: Option<usize>) -> Result<(), hf_result> {
+pub(crate) fn check(hf: &HeightField, r: &hf_ray, index: Option<usize>) -> Result<(), hf_result> {
     if hf.transform().is_identity() {
         let q = Query::from_arrays(r.origin, r.dir, r.t_min, r.t_max);
         return q.map(|_| ()).map_err(|e| ray_error(e, index));
@@ -116,7 +133,7 @@ fn ray_error(e: hfcore::RayError, index: Option<usize>) -> hf_result {
 }
 
 /// A grid-space trace as the caller's `hf_hit`, in the field's world units.
-fn answer(hf: &HeightField, tr: Trace<f32>) -> hf_hit {
+pub(crate) fn answer(hf: &HeightField, tr: Trace<f32>) -> hf_hit {
     hf_hit::from(hf.transform().trace_to_world(tr))
 }
 
@@ -249,7 +266,7 @@ impl TraceOptions {
 ///
 /// # Safety
 /// `map` NULL or valid for reading `map_len` elements of the method's map.
-unsafe fn marcher<'a>(
+pub(crate) unsafe fn marcher<'a>(
     f: &'a hf_field,
     method: u32,
     map: *const c_void,
@@ -487,13 +504,7 @@ pub unsafe extern "C" fn hf_shadow_ray(
             return Err(HF_ERR_INVALID_ARGUMENT);
         }
         let primary = Query::from_arrays(p.origin, p.dir, p.t_min, p.t_max)?;
-        let world_hit = Hit {
-            t: h.t,
-            point: h.point.into(),
-            cell: h.cell,
-            normal: h.normal.into(),
-            flags: Flags(h.flags),
-        };
+        let world_hit = h.to_hit();
         let q = hf
             .transform()
             .shadow_query(hf, surface, &primary, &world_hit, *l)?;

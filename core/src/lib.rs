@@ -34,6 +34,7 @@ extern crate std;
 #[cfg(feature = "alloc")]
 pub mod brute;
 pub mod buffer;
+pub mod camera;
 pub mod condition;
 #[cfg(feature = "cone")]
 pub mod cone;

@@ -13,6 +13,7 @@
 use crate::maps::Error;
 use crate::trace::Tracer;
 use crate::{par_chunks, MethodSpec};
+use hfcast::camera::Pinhole;
 use hfcast::scene::{BakePlan, RayClasses};
 use hfcast::{HeightField, Hit, Method, Query, Surface, Trace, WorldTransform};
 use std::io::BufWriter;
@@ -62,18 +63,8 @@ fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
 pub struct Camera {
     /// The frame the camera lives in: its rays are in these world units.
     pub world: WorldTransform,
-    /// Eye position.
-    pub eye: [f64; 3],
-    /// Unit view direction.
-    pub forward: [f64; 3],
-    /// Image right, scaled by tan(horizontal half field of view).
-    pub right: [f64; 3],
-    /// Image up, scaled by tan(vertical half field of view).
-    pub up: [f64; 3],
-    /// Image width in pixels.
-    pub width: u32,
-    /// Image height in pixels.
-    pub height: u32,
+    /// The pinhole (the core's: eye, view direction, scaled right and up, pixels).
+    pub pinhole: Pinhole,
 }
 
 impl Camera {
@@ -144,25 +135,24 @@ impl Camera {
             dist = f64::max(dist, need_x.max(need_y));
         }
         let eye = [0, 1, 2].map(|k| centre[k] + 1.05 * dist * to_eye[k]);
-        Camera {
-            world: *xf,
+        let pinhole = Pinhole {
             eye,
             forward,
             right: scale(right, tan_x),
             up: scale(up, tan_y),
             width,
             height,
+        };
+        Camera {
+            world: *xf,
+            pinhole,
         }
     }
 
     /// The primary ray through the centre of pixel (`px`, `py`), row 0 at the top;
     /// `t` in `[0, ∞)`, direction not normalised.
     pub fn ray(&self, px: u32, py: u32) -> Query<f32> {
-        let sx = 2.0 * (f64::from(px) + 0.5) / f64::from(self.width) - 1.0;
-        let sy = 1.0 - 2.0 * (f64::from(py) + 0.5) / f64::from(self.height);
-        let d = [0, 1, 2].map(|k| (self.forward[k] + sx * self.right[k] + sy * self.up[k]) as f32);
-        Query::from_arrays(self.eye.map(|v| v as f32), d, 0.0, f32::INFINITY)
-            .expect("camera rays are finite")
+        (self.pinhole.ray(px, py, f32::INFINITY)).expect("camera rays are finite")
     }
 
     /// [`Camera::ray`] in grid space, for the march (`None` when the conversion
@@ -176,8 +166,9 @@ impl Camera {
 
     /// Every pixel's primary ray, row-major from the top row.
     pub fn rays(&self) -> Vec<Query<f32>> {
-        (0..self.height)
-            .flat_map(|py| (0..self.width).map(move |px| self.ray(px, py)))
+        let (w, h) = (self.pinhole.width, self.pinhole.height);
+        (0..h)
+            .flat_map(|py| (0..w).map(move |px| self.ray(px, py)))
             .collect()
     }
 }

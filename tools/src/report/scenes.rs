@@ -279,14 +279,17 @@ pub const INSIDE_FOV_X_DEG: f64 = 90.0;
 fn sideways(eye: [f64; 3], azimuth: f64, width: u32, height: u32) -> Camera {
     let tan_x = (INSIDE_FOV_X_DEG.to_radians() / 2.0).tan();
     let tan_y = tan_x * f64::from(height) / f64::from(width);
-    Camera {
-        world: hfcast::WorldTransform::IDENTITY,
+    let pinhole = hfcast::camera::Pinhole {
         eye,
         forward: compass_dir(azimuth, 0.0),
         right: compass_dir(azimuth + 90.0, 0.0).map(|v| v * tan_x),
         up: [0.0, 0.0, tan_y],
         width,
         height,
+    };
+    Camera {
+        world: hfcast::WorldTransform::IDENTITY,
+        pinhole,
     }
 }
 

@@ -1,0 +1,319 @@
+//! A pinhole camera's rays generated and traced by the library, in tile order
+//! (`hfcast::camera`): ray order decides how many rays in a row share cells and map
+//! texels, so the library orders them rather than leave it to each caller.
+
+use crate::detail::{fail, Named};
+use crate::hf_result::{self, *};
+use crate::trace::{answer, check, hf_hit, hf_ray, hf_trace_options, marcher, query};
+use crate::{guard, hf_field, ptr, surface_of};
+use hfcore::camera::Pinhole;
+use hfcore::Query;
+use std::ffi::c_void;
+
+/// The side, in pixels, of the square tiles `hf_trace_camera` traces pixels in.
+pub const HF_CAMERA_TILE: u32 = 8;
+const _: () = assert!(HF_CAMERA_TILE == hfcore::camera::TILE);
+
+/// A pinhole camera in the field's world units (grid units for a field without a
+/// transform): pixel (x, y), row 0 at the top, sees along
+/// `forward + sx * right + sy * up` from `eye`, `sx`, `sy` in (−1, 1) across the image,
+/// `right` and `up` square to `forward` and scaled by the half fields of view.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct hf_camera {
+    /// Eye position, finite.
+    pub eye: [f32; 3],
+    /// View direction, finite and non-zero.
+    pub forward: [f32; 3],
+    /// Up hint: the image's up is its part square to `forward` (not zero, not parallel
+    /// to `forward`).
+    pub up: [f32; 3],
+    /// Vertical field of view, degrees, in (0, 180).
+    pub fov_y_deg: f32,
+    /// Image width, pixels (≥ 1).
+    pub width: u32,
+    /// Image height, pixels (≥ 1).
+    pub height: u32,
+    /// End of every primary ray's parameter range (`INFINITY` allowed; > 0).
+    pub t_max: f32,
+}
+
+/// The camera `c`, checked: `HF_ERR_INVALID_ARGUMENT` (with a detail) for a
+/// degenerate one.
+fn pinhole_of(c: &hf_camera) -> Result<Pinhole, hf_result> {
+    let v = |a: [f32; 3]| a.map(f64::from);
+    let p = Pinhole::new(
+        v(c.eye),
+        v(c.forward),
+        v(c.up),
+        f64::from(c.fov_y_deg),
+        c.width,
+        c.height,
+    )
+    .map_err(|e| fail(HF_ERR_INVALID_ARGUMENT, format_args!("camera: {e}")))?;
+    if c.t_max.is_nan() || c.t_max <= 0.0 {
+        return Err(fail(HF_ERR_INVALID_ARGUMENT, "camera: t_max must be > 0"));
+    }
+    Ok(p)
+}
+
+/// The primary ray of pixel (x, y) of `p` as an `hf_ray`.
+fn pixel_ray(p: &Pinhole, t_max: f32, x: u32, y: u32) -> Result<hf_ray, hf_result> {
+    let q = p
+        .ray(x, y, t_max)
+        .map_err(|e| fail(HF_ERR_INVALID_ARGUMENT, format_args!("camera: {e}")))?;
+    Ok(hf_ray {
+        origin: q.origin(),
+        dir: q.dir(),
+        t_min: q.t_min(),
+        t_max: q.t_max(),
+    })
+}
+
+/// Writes the primary ray of pixel (`x`, `y`) of `*camera` to `*out_ray`: the ray
+/// `hf_trace_camera` traces for that pixel, bit for bit. `HF_ERR_INVALID_ARGUMENT`
+/// for a degenerate camera or a pixel outside the image. Thread safe.
+///
+/// # Safety
+/// `camera` is NULL (an error) or valid for reading; `out_ray` NULL (an error) or
+/// valid for writing one `hf_ray`.
+#[no_mangle]
+pub unsafe extern "C" fn hf_camera_ray(
+    camera: *const hf_camera,
+    x: u32,
+    y: u32,
+    out_ray: *mut hf_ray,
+) -> hf_result {
+    guard(|| {
+        // SAFETY: the caller promises `camera` is readable.
+        let c = unsafe { ptr::get(camera) }.named("camera")?;
+        let out = ptr::out(out_ray).named("out_ray")?;
+        let p = pinhole_of(c)?;
+        if x >= c.width || y >= c.height {
+            return Err(fail(
+                HF_ERR_INVALID_ARGUMENT,
+                format_args!(
+                    "pixel ({x}, {y}): outside the {} x {} image",
+                    c.width, c.height
+                ),
+            ));
+        }
+        let r = pixel_ray(&p, c.t_max, x, y)?;
+        // SAFETY: the caller promises `out_ray` is writable.
+        unsafe { out.set(r) };
+        Ok(())
+    })
+}
+
+/// The ray a camera pass traces for pixel (x, y) of the camera (with its `t_max`), or
+/// `None` for a pixel answered as a miss without a trace.
+type PixelRay<'a> =
+    dyn Fn(&Pinhole, f32, u32, u32) -> Result<Option<hf_ray>, hf_result> + Sync + 'a;
+
+/// Shared body of the camera passes: checks the camera and the output (`width ×
+/// height` hits), builds the method's marcher, checks every pixel's ray (`ray(p, x,
+/// y)`, `None` for a pixel traced as a miss) before tracing any, then traces them in
+/// tile order (`hfcast::camera::TILE`-pixel squares, bands of tile rows over
+/// `options->threads` threads) into `out[y * width + x]`.
+///
+/// # Safety
+/// As `hf_trace_camera`.
+#[allow(clippy::too_many_arguments)]
+unsafe fn trace_pixels(
+    field: *const hf_field,
+    method: u32,
+    map: *const c_void,
+    map_len: usize,
+    options: *const hf_trace_options,
+    camera: *const hf_camera,
+    out_hits: *mut hf_hit,
+    out_hits_len: usize,
+    ray: &PixelRay<'_>,
+) -> hf_result {
+    guard(|| {
+        // SAFETY: the caller promises a live handle and a readable camera.
+        let (f, c) = unsafe {
+            (
+                ptr::get(field).named("field")?,
+                ptr::get(camera).named("camera")?,
+            )
+        };
+        // SAFETY: the caller promises `out_hits` is writable for its length.
+        let out = unsafe { ptr::slice_mut(out_hits, out_hits_len) }.named("out_hits")?;
+        let p = pinhole_of(c)?;
+        let pixels = c.width as usize * c.height as usize;
+        if out.len() < pixels {
+            return Err(fail(
+                HF_ERR_BUFFER_TOO_SMALL,
+                format_args!("out_hits: {} hits for {pixels} pixels", out.len()),
+            ));
+        }
+        // SAFETY: the caller's promises, passed on.
+        let (m, o) = unsafe { marcher(f, method, map, map_len, options) }?;
+        let hf = f.view();
+        for (x, y) in p.tiles(0..c.height) {
+            if let Some(r) = ray(&p, c.t_max, x, y)? {
+                check(hf, &r, Some(y as usize * c.width as usize + x as usize))?;
+            }
+        }
+        let tile = hfcore::camera::TILE;
+        let out = &mut out[..pixels];
+        crate::par::bake_bands(
+            c.height,
+            c.width as usize,
+            tile,
+            o.threads,
+            out,
+            |rows, band| {
+                let first = rows.start as usize * c.width as usize;
+                for (x, y) in p.tiles(rows) {
+                    let k = y as usize * c.width as usize + x as usize;
+                    band[k - first] = match ray(&p, c.t_max, x, y)? {
+                        Some(r) => answer(hf, query(hf, &r, Some(k))?.trace(|q| m.trace(hf, q))),
+                        None => hf_hit::from(hfcore::Trace::<f32>::miss(0, f32::INFINITY)),
+                    };
+                }
+                Ok(())
+            },
+        )
+    })
+}
+
+/// Traces every pixel's primary ray of `*camera` (`hf_camera_ray`) with `method` over
+/// its `map`, as `hf_trace_batch` does (the same options, `options->threads` threads;
+/// NULL: the defaults) into `out_hits[y * width + x]` (`out_hits_len ≥ width *
+/// height`). The rays are generated by the library and traced in tiles of
+/// `HF_CAMERA_TILE` × `HF_CAMERA_TILE` pixels, neighbours in turn, so that successive
+/// rays share cells and map texels; the hits equal `hf_trace_batch`'s on the same rays
+/// bit for bit. Everything is checked first; an error writes nothing. Thread safe.
+///
+/// # Safety
+/// `field` is NULL (an error) or a live handle; `map` as `hf_trace`; `options` NULL or
+/// valid; `camera` NULL (an error) or valid; `out_hits` NULL (an error) or valid for
+/// writing `out_hits_len` hits.
+#[no_mangle]
+#[allow(clippy::too_many_arguments)]
+pub unsafe extern "C" fn hf_trace_camera(
+    field: *const hf_field,
+    method: u32,
+    map: *const c_void,
+    map_len: usize,
+    options: *const hf_trace_options,
+    camera: *const hf_camera,
+    out_hits: *mut hf_hit,
+    out_hits_len: usize,
+) -> hf_result {
+    let primary = |p: &Pinhole, t_max: f32, x: u32, y: u32| pixel_ray(p, t_max, x, y).map(Some);
+    // SAFETY: the caller's promises, passed on.
+    unsafe {
+        trace_pixels(
+            field,
+            method,
+            map,
+            map_len,
+            options,
+            camera,
+            out_hits,
+            out_hits_len,
+            &primary,
+        )
+    }
+}
+
+/// The shadow pass of `hf_trace_camera`: for every pixel whose primary hit `hits[y *
+/// width + x]` (from `hf_trace_camera` with the same camera and `options->surface`,
+/// `hits_len ≥ width * height`) is a hit, the shadow ray `hf_shadow_ray` makes from it
+/// towards `to_light` (a direction in the field's world units), traced with `method`
+/// over its `map` in the same tile order into `out_shadows[y * width + x]` (hit 1: the
+/// point is in shadow); a pixel whose primary ray missed gets a miss without a trace.
+/// The answers equal `hf_shadow_ray` then `hf_trace` per pixel, bit for bit.
+/// Everything is checked first; an error writes nothing. Thread safe.
+///
+/// # Safety
+/// As `hf_trace_camera`; `hits` NULL (an error) or valid for reading `hits_len` hits;
+/// `to_light` NULL (an error) or valid for reading 3 floats; `out_shadows` may not
+/// overlap `hits`.
+#[no_mangle]
+#[allow(clippy::too_many_arguments)]
+pub unsafe extern "C" fn hf_trace_camera_shadows(
+    field: *const hf_field,
+    method: u32,
+    map: *const c_void,
+    map_len: usize,
+    options: *const hf_trace_options,
+    camera: *const hf_camera,
+    hits: *const hf_hit,
+    hits_len: usize,
+    to_light: *const [f32; 3],
+    out_shadows: *mut hf_hit,
+    out_shadows_len: usize,
+) -> hf_result {
+    let mut pre = Err(HF_ERR_PANIC);
+    let code = guard(|| {
+        // SAFETY: the caller promises readable inputs; `out_shadows` is checked not to
+        // overlap `hits` by the slices' byte ranges.
+        let (f, c, l) = unsafe {
+            (
+                ptr::get(field).named("field")?,
+                ptr::get(camera).named("camera")?,
+                *ptr::get(to_light).named("to_light")?,
+            )
+        };
+        // SAFETY: as above.
+        let (primary, _) = unsafe {
+            ptr::slice_and_out(
+                (hits, hits_len, "hits"),
+                (out_shadows, out_shadows_len, "out_shadows"),
+            )
+        }?;
+        let pixels = c.width as usize * c.height as usize;
+        if primary.len() < pixels {
+            return Err(fail(
+                HF_ERR_BUFFER_TOO_SMALL,
+                format_args!("hits: {} hits for {pixels} pixels", primary.len()),
+            ));
+        }
+        let surface = match options.is_null() {
+            true => hfcore::Surface::Triangles,
+            // SAFETY: the caller promises non-NULL options are readable.
+            false => surface_of(unsafe { ptr::get(options) }?.surface)?,
+        };
+        pre = Ok((f, surface, l, primary));
+        Ok(())
+    });
+    let Ok((f, surface, l, primary)) = pre else {
+        return code;
+    };
+    let hf = f.view();
+    let shadow = |p: &Pinhole, t_max: f32, x: u32, y: u32| -> Result<Option<hf_ray>, hf_result> {
+        let h = &primary[y as usize * p.width as usize + x as usize];
+        if h.hit == 0 {
+            return Ok(None);
+        }
+        let r = pixel_ray(p, t_max, x, y)?;
+        let q = Query::from_arrays(r.origin, r.dir, r.t_min, r.t_max)?;
+        let s = hf
+            .transform()
+            .shadow_query(hf, surface, &q, &h.to_hit(), l)?;
+        Ok(Some(hf_ray {
+            origin: s.origin(),
+            dir: s.dir(),
+            t_min: s.t_min(),
+            t_max: s.t_max(),
+        }))
+    };
+    // SAFETY: the caller's promises, passed on.
+    unsafe {
+        trace_pixels(
+            field,
+            method,
+            map,
+            map_len,
+            options,
+            camera,
+            out_shadows,
+            out_shadows_len,
+            &shadow,
+        )
+    }
+}
