@@ -6,7 +6,7 @@ use crate::detail::{fail, Named};
 use crate::hf_result::{self, *};
 use crate::trace::{answer, check, hf_hit, hf_ray, hf_trace_options, marcher, query};
 use crate::{guard, hf_field, ptr, surface_of};
-use hfcore::camera::Pinhole;
+use hfcore::camera::{Pinhole, TILE};
 use hfcore::Query;
 use std::ffi::c_void;
 
@@ -111,8 +111,9 @@ type PixelRay<'a> =
     dyn Fn(&Pinhole, f32, u32, u32) -> Result<Option<hf_ray>, hf_result> + Sync + 'a;
 
 /// Shared body of the camera passes: checks the camera and the output (`width ×
-/// height` hits), builds the method's marcher, checks every pixel's ray (`ray(p, x,
-/// y)`, `None` for a pixel traced as a miss) before tracing any, then traces them in
+/// height` hits), builds the method's marcher, checks the pixels' rays (`ray(p, x, y)`,
+/// `None` for a pixel traced as a miss; with `every_pixel` each one, else the corners',
+/// which bound a pinhole's) before tracing any, then traces them in
 /// tile order (`hfcast::camera::TILE`-pixel squares, bands of tile rows over
 /// `options->threads` threads) into `out[y * width + x]`.
 ///
@@ -129,6 +130,7 @@ unsafe fn trace_pixels(
     out_hits: *mut hf_hit,
     out_hits_len: usize,
     ray: &PixelRay<'_>,
+    every_pixel: bool,
 ) -> hf_result {
     guard(|| {
         // SAFETY: the caller promises a live handle and a readable camera.
@@ -151,27 +153,60 @@ unsafe fn trace_pixels(
         // SAFETY: the caller's promises, passed on.
         let (m, o) = unsafe { marcher(f, method, map, map_len, options) }?;
         let hf = f.view();
-        for (x, y) in p.tiles(0..c.height) {
-            if let Some(r) = ray(&p, c.t_max, x, y)? {
-                check(hf, &r, Some(y as usize * c.width as usize + x as usize))?;
+        // Every pixel's ray is checked before any is traced (an error writes nothing);
+        // primary rays need only the four corners': every other direction is a convex
+        // combination of theirs from the same eye, finite and non-zero when they are.
+        let (w, h) = (c.width, c.height);
+        let corners = [(0, 0), (w - 1, 0), (0, h - 1), (w - 1, h - 1)];
+        let check_at = |(x, y): (u32, u32)| -> Result<(), hf_result> {
+            match ray(&p, c.t_max, x, y)? {
+                Some(r) => check(hf, &r, Some(y as usize * w as usize + x as usize)),
+                None => Ok(()),
             }
+        };
+        match every_pixel {
+            true => p.tiles(0..h).try_for_each(check_at)?,
+            false => corners.into_iter().try_for_each(check_at)?,
         }
-        let tile = hfcore::camera::TILE;
         let out = &mut out[..pixels];
         crate::par::bake_bands(
             c.height,
             c.width as usize,
-            tile,
+            TILE,
             o.threads,
             out,
             |rows, band| {
                 let first = rows.start as usize * c.width as usize;
-                for (x, y) in p.tiles(rows) {
-                    let k = y as usize * c.width as usize + x as usize;
-                    band[k - first] = match ray(&p, c.t_max, x, y)? {
-                        Some(r) => answer(hf, query(hf, &r, Some(k))?.trace(|q| m.trace(hf, q))),
-                        None => hf_hit::from(hfcore::Trace::<f32>::miss(0, f32::INFINITY)),
-                    };
+                // A tile's hits gather in `local`, then go to the image a row at a time:
+                // stores scattered over eight image rows cost more than the traces of
+                // cheap rays (measured: 190 against 105 ns a ray that misses the box).
+                let width = c.width as usize;
+                let mut local = [hf_hit::default(); (TILE * TILE) as usize];
+                for y0 in rows.clone().step_by(TILE as usize) {
+                    let ys = y0..(y0 + TILE).min(rows.end);
+                    for x0 in (0..c.width).step_by(TILE as usize) {
+                        let xs = x0..(x0 + TILE).min(c.width);
+                        let tw = xs.len();
+                        for y in ys.clone() {
+                            for x in xs.clone() {
+                                let k = y as usize * width + x as usize;
+                                let at = (y - y0) as usize * tw + (x - x0) as usize;
+                                local[at] = match ray(&p, c.t_max, x, y)? {
+                                    Some(r) => answer(
+                                        hf,
+                                        query(hf, &r, Some(k))?.trace(|q| m.trace(hf, q)),
+                                    ),
+                                    None => {
+                                        hf_hit::from(hfcore::Trace::<f32>::miss(0, f32::INFINITY))
+                                    }
+                                };
+                            }
+                        }
+                        for (dy, row) in local.chunks(tw).take(ys.len()).enumerate() {
+                            let k = (y0 as usize + dy) * width + x0 as usize - first;
+                            band[k..k + tw].copy_from_slice(row);
+                        }
+                    }
                 }
                 Ok(())
             },
@@ -216,6 +251,7 @@ pub unsafe extern "C" fn hf_trace_camera(
             out_hits,
             out_hits_len,
             &primary,
+            false,
         )
     }
 }
@@ -314,6 +350,7 @@ pub unsafe extern "C" fn hf_trace_camera_shadows(
             out_shadows,
             out_shadows_len,
             &shadow,
+            true,
         )
     }
 }
