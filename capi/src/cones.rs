@@ -7,7 +7,7 @@ use crate::mapdesc::{bake_stamped, check, elems, stamp, Expect};
 use crate::size_query;
 use crate::trace::TraceOptions;
 use crate::{guard, hf_field, ptr};
-use hfcore::cone::{self, BakeError, ConeMap};
+use hfcore::cone::{self, ConeMap};
 use hfcore::ktx2::{Desc, MapKind};
 #[cfg(feature = "qdm")]
 use hfcore::qdm::{self, QdmMap};
@@ -15,10 +15,9 @@ use hfcore::qdm::{self, QdmMap};
 use hfcore::relaxed;
 use hfcore::scene::MethodKind;
 use hfcore::{HeightField, Marcher};
-use std::ops::Range;
 
 /// The core's row bake of one family.
-type BakeRows = fn(&HeightField, &[f32], Range<u32>, &mut [f32]) -> Result<(), BakeError>;
+type BakeRows = cone::RowBake;
 
 /// What differs between the three bakes.
 #[derive(Clone, Copy)]

@@ -353,11 +353,7 @@ pub fn bake_rows(
     rows: Range<u32>,
     out: &mut [f32],
 ) -> Result<(), BakeError> {
-    let mip = MaxMip::new(hf, scratch).map_err(|_| BakeError::TooShort {
-        what: "scratch",
-        needed: scratch_len(hf.width(), hf.height()),
-        given: scratch.len(),
-    })?;
+    let mip = scratch_pyramid(hf, scratch)?;
     let cw = hf.width() - 1;
     if rows.end > hf.height() - 1 || rows.start > rows.end {
         return Err(BakeError::BadRows);
@@ -379,10 +375,39 @@ pub fn bake_rows(
 
 /// Bakes the whole map: [`prepare`] then [`bake_rows`] over every row.
 pub fn bake(hf: &HeightField, scratch: &mut [f32], out: &mut [f32]) -> Result<(), BakeError> {
+    bake_whole(hf, scratch, out, map_len, hf.height() - 1, bake_rows)
+}
+
+/// A cone-family row bake: the texels of `rows` into `out`, reading the pyramid in the
+/// scratch ([`bake_rows`], `qdm::bake_rows`, `relaxed::bake_rows`).
+pub type RowBake = fn(&HeightField, &[f32], Range<u32>, &mut [f32]) -> Result<(), BakeError>;
+
+/// The whole bake of a cone-family map (`map_len` floats, `rows` rows): [`prepare`]
+/// into `scratch`, then its `bake_rows` over every row.
+pub(crate) fn bake_whole(
+    hf: &HeightField,
+    scratch: &mut [f32],
+    out: &mut [f32],
+    map_len: fn(u32, u32) -> usize,
+    rows: u32,
+    bake_rows: RowBake,
+) -> Result<(), BakeError> {
     prepare(hf, scratch)?;
     let len = map_len(hf.width(), hf.height());
     check(len, out.len())?;
-    bake_rows(hf, scratch, 0..hf.height() - 1, &mut out[..len])
+    bake_rows(hf, scratch, 0..rows, &mut out[..len])
+}
+
+/// The pyramid [`prepare`] baked into `scratch`, the row bakes' search structure.
+pub(crate) fn scratch_pyramid<'a>(
+    hf: &HeightField,
+    scratch: &'a [f32],
+) -> Result<MaxMip<'a>, BakeError> {
+    MaxMip::new(hf, scratch).map_err(|_| BakeError::TooShort {
+        what: "scratch",
+        needed: scratch_len(hf.width(), hf.height()),
+        given: scratch.len(),
+    })
 }
 
 /// The Θ(N⁴) brute force (every cell against every cell): the test oracle of the bake.

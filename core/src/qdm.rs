@@ -204,11 +204,7 @@ pub fn bake_rows(
     rows: Range<u32>,
     out: &mut [f32],
 ) -> Result<(), BakeError> {
-    let mip = MaxMip::new(hf, scratch).map_err(|_| BakeError::TooShort {
-        what: "scratch",
-        needed: scratch_len(hf.width(), hf.height()),
-        given: scratch.len(),
-    })?;
+    let mip = cone::scratch_pyramid(hf, scratch)?;
     let cw = hf.width() - 1;
     if rows.end > hf.height() - 1 || rows.start > rows.end {
         return Err(BakeError::BadRows);
@@ -229,10 +225,7 @@ pub fn bake_rows(
 
 /// Bakes the whole map: [`prepare`] then [`bake_rows`] over every row.
 pub fn bake(hf: &HeightField, scratch: &mut [f32], out: &mut [f32]) -> Result<(), BakeError> {
-    prepare(hf, scratch)?;
-    let len = map_len(hf.width(), hf.height());
-    check(len, out.len())?;
-    bake_rows(hf, scratch, 0..hf.height() - 1, &mut out[..len])
+    crate::cone::bake_whole(hf, scratch, out, map_len, hf.height() - 1, bake_rows)
 }
 
 /// The brute force (every cell against every cell; `a` from the cone map's brute

@@ -385,11 +385,7 @@ pub fn bake_rows(
     rows: Range<u32>,
     out: &mut [f32],
 ) -> Result<(), BakeError> {
-    let mip = MaxMip::new(hf, scratch).map_err(|_| BakeError::TooShort {
-        what: "scratch",
-        needed: scratch_len(hf.width(), hf.height()),
-        given: scratch.len(),
-    })?;
+    let mip = crate::cone::scratch_pyramid(hf, scratch)?;
     let w = hf.width();
     if rows.end > hf.height() || rows.start > rows.end {
         return Err(BakeError::BadRows);
@@ -424,10 +420,7 @@ pub fn bake_rows(
 
 /// Bakes the whole map.
 pub fn bake(hf: &HeightField, scratch: &mut [f32], out: &mut [f32]) -> Result<(), BakeError> {
-    crate::cone::prepare(hf, scratch)?;
-    let len = map_len(hf.width(), hf.height());
-    check(len, out.len())?;
-    bake_rows(hf, scratch, 0..hf.height(), &mut out[..len])
+    crate::cone::bake_whole(hf, scratch, out, map_len, hf.height(), bake_rows)
 }
 
 /// The book's Θ(N⁴) loop over every pair: the test oracle of the bake.
