@@ -14,6 +14,12 @@ use core::ptr::NonNull;
 /// cores (more would only wait for them) and at most `units` (the bands or rows there
 /// are to hand out), at least 1.
 pub fn thread_count(threads: u32, units: u32) -> u32 {
+    // One thread needs no core count: asking the system for it on every call (every
+    // single-threaded batch trace) is a system call, and std's cache of how to ask is a
+    // data race helgrind reports when several threads trace at once.
+    if threads == 1 {
+        return 1;
+    }
     let cores = std::thread::available_parallelism().map_or(1, |n| n.get() as u32);
     match threads {
         0 => cores,
