@@ -4,10 +4,11 @@
 
 use crate::detail::{fail, Named};
 use crate::hf_result::{self, *};
-use crate::trace::{answer, check, hf_hit, hf_ray, hf_trace_options, marcher, query};
+use crate::trace::{
+    answer, check, hf_hit, hf_ray, hf_trace_options, marcher, query, shadow_ray_of,
+};
 use crate::{guard, hf_field, ptr, surface_of};
 use hfcore::camera::{Pinhole, TILE};
-use hfcore::Query;
 use std::ffi::c_void;
 
 /// The side, in pixels, of the square tiles `hf_trace_camera` traces pixels in.
@@ -62,12 +63,7 @@ fn pixel_ray(p: &Pinhole, t_max: f32, x: u32, y: u32) -> Result<hf_ray, hf_resul
     let q = p
         .ray(x, y, t_max)
         .map_err(|e| fail(HF_ERR_INVALID_ARGUMENT, format_args!("camera: {e}")))?;
-    Ok(hf_ray {
-        origin: q.origin(),
-        dir: q.dir(),
-        t_min: q.t_min(),
-        t_max: q.t_max(),
-    })
+    Ok(hf_ray::from(q))
 }
 
 /// Writes the primary ray of pixel (`x`, `y`) of `*camera` to `*out_ray`: the ray
@@ -165,7 +161,10 @@ unsafe fn trace_pixels(
             }
         };
         match every_pixel {
-            true => p.tiles(0..h).try_for_each(check_at)?,
+            true => p.tiles(0..h).try_for_each(|(ys, xs)| {
+                ys.flat_map(|y| xs.clone().map(move |x| (x, y)))
+                    .try_for_each(check_at)
+            })?,
             false => corners.into_iter().try_for_each(check_at)?,
         }
         let out = &mut out[..pixels];
@@ -182,30 +181,23 @@ unsafe fn trace_pixels(
                 // cheap rays (measured: 190 against 105 ns a ray that misses the box).
                 let width = c.width as usize;
                 let mut local = [hf_hit::default(); (TILE * TILE) as usize];
-                for y0 in rows.clone().step_by(TILE as usize) {
-                    let ys = y0..(y0 + TILE).min(rows.end);
-                    for x0 in (0..c.width).step_by(TILE as usize) {
-                        let xs = x0..(x0 + TILE).min(c.width);
-                        let tw = xs.len();
-                        for y in ys.clone() {
-                            for x in xs.clone() {
-                                let k = y as usize * width + x as usize;
-                                let at = (y - y0) as usize * tw + (x - x0) as usize;
-                                local[at] = match ray(&p, c.t_max, x, y)? {
-                                    Some(r) => answer(
-                                        hf,
-                                        query(hf, &r, Some(k))?.trace(|q| m.trace(hf, q)),
-                                    ),
-                                    None => {
-                                        hf_hit::from(hfcore::Trace::<f32>::miss(0, f32::INFINITY))
-                                    }
-                                };
-                            }
+                for (ys, xs) in p.tiles(rows) {
+                    let (y0, x0, tw) = (ys.start, xs.start, xs.len());
+                    for y in ys.clone() {
+                        for x in xs.clone() {
+                            let k = y as usize * width + x as usize;
+                            let at = (y - y0) as usize * tw + (x - x0) as usize;
+                            local[at] = match ray(&p, c.t_max, x, y)? {
+                                Some(r) => {
+                                    answer(hf, query(hf, &r, Some(k))?.trace(|q| m.trace(hf, q)))
+                                }
+                                None => hf_hit::from(hfcore::Trace::<f32>::miss(0, f32::INFINITY)),
+                            };
                         }
-                        for (dy, row) in local.chunks(tw).take(ys.len()).enumerate() {
-                            let k = (y0 as usize + dy) * width + x0 as usize - first;
-                            band[k..k + tw].copy_from_slice(row);
-                        }
+                    }
+                    for (dy, row) in local.chunks(tw).take(ys.len()).enumerate() {
+                        let k = (y0 as usize + dy) * width + x0 as usize - first;
+                        band[k..k + tw].copy_from_slice(row);
                     }
                 }
                 Ok(())
@@ -327,16 +319,7 @@ pub unsafe extern "C" fn hf_trace_camera_shadows(
             return Ok(None);
         }
         let r = pixel_ray(p, t_max, x, y)?;
-        let q = Query::from_arrays(r.origin, r.dir, r.t_min, r.t_max)?;
-        let s = hf
-            .transform()
-            .shadow_query(hf, surface, &q, &h.to_hit(), l)?;
-        Ok(Some(hf_ray {
-            origin: s.origin(),
-            dir: s.dir(),
-            t_min: s.t_min(),
-            t_max: s.t_max(),
-        }))
+        shadow_ray_of(hf, surface, &r, h, l).map(Some)
     };
     // SAFETY: the caller's promises, passed on.
     unsafe {

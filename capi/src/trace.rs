@@ -498,24 +498,41 @@ pub unsafe extern "C" fn hf_shadow_ray(
             )
         };
         let out = ptr::out(out_ray)?;
-        let surface = surface_of(surface)?;
-        let hf = f.view();
-        if h.hit == 0 || !h.point.iter().chain(&h.normal).all(|v| v.is_finite()) {
-            return Err(HF_ERR_INVALID_ARGUMENT);
-        }
-        let primary = Query::from_arrays(p.origin, p.dir, p.t_min, p.t_max)?;
-        let world_hit = h.to_hit();
-        let q = hf
-            .transform()
-            .shadow_query(hf, surface, &primary, &world_hit, *l)?;
-        let ray = hf_ray {
-            origin: q.origin(),
-            dir: q.dir(),
-            t_min: q.t_min(),
-            t_max: q.t_max(),
-        };
+        let ray = shadow_ray_of(f.view(), surface_of(surface)?, p, h, *l)?;
         // SAFETY: the caller promises `out_ray` is writable.
         unsafe { out.set(ray) };
         Ok(())
     })
+}
+
+/// The shadow ray of `hf_shadow_ray`: from `hit` (the answer to `primary` on
+/// `surface`) towards `to_light`, lifted off the surface; `HF_ERR_INVALID_ARGUMENT`
+/// for a miss or a hit that is not finite. Also the camera's shadow pass.
+pub(crate) fn shadow_ray_of(
+    hf: &HeightField,
+    surface: Surface,
+    primary: &hf_ray,
+    hit: &hf_hit,
+    to_light: [f32; 3],
+) -> Result<hf_ray, hf_result> {
+    if hit.hit == 0 || !hit.point.iter().chain(&hit.normal).all(|v| v.is_finite()) {
+        return Err(HF_ERR_INVALID_ARGUMENT);
+    }
+    let p = primary;
+    let primary = Query::from_arrays(p.origin, p.dir, p.t_min, p.t_max)?;
+    let q = hf
+        .transform()
+        .shadow_query(hf, surface, &primary, &hit.to_hit(), to_light)?;
+    Ok(hf_ray::from(q))
+}
+
+impl From<Query<f32>> for hf_ray {
+    fn from(q: Query<f32>) -> hf_ray {
+        hf_ray {
+            origin: q.origin(),
+            dir: q.dir(),
+            t_min: q.t_min(),
+            t_max: q.t_max(),
+        }
+    }
 }

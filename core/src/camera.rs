@@ -5,6 +5,7 @@
 //! than in image rows (the C API's `hf_trace_camera` traces in this order).
 
 use crate::ray::{Query, RayError};
+use core::ops::Range;
 
 /// Why a camera is not one: what [`Pinhole::new`] refuses.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -123,14 +124,17 @@ impl Pinhole {
         Query::from_arrays(self.eye.map(|v| v as f32), d, 0.0, t_max)
     }
 
-    /// The pixels of image rows `rows` in tile order: [`TILE`]-wide columns of the rows,
-    /// left to right, each row by row within the tile.
-    pub fn tiles(&self, rows: core::ops::Range<u32>) -> impl Iterator<Item = (u32, u32)> {
+    /// The [`TILE`] × [`TILE`] tiles of image rows `rows` in trace order (the last ones
+    /// cut at the edges): tile rows from `rows.start`, each left to right; a tile's
+    /// pixels go row by row. Each item is a tile's rows and columns.
+    pub fn tiles(&self, rows: Range<u32>) -> impl Iterator<Item = (Range<u32>, Range<u32>)> {
         let (w, t) = (self.width, TILE);
-        (0..w.div_ceil(t)).flat_map(move |tx| {
-            let cols = tx * t..((tx + 1) * t).min(w);
-            rows.clone()
-                .flat_map(move |y| cols.clone().map(move |x| (x, y)))
+        let end = rows.end;
+        rows.step_by(t as usize).flat_map(move |y0| {
+            let ys = y0..(y0 + t).min(end);
+            (0..w)
+                .step_by(t as usize)
+                .map(move |x0| (ys.clone(), x0..(x0 + t).min(w)))
         })
     }
 }
@@ -180,24 +184,17 @@ mod tests {
     fn tiles_visit_every_pixel_once() {
         let cam = Pinhole::new([0.0; 3], [1.0, 0.0, 0.0], [0.0, 0.0, 1.0], 60.0, 19, 11).unwrap();
         let mut seen = [[0u8; 19]; 11];
-        for (x, y) in cam.tiles(0..11) {
-            seen[y as usize][x as usize] += 1;
+        for (ys, xs) in cam.tiles(0..11) {
+            assert!(ys.len() <= 8 && xs.len() <= 8);
+            for y in ys {
+                for x in xs.clone() {
+                    seen[y as usize][x as usize] += 1;
+                }
+            }
         }
         assert!(seen.iter().flatten().all(|&n| n == 1));
-        let first: heapless::Vec<(u32, u32), 10> = cam.tiles(0..2).take(10).collect();
-        assert_eq!(
-            &first[..9],
-            &[
-                (0, 0),
-                (1, 0),
-                (2, 0),
-                (3, 0),
-                (4, 0),
-                (5, 0),
-                (6, 0),
-                (7, 0),
-                (0, 1)
-            ]
-        );
+        // Rows 3..11 are one tile row, cut at the right edge.
+        let band: heapless::Vec<_, 4> = cam.tiles(3..11).take(4).collect();
+        assert_eq!(&band[..], &[(3..11, 0..8), (3..11, 8..16), (3..11, 16..19)]);
     }
 }
