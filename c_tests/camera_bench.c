@@ -62,14 +62,21 @@ int main(int argc, char **argv) {
     float depth = 0.1f * (float)(w > h ? w : h);
     hf_field *f = NULL;
     size_t plen, clen;
-    hf_cc_options co = {HF_CC_SLOPE_NBUFFER, 64, 0};
+    /* The cylinder-cone map of the N-buffer slope, cap 64, all four classes, all cores;
+     * the maximum mipmap on one thread. */
+    hf_bake_options co;
+    if (hf_bake_options_default(HF_METHOD_CC, &co) != HF_OK) return 1;
+    co.slope = HF_CC_SLOPE_NBUFFER;
+    co.threads = 0;
     if (hf_field_create_u16(samples, (size_t)w * h, w, h, w, depth, &f) != HF_OK ||
-        hf_maxmip_len(w, h, &plen) != HF_OK || hf_cc_map_len(w, h, 0, &clen) != HF_OK) {
+        hf_map_len(HF_METHOD_MAXMIP, w, h, NULL, &plen) != HF_OK ||
+        hf_map_len(HF_METHOD_CC, w, h, &co, &clen) != HF_OK) {
         return 1;
     }
     float *pyramid = (float *)malloc(sizeof(float) * plen);
     uint8_t *cc = (uint8_t *)malloc(clen);
-    if (hf_maxmip_bake(f, pyramid, plen) != HF_OK || hf_cc_bake(f, &co, 0, cc, clen) != HF_OK)
+    if (hf_bake(HF_METHOD_MAXMIP, f, NULL, pyramid, plen) != HF_OK ||
+        hf_bake(HF_METHOD_CC, f, &co, cc, clen) != HF_OK)
         return 1;
     const method methods[3] = {{HF_METHOD_MAXMIP, pyramid, plen, "maxmip"},
                                {HF_METHOD_CC, cc, clen, "cc"},

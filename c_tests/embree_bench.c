@@ -306,6 +306,19 @@ typedef struct field_data {
     size_t sd_len;
 } field_data;
 
+/* `method`'s map of fd->field baked with `o` on every core, in a new buffer of
+ * hf_map_len elements (*len) of `elem` bytes; the bake's seconds in *secs unless NULL. */
+static void *bake_map(const field_data *fd, uint32_t method, hf_bake_options o, size_t elem,
+                      size_t *len, double *secs) {
+    o.threads = 0;
+    check_hf("hf_map_len", hf_map_len(method, fd->w, fd->h, &o, len));
+    void *map = malloc(*len * elem);
+    double t0 = now();
+    check_hf("hf_bake", hf_bake(method, fd->field, &o, map, *len));
+    if (secs) *secs = now() - t0;
+    return map;
+}
+
 /* Loads `path` (heights v / 65535 x 0.1 x side) and bakes its exact CC map, its
  * maximum mipmap and its exact safety distances; 0 when the file cannot be read. */
 static int field_load(const char *path, field_data *fd) {
@@ -324,23 +337,16 @@ static int field_load(const char *path, field_data *fd) {
     free(raw);
     check_hf("hf_field_create_f32",
              hf_field_create_f32(fd->heights, n, fd->w, fd->h, fd->w, &fd->field));
-    hf_cc_options opts = {HF_CC_SLOPE_EXACT, CC_CAP, HF_RAYS_ALL};
-    check_hf("hf_cc_map_len", hf_cc_map_len(fd->w, fd->h, opts.ray_classes, &fd->cc_len));
-    fd->cc = (uint8_t *)malloc(fd->cc_len);
-    double t0 = now();
-    check_hf("hf_cc_bake", hf_cc_bake(fd->field, &opts, 0, fd->cc, fd->cc_len));
-    fd->cc_bake_s = now() - t0;
-    check_hf("hf_maxmip_len", hf_maxmip_len(fd->w, fd->h, &fd->pyramid_len));
-    fd->pyramid = (float *)malloc(sizeof(float) * fd->pyramid_len);
-    t0 = now();
-    check_hf("hf_maxmip_bake_threaded",
-             hf_maxmip_bake_threaded(fd->field, 0, fd->pyramid, fd->pyramid_len));
-    fd->pyramid_bake_s = now() - t0;
-    hf_safety_options sd_opts = {HF_SAFETY_DIRECTIONAL, 0, 255, HF_RAYS_ALL};
-    check_hf("hf_safety_map_len",
-             hf_safety_map_len(fd->w, fd->h, sd_opts.variant, sd_opts.ray_classes, &fd->sd_len));
-    fd->sd = (uint8_t *)malloc(fd->sd_len);
-    check_hf("hf_safety_bake", hf_safety_bake(fd->field, &sd_opts, 0, fd->sd, fd->sd_len));
+    /* All four ray classes (the defaults): the CC map of the exact slope and cap CC_CAP,
+     * the directional safety distances of cap 255. */
+    hf_bake_options o;
+    check_hf("hf_bake_options_default", hf_bake_options_default(HF_METHOD_CC, &o));
+    o.cap = CC_CAP;
+    fd->cc = bake_map(fd, HF_METHOD_CC, o, 1, &fd->cc_len, &fd->cc_bake_s);
+    fd->pyramid = bake_map(fd, HF_METHOD_MAXMIP, o, sizeof(float), &fd->pyramid_len,
+                           &fd->pyramid_bake_s);
+    o.cap = 255;
+    fd->sd = bake_map(fd, HF_METHOD_SAFETY, o, 1, &fd->sd_len, NULL);
     return 1;
 }
 

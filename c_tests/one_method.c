@@ -16,17 +16,15 @@
 #error "not the header of the cone-only build"
 #endif
 
-/* These names are functions in the full header: declaring them as objects here only
- * compiles when the header of this build does not declare them. */
-static int hf_maxmip_bake = 1, hf_safety_bake = 2, hf_cc_bake = 3, hf_qdm_bake = 4,
-           hf_relaxed_bake = 5, hf_radius_bake = 6, hf_maxmip_len = 7;
+/* These names are functions of one method in the full header (the bakes of the other
+ * methods go through hf_bake, which answers HF_ERR_NOT_BUILT): declaring them as objects
+ * here only compiles when the header of this build does not declare them. */
+static int hf_maxmip_levels = 1, hf_maxmip_bake_rows = 2, hf_maxmip_update_rect = 3;
 
 enum { W = 33, H = 25 };
 
 int main(void) {
-    CHECK(hf_maxmip_bake + hf_safety_bake + hf_cc_bake + hf_qdm_bake + hf_relaxed_bake +
-              hf_radius_bake + hf_maxmip_len ==
-          28);
+    CHECK(hf_maxmip_levels + hf_maxmip_bake_rows + hf_maxmip_update_rect == 6);
 
     /* What the build has. */
     static const struct {
@@ -44,6 +42,8 @@ int main(void) {
         /* Functions taking a method number refuse the ones left out. */
         size_t len = 0;
         hf_result r = hf_shader_source_len(build[k].method, &len);
+        CHECK(r == (build[k].has ? HF_OK : HF_ERR_NOT_BUILT));
+        r = hf_map_len(build[k].method, W, H, NULL, &len);
         CHECK(r == (build[k].has ? HF_OK : HF_ERR_NOT_BUILT));
     }
     uint32_t has = 0;
@@ -78,10 +78,15 @@ int main(void) {
 
     /* Bake and trace with the one method; every hit is the exact one. */
     size_t map_len = 0;
-    CHECK(hf_cone_map_len(W, H, &map_len) == HF_OK);
+    CHECK(hf_map_len(HF_METHOD_CONE, W, H, NULL, &map_len) == HF_OK);
     float *map = malloc(map_len * sizeof *map);
     if (!map) return 1;
-    CHECK(hf_cone_bake(field, 2, map, map_len) == HF_OK);
+    hf_bake_options bo;
+    CHECK(hf_bake_options_default(HF_METHOD_CONE, &bo) == HF_OK);
+    bo.threads = 2;
+    CHECK(hf_bake(HF_METHOD_CONE, field, &bo, map, map_len) == HF_OK);
+    /* A method left out bakes nothing. */
+    CHECK(hf_bake(HF_METHOD_QDM, field, NULL, map, map_len) == HF_ERR_NOT_BUILT);
     hf_trace_options o;
     CHECK(hf_trace_options_default(&o) == HF_OK);
     o.steps = 1000;

@@ -103,31 +103,55 @@ int read_png_rgb(const char *path, unsigned char **rgb, int *w, int *h) {
 
 int scene_load(scene *s, const char *png_path) { return scene_load_ex(s, png_path, 0); }
 
+/* Bytes of one element of `method`'s map: floats for the maximum mipmap and the cone
+ * family, bytes for the safety-distance, cylinder-cone and radius maps. */
+static size_t map_elem_bytes(uint32_t method) {
+    int bytes = method == HF_METHOD_SAFETY || method == HF_METHOD_CC || method == HF_METHOD_RADIUS;
+    return bytes ? 1 : sizeof(float);
+}
+
+/* Exits with the message of `r` unless it is HF_OK; `what` names the call of `method`. */
+static void check_method(hf_result r, const char *what, uint32_t method) {
+    char buf[64];
+    if (r == HF_OK) return;
+    snprintf(buf, sizeof buf, "%s (%s)", what, method_name(method));
+    die_hf(buf, r);
+}
+
+/* The default bake options of `method`. */
+static hf_bake_options bake_defaults(uint32_t method) {
+    hf_bake_options o;
+    check_method(hf_bake_options_default(method, &o), "hf_bake_options_default", method);
+    return o;
+}
+
+/* `method`'s map of s->field with options `o` (NULL: the method's defaults) on every
+ * core, in a new zeroed buffer of hf_map_len elements (*len); baked when `bake` (the
+ * time in *ms unless NULL), else left zero (*ms -1). */
+static void *bake_map(const scene *s, uint32_t method, const hf_bake_options *o, int bake,
+                      size_t *len, double *ms) {
+    hf_bake_options all = o ? *o : bake_defaults(method);
+    all.threads = 0;
+    check_method(hf_map_len(method, s->w, s->h, &all, len), "hf_map_len", method);
+    void *map = calloc(*len, map_elem_bytes(method));
+    double t0 = now_seconds();
+    if (bake) check_method(hf_bake(method, s->field, &all, map, *len), "hf_bake", method);
+    if (ms) *ms = bake ? 1e3 * (now_seconds() - t0) : -1.0;
+    return map;
+}
+
 /* Bakes the directional and isotropic safety maps and the cylinder-cone map of the ray
  * classes s->classes (all cores): W x nH texels for n classes, isotropic W x H. */
 static void bake_class_maps(scene *s) {
-    hf_result r;
-    hf_safety_options opts = {HF_SAFETY_DIRECTIONAL, 0, 255, s->classes};
-    r = hf_safety_map_len(s->w, s->h, opts.variant, opts.ray_classes, &s->safety_len);
-    if (r != HF_OK) die_hf("hf_safety_map_len", r);
-    s->safety = (unsigned char *)malloc(s->safety_len);
-    double t0 = now_seconds();
-    r = hf_safety_bake(s->field, &opts, 0, s->safety, s->safety_len);
-    if (r != HF_OK) die_hf("hf_safety_bake", r);
-    s->safety_bake_ms = 1e3 * (now_seconds() - t0);
-    hf_safety_options iso = {HF_SAFETY_ISOTROPIC, 0, 255, s->classes};
-    r = hf_safety_map_len(s->w, s->h, iso.variant, iso.ray_classes, &s->safety_iso_len);
-    if (r != HF_OK) die_hf("hf_safety_map_len (isotropic)", r);
-    s->safety_iso = (unsigned char *)malloc(s->safety_iso_len);
-    r = hf_safety_bake(s->field, &iso, 0, s->safety_iso, s->safety_iso_len);
-    if (r != HF_OK) die_hf("hf_safety_bake (isotropic)", r);
-    hf_cc_options cco = {HF_CC_SLOPE_EXACT, CC_CAP, s->classes};
-    if ((r = hf_cc_map_len(s->w, s->h, cco.ray_classes, &s->cc_len)) != HF_OK)
-        die_hf("hf_cc_map_len", r);
-    s->cc = (unsigned char *)malloc(s->cc_len);
-    t0 = now_seconds();
-    if ((r = hf_cc_bake(s->field, &cco, 0, s->cc, s->cc_len)) != HF_OK) die_hf("hf_cc_bake", r);
-    s->cc_bake_ms = 1e3 * (now_seconds() - t0);
+    hf_bake_options o = bake_defaults(HF_METHOD_SAFETY); /* exact, cap 255 */
+    o.ray_classes = s->classes;
+    s->safety = bake_map(s, HF_METHOD_SAFETY, &o, 1, &s->safety_len, &s->safety_bake_ms);
+    o.variant = HF_SAFETY_ISOTROPIC;
+    s->safety_iso = bake_map(s, HF_METHOD_SAFETY, &o, 1, &s->safety_iso_len, NULL);
+    hf_bake_options cc = bake_defaults(HF_METHOD_CC); /* exact slope */
+    cc.cap = CC_CAP;
+    cc.ray_classes = s->classes;
+    s->cc = bake_map(s, HF_METHOD_CC, &cc, 1, &s->cc_len, &s->cc_bake_ms);
 }
 
 void scene_set_classes(scene *s, uint32_t classes) {
@@ -161,37 +185,16 @@ int scene_load_ex(scene *s, const char *png_path, int relaxed) {
     if ((r = hf_field_get_info(s->field, &s->info)) != HF_OK) die_hf("hf_field_get_info", r);
     s->heights = (float *)malloc(sizeof(float) * n);
     if ((r = hf_field_copy_heights(s->field, s->heights, n)) != HF_OK) die_hf("copy_heights", r);
-    if ((r = hf_maxmip_len(s->w, s->h, &s->pyramid_len)) != HF_OK) die_hf("hf_maxmip_len", r);
-    s->pyramid = (float *)malloc(sizeof(float) * s->pyramid_len);
-    if ((r = hf_maxmip_bake_threaded(s->field, 0, s->pyramid, s->pyramid_len)) != HF_OK)
-        die_hf("hf_maxmip_bake_threaded", r);
+    s->pyramid = bake_map(s, HF_METHOD_MAXMIP, NULL, 1, &s->pyramid_len, NULL);
     if ((r = hf_maxmip_levels(s->w, s->h, s->levels, HF_MAX_LEVELS, &s->nlevels)) != HF_OK)
         die_hf("hf_maxmip_levels", r);
     s->classes = HF_RAYS_ALL;
     bake_class_maps(s);
-    hf_radius_options ropts = {0.0f, 255};
-    if ((r = hf_radius_map_len(s->w, s->h, &s->radius_len)) != HF_OK) die_hf("radius_len", r);
-    s->radius = (unsigned char *)malloc(s->radius_len);
-    double t0 = now_seconds();
-    if ((r = hf_radius_bake(s->field, &ropts, 0, s->radius, s->radius_len)) != HF_OK)
-        die_hf("hf_radius_bake", r);
-    s->radius_bake_ms = 1e3 * (now_seconds() - t0);
-    if ((r = hf_cone_map_len(s->w, s->h, &s->cone_len)) != HF_OK) die_hf("hf_cone_map_len", r);
-    if ((r = hf_relaxed_map_len(s->w, s->h, &s->relaxed_len)) != HF_OK) die_hf("relaxed_len", r);
-    if ((r = hf_qdm_map_len(s->w, s->h, &s->qdm_len)) != HF_OK) die_hf("hf_qdm_map_len", r);
-    s->cone = (float *)malloc(sizeof(float) * s->cone_len);
-    s->relaxed = (float *)calloc(s->relaxed_len, sizeof(float));
-    s->qdm = (float *)malloc(sizeof(float) * s->qdm_len);
-    t0 = now_seconds();
-    if ((r = hf_cone_bake(s->field, 0, s->cone, s->cone_len)) != HF_OK) die_hf("hf_cone_bake", r);
-    s->cone_bake_ms = 1e3 * (now_seconds() - t0);
-    t0 = now_seconds();
-    if (relaxed && (r = hf_relaxed_bake(s->field, 0, s->relaxed, s->relaxed_len)) != HF_OK)
-        die_hf("hf_relaxed_bake", r);
-    s->relaxed_bake_ms = relaxed ? 1e3 * (now_seconds() - t0) : -1.0;
-    t0 = now_seconds();
-    if ((r = hf_qdm_bake(s->field, 0, s->qdm, s->qdm_len)) != HF_OK) die_hf("hf_qdm_bake", r);
-    s->qdm_bake_ms = 1e3 * (now_seconds() - t0);
+    /* The defaults: radii of tolerance 0 and cap 255. */
+    s->radius = bake_map(s, HF_METHOD_RADIUS, NULL, 1, &s->radius_len, &s->radius_bake_ms);
+    s->cone = bake_map(s, HF_METHOD_CONE, NULL, 1, &s->cone_len, &s->cone_bake_ms);
+    s->relaxed = bake_map(s, HF_METHOD_RELAXED, NULL, relaxed, &s->relaxed_len, &s->relaxed_bake_ms);
+    s->qdm = bake_map(s, HF_METHOD_QDM, NULL, 1, &s->qdm_len, &s->qdm_bake_ms);
     return 0;
 }
 
@@ -379,18 +382,25 @@ char *generated_fragment_source(const hf_scene *sc) {
 
 /* ---- GL ------------------------------------------------------------------------- */
 
+/* Exits with the info log of `obj`, a program (`program`: its link) or a shader (its
+ * compile), unless that succeeded; `what` names the step. */
+static void check_gl(GLuint obj, int program, const char *what) {
+    GLint ok = 0;
+    char log[4096];
+    if (program) glGetProgramiv(obj, GL_LINK_STATUS, &ok);
+    else glGetShaderiv(obj, GL_COMPILE_STATUS, &ok);
+    if (ok) return;
+    if (program) glGetProgramInfoLog(obj, sizeof log, NULL, log);
+    else glGetShaderInfoLog(obj, sizeof log, NULL, log);
+    fprintf(stderr, "%s failed:\n%s\n", what, log);
+    exit(2);
+}
+
 static GLuint compile(GLenum type, const char *src) {
     GLuint sh = glCreateShader(type);
     glShaderSource(sh, 1, &src, NULL);
     glCompileShader(sh);
-    GLint ok = 0;
-    glGetShaderiv(sh, GL_COMPILE_STATUS, &ok);
-    if (!ok) {
-        char log[4096];
-        glGetShaderInfoLog(sh, sizeof log, NULL, log);
-        fprintf(stderr, "shader compile failed:\n%s\n", log);
-        exit(2);
-    }
+    check_gl(sh, 0, "shader compile");
     return sh;
 }
 
@@ -408,14 +418,7 @@ GLuint link_fragment(const char *fs_src) {
     glAttachShader(p, vs);
     glAttachShader(p, fs);
     glLinkProgram(p);
-    GLint ok = 0;
-    glGetProgramiv(p, GL_LINK_STATUS, &ok);
-    if (!ok) {
-        char log[4096];
-        glGetProgramInfoLog(p, sizeof log, NULL, log);
-        fprintf(stderr, "program link failed:\n%s\n", log);
-        exit(2);
-    }
+    check_gl(p, 1, "program link");
     glDeleteShader(vs);
     glDeleteShader(fs);
     return p;

@@ -98,9 +98,9 @@ int scene_load(scene *s, const char *png_path);
 int scene_load_ex(scene *s, const char *png_path, int relaxed);
 void scene_free(scene *s);
 /* Rebakes the safety (both layouts) and cylinder-cone maps for the ray classes
- * `classes` only (HF_RAYS_* bits, not 0): the compact maps that hf_safety_bake and
- * hf_cc_bake write for options of those ray_classes, which cpu_trace and gpu_render then
- * use with that mask (after gpu_upload_class_maps). */
+ * `classes` only (HF_RAYS_* bits, not 0): the compact maps that hf_bake of
+ * HF_METHOD_SAFETY and HF_METHOD_CC writes for options of those ray_classes, which
+ * cpu_trace and gpu_render then use with that mask (after gpu_upload_class_maps). */
 void scene_set_classes(scene *s, uint32_t classes);
 /* The fixed view of the tests: both renderers' images of it are compared. */
 camera default_camera(void);

@@ -19,9 +19,9 @@ int main(int argc, char **argv) {
     int ok = hf_trace(field, HF_METHOD_EXACT, NULL, 0, NULL, &ray, &hit) == HF_OK;
 #if defined(HF_HAVE_CONE)
     size_t len = 0;
-    ok &= hf_cone_map_len(W, H, &len) == HF_OK;
+    ok &= hf_map_len(HF_METHOD_CONE, W, H, NULL, &len) == HF_OK;
     float *map = malloc(len * sizeof *map);
-    ok &= map && hf_cone_bake(field, 1, map, len) == HF_OK;
+    ok &= map && hf_bake(HF_METHOD_CONE, field, NULL, map, len) == HF_OK;
     hf_trace_options o;
     ok &= hf_trace_options_default(&o) == HF_OK;
     o.steps = 256;

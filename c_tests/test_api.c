@@ -9,6 +9,7 @@
 
 #include <math.h>
 #include <pthread.h>
+#include <stddef.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -100,6 +101,300 @@ static int view_linear_agrees(hf_field *f, const hf_ray *rays, int n, hf_hit *ou
     return same;
 }
 
+/* Bad trace inputs of `method` over its `map` (`len` elements) with options `o` (NULL:
+ * the defaults), on `rays[0..n)` (n >= 4) and `hits` (n hits): NULL pointers, a short
+ * map or hit buffer, NaN rays (alone and inside a batch) and unknown surfaces are
+ * refused and write nothing; an empty batch is HF_OK. */
+static void check_bad_traces(const hf_field *f, uint32_t method, const void *map, size_t len,
+                             const hf_trace_options *o, const hf_ray *rays, int n,
+                             hf_hit *hits) {
+    hf_hit h;
+    memset(&h, 0x5A, sizeof h);
+    memset(hits, 0x5A, sizeof(hf_hit) * n);
+    const size_t some = 3;
+    CHECK_BAD(hf_trace(NULL, method, map, len, o, &rays[0], &h), HF_ERR_NULL_POINTER, &h, sizeof h);
+    CHECK_BAD(hf_trace(f, method, NULL, len, o, &rays[0], &h), HF_ERR_NULL_POINTER, &h, sizeof h);
+    CHECK_BAD(hf_trace(f, method, map, len, o, NULL, &h), HF_ERR_NULL_POINTER, &h, sizeof h);
+    CHECK_BAD(hf_trace(f, method, map, len, o, &rays[0], NULL), HF_ERR_NULL_POINTER, nothing, 0);
+    CHECK_BAD(hf_trace(f, method, map, len - 1, o, &rays[0], &h), HF_ERR_BUFFER_TOO_SMALL, &h,
+              sizeof h);
+    CHECK_OK(hf_trace_batch(f, method, map, len, o, rays, 0, hits, n));
+    CHECK_BAD(hf_trace_batch(f, method, map, len, o, rays, some, hits, some - 1),
+              HF_ERR_BUFFER_TOO_SMALL, hits, 512);
+    CHECK_BAD(hf_trace_batch(f, method, map, len - 1, o, rays, some, hits, some),
+              HF_ERR_BUFFER_TOO_SMALL, hits, 512);
+    CHECK_BAD(hf_trace_batch(NULL, method, map, len, o, rays, some, hits, some),
+              HF_ERR_NULL_POINTER, hits, 512);
+    CHECK_BAD(hf_trace_batch(f, method, NULL, len, o, rays, some, hits, some),
+              HF_ERR_NULL_POINTER, hits, 512);
+    CHECK_BAD(hf_trace_batch(f, method, map, len, o, NULL, some, hits, some),
+              HF_ERR_NULL_POINTER, hits, 512);
+    CHECK_BAD(hf_trace_batch(f, method, map, len, o, rays, some, NULL, some),
+              HF_ERR_NULL_POINTER, nothing, 0);
+    /* Unknown surfaces (5 and 9) are bad enums. */
+    hf_trace_options s;
+    if (o)
+        s = *o;
+    else
+        CHECK_OK(hf_trace_options_default(&s));
+    for (s.surface = 5; s.surface <= 9; s.surface += 4) {
+        CHECK_BAD(hf_trace(f, method, map, len, &s, &rays[0], &h), HF_ERR_INVALID_ENUM, &h,
+                  sizeof h);
+        CHECK_BAD(hf_trace_batch(f, method, map, len, &s, rays, some, hits, some),
+                  HF_ERR_INVALID_ENUM, hits, 512);
+    }
+    /* A NaN origin, direction or t_max: alone, and far into a batch of good rays. */
+    hf_ray *bad = (hf_ray *)malloc(sizeof(hf_ray) * n);
+    for (int k = 0; k < 3; k++) {
+        memcpy(bad, rays, sizeof(hf_ray) * n);
+        hf_ray *r = &bad[n - 1 - k];
+        *(k == 0 ? &r->origin[1] : k == 1 ? &r->dir[2] : &r->t_max) = NAN;
+        CHECK_BAD(hf_trace(f, method, map, len, o, r, &h), HF_ERR_INVALID_RAY, &h, sizeof h);
+        CHECK_BAD(hf_trace_batch(f, method, map, len, o, bad, n, hits, n), HF_ERR_INVALID_RAY,
+                  hits, 512);
+    }
+    free(bad);
+}
+
+/* ---- the bake functions (hf_bake*) ------------------------------------------------- */
+
+/* Bytes of an element of `method`'s map: floats for the maximum mipmap and the cone
+ * family, bytes for the safety-shape maps (and the methods without a map). */
+static size_t elem_bytes(uint32_t method) {
+    switch (method) {
+    case HF_METHOD_MAXMIP:
+    case HF_METHOD_CONE:
+    case HF_METHOD_RELAXED:
+    case HF_METHOD_QDM: return sizeof(float);
+    default: return 1;
+    }
+}
+
+/* The default bake options of `method`. */
+static hf_bake_options bake_defaults(uint32_t method) {
+    hf_bake_options o;
+    memset(&o, 0xAB, sizeof o);
+    CHECK_OK(hf_bake_options_default(method, &o));
+    return o;
+}
+
+/* A size query of the bakes: hf_map_len (elements) or hf_bake_scratch_len (floats). */
+typedef hf_result (*size_query)(uint32_t, uint32_t, uint32_t, const hf_bake_options *, size_t *);
+
+/* The answer of `query` for `method`, a `w` x `h` field and options `o` (NULL: the
+ * defaults). */
+static size_t ask(size_query query, uint32_t method, uint32_t w, uint32_t h,
+                  const hf_bake_options *o) {
+    size_t n = 0;
+    CHECK_OK(query(method, w, h, o, &n));
+    return n;
+}
+
+/* The width and height of `f`. */
+static void field_size(const hf_field *f, uint32_t *w, uint32_t *h) {
+    hf_field_info info;
+    CHECK_OK(hf_field_get_info(f, &info));
+    *w = info.width;
+    *h = info.height;
+}
+
+/* `method`'s map of `f` baked with `o` (NULL: the defaults) into a new zeroed buffer of
+ * `*len` elements and one spare, to free; NULL and 0 for a method without a map (its
+ * bake of nothing is HF_OK). */
+static void *bake_map(uint32_t method, const hf_field *f, const hf_bake_options *o, size_t *len) {
+    uint32_t w, h;
+    field_size(f, &w, &h);
+    *len = ask(hf_map_len, method, w, h, o);
+    void *map = *len ? calloc(*len + 1, elem_bytes(method)) : NULL;
+    CHECK_OK(hf_bake(method, f, o, map, *len));
+    return map;
+}
+
+/* The size queries of `method` with options `o` refuse bad sizes (`w` or `h` 1 or 0,
+ * beyond HF_MAX_SIDE) and NULL outputs. */
+static void check_size_queries(uint32_t method, uint32_t w, uint32_t h, const hf_bake_options *o) {
+    const uint32_t sizes[3][2] = {{1, h}, {w, 0}, {HF_MAX_SIDE + 1u, h}};
+    const size_query queries[2] = {hf_map_len, hf_bake_scratch_len};
+    size_t junk = 77;
+    uint32_t rows = 77;
+    for (int k = 0; k < 3; k++) {
+        for (int q = 0; q < 2; q++)
+            CHECK_BAD(queries[q](method, sizes[k][0], sizes[k][1], o, &junk), HF_ERR_INVALID_SIZE,
+                      &junk, sizeof junk);
+        CHECK_BAD(hf_bake_row_count(method, sizes[k][0], sizes[k][1], o, &rows),
+                  HF_ERR_INVALID_SIZE, &rows, sizeof rows);
+    }
+    for (int q = 0; q < 2; q++)
+        CHECK_BAD(queries[q](method, w, h, o, NULL), HF_ERR_NULL_POINTER, nothing, 0);
+    CHECK_BAD(hf_bake_row_count(method, w, h, o, NULL), HF_ERR_NULL_POINTER, nothing, 0);
+}
+
+/* An option set to a bad value (`value`: a float for the tolerance, else a uint32_t) and
+ * the code every bake function answers it with. */
+typedef struct bad_option {
+    size_t offset;
+    double value;
+    hf_result code;
+} bad_option;
+
+#define BAD_OPTION(field, value, code) {offsetof(hf_bake_options, field), (value), (code)}
+
+/* Options every method's bake refuses, whichever fields it reads: the bake functions
+ * check them all. */
+static const bad_option bad_options[] = {
+    BAD_OPTION(variant, 2, HF_ERR_INVALID_ENUM),
+    BAD_OPTION(variant, 5, HF_ERR_INVALID_ENUM),
+    BAD_OPTION(positive, 2, HF_ERR_INVALID_ARGUMENT),
+    BAD_OPTION(cap, 256, HF_ERR_INVALID_ARGUMENT),
+    BAD_OPTION(cap, 999, HF_ERR_INVALID_ARGUMENT),
+    BAD_OPTION(slope, 2, HF_ERR_INVALID_ENUM),
+    BAD_OPTION(ray_classes, 16, HF_ERR_INVALID_ARGUMENT),
+    BAD_OPTION(tolerance, -1.0, HF_ERR_INVALID_ARGUMENT),
+    BAD_OPTION(tolerance, NAN, HF_ERR_INVALID_ARGUMENT),
+    BAD_OPTION(tolerance, INFINITY, HF_ERR_INVALID_ARGUMENT),
+    BAD_OPTION(reserved[0], 1, HF_ERR_INVALID_ARGUMENT),
+    BAD_OPTION(reserved[8], 1, HF_ERR_INVALID_ARGUMENT),
+};
+
+/* `o` with the bad option `b`. */
+static hf_bake_options with_bad(const hf_bake_options *o, const bad_option *b) {
+    hf_bake_options x = *o;
+    if (b->offset == offsetof(hf_bake_options, tolerance)) {
+        x.tolerance = (float)b->value;
+    } else {
+        uint32_t v = (uint32_t)b->value;
+        memcpy((char *)&x + b->offset, &v, sizeof v);
+    }
+    return x;
+}
+
+/* Each bake function refuses `method`'s options `o` made bad by `b` and writes nothing:
+ * the size queries, the whole bake into `map` (`len` elements), the prepare of
+ * `scratch` (`slen` floats, non-NULL) and a row bake. */
+static void check_bad_option(uint32_t method, const hf_field *f, const hf_bake_options *o,
+                             const bad_option *b, void *map, size_t len, float *scratch,
+                             size_t slen) {
+    hf_bake_options x = with_bad(o, b);
+    uint32_t w, h, rows = 77;
+    size_t junk = 77, bytes = len * elem_bytes(method);
+    field_size(f, &w, &h);
+    CHECK_BAD(hf_map_len(method, w, h, &x, &junk), b->code, &junk, sizeof junk);
+    CHECK_BAD(hf_bake_scratch_len(method, w, h, &x, &junk), b->code, &junk, sizeof junk);
+    CHECK_BAD(hf_bake_row_count(method, w, h, &x, &rows), b->code, &rows, sizeof rows);
+    CHECK_BAD(hf_bake(method, f, &x, map, len), b->code, map, bytes);
+    CHECK_BAD(hf_bake_prepare(method, f, &x, scratch, slen), b->code, scratch,
+              (slen + 1) * sizeof(float));
+    CHECK_BAD(hf_bake_rows(method, f, &x, scratch, slen, 0, 1, map, len), b->code, map, bytes);
+}
+
+/* The whole bake of `method`'s map of `f` with `o`, which is `want` (`len` elements):
+ * on 1 and 2 threads a NULL field or map, a short or misaligned map are refused and
+ * write nothing; on 0 (one per core) to 5 threads it bakes `want`. */
+static void check_whole_bakes(uint32_t method, const hf_field *f, const hf_bake_options *o,
+                              const void *want, size_t len) {
+    size_t e = elem_bytes(method), bytes = len * e;
+    unsigned char *map = (unsigned char *)malloc(bytes + e);
+    hf_bake_options t = *o;
+    for (t.threads = 0; t.threads <= 5; t.threads++) {
+        memset(map, 0x5A, bytes + e);
+        if (t.threads == 1 || t.threads == 2) {
+            CHECK_BAD(hf_bake(method, NULL, &t, map, len), HF_ERR_NULL_POINTER, map, bytes);
+            CHECK_BAD(hf_bake(method, f, &t, NULL, len), HF_ERR_NULL_POINTER, nothing, 0);
+            CHECK_BAD(hf_bake(method, f, &t, map, len - 1), HF_ERR_BUFFER_TOO_SMALL, map, bytes);
+            if (e > 1)
+                CHECK_BAD(hf_bake(method, f, &t, map + 1, len), HF_ERR_MISALIGNED_POINTER, map,
+                          bytes);
+        }
+        CHECK_OK(hf_bake(method, f, &t, map, len));
+        CHECK(memcmp(map, want, bytes) == 0);
+    }
+    free(map);
+}
+
+/* The prepare and row bakes of `method`'s map of `f` with `o`, which is `want` (`len`
+ * elements): a NULL field, scratch or map, short or misaligned buffers and bad row
+ * ranges are refused and write nothing; three row ranges baked out of order, and an
+ * empty one, give `want`. Only the maximum mipmap needs no scratch. */
+static void check_row_bakes(uint32_t method, const hf_field *f, const hf_bake_options *o,
+                            const void *want, size_t len) {
+    uint32_t w, h, rows = 0;
+    field_size(f, &w, &h);
+    CHECK_OK(hf_bake_row_count(method, w, h, o, &rows));
+    size_t slen = ask(hf_bake_scratch_len, method, w, h, o);
+    size_t e = elem_bytes(method), bytes = len * e, sbytes = (slen + 1) * sizeof(float);
+    CHECK(rows > 0 && (slen == 0) == (method == HF_METHOD_MAXMIP));
+    float *scratch = (float *)calloc(slen + 1, sizeof(float));
+    unsigned char *map = (unsigned char *)malloc(bytes + e);
+    memset(map, 0xEE, bytes + e);
+    float *odd_scratch = (float *)(void *)((char *)scratch + 1);
+    CHECK_BAD(hf_bake_prepare(method, NULL, o, scratch, slen), HF_ERR_NULL_POINTER, scratch,
+              sbytes);
+    if (slen > 0) {
+        CHECK_BAD(hf_bake_prepare(method, f, o, scratch, slen - 1), HF_ERR_BUFFER_TOO_SMALL,
+                  scratch, sbytes);
+        CHECK_BAD(hf_bake_prepare(method, f, o, NULL, slen), HF_ERR_NULL_POINTER, nothing, 0);
+        CHECK_BAD(hf_bake_prepare(method, f, o, odd_scratch, slen), HF_ERR_MISALIGNED_POINTER,
+                  scratch, sbytes);
+    }
+    CHECK_OK(hf_bake_prepare(method, f, o, scratch, slen));
+
+    const uint32_t bad_rows[2][2] = {{rows, rows - 1}, {0, rows + 1}};
+    for (int k = 0; k < 2; k++)
+        CHECK_BAD(hf_bake_rows(method, f, o, scratch, slen, bad_rows[k][0], bad_rows[k][1], map,
+                               len),
+                  HF_ERR_INVALID_ARGUMENT, map, bytes);
+    CHECK_BAD(hf_bake_rows(method, f, o, scratch, slen, 0, 1, map, len - 1),
+              HF_ERR_BUFFER_TOO_SMALL, map, bytes);
+    CHECK_BAD(hf_bake_rows(method, NULL, o, scratch, slen, 0, 1, map, len), HF_ERR_NULL_POINTER,
+              map, bytes);
+    CHECK_BAD(hf_bake_rows(method, f, o, scratch, slen, 0, 1, NULL, len), HF_ERR_NULL_POINTER,
+              nothing, 0);
+    if (e > 1)
+        CHECK_BAD(hf_bake_rows(method, f, o, scratch, slen, 0, 1, map + 1, len),
+                  HF_ERR_MISALIGNED_POINTER, map, bytes);
+    if (slen > 0) {
+        CHECK_BAD(hf_bake_rows(method, f, o, scratch, slen - 1, 0, 1, map, len),
+                  HF_ERR_BUFFER_TOO_SMALL, map, bytes);
+        CHECK_BAD(hf_bake_rows(method, f, o, NULL, slen, 0, 1, map, len), HF_ERR_NULL_POINTER,
+                  map, bytes);
+        CHECK_BAD(hf_bake_rows(method, f, o, odd_scratch, slen, 0, 1, map, len),
+                  HF_ERR_MISALIGNED_POINTER, map, bytes);
+    }
+
+    /* Three ranges out of order, then an empty one, which bakes nothing (also for the
+     * pyramid's one row). */
+    const uint32_t cut[4] = {0, rows / 3, 2 * rows / 3, rows};
+    const int order[4] = {2, 0, 1, -1}; /* -1: the empty range [cut[2], cut[2]) */
+    for (int k = 0; k < 4; k++) {
+        uint32_t r0 = cut[order[k] < 0 ? 2 : order[k]], r1 = order[k] < 0 ? r0 : cut[order[k] + 1];
+        CHECK_OK(hf_bake_rows(method, f, o, scratch, slen, r0, r1, map, len));
+    }
+    CHECK(memcmp(map, want, bytes) == 0);
+    free(map);
+    free(scratch);
+}
+
+/* `method`'s map of `f` with options `o`, baked and checked through every bake function
+ * (check_size_queries, check_bad_option with each of bad_options, check_whole_bakes,
+ * check_row_bakes); returns it (`*len` elements) to free. */
+static void *check_bakes(uint32_t method, const hf_field *f, const hf_bake_options *o,
+                         size_t *len) {
+    uint32_t w, h;
+    field_size(f, &w, &h);
+    check_size_queries(method, w, h, o);
+    void *map = bake_map(method, f, o, len);
+    size_t slen = ask(hf_bake_scratch_len, method, w, h, o);
+    float *scratch = (float *)calloc(slen + 1, sizeof(float));
+    void *out = calloc(*len + 1, elem_bytes(method));
+    for (size_t k = 0; k < sizeof bad_options / sizeof bad_options[0]; k++)
+        check_bad_option(method, f, o, &bad_options[k], out, *len, scratch, slen);
+    check_whole_bakes(method, f, o, map, *len);
+    check_row_bakes(method, f, o, map, *len);
+    free(scratch);
+    free(out);
+    return map;
+}
+
 /* ---- version and messages ---------------------------------------------------- */
 
 static void test_version_and_messages(void) {
@@ -151,70 +446,78 @@ static void test_field_constructors(void) {
     hf_field *sentinel = (hf_field *)(uintptr_t)0x1234;
     hf_field *out = sentinel;
 
-    /* NULL pointers, sizes, buffer lengths, non-finite values. */
-    CHECK_BAD(hf_field_create_f32(NULL, 4, 2, 2, 2, &out), HF_ERR_NULL_POINTER, &out,
-              sizeof out);
-    CHECK_BAD(hf_field_create_f32(h4, 4, 2, 2, 2, NULL), HF_ERR_NULL_POINTER, nothing, 0);
-    CHECK_BAD(hf_field_create_f32(h4, 4, 0, 2, 2, &out), HF_ERR_INVALID_SIZE, &out,
-              sizeof out);
-    CHECK_BAD(hf_field_create_f32(h4, 4, 1, 2, 2, &out), HF_ERR_INVALID_SIZE, &out,
-              sizeof out);
-    CHECK_BAD(hf_field_create_f32(h4, 4, 2, 1, 2, &out), HF_ERR_INVALID_SIZE, &out,
-              sizeof out);
-    CHECK_BAD(hf_field_create_f32(h4, 4, 2, 0, 2, &out), HF_ERR_INVALID_SIZE, &out,
-              sizeof out);
-    CHECK_BAD(hf_field_create_f32(h4, 4, HF_MAX_SIDE + 1u, 2, HF_MAX_SIDE + 1u, &out),
-              HF_ERR_INVALID_SIZE, &out, sizeof out);
-    CHECK_BAD(hf_field_create_f32(h4, 4, 2, 0xFFFFFFFFu, 2, &out), HF_ERR_INVALID_SIZE,
-              &out, sizeof out);
-    CHECK_BAD(hf_field_create_f32(h4, 4, 2, 2, 1, &out), HF_ERR_INVALID_SIZE, &out,
-              sizeof out);
-    CHECK_BAD(hf_field_create_f32(h4, 4, 2, 3, SIZE_MAX / 2, &out), HF_ERR_INVALID_SIZE,
-              &out, sizeof out);
-    CHECK_BAD(hf_field_create_f32(h4, SIZE_MAX, 2, 2, 2, &out), HF_ERR_INVALID_SIZE, &out,
-              sizeof out);
-    CHECK_BAD(hf_field_create_f32(h4, 3, 2, 2, 2, &out), HF_ERR_BUFFER_TOO_SMALL, &out,
-              sizeof out);
-    CHECK_BAD(hf_field_create_f32(h4, 0, 2, 2, 2, &out), HF_ERR_BUFFER_TOO_SMALL, &out,
-              sizeof out);
-    CHECK_BAD(hf_field_create_f32(h4, 4, 2, 2, 3, &out), HF_ERR_BUFFER_TOO_SMALL, &out,
-              sizeof out);
+    /* NULL pointers, sizes, buffer lengths, non-finite values, a misaligned pointer. */
     const float hnan[4] = {0.0f, NAN, 1.0f, 2.0f};
     const float hinf[4] = {0.0f, 1.0f, -INFINITY, 2.0f};
-    CHECK_BAD(hf_field_create_f32(hnan, 4, 2, 2, 2, &out), HF_ERR_NOT_FINITE, &out,
-              sizeof out);
-    CHECK_BAD(hf_field_create_f32(hinf, 4, 2, 2, 2, &out), HF_ERR_NOT_FINITE, &out,
-              sizeof out);
-    /* A misaligned float pointer. */
     float storage[8] = {0};
-    const float *misaligned = (const float *)((const char *)storage + 1);
-    CHECK_BAD(hf_field_create_f32(misaligned, 4, 2, 2, 2, &out),
-              HF_ERR_MISALIGNED_POINTER, &out, sizeof out);
+    const float *misaligned = (const float *)(const void *)((const char *)storage + 1);
+    const struct {
+        const float *heights;
+        size_t len;
+        uint32_t width, height;
+        size_t stride;
+        hf_result code;
+    } bad_f32[16] = {
+        {NULL, 4, 2, 2, 2, HF_ERR_NULL_POINTER},
+        {h4, 4, 0, 2, 2, HF_ERR_INVALID_SIZE},
+        {h4, 4, 1, 2, 2, HF_ERR_INVALID_SIZE},
+        {h4, 4, 2, 1, 2, HF_ERR_INVALID_SIZE},
+        {h4, 4, 2, 0, 2, HF_ERR_INVALID_SIZE},
+        {h4, 4, HF_MAX_SIDE + 1u, 2, HF_MAX_SIDE + 1u, HF_ERR_INVALID_SIZE},
+        {h4, 4, 2, 0xFFFFFFFFu, 2, HF_ERR_INVALID_SIZE},
+        {h4, 4, 2, 2, 1, HF_ERR_INVALID_SIZE},
+        {h4, 4, 2, 3, SIZE_MAX / 2, HF_ERR_INVALID_SIZE},
+        {h4, SIZE_MAX, 2, 2, 2, HF_ERR_INVALID_SIZE},
+        {h4, 3, 2, 2, 2, HF_ERR_BUFFER_TOO_SMALL},
+        {h4, 0, 2, 2, 2, HF_ERR_BUFFER_TOO_SMALL},
+        {h4, 4, 2, 2, 3, HF_ERR_BUFFER_TOO_SMALL},
+        {hnan, 4, 2, 2, 2, HF_ERR_NOT_FINITE},
+        {hinf, 4, 2, 2, 2, HF_ERR_NOT_FINITE},
+        {misaligned, 4, 2, 2, 2, HF_ERR_MISALIGNED_POINTER},
+    };
+    for (int k = 0; k < 16; k++)
+        CHECK_BAD(hf_field_create_f32(bad_f32[k].heights, bad_f32[k].len, bad_f32[k].width,
+                                      bad_f32[k].height, bad_f32[k].stride, &out),
+                  bad_f32[k].code, &out, sizeof out);
+    CHECK_BAD(hf_field_create_f32(h4, 4, 2, 2, 2, NULL), HF_ERR_NULL_POINTER, nothing, 0);
 
     const uint8_t s8[6] = {0, 255, 51, 0, 0, 0};
-    CHECK_BAD(hf_field_create_u8(NULL, 6, 3, 2, 3, 10.0f, &out), HF_ERR_NULL_POINTER, &out,
-              sizeof out);
-    CHECK_BAD(hf_field_create_u8(s8, 6, 3, 2, 3, NAN, &out), HF_ERR_NOT_FINITE, &out,
-              sizeof out);
-    CHECK_BAD(hf_field_create_u8(s8, 6, 3, 2, 3, INFINITY, &out), HF_ERR_NOT_FINITE, &out,
-              sizeof out);
-    CHECK_BAD(hf_field_create_u8(s8, 5, 3, 2, 3, 10.0f, &out), HF_ERR_BUFFER_TOO_SMALL,
-              &out, sizeof out);
-    CHECK_BAD(hf_field_create_u8(s8, 6, 3, 2, 2, 10.0f, &out), HF_ERR_INVALID_SIZE, &out,
-              sizeof out);
-    CHECK_BAD(hf_field_create_u8(s8, 6, 3, 2, 3, 10.0f, NULL), HF_ERR_NULL_POINTER, nothing, 0);
     const uint16_t s16[4] = {0, 65535, 13107, 0};
-    CHECK_BAD(hf_field_create_u16(NULL, 4, 2, 2, 2, 10.0f, &out), HF_ERR_NULL_POINTER,
-              &out, sizeof out);
-    CHECK_BAD(hf_field_create_u16(s16, 4, 2, 2, 2, NAN, &out), HF_ERR_NOT_FINITE, &out,
-              sizeof out);
-    CHECK_BAD(hf_field_create_u16(s16, 3, 2, 2, 2, 10.0f, &out), HF_ERR_BUFFER_TOO_SMALL,
-              &out, sizeof out);
-    CHECK_BAD(hf_field_create_u16(s16, 4, 2, 1, 2, 10.0f, &out), HF_ERR_INVALID_SIZE, &out,
-              sizeof out);
-    CHECK_BAD(hf_field_create_u16((const uint16_t *)((const char *)storage + 1), 4, 2, 2,
-                                  2, 10.0f, &out),
-              HF_ERR_MISALIGNED_POINTER, &out, sizeof out);
+    const void *odd16 = (const char *)storage + 1;
+    /* The 8-bit (`bits` 8) and 16-bit constructors' bad inputs. */
+    const struct {
+        int bits;
+        const void *samples;
+        size_t len;
+        uint32_t width, height;
+        size_t stride;
+        float depth;
+        hf_result code;
+    } bad_int[10] = {
+        {8, NULL, 6, 3, 2, 3, 10.0f, HF_ERR_NULL_POINTER},
+        {8, s8, 6, 3, 2, 3, NAN, HF_ERR_NOT_FINITE},
+        {8, s8, 6, 3, 2, 3, INFINITY, HF_ERR_NOT_FINITE},
+        {8, s8, 5, 3, 2, 3, 10.0f, HF_ERR_BUFFER_TOO_SMALL},
+        {8, s8, 6, 3, 2, 2, 10.0f, HF_ERR_INVALID_SIZE},
+        {16, NULL, 4, 2, 2, 2, 10.0f, HF_ERR_NULL_POINTER},
+        {16, s16, 4, 2, 2, 2, NAN, HF_ERR_NOT_FINITE},
+        {16, s16, 3, 2, 2, 2, 10.0f, HF_ERR_BUFFER_TOO_SMALL},
+        {16, s16, 4, 2, 1, 2, 10.0f, HF_ERR_INVALID_SIZE},
+        {16, odd16, 4, 2, 2, 2, 10.0f, HF_ERR_MISALIGNED_POINTER},
+    };
+    for (int k = 0; k < 10; k++) {
+        if (bad_int[k].bits == 8)
+            CHECK_BAD(hf_field_create_u8((const uint8_t *)bad_int[k].samples, bad_int[k].len,
+                                         bad_int[k].width, bad_int[k].height, bad_int[k].stride,
+                                         bad_int[k].depth, &out),
+                      bad_int[k].code, &out, sizeof out);
+        else
+            CHECK_BAD(hf_field_create_u16((const uint16_t *)bad_int[k].samples, bad_int[k].len,
+                                          bad_int[k].width, bad_int[k].height, bad_int[k].stride,
+                                          bad_int[k].depth, &out),
+                      bad_int[k].code, &out, sizeof out);
+    }
+    CHECK_BAD(hf_field_create_u8(s8, 6, 3, 2, 3, 10.0f, NULL), HF_ERR_NULL_POINTER, nothing, 0);
     CHECK(out == sentinel);
 
     /* Good constructors. */
@@ -281,11 +584,9 @@ static void test_known_hits(void) {
     const float h4[4] = {0.0f, 1.0f, 1.0f, 2.0f};
     hf_field *f = NULL;
     CHECK_OK(hf_field_create_f32(h4, 4, 2, 2, 2, &f));
-    size_t plen = 0;
-    CHECK_OK(hf_maxmip_len(2, 2, &plen));
-    CHECK(plen == P1);
+    CHECK(ask(hf_map_len, HF_METHOD_MAXMIP, 2, 2, NULL) == P1);
     float pyr[P1];
-    CHECK_OK(hf_maxmip_bake(f, pyr, P1));
+    CHECK_OK(hf_bake(HF_METHOD_MAXMIP, f, NULL, pyr, P1));
     CHECK(pyr[0] == 2.0f);
 
     /* A vertical ray onto the plane z = x + y at (0.5, 0.5): z = 1, t = 4. */
@@ -359,7 +660,7 @@ static void test_bad_queries(void) {
     hf_field *f = NULL;
     CHECK_OK(hf_field_create_f32(h4, 4, 2, 2, 2, &f));
     float pyr[P1];
-    CHECK_OK(hf_maxmip_bake(f, pyr, P1));
+    CHECK_OK(hf_bake(HF_METHOD_MAXMIP, f, NULL, pyr, P1));
     hf_ray good = ray(0.5f, 0.5f, 5.0f, 0.0f, 0.0f, -1.0f);
     hf_hit h;
     memset(&h, 0x5A, sizeof h);
@@ -469,9 +770,7 @@ static void test_methods_agree(void) {
     hf_field *f = NULL;
     CHECK_OK(hf_field_create_f32(heights, W * H, W, H, W, &f));
     size_t plen = 0;
-    CHECK_OK(hf_maxmip_len(W, H, &plen));
-    float *pyr = (float *)malloc(sizeof(float) * plen);
-    CHECK_OK(hf_maxmip_bake(f, pyr, plen));
+    float *pyr = (float *)bake_map(HF_METHOD_MAXMIP, f, NULL, &plen);
 
     hf_ray *rays = (hf_ray *)malloc(sizeof(hf_ray) * N);
     for (int k = 0; k < N; k++) {
@@ -631,9 +930,7 @@ static void test_world_units(void) {
     /* Every method converts alike: the maximum mipmap answers the exact method's
      * world hits bit for bit (their costs differ), single and batch. */
     size_t plen = 0;
-    CHECK_OK(hf_maxmip_len(W, H, &plen));
-    float *pyr = (float *)malloc(sizeof(float) * plen);
-    CHECK_OK(hf_maxmip_bake(world, pyr, plen));
+    float *pyr = (float *)bake_map(HF_METHOD_MAXMIP, world, NULL, &plen);
     CHECK_OK(hf_trace_batch(world, HF_METHOD_MAXMIP, pyr, plen, NULL, w, N, mh, N));
     int ident = 0;
     for (int k = 0; k < N; k++)
@@ -716,34 +1013,32 @@ static void test_bake_and_update(void) {
     const float h9[9] = {0, 1, 2, 3, 4, 5, 6, 7, 8};
     hf_field *f = NULL;
     CHECK_OK(hf_field_create_f32(h9, 9, 3, 3, 3, &f));
+    /* Every bake function and its faults (check_bakes: sizes, options, NULL pointers,
+     * short buffers, threads, row ranges). */
+    const hf_bake_options mo = bake_defaults(HF_METHOD_MAXMIP);
     size_t len = 0;
-    CHECK_OK(hf_maxmip_len(3, 3, &len));
+    float *whole = (float *)check_bakes(HF_METHOD_MAXMIP, f, &mo, &len);
     CHECK(len == PL); /* 5 texels, then the descriptor */
     float p[PL];
     for (size_t k = 0; k < PL; k++) p[k] = -1.0f;
-    CHECK_OK(hf_maxmip_bake(f, p, PL));
+    CHECK_OK(hf_bake(HF_METHOD_MAXMIP, f, NULL, p, PL));
     CHECK(p[0] == 4 && p[1] == 5 && p[2] == 7 && p[3] == 8 && p[4] == 8);
+    CHECK(memcmp(p, whole, sizeof p) == 0);
+    free(whole);
     hf_level levels[HF_MAX_LEVELS];
     uint32_t count = 0;
     CHECK_OK(hf_maxmip_levels(3, 3, levels, HF_MAX_LEVELS, &count));
     CHECK(count == 2 && levels[0].width == 2 && levels[0].height == 2 && levels[0].offset == 0);
     CHECK(levels[1].width == 1 && levels[1].height == 1 && levels[1].offset == 4);
 
-    size_t big = 0;
-    CHECK_OK(hf_maxmip_len(4096, 2048, &big));
+    size_t big = ask(hf_map_len, HF_METHOD_MAXMIP, 4096, 2048, NULL);
     CHECK(big > 4095u * 2047u && big < 4095u * 2047u / 2u * 3u);
     CHECK_OK(hf_maxmip_levels(HF_MAX_SIDE, 2, levels, HF_MAX_LEVELS, &count));
     CHECK(count == 25);
 
-    /* Bad bake inputs. */
+    /* Bad inputs of the pyramid's own functions (levels, rows of a level, updates). */
     float q[PL];
     for (size_t k = 0; k < PL; k++) q[k] = -1.0f;
-    size_t zlen = 99;
-    CHECK_BAD(hf_maxmip_len(1, 3, &zlen), HF_ERR_INVALID_SIZE, &zlen, sizeof zlen);
-    CHECK_BAD(hf_maxmip_len(3, 0, &zlen), HF_ERR_INVALID_SIZE, &zlen, sizeof zlen);
-    CHECK_BAD(hf_maxmip_len(HF_MAX_SIDE + 1u, 3, &zlen), HF_ERR_INVALID_SIZE, &zlen,
-              sizeof zlen);
-    CHECK_BAD(hf_maxmip_len(3, 3, NULL), HF_ERR_NULL_POINTER, nothing, 0);
     CHECK_BAD(hf_maxmip_levels(3, 3, levels, 1, &count), HF_ERR_BUFFER_TOO_SMALL, levels,
               sizeof levels);
     CHECK_BAD(hf_maxmip_levels(3, 3, NULL, 2, &count), HF_ERR_NULL_POINTER, &count,
@@ -752,12 +1047,6 @@ static void test_bake_and_update(void) {
               sizeof levels);
     CHECK_BAD(hf_maxmip_levels(0, 3, levels, 2, &count), HF_ERR_INVALID_SIZE, levels,
               sizeof levels);
-    CHECK_BAD(hf_maxmip_bake(f, q, PL - 1), HF_ERR_BUFFER_TOO_SMALL, q, sizeof q);
-    CHECK_BAD(hf_maxmip_bake(f, NULL, 5), HF_ERR_NULL_POINTER, nothing, 0);
-    CHECK_BAD(hf_maxmip_bake(NULL, q, PL), HF_ERR_NULL_POINTER, q, sizeof q);
-    CHECK_BAD(hf_maxmip_bake_threaded(f, 2, q, PL - 1), HF_ERR_BUFFER_TOO_SMALL, q, sizeof q);
-    CHECK_BAD(hf_maxmip_bake_threaded(NULL, 2, q, PL), HF_ERR_NULL_POINTER, q, sizeof q);
-    CHECK_BAD(hf_maxmip_bake_threaded(f, 2, NULL, 5), HF_ERR_NULL_POINTER, nothing, 0);
     CHECK_BAD(hf_maxmip_bake_rows(f, 2, 0, 1, q, PL), HF_ERR_INVALID_ARGUMENT, q, sizeof q);
     CHECK_BAD(hf_maxmip_bake_rows(f, 0, 1, 3, q, PL), HF_ERR_INVALID_ARGUMENT, q, sizeof q);
     CHECK_BAD(hf_maxmip_bake_rows(f, 0, 2, 1, q, PL), HF_ERR_INVALID_ARGUMENT, q, sizeof q);
@@ -806,7 +1095,7 @@ static void test_bake_and_update(void) {
     hf_field *g = NULL;
     CHECK_OK(hf_field_create_f32(heights, 9, 3, 3, 3, &g));
     CHECK(heights[4] == 20.0f && heights[8] == 23.0f && heights[0] == 0.0f);
-    CHECK_OK(hf_maxmip_bake(g, q, PL));
+    CHECK_OK(hf_bake(HF_METHOD_MAXMIP, g, NULL, q, PL));
     CHECK(memcmp(p, q, sizeof p) == 0 && p[4] == 23.0f);
     hf_ray r = ray(1.5f, 1.5f, 50.0f, 0.0f, 0.0f, -1.0f);
     hf_hit a, b;
@@ -817,22 +1106,15 @@ static void test_bake_and_update(void) {
     hf_field_destroy(g);
     hf_field_destroy(f);
 
-    /* A larger odd-sized field: threaded and single-threaded bakes agree. */
+    /* A larger odd-sized field: threaded and single-threaded bakes agree (check_bakes:
+     * 0 to 5 threads). */
     enum { W = 301, H = 157 };
     float *hs = (float *)malloc(sizeof(float) * W * H);
     for (int k = 0; k < W * H; k++) hs[k] = 100.0f * frand();
     CHECK_OK(hf_field_create_f32(hs, W * H, W, H, W, &f));
-    CHECK_OK(hf_maxmip_len(W, H, &len));
-    float *p1 = (float *)malloc(sizeof(float) * len);
-    float *p2 = (float *)malloc(sizeof(float) * len);
-    CHECK_OK(hf_maxmip_bake(f, p1, len));
-    for (uint32_t t = 0; t <= 5; t++) {
-        memset(p2, 0, sizeof(float) * len);
-        CHECK_OK(hf_maxmip_bake_threaded(f, t, p2, len));
-        CHECK(memcmp(p1, p2, sizeof(float) * len) == 0);
-    }
+    float *p1 = (float *)check_bakes(HF_METHOD_MAXMIP, f, &mo, &len);
+    CHECK(len == ask(hf_map_len, HF_METHOD_MAXMIP, W, H, NULL));
     free(p1);
-    free(p2);
     free(hs);
     hf_field_destroy(f);
 }
@@ -888,77 +1170,80 @@ static void check_class_map(const char *what, const hf_ray *rays, int n, const h
     free(got);
 }
 
+/* A `w` x `h` field of heights `scale` * frand() * frand() with a needle of height
+ * `needle` at sample `at`; its heights (to free) in `*heights`. */
+static hf_field *needle_field(int w, int h, float scale, int at, float needle, float **heights) {
+    float *hs = (float *)malloc(sizeof(float) * w * h);
+    for (int k = 0; k < w * h; k++) hs[k] = scale * frand() * frand();
+    hs[at] = needle;
+    hf_field *f = NULL;
+    CHECK_OK(hf_field_create_f32(hs, (size_t)w * h, w, h, w, &f));
+    *heights = hs;
+    return f;
+}
+
+/* `n` random rays (to free) over a `w` x `h` field, from up to 5 beyond its sides and
+ * below `top`, going down (dz in (-0.55, -0.05]): every `flat`-th with dir[`axis`] 0,
+ * every `vertical`-th vertical. */
+static hf_ray *down_rays(int n, int w, int h, float top, int flat, int axis, int vertical) {
+    hf_ray *rays = (hf_ray *)malloc(sizeof(hf_ray) * n);
+    for (int k = 0; k < n; k++) {
+        rays[k] = ray(-5.0f + (w + 10) * frand(), -5.0f + (h + 10) * frand(), top * frand(),
+                      frand() - 0.5f, frand() - 0.5f, -0.05f - 0.5f * frand());
+        if (k % flat == 0) rays[k].dir[axis] = 0.0f;
+        if (k % vertical == 0) rays[k].dir[0] = rays[k].dir[1] = 0.0f;
+    }
+    return rays;
+}
+
+/* The exact method's hits (to free) of `rays[0..n)` over `f`. */
+static hf_hit *exact_hits(const hf_field *f, const hf_ray *rays, int n) {
+    hf_hit *exact = (hf_hit *)malloc(sizeof(hf_hit) * n);
+    CHECK_OK(hf_trace_batch(f, HF_METHOD_EXACT, NULL, 0, NULL, rays, n, exact, n));
+    return exact;
+}
+
+/* `method`'s options `o` with ray_classes 0 (all four) bake `want` (`len` bytes), the
+ * map of all four classes: its size and bytes. */
+static void check_all_classes(uint32_t method, const hf_field *f, hf_bake_options o,
+                              const void *want, size_t len) {
+    size_t n = 0;
+    o.ray_classes = 0;
+    void *all = bake_map(method, f, &o, &n);
+    CHECK(n == len && memcmp(all, want, len) == 0);
+    free(all);
+}
+
+/* A safety-shape method's maps over `rays[0..n)` (`exact`: the exact method's hits):
+ * `part`, of fewer ray classes, against the whole map `whole` (check_class_map,
+ * check_class_options), then `whole` on the view-linear surface; returns
+ * view_linear_agrees's count, its hits left in `hits`. */
+static int check_class_maps(const char *what, const hf_ray *rays, int n, const hf_hit *exact,
+                            hf_hit *hits, const struct safety_ctx *whole,
+                            const struct safety_ctx *part) {
+    CHECK_OK(hf_trace_batch(whole->f, whole->method, whole->map, whole->len, NULL, rays,
+                            (size_t)n, hits, (size_t)n));
+    check_class_map(what, rays, n, exact, hits, part);
+    check_class_options(part->f, part->method, part->map, part->len, part->classes, &rays[0]);
+    return view_linear_agrees(whole->f, rays, n, hits, whole);
+}
+
 static void test_safety(void) {
     enum { W = 41, H = 29, N = 3000 };
-    float *heights = (float *)malloc(sizeof(float) * W * H);
-    for (int k = 0; k < W * H; k++) heights[k] = 10.0f * frand() * frand();
-    heights[15 * W + 20] = 40.0f; /* a needle */
-    hf_field *f = NULL;
-    CHECK_OK(hf_field_create_f32(heights, W * H, W, H, W, &f));
+    float *heights = NULL;
+    hf_field *f = needle_field(W, H, 10.0f, 15 * W + 20, 40.0f, &heights);
 
-    size_t dlen = 0, ilen = 0, slen = 0, junk = 77;
-    CHECK_OK(hf_safety_map_len(W, H, HF_SAFETY_DIRECTIONAL, 0, &dlen));
-    CHECK_OK(hf_safety_map_len(W, H, HF_SAFETY_ISOTROPIC, 0, &ilen));
+    /* Every bake function and its faults (check_bakes), directional and isotropic. */
+    const uint32_t sm = HF_METHOD_SAFETY;
+    hf_bake_options good = bake_defaults(sm), iso;
+    CHECK(good.cap == 255 && good.variant == HF_SAFETY_DIRECTIONAL && good.positive == 0);
+    good.ray_classes = HF_RAYS_ALL;
+    iso = good;
+    iso.variant = HF_SAFETY_ISOTROPIC;
+    size_t dlen = 0, ilen = 0;
+    unsigned char *dmap = (unsigned char *)check_bakes(sm, f, &good, &dlen);
+    unsigned char *imap = (unsigned char *)check_bakes(sm, f, &iso, &ilen);
     CHECK(dlen == (size_t)W * H * 4 + HF_MAP_DESC_BYTES && ilen == (size_t)W * H + HF_MAP_DESC_BYTES);
-    CHECK_OK(hf_safety_scratch_len(W, H, &slen));
-    CHECK(slen > 0);
-    CHECK_BAD(hf_safety_map_len(W, H, 2, 0, &junk), HF_ERR_INVALID_ENUM, &junk, sizeof junk);
-    CHECK_BAD(hf_safety_map_len(1, H, 0, 0, &junk), HF_ERR_INVALID_SIZE, &junk, sizeof junk);
-    CHECK_BAD(hf_safety_map_len(W, H, 0, 0, NULL), HF_ERR_NULL_POINTER, nothing, 0);
-    CHECK_BAD(hf_safety_scratch_len(W, 0, &junk), HF_ERR_INVALID_SIZE, &junk, sizeof junk);
-    CHECK_BAD(hf_safety_scratch_len(W, H, NULL), HF_ERR_NULL_POINTER, nothing, 0);
-
-    unsigned char *dmap = (unsigned char *)malloc(dlen);
-    unsigned char *imap = (unsigned char *)malloc(ilen);
-    unsigned char *rows = (unsigned char *)malloc(dlen);
-    float *scratch = (float *)malloc(sizeof(float) * slen);
-    memset(dmap, 0xEE, dlen);
-    hf_safety_options good = {HF_SAFETY_DIRECTIONAL, 0, 255, HF_RAYS_ALL};
-    hf_safety_options bad_variant = {5, 0, 255, 0}, bad_positive = {0, 2, 255, 0};
-    hf_safety_options bad_cap = {0, 0, 256, 0}, bad_classes = {0, 0, 255, 16};
-    CHECK_BAD(hf_safety_bake(NULL, &good, 1, dmap, dlen), HF_ERR_NULL_POINTER, dmap, 64);
-    CHECK_BAD(hf_safety_bake(f, NULL, 1, dmap, dlen), HF_ERR_NULL_POINTER, dmap, 64);
-    CHECK_BAD(hf_safety_bake(f, &good, 1, NULL, dlen), HF_ERR_NULL_POINTER, nothing, 0);
-    CHECK_BAD(hf_safety_bake(f, &good, 1, dmap, dlen - 1), HF_ERR_BUFFER_TOO_SMALL, dmap, 64);
-    CHECK_BAD(hf_safety_bake(f, &bad_variant, 1, dmap, dlen), HF_ERR_INVALID_ENUM, dmap, 64);
-    CHECK_BAD(hf_safety_bake(f, &bad_positive, 1, dmap, dlen), HF_ERR_INVALID_ARGUMENT, dmap, 64);
-    CHECK_BAD(hf_safety_bake(f, &bad_cap, 1, dmap, dlen), HF_ERR_INVALID_ARGUMENT, dmap, 64);
-    CHECK_BAD(hf_safety_bake(f, &bad_classes, 1, dmap, dlen), HF_ERR_INVALID_ARGUMENT, dmap, 64);
-    CHECK_BAD(hf_safety_prepare(f, scratch, slen - 1), HF_ERR_BUFFER_TOO_SMALL, nothing, 0);
-    CHECK_BAD(hf_safety_prepare(f, NULL, slen), HF_ERR_NULL_POINTER, nothing, 0);
-    CHECK_BAD(hf_safety_prepare(NULL, scratch, slen), HF_ERR_NULL_POINTER, nothing, 0);
-
-    /* The whole bake on 1, 3 and all threads equals prepare + row bakes in pieces. */
-    CHECK_OK(hf_safety_bake(f, &good, 1, dmap, dlen));
-    CHECK_OK(hf_safety_prepare(f, scratch, slen));
-    CHECK_BAD(hf_safety_bake_rows(f, scratch, slen, &good, 5, 4, rows, dlen),
-              HF_ERR_INVALID_ARGUMENT, nothing, 0);
-    CHECK_BAD(hf_safety_bake_rows(f, scratch, slen, &good, 0, H + 1, rows, dlen),
-              HF_ERR_INVALID_ARGUMENT, nothing, 0);
-    CHECK_BAD(hf_safety_bake_rows(f, scratch, slen - 1, &good, 0, 1, rows, dlen),
-              HF_ERR_BUFFER_TOO_SMALL, nothing, 0);
-    CHECK_BAD(hf_safety_bake_rows(f, scratch, slen, &good, 0, 1, rows, dlen - 1),
-              HF_ERR_BUFFER_TOO_SMALL, nothing, 0);
-    CHECK_BAD(hf_safety_bake_rows(f, NULL, slen, &good, 0, 1, rows, dlen), HF_ERR_NULL_POINTER,
-              nothing, 0);
-    CHECK_BAD(hf_safety_bake_rows(f, scratch, slen, NULL, 0, 1, rows, dlen), HF_ERR_NULL_POINTER,
-              nothing, 0);
-    CHECK_BAD(hf_safety_bake_rows(f, scratch, slen, &good, 0, 1, NULL, dlen),
-              HF_ERR_NULL_POINTER, nothing, 0);
-    CHECK_BAD(hf_safety_bake_rows(f, scratch, slen, &bad_variant, 0, 1, rows, dlen),
-              HF_ERR_INVALID_ENUM, nothing, 0);
-    CHECK_BAD(hf_safety_bake_rows(f, scratch, slen, &bad_classes, 0, 1, rows, dlen),
-              HF_ERR_INVALID_ARGUMENT, nothing, 0);
-    CHECK_OK(hf_safety_bake_rows(f, scratch, slen, &good, 10, H, rows, dlen));
-    CHECK_OK(hf_safety_bake_rows(f, scratch, slen, &good, 0, 10, rows, dlen));
-    CHECK(memcmp(rows, dmap, dlen) == 0);
-    for (uint32_t t = 0; t <= 3; t += 3) {
-        memset(rows, 0, dlen);
-        CHECK_OK(hf_safety_bake(f, &good, t, rows, dlen));
-        CHECK(memcmp(rows, dmap, dlen) == 0);
-    }
-    hf_safety_options iso = {HF_SAFETY_ISOTROPIC, 0, 255, HF_RAYS_ALL};
-    CHECK_OK(hf_safety_bake(f, &iso, 2, imap, ilen));
     /* Isotropic = the minimum over the four classes; directional: class c of texel
      * (i, j) at byte (j * 4 + c) * W + i. */
     int iso_ok = 1;
@@ -972,49 +1257,28 @@ static void test_safety(void) {
 
     /* Two ray classes (x+, y-): a map of their rows only, two per texel row in class
      * order (byte k: texel row k / 2W, slot k / W % 2), equal to the full bake's rows;
-     * the row bake with the same classes agrees. */
+     * the row bakes with the same classes agree (check_bakes). */
     uint32_t two = HF_RAYS_X_POS | HF_RAYS_Y_NEG;
-    size_t tlen = 0, ilen_two = 0, alen = 0;
-    CHECK_OK(hf_safety_map_len(W, H, HF_SAFETY_DIRECTIONAL, two, &tlen));
-    CHECK_OK(hf_safety_map_len(W, H, HF_SAFETY_ISOTROPIC, two, &ilen_two));
-    CHECK(tlen == (size_t)W * H * 2 + HF_MAP_DESC_BYTES && ilen_two == (size_t)W * H + HF_MAP_DESC_BYTES);
-    /* ray_classes 0 means all four (the full map's size and bytes); above 15 is an error. */
-    CHECK_BAD(hf_safety_map_len(W, H, HF_SAFETY_DIRECTIONAL, 16, &tlen), HF_ERR_INVALID_ARGUMENT,
-              nothing, 0);
-    CHECK_OK(hf_safety_map_len(W, H, HF_SAFETY_DIRECTIONAL, HF_RAYS_ALL, &alen));
-    CHECK(alen == dlen);
-    CHECK_BAD(hf_safety_map_len(W, H, 7, two, &tlen), HF_ERR_INVALID_ENUM, nothing, 0);
-    hf_safety_options so = good;
-    so.ray_classes = 0;
-    CHECK_OK(hf_safety_bake(f, &so, 1, rows, dlen));
-    CHECK(memcmp(rows, dmap, dlen) == 0);
+    hf_bake_options so = good;
     so.ray_classes = two;
-    CHECK_BAD(hf_safety_bake(f, &so, 1, rows, tlen - 1), HF_ERR_BUFFER_TOO_SMALL, rows, 64);
-    CHECK_OK(hf_safety_bake(f, &so, 2, rows, tlen));
+    size_t tlen = 0;
+    unsigned char *rows = (unsigned char *)check_bakes(sm, f, &so, &tlen);
+    iso.ray_classes = two;
+    CHECK(tlen == (size_t)W * H * 2 + HF_MAP_DESC_BYTES &&
+          ask(hf_map_len, sm, W, H, &iso) == (size_t)W * H + HF_MAP_DESC_BYTES);
     static const size_t two_classes[2] = {0, 3};
     int mask_ok = 1;
     for (size_t k = 0; k < tlen - HF_MAP_DESC_BYTES; k++)
         mask_ok &= rows[k] == dmap[(k / (2 * W) * 4 + two_classes[k / W % 2]) * W + k % W];
     CHECK(mask_ok);
-    /* In two row ranges (each call writes its rows of the whole map). */
-    unsigned char *rows2 = (unsigned char *)malloc(tlen);
-    CHECK_OK(hf_safety_bake_rows(f, scratch, slen, &so, 7, H, rows2, tlen));
-    CHECK_OK(hf_safety_bake_rows(f, scratch, slen, &so, 0, 7, rows2, tlen));
-    CHECK(memcmp(rows, rows2, tlen) == 0);
-    free(rows2);
+    /* ray_classes 0 means all four (the full map's size and bytes); above 15 is an error
+     * (bad_options). */
+    check_all_classes(sm, f, so, dmap, dlen);
 
     /* Exact: the safety march finds the exact method's hits on the triangle surface. */
-    hf_ray *rays = (hf_ray *)malloc(sizeof(hf_ray) * N);
-    for (int k = 0; k < N; k++) {
-        rays[k] = ray(-5.0f + (W + 10) * frand(), -5.0f + (H + 10) * frand(), 30.0f * frand(),
-                      frand() - 0.5f, frand() - 0.5f, -0.05f - 0.5f * frand());
-        if (k % 13 == 0) rays[k].dir[1] = 0.0f;
-        if (k % 31 == 0) rays[k].dir[0] = rays[k].dir[1] = 0.0f;
-    }
-    hf_hit *exact = (hf_hit *)malloc(sizeof(hf_hit) * N);
+    hf_ray *rays = down_rays(N, W, H, 30.0f, 13, 1, 31);
+    hf_hit *exact = exact_hits(f, rays, N);
     hf_hit *sd = (hf_hit *)malloc(sizeof(hf_hit) * N);
-    CHECK_OK(hf_trace_batch(f, HF_METHOD_EXACT, NULL, 0, NULL, rays, N, exact, N));
-    const uint32_t sm = HF_METHOD_SAFETY;
     int same[2] = {0, 0}, hits = 0;
     for (int v = 0; v < 2; v++) {
         /* The trace reads the layout from the map's descriptor. */
@@ -1030,63 +1294,28 @@ static void test_safety(void) {
     CHECK(same[0] == N && same[1] == N);
     printf("safety: %d rays, %d exact hits; directional agrees on %d, isotropic on %d\n", N, hits,
            same[0], same[1]);
-    /* The two-class map (still in `rows`). */
-    CHECK_OK(hf_trace_batch(f, sm, dmap, dlen, NULL, rays, N, sd, N));
-    struct safety_ctx two_ctx = {f, sm, rows, tlen, two};
-    check_class_map("safety, two classes", rays, N, exact, sd, &two_ctx);
-    check_class_options(f, sm, rows, tlen, two, &rays[0]);
-    hf_trace_options o = on(HF_SURFACE_TRIANGLES);
-    struct safety_ctx sctx = {f, sm, dmap, dlen, HF_RAYS_ALL};
-    int vl = view_linear_agrees(f, rays, N, sd, &sctx);
+    /* The two-class map (in `rows`); the whole map on the view-linear surface. */
+    struct safety_ctx two_ctx = {f, sm, rows, tlen, two}, sctx = {f, sm, dmap, dlen, HF_RAYS_ALL};
+    int vl = check_class_maps("safety, two classes", rays, N, exact, sd, &sctx, &two_ctx);
     hf_hit one_vl;
-    o = on(HF_SURFACE_VIEW_LINEAR);
+    hf_trace_options o = on(HF_SURFACE_VIEW_LINEAR);
     o.ray_classes = HF_RAYS_ALL;
     CHECK_OK(hf_trace(f, sm, dmap, dlen, &o, &rays[7], &one_vl));
     CHECK(memcmp(&one_vl, &sd[7], sizeof one_vl) == 0);
     printf("safety on the view-linear surface: agrees on %d of %d\n", vl, N);
 
-    /* Bad trace inputs. */
+    /* Bad trace inputs (unknown surfaces too: the layout is no longer passed, nor a bad
+     * one). The isotropic map traces as itself (it was refused when named directional). */
+    check_bad_traces(f, sm, dmap, dlen, NULL, rays, N, sd);
     hf_hit h;
-    memset(&h, 0x5A, sizeof h);
-    hf_ray nan_ray = rays[0];
-    nan_ray.dir[2] = NAN;
-    CHECK_BAD(hf_trace(NULL, sm, dmap, dlen, NULL, &rays[0], &h), HF_ERR_NULL_POINTER, &h,
-              sizeof h);
-    CHECK_BAD(hf_trace(f, sm, NULL, dlen, NULL, &rays[0], &h), HF_ERR_NULL_POINTER, &h, sizeof h);
-    CHECK_BAD(hf_trace(f, sm, dmap, dlen, NULL, NULL, &h), HF_ERR_NULL_POINTER, &h, sizeof h);
-    CHECK_BAD(hf_trace(f, sm, dmap, dlen, NULL, &rays[0], NULL), HF_ERR_NULL_POINTER, nothing, 0);
-    CHECK_BAD(hf_trace(f, sm, dmap, dlen - 1, NULL, &rays[0], &h), HF_ERR_BUFFER_TOO_SMALL, &h,
-              sizeof h);
-    /* The layout is no longer passed: the isotropic map traces as itself (it was refused
-     * when named directional). */
     CHECK_OK(hf_trace(f, sm, imap, ilen, NULL, &rays[7], &h));
     CHECK(agreeing(&exact[7], &h, 1) == 1);
-    memset(&h, 0x5A, sizeof h);
-    /* Nor a bad layout: an unknown enum of the options is the bad enum now. */
-    hf_trace_options five = on(5);
-    CHECK_BAD(hf_trace(f, sm, dmap, dlen, &five, &rays[0], &h), HF_ERR_INVALID_ENUM, &h, sizeof h);
-    CHECK_BAD(hf_trace(f, sm, dmap, dlen, NULL, &nan_ray, &h), HF_ERR_INVALID_RAY, &h, sizeof h);
-    memset(sd, 0x5A, sizeof(hf_hit) * N);
-    rays[N - 1] = nan_ray;
-    CHECK_BAD(hf_trace_batch(f, sm, dmap, dlen, NULL, rays, N, sd, N), HF_ERR_INVALID_RAY, sd,
-              512);
-    CHECK_OK(hf_trace_batch(f, sm, dmap, dlen, NULL, rays, 0, sd, N));
-    CHECK_BAD(hf_trace_batch(f, sm, dmap, dlen, NULL, rays, 2, sd, 1), HF_ERR_BUFFER_TOO_SMALL, sd,
-              512);
-    hf_trace_options nine = on(9);
-    CHECK_BAD(hf_trace_batch(f, sm, dmap, dlen, &nine, rays, 2, sd, 2), HF_ERR_INVALID_ENUM, sd,
-              512);
-    CHECK_BAD(hf_trace_batch(f, sm, dmap, dlen, NULL, NULL, 2, sd, 2), HF_ERR_NULL_POINTER, sd,
-              512);
-    CHECK_BAD(hf_trace_batch(f, sm, dmap, dlen, NULL, rays, 2, NULL, 2), HF_ERR_NULL_POINTER,
-              nothing, 0);
     free(rays);
     free(exact);
     free(sd);
     free(dmap);
     free(imap);
     free(rows);
-    free(scratch);
     free(heights);
     hf_field_destroy(f);
 }
@@ -1095,78 +1324,23 @@ static void test_safety(void) {
 
 static void test_radius(void) {
     enum { W = 37, H = 23, N = 2000 };
-    float *heights = (float *)malloc(sizeof(float) * W * H);
-    for (int k = 0; k < W * H; k++) heights[k] = 8.0f * frand() * frand();
-    heights[11 * W + 17] = 30.0f; /* a needle */
-    hf_field *f = NULL;
-    CHECK_OK(hf_field_create_f32(heights, W * H, W, H, W, &f));
+    float *heights = NULL;
+    hf_field *f = needle_field(W, H, 8.0f, 11 * W + 17, 30.0f, &heights);
 
-    size_t len = 0, slen = 0, junk = 77;
-    CHECK_OK(hf_radius_map_len(W, H, &len));
+    /* Every bake function and its faults (check_bakes; a negative, NaN or infinite
+     * tolerance, a cap above 255 among the bad options). */
+    const uint32_t rm = HF_METHOD_RADIUS;
+    const hf_bake_options good = bake_defaults(rm);
+    CHECK(good.tolerance == 0.0f && good.cap == 255);
+    size_t len = 0;
+    unsigned char *map = (unsigned char *)check_bakes(rm, f, &good, &len);
     CHECK(len == (size_t)W * H + HF_MAP_DESC_BYTES);
-    CHECK_OK(hf_radius_scratch_len(W, H, &slen));
-    CHECK_BAD(hf_radius_map_len(1, H, &junk), HF_ERR_INVALID_SIZE, &junk, sizeof junk);
-    CHECK_BAD(hf_radius_map_len(W, H, NULL), HF_ERR_NULL_POINTER, nothing, 0);
-    CHECK_BAD(hf_radius_scratch_len(W, 0, &junk), HF_ERR_INVALID_SIZE, &junk, sizeof junk);
-    CHECK_BAD(hf_radius_scratch_len(W, H, NULL), HF_ERR_NULL_POINTER, nothing, 0);
-
-    unsigned char *map = (unsigned char *)malloc(len);
-    unsigned char *rows = (unsigned char *)malloc(len);
-    float *scratch = (float *)malloc(sizeof(float) * slen);
-    memset(map, 0xEE, len); /* defined bytes: the bad-input checks compare them */
-    memset(rows, 0xEE, len);
-    hf_radius_options good = {0.0f, 255};
-    hf_radius_options bad_tol = {-1.0f, 255}, nan_tol = {NAN, 255}, bad_cap = {0.0f, 256};
-    CHECK_BAD(hf_radius_bake(NULL, &good, 1, map, len), HF_ERR_NULL_POINTER, map, 64);
-    CHECK_BAD(hf_radius_bake(f, NULL, 1, map, len), HF_ERR_NULL_POINTER, map, 64);
-    CHECK_BAD(hf_radius_bake(f, &good, 1, NULL, len), HF_ERR_NULL_POINTER, nothing, 0);
-    CHECK_BAD(hf_radius_bake(f, &good, 1, map, len - 1), HF_ERR_BUFFER_TOO_SMALL, map, 64);
-    CHECK_BAD(hf_radius_bake(f, &bad_tol, 1, map, len), HF_ERR_INVALID_ARGUMENT, map, 64);
-    CHECK_BAD(hf_radius_bake(f, &nan_tol, 1, map, len), HF_ERR_INVALID_ARGUMENT, map, 64);
-    CHECK_BAD(hf_radius_bake(f, &bad_cap, 1, map, len), HF_ERR_INVALID_ARGUMENT, map, 64);
-    CHECK_BAD(hf_radius_prepare(f, scratch, slen - 1), HF_ERR_BUFFER_TOO_SMALL, nothing, 0);
-    CHECK_BAD(hf_radius_prepare(f, NULL, slen), HF_ERR_NULL_POINTER, nothing, 0);
-    CHECK_BAD(hf_radius_prepare(NULL, scratch, slen), HF_ERR_NULL_POINTER, nothing, 0);
-
-    /* Whole, by rows and threaded bakes agree. */
-    CHECK_OK(hf_radius_bake(f, &good, 1, map, len));
-    CHECK_OK(hf_radius_prepare(f, scratch, slen));
-    CHECK_BAD(hf_radius_bake_rows(f, scratch, slen, &good, 5, 4, rows, len),
-              HF_ERR_INVALID_ARGUMENT, rows, 64);
-    CHECK_BAD(hf_radius_bake_rows(f, scratch, slen, &good, 0, H + 1, rows, len),
-              HF_ERR_INVALID_ARGUMENT, rows, 64);
-    CHECK_BAD(hf_radius_bake_rows(f, scratch, slen - 1, &good, 0, 1, rows, len),
-              HF_ERR_BUFFER_TOO_SMALL, rows, 64);
-    CHECK_BAD(hf_radius_bake_rows(f, scratch, slen, &good, 0, 1, rows, len - 1),
-              HF_ERR_BUFFER_TOO_SMALL, rows, 64);
-    CHECK_BAD(hf_radius_bake_rows(f, NULL, slen, &good, 0, 1, rows, len), HF_ERR_NULL_POINTER,
-              rows, 64);
-    CHECK_BAD(hf_radius_bake_rows(f, scratch, slen, NULL, 0, 1, rows, len), HF_ERR_NULL_POINTER,
-              rows, 64);
-    CHECK_BAD(hf_radius_bake_rows(f, scratch, slen, &bad_cap, 0, 1, rows, len),
-              HF_ERR_INVALID_ARGUMENT, rows, 64);
-    CHECK_OK(hf_radius_bake_rows(f, scratch, slen, &good, 9, H, rows, len));
-    CHECK_OK(hf_radius_bake_rows(f, scratch, slen, &good, 0, 9, rows, len));
-    CHECK(memcmp(map, rows, len) == 0);
-    for (uint32_t t = 0; t <= 3; t++) {
-        memset(rows, 0xAA, len);
-        CHECK_OK(hf_radius_bake(f, &good, t, rows, len));
-        CHECK(memcmp(map, rows, len) == 0);
-    }
 
     /* Exact with zero radii walked: the exact method's hits on the triangle surface;
        clamped: the batch equals one-by-one traces. */
-    hf_ray *rays = (hf_ray *)malloc(sizeof(hf_ray) * N);
-    for (int k = 0; k < N; k++) {
-        rays[k] = ray(-5.0f + (W + 10) * frand(), -5.0f + (H + 10) * frand(), 25.0f * frand(),
-                      frand() - 0.5f, frand() - 0.5f, -0.05f - 0.5f * frand());
-        if (k % 13 == 0) rays[k].dir[1] = 0.0f;
-        if (k % 31 == 0) rays[k].dir[0] = rays[k].dir[1] = 0.0f;
-    }
-    hf_hit *exact = (hf_hit *)malloc(sizeof(hf_hit) * N);
+    hf_ray *rays = down_rays(N, W, H, 25.0f, 13, 1, 31);
+    hf_hit *exact = exact_hits(f, rays, N);
     hf_hit *rd = (hf_hit *)malloc(sizeof(hf_hit) * N);
-    const uint32_t rm = HF_METHOD_RADIUS;
-    CHECK_OK(hf_trace_batch(f, HF_METHOD_EXACT, NULL, 0, NULL, rays, N, exact, N));
     CHECK_OK(hf_trace_batch(f, rm, map, len, NULL, rays, N, rd, N)); /* HF_RADIUS_WALK */
     int same = agreeing(exact, rd, N), hits = 0;
     for (int k = 0; k < N; k++) hits += exact[k].hit;
@@ -1188,40 +1362,21 @@ static void test_radius(void) {
     CHECK(memcmp(&one_vl, &rd[7], sizeof one_vl) == 0);
     printf("radius on the view-linear surface: agrees on %d of %d\n", vl, N);
 
-    /* Bad trace inputs. */
+    /* Bad trace inputs; unknown radius_zero values are bad enums. */
+    check_bad_traces(f, rm, map, len, NULL, rays, N, rd);
     hf_hit h;
     memset(&h, 0x5A, sizeof h);
-    hf_ray nan_ray = rays[0];
-    nan_ray.dir[2] = NAN;
-    CHECK_BAD(hf_trace(NULL, rm, map, len, NULL, &rays[0], &h), HF_ERR_NULL_POINTER, &h, sizeof h);
-    CHECK_BAD(hf_trace(f, rm, NULL, len, NULL, &rays[0], &h), HF_ERR_NULL_POINTER, &h, sizeof h);
-    CHECK_BAD(hf_trace(f, rm, map, len, NULL, NULL, &h), HF_ERR_NULL_POINTER, &h, sizeof h);
-    CHECK_BAD(hf_trace(f, rm, map, len, NULL, &rays[0], NULL), HF_ERR_NULL_POINTER, nothing, 0);
-    CHECK_BAD(hf_trace(f, rm, map, len - 1, NULL, &rays[0], &h), HF_ERR_BUFFER_TOO_SMALL, &h,
-              sizeof h);
     hf_trace_options bad_zero = on(HF_SURFACE_TRIANGLES);
-    bad_zero.radius_zero = 2;
-    CHECK_BAD(hf_trace(f, rm, map, len, &bad_zero, &rays[0], &h), HF_ERR_INVALID_ENUM, &h,
-              sizeof h);
-    CHECK_BAD(hf_trace(f, rm, map, len, NULL, &nan_ray, &h), HF_ERR_INVALID_RAY, &h, sizeof h);
-    memset(rd, 0x5A, sizeof(hf_hit) * N);
-    rays[N - 1] = nan_ray;
-    CHECK_BAD(hf_trace_batch(f, rm, map, len, NULL, rays, N, rd, N), HF_ERR_INVALID_RAY, rd, 512);
-    CHECK_OK(hf_trace_batch(f, rm, map, len, NULL, rays, 0, rd, N));
-    CHECK_BAD(hf_trace_batch(f, rm, map, len, NULL, rays, 2, rd, 1), HF_ERR_BUFFER_TOO_SMALL, rd,
-              512);
-    bad_zero.radius_zero = 9;
-    CHECK_BAD(hf_trace_batch(f, rm, map, len, &bad_zero, rays, 2, rd, 2), HF_ERR_INVALID_ENUM, rd,
-              512);
-    CHECK_BAD(hf_trace_batch(f, rm, map, len, NULL, NULL, 2, rd, 2), HF_ERR_NULL_POINTER, rd, 512);
-    CHECK_BAD(hf_trace_batch(f, rm, map, len, NULL, rays, 2, NULL, 2), HF_ERR_NULL_POINTER,
-              nothing, 0);
+    for (bad_zero.radius_zero = 2; bad_zero.radius_zero <= 9; bad_zero.radius_zero += 7) {
+        CHECK_BAD(hf_trace(f, rm, map, len, &bad_zero, &rays[0], &h), HF_ERR_INVALID_ENUM, &h,
+                  sizeof h);
+        CHECK_BAD(hf_trace_batch(f, rm, map, len, &bad_zero, rays, 2, rd, 2), HF_ERR_INVALID_ENUM,
+                  rd, 512);
+    }
     free(rays);
     free(exact);
     free(rd);
     free(map);
-    free(rows);
-    free(scratch);
     free(heights);
     hf_field_destroy(f);
 }
@@ -1230,88 +1385,46 @@ static void test_radius(void) {
 
 static void test_cones(void) {
     enum { W = 33, H = 25, N = 2000, D = HF_MAP_DESC_BYTES / 4 };
-    float *heights = (float *)malloc(sizeof(float) * W * H);
-    for (int k = 0; k < W * H; k++) heights[k] = 6.0f * frand() * frand();
-    heights[12 * W + 9] = 20.0f; /* a needle */
-    hf_field *f = NULL;
-    CHECK_OK(hf_field_create_f32(heights, W * H, W, H, W, &f));
-    size_t slen = 0, mlen = 0, clen = 0, rlen = 0, qlen = 0, junk = 5;
-    CHECK_OK(hf_cone_scratch_len(W, H, &slen));
-    CHECK_OK(hf_maxmip_len(W, H, &mlen));
-    CHECK(slen + HF_MAP_DESC_BYTES / 4 == mlen); /* the scratch is the pyramid's texels */
-    CHECK_OK(hf_cone_map_len(W, H, &clen));
-    CHECK_OK(hf_relaxed_map_len(W, H, &rlen));
-    CHECK_OK(hf_qdm_map_len(W, H, &qlen));
-    CHECK(clen == 2u * (W - 1) * (H - 1) + D && rlen == (size_t)W * H + D &&
-          qlen == 4u * (W - 1) * (H - 1) + D);
-    CHECK_BAD(hf_cone_scratch_len(0, H, &junk), HF_ERR_INVALID_SIZE, &junk, sizeof junk);
-    CHECK_BAD(hf_cone_map_len(W, 1, &junk), HF_ERR_INVALID_SIZE, &junk, sizeof junk);
-    CHECK_BAD(hf_relaxed_map_len(HF_MAX_SIDE + 1u, H, &junk), HF_ERR_INVALID_SIZE, &junk,
-              sizeof junk);
-    CHECK_BAD(hf_qdm_map_len(W, H, NULL), HF_ERR_NULL_POINTER, nothing, 0);
-    CHECK_BAD(hf_cone_scratch_len(W, H, NULL), HF_ERR_NULL_POINTER, nothing, 0);
-
+    float *heights = NULL;
+    hf_field *f = needle_field(W, H, 6.0f, 12 * W + 9, 20.0f, &heights);
+    /* Every bake function and its faults (check_bakes), each of the three methods (in
+     * the order of the budgets below): cone, QDM, relaxed. */
+    const uint32_t family[3] = {HF_METHOD_CONE, HF_METHOD_QDM, HF_METHOD_RELAXED};
+    float *maps[3];
+    size_t lens[3];
+    for (int m = 0; m < 3; m++) {
+        const hf_bake_options d = bake_defaults(family[m]);
+        maps[m] = (float *)check_bakes(family[m], f, &d, &lens[m]);
+    }
+    CHECK(lens[0] == 2u * (W - 1) * (H - 1) + D && lens[1] == 4u * (W - 1) * (H - 1) + D &&
+          lens[2] == (size_t)W * H + D);
+    /* One scratch, the pyramid's texels, prepared once serves the three row bakes. */
+    size_t slen = ask(hf_bake_scratch_len, HF_METHOD_CONE, W, H, NULL);
+    CHECK(slen + D == ask(hf_map_len, HF_METHOD_MAXMIP, W, H, NULL));
     float *scratch = (float *)malloc(sizeof(float) * slen);
-    float *cmap = (float *)malloc(sizeof(float) * clen), *crows = (float *)malloc(sizeof(float) * clen);
-    float *rmap = (float *)malloc(sizeof(float) * rlen), *rrows = (float *)malloc(sizeof(float) * rlen);
-    float *qmap = (float *)malloc(sizeof(float) * qlen), *qrows = (float *)malloc(sizeof(float) * qlen);
-    memset(cmap, 0, sizeof(float) * clen);
-    CHECK_BAD(hf_cone_bake(NULL, 1, cmap, clen), HF_ERR_NULL_POINTER, cmap, 64);
-    CHECK_BAD(hf_cone_bake(f, 1, NULL, clen), HF_ERR_NULL_POINTER, nothing, 0);
-    CHECK_BAD(hf_cone_bake(f, 1, cmap, clen - 1), HF_ERR_BUFFER_TOO_SMALL, cmap, 64);
-    CHECK_BAD(hf_relaxed_bake(f, 1, rmap, rlen - 1), HF_ERR_BUFFER_TOO_SMALL, nothing, 0);
-    CHECK_BAD(hf_qdm_bake(f, 1, qmap, qlen - 1), HF_ERR_BUFFER_TOO_SMALL, nothing, 0);
-    CHECK_BAD(hf_cone_prepare(f, scratch, slen - 1), HF_ERR_BUFFER_TOO_SMALL, nothing, 0);
-    CHECK_BAD(hf_cone_prepare(NULL, scratch, slen), HF_ERR_NULL_POINTER, nothing, 0);
-    CHECK_BAD(hf_cone_prepare(f, NULL, slen), HF_ERR_NULL_POINTER, nothing, 0);
-
-    /* Whole bakes (1 and 3 threads) against prepare + row bakes in two pieces. */
-    CHECK_OK(hf_cone_bake(f, 1, cmap, clen));
-    CHECK_OK(hf_relaxed_bake(f, 3, rmap, rlen));
-    CHECK_OK(hf_qdm_bake(f, 3, qmap, qlen));
-    CHECK_OK(hf_cone_prepare(f, scratch, slen));
-    CHECK_BAD(hf_cone_bake_rows(f, scratch, slen, 0, H, crows, clen), HF_ERR_INVALID_ARGUMENT,
-              nothing, 0); /* cone rows are cell rows: H - 1 */
-    CHECK_BAD(hf_cone_bake_rows(f, scratch, slen, 3, 2, crows, clen), HF_ERR_INVALID_ARGUMENT,
-              nothing, 0);
-    CHECK_BAD(hf_relaxed_bake_rows(f, scratch, slen, 0, H + 1, rrows, rlen),
-              HF_ERR_INVALID_ARGUMENT, nothing, 0);
-    CHECK_BAD(hf_qdm_bake_rows(f, scratch, slen - 1, 0, 1, qrows, qlen), HF_ERR_BUFFER_TOO_SMALL,
-              nothing, 0);
-    CHECK_BAD(hf_qdm_bake_rows(f, scratch, slen, 0, 1, qrows, qlen - 1), HF_ERR_BUFFER_TOO_SMALL,
-              nothing, 0);
-    CHECK_BAD(hf_cone_bake_rows(f, NULL, slen, 0, 1, crows, clen), HF_ERR_NULL_POINTER, nothing, 0);
-    CHECK_BAD(hf_cone_bake_rows(f, scratch, slen, 0, 1, NULL, clen), HF_ERR_NULL_POINTER, nothing,
-              0);
-    CHECK_BAD(hf_relaxed_bake_rows(NULL, scratch, slen, 0, 1, rrows, rlen), HF_ERR_NULL_POINTER,
-              nothing, 0);
-    CHECK_OK(hf_cone_bake_rows(f, scratch, slen, 7, H - 1, crows, clen));
-    CHECK_OK(hf_cone_bake_rows(f, scratch, slen, 0, 7, crows, clen));
-    CHECK(memcmp(crows, cmap, sizeof(float) * clen) == 0);
-    CHECK_OK(hf_relaxed_bake_rows(f, scratch, slen, 5, H, rrows, rlen));
-    CHECK_OK(hf_relaxed_bake_rows(f, scratch, slen, 0, 5, rrows, rlen));
-    CHECK(memcmp(rrows, rmap, sizeof(float) * rlen) == 0);
-    CHECK_OK(hf_qdm_bake_rows(f, scratch, slen, 0, H - 1, qrows, qlen));
-    CHECK(memcmp(qrows, qmap, sizeof(float) * qlen) == 0);
+    CHECK_OK(hf_bake_prepare(HF_METHOD_CONE, f, NULL, scratch, slen));
+    for (int m = 0; m < 3; m++) {
+        uint32_t rows = 0;
+        CHECK(ask(hf_bake_scratch_len, family[m], W, H, NULL) == slen);
+        CHECK_OK(hf_bake_row_count(family[m], W, H, NULL, &rows));
+        float *shared = (float *)calloc(lens[m], sizeof(float));
+        CHECK_OK(hf_bake_rows(family[m], f, NULL, scratch, slen, 0, rows, shared, lens[m]));
+        CHECK(memcmp(shared, maps[m], sizeof(float) * lens[m]) == 0);
+        free(shared);
+    }
+    free(scratch);
 
     /* Cone and QDM are exact within their budget; relaxed cones are approximate. */
-    hf_ray *rays = (hf_ray *)malloc(sizeof(hf_ray) * N);
-    for (int k = 0; k < N; k++) {
-        rays[k] = ray(-5.0f + (W + 10) * frand(), -5.0f + (H + 10) * frand(), 25.0f * frand(),
-                      frand() - 0.5f, frand() - 0.5f, -0.05f - 0.5f * frand());
-        if (k % 11 == 0) rays[k].dir[0] = 0.0f;
-        if (k % 29 == 0) rays[k].dir[0] = rays[k].dir[1] = 0.0f;
-    }
-    hf_hit *exact = (hf_hit *)malloc(sizeof(hf_hit) * N);
+    hf_ray *rays = down_rays(N, W, H, 25.0f, 11, 0, 29);
+    hf_hit *exact = exact_hits(f, rays, N);
     hf_hit *other = (hf_hit *)malloc(sizeof(hf_hit) * N);
-    CHECK_OK(hf_trace_batch(f, HF_METHOD_EXACT, NULL, 0, NULL, rays, N, exact, N));
     /* Each method, its map, its budget (iterations; relaxed: cone steps, bisections). */
     const struct {
         method_map m;
         uint32_t steps, binary;
-    } cones[3] = {{{HF_METHOD_CONE, cmap, clen}, 1000, 8},
-                  {{HF_METHOD_QDM, qmap, qlen}, 1000, 8},
-                  {{HF_METHOD_RELAXED, rmap, rlen}, 64, 16}};
+    } cones[3] = {{{HF_METHOD_CONE, maps[0], lens[0]}, 1000, 8},
+                  {{HF_METHOD_QDM, maps[1], lens[1]}, 1000, 8},
+                  {{HF_METHOD_RELAXED, maps[2], lens[2]}, 64, 16}};
     int same[3] = {0, 0, 0}, hits = 0;
     hf_hit one, h;
     for (int m = 0; m < 3; m++) {
@@ -1332,58 +1445,25 @@ static void test_cones(void) {
     /* A budget of one iteration: the current point, flagged. */
     hf_ray down = ray(16.0f, 12.0f, 100.0f, 0.0f, 0.0f, -1.0f);
     hf_trace_options o = budget(HF_SURFACE_TRIANGLES, 1, 8);
-    CHECK_OK(hf_trace(f, HF_METHOD_CONE, cmap, clen, &o, &down, &one));
+    CHECK_OK(hf_trace(f, HF_METHOD_CONE, maps[0], lens[0], &o, &down, &one));
     CHECK((one.flags & HF_FLAG_BUDGET_EXHAUSTED) || one.hit);
 
-    /* Bad inputs, each of the three methods. */
-    memset(&h, 0x5A, sizeof h);
-    memset(other, 0x5A, sizeof(hf_hit) * N);
-    hf_ray nan_ray = rays[0];
-    nan_ray.origin[1] = NAN;
-    hf_ray *bad_rays = (hf_ray *)malloc(sizeof(hf_ray) * N);
-    memcpy(bad_rays, rays, sizeof(hf_ray) * N);
-    bad_rays[N / 2] = nan_ray;
+    /* Bad inputs, each of the three methods; zero iterations are refused. */
     hf_trace_options zero = budget(HF_SURFACE_TRIANGLES, 0, 8);
     o = budget(HF_SURFACE_TRIANGLES, 10, 8);
+    memset(&h, 0x5A, sizeof h);
     for (int m = 0; m < 3; m++) {
-        uint32_t me = cones[m].m.method;
-        const void *map = cones[m].m.map;
-        size_t len = cones[m].m.len;
-        CHECK_BAD(hf_trace(f, me, map, len, &zero, &rays[0], &h), HF_ERR_INVALID_ARGUMENT, &h,
-                  sizeof h);
-        CHECK_BAD(hf_trace(f, me, map, len - 1, &o, &rays[0], &h), HF_ERR_BUFFER_TOO_SMALL, &h,
-                  sizeof h);
-        CHECK_BAD(hf_trace(f, me, NULL, len, &o, &rays[0], &h), HF_ERR_NULL_POINTER, &h, sizeof h);
-        CHECK_BAD(hf_trace(NULL, me, map, len, &o, &rays[0], &h), HF_ERR_NULL_POINTER, &h,
-                  sizeof h);
-        CHECK_BAD(hf_trace(f, me, map, len, &o, NULL, &h), HF_ERR_NULL_POINTER, &h, sizeof h);
-        CHECK_BAD(hf_trace(f, me, map, len, &o, &rays[0], NULL), HF_ERR_NULL_POINTER, nothing, 0);
-        CHECK_BAD(hf_trace(f, me, map, len, &o, &nan_ray, &h), HF_ERR_INVALID_RAY, &h, sizeof h);
-        CHECK_BAD(hf_trace_batch(f, me, map, len, &o, bad_rays, N, other, N), HF_ERR_INVALID_RAY,
-                  other, 512);
-        CHECK_OK(hf_trace_batch(f, me, map, len, &o, rays, 0, other, N));
-        CHECK_BAD(hf_trace_batch(f, me, map, len, &o, rays, 3, other, 2), HF_ERR_BUFFER_TOO_SMALL,
-                  other, 512);
-        CHECK_BAD(hf_trace_batch(f, me, map, len, &zero, rays, 3, other, 3),
+        const method_map *c = &cones[m].m;
+        check_bad_traces(f, c->method, c->map, c->len, &o, rays, N, other);
+        CHECK_BAD(hf_trace(f, c->method, c->map, c->len, &zero, &rays[0], &h),
+                  HF_ERR_INVALID_ARGUMENT, &h, sizeof h);
+        CHECK_BAD(hf_trace_batch(f, c->method, c->map, c->len, &zero, rays, 3, other, 3),
                   HF_ERR_INVALID_ARGUMENT, other, 512);
-        CHECK_BAD(hf_trace_batch(f, me, map, len, &o, NULL, 3, other, 3), HF_ERR_NULL_POINTER,
-                  other, 512);
-        CHECK_BAD(hf_trace_batch(f, me, NULL, len, &o, rays, 3, other, 3), HF_ERR_NULL_POINTER,
-                  other, 512);
-        CHECK_BAD(hf_trace_batch(f, me, map, len, &o, rays, 3, NULL, 3), HF_ERR_NULL_POINTER,
-                  nothing, 0);
+        free(maps[m]);
     }
-    free(bad_rays);
     free(rays);
     free(exact);
     free(other);
-    free(scratch);
-    free(cmap);
-    free(crows);
-    free(rmap);
-    free(rrows);
-    free(qmap);
-    free(qrows);
     free(heights);
     hf_field_destroy(f);
 }
@@ -1392,62 +1472,26 @@ static void test_cones(void) {
 
 static void test_cc(void) {
     enum { W = 37, H = 27, N = 2000, CAP = 32 };
-    float *heights = (float *)malloc(sizeof(float) * W * H);
-    for (int k = 0; k < W * H; k++) heights[k] = 8.0f * frand() * frand();
-    heights[10 * W + 20] = 30.0f;
-    hf_field *f = NULL;
-    CHECK_OK(hf_field_create_f32(heights, W * H, W, H, W, &f));
-    size_t mlen = 0, nlen = 0, slen = 0, junk = 3;
-    CHECK_OK(hf_cc_map_len(W, H, 0, &mlen));
-    CHECK(mlen == (size_t)W * H * 8 + HF_MAP_DESC_BYTES); /* [r, s] per texel and class */
-    CHECK_OK(hf_cc_nbuffer_len(W, H, CAP, &nlen));
-    CHECK_OK(hf_safety_scratch_len(W, H, &slen));
-    CHECK_BAD(hf_cc_map_len(1, H, 0, &junk), HF_ERR_INVALID_SIZE, &junk, sizeof junk);
-    CHECK_BAD(hf_cc_nbuffer_len(W, H, 256, &junk), HF_ERR_INVALID_ARGUMENT, &junk, sizeof junk);
-    CHECK_BAD(hf_cc_nbuffer_len(W, H, CAP, NULL), HF_ERR_NULL_POINTER, nothing, 0);
-    unsigned char *map = (unsigned char *)malloc(mlen), *rows = (unsigned char *)malloc(mlen);
-    float *scratch = (float *)malloc(sizeof(float) * slen), *nb = (float *)malloc(sizeof(float) * nlen);
-    hf_cc_options good = {HF_CC_SLOPE_EXACT, CAP, HF_RAYS_ALL};
-    hf_cc_options nbo = {HF_CC_SLOPE_NBUFFER, CAP, HF_RAYS_ALL}, bad_slope = {2, CAP, 0};
-    hf_cc_options bad_cap = {HF_CC_SLOPE_EXACT, 300, 0}, bad_classes = {HF_CC_SLOPE_EXACT, CAP, 16};
-    memset(map, 0, mlen);
-    CHECK_BAD(hf_cc_bake(f, &bad_slope, 1, map, mlen), HF_ERR_INVALID_ENUM, map, 64);
-    CHECK_BAD(hf_cc_bake(f, &bad_cap, 1, map, mlen), HF_ERR_INVALID_ARGUMENT, map, 64);
-    CHECK_BAD(hf_cc_bake(f, &bad_classes, 1, map, mlen), HF_ERR_INVALID_ARGUMENT, map, 64);
-    CHECK_BAD(hf_cc_bake(f, &good, 1, map, mlen - 1), HF_ERR_BUFFER_TOO_SMALL, map, 64);
-    CHECK_BAD(hf_cc_bake(f, NULL, 1, map, mlen), HF_ERR_NULL_POINTER, map, 64);
-    CHECK_BAD(hf_cc_bake(NULL, &good, 1, map, mlen), HF_ERR_NULL_POINTER, map, 64);
-    CHECK_BAD(hf_cc_bake(f, &good, 1, NULL, mlen), HF_ERR_NULL_POINTER, nothing, 0);
-    CHECK_BAD(hf_cc_prepare_nbuffer(f, CAP, nb, nlen - 1), HF_ERR_BUFFER_TOO_SMALL, nothing, 0);
-    CHECK_BAD(hf_cc_prepare_nbuffer(f, 999, nb, nlen), HF_ERR_INVALID_ARGUMENT, nothing, 0);
-    CHECK_BAD(hf_cc_prepare_nbuffer(NULL, CAP, nb, nlen), HF_ERR_NULL_POINTER, nothing, 0);
-
-    /* Whole bakes (1 and 3 threads) against prepare + row bakes in two pieces. */
-    CHECK_OK(hf_cc_bake(f, &good, 1, map, mlen));
-    CHECK_OK(hf_cc_bake(f, &good, 3, rows, mlen));
-    CHECK(memcmp(rows, map, mlen) == 0);
-    CHECK_OK(hf_safety_prepare(f, scratch, slen));
-    CHECK_OK(hf_cc_prepare_nbuffer(f, CAP, nb, nlen));
-    CHECK_BAD(hf_cc_bake_rows(f, scratch, slen, nb, nlen, &good, 0, H + 1, rows, mlen),
-              HF_ERR_INVALID_ARGUMENT, nothing, 0);
-    CHECK_BAD(hf_cc_bake_rows(f, scratch, slen, nb, nlen - 1, &good, 0, 1, rows, mlen),
-              HF_ERR_BUFFER_TOO_SMALL, nothing, 0);
-    CHECK_BAD(hf_cc_bake_rows(f, scratch, slen - 1, nb, nlen, &good, 0, 1, rows, mlen),
-              HF_ERR_BUFFER_TOO_SMALL, nothing, 0);
-    CHECK_BAD(hf_cc_bake_rows(f, scratch, slen, nb, nlen, &good, 0, 1, rows, mlen - 1),
-              HF_ERR_BUFFER_TOO_SMALL, nothing, 0);
-    CHECK_BAD(hf_cc_bake_rows(f, scratch, slen, NULL, nlen, &good, 0, 1, rows, mlen),
-              HF_ERR_NULL_POINTER, nothing, 0);
-    CHECK_BAD(hf_cc_bake_rows(f, scratch, slen, nb, nlen, &bad_slope, 0, 1, rows, mlen),
-              HF_ERR_INVALID_ENUM, nothing, 0);
-    CHECK_BAD(hf_cc_bake_rows(f, scratch, slen, nb, nlen, &bad_classes, 0, 1, rows, mlen),
-              HF_ERR_INVALID_ARGUMENT, nothing, 0);
-    memset(rows, 0, mlen);
-    CHECK_OK(hf_cc_bake_rows(f, scratch, slen, nb, nlen, &good, 9, H, rows, mlen));
-    CHECK_OK(hf_cc_bake_rows(f, scratch, slen, nb, nlen, &good, 0, 9, rows, mlen));
-    CHECK(memcmp(rows, map, mlen) == 0);
-    unsigned char *nbmap = (unsigned char *)malloc(mlen);
-    CHECK_OK(hf_cc_bake(f, &nbo, 0, nbmap, mlen));
+    float *heights = NULL;
+    hf_field *f = needle_field(W, H, 8.0f, 10 * W + 20, 30.0f, &heights);
+    /* Every bake function and its faults (check_bakes), exact and N-buffer slopes. */
+    const uint32_t cm = HF_METHOD_CC; /* the cap is the map's (its descriptor names it) */
+    hf_bake_options good = bake_defaults(cm), nbo;
+    CHECK(good.cap == 64 && good.slope == HF_CC_SLOPE_EXACT);
+    good.cap = CAP;
+    good.ray_classes = HF_RAYS_ALL;
+    nbo = good;
+    nbo.slope = HF_CC_SLOPE_NBUFFER;
+    size_t mlen = 0, nlen = 0, ylen = 0;
+    unsigned char *map = (unsigned char *)check_bakes(cm, f, &good, &mlen);
+    unsigned char *nbmap = (unsigned char *)check_bakes(cm, f, &nbo, &nlen);
+    /* [r, s] per texel and class, whichever slope. */
+    CHECK(mlen == (size_t)W * H * 8 + HF_MAP_DESC_BYTES && nlen == mlen);
+    /* The scratch: the safety bakes' strip bounds, then the N-buffers, more of them for a
+     * larger cap (the default 64). */
+    size_t slen = ask(hf_bake_scratch_len, cm, W, H, &good);
+    CHECK(slen > ask(hf_bake_scratch_len, HF_METHOD_SAFETY, W, H, NULL) &&
+          ask(hf_bake_scratch_len, cm, W, H, NULL) > slen);
     /* The bytes are [r, s] per texel and class: a radius at the cap stores no cone (slope
      * code 255, HF_CC_NO_CONE of the shaders), and some texels have one. */
     int capped_ok = 1, cones = 0;
@@ -1459,32 +1503,18 @@ static void test_cc(void) {
 
     /* One ray class (y+): a map of its rows only (a quarter of the bytes), equal to the
      * full bake's rows of that class (texel row j of class 2 holds bytes from ((j * 4 + 2)
-     * * W) * 2); the row bake agrees. */
-    size_t ylen = 0, alen = 0;
-    CHECK_OK(hf_cc_map_len(W, H, HF_RAYS_Y_POS, &ylen));
-    CHECK((ylen - HF_MAP_DESC_BYTES) * 4 == mlen - HF_MAP_DESC_BYTES);
-    /* ray_classes 0 means all four (the full map's size and bytes); above 15 is an error. */
-    CHECK_BAD(hf_cc_map_len(W, H, 16, &ylen), HF_ERR_INVALID_ARGUMENT, nothing, 0);
-    CHECK_OK(hf_cc_map_len(W, H, HF_RAYS_ALL, &alen));
-    CHECK(alen == mlen);
-    CHECK_BAD(hf_cc_map_len(W, H, HF_RAYS_Y_POS, NULL), HF_ERR_NULL_POINTER, nothing, 0);
-    hf_cc_options co = good;
-    co.ray_classes = 0;
-    CHECK_OK(hf_cc_bake(f, &co, 1, rows, mlen));
-    CHECK(memcmp(rows, map, mlen) == 0);
+     * * W) * 2); the row bakes agree (check_bakes). */
+    hf_bake_options co = good;
     co.ray_classes = HF_RAYS_Y_POS;
-    CHECK_BAD(hf_cc_bake(f, &co, 1, rows, ylen - 1), HF_ERR_BUFFER_TOO_SMALL, rows, 64);
-    CHECK_OK(hf_cc_bake(f, &co, 2, rows, ylen));
+    unsigned char *rows = (unsigned char *)check_bakes(cm, f, &co, &ylen);
+    CHECK((ylen - HF_MAP_DESC_BYTES) * 4 == mlen - HF_MAP_DESC_BYTES);
     int cc_mask_ok = 1;
     for (size_t j = 0; j < (size_t)H; j++)
         cc_mask_ok &= memcmp(rows + j * W * 2, map + (j * 4 + 2) * W * 2, (size_t)W * 2) == 0;
     CHECK(cc_mask_ok);
-    /* In two row ranges (each call writes its rows of the whole map). */
-    unsigned char *rows2 = (unsigned char *)malloc(ylen);
-    CHECK_OK(hf_cc_bake_rows(f, scratch, slen, nb, nlen, &co, 5, H, rows2, ylen));
-    CHECK_OK(hf_cc_bake_rows(f, scratch, slen, nb, nlen, &co, 0, 5, rows2, ylen));
-    CHECK(memcmp(rows, rows2, ylen) == 0);
-    free(rows2);
+    /* ray_classes 0 means all four (the full map's size and bytes); above 15 is an error
+     * (bad_options). */
+    check_all_classes(cm, f, co, map, mlen);
 
     /* Exact: both slope variants find the exact method's hits (shadow rays too). */
     hf_ray *rays = (hf_ray *)malloc(sizeof(hf_ray) * N);
@@ -1493,9 +1523,7 @@ static void test_cc(void) {
                       frand() - 0.5f, frand() - 0.5f, (k % 4 == 0 ? 0.3f : -0.5f) * frand());
         if (k % 13 == 0) rays[k].dir[1] = 0.0f;
     }
-    hf_hit *exact = (hf_hit *)malloc(sizeof(hf_hit) * N), *cc = (hf_hit *)malloc(sizeof(hf_hit) * N);
-    CHECK_OK(hf_trace_batch(f, HF_METHOD_EXACT, NULL, 0, NULL, rays, N, exact, N));
-    const uint32_t cm = HF_METHOD_CC; /* the cap is the map's (its descriptor names it) */
+    hf_hit *exact = exact_hits(f, rays, N), *cc = (hf_hit *)malloc(sizeof(hf_hit) * N);
     int same[2] = {0, 0}, hits = 0;
     for (int v = 0; v < 2; v++) {
         CHECK_OK(hf_trace_batch(f, cm, v == 0 ? map : nbmap, mlen, NULL, rays, N, cc, N));
@@ -1505,48 +1533,28 @@ static void test_cc(void) {
     CHECK(same[0] == N && same[1] == N);
     printf("cc: %d rays, %d exact hits; exact slopes agree on %d, n-buffer slopes on %d\n", N, hits,
            same[0], same[1]);
-    /* The one-class map (still in `rows`); `cc` holds the whole exact-slope map's hits. */
-    CHECK_OK(hf_trace_batch(f, cm, map, mlen, NULL, rays, N, cc, N));
-    struct safety_ctx y_ctx = {f, cm, rows, ylen, HF_RAYS_Y_POS};
-    check_class_map("cc, one class", rays, N, exact, cc, &y_ctx);
-    check_class_options(f, cm, rows, ylen, HF_RAYS_Y_POS, &rays[0]);
+    /* The one-class map (in `rows`); the whole exact-slope map on the view-linear
+     * surface. */
+    struct safety_ctx y_ctx = {f, cm, rows, ylen, HF_RAYS_Y_POS}, cctx = {f, cm, map, mlen, HF_RAYS_ALL};
+    int vl = check_class_maps("cc, one class", rays, N, exact, cc, &cctx, &y_ctx);
     hf_trace_options o = on(HF_SURFACE_TRIANGLES);
-    struct safety_ctx cctx = {f, cm, map, mlen, HF_RAYS_ALL};
-    int vl = view_linear_agrees(f, rays, N, cc, &cctx);
     printf("cc on the view-linear surface: agrees on %d of %d\n", vl, N);
     hf_hit one, h;
     CHECK_OK(hf_trace(f, cm, map, mlen, NULL, &rays[5], &one));
     CHECK_OK(hf_trace_batch(f, cm, map, mlen, NULL, &rays[5], 1, &h, 1));
     CHECK(memcmp(&one, &h, sizeof h) == 0);
     memset(&h, 0x5A, sizeof h);
-    hf_ray nan_ray = rays[0];
-    nan_ray.t_max = NAN;
     /* The cap is no longer passed (a bad one was HF_ERR_INVALID_ARGUMENT): a class set
      * other than the map's is refused instead. */
     o.ray_classes = HF_RAYS_Y_POS;
     CHECK_BAD(hf_trace(f, cm, map, mlen, &o, &rays[0], &h), HF_ERR_MAP_MISMATCH, &h, sizeof h);
-    CHECK_BAD(hf_trace(f, cm, map, mlen - 1, NULL, &rays[0], &h), HF_ERR_BUFFER_TOO_SMALL, &h,
-              sizeof h);
-    CHECK_BAD(hf_trace(f, cm, NULL, mlen, NULL, &rays[0], &h), HF_ERR_NULL_POINTER, &h, sizeof h);
-    CHECK_BAD(hf_trace(f, cm, map, mlen, NULL, NULL, &h), HF_ERR_NULL_POINTER, &h, sizeof h);
-    CHECK_BAD(hf_trace(f, cm, map, mlen, NULL, &rays[0], NULL), HF_ERR_NULL_POINTER, nothing, 0);
-    CHECK_BAD(hf_trace(f, cm, map, mlen, NULL, &nan_ray, &h), HF_ERR_INVALID_RAY, &h, sizeof h);
-    memset(cc, 0x5A, sizeof(hf_hit) * N);
-    rays[1] = nan_ray;
-    CHECK_BAD(hf_trace_batch(f, cm, map, mlen, NULL, rays, N, cc, N), HF_ERR_INVALID_RAY, cc, 512);
-    CHECK_OK(hf_trace_batch(f, cm, map, mlen, NULL, rays, 0, cc, N));
-    CHECK_BAD(hf_trace_batch(f, cm, map, mlen, NULL, rays, 4, cc, 3), HF_ERR_BUFFER_TOO_SMALL, cc,
-              512);
-    CHECK_BAD(hf_trace_batch(NULL, cm, map, mlen, NULL, rays, 4, cc, 4), HF_ERR_NULL_POINTER, cc,
-              512);
+    check_bad_traces(f, cm, map, mlen, NULL, rays, N, cc);
     free(rays);
     free(exact);
     free(cc);
     free(map);
     free(nbmap);
     free(rows);
-    free(scratch);
-    free(nb);
     free(heights);
     hf_field_destroy(f);
 }
@@ -1671,37 +1679,17 @@ static void test_trace_options(void) {
           reserved_zero);
     CHECK_BAD(hf_trace_options_default(NULL), HF_ERR_NULL_POINTER, nothing, 0);
 
-    /* Every method's map of this field (NULL and 0 for the three without one). */
-    size_t plen, slen, clen, rlen, qlen, cclen, radlen;
-    CHECK_OK(hf_maxmip_len(W, H, &plen));
-    CHECK_OK(hf_safety_map_len(W, H, HF_SAFETY_DIRECTIONAL, 0, &slen));
-    CHECK_OK(hf_cone_map_len(W, H, &clen));
-    CHECK_OK(hf_relaxed_map_len(W, H, &rlen));
-    CHECK_OK(hf_qdm_map_len(W, H, &qlen));
-    CHECK_OK(hf_cc_map_len(W, H, 0, &cclen));
-    CHECK_OK(hf_radius_map_len(W, H, &radlen));
-    float *pyr = (float *)malloc(sizeof(float) * plen);
-    float *cone = (float *)malloc(sizeof(float) * clen);
-    float *relaxed = (float *)malloc(sizeof(float) * rlen);
-    float *qdm = (float *)malloc(sizeof(float) * qlen);
-    unsigned char *safety = (unsigned char *)malloc(slen), *cc = (unsigned char *)malloc(cclen);
-    unsigned char *radius = (unsigned char *)malloc(radlen);
-    hf_safety_options so = {HF_SAFETY_DIRECTIONAL, 0, 255, HF_RAYS_ALL};
-    hf_cc_options co = {HF_CC_SLOPE_EXACT, 32, HF_RAYS_ALL};
-    hf_radius_options ro = {0.0f, 255};
-    CHECK_OK(hf_maxmip_bake(f, pyr, plen));
-    CHECK_OK(hf_safety_bake(f, &so, 1, safety, slen));
-    CHECK_OK(hf_cone_bake(f, 1, cone, clen));
-    CHECK_OK(hf_relaxed_bake(f, 1, relaxed, rlen));
-    CHECK_OK(hf_qdm_bake(f, 1, qdm, qlen));
-    CHECK_OK(hf_cc_bake(f, &co, 1, cc, cclen));
-    CHECK_OK(hf_radius_bake(f, &ro, 1, radius, radlen));
-    const method_map all[10] = {
-        {HF_METHOD_EXACT, NULL, 0},      {HF_METHOD_LINEAR_BINARY, NULL, 0},
-        {HF_METHOD_LINEAR_SECANT, NULL, 0}, {HF_METHOD_MAXMIP, pyr, plen},
-        {HF_METHOD_SAFETY, safety, slen}, {HF_METHOD_CONE, cone, clen},
-        {HF_METHOD_RELAXED, relaxed, rlen}, {HF_METHOD_QDM, qdm, qlen},
-        {HF_METHOD_CC, cc, cclen},       {HF_METHOD_RADIUS, radius, radlen}};
+    /* Every method's map of this field (NULL and 0 for the three without one): the
+     * default options, the cylinder-cones with a cap of 32. */
+    method_map all[10];
+    for (uint32_t m = 0; m < 10; m++) {
+        hf_bake_options bo = bake_defaults(m);
+        if (m == HF_METHOD_CC) bo.cap = 32;
+        all[m].method = m;
+        all[m].map = bake_map(m, f, &bo, &all[m].len);
+    }
+    const float *pyr = (const float *)all[HF_METHOD_MAXMIP].map;
+    const size_t plen = all[HF_METHOD_MAXMIP].len;
 
     hf_ray rays[R];
     for (int k = 0; k < R; k++)
@@ -1825,100 +1813,161 @@ static void test_trace_options(void) {
         CHECK_BAD(name_of[t](0, buf, sizeof buf, NULL), HF_ERR_NULL_POINTER, buf, sizeof buf);
     }
     check_camera(f, all, 10, W, H);
-    free(pyr);
-    free(cone);
-    free(relaxed);
-    free(qdm);
-    free(safety);
-    free(cc);
-    free(radius);
+    for (int m = 0; m < 10; m++) free((void *)all[m].map);
+    hf_field_destroy(f);
+}
+
+/* ---- bake options, row counts, the methods without a map --------------------------- */
+
+/* Every method's default bake options; NULL options are those defaults in every bake
+ * function (sizes, scratch, rows, the map of the whole and of the row bake); the row
+ * counts; the methods without a map bake nothing (a map length is refused); unknown
+ * methods are bad enums. */
+static void test_bake_defaults(void) {
+    enum { W = 13, H = 11 };
+    float heights[W * H];
+    for (int k = 0; k < W * H; k++) heights[k] = 0.5f * (float)(k * 7 % 17);
+    hf_field *f = NULL;
+    CHECK_OK(hf_field_create_f32(heights, W * H, W, H, W, &f));
+    /* Per method: the default cap (255 safety distances and radii, 64 cylinder-cones) and
+     * the rows of the row bake (cone and QDM rows are cell rows: H - 1). */
+    const uint32_t caps[10] = {0, 0, 0, 0, 255, 0, 0, 0, 64, 255};
+    const uint32_t rows[10] = {0, 0, 0, 1, H, H - 1, H, H - 1, H, H};
+    for (uint32_t m = HF_METHOD_EXACT; m <= HF_METHOD_RADIUS; m++) {
+        const hf_bake_options d = bake_defaults(m);
+        int zero = 1;
+        for (int k = 0; k < 9; k++) zero &= d.reserved[k] == 0;
+        CHECK(d.variant == HF_SAFETY_DIRECTIONAL && d.positive == 0 && d.cap == caps[m] &&
+              d.slope == HF_CC_SLOPE_EXACT && d.ray_classes == 0 && d.tolerance == 0.0f &&
+              d.threads == 1 && zero);
+        uint32_t r_null = 77, r_def = 77;
+        CHECK_OK(hf_bake_row_count(m, W, H, NULL, &r_null));
+        CHECK_OK(hf_bake_row_count(m, W, H, &d, &r_def));
+        CHECK(r_null == rows[m] && r_def == rows[m]);
+        size_t slen = ask(hf_bake_scratch_len, m, W, H, NULL), len = 0, dlen = 0;
+        CHECK(slen == ask(hf_bake_scratch_len, m, W, H, &d));
+        unsigned char *a = (unsigned char *)bake_map(m, f, NULL, &len);
+        unsigned char *b = (unsigned char *)bake_map(m, f, &d, &dlen);
+        size_t bytes = len * elem_bytes(m);
+        CHECK(len == dlen && (len == 0) == (m <= HF_METHOD_LINEAR_SECANT));
+        CHECK(len == 0 || memcmp(a, b, bytes) == 0);
+        /* Prepare and row bake with NULL options: the same map. */
+        float *scratch = (float *)calloc(slen + 1, sizeof(float));
+        CHECK_OK(hf_bake_prepare(m, f, NULL, scratch, slen));
+        if (b) memset(b, 0, bytes);
+        CHECK_OK(hf_bake_rows(m, f, NULL, scratch, slen, 0, rows[m], b, len));
+        CHECK(len == 0 || memcmp(a, b, bytes) == 0);
+        free(scratch);
+        free(a);
+        free(b);
+    }
+    /* The methods without a map: no scratch, nothing to prepare; a map is refused. */
+    unsigned char byte = 0x5A;
+    for (uint32_t m = HF_METHOD_EXACT; m <= HF_METHOD_LINEAR_SECANT; m++) {
+        CHECK(ask(hf_bake_scratch_len, m, W, H, NULL) == 0);
+        CHECK_OK(hf_bake_prepare(m, f, NULL, NULL, 0));
+        CHECK_BAD(hf_bake(m, f, NULL, &byte, 1), HF_ERR_INVALID_ARGUMENT, &byte, 1);
+        CHECK_BAD(hf_bake(m, f, NULL, NULL, 1), HF_ERR_INVALID_ARGUMENT, nothing, 0);
+        CHECK_BAD(hf_bake_rows(m, f, NULL, NULL, 0, 0, 0, &byte, 1), HF_ERR_INVALID_ARGUMENT,
+                  &byte, 1);
+        CHECK_BAD(hf_bake(m, NULL, NULL, NULL, 0), HF_ERR_NULL_POINTER, nothing, 0);
+    }
+    /* Unknown methods, a NULL output. */
+    const uint32_t bad_methods[3] = {HF_METHOD_RADIUS + 1, 99, 0xFFFFFFFFu};
+    const size_query queries[2] = {hf_map_len, hf_bake_scratch_len};
+    for (int k = 0; k < 3; k++) {
+        const uint32_t m = bad_methods[k];
+        hf_bake_options o;
+        size_t junk = 77;
+        uint32_t r = 77;
+        memset(&o, 0x5A, sizeof o);
+        CHECK_BAD(hf_bake_options_default(m, &o), HF_ERR_INVALID_ENUM, &o, sizeof o);
+        for (int q = 0; q < 2; q++)
+            CHECK_BAD(queries[q](m, W, H, NULL, &junk), HF_ERR_INVALID_ENUM, &junk, sizeof junk);
+        CHECK_BAD(hf_bake_row_count(m, W, H, NULL, &r), HF_ERR_INVALID_ENUM, &r, sizeof r);
+        CHECK_BAD(hf_bake_prepare(m, f, NULL, NULL, 0), HF_ERR_INVALID_ENUM, nothing, 0);
+        CHECK_BAD(hf_bake_rows(m, f, NULL, NULL, 0, 0, 1, &byte, 1), HF_ERR_INVALID_ENUM, &byte, 1);
+        CHECK_BAD(hf_bake(m, f, NULL, &byte, 1), HF_ERR_INVALID_ENUM, &byte, 1);
+    }
+    CHECK_BAD(hf_bake_options_default(HF_METHOD_SAFETY, NULL), HF_ERR_NULL_POINTER, nothing, 0);
     hf_field_destroy(f);
 }
 
 /* ---- row bakes from several threads at once ------------------------------------------- */
 
+/* A row range of a map for one thread: rows [r0, r1) of pyramid level `level`
+ * (hf_maxmip_bake_rows) for the maximum mipmap, else of `method`'s map (hf_bake_rows
+ * with the default options, reading `scratch`). */
 typedef struct rows_job {
     const hf_field *field;
-    uint32_t level, r0, r1;
-    float *pyramid;
-    size_t len;
+    uint32_t method, level, r0, r1;
     const float *scratch;
     size_t scratch_len;
-    unsigned char *map;
+    void *map;
     size_t map_len;
     hf_result result;
 } rows_job;
 
 static void *bake_rows_thread(void *arg) {
     rows_job *j = (rows_job *)arg;
-    if (j->pyramid) {
-        j->result = hf_maxmip_bake_rows(j->field, j->level, j->r0, j->r1, j->pyramid, j->len);
-    } else {
-        hf_safety_options o = {HF_SAFETY_DIRECTIONAL, 0, 255, HF_RAYS_ALL};
-        j->result = hf_safety_bake_rows(j->field, j->scratch, j->scratch_len, &o, j->r0, j->r1,
-                                        j->map, j->map_len);
-    }
+    if (j->method == HF_METHOD_MAXMIP)
+        j->result = hf_maxmip_bake_rows(j->field, j->level, j->r0, j->r1, (float *)j->map,
+                                        j->map_len);
+    else
+        j->result = hf_bake_rows(j->method, j->field, NULL, j->scratch, j->scratch_len, j->r0,
+                                 j->r1, j->map, j->map_len);
     return NULL;
 }
 
-/* Disjoint row ranges of one level (or of the safety map) baked by four threads at once
- * into one buffer: what a job system does. Equals the single-threaded bake. */
+enum { JOBS = 4 };
+
+/* `job` on each of `rows` rows split in JOBS ranges, on JOBS threads at once. */
+static void run_jobs(rows_job job, uint32_t rows) {
+    pthread_t th[JOBS];
+    rows_job jobs[JOBS];
+    uint32_t per = (rows + JOBS - 1) / JOBS;
+    for (int t = 0; t < JOBS; t++) {
+        jobs[t] = job;
+        jobs[t].r0 = per * (uint32_t)t < rows ? per * (uint32_t)t : rows;
+        jobs[t].r1 = jobs[t].r0 + per < rows ? jobs[t].r0 + per : rows;
+        CHECK(pthread_create(&th[t], NULL, bake_rows_thread, &jobs[t]) == 0);
+    }
+    for (int t = 0; t < JOBS; t++) {
+        pthread_join(th[t], NULL);
+        CHECK(jobs[t].result == HF_OK);
+    }
+}
+
+/* Disjoint row ranges of one level (or of every other method's map) baked by four
+ * threads at once into one buffer, sharing one scratch: what a job system does. Equals
+ * the single-threaded bake. */
 static void test_concurrent_rows(void) {
-    enum { W = 203, H = 117, T = 4 };
+    enum { W = 203, H = 117 };
     float *hs = (float *)malloc(sizeof(float) * W * H);
     for (int k = 0; k < W * H; k++) hs[k] = 50.0f * frand();
     hf_field *f = NULL;
     CHECK_OK(hf_field_create_f32(hs, W * H, W, H, W, &f));
-    size_t len = 0;
-    CHECK_OK(hf_maxmip_len(W, H, &len));
-    float *p1 = (float *)malloc(sizeof(float) * len), *p2 = (float *)calloc(len, sizeof(float));
-    CHECK_OK(hf_maxmip_bake(f, p1, len));
     hf_level levels[HF_MAX_LEVELS];
     uint32_t count = 0;
     CHECK_OK(hf_maxmip_levels(W, H, levels, HF_MAX_LEVELS, &count));
-    pthread_t th[T];
-    rows_job jobs[T];
-    for (uint32_t l = 0; l < count; l++) {
-        uint32_t h = levels[l].height, per = (h + T - 1) / T;
-        for (int t = 0; t < T; t++) {
-            uint32_t r0 = per * (uint32_t)t < h ? per * (uint32_t)t : h;
-            uint32_t r1 = r0 + per < h ? r0 + per : h;
-            rows_job j = {f, l, r0, r1, p2, len, NULL, 0, NULL, 0, HF_ERR_PANIC};
-            jobs[t] = j;
-            CHECK(pthread_create(&th[t], NULL, bake_rows_thread, &jobs[t]) == 0);
-        }
-        for (int t = 0; t < T; t++) {
-            pthread_join(th[t], NULL);
-            CHECK(jobs[t].result == HF_OK);
-        }
+    for (uint32_t m = HF_METHOD_MAXMIP; m <= HF_METHOD_RADIUS; m++) {
+        size_t len = 0, slen = ask(hf_bake_scratch_len, m, W, H, NULL);
+        uint32_t rows = 0;
+        CHECK_OK(hf_bake_row_count(m, W, H, NULL, &rows));
+        void *whole = bake_map(m, f, NULL, &len);
+        float *scratch = (float *)calloc(slen + 1, sizeof(float));
+        void *map = calloc(len, elem_bytes(m));
+        CHECK_OK(hf_bake_prepare(m, f, NULL, scratch, slen));
+        rows_job job = {f, m, 0, 0, 0, scratch, slen, map, len, HF_ERR_PANIC};
+        if (m != HF_METHOD_MAXMIP)
+            run_jobs(job, rows);
+        for (job.level = 0; m == HF_METHOD_MAXMIP && job.level < count; job.level++)
+            run_jobs(job, levels[job.level].height);
+        CHECK(memcmp(whole, map, len * elem_bytes(m)) == 0);
+        free(map);
+        free(scratch);
+        free(whole);
     }
-    CHECK(memcmp(p1, p2, sizeof(float) * len) == 0);
-
-    size_t slen = 0, mlen = 0;
-    CHECK_OK(hf_safety_scratch_len(W, H, &slen));
-    CHECK_OK(hf_safety_map_len(W, H, HF_SAFETY_DIRECTIONAL, 0, &mlen));
-    float *scratch = (float *)malloc(sizeof(float) * slen);
-    unsigned char *m1 = (unsigned char *)malloc(mlen), *m2 = (unsigned char *)calloc(mlen, 1);
-    hf_safety_options o = {HF_SAFETY_DIRECTIONAL, 0, 255, HF_RAYS_ALL};
-    CHECK_OK(hf_safety_bake(f, &o, 1, m1, mlen));
-    CHECK_OK(hf_safety_prepare(f, scratch, slen));
-    uint32_t per = (H + T - 1) / T;
-    for (int t = 0; t < T; t++) {
-        uint32_t r0 = per * (uint32_t)t, r1 = r0 + per < H ? r0 + per : H;
-        rows_job j = {f, 0, r0, r1, NULL, 0, scratch, slen, m2, mlen, HF_ERR_PANIC};
-        jobs[t] = j;
-        CHECK(pthread_create(&th[t], NULL, bake_rows_thread, &jobs[t]) == 0);
-    }
-    for (int t = 0; t < T; t++) {
-        pthread_join(th[t], NULL);
-        CHECK(jobs[t].result == HF_OK);
-    }
-    CHECK(memcmp(m1, m2, mlen) == 0);
-    free(scratch);
-    free(m1);
-    free(m2);
-    free(p1);
-    free(p2);
     free(hs);
     hf_field_destroy(f);
 }
@@ -2024,6 +2073,7 @@ int main(void) {
     test_cc();
     test_trace_options();
     test_concurrent_rows();
+    test_bake_defaults();
     test_build_and_plan();
     test_shader_source();
     printf("c api: %d checks, %d bad inputs tried\n", checks, bad_inputs);

@@ -156,10 +156,10 @@ int main(int argc, char **argv) {
     float heights[W * H];
     for (int k = 0; k < W * H; k++) heights[k] = 8.0f * frand(&seed);
     CHECK(hf_field_create_f32(heights, W * H, W, H, W, &s.field) == HF_OK);
-    CHECK(hf_maxmip_len(W, H, &s.pyramid_len) == HF_OK);
+    CHECK(hf_map_len(HF_METHOD_MAXMIP, W, H, NULL, &s.pyramid_len) == HF_OK);
     s.pyramid = (float *)malloc(sizeof(float) * s.pyramid_len);
     CHECK(s.pyramid != NULL);
-    CHECK(hf_maxmip_bake(s.field, s.pyramid, s.pyramid_len) == HF_OK);
+    CHECK(hf_bake(HF_METHOD_MAXMIP, s.field, NULL, s.pyramid, s.pyramid_len) == HF_OK);
     CHECK(pthread_rwlock_init(&s.lock, NULL) == 0);
 
     pthread_t th[READERS + 1];

@@ -79,53 +79,41 @@ static void *sample(void *arg) {
         pthread_join(t_, NULL);                                                    \
     } while (0)
 
+/* Bakes `method`'s map of `f` (all four ray classes, elements of `elem` bytes) on one
+ * thread and on MANY while sampling the thread count: HF_OK, the same bytes, at most
+ * `limit` threads. */
+static void check_bake_threads(const hf_field *f, uint32_t method, const char *name,
+                               size_t elem, int limit) {
+    hf_bake_options o;
+    CHECK_OK(hf_bake_options_default(method, &o));
+    o.ray_classes = HF_RAYS_ALL;
+    size_t len = 0;
+    CHECK_OK(hf_map_len(method, N, N, &o, &len));
+    void *one = malloc(len * elem), *many = malloc(len * elem);
+    o.threads = 1;
+    CHECK_OK(hf_bake(method, f, &o, one, len));
+    o.threads = MANY;
+    hf_result r;
+    SAMPLED(r, hf_bake(method, f, &o, many, len));
+    CHECK(r == HF_OK);
+    CHECK(memcmp(one, many, len * elem) == 0);
+    CHECK(peak_threads <= limit);
+    printf("threads: %s with %u threads: result %u, peak %d threads (limit %d)\n", name, MANY,
+           (unsigned)r, peak_threads, limit);
+    free(one);
+    free(many);
+}
+
 static void check_threads(const hf_field *f) {
     /* This process has the main thread and the sampler; the bake may add one per core
      * at most (the calling thread is one of them). */
     long cores = sysconf(_SC_NPROCESSORS_ONLN);
     int limit = 2 + (int)(cores > 0 ? cores : 1);
-    hf_result r;
-
-    size_t plen = 0;
-    CHECK_OK(hf_maxmip_len(N, N, &plen));
-    float *p1 = malloc(plen * sizeof *p1), *pm = malloc(plen * sizeof *pm);
-    CHECK_OK(hf_maxmip_bake_threaded(f, 1, p1, plen));
-    SAMPLED(r, hf_maxmip_bake_threaded(f, MANY, pm, plen));
-    CHECK(r == HF_OK);
-    CHECK(memcmp(p1, pm, plen * sizeof *p1) == 0);
-    CHECK(peak_threads <= limit);
-    printf("threads: maxmip with %u threads: result %u, peak %d threads (limit %d)\n", MANY,
-           (unsigned)r, peak_threads, limit);
-    free(p1);
-    free(pm);
-
-    hf_safety_options so = {HF_SAFETY_DIRECTIONAL, 0, 255, HF_RAYS_ALL};
-    size_t slen = 0;
-    CHECK_OK(hf_safety_map_len(N, N, so.variant, so.ray_classes, &slen));
-    uint8_t *s1 = malloc(slen), *sm = malloc(slen);
-    CHECK_OK(hf_safety_bake(f, &so, 1, s1, slen));
-    SAMPLED(r, hf_safety_bake(f, &so, MANY, sm, slen));
-    CHECK(r == HF_OK);
-    CHECK(memcmp(s1, sm, slen) == 0);
-    CHECK(peak_threads <= limit);
-    printf("threads: safety with %u threads: result %u, peak %d threads (limit %d)\n", MANY,
-           (unsigned)r, peak_threads, limit);
-    free(s1);
-    free(sm);
-
-    hf_cc_options co = {HF_CC_SLOPE_EXACT, 64, HF_RAYS_ALL};
-    size_t clen = 0;
-    CHECK_OK(hf_cc_map_len(N, N, co.ray_classes, &clen));
-    uint8_t *c1 = malloc(clen), *cm = malloc(clen);
-    CHECK_OK(hf_cc_bake(f, &co, 1, c1, clen));
-    SAMPLED(r, hf_cc_bake(f, &co, MANY, cm, clen));
-    CHECK(r == HF_OK);
-    CHECK(memcmp(c1, cm, clen) == 0);
-    CHECK(peak_threads <= limit);
-    printf("threads: cc with %u threads: result %u, peak %d threads (limit %d)\n", MANY,
-           (unsigned)r, peak_threads, limit);
-    free(c1);
-    free(cm);
+    /* The maximum mipmap, the safety distances (directional, cap 255) and the exact
+     * cylinder-cone shapes (cap 64): their defaults. */
+    check_bake_threads(f, HF_METHOD_MAXMIP, "maxmip", sizeof(float), limit);
+    check_bake_threads(f, HF_METHOD_SAFETY, "safety", 1, limit);
+    check_bake_threads(f, HF_METHOD_CC, "cc", 1, limit);
 }
 
 /* ---- errors ---- */
@@ -249,10 +237,10 @@ static void check_rects(void) {
     hf_field *f = NULL;
     CHECK_OK(hf_field_create_f32(h, 16, 4, 4, 4, &f));
     size_t plen = 0;
-    CHECK_OK(hf_maxmip_len(4, 4, &plen));
+    CHECK_OK(hf_map_len(HF_METHOD_MAXMIP, 4, 4, NULL, &plen));
     float p[64];
     CHECK(plen <= 64);
-    CHECK_OK(hf_maxmip_bake(f, p, plen));
+    CHECK_OK(hf_bake(HF_METHOD_MAXMIP, f, NULL, p, plen));
     float v[4] = {9.0f, 9.0f, 9.0f, 9.0f};
     float samples[16];
     /* Empty rectangles (inside the field): HF_OK in both, nothing changes. */

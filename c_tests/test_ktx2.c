@@ -26,7 +26,27 @@ typedef struct {
     uint32_t vk_format;
 } baked;
 
-/* Bakes map `map` of `field` with `classes` (class-row maps only) through the C API. */
+/* Each baked map kind: its name, Vulkan format, the method that bakes it and the bytes
+ * of one element of its map (floats or bytes). */
+static const struct {
+    uint32_t map;
+    const char *name;
+    uint32_t vk_format, method;
+    size_t elem;
+} KINDS[] = {
+    {HF_KTX2_MAXMIP, "maxmip", 100, HF_METHOD_MAXMIP, 4},
+    {HF_KTX2_SAFETY, "safety", 13, HF_METHOD_SAFETY, 1},
+    {HF_KTX2_SAFETY_ISOTROPIC, "safety-isotropic", 13, HF_METHOD_SAFETY, 1},
+    {HF_KTX2_CC, "cc", 20, HF_METHOD_CC, 1},
+    {HF_KTX2_CONE, "cone", 103, HF_METHOD_CONE, 4},
+    {HF_KTX2_RELAXED, "relaxed", 100, HF_METHOD_RELAXED, 4},
+    {HF_KTX2_QDM, "qdm", 109, HF_METHOD_QDM, 4},
+    {HF_KTX2_RADIUS, "radius", 13, HF_METHOD_RADIUS, 1},
+};
+
+/* Bakes map `map` of `field` with `classes` (class-row maps only) through the C API:
+ * safety distances of cap 40, exact cylinder-cone shapes of cap 64 (on 2 threads),
+ * radii of tolerance 0.5 and cap 200. */
 static baked bake(const hf_field *field, uint32_t map, uint32_t classes) {
     baked b;
     memset(&b, 0, sizeof b);
@@ -36,62 +56,31 @@ static baked bake(const hf_field *field, uint32_t map, uint32_t classes) {
     CHECK(hf_ktx2_map_len(&b.desc, &n) == HF_OK);
     b.len = n;
     b.data = malloc(n);
-    hf_safety_options so = {HF_SAFETY_DIRECTIONAL, 0, 255, classes};
-    hf_cc_options co = {HF_CC_SLOPE_EXACT, 64, classes};
-    hf_radius_options ro = {0.5f, 200};
-    size_t want = 0;
-    switch (map) {
-    case HF_KTX2_HEIGHTS:
+    if (map == HF_KTX2_HEIGHTS) {
         b.name = "heights", b.vk_format = 100;
         CHECK(hf_field_copy_heights(field, (float *)b.data, n / 4) == HF_OK);
-        want = W * H * 4;
-        break;
-    case HF_KTX2_MAXMIP:
-        b.name = "maxmip", b.vk_format = 100;
-        CHECK(hf_maxmip_len(W, H, &want) == HF_OK);
-        want *= 4;
-        CHECK(hf_maxmip_bake(field, (float *)b.data, n / 4) == HF_OK);
-        break;
-    case HF_KTX2_SAFETY:
-    case HF_KTX2_SAFETY_ISOTROPIC:
-        b.name = map == HF_KTX2_SAFETY ? "safety" : "safety-isotropic", b.vk_format = 13;
-        so.variant = map == HF_KTX2_SAFETY ? HF_SAFETY_DIRECTIONAL : HF_SAFETY_ISOTROPIC;
-        so.cap = b.desc.cap = 40;
-        CHECK(hf_safety_map_len(W, H, so.variant, so.ray_classes, &want) == HF_OK);
-        CHECK(hf_safety_bake(field, &so, 1, (uint8_t *)b.data, n) == HF_OK);
-        break;
-    case HF_KTX2_CC:
-        b.name = "cc", b.vk_format = 20;
-        CHECK(hf_cc_map_len(W, H, co.ray_classes, &want) == HF_OK);
-        CHECK(hf_cc_bake(field, &co, 2, (uint8_t *)b.data, n) == HF_OK);
-        break;
-    case HF_KTX2_CONE:
-        b.name = "cone", b.vk_format = 103;
-        CHECK(hf_cone_map_len(W, H, &want) == HF_OK);
-        want *= 4;
-        CHECK(hf_cone_bake(field, 1, (float *)b.data, n / 4) == HF_OK);
-        break;
-    case HF_KTX2_RELAXED:
-        b.name = "relaxed", b.vk_format = 100;
-        CHECK(hf_relaxed_map_len(W, H, &want) == HF_OK);
-        want *= 4;
-        CHECK(hf_relaxed_bake(field, 1, (float *)b.data, n / 4) == HF_OK);
-        break;
-    case HF_KTX2_QDM:
-        b.name = "qdm", b.vk_format = 109;
-        CHECK(hf_qdm_map_len(W, H, &want) == HF_OK);
-        want *= 4;
-        CHECK(hf_qdm_bake(field, 1, (float *)b.data, n / 4) == HF_OK);
-        break;
-    case HF_KTX2_RADIUS:
-        b.name = "radius", b.vk_format = 13;
-        b.desc.cap = ro.cap;
-        b.desc.tolerance = ro.tolerance;
-        CHECK(hf_radius_map_len(W, H, &want) == HF_OK);
-        CHECK(hf_radius_bake(field, &ro, 1, (uint8_t *)b.data, n) == HF_OK);
-        break;
+        CHECK(n == W * H * 4);
+        return b;
     }
-    CHECK(want == n); /* the container's size of the map is the bake's */
+    size_t k = 0;
+    while (k + 1 < sizeof KINDS / sizeof KINDS[0] && KINDS[k].map != map) k++;
+    CHECK(KINDS[k].map == map);
+    b.name = KINDS[k].name, b.vk_format = KINDS[k].vk_format;
+    uint32_t method = KINDS[k].method;
+    hf_bake_options o;
+    CHECK(hf_bake_options_default(method, &o) == HF_OK);
+    o.ray_classes = classes;
+    o.variant = map == HF_KTX2_SAFETY_ISOTROPIC ? HF_SAFETY_ISOTROPIC : HF_SAFETY_DIRECTIONAL;
+    o.threads = map == HF_KTX2_CC ? 2 : 1;
+    if (method == HF_METHOD_SAFETY) o.cap = b.desc.cap = 40;
+    if (method == HF_METHOD_RADIUS) {
+        o.cap = b.desc.cap = 200;
+        o.tolerance = b.desc.tolerance = 0.5f;
+    }
+    size_t want = 0;
+    CHECK(hf_map_len(method, W, H, &o, &want) == HF_OK);
+    CHECK(want * KINDS[k].elem == n); /* the container's size of the map is the bake's */
+    CHECK(hf_bake(method, field, &o, b.data, n / KINDS[k].elem) == HF_OK);
     return b;
 }
 

@@ -51,46 +51,41 @@ typedef struct {
 
 static const uint32_t CLASSES = HF_RAYS_X_POS | HF_RAYS_Y_NEG;
 
+/* `method`'s map of `f` baked with `o`, in a new buffer of hf_map_len elements (*len;
+ * floats, or bytes for the safety-distance, cylinder-cone and radius maps). */
+static void *bake_map(const hf_field *f, uint32_t method, const hf_bake_options *o, size_t *len) {
+    int bytes = method == HF_METHOD_SAFETY || method == HF_METHOD_CC || method == HF_METHOD_RADIUS;
+    CHECK_OK(hf_map_len(method, W, H, o, len));
+    void *map = malloc(*len * (bytes ? 1 : sizeof(float)));
+    CHECK_OK(hf_bake(method, f, o, map, *len));
+    return map;
+}
+
+/* Every map on 2 threads: safety distances (both layouts) and radii (tolerance 0) of
+ * cap 64, the cylinder-cone shapes of the N-buffer slope, cap CAP and CLASSES. */
 static void bake_all(const hf_field *f, maps *m) {
-    hf_safety_options so = {HF_SAFETY_DIRECTIONAL, 0, 64, HF_RAYS_ALL};
-    hf_cc_options co = {HF_CC_SLOPE_NBUFFER, CAP, CLASSES};
-    hf_radius_options ro = {0.0f, 64};
-    CHECK_OK(hf_maxmip_len(W, H, &m->pyr_len));
-    m->pyr = (float *)malloc(m->pyr_len * sizeof(float));
-    CHECK_OK(hf_maxmip_bake(f, m->pyr, m->pyr_len));
-    CHECK_OK(hf_safety_map_len(W, H, so.variant, so.ray_classes, &m->sd_len));
-    m->sd = (uint8_t *)malloc(m->sd_len);
-    CHECK_OK(hf_safety_bake(f, &so, 2, m->sd, m->sd_len));
-    so.variant = HF_SAFETY_ISOTROPIC;
-    CHECK_OK(hf_safety_map_len(W, H, so.variant, so.ray_classes, &m->si_len));
-    m->si = (uint8_t *)malloc(m->si_len);
-    CHECK_OK(hf_safety_bake(f, &so, 2, m->si, m->si_len));
-    CHECK_OK(hf_cc_map_len(W, H, co.ray_classes, &m->cc_len));
-    m->cc = (uint8_t *)malloc(m->cc_len);
-    CHECK_OK(hf_cc_bake(f, &co, 2, m->cc, m->cc_len));
-    CHECK_OK(hf_radius_map_len(W, H, &m->rad_len));
-    m->rad = (uint8_t *)malloc(m->rad_len);
-    CHECK_OK(hf_radius_bake(f, &ro, 2, m->rad, m->rad_len));
-    CHECK_OK(hf_cone_map_len(W, H, &m->cone_len));
-    m->cone = (float *)malloc(m->cone_len * sizeof(float));
-    CHECK_OK(hf_cone_bake(f, 2, m->cone, m->cone_len));
-    CHECK_OK(hf_qdm_map_len(W, H, &m->qdm_len));
-    m->qdm = (float *)malloc(m->qdm_len * sizeof(float));
-    CHECK_OK(hf_qdm_bake(f, 2, m->qdm, m->qdm_len));
-    CHECK_OK(hf_relaxed_map_len(W, H, &m->relaxed_len));
-    m->relaxed = (float *)malloc(m->relaxed_len * sizeof(float));
-    CHECK_OK(hf_relaxed_bake(f, 2, m->relaxed, m->relaxed_len));
+    hf_bake_options o;
+    CHECK_OK(hf_bake_options_default(HF_METHOD_SAFETY, &o));
+    o.cap = 64;
+    o.ray_classes = HF_RAYS_ALL;
+    o.threads = 2;
+    m->pyr = bake_map(f, HF_METHOD_MAXMIP, &o, &m->pyr_len);
+    m->sd = bake_map(f, HF_METHOD_SAFETY, &o, &m->sd_len);
+    m->rad = bake_map(f, HF_METHOD_RADIUS, &o, &m->rad_len);
+    m->cone = bake_map(f, HF_METHOD_CONE, &o, &m->cone_len);
+    m->qdm = bake_map(f, HF_METHOD_QDM, &o, &m->qdm_len);
+    m->relaxed = bake_map(f, HF_METHOD_RELAXED, &o, &m->relaxed_len);
+    o.variant = HF_SAFETY_ISOTROPIC;
+    m->si = bake_map(f, HF_METHOD_SAFETY, &o, &m->si_len);
+    o.slope = HF_CC_SLOPE_NBUFFER;
+    o.cap = CAP;
+    o.ray_classes = CLASSES;
+    m->cc = bake_map(f, HF_METHOD_CC, &o, &m->cc_len);
 }
 
 static void free_all(maps *m) {
-    free(m->pyr);
-    free(m->cone);
-    free(m->qdm);
-    free(m->relaxed);
-    free(m->sd);
-    free(m->si);
-    free(m->cc);
-    free(m->rad);
+    void *all[] = {m->pyr, m->cone, m->qdm, m->relaxed, m->sd, m->si, m->cc, m->rad};
+    for (size_t k = 0; k < sizeof all / sizeof all[0]; k++) free(all[k]);
 }
 
 enum { MAXMIP, SAFETY_DIR, SAFETY_ISO, CC, RADIUS, CONE, QDM, RELAXED, METHODS };
@@ -253,7 +248,7 @@ static void check_updates(hf_field *f, maps *m, const hf_ray *rays) {
     CHECK_OK(hf_maxmip_update_rect(f, 10, 8, 32, 21, m->pyr, m->pyr_len));
     /* The refreshed pyramid equals a fresh bake, descriptor included. */
     float *fresh = (float *)malloc(m->pyr_len * sizeof(float));
-    CHECK_OK(hf_maxmip_bake(f, fresh, m->pyr_len));
+    CHECK_OK(hf_bake(HF_METHOD_MAXMIP, f, NULL, fresh, m->pyr_len));
     CHECK(memcmp(fresh, m->pyr, m->pyr_len * sizeof(float)) == 0);
     /* Refreshing a current pyramid again is fine. */
     CHECK_OK(hf_maxmip_update_rect(f, 0, 0, 1, 1, m->pyr, m->pyr_len));
@@ -312,15 +307,20 @@ static void check_ktx2(const hf_field *f, const maps *m, const hf_ray *rays) {
 
 /* Row bakes: the call whose rows start at 0 writes the descriptor. */
 static void check_row_bakes(const hf_field *f, const maps *m) {
-    size_t slen = 0;
-    CHECK_OK(hf_safety_scratch_len(W, H, &slen));
+    hf_bake_options ro;
+    CHECK_OK(hf_bake_options_default(HF_METHOD_RADIUS, &ro));
+    ro.cap = 64;
+    /* The radii's scratch is the safety distances' (the strip bounds). */
+    size_t slen = 0, rlen = 0;
+    CHECK_OK(hf_bake_scratch_len(HF_METHOD_SAFETY, W, H, NULL, &slen));
+    CHECK_OK(hf_bake_scratch_len(HF_METHOD_RADIUS, W, H, &ro, &rlen));
+    CHECK(rlen == slen);
     float *scratch = (float *)malloc(slen * sizeof(float));
-    CHECK_OK(hf_safety_prepare(f, scratch, slen));
-    hf_radius_options ro = {0.0f, 64};
+    CHECK_OK(hf_bake_prepare(HF_METHOD_SAFETY, f, NULL, scratch, slen));
     uint8_t *rows = (uint8_t *)calloc(m->rad_len, 1);
-    CHECK_OK(hf_radius_bake_rows(f, scratch, slen, &ro, 9, H, rows, m->rad_len));
+    CHECK_OK(hf_bake_rows(HF_METHOD_RADIUS, f, &ro, scratch, slen, 9, H, rows, m->rad_len));
     CHECK(memcmp(rows, m->rad, m->rad_len) != 0); /* no descriptor yet */
-    CHECK_OK(hf_radius_bake_rows(f, scratch, slen, &ro, 0, 9, rows, m->rad_len));
+    CHECK_OK(hf_bake_rows(HF_METHOD_RADIUS, f, &ro, scratch, slen, 0, 9, rows, m->rad_len));
     CHECK(memcmp(rows, m->rad, m->rad_len) == 0);
     free(rows);
     free(scratch);

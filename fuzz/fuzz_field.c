@@ -70,10 +70,12 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
         }
 
     size_t plen = 0;
-    if (fz_code(hf_maxmip_len(w, h, &plen), "hf_maxmip_len")) FZ_FAIL("hf_maxmip_len failed");
+    if (fz_code(hf_map_len(HF_METHOD_MAXMIP, w, h, NULL, &plen), "hf_map_len"))
+        FZ_FAIL("hf_map_len (maxmip) failed");
     float *pyr = (float *)fz_buf(plen * sizeof(float));
     float *full = (float *)fz_buf(plen * sizeof(float));
-    if (fz_code(hf_maxmip_bake(f, pyr, plen), "hf_maxmip_bake")) FZ_FAIL("hf_maxmip_bake failed");
+    if (fz_code(hf_bake(HF_METHOD_MAXMIP, f, NULL, pyr, plen), "hf_bake"))
+        FZ_FAIL("hf_bake (maxmip) failed");
 
     /* Updates: rectangles anywhere (reversed, empty, outside), values with NaN now and then. */
     int updates = fz_u8(&in) % 4;
@@ -116,8 +118,8 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
         hf_result rp = fz_code(hf_maxmip_update_rect(f, x0, y0, x1, y1, pyr, plen),
                                "hf_maxmip_update_rect");
         if (rp != HF_OK && !empty) FZ_FAIL("hf_maxmip_update_rect failed with %u", (unsigned)rp);
-        if (fz_code(hf_maxmip_bake(f, full, plen), "hf_maxmip_bake"))
-            FZ_FAIL("hf_maxmip_bake failed");
+        if (fz_code(hf_bake(HF_METHOD_MAXMIP, f, NULL, full, plen), "hf_bake"))
+            FZ_FAIL("hf_bake (maxmip) failed");
         if (memcmp(pyr, full, plen * sizeof(float)) != 0)
             FZ_FAIL("the updated pyramid differs from a full bake");
     }

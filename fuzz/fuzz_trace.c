@@ -13,70 +13,6 @@
  * pyramid refreshed over the update answers as the exact DDA again. */
 #include "common.h"
 
-typedef struct maps {
-    float *pyr;
-    size_t pyr_len;
-    uint8_t *sd, *si, *sc, *cc, *rad;
-    size_t sd_len, si_len, sc_len, cc_len, rad_len;
-    uint32_t classes;
-    float *cone, *qdm, *relaxed;
-    size_t cone_len, qdm_len, relaxed_len;
-} maps;
-
-static void must(hf_result r, const char *what) {
-    if (fz_code(r, what) != HF_OK) FZ_FAIL("%s failed with %u", what, (unsigned)r);
-}
-
-static void bake_all(hf_field *f, uint32_t w, uint32_t h, fz_in *in, maps *m) {
-    hf_safety_options so = {HF_SAFETY_DIRECTIONAL, 0, fz_u8(in), HF_RAYS_ALL};
-    hf_cc_options co = {fz_u8(in) & 1, fz_u8(in), HF_RAYS_ALL};
-    hf_radius_options ro = {0.0f, fz_u8(in)};
-    m->classes = 1 + fz_u8(in) % 15;
-    co.ray_classes = m->classes;
-    must(hf_maxmip_len(w, h, &m->pyr_len), "hf_maxmip_len");
-    m->pyr = (float *)fz_buf(m->pyr_len * sizeof(float));
-    must(hf_maxmip_bake(f, m->pyr, m->pyr_len), "hf_maxmip_bake");
-    must(hf_safety_map_len(w, h, so.variant, so.ray_classes, &m->sd_len), "hf_safety_map_len");
-    m->sd = (uint8_t *)fz_buf(m->sd_len);
-    must(hf_safety_bake(f, &so, 1, m->sd, m->sd_len), "hf_safety_bake");
-    so.variant = HF_SAFETY_ISOTROPIC;
-    must(hf_safety_map_len(w, h, so.variant, so.ray_classes, &m->si_len), "hf_safety_map_len");
-    m->si = (uint8_t *)fz_buf(m->si_len);
-    must(hf_safety_bake(f, &so, 1, m->si, m->si_len), "hf_safety_bake");
-    so.variant = HF_SAFETY_DIRECTIONAL;
-    so.ray_classes = m->classes;
-    must(hf_safety_map_len(w, h, so.variant, so.ray_classes, &m->sc_len), "hf_safety_map_len");
-    m->sc = (uint8_t *)fz_buf(m->sc_len);
-    must(hf_safety_bake(f, &so, 1, m->sc, m->sc_len), "hf_safety_bake");
-    must(hf_cc_map_len(w, h, co.ray_classes, &m->cc_len), "hf_cc_map_len");
-    m->cc = (uint8_t *)fz_buf(m->cc_len);
-    must(hf_cc_bake(f, &co, 1, m->cc, m->cc_len), "hf_cc_bake");
-    must(hf_radius_map_len(w, h, &m->rad_len), "hf_radius_map_len");
-    m->rad = (uint8_t *)fz_buf(m->rad_len);
-    must(hf_radius_bake(f, &ro, 1, m->rad, m->rad_len), "hf_radius_bake");
-    must(hf_cone_map_len(w, h, &m->cone_len), "hf_cone_map_len");
-    m->cone = (float *)fz_buf(m->cone_len * sizeof(float));
-    must(hf_cone_bake(f, 1, m->cone, m->cone_len), "hf_cone_bake");
-    must(hf_qdm_map_len(w, h, &m->qdm_len), "hf_qdm_map_len");
-    m->qdm = (float *)fz_buf(m->qdm_len * sizeof(float));
-    must(hf_qdm_bake(f, 1, m->qdm, m->qdm_len), "hf_qdm_bake");
-    must(hf_relaxed_map_len(w, h, &m->relaxed_len), "hf_relaxed_map_len");
-    m->relaxed = (float *)fz_buf(m->relaxed_len * sizeof(float));
-    must(hf_relaxed_bake(f, 1, m->relaxed, m->relaxed_len), "hf_relaxed_bake");
-}
-
-static void free_all(maps *m) {
-    free(m->pyr);
-    free(m->sd);
-    free(m->si);
-    free(m->sc);
-    free(m->cc);
-    free(m->rad);
-    free(m->cone);
-    free(m->qdm);
-    free(m->relaxed);
-}
-
 enum {
     M_MAXMIP,
     M_SAFETY_DIR,
@@ -87,28 +23,74 @@ enum {
     M_CONE,
     M_QDM,
     M_RELAXED,
-    M_LINEAR_BINARY,
+    M_LINEAR_BINARY, /* the first method without a map */
     M_LINEAR_SECANT,
     M_COUNT
 };
 static const char *const names[M_COUNT] = {
     "maxmip", "safety directional", "safety isotropic", "safety classes", "cc",
     "radius", "cone", "qdm", "relaxed", "linear-binary", "linear-secant"};
+static const uint32_t api[M_COUNT] = {
+    HF_METHOD_MAXMIP, HF_METHOD_SAFETY, HF_METHOD_SAFETY,  HF_METHOD_SAFETY,
+    HF_METHOD_CC,     HF_METHOD_RADIUS, HF_METHOD_CONE,    HF_METHOD_QDM,
+    HF_METHOD_RELAXED, HF_METHOD_LINEAR_BINARY, HF_METHOD_LINEAR_SECANT};
+
+/* One baked map: `len` elements of `elem` bytes (floats or bytes), descriptor included. */
+typedef struct baked {
+    void *p;
+    size_t len, elem;
+} baked;
+
+/* The maps of the methods before M_LINEAR_BINARY, and the classes of M_SAFETY_CLASSES
+ * and M_CC. */
+typedef struct maps {
+    baked m[M_LINEAR_BINARY];
+    uint32_t classes;
+} maps;
+
+static void must(hf_result r, const char *what) {
+    if (fz_code(r, what) != HF_OK) FZ_FAIL("%s failed with %u", what, (unsigned)r);
+}
+
+/* Bakes map `k` of `f` with options `o` (on one thread) into `b`. */
+static void bake_one(const hf_field *f, uint32_t w, uint32_t h, int k, const hf_bake_options *o,
+                     baked *b) {
+    must(hf_map_len(api[k], w, h, o, &b->len), names[k]);
+    b->elem = k == M_MAXMIP || k >= M_CONE ? sizeof(float) : 1;
+    b->p = fz_buf(b->len * b->elem);
+    must(hf_bake(api[k], f, o, b->p, b->len), names[k]);
+}
+
+/* Every map, from the defaults with caps, the cc slope and the classes from the input. */
+static void bake_all(hf_field *f, uint32_t w, uint32_t h, fz_in *in, maps *m) {
+    hf_bake_options o[M_LINEAR_BINARY];
+    for (int k = 0; k < M_LINEAR_BINARY; k++)
+        must(hf_bake_options_default(api[k], &o[k]), "hf_bake_options_default");
+    uint32_t safety_cap = fz_u8(in);
+    for (int k = M_SAFETY_DIR; k <= M_SAFETY_CLASSES; k++) {
+        o[k].cap = safety_cap;
+        o[k].ray_classes = HF_RAYS_ALL;
+    }
+    o[M_SAFETY_ISO].variant = HF_SAFETY_ISOTROPIC;
+    o[M_CC].slope = fz_u8(in) & 1;
+    o[M_CC].cap = fz_u8(in);
+    o[M_RADIUS].cap = fz_u8(in);
+    m->classes = 1 + fz_u8(in) % 15;
+    o[M_SAFETY_CLASSES].ray_classes = o[M_CC].ray_classes = m->classes;
+    for (int k = 0; k < M_LINEAR_BINARY; k++) bake_one(f, w, h, k, &o[k], &m->m[k]);
+}
+
+static void free_all(maps *m) {
+    for (int k = 0; k < M_LINEAR_BINARY; k++) free(m->m[k].p);
+}
 
 /* Method m on the batch (`single`: the single-ray call on rays[0]) on surface `s`, with
  * `iter` steps (cone, QDM iterations; relaxed cone steps; linear steps) and 8
  * bisections; the safety and cc traces name the classes their maps hold. */
 static hf_result trace(int m, const hf_field *f, const maps *mp, uint32_t s, uint32_t iter,
                        const hf_ray *rays, size_t n, hf_hit *out, size_t out_len, int single) {
-    static const uint32_t api[M_COUNT] = {
-        HF_METHOD_MAXMIP, HF_METHOD_SAFETY, HF_METHOD_SAFETY,  HF_METHOD_SAFETY,
-        HF_METHOD_CC,     HF_METHOD_RADIUS, HF_METHOD_CONE,    HF_METHOD_QDM,
-        HF_METHOD_RELAXED, HF_METHOD_LINEAR_BINARY, HF_METHOD_LINEAR_SECANT};
-    const void *map[M_COUNT] = {mp->pyr, mp->sd,  mp->si,      mp->sc, mp->cc, mp->rad,
-                                mp->cone, mp->qdm, mp->relaxed, NULL,   NULL};
-    const size_t len[M_COUNT] = {mp->pyr_len,  mp->sd_len,  mp->si_len,      mp->sc_len,
-                                 mp->cc_len,   mp->rad_len, mp->cone_len,    mp->qdm_len,
-                                 mp->relaxed_len, 0,        0};
+    const void *map = m < M_LINEAR_BINARY ? mp->m[m].p : NULL;
+    size_t len = m < M_LINEAR_BINARY ? mp->m[m].len : 0;
     const uint32_t classes[M_COUNT] = {0, HF_RAYS_ALL, HF_RAYS_ALL, mp->classes, mp->classes};
     hf_trace_options o;
     hf_trace_options_default(&o);
@@ -116,8 +98,8 @@ static hf_result trace(int m, const hf_field *f, const maps *mp, uint32_t s, uin
     o.ray_classes = classes[m];
     o.steps = iter;
     o.binary_steps = 8;
-    if (single) return hf_trace(f, api[m], map[m], len[m], &o, rays, out);
-    return hf_trace_batch(f, api[m], map[m], len[m], &o, rays, n, out, out_len);
+    if (single) return hf_trace(f, api[m], map, len, &o, rays, out);
+    return hf_trace_batch(f, api[m], map, len, &o, rays, n, out, out_len);
 }
 
 /* Which surfaces a method traces (others: an error, never a wrong answer). */
@@ -136,17 +118,8 @@ static int takes_surface(int m, uint32_t s) {
 
 /* The descriptor of method m's map: its last HF_MAP_DESC_BYTES bytes. */
 static uint8_t *descriptor(int m, const maps *mp) {
-    switch (m) {
-    case M_MAXMIP: return (uint8_t *)mp->pyr + mp->pyr_len * 4 - HF_MAP_DESC_BYTES;
-    case M_SAFETY_DIR: return mp->sd + mp->sd_len - HF_MAP_DESC_BYTES;
-    case M_SAFETY_ISO: return mp->si + mp->si_len - HF_MAP_DESC_BYTES;
-    case M_SAFETY_CLASSES: return mp->sc + mp->sc_len - HF_MAP_DESC_BYTES;
-    case M_CC: return mp->cc + mp->cc_len - HF_MAP_DESC_BYTES;
-    case M_RADIUS: return mp->rad + mp->rad_len - HF_MAP_DESC_BYTES;
-    case M_CONE: return (uint8_t *)mp->cone + mp->cone_len * 4 - HF_MAP_DESC_BYTES;
-    case M_QDM: return (uint8_t *)mp->qdm + mp->qdm_len * 4 - HF_MAP_DESC_BYTES;
-    default: return (uint8_t *)mp->relaxed + mp->relaxed_len * 4 - HF_MAP_DESC_BYTES;
-    }
+    const baked *b = &mp->m[m];
+    return (uint8_t *)b->p + b->len * b->elem - HF_MAP_DESC_BYTES;
 }
 
 /* Method m must refuse its map with `want` and write nothing. */
@@ -184,10 +157,11 @@ static void check_descriptors(fz_in *in, hf_field *f, uint32_t w, maps *mp, cons
         must(hf_field_update_rect(f, 0, 0, 1, 1, &h0, 1, 1), "hf_field_update_rect");
         for (int m = 0; m < M_LINEAR_BINARY; m++)
             if (traced[m]) expect_refused(m, f, mp, s, iter, rays, n, got, HF_ERR_STALE_MAP);
-        if (w > 1 &&
-            hf_maxmip_update_rect(f, 1, 0, 2, 1, mp->pyr, mp->pyr_len) != HF_ERR_STALE_MAP)
+        float *pyr = (float *)mp->m[M_MAXMIP].p;
+        size_t pyr_len = mp->m[M_MAXMIP].len;
+        if (w > 1 && hf_maxmip_update_rect(f, 1, 0, 2, 1, pyr, pyr_len) != HF_ERR_STALE_MAP)
             FZ_FAIL("hf_maxmip_update_rect accepted a rectangle missing the update");
-        must(hf_maxmip_update_rect(f, 0, 0, 1, 1, mp->pyr, mp->pyr_len), "hf_maxmip_update_rect");
+        must(hf_maxmip_update_rect(f, 0, 0, 1, 1, pyr, pyr_len), "hf_maxmip_update_rect");
         if (!traced[M_MAXMIP] || n == 0) return;
         hf_hit exact[FZ_MAX_RAYS];
         hf_trace_options on = fz_on(s);

@@ -9,7 +9,7 @@
  *    function has written nothing to its outputs. hf_error_message describes a code.
  *  - Enums (hf_surface, hf_method) are passed as uint32_t and checked.
  *  - Every pointer is checked for NULL; outputs come last, each buffer followed by
- *    its length in elements; query sizes first (hf_maxmip_len, hf_shader_source_len).
+ *    its length in elements; query sizes first (hf_map_len, hf_shader_source_len).
  *  - No function aborts or unwinds into C: a library bug returns HF_ERR_PANIC.
  *  - Every trace conditions its ray in double precision first (a far origin moved
  *    near the field, a tiny or huge direction scaled by a power of two), so a ray from
@@ -91,7 +91,7 @@
 
 #if defined(HF_HAVE_MAXMIP)
 // Width of the 2D `R32F` texture the GLSL maxmip port reads the pyramid from: pyramid
-// texel `k` (the index into the `hf_maxmip_bake` buffer) is texel
+// texel `k` (the index into the pyramid `hf_bake` fills) is texel
 // `(k % HF_PYRAMID_TEX_WIDTH, k / HF_PYRAMID_TEX_WIDTH)`; the last row is padded.
 #define HF_PYRAMID_TEX_WIDTH 4096
 #endif
@@ -102,31 +102,31 @@
 // Map kind (`hf_ktx2_desc::map`): the height field itself, `R32_SFLOAT`, `W × H`.
 #define HF_KTX2_HEIGHTS 0
 
-// Map kind: the maximum-mipmap pyramid (`hf_maxmip_bake`), `R32_SFLOAT`, one mip level
+// Map kind: the maximum-mipmap pyramid (`hf_bake` of `HF_METHOD_MAXMIP`), `R32_SFLOAT`, one mip level
 // per pyramid level, in the top-left corner of a `P × Q` texture (`P`, `Q` the next
 // powers of two of `W − 1`, `H − 1`), the rest `−∞`.
 #define HF_KTX2_MAXMIP 1
 
-// Map kind: the directional safety-distance map (`hf_safety_bake`,
+// Map kind: the directional safety-distance map (`hf_bake` of `HF_METHOD_SAFETY`,
 // `HF_SAFETY_DIRECTIONAL`), `R8_UINT`, `W × nH` for its `n` ray classes.
 #define HF_KTX2_SAFETY 2
 
 // Map kind: the isotropic safety-distance map (`HF_SAFETY_ISOTROPIC`), `R8_UINT`, `W × H`.
 #define HF_KTX2_SAFETY_ISOTROPIC 3
 
-// Map kind: the cylinder–cone map (`hf_cc_bake`), `R8G8_UINT`, `W × nH`.
+// Map kind: the cylinder–cone map (`hf_bake` of `HF_METHOD_CC`), `R8G8_UINT`, `W × nH`.
 #define HF_KTX2_CC 4
 
-// Map kind: the cone map (`hf_cone_bake`), `R32G32_SFLOAT`, `(W − 1) × (H − 1)`.
+// Map kind: the cone map (`hf_bake` of `HF_METHOD_CONE`), `R32G32_SFLOAT`, `(W − 1) × (H − 1)`.
 #define HF_KTX2_CONE 5
 
-// Map kind: the relaxed cone map (`hf_relaxed_bake`), `R32_SFLOAT`, `W × H`.
+// Map kind: the relaxed cone map (`hf_bake` of `HF_METHOD_RELAXED`), `R32_SFLOAT`, `W × H`.
 #define HF_KTX2_RELAXED 6
 
-// Map kind: the QDM (`hf_qdm_bake`), `R32G32B32A32_SFLOAT`, `(W − 1) × (H − 1)`.
+// Map kind: the QDM (`hf_bake` of `HF_METHOD_QDM`), `R32G32B32A32_SFLOAT`, `(W − 1) × (H − 1)`.
 #define HF_KTX2_QDM 7
 
-// Map kind: the safety-radius map (`hf_radius_bake`), `R8_UINT`, `W × H`.
+// Map kind: the safety-radius map (`hf_bake` of `HF_METHOD_RADIUS`), `R8_UINT`, `W × H`.
 #define HF_KTX2_RADIUS 8
 
 // Bytes of the descriptor that follows the texels of every baked map: the map
@@ -286,22 +286,18 @@ typedef uint32_t hf_method;
 #endif // __cplusplus
 
 #if defined(HF_HAVE_SAFETY)
-// Layout of a safety-distance map. Passed as `uint32_t`.
+// Layout of a safety-distance map (`hf_bake_options::variant`). Passed as `uint32_t`.
 enum hf_safety_variant
 #if defined(__cplusplus) || __STDC_VERSION__ >= 202311L
   : uint32_t
 #endif // defined(__cplusplus) || __STDC_VERSION__ >= 202311L
  {
-#if defined(HF_HAVE_SAFETY)
   // One byte per texel and ray class, each texel row as one row per class the map
   // holds (layout: docs/DESIGN.md, "Texture layouts", safety, directional).
   HF_SAFETY_DIRECTIONAL = 0,
-#endif
-#if defined(HF_HAVE_SAFETY)
   // One byte per texel, the minimum over the classes the map holds (layout:
   // docs/DESIGN.md, "Texture layouts", safety, isotropic).
   HF_SAFETY_ISOTROPIC = 1,
-#endif
 };
 #ifndef __cplusplus
 #if __STDC_VERSION__ >= 202311L
@@ -313,21 +309,18 @@ typedef uint32_t hf_safety_variant;
 #endif
 
 #if defined(HF_HAVE_SAFETY)
-// What the radius march does at a texel of radius zero. Passed as `uint32_t`.
+// What the radius march does at a texel of radius zero (`hf_trace_options::
+// radius_zero`). Passed as `uint32_t`.
 enum hf_radius_zero
 #if defined(__cplusplus) || __STDC_VERSION__ >= 202311L
   : uint32_t
 #endif // defined(__cplusplus) || __STDC_VERSION__ >= 202311L
  {
-#if defined(HF_HAVE_SAFETY)
   // Walk to the next centerline cell by cell with the exact test (exact).
   HF_RADIUS_WALK = 0,
-#endif
-#if defined(HF_HAVE_SAFETY)
   // Jump one centerline as if the radius were 1: fewer fetches, **not exact** (a
   // dip under the surface between two centerlines may be skipped).
   HF_RADIUS_CLAMP = 1,
-#endif
 };
 #ifndef __cplusplus
 #if __STDC_VERSION__ >= 202311L
@@ -339,21 +332,18 @@ typedef uint32_t hf_radius_zero;
 #endif
 
 #if defined(HF_HAVE_SAFETY)
-// How the cone slope of a cylinder–cone bake is computed. Passed as `uint32_t`.
+// How the cone slope of a cylinder–cone bake is computed (`hf_bake_options::slope`).
+// Passed as `uint32_t`.
 enum hf_cc_slope
 #if defined(__cplusplus) || __STDC_VERSION__ >= 202311L
   : uint32_t
 #endif // defined(__cplusplus) || __STDC_VERSION__ >= 202311L
  {
-#if defined(HF_HAVE_SAFETY)
   // Over the limiting triangles only, exactly (larger steps, slower bake).
   HF_CC_SLOPE_EXACT = 0,
-#endif
-#if defined(HF_HAVE_SAFETY)
   // Every triangle limiting, the highest sample per abscissa from the N-buffers
   // (conservative, faster).
   HF_CC_SLOPE_NBUFFER = 1,
-#endif
 };
 #ifndef __cplusplus
 #if __STDC_VERSION__ >= 202311L
@@ -426,6 +416,41 @@ typedef uint32_t hf_need;
 // an update is a data race (undefined behaviour; in practice an answer from a mix of
 // old and new heights).
 typedef struct hf_field hf_field;
+
+// How a method's map is baked. Pass NULL for the method's defaults, or start from
+// `hf_bake_options_default` and change fields. Each bake reads the fields whose
+// comment names its method and ignores the others, which must still hold valid values
+// (a known variant, a class set, a cap up to 255); a non-zero `reserved` is
+// `HF_ERR_INVALID_ARGUMENT`.
+typedef struct hf_bake_options {
+  // Safety distances: the layout, an `hf_safety_variant` (default directional).
+  uint32_t variant;
+  // Safety distances: 1 clamps every distance to at least 1 (the paper's "strictly
+  // positive" variant: fewer fetches, **not exact**); 0 (the default): exact.
+  uint32_t positive;
+  // Safety distances, cylinder–cone shapes, radii: the largest distance, cone step
+  // or radius stored, 0..=255 (defaults 255, 64, 255; smaller is conservative). The
+  // map's descriptor records it for the march.
+  uint32_t cap;
+  // Cylinder–cone shapes: how the cone slope is computed, an `hf_cc_slope` (default
+  // exact).
+  uint32_t slope;
+  // Safety distances, cylinder–cone shapes: the ray classes to bake (`HF_RAYS_*`
+  // bits; 0, the default: all four). A map of fewer classes is smaller and faster to
+  // bake (`hf_scene_bake_plan` gives a scene's); `hf_trace` reads the classes from
+  // the map's descriptor.
+  uint32_t ray_classes;
+  // Radii: the error tolerance in grid units, finite and ≥ 0 (0, the default: the
+  // exact radius; larger gives larger radii and rays may pass under the surface by
+  // up to that depth).
+  float tolerance;
+  // Threads `hf_bake` bakes on: 1 (the default) the calling thread, `n` up to `n`
+  // (at most the available cores), 0 one per available core. The map does not
+  // depend on it. The other bake functions ignore it.
+  uint32_t threads;
+  // Room for later options: must be 0.
+  uint32_t reserved[9];
+} hf_bake_options;
 
 // A pinhole camera in the field's world units (grid units for a field without a
 // transform): pixel (x, y), row 0 at the top, sees along
@@ -520,20 +545,6 @@ typedef struct hf_hit {
   // field. Exact methods fill it; approximate ones report `INFINITY`.
   float clearance;
 } hf_hit;
-
-#if defined(HF_HAVE_SAFETY)
-// What a cylinder–cone bake computes.
-typedef struct hf_cc_options {
-  // An `hf_cc_slope`.
-  uint32_t slope;
-  // Longest cone step in centerlines, 0..=255 (64 is the core's default); the map's
-  // descriptor records it for the march.
-  uint32_t cap;
-  // The ray classes to bake (`HF_RAYS_*` bits; 0: all four): a map of fewer classes
-  // is smaller and faster to bake (`hf_cc_bake_rows`).
-  uint32_t ray_classes;
-} hf_cc_options;
-#endif
 
 // Width, height and height bounds of a field.
 typedef struct hf_field_info {
@@ -635,33 +646,6 @@ typedef struct hf_level {
 } hf_level;
 #endif
 
-#if defined(HF_HAVE_SAFETY)
-// What a radius bake computes.
-typedef struct hf_radius_options {
-  // Error tolerance in grid units, finite and ≥ 0 (0: the exact radius; larger
-  // gives larger radii and rays may pass under the surface by up to that depth).
-  float tolerance;
-  // Largest radius stored, 0..=255 (255 is the default; smaller is conservative).
-  uint32_t cap;
-} hf_radius_options;
-#endif
-
-#if defined(HF_HAVE_SAFETY)
-// What a safety-distance bake computes.
-typedef struct hf_safety_options {
-  // An `hf_safety_variant`.
-  uint32_t variant;
-  // 1: clamp every distance to at least 1 (the paper's "strictly positive" variant:
-  // fewer fetches, **not exact**, rays may miss silhouettes); 0: exact.
-  uint32_t positive;
-  // Largest distance stored, 0..=255 (255 is the default; smaller is conservative).
-  uint32_t cap;
-  // The ray classes to bake (`HF_RAYS_*` bits; 0: all four): a map of fewer classes
-  // is smaller and faster to bake (`hf_safety_bake_rows`).
-  uint32_t ray_classes;
-} hf_safety_options;
-#endif
-
 // What a scene uses; shader generation and bakes leave out everything else. Fill it
 // with `hf_scene_general`, then narrow it.
 typedef struct hf_scene {
@@ -689,34 +673,35 @@ typedef struct hf_scene {
 // What to bake for a scene (`hf_scene_bake_plan`): an `hf_need` per product, the ray
 // classes the safety-shape bakes compute and the safety map's layout.
 typedef struct hf_bake_plan {
-  // The maximum-mipmap pyramid (`hf_maxmip_bake`): kept for maxmip; scratch of the
-  // cone, relaxed-cone and QDM bakes (`hf_cone_prepare`).
+  // The maximum-mipmap pyramid (`hf_bake` of `HF_METHOD_MAXMIP`): kept for maxmip;
+  // the scratch of the cone, relaxed-cone and QDM bakes (`hf_bake_prepare`).
   uint32_t pyramid;
-  // The strip bounds of the safety-shape bakes (`hf_safety_prepare`).
+  // The strip bounds of the safety-shape bakes (their `hf_bake_prepare` scratch).
   uint32_t safety_scratch;
-  // The safety-distance map (`hf_safety_bake`).
+  // The safety-distance map (`hf_bake` of `HF_METHOD_SAFETY`).
   uint32_t safety_map;
-  // The cylinder–cone map (`hf_cc_bake`).
+  // The cylinder–cone map (`hf_bake` of `HF_METHOD_CC`).
   uint32_t cc_map;
-  // The N-buffers of the cylinder–cone bake (`hf_cc_prepare_nbuffer`), with either
-  // slope.
+  // The N-buffers of the cylinder–cone bake (the second part of its `hf_bake_prepare`
+  // scratch), with either slope.
   uint32_t nbuffer;
-  // The conservative cone map (`hf_cone_bake`).
+  // The conservative cone map (`hf_bake` of `HF_METHOD_CONE`).
   uint32_t cone_map;
-  // The relaxed cone map (`hf_relaxed_bake`).
+  // The relaxed cone map (`hf_bake` of `HF_METHOD_RELAXED`).
   uint32_t relaxed_map;
-  // The quadratic displacement map (`hf_qdm_bake`).
+  // The quadratic displacement map (`hf_bake` of `HF_METHOD_QDM`).
   uint32_t qdm_map;
   // `HF_RAYS_*` bits of the classes the safety-distance and cylinder–cone bakes
-  // compute (pass them to `hf_safety_map_len`, `hf_cc_map_len` and as the bake
-  // options' `ray_classes`): the maps hold these classes' rows only, and `hf_trace`
+  // compute (pass them as `hf_bake_options::ray_classes` to `hf_map_len` and the
+  // bakes): the maps hold these classes' rows only, and `hf_trace`
   // reads them from the maps. 0 when neither is baked.
   uint32_t ray_classes;
   // The safety map's layout, an `hf_safety_variant`: `HF_SAFETY_ISOTROPIC` (one
   // byte per texel, that class's distances exactly) when one ray class occurs,
   // else `HF_SAFETY_DIRECTIONAL`.
   uint32_t safety_variant;
-  // The safety-radius map (`hf_radius_bake`; its scratch is `safety_scratch`).
+  // The safety-radius map (`hf_bake` of `HF_METHOD_RADIUS`; its scratch is
+  // `safety_scratch`).
   uint32_t radius_map;
 } hf_bake_plan;
 
@@ -784,6 +769,113 @@ hf_result hf_error_message(uint32_t code,
                            size_t buf_len,
                            size_t *out_written);
 
+// Writes the default bake options of `method` to `*out_options` (what NULL options
+// mean for it). Thread safe.
+//
+// # Safety
+// `out_options` is NULL (an error) or valid for writing one `hf_bake_options`.
+hf_result hf_bake_options_default(uint32_t method,
+                                  struct hf_bake_options *out_options);
+
+// Writes the number of elements of `method`'s map of a `width × height` field baked
+// with `options` (NULL: the defaults) to `*out_len`: the size to allocate for
+// `hf_bake` and to pass to `hf_trace`. Floats for the maximum mipmap and the cone,
+// relaxed and QDM maps, bytes for the safety-distance, cylinder–cone and radius maps;
+// 0 for a method that bakes no map. The texels (layout: docs/DESIGN.md, "Texture
+// layouts") come first, then `HF_MAP_DESC_BYTES` of descriptor (`hf_map_desc`;
+// upload the texels only). Thread safe.
+//
+// # Safety
+// `options` is NULL (the defaults) or valid for reading; `out_len` NULL (an error) or
+// valid for writing one `size_t`.
+hf_result hf_map_len(uint32_t method,
+                     uint32_t width,
+                     uint32_t height,
+                     const struct hf_bake_options *options,
+                     size_t *out_len);
+
+// Writes the number of floats of the scratch `hf_bake_prepare` fills and
+// `hf_bake_rows` reads (0 for a method that needs none: the maximum mipmap and those
+// without a map) to `*out_len`. Thread safe.
+//
+// # Safety
+// As `hf_map_len`.
+hf_result hf_bake_scratch_len(uint32_t method,
+                              uint32_t width,
+                              uint32_t height,
+                              const struct hf_bake_options *options,
+                              size_t *out_len);
+
+// Writes the number of rows `hf_bake_rows` bakes, numbered from 0, to `*out_rows`: H
+// (sample rows) for the safety-distance, cylinder–cone, radius and relaxed maps, H − 1
+// (cell rows) for the cone and QDM maps, 1 for the maximum mipmap (its levels depend
+// on each other: split it by level with `hf_maxmip_bake_rows`), 0 for a method that
+// bakes no map. Thread safe.
+//
+// # Safety
+// `options` is NULL (the defaults) or valid for reading; `out_rows` NULL (an error)
+// or valid for writing one `uint32_t`.
+hf_result hf_bake_row_count(uint32_t method,
+                            uint32_t width,
+                            uint32_t height,
+                            const struct hf_bake_options *options,
+                            uint32_t *out_rows);
+
+// Fills `scratch` (`scratch_len ≥ hf_bake_scratch_len` floats) with what the row
+// bakes of `method`'s map of `field` share: the strip bounds (safety distances,
+// radii), those and the N-buffers (cylinder–cone), the maximum pyramid (cone family).
+// O(cells), one thread. Nothing to do (and `scratch` may be NULL with length 0) for
+// the maximum mipmap and the methods without a map. Thread safe for distinct buffers.
+//
+// # Safety
+// `field` is NULL (an error) or a live handle; `options` NULL (the defaults) or
+// valid; `scratch` NULL or valid for writing `scratch_len` floats.
+hf_result hf_bake_prepare(uint32_t method,
+                          const struct hf_field *field,
+                          const struct hf_bake_options *options,
+                          float *scratch,
+                          size_t scratch_len);
+
+// Bakes rows `[row_begin, row_end)` (0 ≤ begin ≤ end ≤ `hf_bake_row_count`) of
+// `method`'s map of `field` into `map`, the whole map buffer (`map_len ≥ hf_map_len`
+// elements of the same options), reading `scratch` from `hf_bake_prepare`. Writes only
+// those rows, and the descriptor after the texels when `row_begin` is 0, so threads
+// may bake disjoint row ranges of one map at once, sharing one scratch: any job
+// system can split the costly part of a bake. Thread safe (reads the field only) for
+// disjoint rows of one map.
+//
+// # Safety
+// `field` is NULL (an error) or a live handle; `options` NULL (the defaults) or
+// valid; `scratch` NULL or valid for reading `scratch_len` floats; `map` NULL (an
+// error) or valid for writing `map_len` elements of the method's map; concurrent
+// calls must bake disjoint rows.
+hf_result hf_bake_rows(uint32_t method,
+                       const struct hf_field *field,
+                       const struct hf_bake_options *options,
+                       const float *scratch,
+                       size_t scratch_len,
+                       uint32_t row_begin,
+                       uint32_t row_end,
+                       void *map,
+                       size_t map_len);
+
+// Bakes `method`'s whole map of `field` into `out_map` (`out_map_len ≥ hf_map_len`
+// elements of the same options) on `options->threads` threads, allocating the scratch
+// itself: `hf_bake_prepare` then `hf_bake_rows` over every row (the maximum mipmap:
+// every level, each level's rows split among the threads). The same map for any
+// thread count. A method without a map bakes nothing (`out_map_len` 0). Thread safe
+// for distinct output maps (reads the field only).
+//
+// # Safety
+// `field` is NULL (an error) or a live handle; `options` NULL (the defaults) or
+// valid; `out_map` NULL (an error) or valid for writing `out_map_len` elements of the
+// method's map.
+hf_result hf_bake(uint32_t method,
+                  const struct hf_field *field,
+                  const struct hf_bake_options *options,
+                  void *out_map,
+                  size_t out_map_len);
+
 // Writes the primary ray of pixel (`x`, `y`) of `*camera` to `*out_ray`: the ray
 // `hf_trace_camera` traces for that pixel, bit for bit. `HF_ERR_INVALID_ARGUMENT`
 // for a degenerate camera or a pixel outside the image. Thread safe.
@@ -841,251 +933,6 @@ hf_result hf_trace_camera_shadows(const struct hf_field *field,
                                   const float (*to_light)[3],
                                   struct hf_hit *out_shadows,
                                   size_t out_shadows_len);
-
-#if defined(HF_HAVE_SAFETY)
-// Writes the size in bytes of the packed cylinder–cone map of a `width × height`
-// field for the ray classes `ray_classes` (`HF_RAYS_*` bits; 0: all four, as
-// `hf_cc_options::ray_classes`) to `*out_len`: `W * H * 2 * n` for its `n` classes
-// (layout: docs/DESIGN.md, "Texture layouts", cylinder–cone), then `HF_MAP_DESC_BYTES`
-// of descriptor (`hf_map_desc`), which stays on the CPU. Thread safe.
-//
-// # Safety
-// `out_len` is NULL (an error) or valid for writing one `size_t`.
-hf_result hf_cc_map_len(uint32_t width,
-                        uint32_t height,
-                        uint32_t ray_classes,
-                        size_t *out_len);
-#endif
-
-#if defined(HF_HAVE_SAFETY)
-// Writes the number of floats of the N-buffers of a `width × height` field for cone
-// reach `cap` (0..=255) to `*out_len`. Thread safe.
-//
-// # Safety
-// `out_len` is NULL (an error) or valid for writing one `size_t`.
-hf_result hf_cc_nbuffer_len(uint32_t width,
-                            uint32_t height,
-                            uint32_t cap,
-                            size_t *out_len);
-#endif
-
-#if defined(HF_HAVE_SAFETY)
-// Fills `out_nbuffer` (`out_nbuffer_len ≥ hf_cc_nbuffer_len(W, H, cap)` floats) with
-// the N-buffers the cone slopes of `hf_cc_bake_rows` read. O(cells · levels), one
-// thread.
-// Thread safe for distinct output buffers (reads the field only).
-//
-// # Safety
-// `field` is NULL (an error) or a live handle; `out_nbuffer` NULL (an error) or valid
-// for writing `out_nbuffer_len` floats.
-hf_result hf_cc_prepare_nbuffer(const struct hf_field *field,
-                                uint32_t cap,
-                                float *out_nbuffer,
-                                size_t out_nbuffer_len);
-#endif
-
-#if defined(HF_HAVE_SAFETY)
-// Bakes the cylinder–cone shapes of texel rows `[row_begin, row_end)` (0 ≤ begin ≤
-// end ≤ H) into `map` (the whole map buffer, `map_len ≥ hf_cc_map_len` of the same
-// classes), reading `scratch` (from `hf_safety_prepare`) and `nbuffer` (from
-// `hf_cc_prepare_nbuffer` with `options->cap`). Writes only those rows: threads may
-// bake disjoint rows at once, sharing both scratches. With `options->ray_classes`
-// naming some of the four classes (`hf_scene_bake_plan` gives a scene's), the others
-// are neither computed nor stored (rows `row_begin..row_end` from byte
-// `row_begin * W * 2n`), the kept classes' bytes equal the full bake's; `hf_trace`
-// reads the classes from the map's descriptor.
-// Thread safe (reads the field only) for disjoint rows of one map.
-//
-// # Safety
-// `field` is NULL (an error) or a live handle; `scratch`, `nbuffer` NULL (an error)
-// or valid for reading their lengths in floats; `options` NULL (an error) or valid;
-// `map` NULL (an error) or valid for writing `map_len` bytes; concurrent calls must
-// bake disjoint rows.
-hf_result hf_cc_bake_rows(const struct hf_field *field,
-                          const float *scratch,
-                          size_t scratch_len,
-                          const float *nbuffer,
-                          size_t nbuffer_len,
-                          const struct hf_cc_options *options,
-                          uint32_t row_begin,
-                          uint32_t row_end,
-                          uint8_t *map,
-                          size_t map_len);
-#endif
-
-#if defined(HF_HAVE_SAFETY)
-// Bakes the whole cylinder–cone map of `field` into `out_map` (`out_map_len ≥
-// hf_cc_map_len` of the same classes) on `threads` threads (0: one per available
-// core), allocating both scratches itself, as `hf_cc_bake_rows` (a scene that casts
-// one class bakes a quarter of the texels into a quarter of the bytes). Same result
-// for any thread count.
-// Thread safe for distinct output maps (reads the field only).
-//
-// # Safety
-// `field` is NULL (an error) or a live handle; `options` NULL (an error) or valid;
-// `out_map` NULL (an error) or valid for writing `out_map_len` bytes.
-hf_result hf_cc_bake(const struct hf_field *field,
-                     const struct hf_cc_options *options,
-                     uint32_t threads,
-                     uint8_t *out_map,
-                     size_t out_map_len);
-#endif
-
-#if defined(HF_HAVE_CONE)
-// Writes the number of floats of the bake scratch of a `width × height` field to
-// `*out_len`: the maximum-mipmap pyramid (`hf_maxmip_len`) the cone, relaxed-cone
-// and QDM bakes search. Thread safe.
-//
-// # Safety
-// `out_len` is NULL (an error) or valid for writing one `size_t`.
-hf_result hf_cone_scratch_len(uint32_t width,
-                              uint32_t height,
-                              size_t *out_len);
-#endif
-
-#if defined(HF_HAVE_CONE)
-// Fills `out_scratch` (`out_scratch_len ≥ hf_cone_scratch_len`) with what the row
-// bakes of the cone family (`hf_cone_bake_rows`, `hf_relaxed_bake_rows`,
-// `hf_qdm_bake_rows`) read: the maximum-mipmap pyramid of `field`. Thread safe for
-// distinct buffers.
-//
-// # Safety
-// `field` is NULL (an error) or a live handle; `out_scratch` NULL (an error) or valid
-// for writing `out_scratch_len` floats.
-hf_result hf_cone_prepare(const struct hf_field *field,
-                          float *out_scratch,
-                          size_t out_scratch_len);
-#endif
-
-#if defined(HF_HAVE_CONE)
-// Writes the number of floats of the cone map of a `width × height` field to
-// `*out_len`: two per cell (layout: docs/DESIGN.md, "Texture layouts", cone), then
-// `HF_MAP_DESC_BYTES / 4` floats of descriptor (`hf_map_desc`), which stays on the
-// CPU. Thread safe.
-//
-// # Safety
-// `out_len` is NULL (an error) or valid for writing one `size_t`.
-hf_result hf_cone_map_len(uint32_t width,
-                          uint32_t height,
-                          size_t *out_len);
-#endif
-
-#if defined(HF_HAVE_CONE)
-// Bakes cell rows `[row_begin, row_end)` (0 ≤ begin ≤ end ≤ H − 1) of the
-// conservative cone map of `field` into `map` (the whole map buffer, `map_len ≥
-// hf_cone_map_len`), reading `scratch` from `hf_cone_prepare`. Writes only those
-// rows: threads may bake disjoint rows of one map at once, sharing one scratch.
-// Thread safe (reads the field only) for disjoint rows of one map.
-//
-// # Safety
-// `field` is NULL (an error) or a live handle; `scratch` NULL (an error) or valid for
-// reading `scratch_len` floats; `map` NULL (an error) or valid for writing `map_len`
-// floats; concurrent calls must bake disjoint rows.
-hf_result hf_cone_bake_rows(const struct hf_field *field,
-                            const float *scratch,
-                            size_t scratch_len,
-                            uint32_t row_begin,
-                            uint32_t row_end,
-                            float *map,
-                            size_t map_len);
-#endif
-
-#if defined(HF_HAVE_CONE)
-// Bakes the whole conservative cone map of `field` (cone step mapping made exact for
-// the triangle surface) into `out_map` (`out_map_len ≥ hf_cone_map_len`) on `threads`
-// threads (0: one per available core), allocating the scratch itself.
-// Thread safe for distinct output maps (reads the field only).
-//
-// # Safety
-// `field` is NULL (an error) or a live handle; `out_map` NULL (an error) or valid for
-// writing `out_map_len` floats.
-hf_result hf_cone_bake(const struct hf_field *field,
-                       uint32_t threads,
-                       float *out_map,
-                       size_t out_map_len);
-#endif
-
-#if (defined(HF_HAVE_CONE) && defined(HF_HAVE_RELAXED))
-// Writes the number of floats of the relaxed cone map of a `width × height` field to
-// `*out_len`: one ratio per sample (layout: docs/DESIGN.md, "Texture layouts",
-// relaxed cone), then `HF_MAP_DESC_BYTES / 4` floats of descriptor. Thread safe.
-//
-// # Safety
-// `out_len` is NULL (an error) or valid for writing one `size_t`.
-hf_result hf_relaxed_map_len(uint32_t width,
-                             uint32_t height,
-                             size_t *out_len);
-#endif
-
-#if (defined(HF_HAVE_CONE) && defined(HF_HAVE_RELAXED))
-// Bakes sample rows `[row_begin, row_end)` (0 ≤ begin ≤ end ≤ H) of the relaxed cone
-// map (Policarpo & Oliveira 2007) into `map`, as `hf_cone_bake_rows`.
-// Thread safe (reads the field only) for disjoint rows of one map.
-//
-// # Safety
-// As `hf_cone_bake_rows`.
-hf_result hf_relaxed_bake_rows(const struct hf_field *field,
-                               const float *scratch,
-                               size_t scratch_len,
-                               uint32_t row_begin,
-                               uint32_t row_end,
-                               float *map,
-                               size_t map_len);
-#endif
-
-#if (defined(HF_HAVE_CONE) && defined(HF_HAVE_RELAXED))
-// Bakes the whole relaxed cone map of `field` into `out_map` (`out_map_len ≥
-// hf_relaxed_map_len`) on `threads` threads (0: one per available core).
-// Thread safe for distinct output maps (reads the field only).
-//
-// # Safety
-// As `hf_cone_bake`.
-hf_result hf_relaxed_bake(const struct hf_field *field,
-                          uint32_t threads,
-                          float *out_map,
-                          size_t out_map_len);
-#endif
-
-#if (defined(HF_HAVE_CONE) && defined(HF_HAVE_QDM))
-// Writes the number of floats of the quadratic displacement map of a `width ×
-// height` field to `*out_len`: four per cell (layout: docs/DESIGN.md, "Texture
-// layouts", QDM), then `HF_MAP_DESC_BYTES / 4` floats of descriptor. Thread safe.
-//
-// # Safety
-// `out_len` is NULL (an error) or valid for writing one `size_t`.
-hf_result hf_qdm_map_len(uint32_t width,
-                         uint32_t height,
-                         size_t *out_len);
-#endif
-
-#if (defined(HF_HAVE_CONE) && defined(HF_HAVE_QDM))
-// Bakes cell rows `[row_begin, row_end)` (0 ≤ begin ≤ end ≤ H − 1) of the quadratic
-// displacement map (after Kiglics et al.) into `map`, as `hf_cone_bake_rows`.
-// Thread safe (reads the field only) for disjoint rows of one map.
-//
-// # Safety
-// As `hf_cone_bake_rows`.
-hf_result hf_qdm_bake_rows(const struct hf_field *field,
-                           const float *scratch,
-                           size_t scratch_len,
-                           uint32_t row_begin,
-                           uint32_t row_end,
-                           float *map,
-                           size_t map_len);
-#endif
-
-#if (defined(HF_HAVE_CONE) && defined(HF_HAVE_QDM))
-// Bakes the whole quadratic displacement map of `field` into `out_map` (`out_map_len
-// ≥ hf_qdm_map_len`) on `threads` threads (0: one per available core).
-// Thread safe for distinct output maps (reads the field only).
-//
-// # Safety
-// As `hf_cone_bake`.
-hf_result hf_qdm_bake(const struct hf_field *field,
-                      uint32_t threads,
-                      float *out_map,
-                      size_t out_map_len);
-#endif
 
 // Writes what was wrong in the last failing `hf_` call on the calling thread into
 // `buf` as a NUL-terminated ASCII string, and its length without the NUL into
@@ -1260,7 +1107,7 @@ hf_result hf_ktx2_len(const struct hf_ktx2_desc *desc,
                       size_t *out_len);
 
 // Writes the size in bytes of the baked map of `desc` to `*out_len`: what its bake
-// writes (for the pyramid every level, `hf_maxmip_len` floats), descriptor included
+// writes (for the pyramid every level, `hf_map_len` floats), descriptor included
 // (every map but `HF_KTX2_HEIGHTS`), which `hf_ktx2_write` reads and
 // `hf_ktx2_read_map` writes. Errors as `hf_ktx2_len`. Thread safe.
 //
@@ -1363,20 +1210,6 @@ hf_result hf_field_get_fingerprint(const struct hf_field *field,
                                    uint64_t *out_generation);
 
 #if defined(HF_HAVE_MAXMIP)
-// Writes the number of floats of the maximum-mipmap pyramid of a `width × height`
-// field (2 ≤ width, height ≤ `HF_MAX_SIDE`) to `*out_len`: the size to allocate for
-// `hf_maxmip_bake`, the texels of every level (`hf_maxmip_levels`; layout:
-// docs/DESIGN.md, "Texture layouts", maxmip pyramid) then `HF_MAP_DESC_BYTES / 4`
-// floats of descriptor (`hf_map_desc`; upload the levels only). Thread safe.
-//
-// # Safety
-// `out_len` is NULL (an error) or valid for writing one `size_t`.
-hf_result hf_maxmip_len(uint32_t width,
-                        uint32_t height,
-                        size_t *out_len);
-#endif
-
-#if defined(HF_HAVE_MAXMIP)
 // Writes the pyramid levels of a `width × height` field, finest (level 0, one texel
 // per cell: the maximum of its four corners) to coarsest (1 × 1), into `out_levels`
 // (`out_levels_len ≥` the level count; `HF_MAX_LEVELS` always suffices) and their
@@ -1394,21 +1227,8 @@ hf_result hf_maxmip_levels(uint32_t width,
 #endif
 
 #if defined(HF_HAVE_MAXMIP)
-// Bakes the whole maximum-mipmap pyramid of `field` into `out_pyramid`, which holds
-// `out_pyramid_len ≥ hf_maxmip_len(W, H)` floats (heights, grid units; layout from
-// `hf_maxmip_levels`). Single-threaded. Thread safe for distinct output buffers.
-//
-// # Safety
-// `field` is NULL (an error) or a live handle; `out_pyramid` is NULL (an error) or
-// valid for writing `out_pyramid_len` floats.
-hf_result hf_maxmip_bake(const struct hf_field *field,
-                         float *out_pyramid,
-                         size_t out_pyramid_len);
-#endif
-
-#if defined(HF_HAVE_MAXMIP)
 // Bakes rows `[row_begin, row_end)` of pyramid level `level` into `pyramid` (the
-// whole pyramid buffer, `pyramid_len ≥ hf_maxmip_len(W, H)`), reading level
+// whole pyramid buffer, `pyramid_len ≥ hf_map_len(HF_METHOD_MAXMIP, W, H)`), reading level
 // `level − 1` from the same buffer (level 0 reads the field). Levels must be baked
 // finest first; the rows of one level may be baked by several threads at once, each
 // with its own disjoint row range (this call touches only the level's rows it bakes
@@ -1428,25 +1248,10 @@ hf_result hf_maxmip_bake_rows(const struct hf_field *field,
 #endif
 
 #if defined(HF_HAVE_MAXMIP)
-// `hf_maxmip_bake` on `threads` threads (0: one per available core; at most the
-// available cores and the rows of a level; a thread the system refuses to create is
-// done without): each level's rows are split among the threads, levels in order.
-// The result is identical to `hf_maxmip_bake`.
-// Thread safe for distinct output buffers (reads the field only).
-//
-// # Safety
-// As `hf_maxmip_bake`.
-hf_result hf_maxmip_bake_threaded(const struct hf_field *field,
-                                  uint32_t threads,
-                                  float *out_pyramid,
-                                  size_t out_pyramid_len);
-#endif
-
-#if defined(HF_HAVE_MAXMIP)
 // Refreshes the texels of `pyramid` (baked for `field` before the change) that
 // depend on the samples `[x0, x1) × [y0, y1)`, after `hf_field_update_rect` changed
 // them; the result equals a full bake, descriptor included. `pyramid_len ≥
-// hf_maxmip_len(W, H)`. The pyramid's descriptor must name the field's heights now or
+// hf_map_len(HF_METHOD_MAXMIP, W, H)`. The pyramid's descriptor must name the field's heights now or
 // before updates that all lie inside the rectangle (the field remembers its last 16
 // updates): `HF_ERR_STALE_MAP` when an update since the bake lies outside it
 // (`hf_last_error_detail` names it), `HF_ERR_MAP_MISMATCH` for a pyramid of other
@@ -1466,172 +1271,6 @@ hf_result hf_maxmip_update_rect(const struct hf_field *field,
                                 uint32_t y1,
                                 float *pyramid,
                                 size_t pyramid_len);
-#endif
-
-#if defined(HF_HAVE_SAFETY)
-// Writes the size in bytes of the radius map of a `width × height` field to
-// `*out_len`: `W * H`, one radius per texel (layout: docs/DESIGN.md, "Texture
-// layouts", safety radius), then `HF_MAP_DESC_BYTES` of descriptor (`hf_map_desc`).
-// Thread safe.
-//
-// # Safety
-// `out_len` is NULL (an error) or valid for writing one `size_t`.
-hf_result hf_radius_map_len(uint32_t width,
-                            uint32_t height,
-                            size_t *out_len);
-#endif
-
-#if defined(HF_HAVE_SAFETY)
-// Writes the number of floats of the scratch `hf_radius_prepare` fills and
-// `hf_radius_bake_rows` reads to `*out_len`: the strip bounds of the safety
-// distances, `hf_safety_scratch_len`. Thread safe.
-//
-// # Safety
-// `out_len` is NULL (an error) or valid for writing one `size_t`.
-hf_result hf_radius_scratch_len(uint32_t width,
-                                uint32_t height,
-                                size_t *out_len);
-#endif
-
-#if defined(HF_HAVE_SAFETY)
-// Fills `out_scratch` (`out_scratch_len ≥ hf_radius_scratch_len` floats) with the
-// strip bounds the row bakes of `field` share, whatever the options: what
-// `hf_safety_prepare` fills (one scratch serves both bakes). O(cells), one thread.
-// Thread safe for distinct buffers.
-//
-// # Safety
-// `field` is NULL (an error) or a live handle; `out_scratch` NULL (an error) or valid
-// for writing `out_scratch_len` floats.
-hf_result hf_radius_prepare(const struct hf_field *field,
-                            float *out_scratch,
-                            size_t out_scratch_len);
-#endif
-
-#if defined(HF_HAVE_SAFETY)
-// Bakes the radii of texel rows `[row_begin, row_end)` (0 ≤ begin ≤ end ≤ H) of
-// `field` into `map`, the whole map buffer (`map_len ≥ hf_radius_map_len`), reading
-// `scratch` from `hf_radius_prepare`. Writes only those rows, so threads may bake
-// disjoint row ranges of one map at once, sharing one scratch.
-// Thread safe (reads the field only) for disjoint rows of one map.
-//
-// # Safety
-// `field` is NULL (an error) or a live handle; `scratch` NULL (an error) or valid for
-// reading `scratch_len` floats; `options` NULL (an error) or valid; `map` NULL (an
-// error) or valid for writing `map_len` bytes; concurrent calls must bake disjoint
-// rows.
-hf_result hf_radius_bake_rows(const struct hf_field *field,
-                              const float *scratch,
-                              size_t scratch_len,
-                              const struct hf_radius_options *options,
-                              uint32_t row_begin,
-                              uint32_t row_end,
-                              uint8_t *map,
-                              size_t map_len);
-#endif
-
-#if defined(HF_HAVE_SAFETY)
-// Bakes the whole radius map of `field` into `out_map` (`out_map_len ≥
-// hf_radius_map_len` bytes) on `threads` threads (0: one per available core; 1: the
-// calling thread), allocating the scratch itself. Same result for any thread count.
-// Thread safe for distinct output maps (reads the field only).
-//
-// # Safety
-// `field` is NULL (an error) or a live handle; `options` NULL (an error) or valid;
-// `out_map` NULL (an error) or valid for writing `out_map_len` bytes.
-hf_result hf_radius_bake(const struct hf_field *field,
-                         const struct hf_radius_options *options,
-                         uint32_t threads,
-                         uint8_t *out_map,
-                         size_t out_map_len);
-#endif
-
-#if defined(HF_HAVE_SAFETY)
-// Writes the size in bytes of the safety-distance map of a `width × height` field
-// with `variant` (an `hf_safety_variant`) for the ray classes `ray_classes`
-// (`HF_RAYS_*` bits; 0: all four, as `hf_safety_options::ray_classes`) to `*out_len`:
-// `W * H * n` directional for its `n` classes (`W * H * 4` for all), `W * H`
-// isotropic, then `HF_MAP_DESC_BYTES` of descriptor (`hf_map_desc`; upload the bytes
-// before it). Thread safe.
-//
-// # Safety
-// `out_len` is NULL (an error) or valid for writing one `size_t`.
-hf_result hf_safety_map_len(uint32_t width,
-                            uint32_t height,
-                            uint32_t variant,
-                            uint32_t ray_classes,
-                            size_t *out_len);
-#endif
-
-#if defined(HF_HAVE_SAFETY)
-// Writes the number of floats of the scratch buffer `hf_safety_prepare` fills and
-// `hf_safety_bake_rows` reads (per-strip bounds, O(cells / 8)) to `*out_len`.
-// Thread safe.
-//
-// # Safety
-// `out_len` is NULL (an error) or valid for writing one `size_t`.
-hf_result hf_safety_scratch_len(uint32_t width,
-                                uint32_t height,
-                                size_t *out_len);
-#endif
-
-#if defined(HF_HAVE_SAFETY)
-// Fills `out_scratch` (`out_scratch_len ≥ hf_safety_scratch_len` floats) with the
-// strip bounds the row bakes of `field` share. O(cells), one thread. Thread safe for
-// distinct buffers.
-//
-// # Safety
-// `field` is NULL (an error) or a live handle; `out_scratch` NULL (an error) or valid
-// for writing `out_scratch_len` floats.
-hf_result hf_safety_prepare(const struct hf_field *field,
-                            float *out_scratch,
-                            size_t out_scratch_len);
-#endif
-
-#if defined(HF_HAVE_SAFETY)
-// Bakes the safety distances of texel rows `[row_begin, row_end)` (0 ≤ begin ≤ end ≤
-// H) of `field` into `map`, the whole map buffer (`map_len ≥ hf_safety_map_len` of the
-// same variant and classes), reading `scratch` from `hf_safety_prepare`. Writes only
-// those rows, so threads may bake disjoint row ranges of one map at once, sharing one
-// scratch. The costly part of the bake. With `options->ray_classes` naming some of the
-// four classes (`hf_scene_bake_plan` gives a scene's), the other classes are neither
-// computed nor stored: directional, the kept classes' rows, equal to the full bake's,
-// `n` rows per texel row in class order (rows `row_begin..row_end` from byte
-// `row_begin * W * n`); isotropic, the minimum over the kept classes (larger
-// distances, valid for rays of those classes only). `hf_trace` reads the classes from
-// the map's descriptor.
-// Thread safe (reads the field only) for disjoint rows of one map.
-//
-// # Safety
-// `field` is NULL (an error) or a live handle; `scratch` NULL (an error) or valid for
-// reading `scratch_len` floats; `options` NULL (an error) or valid; `map` NULL (an
-// error) or valid for writing `map_len` bytes; concurrent calls must bake disjoint
-// rows.
-hf_result hf_safety_bake_rows(const struct hf_field *field,
-                              const float *scratch,
-                              size_t scratch_len,
-                              const struct hf_safety_options *options,
-                              uint32_t row_begin,
-                              uint32_t row_end,
-                              uint8_t *map,
-                              size_t map_len);
-#endif
-
-#if defined(HF_HAVE_SAFETY)
-// Bakes the whole safety-distance map of `field` into `out_map` (`out_map_len ≥
-// hf_safety_map_len` bytes of the same variant and classes) on `threads` threads (0:
-// one per available core; 1: the calling thread), allocating the scratch itself, as
-// `hf_safety_bake_rows` (a scene that casts two of the four classes bakes in about
-// half the time into half the bytes). Same result for any thread count.
-// Thread safe for distinct output maps (reads the field only).
-//
-// # Safety
-// `field` is NULL (an error) or a live handle; `options` NULL (an error) or valid;
-// `out_map` NULL (an error) or valid for writing `out_map_len` bytes.
-hf_result hf_safety_bake(const struct hf_field *field,
-                         const struct hf_safety_options *options,
-                         uint32_t threads,
-                         uint8_t *out_map,
-                         size_t out_map_len);
 #endif
 
 // Writes the general scene of `method` on `surface` to `*out`: every ray class,

@@ -4,15 +4,11 @@
 //! ray; each failed before the rays were conditioned (`hfcore::condition`), as the
 //! tests show by tracing the same rays unconditioned with the core's `f32` DDA.
 
-use crate::cc::{hf_cc_bake, hf_cc_map_len, hf_cc_options};
-use crate::cones::{hf_cone_bake, hf_cone_map_len, hf_qdm_bake, hf_qdm_map_len};
+use crate::bake::{hf_bake, hf_bake_options, hf_bake_options_default, hf_map_len};
 use crate::field::{hf_field, hf_field_create_f32, hf_field_create_u16, hf_field_destroy};
 use crate::field::{hf_field_get_info, hf_field_info};
-use crate::hf_method::*;
+use crate::hf_method::{self, *};
 use crate::hf_result::{self, *};
-use crate::maxmip::{hf_maxmip_bake, hf_maxmip_len};
-use crate::radius::{hf_radius_bake, hf_radius_map_len, hf_radius_options};
-use crate::safety::{hf_safety_bake, hf_safety_map_len, hf_safety_options};
 use crate::trace::{hf_hit, hf_ray, hf_trace, hf_trace_options};
 use hfcore::{dda, HeightField, Query, Surface};
 use std::ffi::c_void;
@@ -38,6 +34,33 @@ fn zeros<T: Clone + Default>(len: usize) -> Vec<T> {
     vec![T::default(); len]
 }
 
+/// `method`'s map of `handle`, baked through `hf_map_len` and `hf_bake` on two
+/// threads with the default options changed by `set`.
+fn baked<T: Copy + Default>(
+    handle: *mut hf_field,
+    method: hf_method,
+    set: impl FnOnce(&mut hf_bake_options),
+) -> Vec<T> {
+    // SAFETY: valid buffers and lengths throughout.
+    unsafe {
+        let mut o = core::mem::zeroed::<hf_bake_options>();
+        assert_eq!(hf_bake_options_default(method as u32, &mut o), HF_OK);
+        o.threads = 2;
+        set(&mut o);
+        let mut info = core::mem::zeroed::<hf_field_info>();
+        assert_eq!(hf_field_get_info(handle, &mut info), HF_OK);
+        let mut n = 0;
+        assert_eq!(
+            hf_map_len(method as u32, info.width, info.height, &o, &mut n),
+            HF_OK
+        );
+        let mut map = zeros::<T>(n);
+        let r = hf_bake(method as u32, handle, &o, map.as_mut_ptr().cast(), n);
+        assert_eq!(r, HF_OK);
+        map
+    }
+}
+
 impl Field {
     fn new(w: u32, h: u32, heights: Vec<f32>) -> Field {
         let mut handle = core::ptr::null_mut();
@@ -52,40 +75,15 @@ impl Field {
                 &mut handle,
             );
             assert_eq!(r, HF_OK);
-            let mut n = 0;
-            assert_eq!(hf_maxmip_len(w, h, &mut n), HF_OK);
-            let mut pyr = zeros(n);
-            assert_eq!(hf_maxmip_bake(handle, pyr.as_mut_ptr(), n), HF_OK);
-            let so = hf_safety_options {
-                variant: 0,
-                positive: 0,
-                cap: 255,
-                ray_classes: 0,
-            };
-            assert_eq!(hf_safety_map_len(w, h, 0, 0, &mut n), HF_OK);
-            let mut sd = zeros(n);
-            assert_eq!(hf_safety_bake(handle, &so, 2, sd.as_mut_ptr(), n), HF_OK);
-            let co = hf_cc_options {
-                slope: 1,
-                cap: CC_CAP,
-                ray_classes: 0,
-            };
-            assert_eq!(hf_cc_map_len(w, h, 0, &mut n), HF_OK);
-            let mut cc = zeros(n);
-            assert_eq!(hf_cc_bake(handle, &co, 2, cc.as_mut_ptr(), n), HF_OK);
-            let ro = hf_radius_options {
-                tolerance: 0.0,
-                cap: 255,
-            };
-            assert_eq!(hf_radius_map_len(w, h, &mut n), HF_OK);
-            let mut rad = zeros(n);
-            assert_eq!(hf_radius_bake(handle, &ro, 2, rad.as_mut_ptr(), n), HF_OK);
-            assert_eq!(hf_cone_map_len(w, h, &mut n), HF_OK);
-            let mut cone = zeros(n);
-            assert_eq!(hf_cone_bake(handle, 2, cone.as_mut_ptr(), n), HF_OK);
-            assert_eq!(hf_qdm_map_len(w, h, &mut n), HF_OK);
-            let mut qdm = zeros(n);
-            assert_eq!(hf_qdm_bake(handle, 2, qdm.as_mut_ptr(), n), HF_OK);
+            let pyr = baked(handle, HF_METHOD_MAXMIP, |_| {});
+            let sd = baked(handle, HF_METHOD_SAFETY, |_| {});
+            let cc = baked(handle, HF_METHOD_CC, |o| {
+                o.slope = 1;
+                o.cap = CC_CAP;
+            });
+            let rad = baked(handle, HF_METHOD_RADIUS, |_| {});
+            let cone = baked(handle, HF_METHOD_CONE, |_| {});
+            let qdm = baked(handle, HF_METHOD_QDM, |_| {});
             Field {
                 w,
                 h,

@@ -95,7 +95,6 @@ impl hf_field {
         self.generation
     }
 
-    #[cfg(any(feature = "maxmip", feature = "safety", feature = "cone"))]
     /// The remembered updates since the heights had fingerprint `fp` (the newest
     /// stretch that starts there), or `None` when none starts there.
     pub(crate) fn updates_since(&self, fp: u64) -> Option<&[Update]> {

@@ -12,24 +12,24 @@ use std::ffi::c_void;
 
 /// Map kind (`hf_ktx2_desc::map`): the height field itself, `R32_SFLOAT`, `W × H`.
 pub const HF_KTX2_HEIGHTS: u32 = 0;
-/// Map kind: the maximum-mipmap pyramid (`hf_maxmip_bake`), `R32_SFLOAT`, one mip level
+/// Map kind: the maximum-mipmap pyramid (`hf_bake` of `HF_METHOD_MAXMIP`), `R32_SFLOAT`, one mip level
 /// per pyramid level, in the top-left corner of a `P × Q` texture (`P`, `Q` the next
 /// powers of two of `W − 1`, `H − 1`), the rest `−∞`.
 pub const HF_KTX2_MAXMIP: u32 = 1;
-/// Map kind: the directional safety-distance map (`hf_safety_bake`,
+/// Map kind: the directional safety-distance map (`hf_bake` of `HF_METHOD_SAFETY`,
 /// `HF_SAFETY_DIRECTIONAL`), `R8_UINT`, `W × nH` for its `n` ray classes.
 pub const HF_KTX2_SAFETY: u32 = 2;
 /// Map kind: the isotropic safety-distance map (`HF_SAFETY_ISOTROPIC`), `R8_UINT`, `W × H`.
 pub const HF_KTX2_SAFETY_ISOTROPIC: u32 = 3;
-/// Map kind: the cylinder–cone map (`hf_cc_bake`), `R8G8_UINT`, `W × nH`.
+/// Map kind: the cylinder–cone map (`hf_bake` of `HF_METHOD_CC`), `R8G8_UINT`, `W × nH`.
 pub const HF_KTX2_CC: u32 = 4;
-/// Map kind: the cone map (`hf_cone_bake`), `R32G32_SFLOAT`, `(W − 1) × (H − 1)`.
+/// Map kind: the cone map (`hf_bake` of `HF_METHOD_CONE`), `R32G32_SFLOAT`, `(W − 1) × (H − 1)`.
 pub const HF_KTX2_CONE: u32 = 5;
-/// Map kind: the relaxed cone map (`hf_relaxed_bake`), `R32_SFLOAT`, `W × H`.
+/// Map kind: the relaxed cone map (`hf_bake` of `HF_METHOD_RELAXED`), `R32_SFLOAT`, `W × H`.
 pub const HF_KTX2_RELAXED: u32 = 6;
-/// Map kind: the QDM (`hf_qdm_bake`), `R32G32B32A32_SFLOAT`, `(W − 1) × (H − 1)`.
+/// Map kind: the QDM (`hf_bake` of `HF_METHOD_QDM`), `R32G32B32A32_SFLOAT`, `(W − 1) × (H − 1)`.
 pub const HF_KTX2_QDM: u32 = 7;
-/// Map kind: the safety-radius map (`hf_radius_bake`), `R8_UINT`, `W × H`.
+/// Map kind: the safety-radius map (`hf_bake` of `HF_METHOD_RADIUS`), `R8_UINT`, `W × H`.
 pub const HF_KTX2_RADIUS: u32 = 8;
 
 /// Which baked map a KTX 2 file holds, of which field, baked how: what the file's
@@ -222,7 +222,7 @@ pub unsafe extern "C" fn hf_ktx2_len(desc: *const hf_ktx2_desc, out_len: *mut us
 }
 
 /// Writes the size in bytes of the baked map of `desc` to `*out_len`: what its bake
-/// writes (for the pyramid every level, `hf_maxmip_len` floats), descriptor included
+/// writes (for the pyramid every level, `hf_map_len` floats), descriptor included
 /// (every map but `HF_KTX2_HEIGHTS`), which `hf_ktx2_write` reads and
 /// `hf_ktx2_read_map` writes. Errors as `hf_ktx2_len`. Thread safe.
 ///

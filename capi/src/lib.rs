@@ -22,11 +22,8 @@
 // The C names (`hf_field`, `hf_ray`, …) are the API.
 #![allow(non_camel_case_types)]
 
+pub mod bake;
 pub mod camera;
-#[cfg(feature = "safety")]
-pub mod cc;
-#[cfg(feature = "cone")]
-pub mod cones;
 pub mod detail;
 #[cfg(all(test, feature = "all-methods"))]
 mod extremes;
@@ -34,14 +31,11 @@ mod features;
 pub mod field;
 pub mod ktx2;
 pub mod mapdesc;
+pub mod maps;
 #[cfg(feature = "maxmip")]
 pub mod maxmip;
 mod par;
 mod ptr;
-#[cfg(feature = "safety")]
-pub mod radius;
-#[cfg(feature = "safety")]
-pub mod safety;
 pub mod scene;
 pub mod shader;
 pub mod trace;
@@ -225,31 +219,7 @@ pub(crate) fn guard_keeping_detail(f: impl FnOnce() -> Result<(), hf_result>) ->
     })
 }
 
-/// Shared body of the size queries: checks `width` and `height` (2 to `HF_MAX_SIDE`,
-/// else `HF_ERR_INVALID_SIZE`) and writes `len(width, height)` to `*out_len` (or
-/// returns its error: an invalid enum or class set).
-///
-/// # Safety
-/// `out_len` NULL (an error) or valid for writing one `size_t`.
-#[cfg(any(feature = "safety", feature = "cone"))]
-pub(crate) unsafe fn size_query(
-    width: u32,
-    height: u32,
-    out_len: *mut usize,
-    len: impl FnOnce(u32, u32) -> Result<usize, hf_result>,
-) -> hf_result {
-    guard(|| {
-        let out = ptr::out(out_len)?;
-        check_size(width, height)?;
-        let n = len(width, height)?;
-        // SAFETY: the caller promises `out_len` is writable.
-        unsafe { out.set(n) };
-        Ok(())
-    })
-}
-
 /// Checks a field size given to a size query: 2 to `HF_MAX_SIDE` on both sides.
-#[cfg(any(feature = "safety", feature = "cone"))]
 pub(crate) fn check_size(width: u32, height: u32) -> Result<(), hf_result> {
     let ok = |n: u32| (2..=HF_MAX_SIDE).contains(&n);
     if !ok(width) || !ok(height) {
@@ -482,7 +452,7 @@ pub const HF_MAX_SIDE: u32 = 16777216;
 pub const HF_MAX_LEVELS: u32 = 25;
 #[cfg(feature = "maxmip")]
 /// Width of the 2D `R32F` texture the GLSL maxmip port reads the pyramid from: pyramid
-/// texel `k` (the index into the `hf_maxmip_bake` buffer) is texel
+/// texel `k` (the index into the pyramid `hf_bake` fills) is texel
 /// `(k % HF_PYRAMID_TEX_WIDTH, k / HF_PYRAMID_TEX_WIDTH)`; the last row is padded.
 pub const HF_PYRAMID_TEX_WIDTH: u32 = 4096;
 

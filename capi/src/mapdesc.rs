@@ -6,10 +6,8 @@ use crate::detail::fail;
 use crate::hf_result::{self, *};
 use crate::ktx2::hf_ktx2_desc;
 use crate::{guard, hf_field, ptr};
-#[cfg(any(feature = "maxmip", feature = "safety", feature = "cone"))]
 use hfcore::ktx2::{Desc, MapKind};
 use hfcore::mapdesc::{DescriptorError, MapDescriptor, FINGERPRINT_KNOWN, LEN};
-#[cfg(any(feature = "maxmip", feature = "safety", feature = "cone"))]
 use hfcore::scene::RayClasses;
 
 /// Bytes of the descriptor that follows the texels of every baked map: the map
@@ -84,7 +82,6 @@ pub(crate) const fn elems<T: Texel>() -> usize {
     LEN / T::SIZE
 }
 
-#[cfg(any(feature = "maxmip", feature = "safety", feature = "cone"))]
 /// What a map's user (a trace, a refresh) expects of it: the map, and the cap and ray
 /// classes when the call names them.
 #[derive(Clone, Copy, Debug)]
@@ -94,9 +91,9 @@ pub(crate) struct Expect {
     pub classes: Option<RayClasses>,
 }
 
-#[cfg(any(feature = "maxmip", feature = "safety", feature = "cone"))]
 impl Expect {
     /// A map of kind `map` whatever its cap and classes.
+    #[cfg(feature = "maxmip")]
     pub fn map(map: MapKind) -> Expect {
         Expect {
             map,
@@ -118,7 +115,6 @@ fn room<T: Texel>(len: usize, texels: usize, what: &str) -> Result<(), hf_result
     Ok(())
 }
 
-#[cfg(any(feature = "maxmip", feature = "safety", feature = "cone"))]
 /// The descriptor of the map `desc` baked now from `f`, `texels` elements of `T`.
 fn descriptor_of<T: Texel>(f: &hf_field, mut desc: Desc, texels: usize) -> [u8; LEN] {
     desc.fingerprint = Some(f.fingerprint());
@@ -129,7 +125,6 @@ fn descriptor_of<T: Texel>(f: &hf_field, mut desc: Desc, texels: usize) -> [u8; 
     .encode()
 }
 
-#[cfg(any(feature = "maxmip", feature = "safety", feature = "cone"))]
 /// Writes the descriptor of the map `desc` of `f` (`texels` elements) into `slot`, the
 /// `elems::<T>()` elements after the texels.
 pub(crate) fn stamp<T: Texel>(f: &hf_field, desc: Desc, texels: usize, slot: &mut [T]) {
@@ -137,23 +132,6 @@ pub(crate) fn stamp<T: Texel>(f: &hf_field, desc: Desc, texels: usize, slot: &mu
         &mut slot[..elems::<T>()],
         &descriptor_of::<T>(f, desc, texels),
     );
-}
-
-#[cfg(any(feature = "safety", feature = "cone"))]
-/// Checks that `out` holds `texels` elements and a descriptor, runs `bake` on the
-/// texels, then stamps the descriptor of `desc`.
-pub(crate) fn bake_stamped<T: Texel>(
-    f: &hf_field,
-    desc: Desc,
-    texels: usize,
-    out: &mut [T],
-    bake: impl FnOnce(&mut [T]) -> Result<(), hf_result>,
-) -> Result<(), hf_result> {
-    room::<T>(out.len(), texels, "out_map")?;
-    let (map, slot) = out.split_at_mut(texels);
-    bake(map)?;
-    stamp(f, desc, texels, slot);
-    Ok(())
 }
 
 /// The descriptor after `texels` elements of `data`, decoded.
@@ -176,7 +154,6 @@ pub(crate) fn read<T: Texel>(data: &[T], texels: usize) -> Result<MapDescriptor,
     })
 }
 
-#[cfg(any(feature = "maxmip", feature = "safety", feature = "cone"))]
 /// The name of a map kind in messages.
 fn name(map: MapKind) -> &'static str {
     match map {
@@ -186,7 +163,6 @@ fn name(map: MapKind) -> &'static str {
     }
 }
 
-#[cfg(any(feature = "maxmip", feature = "safety", feature = "cone"))]
 /// Checks the descriptor after `texels` elements of `data` against `f` and `want`:
 /// `HF_ERR_MAP_MISMATCH` for another map, size, cap, class set or other heights,
 /// `HF_ERR_STALE_MAP` for heights this field had before an update.
@@ -203,7 +179,6 @@ pub(crate) fn check<T: Texel>(
     }
 }
 
-#[cfg(feature = "safety")]
 /// Checks a map whose texel count depends on how it was baked: one of `kinds` (the
 /// variants of a safety map) holding some set of ray classes, `len(kind, classes)`
 /// texels. The descriptor is looked for after each such layout; the one found (or,
@@ -291,7 +266,6 @@ pub(crate) fn check_refresh(
     }
 }
 
-#[cfg(any(feature = "maxmip", feature = "safety", feature = "cone"))]
 /// Everything but the heights: the kind, the size, the cap and classes `want` names.
 fn check_shape<T: Texel>(
     f: &hf_field,
@@ -332,7 +306,6 @@ fn check_shape<T: Texel>(
     Ok(got)
 }
 
-#[cfg(any(feature = "maxmip", feature = "safety", feature = "cone"))]
 /// The error for a descriptor that does not name `f`'s current heights.
 fn heights_error(f: &hf_field, got: &MapDescriptor) -> hf_result {
     match got.desc.fingerprint {

@@ -2,12 +2,10 @@
 
 use crate::hf_result::{self, *};
 use crate::mapdesc::{check_refresh, elems, stamp};
-use crate::trace::TraceOptions;
 use crate::{guard, hf_field, ptr};
 use hfcore::ktx2::{Desc, MapKind};
-use hfcore::maxmip::{self, Layout, MaxMip};
+use hfcore::maxmip::{self, Layout};
 use hfcore::HeightField;
-use hfcore::Marcher;
 
 /// One level of a maximum-mipmap pyramid: its texels lie at
 /// `pyramid[offset + j * width + i]`, row-major.
@@ -25,25 +23,6 @@ pub struct hf_level {
 /// The layout of a `width × height` field, checked.
 fn layout(width: u32, height: u32) -> Result<Layout, hf_result> {
     Layout::new(width, height).ok_or(HF_ERR_INVALID_SIZE)
-}
-
-/// Writes the number of floats of the maximum-mipmap pyramid of a `width × height`
-/// field (2 ≤ width, height ≤ `HF_MAX_SIDE`) to `*out_len`: the size to allocate for
-/// `hf_maxmip_bake`, the texels of every level (`hf_maxmip_levels`; layout:
-/// docs/DESIGN.md, "Texture layouts", maxmip pyramid) then `HF_MAP_DESC_BYTES / 4`
-/// floats of descriptor (`hf_map_desc`; upload the levels only). Thread safe.
-///
-/// # Safety
-/// `out_len` is NULL (an error) or valid for writing one `size_t`.
-#[no_mangle]
-pub unsafe extern "C" fn hf_maxmip_len(width: u32, height: u32, out_len: *mut usize) -> hf_result {
-    guard(|| {
-        let out = ptr::out(out_len)?;
-        let n = layout(width, height)?.texel_count() + elems::<f32>();
-        // SAFETY: the caller promises `out_len` is writable.
-        unsafe { out.set(n) };
-        Ok(())
-    })
 }
 
 /// Writes the pyramid levels of a `width × height` field, finest (level 0, one texel
@@ -114,30 +93,8 @@ fn stamp_pyramid(f: &hf_field, l: &Layout, p: &mut [f32]) {
     stamp(f, desc_of(f.view()), n, &mut p[n..]);
 }
 
-/// Bakes the whole maximum-mipmap pyramid of `field` into `out_pyramid`, which holds
-/// `out_pyramid_len ≥ hf_maxmip_len(W, H)` floats (heights, grid units; layout from
-/// `hf_maxmip_levels`). Single-threaded. Thread safe for distinct output buffers.
-///
-/// # Safety
-/// `field` is NULL (an error) or a live handle; `out_pyramid` is NULL (an error) or
-/// valid for writing `out_pyramid_len` floats.
-#[no_mangle]
-pub unsafe extern "C" fn hf_maxmip_bake(
-    field: *const hf_field,
-    out_pyramid: *mut f32,
-    out_pyramid_len: usize,
-) -> hf_result {
-    guard(|| {
-        // SAFETY: the caller's promises.
-        let (f, p, l) = unsafe { field_and_pyramid(field, out_pyramid, out_pyramid_len) }?;
-        maxmip::bake(f.view(), &mut p[..l.texel_count()])?;
-        stamp_pyramid(f, &l, p);
-        Ok(())
-    })
-}
-
 /// Bakes rows `[row_begin, row_end)` of pyramid level `level` into `pyramid` (the
-/// whole pyramid buffer, `pyramid_len ≥ hf_maxmip_len(W, H)`), reading level
+/// whole pyramid buffer, `pyramid_len ≥ hf_map_len(HF_METHOD_MAXMIP, W, H)`), reading level
 /// `level − 1` from the same buffer (level 0 reads the field). Levels must be baked
 /// finest first; the rows of one level may be baked by several threads at once, each
 /// with its own disjoint row range (this call touches only the level's rows it bakes
@@ -205,33 +162,9 @@ pub unsafe extern "C" fn hf_maxmip_bake_rows(
     })
 }
 
-/// `hf_maxmip_bake` on `threads` threads (0: one per available core; at most the
-/// available cores and the rows of a level; a thread the system refuses to create is
-/// done without): each level's rows are split among the threads, levels in order.
-/// The result is identical to `hf_maxmip_bake`.
-/// Thread safe for distinct output buffers (reads the field only).
-///
-/// # Safety
-/// As `hf_maxmip_bake`.
-#[no_mangle]
-pub unsafe extern "C" fn hf_maxmip_bake_threaded(
-    field: *const hf_field,
-    threads: u32,
-    out_pyramid: *mut f32,
-    out_pyramid_len: usize,
-) -> hf_result {
-    guard(|| {
-        // SAFETY: the caller's promises.
-        let (f, p, l) = unsafe { field_and_pyramid(field, out_pyramid, out_pyramid_len) }?;
-        bake_threaded(f.view(), &l, threads, &mut p[..l.texel_count()]);
-        stamp_pyramid(f, &l, p);
-        Ok(())
-    })
-}
-
 /// Bakes every level, splitting the rows of levels large enough among `threads` (0:
 /// one per core; capped by `par::thread_count`, a thread refused is done without).
-fn bake_threaded(hf: &HeightField, l: &Layout, threads: u32, pyramid: &mut [f32]) {
+pub(crate) fn bake_threaded(hf: &HeightField, l: &Layout, threads: u32, pyramid: &mut [f32]) {
     /// Below this many texels a level is baked on the calling thread.
     const SERIAL: usize = 1 << 14;
     for level in 0..l.levels() {
@@ -252,7 +185,7 @@ fn bake_threaded(hf: &HeightField, l: &Layout, threads: u32, pyramid: &mut [f32]
 /// Refreshes the texels of `pyramid` (baked for `field` before the change) that
 /// depend on the samples `[x0, x1) × [y0, y1)`, after `hf_field_update_rect` changed
 /// them; the result equals a full bake, descriptor included. `pyramid_len ≥
-/// hf_maxmip_len(W, H)`. The pyramid's descriptor must name the field's heights now or
+/// hf_map_len(HF_METHOD_MAXMIP, W, H)`. The pyramid's descriptor must name the field's heights now or
 /// before updates that all lie inside the rectangle (the field remembers its last 16
 /// updates): `HF_ERR_STALE_MAP` when an update since the bake lies outside it
 /// (`hf_last_error_detail` names it), `HF_ERR_MAP_MISMATCH` for a pyramid of other
@@ -288,16 +221,4 @@ pub unsafe extern "C" fn hf_maxmip_update_rect(
         stamp_pyramid(f, &l, p);
         Ok(())
     })
-}
-
-/// The maxmip marcher over the pyramid `texels`, its descriptor checked for `f`.
-pub(crate) fn marcher<'a>(
-    f: &'a hf_field,
-    texels: &'a [f32],
-    o: &TraceOptions,
-) -> Result<Marcher<'a>, hf_result> {
-    let n = maxmip::Layout::of(f.view()).texel_count();
-    crate::mapdesc::check(f, crate::mapdesc::Expect::map(MapKind::MaxMip), texels, n)?;
-    let mip = MaxMip::new(f.view(), &texels[..n])?;
-    Ok(Marcher::MaxMip(mip, o.surface, maxmip::Options::default()))
 }

@@ -63,15 +63,6 @@ pub(crate) fn classes_of(v: u32) -> Result<RayClasses, hf_result> {
     Ok(RayClasses(v as u8))
 }
 
-/// Checks the ray classes a bake's options name: 0 is all four.
-#[cfg(feature = "safety")]
-pub(crate) fn bake_classes_of(v: u32) -> Result<RayClasses, hf_result> {
-    match v {
-        0 => Ok(RayClasses::ALL),
-        v => classes_of(v),
-    }
-}
-
 /// Checks an `hf_scene` and turns it into the core's [`Scene`].
 pub(crate) fn scene_of(s: &hf_scene) -> Result<Scene, hf_result> {
     let flag = |v: u32| match v {
@@ -174,34 +165,35 @@ pub enum hf_need {
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct hf_bake_plan {
-    /// The maximum-mipmap pyramid (`hf_maxmip_bake`): kept for maxmip; scratch of the
-    /// cone, relaxed-cone and QDM bakes (`hf_cone_prepare`).
+    /// The maximum-mipmap pyramid (`hf_bake` of `HF_METHOD_MAXMIP`): kept for maxmip;
+    /// the scratch of the cone, relaxed-cone and QDM bakes (`hf_bake_prepare`).
     pub pyramid: u32,
-    /// The strip bounds of the safety-shape bakes (`hf_safety_prepare`).
+    /// The strip bounds of the safety-shape bakes (their `hf_bake_prepare` scratch).
     pub safety_scratch: u32,
-    /// The safety-distance map (`hf_safety_bake`).
+    /// The safety-distance map (`hf_bake` of `HF_METHOD_SAFETY`).
     pub safety_map: u32,
-    /// The cylinder–cone map (`hf_cc_bake`).
+    /// The cylinder–cone map (`hf_bake` of `HF_METHOD_CC`).
     pub cc_map: u32,
-    /// The N-buffers of the cylinder–cone bake (`hf_cc_prepare_nbuffer`), with either
-    /// slope.
+    /// The N-buffers of the cylinder–cone bake (the second part of its `hf_bake_prepare`
+    /// scratch), with either slope.
     pub nbuffer: u32,
-    /// The conservative cone map (`hf_cone_bake`).
+    /// The conservative cone map (`hf_bake` of `HF_METHOD_CONE`).
     pub cone_map: u32,
-    /// The relaxed cone map (`hf_relaxed_bake`).
+    /// The relaxed cone map (`hf_bake` of `HF_METHOD_RELAXED`).
     pub relaxed_map: u32,
-    /// The quadratic displacement map (`hf_qdm_bake`).
+    /// The quadratic displacement map (`hf_bake` of `HF_METHOD_QDM`).
     pub qdm_map: u32,
     /// `HF_RAYS_*` bits of the classes the safety-distance and cylinder–cone bakes
-    /// compute (pass them to `hf_safety_map_len`, `hf_cc_map_len` and as the bake
-    /// options' `ray_classes`): the maps hold these classes' rows only, and `hf_trace`
+    /// compute (pass them as `hf_bake_options::ray_classes` to `hf_map_len` and the
+    /// bakes): the maps hold these classes' rows only, and `hf_trace`
     /// reads them from the maps. 0 when neither is baked.
     pub ray_classes: u32,
     /// The safety map's layout, an `hf_safety_variant`: `HF_SAFETY_ISOTROPIC` (one
     /// byte per texel, that class's distances exactly) when one ray class occurs,
     /// else `HF_SAFETY_DIRECTIONAL`.
     pub safety_variant: u32,
-    /// The safety-radius map (`hf_radius_bake`; its scratch is `safety_scratch`).
+    /// The safety-radius map (`hf_bake` of `HF_METHOD_RADIUS`; its scratch is
+    /// `safety_scratch`).
     pub radius_map: u32,
 }
 

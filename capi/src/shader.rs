@@ -199,7 +199,7 @@ mod tests {
             hfcast_shaders::PYRAMID_TEX_WIDTH
         );
         assert_eq!(
-            crate::safety::hf_safety_variant::HF_SAFETY_ISOTROPIC as u32,
+            crate::maps::hf_safety_variant::HF_SAFETY_ISOTROPIC as u32,
             hfcast_shaders::SafetyVariant::Isotropic as u32
         );
     }

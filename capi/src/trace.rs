@@ -5,10 +5,9 @@ use crate::hf_result::{self, *};
 use crate::ptr::Named;
 use crate::{guard, hf_field, ptr, surface_of};
 use hfcore::condition::{condition, condition_query, Local};
+use hfcore::march::MarchOptions;
 use hfcore::scene::MethodKind;
 use hfcore::scene::RayClasses;
-#[cfg(feature = "search")]
-use hfcore::search::SearchSteps;
 use hfcore::{Flags, HeightField, Hit, Marcher, Query, Surface, Trace};
 use std::ffi::c_void;
 
@@ -198,22 +197,14 @@ pub unsafe extern "C" fn hf_trace_options_default(out_options: *mut hf_trace_opt
     })
 }
 
-/// The trace options, checked for `method`: the surface it traces and the fields it
-/// reads; what a method's `marcher` builds from.
+/// The trace options, checked for `method`: the core's march options, the ray classes
+/// the map must hold and the batch's thread count.
 #[derive(Clone, Copy, Debug)]
-// A build without some methods leaves the fields only they read unread.
-#[cfg_attr(not(feature = "all-methods"), allow(dead_code))]
 pub(crate) struct TraceOptions {
-    /// The surface.
-    pub surface: Surface,
+    /// The surface and step budgets.
+    pub march: MarchOptions,
     /// The ray classes the map must hold, when named.
     pub classes: Option<RayClasses>,
-    /// The step budget (at least 1 where the method reads it).
-    pub steps: u32,
-    /// Bisection steps.
-    pub binary_steps: u32,
-    /// The radius march's zero mode, as passed.
-    pub radius_zero: u32,
     /// The batch's thread count, as passed (0: one per core).
     pub threads: u32,
 }
@@ -246,16 +237,25 @@ impl TraceOptions {
                 format_args!("options.steps: {} needs at least 1", info.name),
             ));
         }
+        let radius_clamp = match o.radius_zero {
+            0 | 1 => o.radius_zero == 1,
+            _ => {
+                let why = "options.radius_zero: not an hf_radius_zero";
+                return Err(fail(HF_ERR_INVALID_ENUM, why));
+            }
+        };
         let classes = match o.ray_classes {
             0 => None,
             v => Some(crate::scene::classes_of(v)?),
         };
         Ok(TraceOptions {
-            surface,
+            march: MarchOptions {
+                surface,
+                steps: o.steps,
+                binary_steps: o.binary_steps,
+                radius_clamp,
+            },
             classes,
-            steps: o.steps,
-            binary_steps: o.binary_steps,
-            radius_zero: o.radius_zero,
             threads: o.threads,
         })
     }
@@ -280,56 +280,9 @@ pub(crate) unsafe fn marcher<'a>(
         false => *unsafe { ptr::get(options) }.named("options")?,
     };
     let o = TraceOptions::of(kind, &o)?;
-    if kind.info().map.is_none() {
-        if map_len != 0 {
-            return Err(crate::detail::fail(
-                HF_ERR_INVALID_ARGUMENT,
-                format_args!("map_len: {} reads no map; pass NULL and 0", kind.name()),
-            ));
-        }
-        return Ok((plain(kind, &o)?, o));
-    }
-    // SAFETY: the caller's promise, for the method's element type.
-    let floats = || unsafe { ptr::slice(map.cast::<f32>(), map_len) }.named("map");
-    #[cfg(feature = "safety")]
-    // SAFETY: the caller's promise, for the method's element type.
-    let bytes = || unsafe { ptr::slice(map.cast::<u8>(), map_len) }.named("map");
-    let m = match kind {
-        #[cfg(feature = "maxmip")]
-        MethodKind::MaxMip => crate::maxmip::marcher(f, floats()?, &o),
-        #[cfg(feature = "safety")]
-        MethodKind::Safety => crate::safety::marcher(f, bytes()?, &o),
-        #[cfg(feature = "safety")]
-        MethodKind::Cc => crate::cc::marcher(f, bytes()?, &o),
-        #[cfg(feature = "safety")]
-        MethodKind::Radius => crate::radius::marcher(f, bytes()?, &o),
-        #[cfg(feature = "cone")]
-        k @ (MethodKind::Cone | MethodKind::Relaxed | MethodKind::Qdm) => {
-            crate::cones::marcher(k, f, floats()?, &o)
-        }
-        _ => {
-            let _ = (f, floats);
-            Err(HF_ERR_NOT_BUILT)
-        }
-    };
-    Ok((m?, o))
-}
-
-/// The marcher of a method that reads no map.
-fn plain(kind: MethodKind, o: &TraceOptions) -> Result<Marcher<'static>, hf_result> {
-    Ok(match kind {
-        #[cfg(feature = "search")]
-        MethodKind::LinearBinary => Marcher::LinearBinary(
-            o.surface,
-            SearchSteps {
-                linear: o.steps,
-                binary: o.binary_steps,
-            },
-        ),
-        #[cfg(feature = "search")]
-        MethodKind::LinearSecant => Marcher::LinearSecant(o.surface, o.steps),
-        _ => Marcher::Exact(o.surface),
-    })
+    // SAFETY: the caller's promise, passed on.
+    let m = unsafe { crate::maps::marcher(kind, f, map, map_len, &o) }?;
+    Ok((m, o))
 }
 
 /// Traces one ray with `method` (an `hf_method`) over its baked `map` and writes the

@@ -211,14 +211,11 @@ fn smaller_builds_declare_only_their_methods() {
     };
     let cone_code = code(&cone);
     for gone in [
-        "hf_maxmip_bake",
-        "hf_maxmip_levels",
-        "hf_safety_bake",
-        "hf_safety_options",
-        "hf_cc_bake",
-        "hf_qdm_bake",
-        "hf_relaxed_bake",
-        "hf_radius_bake",
+        "hf_maxmip_levels(",
+        "hf_maxmip_update_rect(",
+        "HF_SAFETY_DIRECTIONAL",
+        "HF_CC_SLOPE_EXACT",
+        "HF_RADIUS_WALK",
         "HF_HAVE_SAFETY",
         "HF_MAX_LEVELS",
     ] {
@@ -228,7 +225,9 @@ fn smaller_builds_declare_only_their_methods() {
         );
     }
     for kept in [
-        "hf_cone_bake(",
+        "hf_bake(",
+        "hf_map_len(",
+        "hf_bake_rows(",
         "hf_trace(",
         "hf_trace_batch(",
         "hf_trace_options_default(",

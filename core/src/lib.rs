@@ -31,6 +31,7 @@ extern crate alloc;
 #[cfg(feature = "std")]
 extern crate std;
 
+pub mod bake;
 #[cfg(feature = "alloc")]
 pub mod brute;
 pub mod buffer;

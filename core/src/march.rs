@@ -3,8 +3,40 @@
 //! C API's traces, the report and the tools go through it, so a new method is one more
 //! variant here and one more row of the registry ([`MethodKind::info`]).
 
+use crate::bake::Error;
+use crate::ktx2::{Data, Desc, MapKind};
 use crate::scene::MethodKind;
 use crate::{dda, HeightField, Query, Real, Surface, Trace};
+
+/// What a march reads besides its map: the surface and the step budgets (the C API's
+/// `hf_trace_options`). Each method reads the fields its registry row names
+/// ([`MethodKind::info`]`.steps`) and ignores the others.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct MarchOptions {
+    /// The surface traced.
+    pub surface: Surface,
+    /// The first step budget: linear steps (searches), iterations (cone, QDM), cone
+    /// steps (relaxed).
+    pub steps: u32,
+    /// Bisection steps (linear-binary, relaxed).
+    pub binary_steps: u32,
+    /// Radius: jump zero radii as one (**not exact**) instead of walking them.
+    pub radius_clamp: bool,
+}
+
+impl MarchOptions {
+    /// The defaults on `surface`: the registry's step budgets (64 steps, 8 bisections),
+    /// zero radii walked.
+    pub fn on(surface: Surface) -> MarchOptions {
+        let steps = MethodKind::LinearBinary.info().steps;
+        MarchOptions {
+            surface,
+            steps: steps[0].default,
+            binary_steps: steps[1].default,
+            radius_clamp: false,
+        }
+    }
+}
 
 /// A method ready to march: its map (borrowed), surface and options. Built by the
 /// caller from a bake it has checked; [`Marcher::trace`] traces one query.
@@ -47,7 +79,103 @@ pub enum Marcher<'a> {
     Unbuilt(core::convert::Infallible, core::marker::PhantomData<&'a ()>),
 }
 
-impl Marcher<'_> {
+impl<'a> Marcher<'a> {
+    /// The marcher of `kind` over `map`, the texels of the map `desc` describes, baked
+    /// for `hf` (`None` for a method without a map), with `o`. The caller has checked
+    /// that the map belongs to `hf` (the C API by its descriptor); the views check its
+    /// length. `Error::BadDesc` when `desc` is not `kind`'s map, `Error::WrongType` for
+    /// texels of the other element type, `Error::NotBuilt` for a method this build
+    /// lacks.
+    pub fn of(
+        kind: MethodKind,
+        hf: &HeightField,
+        desc: &Desc,
+        map: Option<Data<'a>>,
+        o: &MarchOptions,
+    ) -> Result<Marcher<'a>, Error> {
+        let _ = (hf, desc, &map);
+        let want = kind.info().map;
+        let fits = match want {
+            Some(MapKind::Safety) => matches!(desc.map, MapKind::Safety | MapKind::SafetyIsotropic),
+            Some(m) => desc.map == m,
+            None => true,
+        };
+        if !fits || want.is_some() != map.is_some() {
+            return Err(Error::BadDesc);
+        }
+        let floats = || match map {
+            Some(Data::F32(d)) => Ok(d),
+            _ => Err(Error::WrongType),
+        };
+        #[cfg(feature = "safety")]
+        let bytes = || match map {
+            Some(Data::U8(d)) => Ok(d),
+            _ => Err(Error::WrongType),
+        };
+        #[cfg(feature = "safety")]
+        let surface = crate::safety::MarchSurface::of(o.surface).unwrap_or_default();
+        Ok(match kind {
+            MethodKind::Exact => Marcher::Exact(o.surface),
+            #[cfg(feature = "search")]
+            MethodKind::LinearBinary => {
+                let steps = crate::search::SearchSteps {
+                    linear: o.steps,
+                    binary: o.binary_steps,
+                };
+                Marcher::LinearBinary(o.surface, steps)
+            }
+            #[cfg(feature = "search")]
+            MethodKind::LinearSecant => Marcher::LinearSecant(o.surface, o.steps),
+            #[cfg(feature = "maxmip")]
+            MethodKind::MaxMip => {
+                let mip = crate::maxmip::MaxMip::new(hf, floats()?)?;
+                Marcher::MaxMip(mip, o.surface, crate::maxmip::Options::default())
+            }
+            #[cfg(feature = "safety")]
+            MethodKind::Safety => {
+                use crate::safety::{SafetyMap, Variant};
+                let variant = match desc.map {
+                    MapKind::Safety => Variant::Directional,
+                    _ => Variant::Isotropic,
+                };
+                let map = SafetyMap::with_classes(hf, bytes()?, variant, desc.classes)?;
+                Marcher::Safety(map, surface)
+            }
+            #[cfg(feature = "safety")]
+            MethodKind::Cc => {
+                let map =
+                    crate::safety::cc::CcMap::with_classes(hf, bytes()?, desc.cap, desc.classes)?;
+                Marcher::Cc(map, surface)
+            }
+            #[cfg(feature = "safety")]
+            MethodKind::Radius => {
+                use crate::radius::{Options, RadiusMap, Zero};
+                let zero = match o.radius_clamp {
+                    true => Zero::Clamp,
+                    false => Zero::Walk,
+                };
+                Marcher::Radius(RadiusMap::new(hf, bytes()?)?, Options { zero, surface })
+            }
+            #[cfg(feature = "cone")]
+            MethodKind::Cone => Marcher::Cone(crate::cone::ConeMap::new(hf, floats()?)?, o.steps),
+            #[cfg(feature = "qdm")]
+            MethodKind::Qdm => Marcher::Qdm(crate::qdm::QdmMap::new(hf, floats()?)?, o.steps),
+            #[cfg(feature = "relaxed")]
+            MethodKind::Relaxed => {
+                let steps = crate::relaxed::Steps {
+                    cone: o.steps,
+                    binary: o.binary_steps,
+                };
+                Marcher::Relaxed(floats()?, steps)
+            }
+            #[allow(unreachable_patterns)]
+            k => {
+                let _ = floats;
+                return Err(Error::NotBuilt(k.info().map.unwrap_or(MapKind::Heights)));
+            }
+        })
+    }
+
     /// The method it marches.
     pub fn kind(&self) -> MethodKind {
         match self {

@@ -568,6 +568,24 @@ pub struct BakePlan {
 }
 
 impl BakePlan {
+    /// The bake of the map the plan's method marches over for a `width × height` field
+    /// (its layout and ray classes as planned, the bake's default cap and choices);
+    /// `None` for a method without a map.
+    pub fn map_spec(&self, width: u32, height: u32) -> Option<crate::bake::Spec> {
+        let map = match self.method.info().map? {
+            MapKind::Safety if self.isotropic => MapKind::SafetyIsotropic,
+            m => m,
+        };
+        let mut desc = crate::ktx2::Desc::new(map, width, height);
+        if matches!(
+            map,
+            MapKind::Safety | MapKind::SafetyIsotropic | MapKind::Cc
+        ) {
+            desc.classes = self.classes;
+        }
+        Some(crate::bake::Spec::new(desc))
+    }
+
     /// How the scene needs `p`.
     pub fn need(&self, p: Product) -> Need {
         self.needs[p as usize]

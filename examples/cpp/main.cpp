@@ -57,9 +57,10 @@ int main() {
     Field field(raw);
 
     size_t pyramid_len = 0;
-    if (!ok(hf_maxmip_len(w, h, &pyramid_len), "hf_maxmip_len")) return 1;
+    if (!ok(hf_map_len(HF_METHOD_MAXMIP, w, h, nullptr, &pyramid_len), "hf_map_len")) return 1;
     std::vector<float> pyramid(pyramid_len);
-    if (!ok(hf_maxmip_bake(field.get(), pyramid.data(), pyramid.size()), "hf_maxmip_bake"))
+    if (!ok(hf_bake(HF_METHOD_MAXMIP, field.get(), nullptr, pyramid.data(), pyramid.size()),
+            "hf_bake"))
         return 1;
 
     // A fan of rays from a viewpoint above one corner towards points across the field,

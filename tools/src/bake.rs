@@ -3,10 +3,10 @@
 //! settings as metadata).
 
 use crate::Args;
-use hfcast::ktx2::{self, Data, Desc, MapKind};
-use hfcast::safety::{self, cc, AllRays, Options, Variant};
+use hfcast::bake::Spec;
+use hfcast::ktx2::{self, Data, DataMut, Desc, MapKind};
 use hfcast::scene::RayClasses;
-use hfcast::{cone, maxmip, qdm, radius, relaxed, HeightField};
+use hfcast::HeightField;
 use hfcast_tools::maps::{bundled_map, load_map};
 use hfcast_tools::{default_threads, par_chunks};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
@@ -95,79 +95,28 @@ enum Baked {
     F32(Vec<f32>),
 }
 
-/// Bakes the map of `desc` on `threads` threads, rows in ranges, with a progress bar
-/// on a terminal.
+/// Bakes the map of `desc` on `threads` threads (the core's one bake interface,
+/// `hfcast::bake::Spec`), rows in ranges, with a progress bar on a terminal.
 fn bake(hf: &HeightField, desc: &Desc, threads: usize) -> Result<Baked, String> {
-    let n = ktx2::map_len(desc).map_err(|e| e.to_string())?;
-    let (w, h) = (hf.width(), hf.height());
-    let baked = match desc.map {
-        MapKind::Heights => Baked::F32(hf.samples().to_vec()),
-        MapKind::MaxMip => {
-            let mut p = vec![0.0; n];
-            maxmip::bake(hf, &mut p).map_err(|e| e.to_string())?;
-            Baked::F32(p)
-        }
-        MapKind::Safety | MapKind::SafetyIsotropic | MapKind::Cc | MapKind::Radius => {
-            let mut scratch = vec![0.0; safety::scratch_len(w, h)];
-            safety::prepare(hf, &mut scratch).map_err(|e| e.to_string())?;
-            let mut out = vec![0u8; n];
-            let variant = if desc.map == MapKind::SafetyIsotropic {
-                Variant::Isotropic
-            } else {
-                Variant::Directional
-            };
-            let opts = Options {
-                variant,
-                positive: false,
-                cap: desc.cap,
-            };
-            let (cap, classes) = (desc.cap, desc.classes);
-            match desc.map {
-                MapKind::Cc => {
-                    let mut nb = vec![0.0; cc::nbuffer_len(w, h, cap)];
-                    cc::prepare_nbuffer(hf, cap, &mut nb).map_err(|e| e.to_string())?;
-                    let opts = cc::CcOptions {
-                        cap,
-                        ..Default::default()
-                    };
-                    by_rows(h, &mut out, threads, |rows, o| {
-                        cc::bake_rows_classes(hf, &scratch, &nb, classes, rows, opts, o)
-                    })?
-                }
-                MapKind::Radius => {
-                    let opts = radius::BakeOptions {
-                        tolerance: desc.tolerance,
-                        cap,
-                    };
-                    by_rows(h, &mut out, threads, |rows, o| {
-                        radius::bake_rows(hf, &scratch, rows, opts, o)
-                    })?
-                }
-                _ => by_rows(h, &mut out, threads, |rows, o| {
-                    safety::bake_rows_classes(hf, &scratch, &AllRays, classes, rows, opts, o)
-                })?,
-            }
-            Baked::U8(out)
-        }
-        MapKind::Cone | MapKind::Relaxed | MapKind::Qdm => {
-            let mut scratch = vec![0.0; cone::scratch_len(w, h)];
-            cone::prepare(hf, &mut scratch).map_err(|e| e.to_string())?;
-            let mut out = vec![0.0f32; n];
-            match desc.map {
-                MapKind::Cone => by_rows(h - 1, &mut out, threads, |rows, o| {
-                    cone::bake_rows(hf, &scratch, rows, o)
-                })?,
-                MapKind::Relaxed => by_rows(h, &mut out, threads, |rows, o| {
-                    relaxed::bake_rows(hf, &scratch, rows, o)
-                })?,
-                _ => by_rows(h - 1, &mut out, threads, |rows, o| {
-                    qdm::bake_rows(hf, &scratch, rows, o)
-                })?,
-            }
-            Baked::F32(out)
-        }
-    };
-    Ok(baked)
+    let spec = Spec::new(*desc);
+    let n = spec.map_len().map_err(|e| e.to_string())?;
+    let mut scratch = vec![0.0; spec.scratch_len()];
+    spec.prepare(hf, &mut scratch).map_err(|e| e.to_string())?;
+    let scratch = &scratch;
+    let rows = spec.rows();
+    Ok(if spec.is_float() {
+        let mut out = vec![0.0f32; n];
+        by_rows(rows, &mut out, threads, |r, o| {
+            spec.bake_rows(hf, scratch, r, DataMut::F32(o))
+        })?;
+        Baked::F32(out)
+    } else {
+        let mut out = vec![0u8; n];
+        by_rows(rows, &mut out, threads, |r, o| {
+            spec.bake_rows(hf, scratch, r, DataMut::U8(o))
+        })?;
+        Baked::U8(out)
+    })
 }
 
 /// Runs `bake_rows(rows, part)` over the `rows` rows of `out` in ranges of a few rows,

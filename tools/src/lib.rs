@@ -7,6 +7,7 @@
 //! [`parse_method`]), baking and tracing with any method and the text format of
 //! `hfcast trace` ([`trace`]), and the method choice of `hfcast advise` ([`advise`]).
 
+use hfcast::march::MarchOptions;
 use hfcast::relaxed::Steps as RelaxedSteps;
 use hfcast::scene::MethodKind;
 use hfcast::{Method, SearchSteps, Surface};
@@ -94,6 +95,20 @@ impl MethodSpec {
             MethodSpec::Relaxed(s) => vec![s.cone, s.binary],
             _ => Vec::new(),
         }
+    }
+
+    /// The core's march options of the method on `surface`: its parameters as the step
+    /// budgets (the registry's order, `MethodInfo::steps`: first `steps`, then `binary_steps`).
+    pub fn march_options(self, surface: Surface) -> MarchOptions {
+        let mut o = MarchOptions::on(surface);
+        let v = self.values();
+        if let Some(&n) = v.first() {
+            o.steps = n;
+        }
+        if let Some(&n) = v.get(1) {
+            o.binary_steps = n;
+        }
+        o
     }
 
     /// The method of `kind` with march parameters `v` (as many as [`parameters`] names).

@@ -8,22 +8,11 @@
 //! [`hfcast::Flags`]), `miss fetches`, or `error <message>`.
 
 use crate::MethodSpec;
-use hfcast::maxmip::{self, MaxMip};
-use hfcast::safety::cc::{self, CcMap, CcOptions};
-use hfcast::safety::{self, MarchSurface, SafetyMap, Variant};
+use hfcast::bake::Texels;
+use hfcast::ktx2::{Desc, MapKind};
 use hfcast::scene::{BakePlan, RayClasses, Scene};
-use hfcast::{cone, qdm, radius, relaxed, HeightField, Marcher, Method, Query, Surface, Trace};
+use hfcast::{HeightField, Marcher, Query, Surface, Trace};
 use std::time::{Duration, Instant};
-
-/// What a bake produced.
-enum Baked {
-    /// Nothing (the bake-free methods).
-    Nothing,
-    /// A map of floats (pyramid, cone, relaxed and QDM maps).
-    Floats(Vec<f32>),
-    /// A map of bytes (safety, cylinder–cone and radius maps).
-    Bytes(Vec<u8>),
-}
 
 /// A method baked for one field and surface: traces one ray at a time.
 pub struct Tracer<'a> {
@@ -31,16 +20,9 @@ pub struct Tracer<'a> {
     method: MethodSpec,
     surface: Surface,
     plan: BakePlan,
-    data: Baked,
+    /// The map's description and texels (`None` for the bake-free methods).
+    map: Option<(Desc, Texels)>,
     bake_time: Duration,
-}
-
-/// A core bake of a float map: `(field, scratch, out)`.
-type FloatBake = fn(&HeightField, &mut [f32], &mut [f32]) -> Result<(), cone::BakeError>;
-
-/// A bake error as text.
-fn bake_err(e: impl std::fmt::Display) -> String {
-    format!("bake failed: {e}")
 }
 
 impl<'a> Tracer<'a> {
@@ -68,13 +50,21 @@ impl<'a> Tracer<'a> {
         };
         let plan = scene.bake_plan();
         let start = Instant::now();
-        let data = bake_data(&hf, method, &plan)?;
+        let map = match plan.map_spec(hf.width(), hf.height()) {
+            Some(spec) => {
+                let texels = spec
+                    .bake_owned(&hf)
+                    .map_err(|e| format!("bake failed: {e}"))?;
+                Some((spec.desc, texels))
+            }
+            None => None,
+        };
         Ok(Tracer {
             hf,
             method,
             surface,
             plan,
-            data,
+            map,
             bake_time: start.elapsed(),
         })
     }
@@ -97,142 +87,30 @@ impl<'a> Tracer<'a> {
 
     /// Bytes of baked data kept for the march.
     pub fn bytes(&self) -> usize {
-        match &self.data {
-            Baked::Nothing => 0,
-            Baked::Floats(v) => v.len() * 4,
-            Baked::Bytes(v) => v.len(),
-        }
+        self.map.as_ref().map_or(0, |(_, t)| t.bytes())
     }
 
     /// Traces one ray.
     pub fn trace(&self, q: &Query<f32>) -> Trace<f32> {
-        self.with_march(|march| march(q))
+        self.marcher().trace(&self.hf, q)
     }
 
     /// Traces `rays[k]` into `out[k]` (same lengths), one thread.
     pub fn trace_all(&self, rays: &[Query<f32>], out: &mut [Trace<f32>]) {
-        self.with_march(|march| {
-            for (o, q) in out.iter_mut().zip(rays) {
-                *o = march(q);
-            }
-        })
-    }
-
-    /// Runs `f` with the method's march over the baked data (the map views built once).
-    fn with_march<T>(&self, f: impl FnOnce(&dyn Fn(&Query<f32>) -> Trace<f32>) -> T) -> T {
         let m = self.marcher();
-        f(&|q| m.trace(&self.hf, q))
+        for (o, q) in out.iter_mut().zip(rays) {
+            *o = m.trace(&self.hf, q);
+        }
     }
 
-    /// The core's marcher of the method over the baked data.
+    /// The core's marcher of the method over the baked map.
     fn marcher(&self) -> Marcher<'_> {
-        const BAKED: &str = "baked for this field";
-        let (hf, surface) = (&self.hf, self.surface);
-        let ms = MarchSurface::of(surface).unwrap_or_default();
-        let classes = self.plan.classes;
-        match (self.method, &self.data) {
-            (MethodSpec::Plain(Method::Exact), _) => Marcher::Exact(surface),
-            (MethodSpec::Plain(Method::LinearBinary(steps)), _) => {
-                Marcher::LinearBinary(surface, steps)
-            }
-            (MethodSpec::Plain(Method::LinearSecant(n)), _) => Marcher::LinearSecant(surface, n),
-            (MethodSpec::MaxMip, Baked::Floats(d)) => {
-                let mip = MaxMip::new(hf, d).expect(BAKED);
-                Marcher::MaxMip(mip, surface, maxmip::Options::default())
-            }
-            (MethodSpec::Safety, Baked::Bytes(d)) => {
-                let variant = safety_variant(&self.plan);
-                let map = SafetyMap::with_classes(hf, d, variant, classes).expect(BAKED);
-                Marcher::Safety(map, ms)
-            }
-            (MethodSpec::Cc, Baked::Bytes(d)) => {
-                let cap = CcOptions::default().cap;
-                Marcher::Cc(CcMap::with_classes(hf, d, cap, classes).expect(BAKED), ms)
-            }
-            (MethodSpec::Radius, Baked::Bytes(d)) => {
-                let opts = radius::Options {
-                    surface: ms,
-                    ..Default::default()
-                };
-                Marcher::Radius(radius::RadiusMap::new(hf, d).expect(BAKED), opts)
-            }
-            (MethodSpec::Cone(cap), Baked::Floats(d)) => {
-                Marcher::Cone(cone::ConeMap::new(hf, d).expect(BAKED), cap)
-            }
-            (MethodSpec::Qdm(cap), Baked::Floats(d)) => {
-                Marcher::Qdm(qdm::QdmMap::new(hf, d).expect(BAKED), cap)
-            }
-            (MethodSpec::Relaxed(steps), Baked::Floats(d)) => Marcher::Relaxed(d, steps),
-            _ => unreachable!("bake_data bakes each method's kind of data"),
-        }
-    }
-}
-
-/// The safety map's layout in `plan`.
-fn safety_variant(plan: &BakePlan) -> Variant {
-    if plan.isotropic {
-        Variant::Isotropic
-    } else {
-        Variant::Directional
-    }
-}
-
-/// Bakes what `plan` keeps for `method`, one thread.
-fn bake_data(hf: &HeightField, method: MethodSpec, plan: &BakePlan) -> Result<Baked, String> {
-    let (w, h) = (hf.width(), hf.height());
-    let floats = |scratch: usize, len: usize, bake: FloatBake| {
-        let (mut s, mut out) = (vec![0f32; scratch], vec![0f32; len]);
-        bake(hf, &mut s, &mut out).map_err(bake_err)?;
-        Ok(Baked::Floats(out))
-    };
-    let safety_scratch = || -> Result<Vec<f32>, String> {
-        let mut s = vec![0f32; safety::scratch_len(w, h)];
-        safety::prepare(hf, &mut s).map_err(bake_err)?;
-        Ok(s)
-    };
-    match method {
-        MethodSpec::Plain(_) => Ok(Baked::Nothing),
-        MethodSpec::MaxMip => {
-            let mut pyramid = vec![0f32; maxmip::pyramid_len(w, h)];
-            maxmip::bake(hf, &mut pyramid).map_err(bake_err)?;
-            Ok(Baked::Floats(pyramid))
-        }
-        MethodSpec::Safety => {
-            let scratch = safety_scratch()?;
-            let opts = safety::Options {
-                variant: safety_variant(plan),
-                ..Default::default()
-            };
-            let mut out = vec![0u8; safety::map_len_classes(w, h, opts.variant, plan.classes)];
-            let rays = &safety::AllRays;
-            safety::bake_rows_classes(hf, &scratch, rays, plan.classes, 0..h, opts, &mut out)
-                .map_err(bake_err)?;
-            Ok(Baked::Bytes(out))
-        }
-        MethodSpec::Cc => {
-            let scratch = safety_scratch()?;
-            let opts = CcOptions::default();
-            let mut nb = vec![0f32; cc::nbuffer_len(w, h, opts.cap)];
-            cc::prepare_nbuffer(hf, opts.cap, &mut nb).map_err(bake_err)?;
-            let mut out = vec![0u8; cc::map_len_classes(w, h, plan.classes)];
-            cc::bake_rows_classes(hf, &scratch, &nb, plan.classes, 0..h, opts, &mut out)
-                .map_err(bake_err)?;
-            Ok(Baked::Bytes(out))
-        }
-        MethodSpec::Radius => {
-            let mut scratch = vec![0f32; radius::scratch_len(w, h)];
-            let mut out = vec![0u8; radius::map_len(w, h)];
-            radius::bake(hf, &mut scratch, radius::BakeOptions::default(), &mut out)
-                .map_err(bake_err)?;
-            Ok(Baked::Bytes(out))
-        }
-        MethodSpec::Cone(_) => floats(cone::scratch_len(w, h), cone::map_len(w, h), cone::bake),
-        MethodSpec::Qdm(_) => floats(qdm::scratch_len(w, h), qdm::map_len(w, h), qdm::bake),
-        MethodSpec::Relaxed(_) => floats(
-            relaxed::scratch_len(w, h),
-            relaxed::map_len(w, h),
-            relaxed::bake,
-        ),
+        let (hf, w, h) = (&self.hf, self.hf.width(), self.hf.height());
+        let heights = Desc::new(MapKind::Heights, w, h);
+        let desc = self.map.as_ref().map_or(&heights, |(d, _)| d);
+        let texels = self.map.as_ref().map(|(_, t)| t.data());
+        let o = self.method.march_options(self.surface);
+        Marcher::of(self.method.kind(), hf, desc, texels, &o).expect("baked for this field")
     }
 }
 

@@ -4,13 +4,13 @@
 //! [`Caster`] that traces a batch of rays. Everything else (judging, timing, tables,
 //! plots, the summary) reads the list.
 
+use hfcast::bake::{Spec, Texels};
+use hfcast::ktx2::{Desc, MapKind};
+use hfcast::march::MarchOptions;
 use hfcast::maxmip::{self, Ascent};
-use hfcast::safety::cc::{self, CcMap, CcOptions, Slope};
-use hfcast::safety::{self, MarchSurface, SafetyMap, Variant};
+use hfcast::scene::MethodKind;
 use hfcast::search::SearchSteps;
-use hfcast::{
-    cone, dda, qdm, radius, relaxed, HeightField, Marcher, Method, Query, Real, Surface, Trace,
-};
+use hfcast::{dda, HeightField, Marcher, Method, Query, Real, Surface, Trace};
 use std::sync::{Arc, Mutex};
 use std::time::Instant;
 
@@ -62,10 +62,7 @@ pub struct SharedBake {
 }
 
 /// A shared bake: field key, map, seconds.
-type Baked = (u64, Arc<Vec<f32>>, f64);
-
-/// A core bake function `(field, scratch, out)`.
-type BakeFn = fn(&HeightField, &mut [f32], &mut [f32]) -> Result<(), cone::BakeError>;
+type Baked = (u64, Arc<Texels>, f64);
 
 /// FNV-1a of the field's size and sample bits.
 fn field_key(hf: &HeightField) -> u64 {
@@ -90,8 +87,8 @@ impl SharedBake {
     pub fn get(
         &self,
         hf: &HeightField,
-        bake: impl Fn(&HeightField) -> Vec<f32>,
-    ) -> (Arc<Vec<f32>>, f64) {
+        bake: impl Fn(&HeightField) -> Texels,
+    ) -> (Arc<Texels>, f64) {
         let key = field_key(hf);
         let mut slot = self.slot.lock().unwrap_or_else(|e| e.into_inner());
         if let Some((k, data, s)) = slot.as_ref() {
@@ -120,45 +117,92 @@ impl<F: Fn(&[Query<f32>], &mut [Out]) + Sync> Caster for Batch<F> {
     }
 }
 
-/// How a setting views its baked map as the core's [`Marcher`].
-type View<T> = Box<dyn for<'m> Fn(&HeightField, &'m [T]) -> Marcher<'m> + Sync>;
-
-/// A [`Caster`] through the core's one march interface: the field, its baked map
-/// (owned, or shared with other settings), how to view it, and the seconds of a shared
-/// bake.
-pub struct Marched<'a, T> {
+/// A [`Caster`] through the core's one march interface: the field, the method, its
+/// baked map (owned, or shared with other settings), the march options, the maximum
+/// mipmap's options, and the seconds of a shared bake.
+pub struct Marched<'a> {
     hf: HeightField<'a>,
-    map: Arc<Vec<T>>,
-    view: View<T>,
+    kind: MethodKind,
+    desc: Desc,
+    map: Arc<Texels>,
+    opts: MarchOptions,
+    maxmip: Option<maxmip::Options>,
     shared_seconds: Option<f64>,
 }
 
-impl<T: Sync + Send> Caster for Marched<'_, T> {
+impl Caster for Marched<'_> {
     fn trace_all(&self, rays: &[Query<f32>], out: &mut [Out]) {
-        let m = (self.view)(&self.hf, &self.map);
+        let data = Some(self.map.data());
+        let m = Marcher::of(self.kind, &self.hf, &self.desc, data, &self.opts);
+        let m = match (m.expect("baked for hf"), self.maxmip) {
+            (Marcher::MaxMip(mip, surface, _), Some(o)) => Marcher::MaxMip(mip, surface, o),
+            (m, _) => m,
+        };
         each(rays, out, |q| Out::of(&m.trace(&self.hf, q)))
     }
     fn baked_bytes(&self) -> usize {
-        self.map.len() * std::mem::size_of::<T>()
+        self.map.bytes()
     }
     fn bake_seconds(&self) -> Option<f64> {
         self.shared_seconds
     }
 }
 
-/// The [`Marched`] caster of `map` on `hf`, viewed by `view`.
-fn marched<'a, T: Sync + Send + 'a>(
-    hf: &HeightField<'a>,
-    map: impl Into<Arc<Vec<T>>>,
-    shared_seconds: Option<f64>,
-    view: impl for<'m> Fn(&HeightField, &'m [T]) -> Marcher<'m> + Sync + 'static,
-) -> Box<dyn Caster + 'a> {
-    Box::new(Marched {
-        hf: *hf,
-        map: map.into(),
-        view: Box::new(view),
-        shared_seconds,
-    })
+/// How a setting over a baked map bakes and marches: the method, the map's bake (the
+/// default `Spec` of the method's map changed by `spec`), the step budgets, the
+/// maximum mipmap's options, and the bake it shares with other settings (`None`: its
+/// own).
+struct MapSetting {
+    kind: MethodKind,
+    spec: fn(&mut Spec),
+    steps: [u32; 2],
+    maxmip: Option<maxmip::Options>,
+    shared: Option<Arc<SharedBake>>,
+}
+
+impl MapSetting {
+    /// The method's default bake and march.
+    fn of(kind: MethodKind) -> MapSetting {
+        let o = MarchOptions::on(Surface::Triangles);
+        MapSetting {
+            kind,
+            spec: |_| {},
+            steps: [o.steps, o.binary_steps],
+            maxmip: None,
+            shared: None,
+        }
+    }
+
+    /// The setting's baker.
+    fn baker(self) -> Baker {
+        baker(move |hf, surface| {
+            let map = self.kind.info().map.expect("a method with a map");
+            let mut spec = Spec::new(Desc::new(map, hf.width(), hf.height()));
+            (self.spec)(&mut spec);
+            let bake = |hf: &HeightField| spec.bake_owned(hf).expect("sized by the spec");
+            let (map, shared_seconds) = match &self.shared {
+                Some(shared) => {
+                    let (m, s) = shared.get(hf, bake);
+                    (m, Some(s))
+                }
+                None => (Arc::new(bake(hf)), None),
+            };
+            let opts = MarchOptions {
+                steps: self.steps[0],
+                binary_steps: self.steps[1],
+                ..MarchOptions::on(surface)
+            };
+            Box::new(Marched {
+                hf: *hf,
+                kind: self.kind,
+                desc: spec.desc,
+                map,
+                opts,
+                maxmip: self.maxmip,
+                shared_seconds,
+            })
+        })
+    }
 }
 
 /// Runs `f` on every ray: the inner loop every caster shares.
@@ -388,105 +432,21 @@ fn core_method(m: Method) -> Baker {
 
 /// The maximum mipmap with `opts`.
 fn maxmip_setting(opts: maxmip::Options) -> Baker {
-    baker(move |hf, surface| {
-        let mut pyramid = vec![0f32; maxmip::pyramid_len(hf.width(), hf.height())];
-        maxmip::bake(hf, &mut pyramid).expect("sized by pyramid_len");
-        marched(hf, pyramid, None, move |hf, p| {
-            let mip = maxmip::MaxMip::new(hf, p).expect("baked for hf");
-            Marcher::MaxMip(mip, surface, opts)
-        })
-    })
+    MapSetting {
+        maxmip: Some(opts),
+        ..MapSetting::of(MethodKind::MaxMip)
+    }
+    .baker()
 }
 
-/// Safety distances with `opts` (triangle surface).
-fn safety_setting(opts: safety::Options) -> Baker {
-    baker(move |hf, _surface| {
-        let mut scratch = vec![0f32; safety::scratch_len(hf.width(), hf.height())];
-        let mut data = vec![0u8; safety::map_len(hf.width(), hf.height(), opts.variant)];
-        safety::bake(hf, &mut scratch, opts, &mut data).expect("sized by the module");
-        marched(hf, data, None, move |hf, d| {
-            let map = SafetyMap::new(hf, d, opts.variant).expect("baked for hf");
-            Marcher::Safety(map, MarchSurface::Triangles)
-        })
-    })
-}
-
-/// Cylinder–cone safety shapes with `opts` (triangle surface).
-fn cc_setting(opts: CcOptions) -> Baker {
-    baker(move |hf, _surface| {
-        let (w, h) = (hf.width(), hf.height());
-        let mut scratch = vec![0f32; safety::scratch_len(w, h)];
-        let mut nb = vec![0f32; cc::nbuffer_len(w, h, opts.cap)];
-        let mut data = vec![0u8; cc::map_len(w, h)];
-        cc::bake(hf, &mut scratch, &mut nb, opts, &mut data).expect("sized by the module");
-        marched(hf, data, None, move |hf, d| {
-            let map = CcMap::new(hf, d, opts.cap).expect("baked for hf");
-            Marcher::Cc(map, MarchSurface::Triangles)
-        })
-    })
-}
-
-/// Exact safety radii (triangle surface, zero radii walked).
-fn radius_setting() -> Baker {
-    baker(move |hf, _surface| {
-        let (w, h) = (hf.width(), hf.height());
-        let mut scratch = vec![0f32; radius::scratch_len(w, h)];
-        let mut data = vec![0u8; radius::map_len(w, h)];
-        radius::bake(hf, &mut scratch, radius::BakeOptions::default(), &mut data)
-            .expect("sized by the module");
-        marched(hf, data, None, |hf, d| {
-            let map = radius::RadiusMap::new(hf, d).expect("baked for hf");
-            Marcher::Radius(map, radius::Options::default())
-        })
-    })
-}
-
-/// Bakes `len` floats with `bake` (sized scratch of `scratch` floats), panicking on a
-/// size error (the lengths come from the module).
-fn bake_map(hf: &HeightField, scratch: usize, len: usize, bake: BakeFn) -> Vec<f32> {
-    let mut s = vec![0f32; scratch];
-    let mut out = vec![0f32; len];
-    bake(hf, &mut s, &mut out).expect("sized by the module");
-    out
-}
-
-/// A setting of the cone family: its bake (`scratch_len`, `map_len`, `bake`), shared
-/// by the family's settings, and how it views the map.
-fn cone_family(
-    shared: Arc<SharedBake>,
-    lens: [fn(u32, u32) -> usize; 2],
-    bake: BakeFn,
-    view: impl for<'m> Fn(&HeightField, &'m [f32]) -> Marcher<'m> + Sync + Copy + 'static,
-) -> Baker {
-    baker(move |hf, _surface| {
-        let (w, h) = (hf.width(), hf.height());
-        let (data, s) = shared.get(hf, |hf| bake_map(hf, lens[0](w, h), lens[1](w, h), bake));
-        marched(hf, data, Some(s), view)
-    })
-}
-
-/// Cone step mapping with at most `cap` iterations (triangle surface).
-fn cone_setting(shared: Arc<SharedBake>, cap: u32) -> Baker {
-    let lens = [cone::scratch_len, cone::map_len];
-    cone_family(shared, lens, cone::bake, move |hf, d| {
-        Marcher::Cone(cone::ConeMap::new(hf, d).expect("baked for hf"), cap)
-    })
-}
-
-/// Quadratic displacement maps with at most `cap` iterations (triangle surface).
-fn qdm_setting(shared: Arc<SharedBake>, cap: u32) -> Baker {
-    let lens = [qdm::scratch_len, qdm::map_len];
-    cone_family(shared, lens, qdm::bake, move |hf, d| {
-        Marcher::Qdm(qdm::QdmMap::new(hf, d).expect("baked for hf"), cap)
-    })
-}
-
-/// Relaxed cone stepping with `steps` (triangle surface).
-fn relaxed_setting(shared: Arc<SharedBake>, steps: relaxed::Steps) -> Baker {
-    let lens = [relaxed::scratch_len, relaxed::map_len];
-    cone_family(shared, lens, relaxed::bake, move |_, d| {
-        Marcher::Relaxed(d, steps)
-    })
+/// A setting of the cone family (`kind`) with step budgets `steps`, sharing `shared`.
+fn cone_family(kind: MethodKind, shared: &Arc<SharedBake>, steps: [u32; 2]) -> Baker {
+    MapSetting {
+        steps,
+        shared: Some(Arc::clone(shared)),
+        ..MapSetting::of(kind)
+    }
+    .baker()
 }
 
 /// Every setting of `sweep`, in table order.
@@ -562,66 +522,51 @@ pub fn settings(sweep: &Sweep) -> Vec<Setting> {
             maxmip_setting(opts),
         ));
     }
-    for (variant, name) in [
-        (Variant::Directional, "4 classes"),
-        (Variant::Isotropic, "isotropic"),
-    ] {
-        let opts = safety::Options {
-            variant,
-            ..Default::default()
+    let safety: [(_, _, fn(&mut Spec)); 3] = [
+        (Family::Safety, "safety 4 classes", |_| {}),
+        (Family::Safety, "safety isotropic", |s| {
+            s.desc.map = MapKind::SafetyIsotropic
+        }),
+        (Family::SafetyApprox, "safety 4 classes, positive", |s| {
+            s.positive = true
+        }),
+    ];
+    for (family, name, spec) in safety {
+        let bake = MapSetting {
+            spec,
+            ..MapSetting::of(MethodKind::Safety)
         };
-        v.push(setting(
-            Family::Safety,
-            format!("safety {name}"),
-            true,
-            TRIANGLES,
-            safety_setting(opts),
-        ));
+        let exact = family == Family::Safety;
+        v.push(setting(family, name, exact, TRIANGLES, bake.baker()));
     }
-    let positive = safety::Options {
-        positive: true,
-        ..Default::default()
-    };
-    v.push(setting(
-        Family::SafetyApprox,
-        "safety 4 classes, positive",
-        false,
-        TRIANGLES,
-        safety_setting(positive),
-    ));
-    for (slope, name) in [
-        (Slope::Exact, "exact slope"),
-        (Slope::NBuffer, "N-buffer slope"),
-    ] {
-        let opts = CcOptions {
-            slope,
-            ..Default::default()
+    let cc: [(_, fn(&mut Spec)); 2] = [
+        ("cc exact slope", |_| {}),
+        ("cc N-buffer slope", |s| s.nbuffer_slope = true),
+    ];
+    for (name, spec) in cc {
+        let bake = MapSetting {
+            spec,
+            ..MapSetting::of(MethodKind::Cc)
         };
         v.push(Setting {
             max_texels: Some(sweep.cc_max_texels),
-            ..setting(
-                Family::Cc,
-                format!("cc {name}"),
-                true,
-                TRIANGLES,
-                cc_setting(opts),
-            )
+            ..setting(Family::Cc, name, true, TRIANGLES, bake.baker())
         });
     }
+    let radius = MapSetting::of(MethodKind::Radius).baker();
     v.push(setting(
         Family::Radius,
         "safety radius",
         true,
         TRIANGLES,
-        radius_setting(),
+        radius,
     ));
     let (cone_bake, qdm_bake) = (Arc::<SharedBake>::default(), Arc::<SharedBake>::default());
     for (family, name) in [(Family::Cone, "cone"), (Family::Qdm, "qdm")] {
         for &cap in &sweep.cone_caps {
-            let bake = if family == Family::Cone {
-                cone_setting(Arc::clone(&cone_bake), cap)
-            } else {
-                qdm_setting(Arc::clone(&qdm_bake), cap)
+            let bake = match family {
+                Family::Cone => cone_family(MethodKind::Cone, &cone_bake, [cap, 0]),
+                _ => cone_family(MethodKind::Qdm, &qdm_bake, [cap, 0]),
             };
             v.push(Setting {
                 max_texels: Some(sweep.cone_max_texels),
@@ -631,7 +576,6 @@ pub fn settings(sweep: &Sweep) -> Vec<Setting> {
     }
     let relaxed_bake = Arc::<SharedBake>::default();
     for &(cone, binary) in &sweep.relaxed {
-        let steps = relaxed::Steps { cone, binary };
         v.push(Setting {
             max_texels: Some(sweep.relaxed_max_texels),
             ..setting(
@@ -639,7 +583,7 @@ pub fn settings(sweep: &Sweep) -> Vec<Setting> {
                 format!("relaxed {cone}:{binary}"),
                 false,
                 TRIANGLES,
-                relaxed_setting(Arc::clone(&relaxed_bake), steps),
+                cone_family(MethodKind::Relaxed, &relaxed_bake, [cone, binary]),
             )
         });
     }
