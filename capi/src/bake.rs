@@ -5,7 +5,7 @@
 
 use crate::detail::fail;
 use crate::hf_result::{self, *};
-use crate::mapdesc::{elems, stamp, Texel};
+use crate::mapdesc::{elems, room, stamp, Texel};
 use crate::ptr::Named;
 use crate::{guard, hf_field, ptr};
 use hfcore::bake::{self, Spec};
@@ -163,8 +163,9 @@ impl From<bake::Error> for hf_result {
     fn from(e: bake::Error) -> Self {
         match e {
             bake::Error::Buffer(b) => b.into(),
-            bake::Error::BadDesc | bake::Error::WrongField => HF_ERR_INVALID_ARGUMENT,
-            bake::Error::WrongType => HF_ERR_INVALID_ARGUMENT,
+            bake::Error::BadDesc | bake::Error::WrongField | bake::Error::WrongType => {
+                HF_ERR_INVALID_ARGUMENT
+            }
             bake::Error::NotBuilt(_) => HF_ERR_NOT_BUILT,
         }
     }
@@ -414,17 +415,6 @@ impl Out for u8 {
     }
 }
 
-/// `BUFFER_TOO_SMALL` unless `map_len` elements hold the texels and the descriptor.
-fn room<T: Texel>(map_len: usize, texels: usize) -> Result<(), hf_result> {
-    let needed = texels + elems::<T>();
-    if map_len < needed {
-        let why =
-            format_args!("map_len: {map_len} elements, the map and its descriptor need {needed}");
-        return Err(fail(HF_ERR_BUFFER_TOO_SMALL, why));
-    }
-    Ok(())
-}
-
 /// Body of `hf_bake_rows` for maps of `T`.
 ///
 /// # Safety
@@ -442,7 +432,7 @@ unsafe fn rows_of<T: Out>(
     // SAFETY: an empty slice at the caller's pointer.
     unsafe { ptr::slice_mut(map, 0) }.named("map")?;
     let texels = spec.map_len()?;
-    room::<T>(map_len, texels)?;
+    room::<T>(map_len, texels, "map_len")?;
     if rows.start > rows.end || rows.end > spec.rows() {
         let why = format_args!(
             "rows {}..{}: the map has {}",
@@ -516,7 +506,7 @@ unsafe fn whole<T: Out + Send>(
     // SAFETY: the caller's promise.
     let out = unsafe { ptr::slice_mut(map.cast::<T>(), map_len) }.named("out_map")?;
     let texels = spec.map_len()?;
-    room::<T>(map_len, texels)?;
+    room::<T>(map_len, texels, "map_len")?;
     let hf = f.view();
     let (texel_out, slot) = out.split_at_mut(texels);
     bake_threaded(hf, spec, threads, texel_out)?;

@@ -104,7 +104,7 @@ impl Expect {
 }
 
 /// `BUFFER_TOO_SMALL` unless `len` elements hold `texels` and the descriptor.
-fn room<T: Texel>(len: usize, texels: usize, what: &str) -> Result<(), hf_result> {
+pub(crate) fn room<T: Texel>(len: usize, texels: usize, what: &str) -> Result<(), hf_result> {
     let needed = texels + elems::<T>();
     if len < needed {
         return Err(fail(

@@ -169,12 +169,13 @@ pub struct hf_trace_options {
 
 impl Default for hf_trace_options {
     fn default() -> Self {
-        let steps = MethodKind::LinearBinary.info().steps;
+        // The core's defaults (the registry's step budgets), on the triangle surface.
+        let m = MarchOptions::on(Surface::Triangles);
         hf_trace_options {
             surface: 0,
             ray_classes: 0,
-            steps: steps[0].default,
-            binary_steps: steps[1].default,
+            steps: m.steps,
+            binary_steps: m.binary_steps,
             radius_zero: 0,
             threads: 1,
             reserved: [0; 10],
