@@ -9,7 +9,8 @@
 //! ```
 //!
 //! The full header wraps each method's declarations in `#if defined(HF_HAVE_<FEATURE>)`
-//! (cbindgen's `[defines]`, capi/cbindgen.toml) and defines every `HF_HAVE_*`. This
+//! (cbindgen's defines, from the registry's features: capi/tests/header.rs) and defines
+//! every `HF_HAVE_*`. This
 //! keeps the `#define`s of the features on, removes the others and every block whose
 //! condition is then false, and leaves the rest of the text as it is, so a C file that
 //! calls a function the build lacks fails to compile. With every feature on, the output

@@ -98,7 +98,7 @@ unsafe fn checked(
     height: u32,
     options: *const hf_bake_options,
 ) -> Result<Checked, hf_result> {
-    let kind = MethodKind::ALL[crate::built_method_of(method)? as usize];
+    let kind = crate::built_method_of(method)?;
     let o = match options.is_null() {
         true => hf_bake_options::default_for(kind),
         // SAFETY: the caller promises non-NULL options are readable.
@@ -182,7 +182,7 @@ pub unsafe extern "C" fn hf_bake_options_default(
     out_options: *mut hf_bake_options,
 ) -> hf_result {
     guard(|| {
-        let kind = MethodKind::ALL[crate::built_method_of(method)? as usize];
+        let kind = crate::built_method_of(method)?;
         let out = ptr::out(out_options).named("out_options")?;
         // SAFETY: the caller promises `out_options` is writable.
         unsafe { out.set(hf_bake_options::default_for(kind)) };

@@ -7,9 +7,9 @@
 use crate::bake::{hf_bake, hf_bake_options, hf_bake_options_default, hf_map_len};
 use crate::field::{hf_field, hf_field_create_f32, hf_field_create_u16, hf_field_destroy};
 use crate::field::{hf_field_get_info, hf_field_info};
-use crate::hf_method::{self, *};
 use crate::hf_result::{self, *};
 use crate::trace::{hf_hit, hf_ray, hf_trace, hf_trace_options};
+use hfcore::scene::MethodKind;
 use hfcore::{dda, HeightField, Query, Surface};
 use std::ffi::c_void;
 
@@ -38,7 +38,7 @@ fn zeros<T: Clone + Default>(len: usize) -> Vec<T> {
 /// threads with the default options changed by `set`.
 fn baked<T: Copy + Default>(
     handle: *mut hf_field,
-    method: hf_method,
+    method: MethodKind,
     set: impl FnOnce(&mut hf_bake_options),
 ) -> Vec<T> {
     // SAFETY: valid buffers and lengths throughout.
@@ -75,15 +75,15 @@ impl Field {
                 &mut handle,
             );
             assert_eq!(r, HF_OK);
-            let pyr = baked(handle, HF_METHOD_MAXMIP, |_| {});
-            let sd = baked(handle, HF_METHOD_SAFETY, |_| {});
-            let cc = baked(handle, HF_METHOD_CC, |o| {
+            let pyr = baked(handle, MethodKind::MaxMip, |_| {});
+            let sd = baked(handle, MethodKind::Safety, |_| {});
+            let cc = baked(handle, MethodKind::Cc, |o| {
                 o.slope = 1;
                 o.cap = CC_CAP;
             });
-            let rad = baked(handle, HF_METHOD_RADIUS, |_| {});
-            let cone = baked(handle, HF_METHOD_CONE, |_| {});
-            let qdm = baked(handle, HF_METHOD_QDM, |_| {});
+            let rad = baked(handle, MethodKind::Radius, |_| {});
+            let cone = baked(handle, MethodKind::Cone, |_| {});
+            let qdm = baked(handle, MethodKind::Qdm, |_| {});
             Field {
                 w,
                 h,
@@ -112,13 +112,13 @@ impl Field {
         let bytes = |m: &[u8]| (m.as_ptr().cast::<c_void>(), m.len());
         let floats = |m: &[f32]| (m.as_ptr().cast::<c_void>(), m.len());
         let maps = [
-            (HF_METHOD_EXACT, (std::ptr::null(), 0)),
-            (HF_METHOD_MAXMIP, floats(&self.pyr)),
-            (HF_METHOD_SAFETY, bytes(&self.sd)),
-            (HF_METHOD_CC, bytes(&self.cc)),
-            (HF_METHOD_RADIUS, bytes(&self.rad)),
-            (HF_METHOD_CONE, floats(&self.cone)),
-            (HF_METHOD_QDM, floats(&self.qdm)),
+            (MethodKind::Exact, (std::ptr::null(), 0)),
+            (MethodKind::MaxMip, floats(&self.pyr)),
+            (MethodKind::Safety, bytes(&self.sd)),
+            (MethodKind::Cc, bytes(&self.cc)),
+            (MethodKind::Radius, bytes(&self.rad)),
+            (MethodKind::Cone, floats(&self.cone)),
+            (MethodKind::Qdm, floats(&self.qdm)),
         ];
         let mut out = Vec::new();
         for (m, (map, len)) in maps {
@@ -388,7 +388,7 @@ fn heights_near_1e38_are_traced() {
         );
         let mut hit = hf_hit::default();
         // SAFETY: live handle, valid pointers.
-        let exact = HF_METHOD_EXACT as u32;
+        let exact = MethodKind::Exact as u32;
         let code = unsafe {
             hf_trace(
                 f.handle,

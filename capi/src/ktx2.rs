@@ -10,28 +10,6 @@ use hfcore::ktx2::{self, Data, DataMut, Desc, Ktx2Error, MapKind, View};
 use hfcore::mapdesc::MapDescriptor;
 use std::ffi::c_void;
 
-/// Map kind (`hf_ktx2_desc::map`): the height field itself, `R32_SFLOAT`, `W × H`.
-pub const HF_KTX2_HEIGHTS: u32 = 0;
-/// Map kind: the maximum-mipmap pyramid (`hf_bake` of `HF_METHOD_MAXMIP`), `R32_SFLOAT`, one mip level
-/// per pyramid level, in the top-left corner of a `P × Q` texture (`P`, `Q` the next
-/// powers of two of `W − 1`, `H − 1`), the rest `−∞`.
-pub const HF_KTX2_MAXMIP: u32 = 1;
-/// Map kind: the directional safety-distance map (`hf_bake` of `HF_METHOD_SAFETY`,
-/// `HF_SAFETY_DIRECTIONAL`), `R8_UINT`, `W × nH` for its `n` ray classes.
-pub const HF_KTX2_SAFETY: u32 = 2;
-/// Map kind: the isotropic safety-distance map (`HF_SAFETY_ISOTROPIC`), `R8_UINT`, `W × H`.
-pub const HF_KTX2_SAFETY_ISOTROPIC: u32 = 3;
-/// Map kind: the cylinder–cone map (`hf_bake` of `HF_METHOD_CC`), `R8G8_UINT`, `W × nH`.
-pub const HF_KTX2_CC: u32 = 4;
-/// Map kind: the cone map (`hf_bake` of `HF_METHOD_CONE`), `R32G32_SFLOAT`, `(W − 1) × (H − 1)`.
-pub const HF_KTX2_CONE: u32 = 5;
-/// Map kind: the relaxed cone map (`hf_bake` of `HF_METHOD_RELAXED`), `R32_SFLOAT`, `W × H`.
-pub const HF_KTX2_RELAXED: u32 = 6;
-/// Map kind: the QDM (`hf_bake` of `HF_METHOD_QDM`), `R32G32B32A32_SFLOAT`, `(W − 1) × (H − 1)`.
-pub const HF_KTX2_QDM: u32 = 7;
-/// Map kind: the safety-radius map (`hf_bake` of `HF_METHOD_RADIUS`), `R8_UINT`, `W × H`.
-pub const HF_KTX2_RADIUS: u32 = 8;
-
 /// Which baked map a KTX 2 file holds, of which field, baked how: what the file's
 /// metadata records (`hfcast.method`, `hfcast.field`, `hfcast.cap`,
 /// `hfcast.ray_classes`, `hfcast.ray_set`, `hfcast.variant`).
@@ -446,29 +424,11 @@ mod tests {
     use hfcore::scene::RayClasses;
 
     #[test]
-    fn constants_are_the_core_map_numbers() {
-        let c = [
-            HF_KTX2_HEIGHTS,
-            HF_KTX2_MAXMIP,
-            HF_KTX2_SAFETY,
-            HF_KTX2_SAFETY_ISOTROPIC,
-            HF_KTX2_CC,
-            HF_KTX2_CONE,
-            HF_KTX2_RELAXED,
-            HF_KTX2_QDM,
-            HF_KTX2_RADIUS,
-        ];
-        for (v, m) in c.into_iter().zip(MapKind::ALL) {
-            assert_eq!(v, m as u32);
-        }
-    }
-
-    #[test]
     fn write_then_read_a_radius_map() {
         let mut d = std::mem::MaybeUninit::uninit();
         // SAFETY: `d` is writable.
         assert_eq!(
-            unsafe { hf_ktx2_desc_default(HF_KTX2_RADIUS, 4, 3, d.as_mut_ptr()) },
+            unsafe { hf_ktx2_desc_default(MapKind::Radius as u32, 4, 3, d.as_mut_ptr()) },
             HF_OK
         );
         // SAFETY: written on HF_OK.

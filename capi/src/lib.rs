@@ -44,6 +44,7 @@ use std::ffi::c_char;
 use std::panic::{catch_unwind, AssertUnwindSafe};
 
 pub use field::hf_field;
+use hfcore::scene::MethodKind;
 
 /// Result code of every `hf_` function. `HF_OK` is 0; every other value is an error,
 /// and a function that returns one has written nothing to its outputs.
@@ -231,22 +232,6 @@ pub(crate) fn check_size(width: u32, height: u32) -> Result<(), hf_result> {
     Ok(())
 }
 
-/// Height reconstruction between samples (docs/DESIGN.md, "Surfaces"). Passed as `uint32_t`.
-#[repr(u32)]
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum hf_surface {
-    /// Two triangles per cell, split along the lower diagonal (the default).
-    HF_SURFACE_TRIANGLES = 0,
-    /// Bilinear interpolation of the cell's four corners.
-    HF_SURFACE_BILINEAR = 1,
-    /// Piecewise constant: the nearest sample; steps are vertical walls.
-    HF_SURFACE_HEIGHT_PLANES = 2,
-    /// The plane through a cell's base sample and its +x, +y neighbours.
-    HF_SURFACE_LINEAR_PLANES = 3,
-    /// Linear along the ray between centerline crossings (Baboud et al. §7).
-    HF_SURFACE_VIEW_LINEAR = 4,
-}
-
 /// Checks a surface passed as `uint32_t`.
 pub(crate) fn surface_of(v: u32) -> Result<hfcore::Surface, hf_result> {
     hfcore::Surface::ALL
@@ -260,68 +245,9 @@ pub(crate) fn surface_of(v: u32) -> Result<hfcore::Surface, hf_result> {
         })
 }
 
-/// The marching methods. Passed as `uint32_t`.
-#[repr(u32)]
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum hf_method {
-    /// Exact grid traversal (Amanatides–Woo DDA, exact per-cell test). Needs no bake.
-    HF_METHOD_EXACT = 0,
-    /// Linear search then bisection (Policarpo et al. 2005); approximate, no bake.
-    HF_METHOD_LINEAR_BINARY = 1,
-    /// Linear search then one secant step (parallax occlusion mapping); approximate.
-    HF_METHOD_LINEAR_SECANT = 2,
-    /// Maximum mipmaps (Tevs et al. 2008); exact, needs the baked pyramid.
-    HF_METHOD_MAXMIP = 3,
-    /// Safety distances (Baboud et al. 2011); exact on the triangle surface, needs the
-    /// baked safety-distance map.
-    HF_METHOD_SAFETY = 4,
-    /// Conservative cone step mapping (Dummer 2006, made exact for the triangle
-    /// surface); exact within its iteration budget, needs the baked cone map.
-    HF_METHOD_CONE = 5,
-    /// Relaxed cone stepping (Policarpo & Oliveira 2007); approximate, needs the baked
-    /// relaxed cone map.
-    HF_METHOD_RELAXED = 6,
-    /// Quadratic displacement maps (after Kiglics et al.); exact within its iteration
-    /// budget, needs the baked QDM.
-    HF_METHOD_QDM = 7,
-    /// Cylinder–cone safety shapes (Baboud et al. 2011, §6.3); exact on the triangle
-    /// surface, needs the baked cylinder–cone map.
-    HF_METHOD_CC = 8,
-    /// Safety radius (Baboud & Décoret 2006); exact on the triangle surface with zero
-    /// radii walked (`HF_RADIUS_WALK`), needs the baked radius map.
-    HF_METHOD_RADIUS = 9,
-}
-
-/// Every method, in value order.
-pub(crate) const METHODS: [hf_method; 10] = [
-    hf_method::HF_METHOD_EXACT,
-    hf_method::HF_METHOD_LINEAR_BINARY,
-    hf_method::HF_METHOD_LINEAR_SECANT,
-    hf_method::HF_METHOD_MAXMIP,
-    hf_method::HF_METHOD_SAFETY,
-    hf_method::HF_METHOD_CONE,
-    hf_method::HF_METHOD_RELAXED,
-    hf_method::HF_METHOD_QDM,
-    hf_method::HF_METHOD_CC,
-    hf_method::HF_METHOD_RADIUS,
-];
-
-impl hf_method {
-    /// The core's method of the same number: its row of the registry
-    /// (`hfcore::scene::MethodKind::info`).
-    pub fn kind(self) -> hfcore::scene::MethodKind {
-        hfcore::scene::MethodKind::ALL[self as usize]
-    }
-
-    /// Short lower-case name (`exact`, `linear-binary`, …), the registry's.
-    pub fn name(self) -> &'static str {
-        self.kind().name()
-    }
-}
-
-/// Checks a method passed as `uint32_t`.
-pub(crate) fn method_of(v: u32) -> Result<hf_method, hf_result> {
-    METHODS.get(v as usize).copied().ok_or_else(|| {
+/// Checks a method passed as `uint32_t` (an `hf_method`, the registry's number).
+pub(crate) fn method_of(v: u32) -> Result<MethodKind, hf_result> {
+    MethodKind::from_u32(v).ok_or_else(|| {
         detail::fail(
             HF_ERR_INVALID_ENUM,
             format_args!("method: {v} is not an hf_method"),
@@ -329,20 +255,18 @@ pub(crate) fn method_of(v: u32) -> Result<hf_method, hf_result> {
     })
 }
 
-impl hf_method {
-    /// Whether this build of the library has the method (its cargo feature, the
-    /// registry's, was on in the C API).
-    pub fn built(self) -> bool {
-        let feature = self.kind().info().feature;
-        feature.is_none_or(|f| features::feature_on(f) == Some(true))
-    }
+/// Whether this build of the library has `method` (its cargo feature, the registry's,
+/// was on in the C API).
+pub(crate) fn built(method: MethodKind) -> bool {
+    let feature = method.info().feature;
+    feature.is_none_or(|f| features::feature_on(f) == Some(true))
 }
 
 /// Checks a method passed as `uint32_t` and that this build has it: an unknown value
 /// is `HF_ERR_INVALID_ENUM`, a method left out of the build `HF_ERR_NOT_BUILT`.
-pub(crate) fn built_method_of(v: u32) -> Result<hf_method, hf_result> {
+pub(crate) fn built_method_of(v: u32) -> Result<MethodKind, hf_result> {
     let m = method_of(v)?;
-    if m.built() {
+    if built(m) {
         Ok(m)
     } else {
         Err(detail::fail(
@@ -366,7 +290,7 @@ pub unsafe extern "C" fn hf_build_has_method(method: u32, out: *mut u32) -> hf_r
         let out = ptr::out(out)?;
         let m = method_of(method)?;
         // SAFETY: the caller promises `out` is writable.
-        unsafe { out.set(u32::from(m.built())) };
+        unsafe { out.set(u32::from(built(m))) };
         Ok(())
     })
 }
@@ -529,10 +453,6 @@ mod tests {
             assert_eq!(*s as u32, i as u32);
             assert_eq!(surface_of(i as u32), Ok(*s));
         }
-        assert_eq!(
-            hf_surface::HF_SURFACE_VIEW_LINEAR as u32,
-            hfcore::Surface::ViewLinear as u32
-        );
         assert_eq!(surface_of(5), Err(HF_ERR_INVALID_ENUM));
         use hfcore::Flags;
         assert_eq!(HF_FLAG_ORIGIN_INSIDE, Flags::ORIGIN_INSIDE.0);
@@ -542,32 +462,24 @@ mod tests {
         assert_eq!(HF_MAX_SIDE, hfcore::field::MAX_SIDE);
         #[cfg(feature = "maxmip")]
         assert_eq!(HF_MAX_LEVELS as usize, hfcore::maxmip::MAX_LEVELS);
-        for (i, m) in METHODS.iter().enumerate() {
-            assert_eq!(*m as u32, i as u32);
-        }
     }
 
     #[test]
     fn build_has_the_methods_of_its_features() {
-        for m in METHODS {
+        for m in MethodKind::ALL {
             let mut out = 7;
             // SAFETY: a valid out pointer.
             assert_eq!(unsafe { hf_build_has_method(m as u32, &mut out) }, HF_OK);
-            assert_eq!(out, u32::from(m.built()));
-            let expect = if m.built() {
+            assert_eq!(out, u32::from(built(m)));
+            let expect = if built(m) {
                 Ok(m)
             } else {
                 Err(HF_ERR_NOT_BUILT)
             };
             assert_eq!(built_method_of(m as u32), expect);
         }
-        assert!(hf_method::HF_METHOD_EXACT.built());
-        assert_eq!(
-            hf_method::HF_METHOD_CC.built(),
-            cfg!(feature = "safety"),
-            "{}",
-            hf_method::HF_METHOD_CC.name()
-        );
+        assert!(built(MethodKind::Exact));
+        assert_eq!(built(MethodKind::Cc), cfg!(feature = "safety"));
         let mut out = 0;
         // SAFETY: a valid out pointer; the method is unknown.
         let r = unsafe { hf_build_has_method(10, &mut out) };

@@ -3,7 +3,7 @@
 use crate::detail::fail;
 use crate::hf_result::{self, *};
 use crate::{guard, method_of, ptr, surface_of};
-use hfcore::scene::{BakePlan, HeightFormat, MethodKind, Need, RayClasses, Scene};
+use hfcore::scene::{BakePlan, HeightFormat, Need, RayClasses, Scene};
 use std::ffi::c_char;
 
 /// Ray-class bit of `hf_scene::ray_classes`: rays with dx ≥ |dy|.
@@ -79,7 +79,7 @@ pub(crate) fn scene_of(s: &hf_scene) -> Result<Scene, hf_result> {
     let method = method_of(s.method)?;
     let scene = Scene {
         surface: surface_of(s.surface)?,
-        method: method.kind(),
+        method,
         ray_classes: RayClasses(u8::try_from(s.ray_classes).unwrap_or(u8::MAX)),
         outside_only: flag(s.outside_only)?,
         max_view_angle_deg: s.max_view_angle_deg,
@@ -123,7 +123,7 @@ pub unsafe extern "C" fn hf_scene_general(
 ) -> hf_result {
     guard(|| {
         let out = ptr::out(out)?;
-        let m = MethodKind::from_u32(method_of(method)? as u32).ok_or(HF_ERR_INVALID_ENUM)?;
+        let m = method_of(method)?;
         let scene = Scene::general(m, surface_of(surface)?);
         // SAFETY: the caller promises `out` is writable.
         unsafe { out.set(c_scene(&scene)) };
@@ -287,6 +287,7 @@ pub unsafe extern "C" fn hf_scene_bake_plan_skipped(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use hfcore::scene::MethodKind;
 
     #[test]
     fn general_scene_round_trips_and_bad_fields_are_rejected() {

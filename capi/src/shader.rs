@@ -3,7 +3,7 @@
 
 use crate::hf_result::{self, *};
 use crate::scene::{hf_scene, scene_of};
-use crate::{built_method_of, guard, hf_method, ptr};
+use crate::{built_method_of, guard, ptr};
 use hfcast_shaders::{general, generate, GenError, Lang};
 use hfcore::scene::MethodKind;
 use std::ffi::c_char;
@@ -14,8 +14,7 @@ pub const HF_SHADER_GLSL: u32 = 0;
 pub const HF_SHADER_WGSL: u32 = 1;
 
 /// The general GLSL source of `method`: its files concatenated (no `#version` line).
-pub fn source(method: hf_method) -> String {
-    let kind = MethodKind::from_u32(method as u32).expect("every hf_method is a MethodKind");
+pub fn source(kind: MethodKind) -> String {
     general(kind, Lang::Glsl).expect("the GLSL port is complete")
 }
 
@@ -206,7 +205,7 @@ mod tests {
 
     #[test]
     fn every_method_has_a_source_with_hf_trace() {
-        for m in crate::METHODS {
+        for m in MethodKind::ALL {
             let s = source(m);
             assert_eq!(
                 s.matches("Trace hf_trace(Query q)").count(),
@@ -231,7 +230,7 @@ mod tests {
         // SAFETY: valid pointers.
         let r = unsafe { hf_shader_generate_len(&scene, HF_SHADER_GLSL, &mut len) };
         assert_eq!(r, HF_OK);
-        assert!(len > 100 && len < source(hf_method::HF_METHOD_EXACT).len());
+        assert!(len > 100 && len < source(MethodKind::Exact).len());
         let mut buf = vec![0 as c_char; len];
         let mut written = 0usize;
         // SAFETY: `buf` holds `len` bytes.

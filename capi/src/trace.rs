@@ -227,7 +227,7 @@ impl TraceOptions {
                 HF_ERR_INVALID_ARGUMENT,
                 format_args!(
                     "options.surface: {} does not trace the {} surface",
-                    info.name,
+                    info.kind.name(),
                     surface.name()
                 ),
             ));
@@ -235,7 +235,7 @@ impl TraceOptions {
         if !info.steps.is_empty() && o.steps == 0 {
             return Err(fail(
                 HF_ERR_INVALID_ARGUMENT,
-                format_args!("options.steps: {} needs at least 1", info.name),
+                format_args!("options.steps: {} needs at least 1", info.kind.name()),
             ));
         }
         let radius_clamp = match o.radius_zero {
@@ -274,7 +274,7 @@ pub(crate) unsafe fn marcher<'a>(
     map_len: usize,
     options: *const hf_trace_options,
 ) -> Result<(Marcher<'a>, TraceOptions), hf_result> {
-    let kind = MethodKind::ALL[crate::built_method_of(method)? as usize];
+    let kind = crate::built_method_of(method)?;
     let o = match options.is_null() {
         true => hf_trace_options::default(),
         // SAFETY: the caller promises non-NULL options are readable.

@@ -1,6 +1,9 @@
-//! The header drift check: regenerates `include/hfcast.h` with cbindgen (pinned
-//! 0.29.4) and fails when the committed header differs. `HFCAST_BLESS=1` writes it.
-//! Also checks the headers of smaller builds (`examples/header.rs`).
+//! The drift checks of what the C API generates: `include/hfcast.h` (cbindgen, pinned
+//! 0.29.4, plus the declarations that mirror the core's registry: the `hf_method` and
+//! `hf_surface` enums and the `HF_KTX2_*` map kinds) and `src/features.rs` (which of
+//! the registry's method features this build has). Each fails when the committed file
+//! differs; `HFCAST_BLESS=1` writes them. Also checks the headers of smaller builds
+//! (`examples/header.rs`).
 
 use std::path::PathBuf;
 
@@ -8,7 +11,9 @@ use std::path::PathBuf;
 #[allow(dead_code)]
 mod header_example;
 
-use hfcore::scene::FEATURES;
+use hfcore::ktx2::MapKind;
+use hfcore::scene::{MethodKind, FEATURES};
+use hfcore::Surface;
 
 /// The generated header text: cbindgen's output for this crate, with the version
 /// macros of Cargo.toml.
@@ -35,7 +40,12 @@ fn generate() -> String {
     );
     for f in FEATURES {
         after.push_str(&format!("\n#define {} 1", f.have_macro));
+        config
+            .defines
+            .insert(format!("feature = {}", f.name), f.have_macro.to_string());
     }
+    after.push('\n');
+    after.push_str(registry_declarations().trim_end());
     let mut out = Vec::new();
     cbindgen::Builder::new()
         .with_crate(&crate_dir)
@@ -46,20 +56,146 @@ fn generate() -> String {
     String::from_utf8(out).expect("utf-8 header")
 }
 
-#[test]
-fn header_matches_the_source() {
-    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../include/hfcast.h");
-    let fresh = generate();
+/// Compares the committed file `path` (from the crate's directory) with `fresh`, or
+/// writes it under `HFCAST_BLESS=1`.
+fn check_generated(path: &str, fresh: &str) {
+    let full = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join(path);
     if std::env::var_os("HFCAST_BLESS").is_some() {
-        std::fs::write(&path, &fresh).expect("write include/hfcast.h");
+        std::fs::write(&full, fresh).unwrap_or_else(|e| panic!("write {path}: {e}"));
         return;
     }
-    let committed = std::fs::read_to_string(&path).unwrap_or_default();
+    let committed = std::fs::read_to_string(&full).unwrap_or_default();
     assert!(
         committed == fresh,
-        "include/hfcast.h is out of date: regenerate it with \
+        "{path} is out of date: regenerate it with \
          `HFCAST_BLESS=1 cargo test -p hfcast-capi --test header` and commit it"
     );
+}
+
+#[test]
+fn header_matches_the_source() {
+    check_generated("src/features.rs", &features_source());
+    check_generated("../include/hfcast.h", &generate());
+}
+
+/// The first lines of a generated Rust source: what it mirrors and how to regenerate it.
+fn generated_by(what: &str) -> String {
+    format!(
+        "//! {what}\n//!\n//! Generated from the core's registry by `capi/tests/header.rs`: edit the \
+         registry\n//! and run `HFCAST_BLESS=1 cargo test -p hfcast-capi --test header`; the \
+         test fails\n//! when this file is out of date.\n"
+    )
+}
+
+/// `doc` (a doc comment's lines) rewrapped as `//` comments of at most 88 columns,
+/// indented by `indent`.
+fn doc_lines(doc: &str, indent: &str) -> String {
+    let mut out = String::new();
+    let mut line = String::new();
+    for word in doc.split_whitespace() {
+        if !line.is_empty() && indent.len() + 3 + line.len() + 1 + word.len() > 88 {
+            out += &format!("{indent}// {line}\n");
+            line.clear();
+        }
+        if !line.is_empty() {
+            line.push(' ');
+        }
+        line += word;
+    }
+    out + &format!("{indent}// {line}\n")
+}
+
+/// `s` with its first letter in lower case.
+fn lower_first(s: &str) -> String {
+    let mut c = s.chars();
+    c.next()
+        .map_or(String::new(), |f| f.to_lowercase().chain(c).collect())
+}
+
+/// `name` in C: upper case, `-` as `_`.
+fn c_name(prefix: &str, name: &str) -> String {
+    format!("{prefix}{}", name.to_uppercase().replace('-', "_"))
+}
+
+/// A C enum of `uint32_t` values `(doc, name, value)`, declared as cbindgen declares
+/// the crate's own (a fixed underlying type where C23 or C++ allow it, else the
+/// `uint32_t` typedef).
+fn c_enum(doc: &str, name: &str, variants: &[(&str, String, u32)]) -> String {
+    const FIXED: &str = "defined(__cplusplus) || __STDC_VERSION__ >= 202311L";
+    let mut s = format!(
+        "\n{}enum {name}\n#if {FIXED}\n  : uint32_t\n#endif // {FIXED}\n {{\n",
+        doc_lines(doc, "")
+    );
+    for (doc, v, value) in variants {
+        s += &format!("{}  {v} = {value},\n", doc_lines(doc, "  "));
+    }
+    s + &format!(
+        "}};\n#ifndef __cplusplus\n#if __STDC_VERSION__ >= 202311L\ntypedef enum {name} {name};\n\
+         #else\ntypedef uint32_t {name};\n#endif // __STDC_VERSION__ >= 202311L\n#endif // __cplusplus\n"
+    )
+}
+
+/// The header's declarations that mirror the core's registry: the `hf_method` and
+/// `hf_surface` enums (`MethodKind`, `Surface`: their numbers, names and doc comments)
+/// and the `HF_KTX2_*` map kinds (`MapKind`).
+fn registry_declarations() -> String {
+    let methods: Vec<_> = MethodKind::ALL
+        .iter()
+        .map(|m| (m.doc(), c_name("HF_METHOD_", m.name()), *m as u32))
+        .collect();
+    let mut s = c_enum(
+        "The marching methods (the core's registry). Passed as `uint32_t`.",
+        "hf_method",
+        &methods,
+    );
+    let surfaces: Vec<_> = Surface::ALL
+        .iter()
+        .map(|m| (m.doc(), c_name("HF_SURFACE_", m.name()), *m as u32))
+        .collect();
+    s += &c_enum(
+        "Height reconstruction between samples (docs/DESIGN.md, \"Surfaces\"). Passed as \
+         `uint32_t`.",
+        "hf_surface",
+        &surfaces,
+    );
+    for m in MapKind::ALL {
+        let baked_by = MethodKind::ALL
+            .into_iter()
+            .find(|k| k.info().map == Some(m))
+            .map_or(String::new(), |k| {
+                format!(" (`hf_bake` of `{}`)", c_name("HF_METHOD_", k.name()))
+            });
+        let doc = format!(
+            "Map kind (`hf_ktx2_desc::map`): {}{baked_by}, `{}` (docs/DESIGN.md, \
+             \"Texture layouts\").",
+            lower_first(m.doc().trim().trim_end_matches('.')),
+            m.format().name(),
+        );
+        s += &format!(
+            "\n{}#define {} {}\n",
+            doc_lines(&doc, ""),
+            c_name("HF_KTX2_", m.name()),
+            m as u32
+        );
+    }
+    s
+}
+
+/// `src/features.rs`: whether each of the registry's method features is on in this
+/// build of the C API.
+fn features_source() -> String {
+    let mut s = generated_by(
+        "Which of the registry's cargo features (`hfcast::scene::FEATURES`) this build of\n//! \
+         the C API has on. Its own list, since the C API may leave out the exports of a\n//! \
+         feature the core turns on for another (a cone build bakes through the core's\n//! \
+         maxmip module but exports no maxmip function). Shared with `examples/header.rs`.",
+    );
+    s += "\n/// Whether the C API's feature `name` is on; `None` for a name that is not a\n\
+          /// method feature.\npub fn feature_on(name: &str) -> Option<bool> {\n    Some(match name {\n";
+    for f in FEATURES {
+        s += &format!("        \"{0}\" => cfg!(feature = \"{0}\"),\n", f.name);
+    }
+    s + "        _ => return None,\n    })\n}\n"
 }
 
 #[test]
@@ -114,17 +250,13 @@ fn features_of(manifest: &str) -> Vec<(String, Vec<String>)> {
 /// The registry's feature list (`hfcore::scene::FEATURES`) is the one list: both
 /// `Cargo.toml`s declare exactly those features (plus `all-methods` turning them all
 /// on, and the core's `alloc` and `std`) with the registry's dependencies, the C
-/// API's forwarding each to the core, and `cbindgen.toml` defines the registry's macro
-/// for each.
+/// API's forwarding each to the core (cbindgen's defines and `src/features.rs` are
+/// generated from it).
 #[test]
 fn feature_lists_match_the_registry() {
     let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR"));
     let read = |p: &str| std::fs::read_to_string(dir.join(p)).expect(p);
-    let (toml, capi, core) = (
-        read("cbindgen.toml"),
-        read("Cargo.toml"),
-        read("../core/Cargo.toml"),
-    );
+    let (capi, core) = (read("Cargo.toml"), read("../core/Cargo.toml"));
     let names: Vec<String> = FEATURES.iter().map(|f| f.name.to_string()).collect();
     for (manifest, who, extra) in [(&core, "core", &["alloc", "std"][..]), (&capi, "capi", &[])] {
         let table = features_of(manifest);
@@ -164,25 +296,6 @@ fn feature_lists_match_the_registry() {
             assert_eq!(other, None, "capi: feature {}", f.name);
         }
     }
-    for f in FEATURES {
-        let on = header_example::features::feature_on(f.name);
-        assert!(
-            on.is_some(),
-            "capi/src/features.rs does not know {}",
-            f.name
-        );
-        let line = format!("\"feature = {}\" = \"{}\"", f.name, f.have_macro);
-        assert!(toml.contains(&line), "cbindgen.toml lacks `{line}`");
-    }
-    let defines = toml
-        .lines()
-        .filter(|l| l.starts_with("\"feature = "))
-        .count();
-    assert_eq!(
-        defines,
-        FEATURES.len(),
-        "cbindgen.toml defines other features"
-    );
 }
 
 #[test]

@@ -74,37 +74,23 @@ const HEADER_LEN: usize = 80;
 /// Bytes of one level index entry.
 const LEVEL_ENTRY_LEN: usize = 24;
 
-/// The Vulkan formats of the maps.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-#[repr(u32)]
-pub enum Format {
-    /// `VK_FORMAT_R8_UINT`.
-    R8Uint = 13,
-    /// `VK_FORMAT_R8G8_UINT`.
-    R8G8Uint = 20,
-    /// `VK_FORMAT_R32_SFLOAT`.
-    R32Sfloat = 100,
-    /// `VK_FORMAT_R32G32_SFLOAT`.
-    R32G32Sfloat = 103,
-    /// `VK_FORMAT_R32G32B32A32_SFLOAT`.
-    R32G32B32A32Sfloat = 109,
+named_enum! {
+    /// The Vulkan formats of the maps, by their `VkFormat` values.
+    pub enum Format: u32 {
+        /// `VK_FORMAT_R8_UINT`.
+        R8Uint = 13 => "R8_UINT",
+        /// `VK_FORMAT_R8G8_UINT`.
+        R8G8Uint = 20 => "R8G8_UINT",
+        /// `VK_FORMAT_R32_SFLOAT`.
+        R32Sfloat = 100 => "R32_SFLOAT",
+        /// `VK_FORMAT_R32G32_SFLOAT`.
+        R32G32Sfloat = 103 => "R32G32_SFLOAT",
+        /// `VK_FORMAT_R32G32B32A32_SFLOAT`.
+        R32G32B32A32Sfloat = 109 => "R32G32B32A32_SFLOAT",
+    }
 }
 
 impl Format {
-    /// Every format, in value order.
-    pub const ALL: [Format; 5] = [
-        Format::R8Uint,
-        Format::R8G8Uint,
-        Format::R32Sfloat,
-        Format::R32G32Sfloat,
-        Format::R32G32B32A32Sfloat,
-    ];
-
-    /// The format of `VkFormat` value `vk`, if it is one of these.
-    pub fn from_vk(vk: u32) -> Option<Format> {
-        Format::ALL.into_iter().find(|f| *f as u32 == vk)
-    }
-
     /// Channels per texel.
     pub fn channels(self) -> usize {
         match self {
@@ -139,61 +125,37 @@ impl Format {
     }
 }
 
-/// Which baked map a file holds.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-#[repr(u32)]
-pub enum MapKind {
-    /// The height field itself (`f32` samples).
-    Heights = 0,
-    /// The maximum-mipmap pyramid (`crate::maxmip`).
-    MaxMip = 1,
-    /// The directional safety-distance map (`crate::safety`, `Variant::Directional`).
-    Safety = 2,
-    /// The isotropic safety-distance map (`Variant::Isotropic`).
-    SafetyIsotropic = 3,
-    /// The cylinder–cone map (`crate::safety::cc`).
-    Cc = 4,
-    /// The cone map (`crate::cone`).
-    Cone = 5,
-    /// The relaxed cone map (`crate::relaxed`).
-    Relaxed = 6,
-    /// The quadratic displacement map (`crate::qdm`).
-    Qdm = 7,
-    /// The safety-radius map (`crate::radius`).
-    Radius = 8,
+named_enum! {
+    /// Which baked map a file holds.
+    pub enum MapKind: u32 {
+        /// The height field itself (`f32` samples).
+        Heights = 0 => "heights",
+        /// The maximum-mipmap pyramid.
+        MaxMip = 1 => "maxmip",
+        /// The directional safety-distance map (a row block per ray class).
+        Safety = 2 => "safety",
+        /// The isotropic safety-distance map (one byte per texel).
+        SafetyIsotropic = 3 => "safety-isotropic",
+        /// The cylinder–cone map.
+        Cc = 4 => "cc",
+        /// The cone map.
+        Cone = 5 => "cone",
+        /// The relaxed cone map.
+        Relaxed = 6 => "relaxed",
+        /// The quadratic displacement map.
+        Qdm = 7 => "qdm",
+        /// The safety-radius map.
+        Radius = 8 => "radius",
+    }
 }
 
 impl MapKind {
-    /// Every map, in value order.
-    pub const ALL: [MapKind; 9] = [
-        MapKind::Heights,
-        MapKind::MaxMip,
-        MapKind::Safety,
-        MapKind::SafetyIsotropic,
-        MapKind::Cc,
-        MapKind::Cone,
-        MapKind::Relaxed,
-        MapKind::Qdm,
-        MapKind::Radius,
-    ];
-
-    /// The map with this number, if any.
-    pub fn from_u32(v: u32) -> Option<MapKind> {
-        MapKind::ALL.get(v as usize).copied()
-    }
-
-    /// The `hfcast.method` value: `heights`, `maxmip`, `safety` (both variants), `cc`,
-    /// `cone`, `relaxed`, `qdm`, `radius`.
+    /// The `hfcast.method` value: the map's [`name`](Self::name), but `safety` for
+    /// both safety-distance variants (`hfcast.variant` tells them apart).
     pub fn method(self) -> &'static str {
         match self {
-            MapKind::Heights => "heights",
-            MapKind::MaxMip => "maxmip",
-            MapKind::Safety | MapKind::SafetyIsotropic => "safety",
-            MapKind::Cc => "cc",
-            MapKind::Cone => "cone",
-            MapKind::Relaxed => "relaxed",
-            MapKind::Qdm => "qdm",
-            MapKind::Radius => "radius",
+            MapKind::SafetyIsotropic => "safety",
+            k => k.name(),
         }
     }
 
@@ -825,7 +787,7 @@ pub fn read(bytes: &[u8]) -> Result<View<'_>, Ktx2Error> {
         return Err(Ktx2Error::BadIdentifier);
     }
     let h = |i: usize| get_u32(bytes, 12 + 4 * i);
-    let format = Format::from_vk(h(0)).ok_or(Ktx2Error::Unsupported)?;
+    let format = Format::from_u32(h(0)).ok_or(Ktx2Error::Unsupported)?;
     require(h(1) as usize == format.type_size(), "typeSize")?;
     let pixel = [h(2), h(3)];
     require(pixel[0] > 0, "pixelWidth is 0")?;

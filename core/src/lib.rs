@@ -31,6 +31,56 @@ extern crate alloc;
 #[cfg(feature = "std")]
 extern crate std;
 
+/// Declares a field-less enum whose variants carry explicit values and short names,
+/// with what every enumeration of the registry needs: `ALL` (every variant in
+/// declaration order), `from_u32` (by value), `name`, `from_name` and `doc` (the
+/// variant's doc comment, which the C header's generated enums repeat). Written once so
+/// that a new variant is one line.
+macro_rules! named_enum {
+    (
+        $(#[$meta:meta])*
+        pub enum $name:ident: $repr:ident {
+            $( $(#[doc = $doc:literal])+ $variant:ident = $value:literal => $label:literal, )+
+        }
+    ) => {
+        $(#[$meta])*
+        #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+        #[repr($repr)]
+        pub enum $name {
+            $( $(#[doc = $doc])+ $variant = $value, )+
+        }
+
+        impl $name {
+            /// Every value, in declaration order.
+            pub const ALL: [$name; [$($value),+].len()] = [$($name::$variant),+];
+
+            /// The value numbered `v`, if any.
+            pub fn from_u32(v: u32) -> Option<$name> {
+                $name::ALL.into_iter().find(|x| *x as u32 == v)
+            }
+
+            /// Its short name (lower case; a format's Vulkan name).
+            pub fn name(self) -> &'static str {
+                match self {
+                    $($name::$variant => $label,)+
+                }
+            }
+
+            /// The variant's doc comment, its lines joined by `\n`.
+            pub fn doc(self) -> &'static str {
+                match self {
+                    $($name::$variant => concat!($($doc, "\n"),+).trim_ascii_end(),)+
+                }
+            }
+
+            /// The value [`name`](Self::name) calls `name`, if any.
+            pub fn from_name(name: &str) -> Option<$name> {
+                $name::ALL.into_iter().find(|x| x.name() == name)
+            }
+        }
+    };
+}
+
 pub mod bake;
 #[cfg(feature = "alloc")]
 pub mod brute;

@@ -31,18 +31,18 @@ impl fmt::Display for RayError {
     }
 }
 
-/// The four ray classes of the safety-shape methods, by the ray's main horizontal axis.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-#[repr(u8)]
-pub enum RayClass {
-    /// dx ≥ |dy|.
-    XPos = 0,
-    /// −dx ≥ |dy|.
-    XNeg = 1,
-    /// dy > |dx|.
-    YPos = 2,
-    /// Every other direction (including vertical rays).
-    YNeg = 3,
+named_enum! {
+    /// The four ray classes of the safety-shape methods, by the ray's main horizontal axis.
+    pub enum RayClass: u8 {
+        /// dx ≥ |dy|.
+        XPos = 0 => "x+",
+        /// −dx ≥ |dy|.
+        XNeg = 1 => "x-",
+        /// dy > |dx|.
+        YPos = 2 => "y+",
+        /// Every other direction (including vertical rays).
+        YNeg = 3 => "y-",
+    }
 }
 
 impl RayClass {

@@ -58,12 +58,7 @@ pub const STRIP: u32 = 8;
 pub const SEG_PAD: f64 = 1.0 / 16.0;
 
 /// The four classes in class order (the rows of a directional map, [`texel_offset`]).
-pub const CLASSES: [RayClass; 4] = [
-    RayClass::XPos,
-    RayClass::XNeg,
-    RayClass::YPos,
-    RayClass::YNeg,
-];
+pub const CLASSES: [RayClass; 4] = RayClass::ALL;
 
 /// Main axis (0 = x, 1 = y) of a class.
 #[inline]

@@ -9,69 +9,45 @@ use crate::ktx2::MapKind;
 use crate::ray::RayClass;
 use crate::Surface;
 
-/// Every marching method of hfcast, baked or not, by the number the C API
-/// (`hf_method`) and the shaders (`HF_METHOD_*`) give it.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-#[repr(u32)]
-pub enum MethodKind {
-    /// Exact grid traversal ([`crate::dda::trace`]); no bake.
-    Exact = 0,
-    /// Linear then binary search; approximate; no bake.
-    LinearBinary = 1,
-    /// Linear search then a secant step (parallax occlusion mapping); approximate.
-    LinearSecant = 2,
-    /// Maximum mipmaps; exact; needs the pyramid.
-    MaxMip = 3,
-    /// Safety distances; exact on triangles; needs the safety-distance map.
-    Safety = 4,
-    /// Conservative cone step mapping; exact within its budget; needs the cone map.
-    Cone = 5,
-    /// Relaxed cone stepping; approximate; needs the relaxed cone map.
-    Relaxed = 6,
-    /// Quadratic displacement maps; exact within its budget; needs the QDM.
-    Qdm = 7,
-    /// Cylinder–cone safety shapes; exact on triangles; needs the CC map.
-    Cc = 8,
-    /// Safety radius (Baboud & Décoret 2006); exact on triangles with zero radii
-    /// walked; needs the radius map.
-    Radius = 9,
+named_enum! {
+    /// Every marching method of hfcast, baked or not, by the number the C API
+    /// (`hf_method`) and the shaders (`HF_METHOD_*`) give it, and by the short name the
+    /// CLI, the report and `hf_method_name` spell it with.
+    pub enum MethodKind: u32 {
+        /// Exact grid traversal (Amanatides–Woo DDA, exact per-cell test). Needs no bake.
+        Exact = 0 => "exact",
+        /// Linear search then bisection (Policarpo et al. 2005); approximate, no bake.
+        LinearBinary = 1 => "linear-binary",
+        /// Linear search then one secant step (parallax occlusion mapping); approximate.
+        LinearSecant = 2 => "linear-secant",
+        /// Maximum mipmaps (Tevs et al. 2008); exact, needs the baked pyramid.
+        MaxMip = 3 => "maxmip",
+        /// Safety distances (Baboud et al. 2011); exact on the triangle surface, needs the
+        /// baked safety-distance map.
+        Safety = 4 => "safety",
+        /// Conservative cone step mapping (Dummer 2006, made exact for the triangle
+        /// surface); exact within its iteration budget, needs the baked cone map.
+        Cone = 5 => "cone",
+        /// Relaxed cone stepping (Policarpo & Oliveira 2007); approximate, needs the baked
+        /// relaxed cone map.
+        Relaxed = 6 => "relaxed",
+        /// Quadratic displacement maps (after Kiglics et al.); exact within its iteration
+        /// budget, needs the baked QDM.
+        Qdm = 7 => "qdm",
+        /// Cylinder–cone safety shapes (Baboud et al. 2011, §6.3); exact on the triangle
+        /// surface, needs the baked cylinder–cone map.
+        Cc = 8 => "cc",
+        /// Safety radius (Baboud & Décoret 2006); exact on the triangle surface with zero
+        /// radii walked (`HF_RADIUS_WALK`), needs the baked radius map.
+        Radius = 9 => "radius",
+    }
 }
 
 impl MethodKind {
-    /// Every method, in value order.
-    pub const ALL: [MethodKind; 10] = [
-        MethodKind::Exact,
-        MethodKind::LinearBinary,
-        MethodKind::LinearSecant,
-        MethodKind::MaxMip,
-        MethodKind::Safety,
-        MethodKind::Cone,
-        MethodKind::Relaxed,
-        MethodKind::Qdm,
-        MethodKind::Cc,
-        MethodKind::Radius,
-    ];
-
-    /// Short lower-case name (`exact`, `linear-binary`, …, `radius`), as the CLI spells
-    /// it.
-    pub fn name(self) -> &'static str {
-        self.info().name
-    }
-
-    /// The method with this number, if any.
-    pub fn from_u32(v: u32) -> Option<MethodKind> {
-        MethodKind::ALL.get(v as usize).copied()
-    }
-
     /// The method's row of the registry: everything the C API, the shaders, the
     /// report and the tools derive from a method's identity.
     pub fn info(self) -> &'static MethodInfo {
         &METHODS[self as usize]
-    }
-
-    /// The method named `name` (as [`MethodInfo::name`] spells it), if any.
-    pub fn from_name(name: &str) -> Option<MethodKind> {
-        MethodKind::ALL.into_iter().find(|m| m.name() == name)
     }
 }
 
@@ -102,9 +78,6 @@ pub struct StepParam {
 pub struct MethodInfo {
     /// The method.
     pub kind: MethodKind,
-    /// Short lower-case name (`exact`, `linear-binary`, …): the CLI's, the report's and
-    /// `hf_method_name`'s.
-    pub name: &'static str,
     /// The cargo feature (of this crate and the C API) that builds it; `None`: always.
     pub feature: Option<&'static str>,
     /// Whether this build has it.
@@ -149,15 +122,9 @@ const ITERATIONS: &[StepParam] = &[StepParam {
 
 /// The registry: one row per method, in [`MethodKind`] order.
 const METHODS: [MethodInfo; 10] = {
-    const fn row(
-        kind: MethodKind,
-        name: &'static str,
-        feature: Option<&'static str>,
-        built: bool,
-    ) -> MethodInfo {
+    const fn row(kind: MethodKind, feature: Option<&'static str>, built: bool) -> MethodInfo {
         MethodInfo {
             kind,
-            name,
             feature,
             built,
             accuracy: Accuracy::Exact,
@@ -172,45 +139,30 @@ const METHODS: [MethodInfo; 10] = {
     [
         MethodInfo {
             shader: &["method_exact"],
-            ..row(MethodKind::Exact, "exact", None, true)
+            ..row(MethodKind::Exact, None, true)
         },
         MethodInfo {
             accuracy: Accuracy::Approximate,
             steps: SEARCH_STEPS,
             shader: &["search", "method_linear_binary"],
-            ..row(
-                MethodKind::LinearBinary,
-                "linear-binary",
-                search.0,
-                search.1,
-            )
+            ..row(MethodKind::LinearBinary, search.0, search.1)
         },
         MethodInfo {
             accuracy: Accuracy::Approximate,
             steps: SEARCH_STEPS.split_at(1).0,
             shader: &["search", "method_linear_secant"],
-            ..row(
-                MethodKind::LinearSecant,
-                "linear-secant",
-                search.0,
-                search.1,
-            )
+            ..row(MethodKind::LinearSecant, search.0, search.1)
         },
         MethodInfo {
             map: Some(MapKind::MaxMip),
             shader: &["maxmip", "method_maxmip"],
-            ..row(
-                MethodKind::MaxMip,
-                "maxmip",
-                Some("maxmip"),
-                cfg!(feature = "maxmip"),
-            )
+            ..row(MethodKind::MaxMip, Some("maxmip"), cfg!(feature = "maxmip"))
         },
         MethodInfo {
             surfaces: SAFETY_SURFACES,
             map: Some(MapKind::Safety),
             shader: &["safety", "method_safety"],
-            ..row(MethodKind::Safety, "safety", safety.0, safety.1)
+            ..row(MethodKind::Safety, safety.0, safety.1)
         },
         MethodInfo {
             accuracy: Accuracy::ExactWithinBudget,
@@ -218,12 +170,7 @@ const METHODS: [MethodInfo; 10] = {
             map: Some(MapKind::Cone),
             steps: ITERATIONS,
             shader: &["cone", "method_cone"],
-            ..row(
-                MethodKind::Cone,
-                "cone",
-                Some("cone"),
-                cfg!(feature = "cone"),
-            )
+            ..row(MethodKind::Cone, Some("cone"), cfg!(feature = "cone"))
         },
         MethodInfo {
             accuracy: Accuracy::Approximate,
@@ -242,7 +189,6 @@ const METHODS: [MethodInfo; 10] = {
             shader: &["relaxed", "method_relaxed"],
             ..row(
                 MethodKind::Relaxed,
-                "relaxed",
                 Some("relaxed"),
                 cfg!(feature = "relaxed"),
             )
@@ -253,19 +199,19 @@ const METHODS: [MethodInfo; 10] = {
             map: Some(MapKind::Qdm),
             steps: ITERATIONS,
             shader: &["cone", "qdm", "method_qdm"],
-            ..row(MethodKind::Qdm, "qdm", Some("qdm"), cfg!(feature = "qdm"))
+            ..row(MethodKind::Qdm, Some("qdm"), cfg!(feature = "qdm"))
         },
         MethodInfo {
             surfaces: SAFETY_SURFACES,
             map: Some(MapKind::Cc),
             shader: &["safety", "cc", "method_cc"],
-            ..row(MethodKind::Cc, "cc", safety.0, safety.1)
+            ..row(MethodKind::Cc, safety.0, safety.1)
         },
         MethodInfo {
             surfaces: SAFETY_SURFACES,
             map: Some(MapKind::Radius),
             shader: &["safety", "radius", "method_radius"],
-            ..row(MethodKind::Radius, "radius", safety.0, safety.1)
+            ..row(MethodKind::Radius, safety.0, safety.1)
         },
     ]
 };
@@ -279,13 +225,15 @@ pub struct Feature {
     pub needs: &'static [&'static str],
     /// Whether this build has it on.
     pub built: bool,
-    /// The C header's macro for it (`capi/cbindgen.toml`'s `[defines]`).
+    /// The C header's macro for it (cbindgen's define of the feature, which
+    /// `capi/tests/header.rs` generates from this list).
     pub have_macro: &'static str,
 }
 
-/// The cargo features that leave methods out, in `Cargo.toml` order: the one list
-/// `core/Cargo.toml`, `capi/Cargo.toml` and `capi/cbindgen.toml` are checked against
-/// (`capi/tests/header.rs`). `all-methods` turns them all on.
+/// The cargo features that leave methods out, in `Cargo.toml` order: the one list.
+/// `core/Cargo.toml` and `capi/Cargo.toml` are checked against it, and the C API's
+/// feature switches (`capi/src/features.rs`) and the header's `HF_HAVE_*` defines are
+/// generated from it (`capi/tests/header.rs`). `all-methods` turns them all on.
 pub const FEATURES: [Feature; 6] = {
     const fn f(
         name: &'static str,
@@ -459,60 +407,30 @@ const BITS: [u8; 16] = {
     b
 };
 
-/// Something a bake can produce: a map the march reads, or an intermediate another
-/// bake reads.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-#[repr(u32)]
-pub enum Product {
-    /// The maximum-mipmap pyramid (`maxmip::bake`): the maxmip march reads it, and the
-    /// cone, relaxed-cone and QDM bakes search it (`cone::prepare`).
-    Pyramid = 0,
-    /// The strip bounds of the safety-shape bakes (`safety::prepare`).
-    SafetyScratch = 1,
-    /// The safety-distance map (`safety::bake_rows_classes`).
-    SafetyMap = 2,
-    /// The packed cylinder–cone map (`safety::cc::bake_rows_classes`).
-    CcMap = 3,
-    /// The N-buffers the cylinder–cone slopes read (`safety::cc::prepare_nbuffer`),
-    /// with either slope: the exact slope culls columns with them too.
-    NBuffer = 4,
-    /// The conservative cone map (`cone::bake_rows`).
-    ConeMap = 5,
-    /// The relaxed cone map (`relaxed::bake_rows`).
-    RelaxedMap = 6,
-    /// The quadratic displacement map (`qdm::bake_rows`).
-    QdmMap = 7,
-    /// The safety-radius map (`radius::bake_rows`).
-    RadiusMap = 8,
-}
-
-impl Product {
-    /// Every product, in value order.
-    pub const ALL: [Product; 9] = [
-        Product::Pyramid,
-        Product::SafetyScratch,
-        Product::SafetyMap,
-        Product::CcMap,
-        Product::NBuffer,
-        Product::ConeMap,
-        Product::RelaxedMap,
-        Product::QdmMap,
-        Product::RadiusMap,
-    ];
-
-    /// Short lower-case name (`pyramid`, `safety scratch`, …).
-    pub fn name(self) -> &'static str {
-        match self {
-            Product::Pyramid => "pyramid",
-            Product::SafetyScratch => "safety scratch",
-            Product::SafetyMap => "safety map",
-            Product::CcMap => "cc map",
-            Product::NBuffer => "n-buffer",
-            Product::ConeMap => "cone map",
-            Product::RelaxedMap => "relaxed map",
-            Product::QdmMap => "qdm map",
-            Product::RadiusMap => "radius map",
-        }
+named_enum! {
+    /// Something a bake can produce: a map the march reads, or an intermediate another
+    /// bake reads.
+    pub enum Product: u32 {
+        /// The maximum-mipmap pyramid (`maxmip::bake`): the maxmip march reads it, and the
+        /// cone, relaxed-cone and QDM bakes search it (`cone::prepare`).
+        Pyramid = 0 => "pyramid",
+        /// The strip bounds of the safety-shape bakes (`safety::prepare`).
+        SafetyScratch = 1 => "safety scratch",
+        /// The safety-distance map (`safety::bake_rows_classes`).
+        SafetyMap = 2 => "safety map",
+        /// The packed cylinder–cone map (`safety::cc::bake_rows_classes`).
+        CcMap = 3 => "cc map",
+        /// The N-buffers the cylinder–cone slopes read (`safety::cc::prepare_nbuffer`),
+        /// with either slope: the exact slope culls columns with them too.
+        NBuffer = 4 => "n-buffer",
+        /// The conservative cone map (`cone::bake_rows`).
+        ConeMap = 5 => "cone map",
+        /// The relaxed cone map (`relaxed::bake_rows`).
+        RelaxedMap = 6 => "relaxed map",
+        /// The quadratic displacement map (`qdm::bake_rows`).
+        QdmMap = 7 => "qdm map",
+        /// The safety-radius map (`radius::bake_rows`).
+        RadiusMap = 8 => "radius map",
     }
 }
 

@@ -9,27 +9,34 @@ use crate::field::HeightField;
 use crate::math::{normal_from_gradient, Real};
 use crate::ray::{Flags, Query};
 
-/// How heights between samples are reconstructed.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
-#[repr(u32)]
-pub enum Surface {
-    /// Two triangles per cell, split along the diagonal whose midpoint is lower, so the
-    /// cell's height is the maximum of two planes (convex). The default.
-    #[default]
-    Triangles = 0,
-    /// Bilinear interpolation of the four corners.
-    Bilinear = 1,
-    /// Piecewise constant: the height of the nearest sample (ties go to the larger
-    /// index). Steps between samples are vertical walls.
-    HeightPlanes = 2,
-    /// Qu et al. eq. 1 as read here: in cell (i, j) the plane through the samples
-    /// (i, j), (i+1, j) and (i, j+1), i.e. the base sample and its forward differences.
-    /// Not continuous across cells; steps are vertical walls.
-    LinearPlanes = 3,
-    /// Baboud et al. §7: linear along the ray between its centerline crossings, where it
-    /// equals the edge interpolation of the samples. View dependent; shaded with the
-    /// bilinear normal.
-    ViewLinear = 4,
+named_enum! {
+    /// How heights between samples are reconstructed.
+    pub enum Surface: u32 {
+        /// Two triangles per cell, split along the diagonal whose midpoint is lower, so the
+        /// cell's height is the maximum of two planes (convex). The default.
+        Triangles = 0 => "triangles",
+        /// Bilinear interpolation of the four corners.
+        Bilinear = 1 => "bilinear",
+        /// Piecewise constant: the height of the nearest sample (ties go to the larger
+        /// index). Steps between samples are vertical walls.
+        HeightPlanes = 2 => "height-planes",
+        /// In cell (i, j) the plane through the samples (i, j), (i+1, j) and (i, j+1): the
+        /// base sample and its forward differences. No paper defines it (Qu et al.'s linear
+        /// approximation planes are the view-linear surface); not continuous across cells,
+        /// steps are vertical walls.
+        LinearPlanes = 3 => "linear-planes",
+        /// Baboud et al. §7, and Qu et al.'s linear approximation planes (eq. 1): linear
+        /// along the ray between its centerline crossings, where it equals the edge
+        /// interpolation of the samples. View dependent; shaded with the bilinear normal.
+        ViewLinear = 4 => "view-linear",
+    }
+}
+
+impl Default for Surface {
+    /// [`Surface::Triangles`].
+    fn default() -> Surface {
+        Surface::Triangles
+    }
 }
 
 /// Result of a segment test: where the segment first meets the surface (segment
@@ -49,32 +56,6 @@ pub struct SegmentHit<R: Real> {
 }
 
 impl Surface {
-    /// Every surface, in enum order.
-    pub const ALL: [Surface; 5] = [
-        Surface::Triangles,
-        Surface::Bilinear,
-        Surface::HeightPlanes,
-        Surface::LinearPlanes,
-        Surface::ViewLinear,
-    ];
-
-    /// Short lower-case name (`triangles`, `bilinear`, `height-planes`, `linear-planes`,
-    /// `view-linear`).
-    pub fn name(self) -> &'static str {
-        match self {
-            Surface::Triangles => "triangles",
-            Surface::Bilinear => "bilinear",
-            Surface::HeightPlanes => "height-planes",
-            Surface::LinearPlanes => "linear-planes",
-            Surface::ViewLinear => "view-linear",
-        }
-    }
-
-    /// Parses [`Surface::name`].
-    pub fn from_name(name: &str) -> Option<Surface> {
-        Surface::ALL.into_iter().find(|s| s.name() == name)
-    }
-
     /// `true` when the surface is continuous, so its height on a cell edge is the linear
     /// interpolation of the edge's two samples, shared by both neighbouring cells.
     pub fn is_continuous(self) -> bool {

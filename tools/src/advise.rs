@@ -4,7 +4,7 @@
 //! The rays are those `hfcast render` traces with the same options: every pixel's
 //! primary ray (clipped to the slab above the base, [`render::primary_ray`]) and the
 //! shadow ray from every hit that faces the light ([`render::shadow_ray`], from the
-//! exact traversal's hits). Each exact method ([`MethodSpec::EXACT`] that traces the
+//! exact traversal's hits). Each exact method ([`MethodSpec::exact`] that traces the
 //! surface) is baked once, one thread, for the scene's ray classes (the core's bake
 //! plan, [`Tracer::plan`]) and traces the rays one thread, median of a few repetitions.
 //!
@@ -16,7 +16,7 @@ use crate::render::{self, RenderOptions};
 use crate::report::measure::tolerance;
 use crate::trace::Tracer;
 use crate::MethodSpec;
-use hfcast::scene::{BakePlan, Need, Product, RayClasses};
+use hfcast::scene::{BakePlan, MethodKind, Need, Product, RayClasses};
 use hfcast::{HeightField, Query, Trace};
 use std::fmt::Write;
 use std::time::Instant;
@@ -93,7 +93,7 @@ pub struct Advice {
     pub shadow: usize,
     /// Rays measured.
     pub measured: usize,
-    /// Every exact method that traces the surface, in [`MethodSpec::EXACT`] order.
+    /// Every exact method that traces the surface, in [`MethodSpec::exact`] order.
     pub candidates: Vec<Candidate>,
     /// Index of the chosen one in [`Advice::candidates`].
     pub choice: usize,
@@ -217,11 +217,16 @@ pub fn advise(
     let (primary, shadow) = scene_rays(hf, opts, every);
     let (n_primary, n_shadow) = (primary.len() * every, shadow.len() * every);
     let rays = [primary, shadow].concat();
-    let exact = Tracer::bake(*hf, MethodSpec::EXACT[0], opts.surface, RayClasses::ALL)?;
+    let exact = Tracer::bake(
+        *hf,
+        MethodSpec::of(MethodKind::Exact),
+        opts.surface,
+        RayClasses::ALL,
+    )?;
     let mut want = vec![Trace::MISS; rays.len()];
     exact.trace_all(&rays, &mut want);
     let mut candidates = Vec::new();
-    for method in MethodSpec::EXACT
+    for method in MethodSpec::exact()
         .into_iter()
         .filter(|m| m.supports(opts.surface))
     {
@@ -363,7 +368,9 @@ mod tests {
 
     #[test]
     fn choice_is_the_fastest_frame_ties_by_bytes() {
-        let [dda, mip, safety, cc, _] = MethodSpec::EXACT;
+        let [dda, mip, safety, cc, _] = MethodSpec::exact()[..] else {
+            unreachable!("five exact methods")
+        };
         let mut c = vec![
             candidate(dda, 0.0, 400.0, 0),
             candidate(mip, 0.01, 200.0, 1000),

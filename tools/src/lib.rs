@@ -8,9 +8,8 @@
 //! `hfcast trace` ([`trace`]), and the method choice of `hfcast advise` ([`advise`]).
 
 use hfcast::march::MarchOptions;
-use hfcast::relaxed::Steps as RelaxedSteps;
-use hfcast::scene::MethodKind;
-use hfcast::{Method, SearchSteps, Surface};
+use hfcast::scene::{Accuracy, MethodKind};
+use hfcast::Surface;
 use std::sync::Mutex;
 
 pub mod advise;
@@ -20,81 +19,64 @@ pub mod render;
 pub mod report;
 pub mod trace;
 
-/// A marching method as the command line names it: a bake-free method of the core or
-/// a baked one, with its march parameters. The one method table of `trace`, `render`,
-/// `bench` and `advise` ([`parse_method`] reads it, [`MethodSpec::name`] writes it);
-/// [`trace::Tracer`] bakes and traces it.
+/// The most march parameters a method of the registry takes (`MethodInfo::steps`).
+const MAX_STEPS: usize = 2;
+
+/// A marching method as the command line names it: a method of the registry with its
+/// march parameters. The one method table of `trace`, `render`, `bench` and `advise`
+/// ([`parse_method`] reads it, [`MethodSpec::name`] writes it); [`trace::Tracer`]
+/// bakes and traces it.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum MethodSpec {
-    /// A bake-free method: `exact`, `linear-binary:N:M`, `secant:N`.
-    Plain(Method),
-    /// Maximum mipmaps, exact (`maxmip`).
-    MaxMip,
-    /// Safety distances, exact (`safety`); the layout follows the scene's bake plan.
-    Safety,
-    /// Cylinder–cone safety shapes with the exact slope, exact (`cc`).
-    Cc,
-    /// Safety radii, exact (`radius`).
-    Radius,
-    /// Conservative cone step mapping, at most `N` iterations (`cone:N`).
-    Cone(u32),
-    /// Quadratic displacement maps, at most `N` iterations (`qdm:N`).
-    Qdm(u32),
-    /// Relaxed cone stepping, then bisection (`relaxed:CONE:BINARY`); approximate.
-    Relaxed(RelaxedSteps),
+pub struct MethodSpec {
+    /// The method.
+    kind: MethodKind,
+    /// Its march parameters in the registry's order (`MethodInfo::steps`); the rest 0.
+    steps: [u32; MAX_STEPS],
 }
 
-/// The march parameters of each method kind (the registry's, `MethodInfo::steps`):
-/// `(names, default values)`; a method is written `kind` (the defaults) or
-/// `kind:v1[:v2]` with every value given.
-fn parameters(kind: MethodKind) -> (Vec<&'static str>, Vec<u32>) {
-    let steps = kind.info().steps;
-    (
-        steps.iter().map(|p| p.name).collect(),
-        steps.iter().map(|p| p.default).collect(),
-    )
+/// Help text of the method names, for usage messages: every method of the registry,
+/// with its march parameters (`exact | linear-binary[:N:M] | secant[:N] | …`).
+pub fn method_names() -> String {
+    let names = MethodKind::ALL.into_iter().map(|k| {
+        let letters = ["N", "M"].iter().take(k.info().steps.len());
+        let steps: String = letters.map(|l| format!(":{l}")).collect();
+        let name = MethodSpec::of(k).name();
+        let word = name.split(':').next().unwrap_or_default().to_string();
+        if steps.is_empty() {
+            word
+        } else {
+            format!("{word}[{steps}]")
+        }
+    });
+    names.collect::<Vec<_>>().join(" | ")
 }
-
-/// Help text of the method names, for usage messages.
-pub const METHOD_NAMES: &str = "exact | linear-binary[:N:M] | secant[:N] | maxmip | safety | \
-                                cc | radius | cone[:CAP] | qdm[:CAP] | relaxed[:N:M]";
 
 impl MethodSpec {
-    /// The exact methods, in the order `advise` lists them.
-    pub const EXACT: [MethodSpec; 5] = [
-        MethodSpec::Plain(Method::Exact),
-        MethodSpec::MaxMip,
-        MethodSpec::Safety,
-        MethodSpec::Cc,
-        MethodSpec::Radius,
-    ];
+    /// The method of `kind` with its default march parameters.
+    pub fn of(kind: MethodKind) -> MethodSpec {
+        let mut steps = [0; MAX_STEPS];
+        for (s, p) in steps.iter_mut().zip(kind.info().steps) {
+            *s = p.default;
+        }
+        MethodSpec { kind, steps }
+    }
+
+    /// The exact methods (the registry's, in its order), as `advise` lists them.
+    pub fn exact() -> Vec<MethodSpec> {
+        let exact = MethodKind::ALL
+            .into_iter()
+            .filter(|k| k.info().accuracy == Accuracy::Exact);
+        exact.map(MethodSpec::of).collect()
+    }
 
     /// The core's number for the method (the scene description and the C API).
     pub fn kind(self) -> MethodKind {
-        match self {
-            MethodSpec::Plain(Method::Exact) => MethodKind::Exact,
-            MethodSpec::Plain(Method::LinearBinary(_)) => MethodKind::LinearBinary,
-            MethodSpec::Plain(Method::LinearSecant(_)) => MethodKind::LinearSecant,
-            MethodSpec::MaxMip => MethodKind::MaxMip,
-            MethodSpec::Safety => MethodKind::Safety,
-            MethodSpec::Cc => MethodKind::Cc,
-            MethodSpec::Radius => MethodKind::Radius,
-            MethodSpec::Cone(_) => MethodKind::Cone,
-            MethodSpec::Qdm(_) => MethodKind::Qdm,
-            MethodSpec::Relaxed(_) => MethodKind::Relaxed,
-        }
+        self.kind
     }
 
-    /// The march parameters, in [`parameters`] order.
-    fn values(self) -> Vec<u32> {
-        match self {
-            MethodSpec::Plain(Method::LinearBinary(s)) => vec![s.linear, s.binary],
-            MethodSpec::Plain(Method::LinearSecant(n))
-            | MethodSpec::Cone(n)
-            | MethodSpec::Qdm(n) => vec![n],
-            MethodSpec::Relaxed(s) => vec![s.cone, s.binary],
-            _ => Vec::new(),
-        }
+    /// The march parameters, in the registry's order.
+    fn values(&self) -> &[u32] {
+        &self.steps[..self.kind.info().steps.len()]
     }
 
     /// The core's march options of the method on `surface`: its parameters as the step
@@ -111,41 +93,19 @@ impl MethodSpec {
         o
     }
 
-    /// The method of `kind` with march parameters `v` (as many as [`parameters`] names).
-    fn of(kind: MethodKind, v: &[u32]) -> MethodSpec {
-        match kind {
-            MethodKind::Exact => MethodSpec::Plain(Method::Exact),
-            MethodKind::LinearBinary => MethodSpec::Plain(Method::LinearBinary(SearchSteps {
-                linear: v[0],
-                binary: v[1],
-            })),
-            MethodKind::LinearSecant => MethodSpec::Plain(Method::LinearSecant(v[0])),
-            MethodKind::MaxMip => MethodSpec::MaxMip,
-            MethodKind::Safety => MethodSpec::Safety,
-            MethodKind::Cc => MethodSpec::Cc,
-            MethodKind::Radius => MethodSpec::Radius,
-            MethodKind::Cone => MethodSpec::Cone(v[0]),
-            MethodKind::Qdm => MethodSpec::Qdm(v[0]),
-            MethodKind::Relaxed => MethodSpec::Relaxed(RelaxedSteps {
-                cone: v[0],
-                binary: v[1],
-            }),
-        }
-    }
-
     /// `true` for the methods that answer the exact traversal's hit (within rounding).
     pub fn is_exact(self) -> bool {
-        MethodSpec::EXACT.contains(&self)
+        self.kind.info().accuracy == Accuracy::Exact
     }
 
     /// Whether the method traces `surface` (the registry's `MethodInfo::surfaces`).
     pub fn supports(self, surface: Surface) -> bool {
-        self.kind().info().surfaces.contains(&surface)
+        self.kind.info().surfaces.contains(&surface)
     }
 
     /// The name [`parse_method`] reads back (`secant:N` for the linear-secant search).
     pub fn name(self) -> String {
-        let kind = match self.kind() {
+        let kind = match self.kind {
             MethodKind::LinearSecant => "secant",
             k => k.name(),
         };
@@ -155,7 +115,7 @@ impl MethodSpec {
     }
 }
 
-/// Parses a method name: one of [`METHOD_NAMES`] (`linear-secant` is read as
+/// Parses a method name: one of [`method_names`] (`linear-secant` is read as
 /// `secant`); a method with march parameters takes all of them or none (defaults:
 /// `linear-binary:64:8`, `secant:64`, `cone:64`, `qdm:64`, `relaxed:64:8`).
 pub fn parse_method(name: &str) -> Result<MethodSpec, String> {
@@ -169,10 +129,11 @@ pub fn parse_method(name: &str) -> Result<MethodSpec, String> {
     let kind = MethodKind::ALL
         .into_iter()
         .find(|k| k.name() == word)
-        .ok_or_else(|| format!("unknown method {name:?} ({METHOD_NAMES})"))?;
-    let (what, defaults) = parameters(kind);
+        .ok_or_else(|| format!("unknown method {name:?} ({})", method_names()))?;
+    let params = kind.info().steps;
     let given: Vec<&str> = parts.collect();
-    if !given.is_empty() && given.len() != what.len() {
+    if !given.is_empty() && given.len() != params.len() {
+        let what: Vec<&str> = params.iter().map(|p| p.name).collect();
         return Err(format!(
             "method {name:?}: want {} value(s) ({}), got {}",
             what.len(),
@@ -180,18 +141,13 @@ pub fn parse_method(name: &str) -> Result<MethodSpec, String> {
             given.len()
         ));
     }
-    let values = given
-        .iter()
-        .zip(what)
-        .map(|(s, w)| {
-            s.parse()
-                .map_err(|_| format!("method {name:?}: bad {w} {s:?}"))
-        })
-        .collect::<Result<Vec<u32>, String>>()?;
-    Ok(MethodSpec::of(
-        kind,
-        if given.is_empty() { &defaults } else { &values },
-    ))
+    let mut method = MethodSpec::of(kind);
+    for ((slot, s), p) in method.steps.iter_mut().zip(&given).zip(params) {
+        *slot = s
+            .parse()
+            .map_err(|_| format!("method {name:?}: bad {} {s:?}", p.name))?;
+    }
+    Ok(method)
 }
 
 /// The machine's available parallelism (1 when unknown).
@@ -301,14 +257,35 @@ mod tests {
 
     #[test]
     fn surfaces_of_the_methods() {
-        assert!(MethodSpec::EXACT
+        let of = |name| parse_method(name).unwrap();
+        assert!(MethodSpec::exact()
             .iter()
             .all(|m| m.supports(Surface::Triangles)));
-        assert!(MethodSpec::MaxMip.supports(Surface::Bilinear));
-        assert!(MethodSpec::Cc.supports(Surface::ViewLinear));
-        assert!(!MethodSpec::Safety.supports(Surface::Bilinear));
-        assert!(!MethodSpec::Cone(8).supports(Surface::ViewLinear));
-        assert!(!MethodSpec::Cone(64).is_exact() && MethodSpec::Radius.is_exact());
+        assert!(of("maxmip").supports(Surface::Bilinear));
+        assert!(of("cc").supports(Surface::ViewLinear));
+        assert!(!of("safety").supports(Surface::Bilinear));
+        assert!(!of("cone:8").supports(Surface::ViewLinear));
+        assert!(!of("cone:64").is_exact() && of("radius").is_exact());
+        let exact: Vec<String> = MethodSpec::exact().iter().map(|m| m.name()).collect();
+        assert_eq!(exact, ["exact", "maxmip", "safety", "cc", "radius"]);
+    }
+
+    #[test]
+    fn the_help_names_every_method() {
+        assert_eq!(
+            method_names(),
+            "exact | linear-binary[:N:M] | secant[:N] | maxmip | safety | cone[:N] | \
+             relaxed[:N:M] | qdm[:N] | cc | radius"
+        );
+    }
+
+    #[test]
+    fn every_method_fits_its_parameters() {
+        for kind in MethodKind::ALL {
+            assert!(kind.info().steps.len() <= MAX_STEPS, "{}", kind.name());
+            let m = MethodSpec::of(kind);
+            assert_eq!(parse_method(&m.name()).unwrap(), m);
+        }
     }
 
     #[test]

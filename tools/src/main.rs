@@ -1,6 +1,6 @@
 //! `hfcast`: render, trace and benchmark height fields from the command line.
 
-use hfcast::scene::RayClasses;
+use hfcast::scene::{MethodKind, RayClasses};
 use hfcast::{Surface, WorldTransform};
 use hfcast_tools::advise::{self, AdviseOptions};
 use hfcast_tools::bench::{bench_rays, markdown_table, random_rays};
@@ -240,7 +240,7 @@ fn cmd_render(mut args: Args) -> Result<bool, String> {
     let name = args.opt("method").unwrap_or("maxmip".into());
     let auto = name == "auto";
     let method = if auto {
-        MethodSpec::EXACT[0]
+        MethodSpec::of(MethodKind::Exact)
     } else {
         parse_method(&name)?
     };
@@ -298,7 +298,7 @@ fn cmd_render(mut args: Args) -> Result<bool, String> {
 
 fn cmd_advise(mut args: Args) -> Result<bool, String> {
     let map_spec = args.map(bundled_map())?;
-    let mut opts = render_options(&mut args, MethodSpec::EXACT[0])?;
+    let mut opts = render_options(&mut args, MethodSpec::of(MethodKind::Exact))?;
     let how = AdviseOptions {
         reps: args.get("reps", AdviseOptions::default().reps)?.max(1),
         every: 1,

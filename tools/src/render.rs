@@ -14,8 +14,9 @@ use crate::maps::Error;
 use crate::trace::Tracer;
 use crate::{par_chunks, MethodSpec};
 use hfcast::camera::Pinhole;
+use hfcast::scene::MethodKind;
 use hfcast::scene::{BakePlan, RayClasses};
-use hfcast::{HeightField, Hit, Method, Query, Surface, Trace, WorldTransform};
+use hfcast::{HeightField, Hit, Query, Surface, Trace, WorldTransform};
 use std::io::BufWriter;
 use std::path::Path;
 use std::sync::atomic::{AtomicUsize, Ordering};
@@ -201,7 +202,7 @@ pub struct RenderOptions {
 impl Default for RenderOptions {
     fn default() -> Self {
         RenderOptions {
-            method: MethodSpec::Plain(Method::Exact),
+            method: MethodSpec::of(MethodKind::Exact),
             surface: Surface::Triangles,
             elevation: 35.0,
             azimuth: 200.0,

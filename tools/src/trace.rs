@@ -181,7 +181,7 @@ mod tests {
     fn lines() {
         let h = [0.0f32, 1.0, 1.0, 2.0];
         let hf = HeightField::new(&h, 2, 2, 2).unwrap();
-        let exact = MethodSpec::Plain(hfcast::Method::Exact);
+        let exact = MethodSpec::of(hfcast::scene::MethodKind::Exact);
         let tracer = Tracer::bake(hf, exact, Surface::Triangles, RayClasses::ALL).unwrap();
         let ask = |l: &str| answer_line(&tracer, l);
         assert_eq!(ask("  # nothing"), None);
