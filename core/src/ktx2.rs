@@ -78,40 +78,35 @@ named_enum! {
     /// The Vulkan formats of the maps, by their `VkFormat` values.
     pub enum Format: u32 {
         /// `VK_FORMAT_R8_UINT`.
-        R8Uint = 13 => "R8_UINT",
+        R8Uint = 13 => "R8_UINT" ((1, 1)),
         /// `VK_FORMAT_R8G8_UINT`.
-        R8G8Uint = 20 => "R8G8_UINT",
+        R8G8Uint = 20 => "R8G8_UINT" ((2, 1)),
         /// `VK_FORMAT_R32_SFLOAT`.
-        R32Sfloat = 100 => "R32_SFLOAT",
+        R32Sfloat = 100 => "R32_SFLOAT" ((1, 4)),
         /// `VK_FORMAT_R32G32_SFLOAT`.
-        R32G32Sfloat = 103 => "R32G32_SFLOAT",
+        R32G32Sfloat = 103 => "R32G32_SFLOAT" ((2, 4)),
         /// `VK_FORMAT_R32G32B32A32_SFLOAT`.
-        R32G32B32A32Sfloat = 109 => "R32G32B32A32_SFLOAT",
+        R32G32B32A32Sfloat = 109 => "R32G32B32A32_SFLOAT" ((4, 4)),
     }
+    /// `(channels per texel, bytes per channel)`: 8-bit unsigned integers or 32-bit
+    /// floats.
+    pub fn layout(self) -> (usize, usize);
 }
 
 impl Format {
     /// Channels per texel.
     pub fn channels(self) -> usize {
-        match self {
-            Format::R8Uint | Format::R32Sfloat => 1,
-            Format::R8G8Uint | Format::R32G32Sfloat => 2,
-            Format::R32G32B32A32Sfloat => 4,
-        }
+        self.layout().0
     }
 
     /// Whether the channels are 32-bit floats (else 8-bit unsigned integers).
     pub fn is_float(self) -> bool {
-        !matches!(self, Format::R8Uint | Format::R8G8Uint)
+        self.type_size() == 4
     }
 
     /// Bytes per channel: the header's `typeSize`.
     pub fn type_size(self) -> usize {
-        if self.is_float() {
-            4
-        } else {
-            1
-        }
+        self.layout().1
     }
 
     /// Bytes per texel.
@@ -125,28 +120,57 @@ impl Format {
     }
 }
 
+/// What a map kind's texture holds ([`MapKind::info`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct MapInfo {
+    /// The Vulkan format of the map's texture.
+    pub format: Format,
+    /// The bake's default cap, for the maps baked for a cap, ray classes and a ray set
+    /// (the safety distances, cylinder–cone shapes and radii, which the metadata then
+    /// records); `None` for the others.
+    pub default_cap: Option<u8>,
+}
+
+/// A map without a cap or ray classes, in `format`.
+const fn plain(format: Format) -> MapInfo {
+    MapInfo {
+        format,
+        default_cap: None,
+    }
+}
+
+/// A map baked for a cap (default `cap`) and ray classes, in `format`.
+const fn with_rays(format: Format, cap: u8) -> MapInfo {
+    MapInfo {
+        format,
+        default_cap: Some(cap),
+    }
+}
+
 named_enum! {
-    /// Which baked map a file holds.
+    /// Which baked map a file holds, with its texture's format and default cap.
     pub enum MapKind: u32 {
         /// The height field itself (`f32` samples).
-        Heights = 0 => "heights",
+        Heights = 0 => "heights" (plain(Format::R32Sfloat)),
         /// The maximum-mipmap pyramid.
-        MaxMip = 1 => "maxmip",
+        MaxMip = 1 => "maxmip" (plain(Format::R32Sfloat)),
         /// The directional safety-distance map (a row block per ray class).
-        Safety = 2 => "safety",
+        Safety = 2 => "safety" (with_rays(Format::R8Uint, u8::MAX)),
         /// The isotropic safety-distance map (one byte per texel).
-        SafetyIsotropic = 3 => "safety-isotropic",
+        SafetyIsotropic = 3 => "safety-isotropic" (with_rays(Format::R8Uint, u8::MAX)),
         /// The cylinder–cone map.
-        Cc = 4 => "cc",
+        Cc = 4 => "cc" (with_rays(Format::R8G8Uint, 64)),
         /// The cone map.
-        Cone = 5 => "cone",
+        Cone = 5 => "cone" (plain(Format::R32G32Sfloat)),
         /// The relaxed cone map.
-        Relaxed = 6 => "relaxed",
+        Relaxed = 6 => "relaxed" (plain(Format::R32Sfloat)),
         /// The quadratic displacement map.
-        Qdm = 7 => "qdm",
+        Qdm = 7 => "qdm" (plain(Format::R32G32B32A32Sfloat)),
         /// The safety-radius map.
-        Radius = 8 => "radius",
+        Radius = 8 => "radius" (with_rays(Format::R8Uint, u8::MAX)),
     }
+    /// The map's texture format and default cap.
+    pub fn info(self) -> MapInfo;
 }
 
 impl MapKind {
@@ -161,32 +185,19 @@ impl MapKind {
 
     /// The Vulkan format of the map's texture.
     pub fn format(self) -> Format {
-        match self {
-            MapKind::Heights | MapKind::MaxMip | MapKind::Relaxed => Format::R32Sfloat,
-            MapKind::Safety | MapKind::SafetyIsotropic | MapKind::Radius => Format::R8Uint,
-            MapKind::Cc => Format::R8G8Uint,
-            MapKind::Cone => Format::R32G32Sfloat,
-            MapKind::Qdm => Format::R32G32B32A32Sfloat,
-        }
+        self.info().format
     }
 
     /// Whether the map was baked for a cap, ray classes and a ray set (the safety
     /// distances, cylinder–cone shapes and radii), which the metadata then records.
     pub fn has_rays(self) -> bool {
-        matches!(
-            self,
-            MapKind::Safety | MapKind::SafetyIsotropic | MapKind::Cc | MapKind::Radius
-        )
+        self.info().default_cap.is_some()
     }
 
     /// The bake's default cap: 255 for safety distances and radii, 64 for the
     /// cylinder–cone shapes, 0 for maps without one.
     pub fn default_cap(self) -> u8 {
-        match self {
-            MapKind::Cc => 64,
-            m if m.has_rays() => u8::MAX,
-            _ => 0,
-        }
+        self.info().default_cap.unwrap_or(0)
     }
 }
 

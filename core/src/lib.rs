@@ -36,7 +36,38 @@ extern crate std;
 /// declaration order), `from_u32` (by value), `name`, `from_name` and `doc` (the
 /// variant's doc comment, which the C header's generated enums repeat). Written once so
 /// that a new variant is one line.
+///
+/// A variant may carry a constant in parentheses after its name, which the getter
+/// declared after the enum (`pub fn getter(self) -> Type;`) returns: the per-variant
+/// data of a table, written in the variant's row instead of a `match` elsewhere.
 macro_rules! named_enum {
+    (
+        $(#[$meta:meta])*
+        pub enum $name:ident: $repr:ident {
+            $( $(#[doc = $doc:literal])+ $variant:ident = $value:literal => $label:literal ($data:expr), )+
+        }
+        $(#[$gmeta:meta])*
+        pub fn $getter:ident(self) -> $ty:ty;
+    ) => {
+        named_enum! {
+            $(#[$meta])*
+            pub enum $name: $repr {
+                $( $(#[doc = $doc])+ $variant = $value => $label, )+
+            }
+        }
+
+        impl $name {
+            $(#[$gmeta])*
+            pub fn $getter(self) -> $ty {
+                match self {
+                    $($name::$variant => {
+                        const DATA: $ty = $data;
+                        DATA
+                    })+
+                }
+            }
+        }
+    };
     (
         $(#[$meta:meta])*
         pub enum $name:ident: $repr:ident {

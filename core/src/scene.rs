@@ -12,43 +12,90 @@ use crate::Surface;
 named_enum! {
     /// Every marching method of hfcast, baked or not, by the number the C API
     /// (`hf_method`) and the shaders (`HF_METHOD_*`) give it, and by the short name the
-    /// CLI, the report and `hf_method_name` spell it with.
+    /// CLI, the report and `hf_method_name` spell it with; each with its row of the
+    /// registry ([`MethodKind::info`]).
     pub enum MethodKind: u32 {
         /// Exact grid traversal (Amanatides–Woo DDA, exact per-cell test). Needs no bake.
-        Exact = 0 => "exact",
+        Exact = 0 => "exact" (&MethodInfo {
+            shader: &["method_exact"],
+            ..MethodInfo::base(MethodKind::Exact, ALWAYS)
+        }),
         /// Linear search then bisection (Policarpo et al. 2005); approximate, no bake.
-        LinearBinary = 1 => "linear-binary",
+        LinearBinary = 1 => "linear-binary" (&MethodInfo {
+            accuracy: Accuracy::Approximate,
+            steps: SEARCH_STEPS,
+            shader: &["search", "method_linear_binary"],
+            ..MethodInfo::base(MethodKind::LinearBinary, SEARCH)
+        }),
         /// Linear search then one secant step (parallax occlusion mapping); approximate.
-        LinearSecant = 2 => "linear-secant",
+        LinearSecant = 2 => "linear-secant" (&MethodInfo {
+            accuracy: Accuracy::Approximate,
+            steps: SEARCH_STEPS.split_at(1).0,
+            shader: &["search", "method_linear_secant"],
+            ..MethodInfo::base(MethodKind::LinearSecant, SEARCH)
+        }),
         /// Maximum mipmaps (Tevs et al. 2008); exact, needs the baked pyramid.
-        MaxMip = 3 => "maxmip",
+        MaxMip = 3 => "maxmip" (&MethodInfo {
+            map: Some(MapKind::MaxMip),
+            shader: &["maxmip", "method_maxmip"],
+            ..MethodInfo::base(MethodKind::MaxMip, (Some("maxmip"), cfg!(feature = "maxmip")))
+        }),
         /// Safety distances (Baboud et al. 2011); exact on the triangle surface, needs the
         /// baked safety-distance map.
-        Safety = 4 => "safety",
+        Safety = 4 => "safety" (&MethodInfo::safety_shape(
+            MethodKind::Safety,
+            MapKind::Safety,
+            &["safety", "method_safety"],
+        )),
         /// Conservative cone step mapping (Dummer 2006, made exact for the triangle
         /// surface); exact within its iteration budget, needs the baked cone map.
-        Cone = 5 => "cone",
+        Cone = 5 => "cone" (&MethodInfo::cone_family(
+            MethodKind::Cone,
+            MapKind::Cone,
+            (Some("cone"), cfg!(feature = "cone")),
+            &["cone", "method_cone"],
+        )),
         /// Relaxed cone stepping (Policarpo & Oliveira 2007); approximate, needs the baked
         /// relaxed cone map.
-        Relaxed = 6 => "relaxed",
+        Relaxed = 6 => "relaxed" (&MethodInfo {
+            accuracy: Accuracy::Approximate,
+            steps: &[
+                StepParam { name: "cone step count", default: 64 },
+                StepParam { name: "binary step count", default: 8 },
+            ],
+            ..MethodInfo::cone_family(
+                MethodKind::Relaxed,
+                MapKind::Relaxed,
+                (Some("relaxed"), cfg!(feature = "relaxed")),
+                &["relaxed", "method_relaxed"],
+            )
+        }),
         /// Quadratic displacement maps (after Kiglics et al.); exact within its iteration
         /// budget, needs the baked QDM.
-        Qdm = 7 => "qdm",
+        Qdm = 7 => "qdm" (&MethodInfo::cone_family(
+            MethodKind::Qdm,
+            MapKind::Qdm,
+            (Some("qdm"), cfg!(feature = "qdm")),
+            &["cone", "qdm", "method_qdm"],
+        )),
         /// Cylinder–cone safety shapes (Baboud et al. 2011, §6.3); exact on the triangle
         /// surface, needs the baked cylinder–cone map.
-        Cc = 8 => "cc",
+        Cc = 8 => "cc" (&MethodInfo::safety_shape(
+            MethodKind::Cc,
+            MapKind::Cc,
+            &["safety", "cc", "method_cc"],
+        )),
         /// Safety radius (Baboud & Décoret 2006); exact on the triangle surface with zero
         /// radii walked (`HF_RADIUS_WALK`), needs the baked radius map.
-        Radius = 9 => "radius",
+        Radius = 9 => "radius" (&MethodInfo::safety_shape(
+            MethodKind::Radius,
+            MapKind::Radius,
+            &["safety", "radius", "method_radius"],
+        )),
     }
-}
-
-impl MethodKind {
     /// The method's row of the registry: everything the C API, the shaders, the
     /// report and the tools derive from a method's identity.
-    pub fn info(self) -> &'static MethodInfo {
-        &METHODS[self as usize]
-    }
+    pub fn info(self) -> &'static MethodInfo;
 }
 
 /// How close a method's answer is to the exact traversal's (docs/DESIGN.md, "Accuracy
@@ -120,13 +167,22 @@ const ITERATIONS: &[StepParam] = &[StepParam {
     default: 64,
 }];
 
-/// The registry: one row per method, in [`MethodKind`] order.
-const METHODS: [MethodInfo; 10] = {
-    const fn row(kind: MethodKind, feature: Option<&'static str>, built: bool) -> MethodInfo {
+/// The cargo feature of a method and whether this build has it on: none (always built).
+const ALWAYS: (Option<&str>, bool) = (None, true);
+/// The search baselines' feature.
+const SEARCH: (Option<&str>, bool) = (Some("search"), cfg!(feature = "search"));
+/// The safety-shape methods' feature.
+const SAFETY: (Option<&str>, bool) = (Some("safety"), cfg!(feature = "safety"));
+
+impl MethodInfo {
+    /// The row of `kind` built by `feature` (its name, and whether it is on): exact,
+    /// on every surface, without a map, step parameters or shader files (the rows
+    /// override what differs).
+    const fn base(kind: MethodKind, feature: (Option<&'static str>, bool)) -> MethodInfo {
         MethodInfo {
             kind,
-            feature,
-            built,
+            feature: feature.0,
+            built: feature.1,
             accuracy: Accuracy::Exact,
             surfaces: EVERY_SURFACE,
             map: None,
@@ -134,87 +190,40 @@ const METHODS: [MethodInfo; 10] = {
             shader: &[],
         }
     }
-    let search = (Some("search"), cfg!(feature = "search"));
-    let safety = (Some("safety"), cfg!(feature = "safety"));
-    [
-        MethodInfo {
-            shader: &["method_exact"],
-            ..row(MethodKind::Exact, None, true)
-        },
-        MethodInfo {
-            accuracy: Accuracy::Approximate,
-            steps: SEARCH_STEPS,
-            shader: &["search", "method_linear_binary"],
-            ..row(MethodKind::LinearBinary, search.0, search.1)
-        },
-        MethodInfo {
-            accuracy: Accuracy::Approximate,
-            steps: SEARCH_STEPS.split_at(1).0,
-            shader: &["search", "method_linear_secant"],
-            ..row(MethodKind::LinearSecant, search.0, search.1)
-        },
-        MethodInfo {
-            map: Some(MapKind::MaxMip),
-            shader: &["maxmip", "method_maxmip"],
-            ..row(MethodKind::MaxMip, Some("maxmip"), cfg!(feature = "maxmip"))
-        },
+
+    /// A safety-shape method (feature `safety`, exact on the surfaces its maps bound)
+    /// over `map`, with its `shader` files.
+    const fn safety_shape(
+        kind: MethodKind,
+        map: MapKind,
+        shader: &'static [&'static str],
+    ) -> MethodInfo {
         MethodInfo {
             surfaces: SAFETY_SURFACES,
-            map: Some(MapKind::Safety),
-            shader: &["safety", "method_safety"],
-            ..row(MethodKind::Safety, safety.0, safety.1)
-        },
+            map: Some(map),
+            shader,
+            ..MethodInfo::base(kind, SAFETY)
+        }
+    }
+
+    /// A method of the cone family (triangles only, exact within an iteration budget)
+    /// over `map`, built by `feature`, with its `shader` files.
+    const fn cone_family(
+        kind: MethodKind,
+        map: MapKind,
+        feature: (Option<&'static str>, bool),
+        shader: &'static [&'static str],
+    ) -> MethodInfo {
         MethodInfo {
             accuracy: Accuracy::ExactWithinBudget,
             surfaces: TRIANGLES,
-            map: Some(MapKind::Cone),
+            map: Some(map),
             steps: ITERATIONS,
-            shader: &["cone", "method_cone"],
-            ..row(MethodKind::Cone, Some("cone"), cfg!(feature = "cone"))
-        },
-        MethodInfo {
-            accuracy: Accuracy::Approximate,
-            surfaces: TRIANGLES,
-            map: Some(MapKind::Relaxed),
-            steps: &[
-                StepParam {
-                    name: "cone step count",
-                    default: 64,
-                },
-                StepParam {
-                    name: "binary step count",
-                    default: 8,
-                },
-            ],
-            shader: &["relaxed", "method_relaxed"],
-            ..row(
-                MethodKind::Relaxed,
-                Some("relaxed"),
-                cfg!(feature = "relaxed"),
-            )
-        },
-        MethodInfo {
-            accuracy: Accuracy::ExactWithinBudget,
-            surfaces: TRIANGLES,
-            map: Some(MapKind::Qdm),
-            steps: ITERATIONS,
-            shader: &["cone", "qdm", "method_qdm"],
-            ..row(MethodKind::Qdm, Some("qdm"), cfg!(feature = "qdm"))
-        },
-        MethodInfo {
-            surfaces: SAFETY_SURFACES,
-            map: Some(MapKind::Cc),
-            shader: &["safety", "cc", "method_cc"],
-            ..row(MethodKind::Cc, safety.0, safety.1)
-        },
-        MethodInfo {
-            surfaces: SAFETY_SURFACES,
-            map: Some(MapKind::Radius),
-            shader: &["safety", "radius", "method_radius"],
-            ..row(MethodKind::Radius, safety.0, safety.1)
-        },
-    ]
-};
+            shader,
+            ..MethodInfo::base(kind, feature)
+        }
+    }
+}
 
 /// A cargo feature that leaves methods out ([`FEATURES`]).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -413,25 +422,28 @@ named_enum! {
     pub enum Product: u32 {
         /// The maximum-mipmap pyramid (`maxmip::bake`): the maxmip march reads it, and the
         /// cone, relaxed-cone and QDM bakes search it (`cone::prepare`).
-        Pyramid = 0 => "pyramid",
+        Pyramid = 0 => "pyramid" (Some(MapKind::MaxMip)),
         /// The strip bounds of the safety-shape bakes (`safety::prepare`).
-        SafetyScratch = 1 => "safety scratch",
+        SafetyScratch = 1 => "safety scratch" (None),
         /// The safety-distance map (`safety::bake_rows_classes`).
-        SafetyMap = 2 => "safety map",
+        SafetyMap = 2 => "safety map" (Some(MapKind::Safety)),
         /// The packed cylinder–cone map (`safety::cc::bake_rows_classes`).
-        CcMap = 3 => "cc map",
+        CcMap = 3 => "cc map" (Some(MapKind::Cc)),
         /// The N-buffers the cylinder–cone slopes read (`safety::cc::prepare_nbuffer`),
         /// with either slope: the exact slope culls columns with them too.
-        NBuffer = 4 => "n-buffer",
+        NBuffer = 4 => "n-buffer" (None),
         /// The conservative cone map (`cone::bake_rows`).
-        ConeMap = 5 => "cone map",
+        ConeMap = 5 => "cone map" (Some(MapKind::Cone)),
         /// The relaxed cone map (`relaxed::bake_rows`).
-        RelaxedMap = 6 => "relaxed map",
+        RelaxedMap = 6 => "relaxed map" (Some(MapKind::Relaxed)),
         /// The quadratic displacement map (`qdm::bake_rows`).
-        QdmMap = 7 => "qdm map",
+        QdmMap = 7 => "qdm map" (Some(MapKind::Qdm)),
         /// The safety-radius map (`radius::bake_rows`).
-        RadiusMap = 8 => "radius map",
+        RadiusMap = 8 => "radius map" (Some(MapKind::Radius)),
     }
+    /// The map it is (a method reads it, [`MethodInfo::map`]); `None` for the
+    /// intermediates only bakes read.
+    pub fn map(self) -> Option<MapKind>;
 }
 
 /// Whether and how a scene needs a [`Product`].
@@ -555,28 +567,23 @@ impl Scene {
         let mut set = |p: P, n: Need| needs[p as usize] = n;
         let mut classes = RayClasses::NONE;
         let mut isotropic = false;
-        match self.method {
-            MethodKind::Exact | MethodKind::LinearBinary | MethodKind::LinearSecant => {
-                for p in P::ALL {
-                    set(p, Skip(NO_BAKE));
-                }
+        // The method's own map is kept; the bakes' inputs are scratch.
+        let map = self.method.info().map;
+        for p in P::ALL {
+            if map.is_none() {
+                set(p, Skip(NO_BAKE));
+            } else if p.map() == map {
+                set(p, Keep);
             }
-            MethodKind::MaxMip => set(P::Pyramid, Keep),
-            MethodKind::Cone | MethodKind::Relaxed | MethodKind::Qdm => {
+        }
+        match self.method {
+            MethodKind::Cone | MethodKind::Relaxed => set(P::Pyramid, Scratch),
+            MethodKind::Qdm => {
                 set(P::Pyramid, Scratch);
-                let map = match self.method {
-                    MethodKind::Cone => P::ConeMap,
-                    MethodKind::Relaxed => P::RelaxedMap,
-                    _ => {
-                        set(P::ConeMap, Skip(QDM_OWN));
-                        P::QdmMap
-                    }
-                };
-                set(map, Keep);
+                set(P::ConeMap, Skip(QDM_OWN));
             }
             MethodKind::Safety => {
                 set(P::SafetyScratch, Scratch);
-                set(P::SafetyMap, Keep);
                 classes = self.ray_classes;
                 isotropic = classes.count() == 1;
             }
@@ -584,13 +591,10 @@ impl Scene {
                 set(P::SafetyScratch, Scratch);
                 set(P::SafetyMap, Skip(CC_OWN));
                 set(P::NBuffer, Scratch);
-                set(P::CcMap, Keep);
                 classes = self.ray_classes;
             }
-            MethodKind::Radius => {
-                set(P::SafetyScratch, Scratch);
-                set(P::RadiusMap, Keep);
-            }
+            MethodKind::Radius => set(P::SafetyScratch, Scratch),
+            _ => {}
         }
         BakePlan {
             method: self.method,

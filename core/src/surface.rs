@@ -14,22 +14,25 @@ named_enum! {
     pub enum Surface: u32 {
         /// Two triangles per cell, split along the diagonal whose midpoint is lower, so the
         /// cell's height is the maximum of two planes (convex). The default.
-        Triangles = 0 => "triangles",
+        Triangles = 0 => "triangles" (true),
         /// Bilinear interpolation of the four corners.
-        Bilinear = 1 => "bilinear",
+        Bilinear = 1 => "bilinear" (true),
         /// Piecewise constant: the height of the nearest sample (ties go to the larger
         /// index). Steps between samples are vertical walls.
-        HeightPlanes = 2 => "height-planes",
+        HeightPlanes = 2 => "height-planes" (false),
         /// In cell (i, j) the plane through the samples (i, j), (i+1, j) and (i, j+1): the
         /// base sample and its forward differences. No paper defines it (Qu et al.'s linear
         /// approximation planes are the view-linear surface); not continuous across cells,
         /// steps are vertical walls.
-        LinearPlanes = 3 => "linear-planes",
+        LinearPlanes = 3 => "linear-planes" (false),
         /// Baboud et al. §7, and Qu et al.'s linear approximation planes (eq. 1): linear
         /// along the ray between its centerline crossings, where it equals the edge
         /// interpolation of the samples. View dependent; shaded with the bilinear normal.
-        ViewLinear = 4 => "view-linear",
+        ViewLinear = 4 => "view-linear" (true),
     }
+    /// `true` when the surface is continuous, so its height on a cell edge is the linear
+    /// interpolation of the edge's two samples, shared by both neighbouring cells.
+    pub fn is_continuous(self) -> bool;
 }
 
 impl Default for Surface {
@@ -56,15 +59,6 @@ pub struct SegmentHit<R: Real> {
 }
 
 impl Surface {
-    /// `true` when the surface is continuous, so its height on a cell edge is the linear
-    /// interpolation of the edge's two samples, shared by both neighbouring cells.
-    pub fn is_continuous(self) -> bool {
-        matches!(
-            self,
-            Surface::Triangles | Surface::Bilinear | Surface::ViewLinear
-        )
-    }
-
     /// Height at grid point `(x, y)`, clamped into the footprint.
     pub fn height_at<R: Real>(self, hf: &HeightField, x: R, y: R) -> R {
         let (c, u, v, _) = locate(hf, x, y);
