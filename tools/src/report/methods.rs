@@ -248,23 +248,28 @@ pub enum Family {
 }
 
 impl Family {
+    /// Legend name and RGB colour of the family's points.
+    fn style(self) -> (&'static str, (u8, u8, u8)) {
+        match self {
+            Family::Dda => ("exact DDA", (0, 0, 0)),
+            Family::MaxMip => ("max mipmap", (31, 119, 180)),
+            Family::MaxMipApprox => ("max mipmap, approx.", (140, 190, 230)),
+            Family::Safety => ("safety distance", (44, 160, 44)),
+            Family::SafetyApprox => ("safety dist., approx.", (150, 215, 140)),
+            Family::Cc => ("cylinder–cone", (23, 190, 207)),
+            Family::Radius => ("safety radius", (127, 127, 127)),
+            Family::Cone => ("cone step", (140, 86, 75)),
+            Family::Qdm => ("QDM", (227, 119, 194)),
+            Family::Relaxed => ("relaxed cone, approx.", (188, 189, 34)),
+            Family::LinearBinary => ("linear + binary", (214, 39, 40)),
+            Family::Secant => ("linear + secant", (255, 127, 14)),
+            Family::Parry => ("parry3d (peer)", (148, 103, 189)),
+        }
+    }
+
     /// Legend name.
     pub fn name(self) -> &'static str {
-        match self {
-            Family::Dda => "exact DDA",
-            Family::MaxMip => "max mipmap",
-            Family::MaxMipApprox => "max mipmap, approx.",
-            Family::Safety => "safety distance",
-            Family::SafetyApprox => "safety dist., approx.",
-            Family::Cc => "cylinder–cone",
-            Family::Radius => "safety radius",
-            Family::Cone => "cone step",
-            Family::Qdm => "QDM",
-            Family::Relaxed => "relaxed cone, approx.",
-            Family::LinearBinary => "linear + binary",
-            Family::Secant => "linear + secant",
-            Family::Parry => "parry3d (peer)",
-        }
+        self.style().0
     }
 
     /// `true` for the bake-free approximate baselines and peers the summary compares
@@ -275,21 +280,7 @@ impl Family {
 
     /// RGB colour of the family's points.
     pub fn colour(self) -> (u8, u8, u8) {
-        match self {
-            Family::Dda => (0, 0, 0),
-            Family::MaxMip => (31, 119, 180),
-            Family::MaxMipApprox => (140, 190, 230),
-            Family::Safety => (44, 160, 44),
-            Family::SafetyApprox => (150, 215, 140),
-            Family::Cc => (23, 190, 207),
-            Family::Radius => (127, 127, 127),
-            Family::Cone => (140, 86, 75),
-            Family::Qdm => (227, 119, 194),
-            Family::Relaxed => (188, 189, 34),
-            Family::LinearBinary => (214, 39, 40),
-            Family::Secant => (255, 127, 14),
-            Family::Parry => (148, 103, 189),
-        }
+        self.style().1
     }
 }
 
