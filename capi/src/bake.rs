@@ -75,15 +75,13 @@ struct Checked {
     threads: u32,
 }
 
-/// A flag option: 0 or 1.
-fn flag(v: u32, name: &str) -> Result<bool, hf_result> {
+/// A two-valued option (a flag or a two-variant enum): 0 or 1, else `code` with the
+/// detail `options.{why}`.
+fn binary(v: u32, code: hf_result, why: &str) -> Result<bool, hf_result> {
     match v {
         0 => Ok(false),
         1 => Ok(true),
-        _ => Err(fail(
-            HF_ERR_INVALID_ARGUMENT,
-            format_args!("options.{name}: must be 0 or 1"),
-        )),
+        _ => Err(fail(code, format_args!("options.{why}"))),
     }
 }
 
@@ -108,25 +106,17 @@ unsafe fn checked(
         let why = format_args!("options.reserved[{k}]: must be 0");
         return Err(fail(HF_ERR_INVALID_ARGUMENT, why));
     }
-    let isotropic = match o.variant {
-        0 | 1 => o.variant == 1,
-        _ => {
-            return Err(fail(
-                HF_ERR_INVALID_ENUM,
-                "options.variant: not an hf_safety_variant",
-            ))
-        }
-    };
-    let nbuffer_slope = match o.slope {
-        0 | 1 => o.slope == 1,
-        _ => {
-            return Err(fail(
-                HF_ERR_INVALID_ENUM,
-                "options.slope: not an hf_cc_slope",
-            ))
-        }
-    };
-    let positive = flag(o.positive, "positive")?;
+    let isotropic = binary(
+        o.variant,
+        HF_ERR_INVALID_ENUM,
+        "variant: not an hf_safety_variant",
+    )?;
+    let nbuffer_slope = binary(o.slope, HF_ERR_INVALID_ENUM, "slope: not an hf_cc_slope")?;
+    let positive = binary(
+        o.positive,
+        HF_ERR_INVALID_ARGUMENT,
+        "positive: must be 0 or 1",
+    )?;
     let cap = u8::try_from(o.cap)
         .map_err(|_| fail(HF_ERR_INVALID_ARGUMENT, "options.cap: must be 0 to 255"))?;
     let classes = match o.ray_classes {
@@ -293,29 +283,95 @@ unsafe fn size_query<T: Default>(
     })
 }
 
-/// The field, the checked bake of `method` for it and its thread count; `None` for a
-/// method without a map (then `map_len` must be 0: there is nothing to bake).
+/// What one of the bake exports does with the checked bake of a field.
+enum Job {
+    /// `hf_bake_prepare`: fills the scratch (`scratch`, `scratch_len`).
+    Prepare(*mut f32, usize),
+    /// `hf_bake_rows`: bakes the rows into the map (`map`, `map_len`), reading the
+    /// scratch (`scratch`, `scratch_len`).
+    Rows {
+        scratch: (*const f32, usize),
+        rows: Range<u32>,
+        map: (*mut c_void, usize),
+    },
+    /// `hf_bake`: bakes the whole map (`out_map`, `out_map_len`) on the options' threads.
+    Whole(*mut c_void, usize),
+}
+
+/// Shared body of the bake exports: checks the field and `method`'s bake for it
+/// (`options` NULL: the defaults), then does `job`, on maps of the bake's element type.
+/// A method without a map does nothing (then the map's length must be 0).
 ///
 /// # Safety
-/// `field` NULL or live; `options` NULL or readable.
-unsafe fn field_and_bake<'a>(
+/// `field` NULL or live; `options` NULL or readable; the job's buffers as its export
+/// documents.
+unsafe fn bake_job(
     method: u32,
     field: *const hf_field,
     options: *const hf_bake_options,
-    map_len: usize,
-) -> Result<Option<(&'a hf_field, Spec, u32)>, hf_result> {
-    // SAFETY: the caller's promises.
-    let f = unsafe { ptr::get(field) }.named("field")?;
-    let hf = f.view();
-    // SAFETY: the caller's promise, passed on.
-    let c = unsafe { checked(method, hf.width(), hf.height(), options) }?;
-    match c.spec {
-        Some(spec) => Ok(Some((f, spec, c.threads))),
-        None if map_len == 0 => Ok(None),
-        None => Err(fail(
-            HF_ERR_INVALID_ARGUMENT,
-            "map_len: this method bakes no map; pass NULL and 0",
-        )),
+    job: Job,
+) -> hf_result {
+    guard(|| {
+        let map_len = match &job {
+            Job::Prepare(..) => 0,
+            Job::Rows { map, .. } => map.1,
+            Job::Whole(_, len) => *len,
+        };
+        // SAFETY: the caller's promises.
+        let f = unsafe { ptr::get(field) }.named("field")?;
+        let hf = f.view();
+        // SAFETY: the caller's promise, passed on.
+        let c = unsafe { checked(method, hf.width(), hf.height(), options) }?;
+        let spec = match c.spec {
+            Some(spec) => spec,
+            None if map_len == 0 => return Ok(()),
+            None => {
+                return Err(fail(
+                    HF_ERR_INVALID_ARGUMENT,
+                    "map_len: this method bakes no map; pass NULL and 0",
+                ))
+            }
+        };
+        // SAFETY: the caller's promises for the job's buffers, passed on.
+        unsafe {
+            match spec.is_float() {
+                true => job.run::<f32>(f, &spec, c.threads),
+                false => job.run::<u8>(f, &spec, c.threads),
+            }
+        }
+    })
+}
+
+impl Job {
+    /// Does the job for the checked bake `spec` of `f`, on maps of `T`.
+    ///
+    /// # Safety
+    /// The job's buffers as its export documents.
+    unsafe fn run<T: Out + Send>(
+        self,
+        f: &hf_field,
+        spec: &Spec,
+        threads: u32,
+    ) -> Result<(), hf_result> {
+        match self {
+            Job::Prepare(_, _) if spec.scratch_len() == 0 => Ok(()),
+            Job::Prepare(scratch, scratch_len) => {
+                // SAFETY: the caller's promise.
+                let scratch = unsafe { ptr::slice_mut(scratch, scratch_len) }.named("scratch")?;
+                Ok(spec.prepare(f.view(), scratch)?)
+            }
+            Job::Rows { scratch, rows, map } => {
+                let scratch: &[f32] = match spec.scratch_len() {
+                    0 => &[],
+                    // SAFETY: the caller's promise.
+                    _ => unsafe { ptr::slice(scratch.0, scratch.1) }.named("scratch")?,
+                };
+                // SAFETY: the caller's promises for `map`, passed on.
+                unsafe { rows_of::<T>(f, spec, scratch, rows, map.0, map.1) }
+            }
+            // SAFETY: the caller's promises for the map, passed on.
+            Job::Whole(map, map_len) => unsafe { whole::<T>(f, spec, threads, map, map_len) },
+        }
     }
 }
 
@@ -336,18 +392,8 @@ pub unsafe extern "C" fn hf_bake_prepare(
     scratch: *mut f32,
     scratch_len: usize,
 ) -> hf_result {
-    guard(|| {
-        // SAFETY: the caller's promises.
-        let Some((f, spec, _)) = unsafe { field_and_bake(method, field, options, 0) }? else {
-            return Ok(());
-        };
-        if spec.scratch_len() == 0 {
-            return Ok(());
-        }
-        // SAFETY: the caller's promise.
-        let scratch = unsafe { ptr::slice_mut(scratch, scratch_len) }.named("scratch")?;
-        Ok(spec.prepare(f.view(), scratch)?)
-    })
+    // SAFETY: the caller's promises, passed on.
+    unsafe { bake_job(method, field, options, Job::Prepare(scratch, scratch_len)) }
 }
 
 /// Bakes rows `[row_begin, row_end)` (0 ≤ begin ≤ end ≤ `hf_bake_row_count`) of
@@ -376,26 +422,13 @@ pub unsafe extern "C" fn hf_bake_rows(
     map: *mut c_void,
     map_len: usize,
 ) -> hf_result {
-    guard(|| {
-        // SAFETY: the caller's promises.
-        let bake = unsafe { field_and_bake(method, field, options, map_len) }?;
-        let Some((f, spec, _)) = bake else {
-            return Ok(());
-        };
-        let scratch: &[f32] = match spec.scratch_len() {
-            0 => &[],
-            // SAFETY: the caller's promise.
-            _ => unsafe { ptr::slice(scratch, scratch_len) }.named("scratch")?,
-        };
-        let rows = row_begin..row_end;
-        // SAFETY: the caller's promises for `map`, passed on.
-        unsafe {
-            match spec.is_float() {
-                true => rows_of::<f32>(f, &spec, scratch, rows, map, map_len),
-                false => rows_of::<u8>(f, &spec, scratch, rows, map, map_len),
-            }
-        }
-    })
+    let job = Job::Rows {
+        scratch: (scratch, scratch_len),
+        rows: row_begin..row_end,
+        map: (map, map_len),
+    };
+    // SAFETY: the caller's promises, passed on.
+    unsafe { bake_job(method, field, options, job) }
 }
 
 /// The output of an element type for the core's bake.
@@ -476,20 +509,8 @@ pub unsafe extern "C" fn hf_bake(
     out_map: *mut c_void,
     out_map_len: usize,
 ) -> hf_result {
-    guard(|| {
-        // SAFETY: the caller's promises.
-        let bake = unsafe { field_and_bake(method, field, options, out_map_len) }?;
-        let Some((f, spec, threads)) = bake else {
-            return Ok(());
-        };
-        // SAFETY: the caller's promises for `out_map`, passed on.
-        unsafe {
-            match spec.is_float() {
-                true => whole::<f32>(f, &spec, threads, out_map, out_map_len),
-                false => whole::<u8>(f, &spec, threads, out_map, out_map_len),
-            }
-        }
-    })
+    // SAFETY: the caller's promises, passed on.
+    unsafe { bake_job(method, field, options, Job::Whole(out_map, out_map_len)) }
 }
 
 /// Body of `hf_bake` for maps of `T`.

@@ -106,6 +106,17 @@ pub unsafe extern "C" fn hf_camera_ray(
 type PixelRay<'a> =
     dyn Fn(&Pinhole, f32, u32, u32) -> Result<Option<hf_ray>, hf_result> + Sync + 'a;
 
+/// What both camera passes trace: their exports' first arguments (`field`, `method`,
+/// `map`, `map_len`, `options`, `camera`), as they take them.
+type Pass = (
+    *const hf_field,
+    u32,
+    *const c_void,
+    usize,
+    *const hf_trace_options,
+    *const hf_camera,
+);
+
 /// Shared body of the camera passes: checks the camera and the output (`width ×
 /// height` hits), builds the method's marcher, checks the pixels' rays (`ray(p, x, y)`,
 /// `None` for a pixel traced as a miss; with `every_pixel` each one, else the corners',
@@ -115,19 +126,14 @@ type PixelRay<'a> =
 ///
 /// # Safety
 /// As `hf_trace_camera`.
-#[allow(clippy::too_many_arguments)]
 unsafe fn trace_pixels(
-    field: *const hf_field,
-    method: u32,
-    map: *const c_void,
-    map_len: usize,
-    options: *const hf_trace_options,
-    camera: *const hf_camera,
+    pass: Pass,
     out_hits: *mut hf_hit,
     out_hits_len: usize,
     ray: &PixelRay<'_>,
     every_pixel: bool,
 ) -> hf_result {
+    let (field, method, map, map_len, options, camera) = pass;
     guard(|| {
         // SAFETY: the caller promises a live handle and a readable camera.
         let (f, c) = unsafe {
@@ -230,22 +236,10 @@ pub unsafe extern "C" fn hf_trace_camera(
     out_hits: *mut hf_hit,
     out_hits_len: usize,
 ) -> hf_result {
+    let pass = (field, method, map, map_len, options, camera);
     let primary = |p: &Pinhole, t_max: f32, x: u32, y: u32| pixel_ray(p, t_max, x, y).map(Some);
     // SAFETY: the caller's promises, passed on.
-    unsafe {
-        trace_pixels(
-            field,
-            method,
-            map,
-            map_len,
-            options,
-            camera,
-            out_hits,
-            out_hits_len,
-            &primary,
-            false,
-        )
-    }
+    unsafe { trace_pixels(pass, out_hits, out_hits_len, &primary, false) }
 }
 
 /// The shadow pass of `hf_trace_camera`: for every pixel whose primary hit `hits[y *
@@ -321,19 +315,7 @@ pub unsafe extern "C" fn hf_trace_camera_shadows(
         let r = pixel_ray(p, t_max, x, y)?;
         shadow_ray_of(hf, surface, &r, h, l).map(Some)
     };
+    let pass = (field, method, map, map_len, options, camera);
     // SAFETY: the caller's promises, passed on.
-    unsafe {
-        trace_pixels(
-            field,
-            method,
-            map,
-            map_len,
-            options,
-            camera,
-            out_shadows,
-            out_shadows_len,
-            &shadow,
-            true,
-        )
-    }
+    unsafe { trace_pixels(pass, out_shadows, out_shadows_len, &shadow, true) }
 }

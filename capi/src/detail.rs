@@ -128,14 +128,13 @@ pub unsafe extern "C" fn hf_last_error_detail(
     buf_len: usize,
     out_written: *mut usize,
 ) -> hf_result {
-    guard_keeping_detail(|| {
-        // SAFETY: the caller promises `buf` is valid for `buf_len` bytes.
-        let buf = unsafe { ptr::slice_mut(buf, buf_len) }?;
-        let written = ptr::out(out_written)?;
-        let text = DETAIL.with(|d| d.borrow().as_ref().map(|d| d.text.clone()));
-        // SAFETY: the caller promises `out_written` is valid for one `size_t`.
-        unsafe { ptr::write_c_string(text.as_deref().unwrap_or(""), buf, written) }
-    })
+    let text = || {
+        Ok(DETAIL
+            .with(|d| d.borrow().clone())
+            .map_or(String::new(), |d| d.text))
+    };
+    // SAFETY: the caller's promises, passed on.
+    guard_keeping_detail(|| unsafe { ptr::write_text(buf, buf_len, out_written, text) })
 }
 
 /// Writes to `*out` the index of the first bad element of an array argument in the

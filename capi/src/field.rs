@@ -382,21 +382,17 @@ pub unsafe extern "C" fn hf_field_get_info(
     field: *const hf_field,
     out_info: *mut hf_field_info,
 ) -> hf_result {
-    guard(|| {
-        // SAFETY: the caller promises a live handle.
-        let f = unsafe { ptr::get(field) }?;
-        let out = ptr::out(out_info)?;
+    let info = |f: &hf_field| {
         let v = f.view();
-        let info = hf_field_info {
+        Ok(hf_field_info {
             width: v.width(),
             height: v.height(),
             min_height: v.min_height(),
             max_height: v.max_height(),
-        };
-        // SAFETY: the caller promises `out_info` is writable.
-        unsafe { out.set(info) };
-        Ok(())
-    })
+        })
+    };
+    // SAFETY: the caller's promises, passed on.
+    unsafe { ptr::answer(|| ptr::get(field), out_info, info) }
 }
 
 /// Copies the field's W × H heights (grid units, row-major, stride W: what to upload
@@ -560,12 +556,7 @@ pub unsafe extern "C" fn hf_field_get_transform(
     field: *const hf_field,
     out_transform: *mut hf_transform,
 ) -> hf_result {
-    guard(|| {
-        // SAFETY: the caller promises a live handle.
-        let f = unsafe { ptr::get(field) }?;
-        let out = ptr::out(out_transform)?;
-        // SAFETY: the caller promises `out_transform` is writable.
-        unsafe { out.set(hf_transform::from(*f.view().transform())) };
-        Ok(())
-    })
+    let transform = |f: &hf_field| Ok(hf_transform::from(*f.view().transform()));
+    // SAFETY: the caller's promises, passed on.
+    unsafe { ptr::answer(|| ptr::get(field), out_transform, transform) }
 }

@@ -167,14 +167,12 @@ pub unsafe extern "C" fn hf_ktx2_desc_default(
     height: u32,
     out_desc: *mut hf_ktx2_desc,
 ) -> hf_result {
-    guard(|| {
-        let out = ptr::out(out_desc)?;
+    let default = |()| {
         let kind = MapKind::from_u32(map).ok_or(HF_ERR_INVALID_ENUM)?;
-        let desc = desc_of(&c_desc(&Desc::new(kind, width, height)))?;
-        // SAFETY: the caller promises `out_desc` is writable.
-        unsafe { out.set(c_desc(&desc)) };
-        Ok(())
-    })
+        Ok(c_desc(&desc_of(&c_desc(&Desc::new(kind, width, height)))?))
+    };
+    // SAFETY: the caller's promise, passed on.
+    unsafe { ptr::answer(|| Ok(()), out_desc, default) }
 }
 
 /// Writes the size in bytes of the KTX 2 file of `desc` to `*out_len`: the buffer
@@ -188,15 +186,9 @@ pub unsafe extern "C" fn hf_ktx2_desc_default(
 /// one `size_t`.
 #[no_mangle]
 pub unsafe extern "C" fn hf_ktx2_len(desc: *const hf_ktx2_desc, out_len: *mut usize) -> hf_result {
-    guard(|| {
-        // SAFETY: the caller promises `desc` is valid.
-        let desc = desc_of(unsafe { ptr::get(desc) }?)?;
-        let out = ptr::out(out_len)?;
-        let n = ktx2::len(&with_fingerprint(desc)).map_err(code)?;
-        // SAFETY: the caller promises `out_len` is writable.
-        unsafe { out.set(n) };
-        Ok(())
-    })
+    let len = |d| ktx2::len(&with_fingerprint(d)).map_err(code);
+    // SAFETY: the caller's promises, passed on.
+    unsafe { ptr::answer(|| desc_of(ptr::get(desc)?), out_len, len) }
 }
 
 /// Writes the size in bytes of the baked map of `desc` to `*out_len`: what its bake
@@ -211,15 +203,8 @@ pub unsafe extern "C" fn hf_ktx2_map_len(
     desc: *const hf_ktx2_desc,
     out_len: *mut usize,
 ) -> hf_result {
-    guard(|| {
-        // SAFETY: the caller promises `desc` is valid.
-        let desc = desc_of(unsafe { ptr::get(desc) }?)?;
-        let out = ptr::out(out_len)?;
-        let n = map_bytes(&desc)?;
-        // SAFETY: the caller promises `out_len` is writable.
-        unsafe { out.set(n) };
-        Ok(())
-    })
+    // SAFETY: the caller's promises, passed on.
+    unsafe { ptr::answer(|| desc_of(ptr::get(desc)?), out_len, |d| map_bytes(&d)) }
 }
 
 /// Writes the KTX 2 file of the baked map `data` (`data_len` bytes, at least
@@ -303,12 +288,9 @@ pub unsafe extern "C" fn hf_ktx2_read_info(
     len: usize,
     out_info: *mut hf_ktx2_info,
 ) -> hf_result {
-    guard(|| {
-        // SAFETY: the caller's promise, passed on.
-        let (view, desc) = unsafe { open(bytes, len) }?;
-        let out = ptr::out(out_info)?;
+    let info = |(view, desc): (View, Desc)| {
         let [pixel_width, pixel_height] = view.pixel_size();
-        let info = hf_ktx2_info {
+        Ok(hf_ktx2_info {
             desc: c_desc(&desc),
             vk_format: view.format() as u32,
             pixel_width,
@@ -316,11 +298,10 @@ pub unsafe extern "C" fn hf_ktx2_read_info(
             levels: view.level_count(),
             texel_size: view.format().texel_size() as u32,
             map_len: map_bytes(&desc)?,
-        };
-        // SAFETY: the caller promises `out_info` is writable.
-        unsafe { out.set(info) };
-        Ok(())
-    })
+        })
+    };
+    // SAFETY: the caller's promises, passed on.
+    unsafe { ptr::answer(|| open(bytes, len), out_info, info) }
 }
 
 /// Writes the size in bytes of mip level `level` of the KTX 2 file `bytes` to
@@ -337,15 +318,10 @@ pub unsafe extern "C" fn hf_ktx2_level_len(
     level: u32,
     out_len: *mut usize,
 ) -> hf_result {
-    guard(|| {
-        // SAFETY: the caller's promise, passed on.
-        let (view, _) = unsafe { open(bytes, len) }?;
-        let out = ptr::out(out_len)?;
-        let n = view.level(level).ok_or(HF_ERR_INVALID_ARGUMENT)?.len();
-        // SAFETY: the caller promises `out_len` is writable.
-        unsafe { out.set(n) };
-        Ok(())
-    })
+    let level_len =
+        |(view, _): (View, Desc)| Ok(view.level(level).ok_or(HF_ERR_INVALID_ARGUMENT)?.len());
+    // SAFETY: the caller's promises, passed on.
+    unsafe { ptr::answer(|| open(bytes, len), out_len, level_len) }
 }
 
 /// Copies mip level `level` of the KTX 2 file `bytes` into `out` (`out_len ≥

@@ -136,6 +136,47 @@ impl<T> Out<T> {
     }
 }
 
+/// The body of an export that answers one value, behind the panic boundary: `input()`
+/// (the checks of the inputs, whose errors come first), then `out` checked, then the
+/// input's `value` written to `*out` (only on success).
+///
+/// # Safety
+/// `out` is NULL (an error) or valid for writing one `O`.
+pub unsafe fn answer<I, O>(
+    input: impl FnOnce() -> Result<I, hf_result>,
+    out: *mut O,
+    value: impl FnOnce(I) -> Result<O, hf_result>,
+) -> hf_result {
+    crate::guard(|| {
+        let i = input()?;
+        let o = self::out(out)?;
+        let v = value(i)?;
+        // SAFETY: the caller promises `out` is writable.
+        unsafe { o.set(v) };
+        Ok(())
+    })
+}
+
+/// Checks `buf` (`buf_len` bytes) and `out_written`, then writes `text()` into `buf` as
+/// a NUL-terminated string and its length without the NUL to `*out_written`.
+///
+/// # Safety
+/// `buf` is NULL (an error) or valid for writing `buf_len` bytes; `out_written` NULL
+/// (an error) or valid for writing one `size_t`.
+pub unsafe fn write_text(
+    buf: *mut c_char,
+    buf_len: usize,
+    out_written: *mut usize,
+    text: impl FnOnce() -> Result<String, hf_result>,
+) -> Result<(), hf_result> {
+    // SAFETY: the caller promises `buf` is writable for `buf_len` bytes.
+    let buf = unsafe { slice_mut(buf, buf_len) }?;
+    let written = out(out_written)?;
+    let text = text()?;
+    // SAFETY: the caller promises `out_written` is writable.
+    unsafe { write_c_string(&text, buf, written) }
+}
+
 /// Writes `s` and a NUL into `buf` and the length of `s` to `written`.
 ///
 /// # Safety

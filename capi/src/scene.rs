@@ -121,14 +121,12 @@ pub unsafe extern "C" fn hf_scene_general(
     surface: u32,
     out: *mut hf_scene,
 ) -> hf_result {
-    guard(|| {
-        let out = ptr::out(out)?;
+    let general = |()| {
         let m = method_of(method)?;
-        let scene = Scene::general(m, surface_of(surface)?);
-        // SAFETY: the caller promises `out` is writable.
-        unsafe { out.set(c_scene(&scene)) };
-        Ok(())
-    })
+        Ok(c_scene(&Scene::general(m, surface_of(surface)?)))
+    };
+    // SAFETY: the caller's promise, passed on.
+    unsafe { ptr::answer(|| Ok(()), out, general) }
 }
 
 /// Checks `*scene`: `HF_OK` when every field is valid, else the code the first bad
@@ -239,15 +237,9 @@ pub unsafe extern "C" fn hf_scene_bake_plan(
     scene: *const hf_scene,
     out_plan: *mut hf_bake_plan,
 ) -> hf_result {
-    guard(|| {
-        // SAFETY: the caller promises `scene` is readable.
-        let s = unsafe { ptr::get(scene) }?;
-        let out = ptr::out(out_plan)?;
-        let plan = scene_of(s)?.bake_plan();
-        // SAFETY: the caller promises `out_plan` is writable.
-        unsafe { out.set(c_plan(&plan)) };
-        Ok(())
-    })
+    let plan = |s: &hf_scene| Ok(c_plan(&scene_of(s)?.bake_plan()));
+    // SAFETY: the caller's promises, passed on.
+    unsafe { ptr::answer(|| ptr::get(scene), out_plan, plan) }
 }
 
 /// The text of `hf_scene_bake_plan_skipped`: one `item: reason` line per skipped item.
@@ -275,12 +267,13 @@ pub unsafe extern "C" fn hf_scene_bake_plan_skipped(
     out_written: *mut usize,
 ) -> hf_result {
     guard(|| {
-        // SAFETY: the caller promises `scene` is readable, `buf` writable.
-        let (s, buf) = unsafe { (ptr::get(scene)?, ptr::slice_mut(buf, buf_len)?) };
-        let written = ptr::out(out_written)?;
-        let text = skipped_text(&scene_of(s)?.bake_plan());
-        // SAFETY: the caller promises `out_written` is writable.
-        unsafe { ptr::write_c_string(&text, buf, written) }
+        // SAFETY: the caller promises `scene` is readable, `buf` and `out_written`
+        // writable.
+        unsafe {
+            let s = ptr::get(scene)?;
+            let text = || Ok(skipped_text(&scene_of(s)?.bake_plan()));
+            ptr::write_text(buf, buf_len, out_written, text)
+        }
     })
 }
 

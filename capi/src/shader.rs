@@ -68,14 +68,8 @@ unsafe fn write_text(
     out_written: *mut usize,
     text: impl FnOnce() -> Result<String, hf_result>,
 ) -> hf_result {
-    guard(|| {
-        // SAFETY: the caller promises `buf` is writable for `buf_len` bytes.
-        let buf = unsafe { ptr::slice_mut(buf, buf_len) }?;
-        let written = ptr::out(out_written)?;
-        let text = text()?;
-        // SAFETY: the caller promises `out_written` is writable.
-        unsafe { ptr::write_c_string(&text, buf, written) }
-    })
+    // SAFETY: the caller's promises, passed on.
+    guard(|| unsafe { ptr::write_text(buf, buf_len, out_written, text) })
 }
 
 /// Writes the length in bytes of `hf_shader_source(method)`, including its NUL
