@@ -51,6 +51,64 @@ pub fn method_names() -> String {
     names.collect::<Vec<_>>().join(" | ")
 }
 
+/// The help text of the methods and surfaces: every method of the registry with its
+/// parameters' defaults, the exact ones, and the surfaces each traces (`hfcast help`).
+pub fn methods_help() -> String {
+    let names = method_names();
+    let defaults: Vec<String> = MethodKind::ALL
+        .into_iter()
+        .filter(|k| !k.info().steps.is_empty())
+        .map(|k| MethodSpec::of(k).name())
+        .collect();
+    let exact: Vec<String> = MethodSpec::exact().iter().map(|m| m.name()).collect();
+    let mut by_surfaces: Vec<(&[Surface], Vec<&str>)> = Vec::new();
+    for k in MethodKind::ALL {
+        let s = k.info().surfaces;
+        match by_surfaces.iter_mut().find(|(t, _)| *t == s) {
+            Some((_, v)) => v.push(k.name()),
+            None => by_surfaces.push((s, vec![k.name()])),
+        }
+    }
+    let traces: Vec<String> = by_surfaces
+        .iter()
+        .map(|(s, ks)| {
+            let s: Vec<&str> = s.iter().map(|s| s.name()).collect();
+            format!("{}: {}", ks.join(" "), s.join(" "))
+        })
+        .collect();
+    let surfaces: Vec<&str> = Surface::ALL.iter().map(|s| s.name()).collect();
+    [
+        (
+            "methods (render: maxmip, trace and bench: exact, by default)",
+            names,
+        ),
+        ("defaults", defaults.join(" ")),
+        ("exact", exact.join(" ")),
+        ("surfaces they trace", traces.join("; ")),
+        ("surfaces", surfaces.join(" | ")),
+    ]
+    .map(|(label, text)| wrap(&format!("{label}: {text}"), 88, "         "))
+    .concat()
+}
+
+/// `text` broken at spaces into lines of at most `width` columns, the later ones
+/// starting with `indent`, each ending in a newline.
+fn wrap(text: &str, width: usize, indent: &str) -> String {
+    let mut out = String::new();
+    let mut line = String::new();
+    for word in text.split(' ') {
+        if !line.trim().is_empty() && line.len() + 1 + word.len() > width {
+            out += &line;
+            out.push('\n');
+            line = indent.to_string();
+        } else if !line.is_empty() {
+            line.push(' ');
+        }
+        line += word;
+    }
+    out + &line + "\n"
+}
+
 impl MethodSpec {
     /// The method of `kind` with its default march parameters.
     pub fn of(kind: MethodKind) -> MethodSpec {

@@ -60,12 +60,6 @@ commands:
            --classes x+,x-,y+,y- (all; safety, cc) --safety-variant
            directional|isotropic --tolerance E (radius, 0) --threads N (all cores)
 
-methods (render, trace, bench; default exact): exact | linear-binary[:N:M] (64:8) |
-         secant[:N] (64) | maxmip | safety | cc | radius | cone[:CAP] (64) |
-         qdm[:CAP] (64) | relaxed[:N:M] (64:8); exact ones: exact maxmip safety cc
-         radius; safety, cc, radius trace triangles and view-linear, cone, qdm and
-         relaxed triangles only; baked methods bake once per command
-surfaces: triangles | bilinear | height-planes | linear-planes | view-linear
 angles: compass degrees (azimuth 0 = north = image top of the map, 90 = east)
 maps: grayscale PNG, heights = png/65535 * depth; depth defaults to 0.1 * max(W, H);
       its JSON sidecar gives metres and spacing (world units); GeoTIFF DEM (.tif):
@@ -466,7 +460,8 @@ fn main() -> ExitCode {
         "shader" => run(shader::cmd_shader),
         "bake" => run(bake::cmd_bake),
         "help" | "--help" | "-h" => {
-            println!("{USAGE}");
+            let (top, rest) = USAGE.split_at(USAGE.find("angles: ").unwrap_or(USAGE.len()));
+            println!("{top}{}{rest}", hfcast_tools::methods_help());
             return ExitCode::SUCCESS;
         }
         "" => Err("no command given; try `hfcast help`".into()),
