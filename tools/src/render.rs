@@ -7,8 +7,8 @@
 //! [`render`] works in the field's world units ([`HeightField::transform`]: a map's
 //! metres and real spacing, see [`crate::maps`]): the camera frames the world box,
 //! lights and normals are world vectors, and each primary ray is converted to grid
-//! space once ([`Camera::grid_ray`]) for the march. [`Camera::orbit`] and
-//! [`Camera::framing`] (the benchmarks' and the report's cameras) stay in grid space.
+//! space once ([`Camera::grid_ray`]) for the march. [`Camera::orbit`] (the benchmarks'
+//! and the report's camera) stays in grid space.
 
 use crate::maps::Error;
 use crate::trace::Tracer;
@@ -59,7 +59,7 @@ fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
 }
 
 /// A pinhole camera producing one primary ray per pixel, in the frame of
-/// [`Camera::world`] (grid space for [`Camera::orbit`] and [`Camera::framing`]).
+/// [`Camera::world`] (grid space for [`Camera::orbit`]).
 #[derive(Clone, Copy, Debug)]
 pub struct Camera {
     /// The frame the camera lives in: its rays are in these world units.
@@ -80,23 +80,12 @@ impl Camera {
         height: u32,
     ) -> Camera {
         let zmin = f64::from(hf.min_height());
-        Camera::framing(hf, zmin, elevation_deg, azimuth_deg, width, height)
-    }
-
-    /// [`Camera::orbit`] framing the box down to `zmin` instead of the lowest sample.
-    pub fn framing(
-        hf: &HeightField,
-        zmin: f64,
-        elevation_deg: f64,
-        azimuth_deg: f64,
-        width: u32,
-        height: u32,
-    ) -> Camera {
         let grid = WorldTransform::IDENTITY;
         Camera::framing_in(hf, &grid, zmin, elevation_deg, azimuth_deg, width, height)
     }
 
-    /// [`Camera::framing`] in the world frame of `xf`: the world image of the grid box
+    /// [`Camera::orbit`] in the world frame of `xf`, framing the box down to `zmin`
+    /// instead of the lowest sample: the world image of the grid box
     /// `[0, W−1] × [0, H−1] × [zmin, zmax]` framed, compass angles taken in that frame.
     pub fn framing_in(
         hf: &HeightField,

@@ -1,30 +1,17 @@
 //! The `hfcast` binary from a user's point of view: `render` with no arguments, and
 //! `trace` on stdin.
 
+mod common;
+
 use hfcast_tools::maps::load_map;
-use std::io::Write;
 use std::path::Path;
-use std::process::{Command, Stdio};
 
 fn hfcast(dir: &Path, args: &[&str], stdin: &str) -> (bool, String) {
-    let mut child = Command::new(env!("CARGO_BIN_EXE_hfcast"))
-        .args(args)
-        .current_dir(dir)
-        .stdin(Stdio::piped())
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .unwrap();
-    child
-        .stdin
-        .take()
-        .unwrap()
-        .write_all(stdin.as_bytes())
-        .unwrap();
-    let out = child.wait_with_output().unwrap();
+    let run = common::run_hfcast(Some(dir), args, stdin);
+    assert!(run.fed, "hfcast closed its input before reading it");
     // Shown by the test harness only when the test fails.
-    eprint!("{}", String::from_utf8_lossy(&out.stderr));
-    (out.status.success(), String::from_utf8(out.stdout).unwrap())
+    eprint!("{}", run.stderr);
+    (run.ok, run.stdout)
 }
 
 #[test]

@@ -2,30 +2,16 @@
 //! exact traversal's hits on the bundled map, the others answer well-formed lines; a
 //! method that does not trace the surface is refused.
 
+mod common;
+
 use hfcast::scene::MethodKind;
 use hfcast_tools::parse_method;
-use std::io::Write;
-use std::process::{Command, Stdio};
 
-/// Runs `hfcast trace ARGS` on `stdin`: exit success and stdout.
+/// Runs `hfcast trace ARGS` on `stdin`: exit success, stdout and stderr (a refused
+/// command exits before it reads: the pipe may be closed then).
 fn trace(args: &[&str], stdin: &str) -> (bool, String, String) {
-    let mut child = Command::new(env!("CARGO_BIN_EXE_hfcast"))
-        .arg("trace")
-        .args(args)
-        .stdin(Stdio::piped())
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .unwrap();
-    // A refused command exits before it reads: the pipe may be closed then.
-    let _ = child.stdin.take().unwrap().write_all(stdin.as_bytes());
-    let out = child.wait_with_output().unwrap();
-    let stderr = String::from_utf8_lossy(&out.stderr).into_owned();
-    (
-        out.status.success(),
-        String::from_utf8(out.stdout).unwrap(),
-        stderr,
-    )
+    let run = common::run_hfcast(None, &[&["trace"], args].concat(), stdin);
+    (run.ok, run.stdout, run.stderr)
 }
 
 /// Rays over the bundled 403 × 344 map: downwards in all four horizontal classes,

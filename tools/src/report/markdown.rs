@@ -3,7 +3,7 @@
 use super::measure::{Measured, F32_ULPS, WRONG};
 use super::methods::{Family, Setting, Sweep};
 use super::plot::{write_plot, Point};
-use super::scenes::{CAMERA_AZIMUTH, CAMERA_ELEVATIONS, INSIDE_FOV_X_DEG, LIGHT};
+use super::scenes::{Scene, CAMERA_AZIMUTH, CAMERA_ELEVATIONS, INSIDE_FOV_X_DEG, LIGHT};
 use super::{ReportOptions, SceneResult};
 use hfcast::judge::RESOLUTION_ULPS;
 use std::fmt::Write;
@@ -56,6 +56,41 @@ fn fastest_exact<'m>(r: &'m SceneResult, all: &[Setting]) -> Option<&'m Measured
         .min_by(|a, b| a.ns_per_ray.total_cmp(&b.ns_per_ray))
 }
 
+/// The header line of `results.csv`: one row per scene and setting ([`csv_row`]).
+const CSV_HEADER: &str = "scene,surface,setting,family,exact,rays,ambiguous,ambiguous_differ,\
+    wrong,wrong_hit_miss,wrong_solid,wrong_pixels,pixels,err_mean,err_max,fetch_mean,fetch_p99,\
+    ns_per_ray,bake_s,bytes,budget\n";
+
+/// The `results.csv` line of setting `st` measured as `m` on scene `s`, the columns of
+/// [`CSV_HEADER`].
+fn csv_row(s: &Scene, st: &Setting, m: &Measured) -> String {
+    let c = &m.total;
+    format!(
+        "\"{}\",{},\"{}\",\"{}\",{},{},{},{},{},{},{},{},{},{:e},{:e},{:.3},{},{:.1},{:e},{},{}\n",
+        s.name,
+        s.surface.name(),
+        st.label,
+        st.family.name(),
+        st.exact,
+        c.rays,
+        c.ambiguous,
+        c.ambiguous_differ,
+        c.wrong,
+        c.wrong_hit_miss,
+        c.wrong_solid,
+        c.wrong_pixels,
+        c.pixels,
+        c.err_mean(),
+        c.err_max,
+        c.fetch_mean(),
+        c.fetch_p99(),
+        m.ns_per_ray,
+        m.bake_s,
+        m.bytes,
+        c.budget
+    )
+}
+
 /// Writes `README.md`, `results.csv` and `plots/*.svg` under `opts.out`; returns the
 /// summary section.
 pub fn write_all(
@@ -87,10 +122,7 @@ pub fn write_all(
     let summary = summary(all, results);
     md.push_str(&summary);
     md.push_str(&definitions(opts, sweep, w, h));
-    let mut csv = String::from(
-        "scene,surface,setting,family,exact,rays,ambiguous,ambiguous_differ,wrong,wrong_hit_miss,\
-         wrong_solid,wrong_pixels,pixels,err_mean,err_max,fetch_mean,fetch_p99,ns_per_ray,bake_s,bytes,budget\n",
-    );
+    let mut csv = String::from(CSV_HEADER);
     let _ = writeln!(md, "## Scenes\n");
     for why in skipped_maps {
         let _ = writeln!(md, "- Skipped a map that could not be read: {why}");
@@ -165,31 +197,7 @@ pub fn write_all(
                 if m.bytes > 0 { format!("{:.1}", m.bake_s * 1e3) } else { "–".into() },
                 bytes(m.bytes),
             );
-            let _ = writeln!(
-                csv,
-                "\"{}\",{},\"{}\",\"{}\",{},{},{},{},{},{},{},{},{},{:e},{:e},{:.3},{},{:.1},{:e},{},{}",
-                s.name,
-                s.surface.name(),
-                st.label,
-                st.family.name(),
-                st.exact,
-                c.rays,
-                c.ambiguous,
-                c.ambiguous_differ,
-                c.wrong,
-                c.wrong_hit_miss,
-                c.wrong_solid,
-                c.wrong_pixels,
-                c.pixels,
-                c.err_mean(),
-                c.err_max,
-                c.fetch_mean(),
-                c.fetch_p99(),
-                m.ns_per_ray,
-                m.bake_s,
-                m.bytes,
-                c.budget
-            );
+            csv.push_str(&csv_row(s, st, m));
         }
         let budget: u64 = r.measured.iter().map(|m| m.total.budget).sum();
         if budget > 0 {
@@ -261,18 +269,13 @@ pub fn write_all(
 /// The summary section: per scene the fastest exact method and the baselines it beats.
 fn summary(all: &[Setting], results: &[SceneResult]) -> String {
     let mut s = String::from("## Summary\n\n");
-    let exact_wrong: u64 = results
+    let exact: Vec<&Measured> = results
         .iter()
         .flat_map(|r| &r.measured)
         .filter(|m| all[m.setting].exact)
-        .map(|m| m.total.wrong)
-        .sum();
-    let exact_amb: u64 = results
-        .iter()
-        .flat_map(|r| &r.measured)
-        .filter(|m| all[m.setting].exact)
-        .map(|m| m.total.ambiguous_differ)
-        .sum();
+        .collect();
+    let exact_wrong: u64 = exact.iter().map(|m| m.total.wrong).sum();
+    let exact_amb: u64 = exact.iter().map(|m| m.total.ambiguous_differ).sum();
     let _ = writeln!(
         s,
         "Wrong rays of the exact settings over every scene and ray set: **{exact_wrong}** \

@@ -1,9 +1,13 @@
 //! Shared helpers of the real-map tests: the maps and their test windows, the ray set,
 //! docs/DESIGN.md's ambiguity threshold and touch rule, the comparison with the f64 exact
-//! DDA, and two-thread bakes (each test includes this file with `mod common;`).
+//! DDA, two-thread bakes, and runs of the `hfcast` binary (each test includes this file
+//! with `mod common;`).
 #![allow(dead_code)] // every test binary uses a different part of this module
 
+use std::io::Write;
 use std::ops::Range;
+use std::path::Path;
+use std::process::{Command, Stdio};
 
 use hfcast::{dda, HeightField, Query, Real, Surface, Trace};
 use hfcast_tools::bench::random_rays;
@@ -114,4 +118,45 @@ pub fn bake_halves(
         s.spawn(move || bake_rows(0..half, a));
         bake_rows(half..height, b);
     });
+}
+
+/// What a run of the `hfcast` binary answered.
+pub struct Run {
+    /// It exited with success.
+    pub ok: bool,
+    /// Its standard output.
+    pub stdout: String,
+    /// Its standard error.
+    pub stderr: String,
+    /// All of the input reached it (a command that refuses its arguments exits before
+    /// it reads, and may have closed the pipe first).
+    pub fed: bool,
+}
+
+/// Runs the `hfcast` binary with `args` in `dir` (the test's own when `None`), `stdin`
+/// on its standard input.
+pub fn run_hfcast(dir: Option<&Path>, args: &[&str], stdin: &str) -> Run {
+    let mut command = Command::new(env!("CARGO_BIN_EXE_hfcast"));
+    command
+        .args(args)
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped());
+    if let Some(dir) = dir {
+        command.current_dir(dir);
+    }
+    let mut child = command.spawn().unwrap();
+    let fed = child
+        .stdin
+        .take()
+        .unwrap()
+        .write_all(stdin.as_bytes())
+        .is_ok();
+    let out = child.wait_with_output().unwrap();
+    Run {
+        ok: out.status.success(),
+        stdout: String::from_utf8(out.stdout).unwrap(),
+        stderr: String::from_utf8_lossy(&out.stderr).into_owned(),
+        fed,
+    }
 }
