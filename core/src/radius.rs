@@ -45,11 +45,12 @@
 //! [`dda::trace`]: crate::dda::trace
 
 use core::cell::RefCell;
+use core::ops::Range;
 
 use crate::field::HeightField;
 use crate::math::Real;
 use crate::ray::{Query, Trace};
-use crate::safety::{self, AllRays, BakeSpec, MarchSurface, RaySet, SafetyError, Sigma, Tri};
+use crate::safety::{self, AllRays, MarchSurface, RaySet, SafetyError, Sigma, Tri};
 
 /// Bytes of baked data per texel: one radius.
 pub const BYTES_PER_TEXEL: usize = 1;
@@ -96,20 +97,10 @@ impl Default for BakeOptions {
     }
 }
 
-/// The radius bake is the isotropic safety-distance bake of the lowered surface.
-impl BakeSpec for BakeOptions {
-    type Rays = Lowered;
-
+impl BakeOptions {
+    /// The ray set the bake scans with.
     fn rays(&self) -> Lowered {
         Lowered(f64::from(self.tolerance.max(0.0)))
-    }
-
-    fn options(&self) -> safety::Options {
-        safety::Options {
-            variant: safety::Variant::Isotropic,
-            positive: false,
-            cap: self.cap,
-        }
     }
 }
 
@@ -146,11 +137,35 @@ pub fn texel_radius(hf: &HeightField, scratch: &[f32], opts: BakeOptions, i: u32
     v
 }
 
-/// The bake of the radii ([`texel_radius`], `W · H` bytes; rows independent, sharing one
-/// `scratch` from [`prepare`]): the safety bake ([`safety::bake_rows`],
-/// [`safety::bake`]) for [`BakeOptions`], the isotropic safety distances of the ray
-/// set [`Lowered`] by the tolerance.
-pub use crate::safety::{bake, bake_rows};
+/// Bakes texel rows `rows` into `out` (`rows.len() · W` bytes, the rows' part of the
+/// whole map). Rows are independent: any job system may split a bake into row ranges
+/// sharing one `scratch` from [`prepare`].
+pub fn bake_rows(
+    hf: &HeightField,
+    scratch: &[f32],
+    rows: Range<u32>,
+    opts: BakeOptions,
+    out: &mut [u8],
+) -> Result<(), SafetyError> {
+    let needed = safety::check_rows(hf, scratch, &rows, BYTES_PER_TEXEL, out)?;
+    let w = hf.width() as usize;
+    for (row, j) in out[..needed].chunks_exact_mut(w).zip(rows) {
+        for (v, i) in row.iter_mut().zip(0..) {
+            *v = texel_radius(hf, scratch, opts, i, j);
+        }
+    }
+    Ok(())
+}
+
+/// Prepares `scratch` and bakes the whole map into `out` ([`map_len`] bytes), one thread.
+pub fn bake(
+    hf: &HeightField,
+    scratch: &mut [f32],
+    opts: BakeOptions,
+    out: &mut [u8],
+) -> Result<(), SafetyError> {
+    safety::bake_whole(hf, scratch, opts, out, bake_rows)
+}
 
 /// Baked radii over caller-owned bytes.
 #[derive(Clone, Copy, Debug)]

@@ -560,46 +560,18 @@ pub(crate) fn cell_tris(
     [tri(0), tri(1)]
 }
 
-/// What a safety-distance bake ([`bake_rows`], [`bake`]) is asked for: the rays it
-/// scans and its [`Options`]. The safety map's [`Options`] are for every ray
-/// ([`AllRays`]); the radius map's [`crate::radius::BakeOptions`] ask for the isotropic
-/// distance of the surface lowered by their tolerance.
-pub trait BakeSpec: Copy {
-    /// The ray set.
-    type Rays: RaySet;
-
-    /// The rays the bake scans.
-    fn rays(&self) -> Self::Rays;
-
-    /// The layout, floor and cap of the bake.
-    fn options(&self) -> Options;
-}
-
-impl BakeSpec for Options {
-    type Rays = AllRays;
-
-    fn rays(&self) -> AllRays {
-        AllRays
-    }
-
-    fn options(&self) -> Options {
-        *self
-    }
-}
-
 /// Bakes texel rows `rows` into `out` (`rows.len() · W · channels` bytes, the rows'
-/// part of the whole map, from byte `rows.start · W · channels` on), for the rays and
-/// options of `opts` ([`BakeSpec`]: with [`Options`] for every ray, [`AllRays`]). Rows
-/// are independent: any job system may split a bake into row ranges sharing one
-/// `scratch` from [`prepare`].
-pub fn bake_rows<O: BakeSpec>(
+/// part of the whole map, from byte `rows.start · W · channels` on), for every ray
+/// ([`AllRays`]). Rows are independent: any job system may split a bake into row
+/// ranges sharing one `scratch` from [`prepare`].
+pub fn bake_rows(
     hf: &HeightField,
     scratch: &[f32],
     rows: Range<u32>,
-    opts: O,
+    opts: Options,
     out: &mut [u8],
 ) -> Result<(), SafetyError> {
-    bake_rows_with(hf, scratch, &opts.rays(), rows, opts.options(), out)
+    bake_rows_with(hf, scratch, &AllRays, rows, opts, out)
 }
 
 /// [`bake_rows`] for any ray set.
@@ -730,21 +702,20 @@ impl ClassRows {
     }
 }
 
-/// Prepares `scratch` and bakes the whole map into `out` (its `map_len` bytes: for
-/// [`Options`], [`map_len`]) with [`bake_rows`], one thread.
-pub fn bake<O: BakeSpec>(
+/// Prepares `scratch` and bakes the whole map into `out` ([`map_len`] bytes), one thread.
+pub fn bake(
     hf: &HeightField,
     scratch: &mut [f32],
-    opts: O,
+    opts: Options,
     out: &mut [u8],
 ) -> Result<(), SafetyError> {
-    prepare(hf, scratch)?;
-    bake_rows(hf, scratch, 0..hf.height(), opts, out)
+    bake_whole(hf, scratch, opts, out, bake_rows)
 }
 
 /// Checks the buffers of a bake of texel rows `rows`, `bytes_per_texel` bytes a texel:
 /// `scratch` holds [`scratch_len`] values, `rows` lie in the field and `out` holds
-/// their bytes, whose count it returns. The checks of [`bake_rows_classes`].
+/// their bytes, whose count it returns. The checks of [`bake_rows_classes`] and of the
+/// radius bake ([`crate::radius::bake_rows`]).
 pub(crate) fn check_rows(
     hf: &HeightField,
     scratch: &[f32],
@@ -767,6 +738,20 @@ pub(crate) fn check_rows(
 pub(crate) fn check_len(data: &[u8], needed: usize) -> Result<(), SafetyError> {
     crate::buffer::check("output", needed, data.len())?;
     Ok(())
+}
+
+/// [`prepare`]s `scratch`, then bakes all the rows with `bake_rows` into `out`: the
+/// one-thread whole-map bake of the safety distances ([`bake`]) and of the radii
+/// ([`crate::radius::bake`]).
+pub(crate) fn bake_whole<O>(
+    hf: &HeightField,
+    scratch: &mut [f32],
+    opts: O,
+    out: &mut [u8],
+    bake_rows: impl FnOnce(&HeightField, &[f32], Range<u32>, O, &mut [u8]) -> Result<(), SafetyError>,
+) -> Result<(), SafetyError> {
+    prepare(hf, scratch)?;
+    bake_rows(hf, scratch, 0..hf.height(), opts, out)
 }
 
 // ---------------------------------------------------------------------------------
