@@ -758,85 +758,45 @@ pub(crate) fn bake_whole<O>(
 // March
 // ---------------------------------------------------------------------------------
 
-/// Baked safety distances over caller-owned bytes (a [`ClassMap`] laid out by its
-/// [`Variant`]).
-pub type SafetyMap<'a> = ClassMap<'a, Variant>;
-
-/// A map of the ray classes of a set over caller-owned bytes, each class's entries in
-/// rows of their own ([`ClassRows`]): the safety distances ([`SafetyMap`], laid out by
-/// its [`Variant`]) and the cylinder–cone shapes ([`cc::CcMap`], which keeps its cap).
+/// Baked safety distances over caller-owned bytes.
 #[derive(Clone, Copy, Debug)]
-pub struct ClassMap<'a, K> {
+pub struct SafetyMap<'a> {
     data: &'a [u8],
     width: u32,
-    kind: K,
+    variant: Variant,
     classes: RayClasses,
 }
 
-/// What a [`ClassMap`] keeps besides its bytes and classes, and how it is read: the
-/// safety map's [`Variant`], the cylinder–cone map's cap (`u8`).
-pub trait MapKind: Copy {
-    /// Bytes of a map of `width × height` texels holding the classes of `classes`.
-    fn map_len(self, width: u32, height: u32, classes: RayClasses) -> usize;
-
-    /// Where `class`'s entries lie in a map `width` texels wide holding `classes`
-    /// (`None`: not held).
-    fn rows(self, width: u32, classes: RayClasses, class: RayClass) -> Option<ClassRows>;
-
-    /// The step of the march ([`trace_on`]) for the rays of `class` (`q` one of them)
-    /// over `map`, baked for `hf`: by default each entry is the distance the ray may
-    /// jump (the safety map's).
-    fn jumps<'m, R: Real>(
-        map: &'m ClassMap<'m, Self>,
-        hf: &'m HeightField<'m>,
-        q: &'m Query<R>,
-        class: RayClass,
-    ) -> impl Fn(&Line<R>, RayClass, u32, u32) -> Jump + 'm {
-        let _ = (hf, q); // The distances need neither.
-                         // A class the map does not hold: distance 0 (zero jumps, exact).
-        let at = map.rows(class);
-        move |_: &Line<R>, _, i, j| {
-            Jump::steps(at.map_or(0, |at| u32::from(map.data[at.index(i, j)])))
-        }
-    }
-}
-
-impl MapKind for Variant {
-    fn map_len(self, width: u32, height: u32, classes: RayClasses) -> usize {
-        map_len_classes(width, height, self, classes)
+impl<'a> SafetyMap<'a> {
+    /// Views `data` ([`map_len`] bytes, as [`bake`] wrote it) for `hf`.
+    pub fn new(hf: &HeightField, data: &'a [u8], variant: Variant) -> Result<Self, SafetyError> {
+        Self::with_classes(hf, data, variant, RayClasses::ALL)
     }
 
-    #[inline]
-    fn rows(self, width: u32, classes: RayClasses, class: RayClass) -> Option<ClassRows> {
-        ClassRows::of(width, self, classes, class)
-    }
-}
-
-impl<'a, K: MapKind> ClassMap<'a, K> {
-    /// Views `data` (the whole map's bytes, as its `bake` wrote it) for `hf`: the
-    /// safety map's [`map_len`] bytes for a [`Variant`], the cylinder–cone map's
-    /// [`cc::map_len`] for the cap `opts.cap` it was baked with.
-    pub fn new(hf: &HeightField, data: &'a [u8], kind: K) -> Result<Self, SafetyError> {
-        Self::with_classes(hf, data, kind, RayClasses::ALL)
-    }
-
-    /// Views a map holding the classes of `classes` (as its `bake_rows_classes` wrote
-    /// it for that set: [`map_len_classes`], [`cc::map_len_classes`] bytes): rays of
-    /// the other classes read distance 0, radius 0 without a cone (they walk cell by
-    /// cell, still exact).
+    /// Views a map holding the classes of `classes` ([`map_len_classes`] bytes, as
+    /// [`bake_rows_classes`] wrote it for that set): rays of the other classes read
+    /// distance 0 (they walk cell by cell, still exact).
     pub fn with_classes(
         hf: &HeightField,
         data: &'a [u8],
-        kind: K,
+        variant: Variant,
         classes: RayClasses,
     ) -> Result<Self, SafetyError> {
-        check_len(data, kind.map_len(hf.width(), hf.height(), classes))?;
-        Ok(ClassMap {
+        check_len(
+            data,
+            map_len_classes(hf.width(), hf.height(), variant, classes),
+        )?;
+        Ok(SafetyMap {
             data,
             width: hf.width(),
-            kind,
+            variant,
             classes,
         })
+    }
+
+    /// The layout.
+    pub fn variant(&self) -> Variant {
+        self.variant
     }
 
     /// The ray classes the map holds.
@@ -844,17 +804,10 @@ impl<'a, K: MapKind> ClassMap<'a, K> {
         self.classes
     }
 
-    /// Where `class`'s entries lie (`None`: not held).
+    /// Where `class`'s distances lie (`None`: not held).
     #[inline]
     fn rows(&self, class: RayClass) -> Option<ClassRows> {
-        self.kind.rows(self.width, self.classes, class)
-    }
-}
-
-impl SafetyMap<'_> {
-    /// The layout.
-    pub fn variant(&self) -> Variant {
-        self.kind
+        ClassRows::of(self.width, self.variant, self.classes, class)
     }
 
     /// Safety distance of texel `(i, j)` for `class` (0 when the map does not hold it).
@@ -1158,30 +1111,34 @@ fn last_line<R: Real>(hf: &HeightField, q: &Query<R>, ax: usize, sg: i64, t1: R)
     inside(m).then_some(m as u32)
 }
 
-/// Traces `q` on the triangle surface with the safety distances or cylinder–cone
-/// shapes of `map` (baked for `hf`). Exact: the same hit as
-/// [`dda::trace`](crate::dda::trace) with [`Surface::Triangles`], up to rounding on
-/// rays that graze the surface.
+/// Traces `q` on the triangle surface with the safety distances of `map` (baked for
+/// `hf`). Exact: the same hit as [`dda::trace`](crate::dda::trace) with
+/// [`Surface::Triangles`], up to rounding on rays that graze the surface.
 ///
-/// Cost: one fetch per distance or shape read (and one for the third sample of a
-/// cone's base, [`cc::base_height`]), two per centerline clearance, four per cell
+/// Cost: one fetch per distance read, two per centerline clearance, four per cell
 /// walked. [`Trace::clearance`] is the smallest clearance at the crossings evaluated
 /// (not the whole ray's). The march takes at most one step per centerline; a step
 /// bound guards it ([`Flags::BUDGET_EXHAUSTED`], never expected).
-pub fn trace<R: Real, K: MapKind>(map: &ClassMap<K>, hf: &HeightField, q: &Query<R>) -> Trace<R> {
+pub fn trace<R: Real>(map: &SafetyMap, hf: &HeightField, q: &Query<R>) -> Trace<R> {
     trace_on(map, hf, MarchSurface::Triangles, q)
 }
 
 /// [`trace`] finishing on `surface`: with [`MarchSurface::ViewLinear`], the same hit
 /// as [`dda::trace`](crate::dda::trace) with [`Surface::ViewLinear`], from the same
 /// map.
-pub fn trace_on<R: Real, K: MapKind>(
-    map: &ClassMap<K>,
+pub fn trace_on<R: Real>(
+    map: &SafetyMap,
     hf: &HeightField,
     surface: MarchSurface,
     q: &Query<R>,
 ) -> Trace<R> {
-    march_with(hf, surface, q, |class| K::jumps(map, hf, q, class))
+    march_with(hf, surface, q, |class| {
+        // A class the map does not hold: distance 0 (zero jumps, exact).
+        let at = map.rows(class);
+        move |_: &Line<R>, _, i, j| {
+            Jump::steps(at.map_or(0, |at| u32::from(map.data[at.index(i, j)])))
+        }
+    })
 }
 
 /// The surfaces a safety-shape march can finish on, from maps baked for the triangle
@@ -1228,7 +1185,7 @@ impl MarchSurface {
 /// and the fetches it made beyond the read of the texel's baked data, which the march
 /// counts itself (the cylinder–cone base's third sample, [`cc`]).
 #[derive(Clone, Copy, Debug)]
-pub struct Jump {
+pub(crate) struct Jump {
     /// Centerlines the ray may skip.
     pub(crate) steps: u32,
     /// Fetches beyond the texel's data.

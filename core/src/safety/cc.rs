@@ -87,13 +87,13 @@
 use core::ops::Range;
 
 use super::{
-    axis_of, band_cells, cell_tris, column_ahead, extents, sample, sigma_of, strides,
-    texel_distance, tri_masks, AllRays, ClassMap, ClassRows, Jump, Line, MapKind, RaySet,
+    axis_of, band_cells, cell_tris, check_len, column_ahead, extents, march_with, sample, sigma_of,
+    strides, texel_distance, tri_masks, AllRays, ClassRows, Jump, Line, MarchSurface, RaySet,
     SafetyError, Sigma, Tri, Variant, CLASSES,
 };
 use crate::field::HeightField;
 use crate::math::Real;
-use crate::ray::{Query, RayClass};
+use crate::ray::{Query, RayClass, Trace};
 use crate::scene::RayClasses;
 
 /// Bytes per texel and class of the packed map (`[r, s]`).
@@ -1159,10 +1159,14 @@ pub fn bake(
     bake_rows(hf, scratch, nb, 0..hf.height(), opts, out)
 }
 
-/// A packed cylinder–cone map over caller-owned bytes (a [`ClassMap`] that keeps the
-/// cap `opts.cap` it was baked with, its [`MapKind`]; [`ClassMap::new`] views
-/// [`map_len`] bytes, [`ClassMap::with_classes`] [`map_len_classes`]).
-pub type CcMap<'a> = ClassMap<'a, u8>;
+/// A packed cylinder–cone map over caller-owned bytes.
+#[derive(Clone, Copy, Debug)]
+pub struct CcMap<'a> {
+    data: &'a [u8],
+    width: u32,
+    classes: RayClasses,
+    cap: u8,
+}
 
 /// One texel's shape for one class, decoded.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -1175,10 +1179,45 @@ pub struct Shape {
     pub sc: f64,
 }
 
-impl CcMap<'_> {
+impl<'a> CcMap<'a> {
+    /// Views `data` ([`map_len`] bytes, as [`bake`] wrote it with `opts.cap == cap`).
+    pub fn new(hf: &HeightField, data: &'a [u8], cap: u8) -> Result<Self, SafetyError> {
+        Self::with_classes(hf, data, cap, RayClasses::ALL)
+    }
+
+    /// Views a map holding the classes of `classes` ([`map_len_classes`] bytes, as
+    /// [`bake_rows_classes`] wrote it for that set with `opts.cap == cap`): rays of
+    /// the other classes read radius 0 without a cone (they walk cell by cell, still
+    /// exact).
+    pub fn with_classes(
+        hf: &HeightField,
+        data: &'a [u8],
+        cap: u8,
+        classes: RayClasses,
+    ) -> Result<Self, SafetyError> {
+        check_len(data, map_len_classes(hf.width(), hf.height(), classes))?;
+        Ok(CcMap {
+            data,
+            width: hf.width(),
+            classes,
+            cap,
+        })
+    }
+
     /// Longest cone step.
     pub fn cap(&self) -> u8 {
-        self.kind
+        self.cap
+    }
+
+    /// The ray classes the map holds.
+    pub fn classes(&self) -> RayClasses {
+        self.classes
+    }
+
+    /// Where `class`'s texels lie (`None`: not held).
+    #[inline]
+    fn rows(&self, class: RayClass) -> Option<ClassRows> {
+        class_rows(self.width, self.classes, class)
     }
 
     /// The packed bytes `[r, s]` of texel `(i, j)` for `class` (`[0, NO_CONE]`, radius
@@ -1304,29 +1343,26 @@ impl<R: Real> ConeStep<'_, R> {
     }
 }
 
-/// The cylinder–cone map's march: [`super::trace`] over a [`CcMap`]; one fetch per
-/// shape read (`[r, s]` of the texel and class) and one for the third sample of a
-/// cone's base (see [`base_height`]), two per centerline clearance, four per cell
-/// walked. Upward rays use the same data.
-pub use super::{trace, trace_on};
+/// Traces `q` on the triangle surface with the cylinder–cone map `map` (baked for
+/// `hf`). Exact, like [`super::trace`], whose march it shares: one fetch per shape read
+/// (`[r, s]` of the texel and class) and one for the third sample of a cone's base
+/// (see [`base_height`]), two per centerline clearance, four per cell walked. Upward
+/// rays use the same data. The step bound of the shared march flags
+/// [`Flags::BUDGET_EXHAUSTED`](crate::ray::Flags::BUDGET_EXHAUSTED) (never expected).
+pub fn trace<R: Real>(map: &CcMap, hf: &HeightField, q: &Query<R>) -> Trace<R> {
+    trace_on(map, hf, MarchSurface::Triangles, q)
+}
 
-impl MapKind for u8 {
-    fn map_len(self, width: u32, height: u32, classes: RayClasses) -> usize {
-        map_len_classes(width, height, classes)
-    }
-
-    #[inline]
-    fn rows(self, width: u32, classes: RayClasses, class: RayClass) -> Option<ClassRows> {
-        class_rows(width, classes, class)
-    }
-
-    fn jumps<'m, R: Real>(
-        map: &'m CcMap<'m>,
-        hf: &'m HeightField<'m>,
-        q: &'m Query<R>,
-        class: RayClass,
-    ) -> impl Fn(&Line<R>, RayClass, u32, u32) -> Jump + 'm {
-        // The per-trace constants, once the ray is known to march.
+/// [`trace`] finishing on `surface` (the same map bounds the view-linear surface:
+/// see [`MarchSurface`]).
+pub fn trace_on<R: Real>(
+    map: &CcMap,
+    hf: &HeightField,
+    surface: MarchSurface,
+    q: &Query<R>,
+) -> Trace<R> {
+    // The per-trace constants, once the ray is known to march.
+    march_with(hf, surface, q, |class| {
         let d = q.dir();
         let ax = axis_of(class);
         let dm = d[ax].abs();
@@ -1335,7 +1371,7 @@ impl MapKind for u8 {
         let sd_lo = sd - sd_err;
         let (ms, ns) = strides(hf, ax);
         let step = ConeStep {
-            cap: u32::from(map.kind),
+            cap: u32::from(map.cap),
             sd_lo,
             zs: R::from_f32(hf.min_height().abs().max(hf.max_height().abs())),
             samples: hf.samples(),
@@ -1356,5 +1392,5 @@ impl MapKind for u8 {
                 step.cone(l, b)
             }
         }
-    }
+    })
 }
