@@ -24,8 +24,8 @@
 //! [`dda::trace`]: crate::dda::trace
 
 use crate::dda::{
-    self, clip, entry_on, finish, local_clearance, segment_point, start_clearance, start_hit,
-    Entry, Walk,
+    self, cell_index, clip, entry_on, finish, local_clearance, segment_point, start_clearance,
+    start_hit, step_of, Entry,
 };
 use crate::field::{HeightField, MAX_SIDE};
 use crate::math::Real;
@@ -439,13 +439,7 @@ pub fn trace<R: Real>(
     q: &Query<R>,
     opts: &Options,
 ) -> Trace<R> {
-    let trace = if surface == Surface::LinearPlanes {
-        dda::trace(hf, surface, q)
-    } else {
-        clip(hf, q).map_or(Trace::MISS, |span| {
-            march(hf, mip, &Walk::new(hf, surface, q, span), opts)
-        })
-    };
+    let trace = march(hf, mip, surface, q, opts);
     // The exact answer gets the DDA's robust finish, the approximate ones keep theirs
     // (the iterative bilinear search is approximate on the bilinear surface only).
     if opts.lod.is_none() && (opts.iterative_bilinear.is_none() || surface != Surface::Bilinear) {
@@ -455,14 +449,32 @@ pub fn trace<R: Real>(
     }
 }
 
-/// [`trace`] past the linear planes and the clip, before the robust finish: the march
-/// of `walk` over the pyramid.
-fn march<R: Real>(hf: &HeightField, mip: &MaxMip, walk: &Walk<R>, opts: &Options) -> Trace<R> {
-    let (surface, q, span) = (walk.surface, walk.q, walk.span);
+/// [`trace`] before the robust finish.
+fn march<R: Real>(
+    hf: &HeightField,
+    mip: &MaxMip,
+    surface: Surface,
+    q: &Query<R>,
+    opts: &Options,
+) -> Trace<R> {
+    if surface == Surface::LinearPlanes {
+        return dda::trace(hf, surface, q);
+    }
+    let Some(span) = clip(hf, q) else {
+        return Trace::MISS;
+    };
     let (o, d) = (q.origin(), q.dir());
-    let (cells, step) = (walk.cells, walk.step);
+    let cells = [hf.width() - 1, hf.height() - 1];
+    let step = [step_of(d[0]), step_of(d[1])];
     let mut p = q.at(span.t0);
-    let mut cell = walk.cell_of(p);
+    let first = |k: usize| {
+        cell_index(
+            p[k].clamp_to(R::ZERO, R::from_u32(cells[k])),
+            d[k],
+            cells[k],
+        )
+    };
+    let mut cell = [first(0), first(1)];
     let top = mip.layout().levels() - 1;
     let lod = opts
         .lod

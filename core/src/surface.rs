@@ -166,17 +166,34 @@ impl Surface {
         cb: R,
         entry_wall: [R; 3],
     ) -> SegmentHit<R> {
-        match self {
-            // Above at both ends, the ray stays above the triangle and the view-linear
-            // surfaces over the cell (their clearance along the segment is concave, resp.
-            // linear): no hit and the smaller end clearance, what their tests answer, here
-            // without a call (most cells a march walks).
-            Surface::Triangles | Surface::ViewLinear if cb > R::ZERO => SegmentHit {
+        // Above at both ends, the ray stays above the triangle and the view-linear
+        // surfaces over the cell (their clearance along the segment is concave, resp.
+        // linear): no hit and the smaller end clearance, what their tests answer, here
+        // without a call (most cells a march walks).
+        if cb > R::ZERO && matches!(self, Surface::Triangles | Surface::ViewLinear) {
+            return SegmentHit {
                 hit: None,
                 clearance: ca.min(cb),
-            },
-            // Past the shortcut, only segments that end on or under these two get here.
+            };
+        }
+        self.segment_contact(c, a, b, ca, cb, entry_wall)
+    }
+
+    /// [`Surface::segment_hit`] past its shortcut: the test of each surface (for the
+    /// triangle and view-linear surfaces only segments that end on or under them,
+    /// `cb ≤ 0`, get here).
+    fn segment_contact<R: Real>(
+        self,
+        c: [R; 4],
+        a: [R; 3],
+        b: [R; 3],
+        ca: R,
+        cb: R,
+        entry_wall: [R; 3],
+    ) -> SegmentHit<R> {
+        match self {
             Surface::Triangles => triangles_segment(c, a, b, ca),
+            Surface::Bilinear => bilinear_segment(c, a, b, ca, cb),
             Surface::ViewLinear => {
                 // Linear along the segment, from `ca > 0` to `cb ≤ 0`.
                 let s = ca / (ca - cb);
@@ -186,7 +203,6 @@ impl Surface {
                     clearance: ca,
                 }
             }
-            Surface::Bilinear => bilinear_segment(c, a, b, ca, cb),
             Surface::LinearPlanes => {
                 let p = linear_plane(c);
                 let la = a[2] - plane(p, a[0], a[1]);
