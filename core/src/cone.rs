@@ -48,7 +48,10 @@ use core::ops::Range;
 
 use crate::buffer::BufferError;
 
-use crate::dda::{clip, finish, local_clearance, Exit, Walk};
+use crate::dda::{
+    cell_index, clip, entry_on, finish, local_clearance, next_crossing, segment_point, start_hit,
+    step_of,
+};
 use crate::field::HeightField;
 use crate::math::Real;
 use crate::maxmip::{self, MaxMip};
@@ -350,37 +353,21 @@ pub fn bake_rows(
     rows: Range<u32>,
     out: &mut [f32],
 ) -> Result<(), BakeError> {
-    // Each search starts from the cell that limited the previous texel's cone.
-    let mut hint = [0, rows.start];
-    let cells = [hf.width() - 1, hf.height() - 1];
-    bake_texels(hf, scratch, rows, out, cells, |mip, c| {
-        let (ratio, arg) = ratio_search(hf, mip, c, hint);
-        hint = arg;
-        [mip.texel(0, c[0], c[1]), f32_down(ratio)]
-    })
-}
-
-/// The frame of a cone-family row bake ([`RowBake`]): checks `rows` against the
-/// `texels[1]` rows of the map and `out` against their `N` floats per texel
-/// (`texels[0]` a row), then writes `texel(pyramid, [i, j])` for every texel of those
-/// rows in order, row by row, reading the pyramid [`prepare`] baked into `scratch`.
-pub(crate) fn bake_texels<const N: usize>(
-    hf: &HeightField,
-    scratch: &[f32],
-    rows: Range<u32>,
-    out: &mut [f32],
-    texels: [u32; 2],
-    mut texel: impl FnMut(&MaxMip, [u32; 2]) -> [f32; N],
-) -> Result<(), BakeError> {
     let mip = scratch_pyramid(hf, scratch)?;
-    if rows.end > texels[1] || rows.start > rows.end {
+    let cw = hf.width() - 1;
+    if rows.end > hf.height() - 1 || rows.start > rows.end {
         return Err(BakeError::BadRows);
     }
-    let row_len = N * texels[0] as usize;
-    check(rows.len() * row_len, out.len())?;
-    for (row, j) in out.chunks_exact_mut(row_len).zip(rows) {
-        for (tex, i) in row.chunks_exact_mut(N).zip(0..) {
-            tex.copy_from_slice(&texel(&mip, [i, j]));
+    check(CHANNELS * rows.len() * cw as usize, out.len())?;
+    // Each search starts from the cell that limited the previous texel's cone.
+    let mut hint = [0, rows.start];
+    for (r, j) in rows.enumerate() {
+        for i in 0..cw {
+            let k = CHANNELS * (r * cw as usize + i as usize);
+            let (ratio, arg) = ratio_search(hf, &mip, [i, j], hint);
+            hint = arg;
+            out[k] = mip.texel(0, i, j);
+            out[k + 1] = f32_down(ratio);
         }
     }
     Ok(())
@@ -518,24 +505,45 @@ fn march_cells<R: Real>(
     let Some(span) = clip(hf, q) else {
         return Trace::MISS;
     };
-    let walker = Walk::new(hf, TRI, q, span);
-    let (mut at, mut c) = match walker.start(hf) {
-        Ok(start) => start,
-        Err((hit, _)) => return Trace::hit(hit, 4, R::ZERO),
+    let (o, d) = (q.origin(), q.dir());
+    let cells = [hf.width() - 1, hf.height() - 1];
+    let dstep = [step_of(d[0]), step_of(d[1])];
+    let locate = |p: [R; 3]| {
+        [0, 1].map(|k| {
+            cell_index(
+                p[k].clamp_to(R::ZERO, R::from_u32(cells[k])),
+                d[k],
+                cells[k],
+            )
+        })
     };
-    let (mut fetches, mut clearance) = (4u32, at.ca);
-    // `at.a, at.ca` valid for the current point; `have_c`: `c` holds the current cell's
-    // corners.
+    let p0 = q.at(span.t0);
+    let start = [0, 1].map(|k| p0[k].clamp_to(R::ZERO, R::from_u32(cells[k])));
+    let mut cell = locate(p0);
+    let mut c: [R; 4] = corners(hf, cell[0], cell[1]);
+    let mut fetches = 4u32;
+    let on = entry_on(TRI, &span.entry);
+    let (mut a, mut ca) = local_clearance(TRI, c, cell, [start[0], start[1], p0[2]], on);
+    if ca <= R::ZERO {
+        return Trace::hit(start_hit(TRI, &span, c, cell, a, p0), fetches, R::ZERO);
+    }
+    let mut clearance = ca;
+    // `a, ca` valid for the current point; `have_c`: `c` holds the current cell's corners.
     let (mut have_ca, mut have_c) = (true, true);
+    let mut t = span.t0;
     let mut iter = 0u32;
+    let cell_exit = |cell: [u32; 2]| {
+        let t_cross = [0, 1].map(|k| next_crossing(cell[k], dstep[k], o[k], d[k]));
+        t_cross[0].min(t_cross[1]).min(span.t1)
+    };
     loop {
-        let p = q.at(at.t);
+        let p = q.at(t);
         if iter >= max_iter {
             return Trace {
                 hit: Some(Hit {
-                    t: at.t,
+                    t,
                     point: R::v3(p),
-                    cell: at.cell,
+                    cell,
                     normal: R::v3([R::ZERO, R::ZERO, R::ONE]),
                     flags: Flags::default(),
                 }),
@@ -545,23 +553,20 @@ fn march_cells<R: Real>(
             };
         }
         iter += 1;
-        let (s, f) = step(at.cell, p);
+        let (s, f) = step(cell, p);
         fetches += f;
-        let t_cross = walker.crossings(at.cell);
         match s {
             Step::Miss => return Trace::miss(fetches, clearance),
             // A jump that stays in the cell would crawl (cone steps converge only
             // geometrically near a wall): the cell test reaches its exit at once.
-            Step::Jump(dt)
-                if dt > R::ZERO && at.t + dt >= t_cross[0].min(t_cross[1]).min(span.t1) =>
-            {
-                let tn = at.t + dt;
+            Step::Jump(dt) if dt > R::ZERO && t + dt >= cell_exit(cell) => {
+                let tn = t + dt;
                 if !(tn < span.t1) {
                     return Trace::miss(fetches, clearance);
                 }
-                at.t = tn;
-                on_step(at.t);
-                at.cell = walker.cell_of(q.at(at.t));
+                t = tn;
+                on_step(t);
+                cell = locate(q.at(t));
                 have_ca = false;
                 have_c = false;
                 continue;
@@ -570,19 +575,19 @@ fn march_cells<R: Real>(
         }
         // The exact cell test from `t` to the cell's exit.
         if !have_c {
-            c = corners(hf, at.cell[0], at.cell[1]);
+            c = corners(hf, cell[0], cell[1]);
             fetches += 4;
         }
         if !have_ca {
-            (at.a, at.ca) = local_clearance(TRI, c, at.cell, p, [None; 2]);
-            clearance = clearance.min(at.ca);
-            if at.ca <= R::ZERO {
+            (a, ca) = local_clearance(TRI, c, cell, p, [None; 2]);
+            clearance = clearance.min(ca);
+            if ca <= R::ZERO {
                 return Trace::hit(
                     Hit {
-                        t: at.t,
+                        t,
                         point: R::v3(p),
-                        cell: at.cell,
-                        normal: R::v3(TRI.cell_normal(c, at.a[0], at.a[1])),
+                        cell,
+                        normal: R::v3(TRI.cell_normal(c, a[0], a[1])),
                         flags: Flags::default(),
                     },
                     fetches,
@@ -590,34 +595,61 @@ fn march_cells<R: Real>(
                 );
             }
         }
-        match walker.cell_test(
-            c,
-            &mut at,
-            t_cross,
-            [R::ZERO, R::ZERO, R::ONE],
-            &mut clearance,
-        ) {
-            Exit::Hit(hit) => {
-                on_step(hit.t);
-                return Trace::hit(hit, fetches, clearance);
-            }
-            Exit::Miss => return Trace::miss(fetches, clearance),
-            Exit::Next(_) => on_step(at.t),
+        let t_cross = [0, 1].map(|k| next_crossing(cell[k], dstep[k], o[k], d[k]));
+        let t_next = t_cross[0].min(t_cross[1]);
+        let (tb, cross) = if t_next < span.t1 {
+            (t_next.max(t), t_cross.map(|x| x <= t_next))
+        } else {
+            (span.t1, [false; 2])
+        };
+        let on = [0, 1].map(|k| cross[k].then_some(dstep[k] > 0));
+        let (b, cb) = local_clearance(TRI, c, cell, q.at(tb), on);
+        let seg = TRI.segment_hit(c, a, b, ca, cb, [R::ZERO, R::ZERO, R::ONE]);
+        clearance = clearance.min(seg.clearance);
+        if let Some(found) = seg.hit {
+            on_step(t + found.0 * (tb - t));
+            return Trace::hit(
+                segment_point(cell, ((t, tb), (a, b)), found),
+                fetches,
+                clearance,
+            );
         }
+        if cross == [false; 2] {
+            return Trace::miss(fetches, clearance);
+        }
+        for k in 0..2 {
+            if cross[k] {
+                let next = cell[k] as i64 + dstep[k];
+                if next < 0 || next >= cells[k] as i64 {
+                    return Trace::miss(fetches, clearance);
+                }
+                cell[k] = next as u32;
+            }
+        }
+        a = [0, 1, 2].map(|k| {
+            if k < 2 && cross[k] {
+                R::ONE - b[k]
+            } else {
+                b[k]
+            }
+        });
+        ca = cb;
+        t = tb;
+        on_step(t);
         have_ca = true;
         have_c = false;
     }
 }
 
-/// The cone step from ray point `p` with direction `d` (`hs` its horizontal length)
-/// over a texel `[top, ratio]`.
+/// The cone step from ray point `p` with direction `d` over a texel `[top, ratio]`.
 #[inline]
-pub(crate) fn cone_step<R: Real>(p: [R; 3], d: [R; 3], hs: R, top: R, ratio: R) -> Step<R> {
+pub(crate) fn cone_step<R: Real>(p: [R; 3], d: [R; 3], top: R, ratio: R) -> Step<R> {
     let tol = margin(p[2], top);
     let e = p[2] - top - tol;
     if !(e > R::ZERO) || ratio <= R::ZERO {
         return Step::Cell;
     }
+    let hs = (d[0] * d[0] + d[1] * d[1]).sqrt();
     let denom = hs / ratio - d[2];
     if !(denom > R::ZERO) {
         return Step::Miss;
@@ -625,53 +657,28 @@ pub(crate) fn cone_step<R: Real>(p: [R; 3], d: [R; 3], hs: R, top: R, ratio: R) 
     Step::Jump(e / denom * (R::ONE - R::from_f32(16.0) * R::EPSILON))
 }
 
-/// A texel of a cone-family [`CellMap`] (the cone map's `[top, ratio]`, the QDM's
-/// `[a, b, c, h]` of `crate::qdm`): what [`march`] does at a ray point above its cell.
-pub trait Texel: Copy {
-    /// The step from ray point `p` with direction `d` (`hs` its horizontal length).
-    fn step<R: Real>(self, p: [R; 3], d: [R; 3], hs: R) -> Step<R>;
-}
-
-impl Texel for [f32; CHANNELS] {
-    #[inline]
-    fn step<R: Real>(self, p: [R; 3], d: [R; 3], hs: R) -> Step<R> {
-        let [top, ratio] = self;
-        cone_step(p, d, hs, R::from_f32(top), R::from_f32(ratio))
-    }
-}
-
-/// Traces `q` over a cone-family map (the cone map, or the QDM of `crate::qdm`) with
-/// at most `max_iter` iterations.
-pub fn trace<R: Real, const N: usize>(
-    map: &CellMap<N>,
-    hf: &HeightField,
-    q: &Query<R>,
-    max_iter: u32,
-) -> Trace<R>
-where
-    [f32; N]: Texel,
-{
+/// Traces `q` over the cone map with at most `max_iter` iterations.
+pub fn trace<R: Real>(map: &ConeMap, hf: &HeightField, q: &Query<R>, max_iter: u32) -> Trace<R> {
     trace_steps(map, hf, q, max_iter, &mut |_| {})
 }
 
 /// [`trace`], reporting every new ray parameter to `on_step` (for tests and plots).
-pub fn trace_steps<R: Real, const N: usize>(
-    map: &CellMap<N>,
+pub fn trace_steps<R: Real>(
+    map: &ConeMap,
     hf: &HeightField,
     q: &Query<R>,
     max_iter: u32,
     on_step: &mut dyn FnMut(R),
-) -> Trace<R>
-where
-    [f32; N]: Texel,
-{
+) -> Trace<R> {
     let d = q.dir();
-    let hs = (d[0] * d[0] + d[1] * d[1]).sqrt();
     march(
         hf,
         q,
         max_iter,
-        |cell, p| (map.texel(cell[0], cell[1]).step(p, d, hs), 1),
+        |cell, p| {
+            let [top, ratio] = map.texel(cell[0], cell[1]);
+            (cone_step(p, d, R::from_f32(top), R::from_f32(ratio)), 1)
+        },
         on_step,
     )
 }

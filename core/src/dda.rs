@@ -386,173 +386,79 @@ fn walk<R: Real>(hf: &HeightField, surface: Surface, q: &Query<R>) -> Trace<R> {
     let Some(span) = clip_surface(hf, surface, q) else {
         return Trace::MISS;
     };
-    let walker = Walk::new(hf, surface, q, span);
-    let (mut at, mut c) = match walker.start(hf) {
-        Ok(start) => start,
-        Err((hit, ca)) => return Trace::hit(hit, 4, start_clearance(&span.entry, ca)),
-    };
-    let (mut fetches, mut clearance) = (4u32, at.ca);
+    let (o, d) = (q.origin(), q.dir());
+    // Per-axis state, index 0 = x, 1 = y.
+    let cells = [hf.width() - 1, hf.height() - 1];
+    let p0 = q.at(span.t0);
+    let start = [0, 1].map(|k| p0[k].clamp_to(R::ZERO, R::from_u32(cells[k])));
+    let mut cell = [0, 1].map(|k| cell_index(start[k], d[k], cells[k]));
+    let step = [step_of(d[0]), step_of(d[1])];
+    let mut c: [R; 4] = corners(hf, cell[0], cell[1]);
+    let mut fetches = 4u32;
+    let on = entry_on(surface, &span.entry);
+    let (mut a, mut ca) = local_clearance(surface, c, cell, [start[0], start[1], p0[2]], on);
+
+    if ca <= R::ZERO {
+        return Trace::hit(
+            start_hit(surface, &span, c, cell, a, p0),
+            fetches,
+            start_clearance(&span.entry, ca),
+        );
+    }
+
+    let mut clearance = ca;
+    let mut ta = span.t0;
     let mut wall = [R::ZERO, R::ZERO, R::ONE];
-    let mut t_cross = walker.crossings(at.cell);
-    loop {
-        let cross = match walker.cell_test(c, &mut at, t_cross, wall, &mut clearance) {
-            Exit::Hit(hit) => return Trace::hit(hit, fetches, clearance),
-            Exit::Miss => return Trace::miss(fetches, clearance),
-            Exit::Next(cross) => cross,
+    let mut t_cross = [0, 1].map(|k| next_crossing(cell[k], step[k], o[k], d[k]));
+    'walk: loop {
+        let t_next = t_cross[0].min(t_cross[1]);
+        let (tb, cross) = if t_next < span.t1 {
+            (t_next.max(ta), t_cross.map(|t| t <= t_next))
+        } else {
+            (span.t1, [false; 2])
         };
-        for k in (0..2).filter(|&k| cross[k]) {
-            t_cross[k] = walker.crossing(at.cell, k);
+        // Clearance at the exit point; on a centerline, from that edge's two samples only.
+        let on = [0, 1].map(|k| cross[k].then_some(step[k] > 0));
+        let (b, cb) = local_clearance(surface, c, cell, q.at(tb), on);
+        let seg = surface.segment_hit(c, a, b, ca, cb, wall);
+        clearance = clearance.min(seg.clearance);
+        if let Some(found) = seg.hit {
+            return Trace::hit(
+                segment_point(cell, ((ta, tb), (a, b)), found),
+                fetches,
+                clearance,
+            );
+        }
+        if cross == [false; 2] {
+            break;
+        }
+        for k in 0..2 {
+            if cross[k] {
+                let next = cell[k] as i64 + step[k];
+                if next < 0 || next >= cells[k] as i64 {
+                    break 'walk;
+                }
+                cell[k] = next as u32;
+                t_cross[k] = next_crossing(cell[k], step[k], o[k], d[k]);
+            }
         }
         // The face entered (x's when the ray passes exactly through a corner).
         let k = usize::from(!cross[0]);
         wall = [R::ZERO; 3];
-        wall[k] = if walker.step[k] > 0 { -R::ONE } else { R::ONE };
-        c = corners(hf, at.cell[0], at.cell[1]);
+        wall[k] = if step[k] > 0 { -R::ONE } else { R::ONE };
+        c = corners(hf, cell[0], cell[1]);
         fetches += 4;
-    }
-}
-
-/// What stays fixed while a march walks cell by cell under a ray: the surface, the
-/// ray and its span, its cell steps (`±1` or 0 an axis) and the field's cells.
-pub(crate) struct Walk<'q, R: Real> {
-    pub surface: Surface,
-    pub q: &'q Query<R>,
-    pub span: Span<R>,
-    pub step: [i64; 2],
-    pub cells: [u32; 2],
-}
-
-/// Where a walk stands in its cell: the cell, the ray parameter, and the local point
-/// and clearance there ([`local_clearance`]).
-pub(crate) struct At<R: Real> {
-    pub cell: [u32; 2],
-    pub t: R,
-    pub a: [R; 3],
-    pub ca: R,
-}
-
-/// Where a walk starts ([`Walk::start`]): its place and its cell's corners, or the hit
-/// at the start and the clearance there.
-pub(crate) type Start<R> = Result<(At<R>, [R; 4]), (Hit<R>, R)>;
-
-/// What the exact test of a cell ([`Walk::cell_test`]) found.
-pub(crate) enum Exit<R: Real> {
-    /// The segment in the cell meets the surface there.
-    Hit(Hit<R>),
-    /// The ray leaves the span or the field without meeting it.
-    Miss,
-    /// The walk went on into the next cell, across the faces of the axes crossed.
-    Next([bool; 2]),
-}
-
-impl<'q, R: Real> Walk<'q, R> {
-    /// The walk of `q` over the cells of `hf` on `surface`, along `span`.
-    #[inline(always)]
-    pub(crate) fn new(hf: &HeightField, surface: Surface, q: &'q Query<R>, span: Span<R>) -> Self {
-        let d = q.dir();
-        Walk {
-            surface,
-            q,
-            span,
-            step: [step_of(d[0]), step_of(d[1])],
-            cells: [hf.width() - 1, hf.height() - 1],
-        }
-    }
-
-    /// The cell holding the point `p` (clamped into the footprint), a point on a cell
-    /// boundary in the cell the ray moves into.
-    #[inline(always)]
-    pub(crate) fn cell_of(&self, p: [R; 3]) -> [u32; 2] {
-        let (d, cells) = (self.q.dir(), self.cells);
-        [0, 1].map(|k| {
-            cell_index(
-                p[k].clamp_to(R::ZERO, R::from_u32(cells[k])),
-                d[k],
-                cells[k],
-            )
-        })
-    }
-
-    /// Where the walk starts, at the span's `t0`, and the corners of its cell (four
-    /// fetches); `Err` with the hit there and the clearance (`≤ 0`) when the ray is
-    /// already on or under the surface.
-    #[inline(always)]
-    pub(crate) fn start(&self, hf: &HeightField) -> Start<R> {
-        let p0 = self.q.at(self.span.t0);
-        let start = [0, 1].map(|k| p0[k].clamp_to(R::ZERO, R::from_u32(self.cells[k])));
-        let cell = self.cell_of(p0);
-        let c: [R; 4] = corners(hf, cell[0], cell[1]);
-        let on = entry_on(self.surface, &self.span.entry);
-        let (a, ca) = local_clearance(self.surface, c, cell, [start[0], start[1], p0[2]], on);
-        if ca <= R::ZERO {
-            let hit = start_hit(self.surface, &self.span, c, cell, a, p0);
-            return Err((hit, ca));
-        }
-        let t = self.span.t0;
-        Ok((At { cell, t, a, ca }, c))
-    }
-
-    /// The ray parameter of its next centerline crossing of axis `k` out of `cell`.
-    #[inline(always)]
-    pub(crate) fn crossing(&self, cell: [u32; 2], k: usize) -> R {
-        next_crossing(cell[k], self.step[k], self.q.origin()[k], self.q.dir()[k])
-    }
-
-    /// [`Walk::crossing`] of both axes.
-    #[inline(always)]
-    pub(crate) fn crossings(&self, cell: [u32; 2]) -> [R; 2] {
-        [0, 1].map(|k| self.crossing(cell, k))
-    }
-
-    /// The exact test of the segment from `at` (in the cell with corners `c`, entered
-    /// through the face of normal `wall`) to where the ray leaves the cell (the next
-    /// crossings `t_cross`) or the span: lowers `clearance` to the segment's, and on
-    /// [`Exit::Next`] moves `at` to the entry of the next cell, its clearance the exit's
-    /// (the centerline crossing's, shared by both cells).
-    #[inline(always)]
-    pub(crate) fn cell_test(
-        &self,
-        c: [R; 4],
-        at: &mut At<R>,
-        t_cross: [R; 2],
-        wall: [R; 3],
-        clearance: &mut R,
-    ) -> Exit<R> {
-        let t_next = t_cross[0].min(t_cross[1]);
-        let (tb, cross) = if t_next < self.span.t1 {
-            (t_next.max(at.t), t_cross.map(|t| t <= t_next))
-        } else {
-            (self.span.t1, [false; 2])
-        };
-        // Clearance at the exit point; on a centerline, from that edge's two samples only.
-        let on = [0, 1].map(|k| cross[k].then_some(self.step[k] > 0));
-        let (b, cb) = local_clearance(self.surface, c, at.cell, self.q.at(tb), on);
-        let seg = self.surface.segment_hit(c, at.a, b, at.ca, cb, wall);
-        *clearance = clearance.min(seg.clearance);
-        if let Some(found) = seg.hit {
-            return Exit::Hit(segment_point(at.cell, ((at.t, tb), (at.a, b)), found));
-        }
-        if cross == [false; 2] {
-            return Exit::Miss;
-        }
-        for k in (0..2).filter(|&k| cross[k]) {
-            let next = at.cell[k] as i64 + self.step[k];
-            if next < 0 || next >= self.cells[k] as i64 {
-                return Exit::Miss;
-            }
-            at.cell[k] = next as u32;
-        }
-        at.a = [0, 1, 2].map(|k| {
+        a = [0, 1, 2].map(|k| {
             if k < 2 && cross[k] {
                 R::ONE - b[k]
             } else {
                 b[k]
             }
         });
-        at.ca = cb;
-        at.t = tb;
-        Exit::Next(cross)
+        ca = cb;
+        ta = tb;
     }
+    Trace::miss(fetches, clearance)
 }
 
 #[cfg(test)]

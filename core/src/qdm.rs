@@ -36,10 +36,11 @@ use core::ops::Range;
 
 use core::cell::Cell;
 
-use crate::cone::{self, bnb_by, check, f32_down, f32_up, margin, BakeError, Step};
+use crate::cone::{self, bnb_by, check, f32_down, f32_up, march, margin, BakeError, Step};
 use crate::field::HeightField;
 use crate::math::Real;
 use crate::maxmip::MaxMip;
+use crate::ray::{Query, Trace};
 use crate::surface::stable_roots;
 
 /// Channels per texel: `[a, b, c, h]`.
@@ -203,14 +204,23 @@ pub fn bake_rows(
     rows: Range<u32>,
     out: &mut [f32],
 ) -> Result<(), BakeError> {
+    let mip = cone::scratch_pyramid(hf, scratch)?;
+    let cw = hf.width() - 1;
+    if rows.end > hf.height() - 1 || rows.start > rows.end {
+        return Err(BakeError::BadRows);
+    }
+    check(CHANNELS * rows.len() * cw as usize, out.len())?;
     // Each search starts from the cells that set the previous texel.
     let mut hints = [[0, rows.start]; 2];
-    let cells = [hf.width() - 1, hf.height() - 1];
-    cone::bake_texels(hf, scratch, rows, out, cells, |mip, c| {
-        let (tex, arg) = texel_search(hf, mip, c, hints);
-        hints = arg;
-        tex
-    })
+    for (r, j) in rows.enumerate() {
+        for i in 0..cw {
+            let k = CHANNELS * (r * cw as usize + i as usize);
+            let (tex, arg) = texel_search(hf, &mip, [i, j], hints);
+            hints = arg;
+            out[k..k + 4].copy_from_slice(&tex);
+        }
+    }
+    Ok(())
 }
 
 /// Bakes the whole map: [`prepare`] then [`bake_rows`] over every row.
@@ -310,29 +320,45 @@ pub fn free_distance<R: Real>(tex: [R; 4], e0: R, g: R) -> Option<R> {
     }
 }
 
-/// The QDM's march: [`cone::trace`] over a [`QdmMap`], stepping by [`free_distance`].
-pub use crate::cone::{trace, trace_steps};
+/// Traces `q` over the QDM with at most `max_iter` iterations.
+pub fn trace<R: Real>(map: &QdmMap, hf: &HeightField, q: &Query<R>, max_iter: u32) -> Trace<R> {
+    trace_steps(map, hf, q, max_iter, &mut |_| {})
+}
 
-impl cone::Texel for [f32; CHANNELS] {
-    #[inline]
-    fn step<R: Real>(self, p: [R; 3], d: [R; 3], hs: R) -> Step<R> {
-        let tex = self.map(R::from_f32);
-        let top = tex[3];
-        let e0 = p[2] - top - margin(p[2], top);
-        if !(e0 > R::ZERO) || !(tex[0] > R::ZERO) {
-            return Step::Cell;
-        }
-        let shrink = R::ONE - R::from_f32(16.0) * R::EPSILON;
-        if hs == R::ZERO {
-            return if d[2] < R::ZERO {
-                Step::Jump(e0 / -d[2] * shrink)
-            } else {
-                Step::Miss
-            };
-        }
-        match free_distance(tex, e0, d[2] / hs) {
-            Some(rho) => Step::Jump(rho / hs * shrink),
-            None => Step::Miss,
-        }
-    }
+/// [`trace`], reporting every new ray parameter to `on_step`.
+pub fn trace_steps<R: Real>(
+    map: &QdmMap,
+    hf: &HeightField,
+    q: &Query<R>,
+    max_iter: u32,
+    on_step: &mut dyn FnMut(R),
+) -> Trace<R> {
+    let d = q.dir();
+    let hs = (d[0] * d[0] + d[1] * d[1]).sqrt();
+    march(
+        hf,
+        q,
+        max_iter,
+        |cell, p| {
+            let tex = map.texel(cell[0], cell[1]).map(R::from_f32);
+            let top = tex[3];
+            let e0 = p[2] - top - margin(p[2], top);
+            if !(e0 > R::ZERO) || !(tex[0] > R::ZERO) {
+                return (Step::Cell, 1);
+            }
+            let shrink = R::ONE - R::from_f32(16.0) * R::EPSILON;
+            if hs == R::ZERO {
+                return if d[2] < R::ZERO {
+                    (Step::Jump(e0 / -d[2] * shrink), 1)
+                } else {
+                    (Step::Miss, 1)
+                };
+            }
+            match free_distance(tex, e0, d[2] / hs) {
+                Some(rho) => (Step::Jump(rho / hs * shrink), 1),
+                None => (Step::Miss, 1),
+            }
+        },
+        on_step,
+    )
 }

@@ -385,32 +385,37 @@ pub fn bake_rows(
     rows: Range<u32>,
     out: &mut [f32],
 ) -> Result<(), BakeError> {
+    let mip = crate::cone::scratch_pyramid(hf, scratch)?;
+    let w = hf.width();
+    if rows.end > hf.height() || rows.start > rows.end {
+        return Err(BakeError::BadRows);
+    }
+    check(rows.len() * w as usize, out.len())?;
     // Seeds: the left and upper neighbours' destinations, as are and moved along.
     let mut above = [[u32::MAX; 2]; ABOVE];
-    let mut left = [u32::MAX; 2];
-    let samples = [hf.width(), hf.height()];
-    crate::cone::bake_texels(hf, scratch, rows, out, samples, |mip, [i, j]| {
-        if i == 0 {
-            left = [u32::MAX; 2];
-        }
-        let mut seeds: heapless::Vec<[u32; 2], 4> = heapless::Vec::new();
-        if left[0] != u32::MAX {
-            let _ = seeds.push(left);
-            let _ = seeds.push([left[0] + 1, left[1]]);
-        }
-        if let Some(&d) = above.get(i as usize) {
-            if d[0] != u32::MAX && d != left {
-                let _ = seeds.push(d);
-                let _ = seeds.push([d[0], d[1] + 1]);
+    for (r, j) in rows.enumerate() {
+        let mut left = [u32::MAX; 2];
+        for i in 0..w {
+            let mut seeds: heapless::Vec<[u32; 2], 4> = heapless::Vec::new();
+            if left[0] != u32::MAX {
+                let _ = seeds.push(left);
+                let _ = seeds.push([left[0] + 1, left[1]]);
             }
+            if let Some(&d) = above.get(i as usize) {
+                if d[0] != u32::MAX && d != left {
+                    let _ = seeds.push(d);
+                    let _ = seeds.push([d[0], d[1] + 1]);
+                }
+            }
+            let (best, win) = texel_search(hf, &mip, [i, j], &seeds);
+            left = win.unwrap_or([u32::MAX; 2]);
+            if let Some(a) = above.get_mut(i as usize) {
+                *a = left;
+            }
+            out[r * w as usize + i as usize] = f32_down(best);
         }
-        let (best, win) = texel_search(hf, mip, [i, j], &seeds);
-        left = win.unwrap_or([u32::MAX; 2]);
-        if let Some(a) = above.get_mut(i as usize) {
-            *a = left;
-        }
-        [f32_down(best)]
-    })
+    }
+    Ok(())
 }
 
 /// Bakes the whole map.
