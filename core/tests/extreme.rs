@@ -817,8 +817,8 @@ fn extreme_fields() {
         RayKind::Outside,
     ];
     let mut cases = Vec::new();
-    let tiny = Field::from_fn(9, 7, 9, |_, _| (rng.f64() * 1e-6) as f32);
-    let huge = Field::from_fn(9, 7, 9, |_, _| (rng.f64() * 1e6) as f32);
+    let tiny = Field::from_fn(9, 7, 9, |_, _| (rng.unit() * 1e-6) as f32);
+    let huge = Field::from_fn(9, 7, 9, |_, _| (rng.unit() * 1e6) as f32);
     for (name, field) in [("height range 1e-6", tiny), ("height range 1e6", huge)] {
         let mut rng = Rng::new(7);
         cases.push(run_case(

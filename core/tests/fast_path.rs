@@ -112,7 +112,7 @@ fn f32_traversal_matches_f64_on_fractal_fields() {
 /// ground, and a checkerboard of ridges (every cell a saddle or a fold).
 fn crack_fields(rng: &mut Rng) -> Vec<(&'static str, Field)> {
     let needles = {
-        let mut r = Rng::new(rng.u64());
+        let mut r = Rng::new(rng.next_u64());
         Field::from_fn(33, 29, 35, |_, _| {
             if r.chance(0.15) {
                 r.int(1, 9) as f32

@@ -517,12 +517,12 @@ fn check_cc_bake(
                 let ground = TRI.height_at(&hf, p[0], p[1]);
                 p[2] = match r % 4 {
                     0 => ground + rng.range(0.0, 0.05) * relief,
-                    _ => ground.max(zc) + rng.range(0.0, 0.6) * relief * rng.f64(),
+                    _ => ground.max(zc) + rng.range(0.0, 0.6) * relief * rng.unit(),
                 };
                 let sd = match r % 6 {
                     0 => rng.range(0.0, 1.5),
                     1 => -rng.range(0.0, 0.05),
-                    _ => -rng.range(0.0, 3.0) * rng.f64(),
+                    _ => -rng.range(0.0, 3.0) * rng.unit(),
                 };
                 let slope = match r % 3 {
                     0 => rng.sign(),

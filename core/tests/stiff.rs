@@ -193,7 +193,7 @@ fn stiff_fields() {
         all.absorb(&j64);
         all.absorb(&j32);
     }
-    let tiny = Field::from_fn(9, 7, 9, |_, _| (rng.f64() * 1e-6) as f32);
+    let tiny = Field::from_fn(9, 7, 9, |_, _| (rng.unit() * 1e-6) as f32);
     all.absorb(&run_case(&mut out, "height range 1e-6", &tiny, &mut |s| {
         mixed(&mut rng, &tiny, s, 12)
     }));
@@ -219,7 +219,7 @@ fn stiff_fields() {
 #[test]
 fn height_range_1e6() {
     let mut rng = Rng::new(0xB16);
-    let field = Field::from_fn(9, 7, 9, |_, _| (rng.f64() * 1e6) as f32);
+    let field = Field::from_fn(9, 7, 9, |_, _| (rng.unit() * 1e6) as f32);
     let hf = field.hf();
     let mut out = String::new();
     let mut j64 = Judged::new("height range 1e6 / f64");
@@ -330,7 +330,7 @@ fn field_8193_by_16() {
     let mut long = Tally::new("8193 x 16 long rays, exact far hit / f32+f64");
     let mut j = Judged::new("8193 x 16 long rays vs brute force");
     for k in 0..40 {
-        let z = 0.5 + 9.0 * rng.f64();
+        let z = 0.5 + 9.0 * rng.unit();
         let o = [
             if k % 2 == 0 {
                 rng.range(0.0, 3.0)

@@ -2,53 +2,12 @@
 //! ambiguity rule of docs/DESIGN.md, ray generators and a tally that prints per-case counts.
 #![allow(dead_code)] // every test binary uses a different part of this module
 
+use hfcast::bake::{Spec, Texels};
+use hfcast::ktx2::{Desc, MapKind};
 use hfcast::{brute, dda, judge, Flags, HeightField, Query, RayClass, Real, Surface, Trace};
 
-/// SplitMix64: tiny, seeded, reproducible on every platform.
-pub struct Rng(u64);
-
-impl Rng {
-    /// A generator with a fixed seed.
-    pub fn new(seed: u64) -> Rng {
-        Rng(seed ^ 0x9E37_79B9_7F4A_7C15)
-    }
-    /// Next 64 random bits.
-    pub fn u64(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
-    }
-    /// Uniform in `[0, 1)`.
-    pub fn f64(&mut self) -> f64 {
-        (self.u64() >> 11) as f64 * (1.0 / (1u64 << 53) as f64)
-    }
-    /// Uniform in `[lo, hi)`.
-    pub fn range(&mut self, lo: f64, hi: f64) -> f64 {
-        lo + (hi - lo) * self.f64()
-    }
-    /// Uniform integer in `[lo, hi]`.
-    pub fn int(&mut self, lo: i64, hi: i64) -> i64 {
-        lo + (self.u64() % (hi - lo + 1) as u64) as i64
-    }
-    /// Uniform index below `n`.
-    pub fn below(&mut self, n: usize) -> usize {
-        (self.u64() % n as u64) as usize
-    }
-    /// `true` with probability `p`.
-    pub fn chance(&mut self, p: f64) -> bool {
-        self.f64() < p
-    }
-    /// `±1`.
-    pub fn sign(&mut self) -> f64 {
-        if self.chance(0.5) {
-            1.0
-        } else {
-            -1.0
-        }
-    }
-}
+/// The tests' seeded generator: SplitMix64 from `seed ^ GOLDEN` ([`Rng::new`]).
+pub use hfcast::rng::SplitMix as Rng;
 
 /// An owned height field; row padding (stride > width) is filled with NaN so that a
 /// read outside the rows poisons the result.
@@ -150,7 +109,7 @@ pub fn fractal_field(rng: &mut Rng, w: u32, h: u32, stride: usize, amp: f64) -> 
             ]
         })
         .collect();
-    let mut noise = Rng::new(rng.u64());
+    let mut noise = Rng::new(rng.next_u64());
     Field::from_fn(w, h, stride, |i, j| {
         let (x, y) = (i as f64, j as f64);
         let s: f64 = waves
@@ -249,6 +208,16 @@ pub fn march_fields(
     v.push(("plateau 33x29".into(), plateau_field()));
     v.extend(small_fields(&mut rng, n_small));
     v
+}
+
+/// `hf`'s float map `map` (the pyramid, cone, relaxed cone or QDM map), baked whole
+/// through the one bake interface (`hfcast::bake::Spec` with the defaults).
+pub fn baked_floats(map: MapKind, hf: &HeightField) -> Vec<f32> {
+    let spec = Spec::new(Desc::new(map, hf.width(), hf.height()));
+    match spec.bake_owned(hf).expect("bake") {
+        Texels::F32(v) => v,
+        Texels::U8(_) => panic!("{map:?} is not a float map"),
+    }
 }
 
 /// docs/DESIGN.md's ambiguity threshold `2⁻¹³ · max(1, |z|)`.
@@ -581,6 +550,24 @@ fn finish(rng: &mut Rng, o: [f64; 3], d: [f64; 3]) -> RaySpec {
     RaySpec { o, d, t_min, t_max }
 }
 
+/// Adds the named counters of `$from` to those of `$to` (`$to.tried += $from.tried`, …):
+/// the per-case counts of a test summed into its totals.
+macro_rules! add_counts {
+    ($to:expr, $from:expr, $($counter:ident),+ $(,)?) => {
+        $($to.$counter += $from.$counter;)+
+    };
+}
+#[allow(unused_imports)] // the test binaries that sum counts of their own use it
+pub(crate) use add_counts;
+
+/// Keeps `what()` among `examples` while they are fewer than `max`: the first few of
+/// something are described, the rest only counted.
+pub fn keep_example(examples: &mut Vec<String>, max: usize, what: impl FnOnce() -> String) {
+    if examples.len() < max {
+        examples.push(what());
+    }
+}
+
 /// Per-case counts, printed as one line: `tried`, `wrong`, `ambiguous` and the largest
 /// position error (texels) among the compared rays.
 #[derive(Debug, Default)]
@@ -606,9 +593,7 @@ impl Tally {
     /// Records one wrong ray (keeps the first few descriptions).
     pub fn wrong(&mut self, what: impl FnOnce() -> String) {
         self.wrong += 1;
-        if self.examples.len() < 5 {
-            self.examples.push(what());
-        }
+        keep_example(&mut self.examples, 5, what);
     }
     /// Records the position error of one compared hit.
     pub fn err(&mut self, e: f64) {
@@ -618,17 +603,19 @@ impl Tally {
     }
     /// Adds another tally's counts.
     pub fn absorb(&mut self, o: &Tally) {
-        self.tried += o.tried;
-        self.wrong += o.wrong;
-        self.ambiguous += o.ambiguous;
-        self.hits += o.hits;
+        add_counts!(
+            self,
+            o,
+            tried,
+            wrong,
+            ambiguous,
+            hits,
+            sum_err,
+            compared_hits
+        );
         self.max_err = self.max_err.max(o.max_err);
-        self.sum_err += o.sum_err;
-        self.compared_hits += o.compared_hits;
         for e in &o.examples {
-            if self.examples.len() < 5 {
-                self.examples.push(e.clone());
-            }
+            keep_example(&mut self.examples, 5, || e.clone());
         }
     }
     /// Appends the line the project notes quote (and a few wrong examples).
@@ -1078,7 +1065,7 @@ impl Probe<'_> {
         let above = match r % 4 {
             0 => 0.0,
             1 => 1e-6 * self.zs,
-            _ => rng.range(0.0, 0.3) * self.relief * rng.f64(),
+            _ => rng.range(0.0, 0.3) * self.relief * rng.unit(),
         };
         p[2] = Surface::Triangles.height_at(&self.hf, p[0], p[1]) + above;
         p
