@@ -46,57 +46,6 @@ fn run_case(
     j64
 }
 
-/// `n` rays of every kind.
-fn mixed(rng: &mut Rng, field: &Field, surface: Surface, n: usize) -> Vec<RaySpec> {
-    (0..n)
-        .flat_map(|_| RayKind::ALL)
-        .map(|k| random_ray(rng, field, surface, k))
-        .collect::<Vec<_>>()
-}
-
-/// `n` rays of the given kinds.
-fn of_kinds(
-    rng: &mut Rng,
-    field: &Field,
-    surface: Surface,
-    kinds: &[RayKind],
-    n: usize,
-) -> Vec<RaySpec> {
-    (0..n)
-        .flat_map(|_| kinds.iter().copied())
-        .map(|k| random_ray(rng, field, surface, k))
-        .collect()
-}
-
-/// Rays at exactly `elevation` (radians, up or down), from just above the surface.
-fn grazing(rng: &mut Rng, field: &Field, surface: Surface, n: usize) -> Vec<RaySpec> {
-    let hf = field.hf();
-    let (xm, ym) = ((field.w - 1) as f64, (field.h - 1) as f64);
-    let (lo, hi) = field.range();
-    (0..n)
-        .map(|_| {
-            let el = 1e-4 * rng.sign();
-            let az = rng.range(0.0, std::f64::consts::TAU);
-            let (x, y) = (rng.range(-0.5, xm + 0.5), rng.range(-0.5, ym + 0.5));
-            let z = surface.height_at(&hf, x, y) + rng.range(-0.001, 0.2) * (hi - lo).max(1e-3);
-            let d = if rng.chance(0.25) {
-                // Axis-parallel and grazing.
-                let mut d = [0.0, 0.0, el.sin()];
-                d[rng.below(2)] = rng.sign() * el.cos();
-                d
-            } else {
-                [el.cos() * az.cos(), el.cos() * az.sin(), el.sin()]
-            };
-            RaySpec {
-                o: [x, y, z],
-                d,
-                t_min: 0.0,
-                t_max: f64::INFINITY,
-            }
-        })
-        .collect()
-}
-
 #[test]
 fn stiff_rays_on_small_fields() {
     let mut rng = Rng::new(0x57_1FF);
@@ -111,7 +60,7 @@ fn stiff_rays_on_small_fields() {
 
     type Gen = fn(&mut Rng, &Field, Surface) -> Vec<RaySpec>;
     let cases: [(&str, Gen); 4] = [
-        ("grazing 1e-4 rad", |r, f, s| grazing(r, f, s, 40)),
+        ("grazing 1e-4 rad", |r, f, s| grazing(r, f, s, 40, 1e-4)),
         ("axis-parallel", |r, f, s| {
             of_kinds(r, f, s, &[RayKind::AxisX, RayKind::AxisY], 12)
         }),
@@ -166,7 +115,7 @@ fn stiff_fields() {
         let field = Field::from_fn(7, 5, 9, |_, _| level);
         let name = format!("all heights {level}");
         all.absorb(&run_case(&mut out, &name, &field, &mut |s| {
-            mixed(&mut rng, &field, s, 12)
+            of_kinds(&mut rng, &field, s, &RayKind::ALL, 12)
         }));
     }
     {
@@ -182,7 +131,7 @@ fn stiff_fields() {
                 }
             });
             for surface in Surface::ALL {
-                for spec in mixed(&mut rng, &field, surface, 2) {
+                for spec in of_kinds(&mut rng, &field, surface, &RayKind::ALL, 2) {
                     j64.add(&field, surface, &spec.q64());
                     j32.add(&field, surface, &spec.q32());
                 }
@@ -195,15 +144,15 @@ fn stiff_fields() {
     }
     let tiny = Field::from_fn(9, 7, 9, |_, _| (rng.unit() * 1e-6) as f32);
     all.absorb(&run_case(&mut out, "height range 1e-6", &tiny, &mut |s| {
-        mixed(&mut rng, &tiny, s, 12)
+        of_kinds(&mut rng, &tiny, s, &RayKind::ALL, 12)
     }));
     let small_hills = fractal_field(&mut rng, 2, 4096, 2, 3.0);
     all.absorb(&run_case(&mut out, "2 x 4096", &small_hills, &mut |s| {
-        mixed(&mut rng, &small_hills, s, 4)
+        of_kinds(&mut rng, &small_hills, s, &RayKind::ALL, 4)
     }));
     let wide = fractal_field(&mut rng, 4096, 2, 4100, 3.0);
     all.absorb(&run_case(&mut out, "4096 x 2", &wide, &mut |s| {
-        mixed(&mut rng, &wide, s, 4)
+        of_kinds(&mut rng, &wide, s, &RayKind::ALL, 4)
     }));
     all.report(&mut out);
     println!("{out}");
@@ -226,7 +175,7 @@ fn height_range_1e6() {
     let mut t32 = Tally::new("height range 1e6 / f32 (z relative)");
     let eps = eps_f32(field.z_scale());
     let mut raw_max = 0f64;
-    let (xm, ym) = ((field.w - 1) as f64, (field.h - 1) as f64);
+    let (xm, ym) = field.far_corner();
     for surface in Surface::ALL {
         // Origins near the footprint horizontally (far origins cost `f32` the same
         // precision on any field), at any height; aimed at points of the box, or vertical.
@@ -248,12 +197,7 @@ fn height_range_1e6() {
                 } else {
                     o
                 };
-                RaySpec {
-                    o,
-                    d,
-                    t_min: 0.0,
-                    t_max: f64::INFINITY,
-                }
+                RaySpec::whole(o, d)
             })
             .collect();
         for spec in rays {
@@ -343,12 +287,7 @@ fn field_8193_by_16() {
         let dy = rng.range(-1.0, 1.0) * (14.0 - 1.0) / 8200.0;
         let d = [rng.range(0.5, 2.0), dy, 0.0];
         for surface in Surface::ALL {
-            let spec = RaySpec {
-                o,
-                d,
-                t_min: 0.0,
-                t_max: f64::INFINITY,
-            };
+            let spec = RaySpec::whole(o, d);
             let q32 = spec.q32();
             let q64 = q32.cast::<f64>();
             let [ox, oy, oz] = q64.origin();
@@ -466,12 +405,7 @@ fn saddle_cells() {
                 ([v, 5.5, z], [0.0, -1.0, dz]),
                 ([5.5, v + 0.0625, z], [-1.0, 0.0, dz]),
             ] {
-                let spec = RaySpec {
-                    o,
-                    d,
-                    t_min: 0.0,
-                    t_max: f64::INFINITY,
-                };
+                let spec = RaySpec::whole(o, d);
                 j.add(&field, Surface::Bilinear, &spec.q64());
                 j.add(&field, Surface::Bilinear, &spec.q32());
                 j.add(&field, Surface::ViewLinear, &spec.q64());

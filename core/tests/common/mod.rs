@@ -43,6 +43,10 @@ impl Field {
     pub fn at(&self, i: u32, j: u32) -> f32 {
         self.samples[j as usize * self.stride + i as usize]
     }
+    /// The footprint's far corner `(W − 1, H − 1)`.
+    pub fn far_corner(&self) -> (f64, f64) {
+        ((self.w - 1) as f64, (self.h - 1) as f64)
+    }
     /// `(min, max)` height.
     pub fn range(&self) -> (f64, f64) {
         let hf = self.hf();
@@ -310,6 +314,15 @@ pub struct RaySpec {
 }
 
 impl RaySpec {
+    /// The ray `o + t·d` over `[0, ∞)`.
+    pub fn whole(o: [f64; 3], d: [f64; 3]) -> RaySpec {
+        RaySpec {
+            o,
+            d,
+            t_min: 0.0,
+            t_max: f64::INFINITY,
+        }
+    }
     /// The `f64` query.
     pub fn q64(&self) -> Query<f64> {
         Query::from_arrays(self.o, self.d, self.t_min, self.t_max).expect("valid ray")
@@ -377,7 +390,7 @@ fn dir_from(rng: &mut Rng, elevation: f64) -> [f64; 3] {
 /// A random ray of `kind` for `field`: the origin is sometimes inside and sometimes
 /// outside the box, `t_min`/`t_max` are usually `0`/`∞` but not always.
 pub fn random_ray(rng: &mut Rng, field: &Field, surface: Surface, kind: RayKind) -> RaySpec {
-    let (xm, ym) = ((field.w - 1) as f64, (field.h - 1) as f64);
+    let (xm, ym) = field.far_corner();
     let (zlo, zhi) = field.range();
     let zr = (zhi - zlo).max(1e-3);
     let hf = field.hf();
@@ -534,6 +547,44 @@ pub fn random_ray(rng: &mut Rng, field: &Field, surface: Surface, kind: RayKind)
         }
     };
     finish(rng, o, d)
+}
+
+/// `n` rounds of one random ray of each of `kinds`, in turn.
+pub fn of_kinds(
+    rng: &mut Rng,
+    field: &Field,
+    surface: Surface,
+    kinds: &[RayKind],
+    n: usize,
+) -> Vec<RaySpec> {
+    (0..n)
+        .flat_map(|_| kinds.iter().copied())
+        .map(|k| random_ray(rng, field, surface, k))
+        .collect()
+}
+
+/// Rays at exactly `elevation` (radians, up or down) from just above the surface,
+/// some along an axis.
+pub fn grazing(rng: &mut Rng, field: &Field, surface: Surface, n: usize, el: f64) -> Vec<RaySpec> {
+    let hf = field.hf();
+    let (xm, ym) = field.far_corner();
+    let (lo, hi) = field.range();
+    (0..n)
+        .map(|_| {
+            let el = el * rng.sign();
+            let az = rng.range(0.0, std::f64::consts::TAU);
+            let (x, y) = (rng.range(-0.5, xm + 0.5), rng.range(-0.5, ym + 0.5));
+            let z = surface.height_at(&hf, x, y) + rng.range(-0.001, 0.2) * (hi - lo).max(1e-3);
+            let d = if rng.chance(0.25) {
+                let mut d = [0.0, 0.0, el.sin()];
+                d[rng.below(2)] = rng.sign() * el.cos();
+                d
+            } else {
+                [el.cos() * az.cos(), el.cos() * az.sin(), el.sin()]
+            };
+            RaySpec::whole([x, y, z], d)
+        })
+        .collect()
 }
 
 /// Picks the parameter range: mostly `[0, ∞)`, sometimes a negative or positive
@@ -735,7 +786,7 @@ pub fn judge<R: Real>(field: &Field, surface: Surface, q: &Query<R>) -> (Outcome
     let is64 = R::EPSILON.to_f64() < 1e-10;
     let hf = field.hf();
     let q64 = q.cast::<f64>();
-    let (xm, ym) = ((field.w - 1) as f64, (field.h - 1) as f64);
+    let (xm, ym) = field.far_corner();
     let (zlo, zhi) = field.range();
     let (o, d) = (q64.origin(), q64.dir());
     let dlen = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
@@ -959,18 +1010,16 @@ pub fn rays_with_grazing(
         .map(|kind| random_ray(rng, field, surface, kind))
         .collect();
     let hf = field.hf();
-    let (xm, ym) = ((field.w - 1) as f64, (field.h - 1) as f64);
+    let (xm, ym) = field.far_corner();
     for _ in 0..per_kind * 2 {
         let (x, y) = (rng.range(0.0, xm), rng.range(0.0, ym));
         let el = rng.sign() * 10f64.powf(rng.range(-4.0, -1.0));
         let az = rng.range(0.0, std::f64::consts::TAU);
         let z = surface.height_at(&hf, x, y) + rng.range(0.0, 0.05);
-        v.push(RaySpec {
-            o: [x, y, z],
-            d: [az.cos() * el.cos(), az.sin() * el.cos(), el.sin()],
-            t_min: 0.0,
-            t_max: f64::INFINITY,
-        });
+        v.push(RaySpec::whole(
+            [x, y, z],
+            [az.cos() * el.cos(), az.sin() * el.cos(), el.sin()],
+        ));
     }
     v
 }
