@@ -5,6 +5,7 @@
 use hfcast::bake::{Spec, Texels};
 use hfcast::ktx2::{Desc, MapKind};
 use hfcast::{brute, dda, judge, Flags, HeightField, Query, RayClass, Real, Surface, Trace};
+use std::ops::Range;
 
 /// The tests' seeded generator: SplitMix64 from `seed ^ GOLDEN` ([`Rng::new`]).
 pub use hfcast::rng::SplitMix as Rng;
@@ -323,15 +324,19 @@ impl RaySpec {
             t_max: f64::INFINITY,
         }
     }
+    /// The query in precision `R` (values rounded to `R`).
+    pub fn query<R: Real>(&self) -> Query<R> {
+        let c = |v: [f64; 3]| v.map(R::from_f64);
+        let (t_min, t_max) = (R::from_f64(self.t_min), R::from_f64(self.t_max));
+        Query::from_arrays(c(self.o), c(self.d), t_min, t_max).expect("valid ray")
+    }
     /// The `f64` query.
     pub fn q64(&self) -> Query<f64> {
-        Query::from_arrays(self.o, self.d, self.t_min, self.t_max).expect("valid ray")
+        self.query()
     }
     /// The `f32` query (values rounded to `f32`).
     pub fn q32(&self) -> Query<f32> {
-        let c = |v: [f64; 3]| v.map(|x| x as f32);
-        Query::from_arrays(c(self.o), c(self.d), self.t_min as f32, self.t_max as f32)
-            .expect("valid ray")
+        self.query()
     }
 }
 
@@ -1154,6 +1159,25 @@ pub fn check_bakes(
 /// The fractal field of the row-range tests: 23×17, rows padded to a stride of 25.
 pub fn rows_field(seed: u64) -> Field {
     fractal_field(&mut Rng::new(seed), 23, 17, 25, 5.0)
+}
+
+/// `whole`, a byte map of `row` bytes a row, baked again by `bake_rows(rows, out)` in
+/// the row ranges `ranges` (every row once), each into its rows of a buffer of
+/// `whole`'s size: the bytes must be `whole`'s.
+pub fn assert_rows_rebake(
+    whole: &[u8],
+    row: usize,
+    ranges: &[Range<u32>],
+    mut bake_rows: impl FnMut(Range<u32>, &mut [u8]),
+) {
+    let mut parts = vec![0u8; whole.len()];
+    for r in ranges {
+        bake_rows(
+            r.clone(),
+            &mut parts[r.start as usize * row..r.end as usize * row],
+        );
+    }
+    assert_eq!(whole, parts);
 }
 
 /// An independent bake check must fail somewhere on the bakes inflated by one (their
