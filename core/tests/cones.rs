@@ -9,7 +9,7 @@ mod common;
 
 use common::{
     add_counts, baked_floats, checkerboard_field, dist, eps_f32, fractal_fields, keep_example,
-    needles_field, plateau_field, random_ray, small_fields, Field, RayKind, Rng,
+    kind_blocks, needles_field, plateau_field, random_ray, small_fields, Field, RayKind, Rng,
 };
 use hfcast::bake::Spec;
 use hfcast::cone::CellMap;
@@ -117,13 +117,8 @@ fn run_conservative<R: Real>(
 
 /// Random f32 rays of every kind for a field.
 fn rays_for(field: &Field, rng: &mut Rng, per_kind: usize) -> Vec<Query<f32>> {
-    let mut v = Vec::new();
-    for kind in RayKind::ALL {
-        for _ in 0..per_kind {
-            v.push(random_ray(rng, field, TRI, kind).q32());
-        }
-    }
-    v
+    let specs = kind_blocks(rng, field, TRI, &RayKind::ALL, per_kind);
+    specs.iter().map(|s| s.q32()).collect()
 }
 
 /// A core bake `(field, scratch, out)`.

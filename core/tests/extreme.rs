@@ -1349,20 +1349,18 @@ fn step_bounds() {
 fn oracle_on_small_fields() {
     let mut rng = Rng::new(0xE7_0009);
     let mut j = Judged::new("small random fields: DDA vs brute force, extreme kinds");
+    let kinds = [
+        RayKind::Grazing,
+        RayKind::VerticalHalf,
+        RayKind::CornerOrigin,
+        RayKind::Inside,
+    ];
     for _ in 0..30 {
         let field = small_field(&mut rng);
         for surface in CONTINUOUS {
-            for kind in [
-                RayKind::Grazing,
-                RayKind::VerticalHalf,
-                RayKind::CornerOrigin,
-                RayKind::Inside,
-            ] {
-                for _ in 0..4 {
-                    let spec = random_ray(&mut rng, &field, surface, kind);
-                    j.add(&field, surface, &spec.q64());
-                    j.add(&field, surface, &spec.q32());
-                }
+            for spec in kind_blocks(&mut rng, &field, surface, &kinds, 4) {
+                j.add(&field, surface, &spec.q64());
+                j.add(&field, surface, &spec.q32());
             }
         }
     }

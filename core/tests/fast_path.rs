@@ -84,11 +84,8 @@ fn f32_traversal_matches_f64_on_fractal_fields() {
         for surface in Surface::ALL {
             let mut t = Tally::new(format!("{name} / {}", surface.name()));
             let mut over = 0;
-            for _ in 0..RAYS_PER_KIND {
-                for kind in RayKind::ALL {
-                    let spec = random_ray(&mut rng, field, surface, kind);
-                    compare(field, surface, &spec.q32(), &mut t, &mut over);
-                }
+            for spec in of_kinds(&mut rng, field, surface, &RayKind::ALL, RAYS_PER_KIND) {
+                compare(field, surface, &spec.q32(), &mut t, &mut over);
             }
             t.report(&mut out);
             if over > 0 {

@@ -554,18 +554,16 @@ pub fn random_ray(rng: &mut Rng, field: &Field, surface: Surface, kind: RayKind)
     finish(rng, o, d)
 }
 
-/// `n` rounds of one random ray of each of `kinds`, in turn.
-pub fn of_kinds(
-    rng: &mut Rng,
-    field: &Field,
-    surface: Surface,
-    kinds: &[RayKind],
-    n: usize,
-) -> Vec<RaySpec> {
-    (0..n)
-        .flat_map(|_| kinds.iter().copied())
-        .map(|k| random_ray(rng, field, surface, k))
-        .collect()
+/// `n` random rays (for surface `s` of `f`) of each kind of `ks`, kind after kind.
+pub fn kind_blocks(rng: &mut Rng, f: &Field, s: Surface, ks: &[RayKind], n: usize) -> Vec<RaySpec> {
+    let kinds = ks.iter().flat_map(|&k| vec![k; n]);
+    kinds.map(|k| random_ray(rng, f, s, k)).collect()
+}
+
+/// `n` rounds of one random ray (for surface `s` of `f`) of each kind of `ks`, in turn.
+pub fn of_kinds(rng: &mut Rng, f: &Field, s: Surface, ks: &[RayKind], n: usize) -> Vec<RaySpec> {
+    let kinds = (0..n).flat_map(|_| ks.iter().copied());
+    kinds.map(|k| random_ray(rng, f, s, k)).collect()
 }
 
 /// Rays at exactly `elevation` (radians, up or down) from just above the surface,
@@ -1009,11 +1007,7 @@ pub fn rays_with_grazing(
     rng: &mut Rng,
     per_kind: usize,
 ) -> Vec<RaySpec> {
-    let mut v: Vec<RaySpec> = RayKind::ALL
-        .into_iter()
-        .flat_map(|kind| vec![kind; per_kind])
-        .map(|kind| random_ray(rng, field, surface, kind))
-        .collect();
+    let mut v = kind_blocks(rng, field, surface, &RayKind::ALL, per_kind);
     let hf = field.hf();
     let (xm, ym) = field.far_corner();
     for _ in 0..per_kind * 2 {
