@@ -36,19 +36,15 @@ fn compare(field: &Field, surface: Surface, q32: &Query<f32>, tally: &mut Tally,
     let q64 = q32.cast::<f64>();
     let oracle = dda::trace(&hf, surface, &q64);
     let fast = dda::trace(&hf, surface, q32);
-    tally.tried += 1;
-    if oracle.hit.is_some() {
-        tally.hits += 1;
-    }
-    if is_ambiguous(&oracle, eps_f32(field.z_scale())) || near_pinch(field, surface, &q64, PINCH) {
-        tally.ambiguous += 1;
+    let ambiguous =
+        is_ambiguous(&oracle, eps_f32(field.z_scale())) || near_pinch(field, surface, &q64, PINCH);
+    if !tally.ray(oracle.hit.is_some(), ambiguous) {
         return;
     }
     match (oracle.hit, fast.hit) {
         (None, None) => {}
         (Some(o), Some(f)) => {
-            let e = dist(p64::<f64>(o.point), p64::<f32>(f.point));
-            tally.err(e);
+            let e = tally.err_between(p64::<f64>(o.point), p64::<f32>(f.point));
             if e > WRONG {
                 tally.wrong(|| format!("{surface:?} {q32:?}: f64 {o:?} f32 {f:?}"));
             } else if e > tight(p64::<f64>(o.point)) {
@@ -279,9 +275,7 @@ fn f32_traversal_is_watertight_on_corners_edges_and_diagonals() {
                         t.wrong(|| format!("{surface:?} f32 slips through {q:?}, oracle {oh:?}"))
                     }
                     Some(fh) => {
-                        let e = dist(p64::<f64>(oh.point), p64::<f32>(fh.point));
-                        t.err(e);
-                        if e > WRONG {
+                        if t.err_between(p64::<f64>(oh.point), p64::<f32>(fh.point)) > WRONG {
                             t.wrong(|| format!("{surface:?} {q:?}: f64 {oh:?} f32 {fh:?}"));
                         }
                     }

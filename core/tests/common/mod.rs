@@ -649,6 +649,21 @@ impl Tally {
         self.wrong += 1;
         keep_example(&mut self.examples, 5, what);
     }
+    /// Counts one traced ray, a hit of its reference (`hits`) and whether it is
+    /// `ambiguous`; `true` when it is to be compared (not ambiguous).
+    pub fn ray(&mut self, hits: bool, ambiguous: bool) -> bool {
+        self.tried += 1;
+        self.hits += u64::from(hits);
+        self.ambiguous += u64::from(ambiguous);
+        !ambiguous
+    }
+    /// Records the position error of two compared hit points (the reference's `a`,
+    /// the trace's `b`) and returns it.
+    pub fn err_between(&mut self, a: [f64; 3], b: [f64; 3]) -> f64 {
+        let e = dist(a, b);
+        self.err(e);
+        e
+    }
     /// Records the position error of one compared hit.
     pub fn err(&mut self, e: f64) {
         self.compared_hits += 1;
