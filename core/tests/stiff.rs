@@ -24,6 +24,35 @@ use common::*;
 use hfcast::surface::smallest_root_in_unit;
 use hfcast::{brute, dda, Query, Surface};
 
+/// The `f64` and `f32` judgements of one case: "`name` / f64" and "`name` / f32".
+struct Both {
+    j64: Judged,
+    j32: Judged,
+}
+
+impl Both {
+    fn new(name: &str) -> Both {
+        Both {
+            j64: Judged::new(format!("{name} / f64")),
+            j32: Judged::new(format!("{name} / f32")),
+        }
+    }
+
+    /// Judges `spec` on `field` and `surface` in both precisions.
+    fn add(&mut self, field: &Field, surface: Surface, spec: &RaySpec) {
+        self.j64.add(field, surface, &spec.q64());
+        self.j32.add(field, surface, &spec.q32());
+    }
+
+    /// Appends both per-case lines to `out` and adds both counts to `all`.
+    fn report_into(&self, out: &mut String, all: &mut Judged) {
+        self.j64.report(out);
+        self.j32.report(out);
+        all.absorb(&self.j64);
+        all.absorb(&self.j32);
+    }
+}
+
 /// Judges every ray of `rays` on every surface, in `f64` and in `f32`, and appends the
 /// per-case lines; returns both precisions' counts together.
 fn run_case(
@@ -32,25 +61,35 @@ fn run_case(
     field: &Field,
     rays: &mut dyn FnMut(Surface) -> Vec<RaySpec>,
 ) -> Judged {
-    let mut j64 = Judged::new(format!("{name} / f64"));
-    let mut j32 = Judged::new(format!("{name} / f32"));
+    let mut both = Both::new(name);
     for surface in Surface::ALL {
         for spec in rays(surface) {
-            j64.add(field, surface, &spec.q64());
-            j32.add(field, surface, &spec.q32());
+            both.add(field, surface, &spec);
         }
     }
+    let Both { mut j64, j32 } = both;
     j64.report(out);
     j32.report(out);
     j64.absorb(&j32);
     j64
 }
 
+/// Appends the totals `all` to `out`, prints it and asserts no wrong ray and few
+/// enough ambiguous ones (under 1 in 7) for the case to be a test.
+fn finish(mut out: String, all: &Judged) {
+    all.report(&mut out);
+    println!("{out}");
+    assert_eq!(all.tally.wrong, 0);
+    assert!(
+        all.tally.ambiguous * 7 < all.tally.tried,
+        "too few rays compared"
+    );
+}
+
 #[test]
 fn stiff_rays_on_small_fields() {
     let mut rng = Rng::new(0x57_1FF);
     let mut out = String::from("stiff rays: f64 / f32 DDA vs brute force\n");
-    let mut wrong = 0;
     let mut fields: Vec<Field> = (0..40).map(|_| small_field(&mut rng)).collect();
     fields.push(fractal_field(&mut rng, 24, 20, 27, 3.0));
     // A tilted plane: grazing rays along the slope graze at every step.
@@ -79,29 +118,17 @@ fn stiff_rays_on_small_fields() {
     ];
     let mut all = Judged::new("all stiff rays, both precisions");
     for (name, gen) in cases {
-        let mut j64 = Judged::new(format!("{name} / f64"));
-        let mut j32 = Judged::new(format!("{name} / f32"));
+        let mut both = Both::new(name);
         for field in &fields {
             for surface in Surface::ALL {
                 for spec in gen(&mut rng, field, surface) {
-                    j64.add(field, surface, &spec.q64());
-                    j32.add(field, surface, &spec.q32());
+                    both.add(field, surface, &spec);
                 }
             }
         }
-        j64.report(&mut out);
-        j32.report(&mut out);
-        wrong += j64.tally.wrong + j32.tally.wrong;
-        all.absorb(&j64);
-        all.absorb(&j32);
+        both.report_into(&mut out, &mut all);
     }
-    all.report(&mut out);
-    println!("{out}");
-    assert_eq!(wrong, 0);
-    assert!(
-        all.tally.ambiguous * 7 < all.tally.tried,
-        "too few rays compared"
-    );
+    finish(out, &all);
 }
 
 #[test]
@@ -119,8 +146,7 @@ fn stiff_fields() {
         }));
     }
     {
-        let mut j64 = Judged::new("2x2 fields / f64");
-        let mut j32 = Judged::new("2x2 fields / f32");
+        let mut both = Both::new("2x2 fields");
         for k in 0..150 {
             let stride = 2 + k % 3;
             let field = Field::from_fn(2, 2, stride, |_, _| {
@@ -132,15 +158,11 @@ fn stiff_fields() {
             });
             for surface in Surface::ALL {
                 for spec in of_kinds(&mut rng, &field, surface, &RayKind::ALL, 2) {
-                    j64.add(&field, surface, &spec.q64());
-                    j32.add(&field, surface, &spec.q32());
+                    both.add(&field, surface, &spec);
                 }
             }
         }
-        j64.report(&mut out);
-        j32.report(&mut out);
-        all.absorb(&j64);
-        all.absorb(&j32);
+        both.report_into(&mut out, &mut all);
     }
     let tiny = Field::from_fn(9, 7, 9, |_, _| (rng.unit() * 1e-6) as f32);
     all.absorb(&run_case(&mut out, "height range 1e-6", &tiny, &mut |s| {
@@ -154,13 +176,7 @@ fn stiff_fields() {
     all.absorb(&run_case(&mut out, "4096 x 2", &wide, &mut |s| {
         of_kinds(&mut rng, &wide, s, &RayKind::ALL, 4)
     }));
-    all.report(&mut out);
-    println!("{out}");
-    assert_eq!(all.tally.wrong, 0);
-    assert!(
-        all.tally.ambiguous * 7 < all.tally.tried,
-        "too few rays compared"
-    );
+    finish(out, &all);
 }
 
 /// Heights up to 1e6: in `f32` the hit's `z` is only good to its spacing (0.06 at 1e6),
