@@ -1334,13 +1334,17 @@ fn dda_drift_over_1e4_cells() {
 #[test]
 fn step_bounds() {
     let mut rng = Rng::new(0xE7_0008);
-    let fields = vec![
-        needles(&mut rng, 300, 200, 3.0, 50),
-        fractal_field(&mut rng, 257, 257, 257, 20.0),
-    ];
+    let spikes = needles(&mut rng, 300, 200, 3.0, 50);
+    let fractal = fractal_field(&mut rng, 257, 257, 257, 20.0);
     let name = "costly rays (diagonals, grazing, long)";
-    let case = run_case(name, false, &fields, &CONTINUOUS, 13, costly);
-    finish(&[case]);
+    finish(&[run_case(
+        name,
+        false,
+        &[spikes, fractal],
+        &CONTINUOUS,
+        13,
+        costly,
+    )]);
 }
 
 /// The oracle's own ground: on a few random small fields with extreme ray kinds, the

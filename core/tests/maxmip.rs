@@ -82,20 +82,23 @@ fn layout_sizes() {
     );
 }
 
+/// The field sizes (samples) the bake is checked on: one cell, single rows and columns
+/// of cells, power-of-two cell counts (129 × 65) and others.
+const BAKE_SIZES: [(u32, u32); 8] = [
+    (2, 2),
+    (3, 2),
+    (2, 64),
+    (64, 2),
+    (37, 23),
+    (129, 65),
+    (17, 33),
+    (64, 64),
+];
+
 #[test]
 fn bake_matches_definition() {
     let mut rng = Rng::new(41);
-    let sizes = [
-        (2, 2),
-        (3, 2),
-        (2, 64),
-        (64, 2),
-        (37, 23),
-        (129, 65),
-        (17, 33),
-        (64, 64),
-    ];
-    for (w, h) in sizes {
+    for (w, h) in BAKE_SIZES {
         let stride = w as usize + rng.below(3);
         let f = fractal_field(&mut rng, w, h, stride, 10.0);
         let hf = f.hf();
