@@ -8,8 +8,8 @@
 mod common;
 
 use common::wall;
-use hfcast::safety::cc::{self, CcOptions};
-use hfcast::safety::{self, AllRays, Options, Variant};
+use hfcast::bake::Spec;
+use hfcast::ktx2::{DataMut, Desc, MapKind};
 use hfcast::scene::RayClasses;
 use hfcast::{HeightField, RayClass};
 
@@ -31,21 +31,25 @@ fn main() {
         })
         .collect();
     let hf = HeightField::new(&heights, side, side, side as usize).expect("field");
-    let mut scratch = vec![0.0; safety::scratch_len(side, side)];
-    safety::prepare(&hf, &mut scratch).expect("prepare");
     let two = RayClasses::NONE.with(RayClass::XPos).with(RayClass::YNeg);
     let one = RayClasses::NONE.with(RayClass::XPos);
     println!("{side} x {side} field, one thread, median of {reps}");
     println!("| bake | classes | bytes | ms | vs all |");
     println!("|---|---|---:|---:|---:|");
-    let sd = |name: &str, classes: RayClasses, variant: Variant, base: f64| -> f64 {
-        let opts = Options {
-            variant,
-            ..Options::default()
-        };
-        let mut out = vec![0u8; safety::map_len_classes(side, side, variant, classes)];
+    // Times the row bake of the map `map` holding `classes` only (its scratch filled
+    // beforehand) and prints its line; `base` is the time of the bake of every class
+    // (0: this one).
+    let bake = |name: &str, map: MapKind, classes: RayClasses, base: f64| -> f64 {
+        let spec = Spec::new(Desc {
+            classes,
+            ..Desc::new(map, side, side)
+        });
+        let mut scratch = vec![0.0; spec.scratch_len()];
+        spec.prepare(&hf, &mut scratch).expect("prepare");
+        let mut out = vec![0u8; spec.map_len().expect("map size")];
         let s = wall(reps, || {
-            safety::bake_rows_classes(&hf, &scratch, &AllRays, classes, 0..side, opts, &mut out)
+            let rows = 0..spec.rows();
+            spec.bake_rows(&hf, &scratch, rows, DataMut::U8(&mut out))
                 .expect("bake");
         });
         let base = if base > 0.0 { base } else { s };
@@ -58,29 +62,10 @@ fn main() {
         );
         s
     };
-    let all = sd("SD directional", RayClasses::ALL, Variant::Directional, 0.0);
-    sd("SD directional", two, Variant::Directional, all);
-    sd("SD isotropic", one, Variant::Isotropic, all);
-    let opts = CcOptions::default();
-    let mut nb = vec![0.0; cc::nbuffer_len(side, side, opts.cap)];
-    cc::prepare_nbuffer(&hf, opts.cap, &mut nb).expect("n-buffer");
-    let ccb = |classes: RayClasses, base: f64| -> f64 {
-        let mut out = vec![0u8; cc::map_len_classes(side, side, classes)];
-        let s = wall(reps, || {
-            cc::bake_rows_classes(&hf, &scratch, &nb, classes, 0..side, opts, &mut out)
-                .expect("bake");
-        });
-        let base = if base > 0.0 { base } else { s };
-        println!(
-            "| CC exact slope | {} | {} | {:.1} | {:.2} |",
-            classes.count(),
-            out.len(),
-            s * 1e3,
-            s / base
-        );
-        s
-    };
-    let all = ccb(RayClasses::ALL, 0.0);
-    ccb(two, all);
-    ccb(one, all);
+    let all = bake("SD directional", MapKind::Safety, RayClasses::ALL, 0.0);
+    bake("SD directional", MapKind::Safety, two, all);
+    bake("SD isotropic", MapKind::SafetyIsotropic, one, all);
+    let all = bake("CC exact slope", MapKind::Cc, RayClasses::ALL, 0.0);
+    bake("CC exact slope", MapKind::Cc, two, all);
+    bake("CC exact slope", MapKind::Cc, one, all);
 }

@@ -50,12 +50,7 @@ fn rays_of(field: &Field, hf: &HeightField, seed: u64, n: usize) -> Vec<RaySpec>
     for el in [45.0, 5.0, 80.0] {
         for q in camera_rays(hf, el, 30.0 + el, 96, 80) {
             let (o, d) = (q.origin(), q.dir());
-            v.push(RaySpec {
-                o: o.map(f64::from),
-                d: d.map(f64::from),
-                t_min: 0.0,
-                t_max: f64::INFINITY,
-            });
+            v.push(RaySpec::whole(o.map(f64::from), d.map(f64::from)));
         }
     }
     let mut rng = Rng::new(seed);

@@ -9,6 +9,7 @@
 mod common;
 use common::{camera_rays, in_bands, load_png, median, options, parse_size, wall};
 use hfcast::maxmip::{self, Ascent, Layout, MaxMip, Options};
+use hfcast::rng::SplitMix;
 use hfcast::{dda, HeightField, Query, Surface, Trace};
 use std::hint::black_box;
 use std::time::Instant;
@@ -42,21 +43,6 @@ fn time(reps: usize, mut f: impl FnMut()) -> f64 {
     )
 }
 
-/// SplitMix64.
-struct Rng(u64);
-impl Rng {
-    fn f64(&mut self) -> f64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        ((z ^ (z >> 31)) >> 11) as f64 / (1u64 << 53) as f64
-    }
-    fn range(&mut self, lo: f64, hi: f64) -> f64 {
-        lo + (hi - lo) * self.f64()
-    }
-}
-
 /// Heights, width and height of a map.
 type Map = (Vec<f32>, u32, u32);
 
@@ -72,7 +58,7 @@ fn load_heights(name: &str) -> Option<Map> {
 /// A synthetic `n × n` fractal-ish field: separable waves of falling amplitude plus
 /// hashed noise, heights up to about 0.1 · n.
 fn synthetic(n: u32) -> Vec<f32> {
-    let mut rng = Rng(17);
+    let mut rng = SplitMix::from_state(17);
     let waves: Vec<(Vec<f32>, Vec<f32>)> = (0..8)
         .map(|k| {
             let f = 0.004 * 2f64.powi(k);
@@ -124,7 +110,7 @@ fn bake_threads(hf: &HeightField, pyramid: &mut [f32], threads: u32) {
 
 /// `n` rays with origins uniform in the field's box and directions uniform on the sphere.
 fn random_rays(hf: &HeightField, n: usize) -> Vec<Query<f32>> {
-    let mut rng = Rng(99);
+    let mut rng = SplitMix::from_state(99);
     let (w, h) = ((hf.width() - 1) as f64, (hf.height() - 1) as f64);
     let (zmin, zmax) = (hf.min_height() as f64, hf.max_height() as f64);
     (0..n)
@@ -234,7 +220,7 @@ fn main() {
         let hf = HeightField::new(&samples, n, n, n as usize).unwrap();
         let mut pyr = vec![0f32; maxmip::pyramid_len(n, n)];
         maxmip::bake(&hf, &mut pyr).unwrap();
-        let mut rng = Rng(5);
+        let mut rng = SplitMix::from_state(5);
         let rects: Vec<(u32, u32)> = (0..64)
             .map(|_| {
                 (

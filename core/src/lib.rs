@@ -136,6 +136,7 @@ pub mod radius;
 pub mod ray;
 #[cfg(feature = "relaxed")]
 pub mod relaxed;
+pub mod rng;
 #[cfg(feature = "safety")]
 pub mod safety;
 pub mod scene;

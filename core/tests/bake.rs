@@ -60,19 +60,8 @@ fn own_bake(hf: &HeightField, spec: &Spec) -> Map {
         MapKind::Cone => cone::bake(hf, &mut pyramid, &mut f).unwrap(),
         MapKind::Relaxed => relaxed::bake(hf, &mut pyramid, &mut f).unwrap(),
         MapKind::Qdm => qdm::bake(hf, &mut pyramid, &mut f).unwrap(),
-        MapKind::Safety | MapKind::SafetyIsotropic => {
-            let variant = match spec.desc.map {
-                MapKind::Safety => Variant::Directional,
-                _ => Variant::Isotropic,
-            };
-            let opts = Options {
-                variant,
-                positive: spec.positive,
-                cap,
-            };
-            safety::prepare(hf, &mut strips).unwrap();
-            safety::bake_rows_classes(hf, &strips, &AllRays, classes, 0..h, opts, &mut b).unwrap()
-        }
+        MapKind::Safety => b = safety_bake(hf, spec, Variant::Directional),
+        MapKind::SafetyIsotropic => b = safety_bake(hf, spec, Variant::Isotropic),
         MapKind::Cc => {
             let mut nb = vec![0.0; cc::nbuffer_len(w, h, cap)];
             let slope = match spec.nbuffer_slope {
@@ -96,6 +85,22 @@ fn own_bake(hf: &HeightField, spec: &Spec) -> Map {
         true => Map::F32(f),
         false => Map::U8(b),
     }
+}
+
+/// `spec`'s safety-distance map of `variant`, baked by `safety`'s own functions.
+fn safety_bake(hf: &HeightField, spec: &Spec, variant: Variant) -> Vec<u8> {
+    let (w, h) = (hf.width(), hf.height());
+    let mut strips = vec![0.0; safety::scratch_len(w, h)];
+    safety::prepare(hf, &mut strips).unwrap();
+    let opts = Options {
+        variant,
+        positive: spec.positive,
+        cap: spec.desc.cap,
+    };
+    let mut out = vec![0; spec.map_len().unwrap()];
+    let classes = spec.desc.classes;
+    safety::bake_rows_classes(hf, &strips, &AllRays, classes, 0..h, opts, &mut out).unwrap();
+    out
 }
 
 /// Every map kind, with a few non-default choices.

@@ -145,25 +145,28 @@ mod safety_classes {
         out
     }
 
-    /// Rays of every kind whose class is in `classes`.
+    /// The kinds of the rays the class tests trace, in turn: rays of every class, some
+    /// of them along an axis or a cell diagonal.
+    const KINDS: [RayKind; 7] = [
+        RayKind::Down,
+        RayKind::Up,
+        RayKind::Grazing,
+        RayKind::Horizontal,
+        RayKind::Diagonal,
+        RayKind::AxisX,
+        RayKind::AxisY,
+    ];
+
+    /// `n` rays of the [`KINDS`] whose class is in `classes`.
     fn rays_of(f: &Field, classes: RayClasses, n: usize) -> Vec<Query<f32>> {
         let mut rng = Rng::new(99);
-        let kinds = [
-            RayKind::Down,
-            RayKind::Up,
-            RayKind::Grazing,
-            RayKind::Horizontal,
-            RayKind::Diagonal,
-            RayKind::AxisX,
-            RayKind::AxisY,
-        ];
         let mut out = Vec::new();
         for k in 0.. {
             if out.len() == n {
                 break;
             }
             assert!(k < 100 * n, "too few rays of {classes:?}");
-            let q = random_ray(&mut rng, f, Surface::Triangles, kinds[k % kinds.len()]).q32();
+            let q = random_ray(&mut rng, f, Surface::Triangles, KINDS[k % KINDS.len()]).q32();
             if classes.contains(RayClass::of(q.dir()[0], q.dir()[1])) {
                 out.push(q);
             }

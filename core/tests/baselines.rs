@@ -20,23 +20,17 @@ fn measure(field: &Field, surface: Surface, method: Method, rays: &[Query<f32>])
     let hf = field.hf();
     let mut t = Tally::new(format!("{:?}", method));
     let mut impossible = 0;
+    let eps = eps_f32(field.z_scale());
     for q in rays {
         let oracle = dda::trace(&hf, surface, &q.cast::<f64>());
         let got = method.trace(&hf, surface, q);
-        t.tried += 1;
-        if oracle.hit.is_some() {
-            t.hits += 1;
-        }
-        if is_ambiguous(&oracle, eps_f32(field.z_scale())) {
-            t.ambiguous += 1;
+        if !t.ray(oracle.hit.is_some(), is_ambiguous(&oracle, eps)) {
             continue;
         }
         match (oracle.hit, got.hit) {
             (None, None) => {}
             (Some(o), Some(g)) => {
-                let e = dist(p64::<f64>(o.point), p64::<f32>(g.point));
-                t.err(e);
-                if e > WRONG {
+                if t.err_between(p64::<f64>(o.point), p64::<f32>(g.point)) > WRONG {
                     t.wrong += 1;
                 }
             }

@@ -8,10 +8,13 @@
 mod common;
 
 use common::{
-    checkerboard_field, dist, eps_f32, fractal_fields, needles_field, plateau_field, random_ray,
-    small_fields, Field, RayKind, Rng,
+    add_counts, baked_floats, checkerboard_field, dist, eps_f32, fractal_fields, keep_example,
+    kind_blocks, needles_field, plateau_field, random_ray, small_fields, Field, RayKind, Rng,
 };
-use hfcast::{cone, dda, qdm, relaxed, Query, Real, Surface, Trace};
+use hfcast::bake::Spec;
+use hfcast::cone::CellMap;
+use hfcast::ktx2::{Desc, MapKind};
+use hfcast::{cone, dda, qdm, relaxed, HeightField, Query, Real, Surface, Trace};
 
 const TRI: Surface = Surface::Triangles;
 
@@ -89,9 +92,7 @@ fn run_conservative<R: Real>(
         }
         if over {
             c.overstep += 1;
-            if c.examples.len() < 3 {
-                c.examples.push(format!("overstep {q32:?}"));
-            }
+            keep_example(&mut c.examples, 3, || format!("overstep {q32:?}"));
         }
         if got.flags.contains(hfcast::Flags::BUDGET_EXHAUSTED) {
             c.exhausted += 1;
@@ -106,12 +107,9 @@ fn run_conservative<R: Real>(
             c.converged += 1;
         } else {
             c.wrong += 1;
-            if c.examples.len() < 3 {
-                c.examples.push(format!(
-                    "wrong {q32:?} got {:?} oracle {:?}",
-                    got.hit, oracle.hit
-                ));
-            }
+            keep_example(&mut c.examples, 3, || {
+                format!("wrong {q32:?} got {:?} oracle {:?}", got.hit, oracle.hit)
+            });
         }
     }
     c
@@ -119,40 +117,98 @@ fn run_conservative<R: Real>(
 
 /// Random f32 rays of every kind for a field.
 fn rays_for(field: &Field, rng: &mut Rng, per_kind: usize) -> Vec<Query<f32>> {
-    let mut v = Vec::new();
-    for kind in RayKind::ALL {
-        for _ in 0..per_kind {
-            v.push(random_ray(rng, field, TRI, kind).q32());
+    let specs = kind_blocks(rng, field, TRI, &RayKind::ALL, per_kind);
+    specs.iter().map(|s| s.q32()).collect()
+}
+
+/// A core bake `(field, scratch, out)`.
+type Bake = fn(&HeightField, &mut [f32], &mut [f32]) -> Result<(), cone::BakeError>;
+/// A brute-force oracle of a bake `(field, out)`.
+type Brute = fn(&HeightField, &mut [f32]) -> Result<(), cone::BakeError>;
+
+/// One field's map baked by its module's bake (with the scratch it filled) and by the
+/// brute-force oracle.
+struct BakedTwice {
+    name: String,
+    field: Field,
+    scratch: Vec<f32>,
+    fast: Vec<f32>,
+    brute: Vec<f32>,
+}
+
+/// The fields of at most `max_samples` samples, each with its `map` baked by `bake`
+/// and by `brute`.
+fn baked_twice(map: MapKind, max_samples: u32, bake: Bake, brute: Brute) -> Vec<BakedTwice> {
+    let small = fields()
+        .into_iter()
+        .filter(|(_, f)| f.w * f.h <= max_samples);
+    small
+        .map(|(name, field)| {
+            let spec = Spec::new(Desc::new(map, field.w, field.h));
+            let mut scratch = vec![0.0; spec.scratch_len()];
+            let mut fast = vec![0.0; spec.map_len().unwrap()];
+            let mut oracle = fast.clone();
+            bake(&field.hf(), &mut scratch, &mut fast).unwrap();
+            brute(&field.hf(), &mut oracle).unwrap();
+            BakedTwice {
+                name,
+                field,
+                scratch,
+                fast,
+                brute: oracle,
+            }
+        })
+        .collect()
+}
+
+/// Calls `check(cell, p, d)` for every cell of `f` and every one of `n` points `p` of
+/// its triangle surface (uniform over the footprint, drawn from a generator seeded with
+/// `seed`), `d` the horizontal distance from the cell to `p`: the independent checks
+/// that a cell's bound holds no surface.
+fn cells_and_surface_points(
+    f: &Field,
+    seed: u64,
+    n: usize,
+    mut check: impl FnMut([u32; 2], [f64; 3], f64),
+) {
+    let hf = f.hf();
+    let mut rng = Rng::new(seed);
+    let pts: Vec<[f64; 3]> = (0..n)
+        .map(|_| {
+            let x = rng.range(0.0, (f.w - 1) as f64);
+            let y = rng.range(0.0, (f.h - 1) as f64);
+            [x, y, TRI.height_at(&hf, x, y)]
+        })
+        .collect();
+    for j in 0..f.h - 1 {
+        for i in 0..f.w - 1 {
+            for &p in &pts {
+                let gx = (i as f64 - p[0]).max(p[0] - (i + 1) as f64).max(0.0);
+                let gy = (j as f64 - p[1]).max(p[1] - (j + 1) as f64).max(0.0);
+                check([i, j], p, (gx * gx + gy * gy).sqrt());
+            }
         }
     }
-    v
 }
 
 #[test]
 fn cone_bake_equals_brute_force() {
-    for (name, f) in fields() {
-        if f.w * f.h > 2000 {
-            continue;
-        }
-        let hf = f.hf();
-        let mut scratch = vec![0.0; cone::scratch_len(f.w, f.h)];
-        let mut fast = vec![0.0; cone::map_len(f.w, f.h)];
-        let mut brute = vec![0.0; cone::map_len(f.w, f.h)];
-        cone::bake(&hf, &mut scratch, &mut fast).unwrap();
-        cone::bake_brute(&hf, &mut brute).unwrap();
+    for m in baked_twice(MapKind::Cone, 2000, cone::bake, cone::bake_brute) {
+        let (f, name) = (&m.field, &m.name);
         assert_eq!(
-            fast.iter().map(|v| v.to_bits()).collect::<Vec<_>>(),
-            brute.iter().map(|v| v.to_bits()).collect::<Vec<_>>(),
+            m.fast.iter().map(|v| v.to_bits()).collect::<Vec<_>>(),
+            m.brute.iter().map(|v| v.to_bits()).collect::<Vec<_>>(),
             "{name}"
         );
         // Row ranges give the same texels.
-        let mut rows = vec![0.0; fast.len()];
+        let hf = f.hf();
+        let mut rows = vec![0.0; m.fast.len()];
         let cw = (f.w - 1) as usize * cone::CHANNELS;
         let mid = (f.h - 1) / 2;
         let (lo, hi) = rows.split_at_mut(mid as usize * cw);
-        cone::bake_rows(&hf, &scratch, 0..mid, lo).unwrap();
-        cone::bake_rows(&hf, &scratch, mid..f.h - 1, hi).unwrap();
-        assert_eq!(rows, fast, "{name} rows");
+        cone::bake_rows(&hf, &m.scratch, 0..mid, lo).unwrap();
+        cone::bake_rows(&hf, &m.scratch, mid..f.h - 1, hi).unwrap();
+        assert_eq!(rows, m.fast, "{name} rows");
     }
 }
 
@@ -162,167 +218,101 @@ fn cone_bake_equals_brute_force() {
 fn cones_contain_no_surface() {
     for (name, f) in fields().into_iter().take(6) {
         let hf = f.hf();
-        let mut scratch = vec![0.0; cone::scratch_len(f.w, f.h)];
-        let mut map = vec![0.0; cone::map_len(f.w, f.h)];
-        cone::bake(&hf, &mut scratch, &mut map).unwrap();
+        let map = baked_floats(MapKind::Cone, &hf);
         let cm = cone::ConeMap::new(&hf, &map).unwrap();
-        let mut rng = Rng::new(3);
-        let pts: Vec<[f64; 3]> = (0..3000)
-            .map(|_| {
-                let x = rng.range(0.0, (f.w - 1) as f64);
-                let y = rng.range(0.0, (f.h - 1) as f64);
-                [x, y, TRI.height_at(&hf, x, y)]
-            })
-            .collect();
-        for j in 0..f.h - 1 {
-            for i in 0..f.w - 1 {
-                let [top, r] = cm.texel(i, j);
-                for p in &pts {
-                    let gx = (i as f64 - p[0]).max(p[0] - (i + 1) as f64).max(0.0);
-                    let gy = (j as f64 - p[1]).max(p[1] - (j + 1) as f64).max(0.0);
-                    let d = (gx * gx + gy * gy).sqrt();
-                    let inside = p[2] - top as f64 > 1e-9 && d < r as f64 * (p[2] - top as f64);
-                    assert!(!inside, "{name}: cell ({i},{j}) cone holds {p:?}");
-                }
+        cells_and_surface_points(&f, 3, 3000, |[i, j], p, d| {
+            let [top, r] = cm.texel(i, j);
+            let inside = p[2] - top as f64 > 1e-9 && d < r as f64 * (p[2] - top as f64);
+            assert!(!inside, "{name}: cell ({i},{j}) cone holds {p:?}");
+        });
+    }
+}
+
+/// A cone or QDM step trace over its cell map (`cone::trace_steps`, `qdm::trace_steps`)
+/// in precision `R`.
+type StepTrace<const N: usize, R> =
+    fn(&CellMap<'_, N>, &HeightField<'_>, &Query<R>, u32, &mut dyn FnMut(R)) -> Trace<R>;
+
+/// The march of `method` over its map (`map`, `N` floats a cell), traced in `f64`
+/// (`trace64`) and `f32` (`trace32`) with 256 iterations on 40 rays of every kind per
+/// field (from a generator seeded with `seed`), never steps past the oracle's hit and
+/// converges to it unless its budget runs out; prints the per-field and total counts.
+fn assert_conservative<const N: usize>(
+    method: &str,
+    seed: u64,
+    map: MapKind,
+    trace64: StepTrace<N, f64>,
+    trace32: StepTrace<N, f32>,
+) {
+    let mut rng = Rng::new(seed);
+    let mut report = String::new();
+    let mut total = [Counts::default(), Counts::default()];
+    for (name, f) in fields() {
+        let hf = f.hf();
+        let data = baked_floats(map, &hf);
+        let cm = CellMap::<N>::new(&hf, &data).unwrap();
+        let rays = rays_for(&f, &mut rng, 40);
+        let c64 = run_conservative(&f, &rays, 1e-9, |q, cb| trace64(&cm, &hf, q, 256, cb));
+        let c32 = run_conservative(&f, &rays, 1e-4, |q, cb| trace32(&cm, &hf, q, 256, cb));
+        report += &format!(
+            "{}\n{}\n",
+            c64.line(&format!("{method} f64 {name}")),
+            c32.line(&format!("{method} f32 {name}"))
+        );
+        for (t, c) in total.iter_mut().zip([&c64, &c32]) {
+            for e in &c.examples {
+                report += &format!("    e.g. {e}\n");
             }
+            add_counts!(t, c, tried, wrong, ambiguous, exhausted, converged, overstep);
         }
+    }
+    println!(
+        "{report}{}\n{}",
+        total[0].line(&format!("{method} f64 TOTAL")),
+        total[1].line(&format!("{method} f32 TOTAL"))
+    );
+    for t in &total {
+        assert_eq!(t.overstep, 0);
+        assert_eq!(t.wrong, 0);
     }
 }
 
 #[test]
 fn cone_march_is_conservative() {
-    let mut rng = Rng::new(11);
-    let mut report = String::new();
-    let mut total = [Counts::default(), Counts::default()];
-    for (name, f) in fields() {
-        let hf = f.hf();
-        let mut scratch = vec![0.0; cone::scratch_len(f.w, f.h)];
-        let mut map = vec![0.0; cone::map_len(f.w, f.h)];
-        cone::bake(&hf, &mut scratch, &mut map).unwrap();
-        let cm = cone::ConeMap::new(&hf, &map).unwrap();
-        let rays = rays_for(&f, &mut rng, 40);
-        let c64 = run_conservative::<f64>(&f, &rays, 1e-9, |q, cb| {
-            cone::trace_steps(&cm, &hf, q, 256, cb)
-        });
-        let c32 = run_conservative::<f32>(&f, &rays, 1e-4, |q, cb| {
-            cone::trace_steps(&cm, &hf, q, 256, cb)
-        });
-        report += &format!(
-            "{}\n{}\n",
-            c64.line(&format!("cone f64 {name}")),
-            c32.line(&format!("cone f32 {name}"))
-        );
-        for (t, c) in total.iter_mut().zip([&c64, &c32]) {
-            for e in &c.examples {
-                report += &format!("    e.g. {e}\n");
-            }
-            t.tried += c.tried;
-            t.wrong += c.wrong;
-            t.ambiguous += c.ambiguous;
-            t.exhausted += c.exhausted;
-            t.converged += c.converged;
-            t.overstep += c.overstep;
-        }
-    }
-    println!(
-        "{report}{}\n{}",
-        total[0].line("cone f64 TOTAL"),
-        total[1].line("cone f32 TOTAL")
+    assert_conservative(
+        "cone",
+        11,
+        MapKind::Cone,
+        cone::trace_steps,
+        cone::trace_steps,
     );
-    for t in &total {
-        assert_eq!(t.overstep, 0);
-        assert_eq!(t.wrong, 0);
-    }
 }
 
 #[test]
 fn qdm_bake_matches_brute_force_and_bounds_the_surface() {
-    for (name, f) in fields() {
-        if f.w * f.h > 2000 {
-            continue;
-        }
-        let hf = f.hf();
-        let mut scratch = vec![0.0; qdm::scratch_len(f.w, f.h)];
-        let mut fast = vec![0.0; qdm::map_len(f.w, f.h)];
-        let mut brute = vec![0.0; qdm::map_len(f.w, f.h)];
-        qdm::bake(&hf, &mut scratch, &mut fast).unwrap();
-        qdm::bake_brute(&hf, &mut brute).unwrap();
-        for (k, (a, b)) in fast.iter().zip(&brute).enumerate() {
+    for m in baked_twice(MapKind::Qdm, 2000, qdm::bake, qdm::bake_brute) {
+        let name = &m.name;
+        for (k, (a, b)) in m.fast.iter().zip(&m.brute).enumerate() {
             let tol = 1e-5 * (1.0 + a.abs().max(b.abs()));
             assert!((a - b).abs() <= tol, "{name} channel {k}: {a} vs {b}");
         }
         // Independent check: surface points stay under h + F(dist to the cell).
-        let qm = qdm::QdmMap::new(&hf, &fast).unwrap();
-        let mut rng = Rng::new(5);
-        let pts: Vec<[f64; 3]> = (0..1500)
-            .map(|_| {
-                let x = rng.range(0.0, (f.w - 1) as f64);
-                let y = rng.range(0.0, (f.h - 1) as f64);
-                [x, y, TRI.height_at(&hf, x, y)]
-            })
-            .collect();
-        for j in 0..f.h - 1 {
-            for i in 0..f.w - 1 {
-                let [a, b, c, h] = qm.texel(i, j).map(f64::from);
-                for p in &pts {
-                    let gx = (i as f64 - p[0]).max(p[0] - (i + 1) as f64).max(0.0);
-                    let gy = (j as f64 - p[1]).max(p[1] - (j + 1) as f64).max(0.0);
-                    let rho = (gx * gx + gy * gy).sqrt();
-                    let f_rho = qdm::bound(a, b, c, rho);
-                    assert!(
-                        p[2] - h <= f_rho + 1e-9,
-                        "{name}: cell ({i},{j}) [{a},{b},{c},{h}] below {p:?}"
-                    );
-                }
-            }
-        }
+        let hf = m.field.hf();
+        let qm = qdm::QdmMap::new(&hf, &m.fast).unwrap();
+        cells_and_surface_points(&m.field, 5, 1500, |[i, j], p, rho| {
+            let [a, b, c, h] = qm.texel(i, j).map(f64::from);
+            let f_rho = qdm::bound(a, b, c, rho);
+            assert!(
+                p[2] - h <= f_rho + 1e-9,
+                "{name}: cell ({i},{j}) [{a},{b},{c},{h}] below {p:?}"
+            );
+        });
     }
 }
 
 #[test]
 fn qdm_march_is_conservative() {
-    let mut rng = Rng::new(12);
-    let mut report = String::new();
-    let mut total = [Counts::default(), Counts::default()];
-    for (name, f) in fields() {
-        let hf = f.hf();
-        let mut scratch = vec![0.0; qdm::scratch_len(f.w, f.h)];
-        let mut map = vec![0.0; qdm::map_len(f.w, f.h)];
-        qdm::bake(&hf, &mut scratch, &mut map).unwrap();
-        let qm = qdm::QdmMap::new(&hf, &map).unwrap();
-        let rays = rays_for(&f, &mut rng, 40);
-        let c64 = run_conservative::<f64>(&f, &rays, 1e-9, |q, cb| {
-            qdm::trace_steps(&qm, &hf, q, 256, cb)
-        });
-        let c32 = run_conservative::<f32>(&f, &rays, 1e-4, |q, cb| {
-            qdm::trace_steps(&qm, &hf, q, 256, cb)
-        });
-        report += &format!(
-            "{}\n{}\n",
-            c64.line(&format!("qdm f64 {name}")),
-            c32.line(&format!("qdm f32 {name}"))
-        );
-        for (t, c) in total.iter_mut().zip([&c64, &c32]) {
-            for e in &c.examples {
-                report += &format!("    e.g. {e}\n");
-            }
-            t.tried += c.tried;
-            t.wrong += c.wrong;
-            t.ambiguous += c.ambiguous;
-            t.exhausted += c.exhausted;
-            t.converged += c.converged;
-            t.overstep += c.overstep;
-        }
-    }
-    println!(
-        "{report}{}\n{}",
-        total[0].line("qdm f64 TOTAL"),
-        total[1].line("qdm f32 TOTAL")
-    );
-    for t in &total {
-        assert_eq!(t.overstep, 0);
-        assert_eq!(t.wrong, 0);
-    }
+    assert_conservative("qdm", 12, MapKind::Qdm, qdm::trace_steps, qdm::trace_steps);
 }
 
 /// Stiff quadratics: nearly flat parabolas (tiny A), grazing rays (B ≈ 0 against a
@@ -363,14 +353,8 @@ fn stable_quadratic_beats_textbook_on_stiff_cases() {
 
 #[test]
 fn relaxed_bake_equals_brute_force() {
-    for (name, f) in fields().into_iter().filter(|(_, f)| f.w * f.h <= 1200) {
-        let hf = f.hf();
-        let mut scratch = vec![0.0; relaxed::scratch_len(f.w, f.h)];
-        let mut fast = vec![0.0; relaxed::map_len(f.w, f.h)];
-        let mut brute = vec![0.0; relaxed::map_len(f.w, f.h)];
-        relaxed::bake(&hf, &mut scratch, &mut fast).unwrap();
-        relaxed::bake_brute(&hf, &mut brute).unwrap();
-        assert_eq!(fast, brute, "{name}");
+    for m in baked_twice(MapKind::Relaxed, 1200, relaxed::bake, relaxed::bake_brute) {
+        assert_eq!(m.fast, m.brute, "{}", m.name);
     }
 }
 
@@ -384,9 +368,7 @@ fn relaxed_wrong_rays_are_caught() {
     for (name, f) in fields() {
         let hf = f.hf();
         let eps = eps_f32(f.z_scale());
-        let mut scratch = vec![0.0; relaxed::scratch_len(f.w, f.h)];
-        let mut map = vec![0.0; relaxed::map_len(f.w, f.h)];
-        relaxed::bake(&hf, &mut scratch, &mut map).unwrap();
+        let map = baked_floats(MapKind::Relaxed, &hf);
         let (mut tried, mut wrong, mut amb, mut exh, mut err_sum, mut err_max, mut nh) =
             (0, 0, 0, 0, 0.0, 0.0f64, 0);
         for _ in 0..400 {

@@ -474,20 +474,54 @@ fn tol32(o: [f64; 3], p: [f64; 3]) -> f64 {
     WRONG.max(8.0 * f64::from(f32::EPSILON) * (inf(o) + inf(p)))
 }
 
-/// Judges one trace against the oracle of the same ray; updates `st`.
-#[allow(clippy::too_many_arguments)]
+/// One method on one field and surface, as [`trace_all`] runs it: its maps and fetch
+/// bound.
+#[derive(Clone, Copy)]
+struct Judging<'a> {
+    def: &'a Def,
+    baked: &'a Baked,
+    hf: &'a HeightField<'a>,
+    surface: Surface,
+    bound: u64,
+}
+
+impl Judging<'_> {
+    /// Traces `q` and judges the trace against `oracle`, the oracle of the same ray;
+    /// counts it in the case's row of the method in `precision` ("f32", "f64"). The
+    /// ray is ambiguous when the oracle's clearance is under `amb_eps`; a hit is wrong
+    /// farther than `tol(oracle's hit)` from the oracle's.
+    fn judge<R: Real>(
+        self,
+        case: &mut Case,
+        precision: &str,
+        q: &Query<R>,
+        oracle: &Trace<f64>,
+        amb_eps: f64,
+        tol: impl Fn([f64; 3]) -> f64,
+    ) {
+        let got = run(self.def, self.baked, self.hf, self.surface, q);
+        let st = case.row(&format!("{} {precision}", self.def.name));
+        judge_one(st, self, q, &got, oracle, amb_eps, tol);
+    }
+}
+
+/// Judges one trace of `j`'s method against the oracle of the same ray; updates `st`.
 fn judge_one<R: Real>(
     st: &mut Stat,
-    def: &Def,
-    hf: &HeightField,
-    surface: Surface,
+    j: Judging,
     q: &Query<R>,
     got: &Trace<R>,
     oracle: &Trace<f64>,
-    bound: u64,
     amb_eps: f64,
     tol: impl Fn([f64; 3]) -> f64,
 ) {
+    let Judging {
+        def,
+        hf,
+        surface,
+        bound,
+        ..
+    } = j;
     st.tried += 1;
     let f = u64::from(got.fetches);
     st.fetch_ratio = st.fetch_ratio.max(f as f64 / bound as f64);
@@ -591,41 +625,24 @@ fn trace_all(case: &mut Case, field: &Field, baked: &Baked, surface: Surface, sp
         if !def.supports(surface) || !baked.has(&def) {
             continue;
         }
-        let bound = fetch_bound(&def, &hf, baked.levels);
-        let got = run(&def, baked, &hf, surface, &q32);
-        let st = case.row(&format!("{} f32", def.name));
-        judge_one(
-            st,
-            &def,
-            &hf,
+        let j = Judging {
+            def: &def,
+            baked,
+            hf: &hf,
             surface,
-            &q32,
-            &got,
-            &oracle32,
-            bound,
-            eps_f32(zs),
-            |p| tol32(o32, p),
-        );
+            bound: fetch_bound(&def, &hf, baked.levels),
+        };
+        j.judge(case, "f32", &q32, &oracle32, eps_f32(zs), |p| tol32(o32, p));
         if def.exact() && !matches!(def.kind, Kind::Dda) {
-            let got = run(&def, baked, &hf, surface, &q64);
-            let st = case.row(&format!("{} f64", def.name));
-            judge_one(
-                st,
-                &def,
-                &hf,
-                surface,
-                &q64,
-                &got,
-                &oracle64,
-                bound,
-                TOL64 * zs,
-                |_| TOL64 * len_scale,
-            );
+            j.judge(case, "f64", &q64, &oracle64, TOL64 * zs, |_| {
+                TOL64 * len_scale
+            });
         }
     }
 }
 
-/// Runs a case: every ray on every surface given; brute force checks the oracle
+/// Runs a case: every ray `rays` draws (from one generator seeded with `seed`) on
+/// every surface given; brute force checks the oracle
 /// itself (every ray on small fields, the first 8 per field and surface on large ones;
 /// the `f64` ray, and the `f32` ray at docs/DESIGN.md's 1e-3
 /// unless `far`: heights or origins so large that `f32` coordinates are coarser than
@@ -636,15 +653,17 @@ fn run_case(
     far: bool,
     fields: &[Field],
     surfaces: &[Surface],
-    rays: &mut dyn FnMut(&Field, Surface) -> Vec<RaySpec>,
+    seed: u64,
+    mut rays: impl FnMut(&mut Rng, &Field, Surface) -> Vec<RaySpec>,
 ) -> Case {
+    let mut rng = Rng::new(seed);
     let mut case = Case::new(name);
     for field in fields {
         let baked = Baked::new(&field.hf());
         // Brute force is O(cells) per ray: every ray on small fields, a few on big ones.
         let small = u64::from(field.w) * u64::from(field.h) <= 4096;
         for &surface in surfaces {
-            for (k, spec) in rays(field, surface).iter().enumerate() {
+            for (k, spec) in rays(&mut rng, field, surface).iter().enumerate() {
                 trace_all(&mut case, field, &baked, surface, spec);
                 if small || k < 8 {
                     case.brute_used = true;
@@ -702,41 +721,86 @@ fn walls(w: u32, h: u32, top: f32) -> Field {
     })
 }
 
-/// `n` rays of each kind.
-fn kinds(rng: &mut Rng, field: &Field, s: Surface, ks: &[RayKind], n: usize) -> Vec<RaySpec> {
-    (0..n)
-        .flat_map(|_| ks.iter().copied())
-        .map(|k| random_ray(rng, field, s, k))
+/// Long rays from beyond one end of `f` to the other (nearly horizontal, 60), then
+/// grazing ones and random ones going down, along x and from outside.
+fn end_to_end(r: &mut Rng, f: &Field, s: Surface) -> Vec<RaySpec> {
+    let (xm, ym) = f.far_corner();
+    let (lo, hi) = f.range();
+    let mut v: Vec<RaySpec> = (0..60)
+        .map(|k| {
+            let back = k % 2 == 1;
+            let x0 = if back {
+                xm + r.range(0.5, 50.0)
+            } else {
+                -r.range(0.5, 50.0)
+            };
+            let y0 = r.range(0.0, ym);
+            let y1 = r.range(0.0, ym);
+            let x1 = if back { 0.0 } else { xm };
+            let z0 = r.range(lo, hi + 1.0);
+            let z1 = r.range(lo - 0.5, hi + 0.5);
+            let d = [x1 - x0, y1 - y0, z1 - z0].map(|c| c / (x1 - x0).abs());
+            RaySpec::whole([x0, y0, z0], d)
+        })
+        .collect();
+    v.extend(grazing(r, f, s, 20, 1e-4));
+    v.extend(of_kinds(
+        r,
+        f,
+        s,
+        &[RayKind::Down, RayKind::AxisX, RayKind::Outside],
+        10,
+    ));
+    v
+}
+
+/// Rays from 1e5 texels away from `f` (on every side, and above) aimed at random
+/// points of its box (80).
+fn from_far(r: &mut Rng, f: &Field) -> Vec<RaySpec> {
+    let (xm, ym) = f.far_corner();
+    let (lo, hi) = f.range();
+    (0..80)
+        .map(|k| {
+            let far = 1e5 * r.range(1.0, 1.3);
+            let o = match k % 5 {
+                0 => [-far, r.range(0.0, ym), r.range(lo, hi + 2e3)],
+                1 => [xm + far, r.range(0.0, ym), r.range(lo, hi + 2e3)],
+                2 => [r.range(0.0, xm), -far, r.range(lo, hi + 2e3)],
+                3 => [far, far, hi + r.range(0.0, far)],
+                _ => [r.range(0.0, xm), r.range(0.0, ym), far],
+            };
+            let p = [r.range(0.0, xm), r.range(0.0, ym), r.range(lo, hi)];
+            RaySpec::whole(o, [p[0] - o[0], p[1] - o[1], p[2] - o[2]])
+        })
         .collect()
 }
 
-/// Rays at exactly `elevation` (radians, up or down) from just above the surface,
-/// some along an axis.
-fn grazing(rng: &mut Rng, field: &Field, surface: Surface, n: usize, el: f64) -> Vec<RaySpec> {
-    let hf = field.hf();
-    let (xm, ym) = ((field.w - 1) as f64, (field.h - 1) as f64);
-    let (lo, hi) = field.range();
-    (0..n)
-        .map(|_| {
-            let el = el * rng.sign();
-            let az = rng.range(0.0, std::f64::consts::TAU);
-            let (x, y) = (rng.range(-0.5, xm + 0.5), rng.range(-0.5, ym + 0.5));
-            let z = surface.height_at(&hf, x, y) + rng.range(-0.001, 0.2) * (hi - lo).max(1e-3);
-            let d = if rng.chance(0.25) {
-                let mut d = [0.0, 0.0, el.sin()];
-                d[rng.below(2)] = rng.sign() * el.cos();
-                d
+/// The rays that cost most on `f`: corner-to-corner diagonals, nearly axis-parallel
+/// rays across it (40), then grazing ones.
+fn costly(r: &mut Rng, f: &Field, s: Surface) -> Vec<RaySpec> {
+    let (xm, ym) = f.far_corner();
+    let (lo, hi) = f.range();
+    let mut v: Vec<RaySpec> = (0..40)
+        .map(|k| {
+            let z = if k % 2 == 0 {
+                hi + 1e-3
             } else {
-                [el.cos() * az.cos(), el.cos() * az.sin(), el.sin()]
+                r.range(lo, hi)
             };
-            RaySpec {
-                o: [x, y, z],
-                d,
-                t_min: 0.0,
-                t_max: f64::INFINITY,
-            }
+            let (o, d) = match k % 4 {
+                0 => ([-0.5, -0.5, z], [1.0, ym / xm, 0.0]),
+                1 => ([xm + 0.5, -0.5, z], [-1.0, ym / xm, -1e-4]),
+                2 => ([-1.0, r.range(0.0, ym), z], [1.0, 1e-3, 0.0]),
+                _ => (
+                    [r.range(0.0, xm), -1.0, z],
+                    [r.range(-0.01, 0.01), 1.0, 1e-5],
+                ),
+            };
+            RaySpec::whole(o, d)
         })
-        .collect()
+        .collect();
+    v.extend(grazing(r, f, s, 20, 1e-4));
+    v
 }
 
 // ---------------------------------------------------------------------------------
@@ -759,11 +823,11 @@ fn extreme_rays() {
         ("grazing 1e-4 … 3e-2 rad", |r, f, s| {
             let mut v = grazing(r, f, s, 30, 1e-4);
             v.extend(grazing(r, f, s, 15, 1e-3));
-            v.extend(kinds(r, f, s, &[RayKind::Grazing], 15));
+            v.extend(of_kinds(r, f, s, &[RayKind::Grazing], 15));
             v
         }),
         ("axis-parallel, integer / half-integer", |r, f, s| {
-            kinds(
+            of_kinds(
                 r,
                 f,
                 s,
@@ -772,10 +836,10 @@ fn extreme_rays() {
             )
         }),
         ("vertical, integer / half-integer xy", |r, f, s| {
-            kinds(r, f, s, &[RayKind::VerticalInt, RayKind::VerticalHalf], 20)
+            of_kinds(r, f, s, &[RayKind::VerticalInt, RayKind::VerticalHalf], 20)
         }),
         ("origin on a corner / centerline / diagonal", |r, f, s| {
-            kinds(
+            of_kinds(
                 r,
                 f,
                 s,
@@ -788,15 +852,13 @@ fn extreme_rays() {
             )
         }),
         ("origin under the surface", |r, f, s| {
-            kinds(r, f, s, &[RayKind::Inside], 40)
+            of_kinds(r, f, s, &[RayKind::Inside], 40)
         }),
     ];
     let mut cases = Vec::new();
     for (name, gen) in gens {
-        let mut rng = Rng::new(name.len() as u64);
-        cases.push(run_case(name, false, &fields, &CONTINUOUS, &mut |f, s| {
-            gen(&mut rng, f, s)
-        }));
+        let seed = name.len() as u64;
+        cases.push(run_case(name, false, &fields, &CONTINUOUS, seed, gen));
     }
     finish(&cases);
 }
@@ -816,31 +878,12 @@ fn extreme_fields() {
         RayKind::CornerOrigin,
         RayKind::Outside,
     ];
-    let mut cases = Vec::new();
-    let tiny = Field::from_fn(9, 7, 9, |_, _| (rng.f64() * 1e-6) as f32);
-    let huge = Field::from_fn(9, 7, 9, |_, _| (rng.f64() * 1e6) as f32);
-    for (name, field) in [("height range 1e-6", tiny), ("height range 1e6", huge)] {
-        let mut rng = Rng::new(7);
-        cases.push(run_case(
-            name,
-            name.contains("1e6"),
-            &[field],
-            &CONTINUOUS,
-            &mut |f, s| kinds(&mut rng, f, s, &all, 12),
-        ));
-    }
+    let tiny = Field::from_fn(9, 7, 9, |_, _| (rng.unit() * 1e-6) as f32);
+    let huge = Field::from_fn(9, 7, 9, |_, _| (rng.unit() * 1e6) as f32);
     let flats: Vec<Field> = [0.0f32, -3.0, 2.5, 1e6]
         .iter()
         .map(|&v| Field::from_fn(7, 6, 8, move |_, _| v))
         .collect();
-    let mut r = Rng::new(8);
-    cases.push(run_case(
-        "all-equal heights (0, -3, 2.5, 1e6)",
-        true,
-        &flats,
-        &CONTINUOUS,
-        &mut |f, s| kinds(&mut r, f, s, &all, 6),
-    ));
     let twos: Vec<Field> = (0..40)
         .map(|k| {
             Field::from_fn(2, 2, 2 + k % 3, |_, _| {
@@ -852,35 +895,28 @@ fn extreme_fields() {
             })
         })
         .collect();
-    let mut r = Rng::new(9);
-    cases.push(run_case(
-        "2 x 2 fields",
-        false,
-        &twos,
-        &CONTINUOUS,
-        &mut |f, s| kinds(&mut r, f, s, &all, 2),
-    ));
     let thin = vec![
         fractal_field(&mut rng, 2, 4096, 2, 3.0),
         fractal_field(&mut rng, 4096, 2, 4097, 3.0),
     ];
-    let mut r = Rng::new(10);
-    cases.push(run_case(
-        "2 x 4096 and 4096 x 2",
-        false,
-        &thin,
-        &CONTINUOUS,
-        &mut |f, s| kinds(&mut r, f, s, &all, 5),
-    ));
     let spiky = vec![needles(&mut rng, 48, 40, 5000.0, 40), walls(40, 36, 5000.0)];
-    let mut r = Rng::new(11);
-    cases.push(run_case(
-        "needles and walls 5000 high",
-        true,
-        &spiky,
-        &CONTINUOUS,
-        &mut |f, s| kinds(&mut r, f, s, &all, 8),
-    ));
+    // (name, far, fields, seed of the rays, rays of each kind)
+    let table: [(&str, bool, Vec<Field>, u64, usize); 6] = [
+        ("height range 1e-6", false, vec![tiny], 7, 12),
+        ("height range 1e6", true, vec![huge], 7, 12),
+        ("all-equal heights (0, -3, 2.5, 1e6)", true, flats, 8, 6),
+        ("2 x 2 fields", false, twos, 9, 2),
+        ("2 x 4096 and 4096 x 2", false, thin, 10, 5),
+        ("needles and walls 5000 high", true, spiky, 11, 8),
+    ];
+    let cases: Vec<Case> = table
+        .into_iter()
+        .map(|(name, far, fields, seed, n)| {
+            run_case(name, far, &fields, &CONTINUOUS, seed, |r, f, s| {
+                of_kinds(r, f, s, &all, n)
+            })
+        })
+        .collect();
     finish(&cases);
 }
 
@@ -892,48 +928,15 @@ fn long_rays() {
     let mut cases = Vec::new();
     for (w, h) in [(8193u32, 64u32), (16384, 16)] {
         let field = fractal_field(&mut rng, w, h, w as usize, 4.0);
-        let mut r = Rng::new(u64::from(w));
         let name = format!("long rays across {w} x {h}");
+        let surfaces = [Surface::Triangles];
         cases.push(run_case(
             &name,
             false,
             &[field],
-            &[Surface::Triangles],
-            &mut |f, s| {
-                let (xm, ym) = ((f.w - 1) as f64, (f.h - 1) as f64);
-                let (lo, hi) = f.range();
-                let mut v: Vec<RaySpec> = (0..60)
-                    .map(|k| {
-                        let back = k % 2 == 1;
-                        let x0 = if back {
-                            xm + r.range(0.5, 50.0)
-                        } else {
-                            -r.range(0.5, 50.0)
-                        };
-                        let y0 = r.range(0.0, ym);
-                        let y1 = r.range(0.0, ym);
-                        let x1 = if back { 0.0 } else { xm };
-                        let z0 = r.range(lo, hi + 1.0);
-                        let z1 = r.range(lo - 0.5, hi + 0.5);
-                        let d = [x1 - x0, y1 - y0, z1 - z0].map(|c| c / (x1 - x0).abs());
-                        RaySpec {
-                            o: [x0, y0, z0],
-                            d,
-                            t_min: 0.0,
-                            t_max: f64::INFINITY,
-                        }
-                    })
-                    .collect();
-                v.extend(grazing(&mut r, f, s, 20, 1e-4));
-                v.extend(kinds(
-                    &mut r,
-                    f,
-                    s,
-                    &[RayKind::Down, RayKind::AxisX, RayKind::Outside],
-                    10,
-                ));
-                v
-            },
+            &surfaces,
+            u64::from(w),
+            end_to_end,
         ));
     }
     finish(&cases);
@@ -948,35 +951,13 @@ fn long_rays() {
 fn far_origins() {
     let mut rng = Rng::new(0xE7_0004);
     let fields = vec![fractal_field(&mut rng, 48, 40, 48, 5.0), walls(33, 25, 8.0)];
-    let mut r = Rng::new(12);
     let case = run_case(
         "origins 1e5 away",
         true,
         &fields,
         &CONTINUOUS,
-        &mut |f, _| {
-            let (xm, ym) = ((f.w - 1) as f64, (f.h - 1) as f64);
-            let (lo, hi) = f.range();
-            (0..80)
-                .map(|k| {
-                    let far = 1e5 * r.range(1.0, 1.3);
-                    let o = match k % 5 {
-                        0 => [-far, r.range(0.0, ym), r.range(lo, hi + 2e3)],
-                        1 => [xm + far, r.range(0.0, ym), r.range(lo, hi + 2e3)],
-                        2 => [r.range(0.0, xm), -far, r.range(lo, hi + 2e3)],
-                        3 => [far, far, hi + r.range(0.0, far)],
-                        _ => [r.range(0.0, xm), r.range(0.0, ym), far],
-                    };
-                    let p = [r.range(0.0, xm), r.range(0.0, ym), r.range(lo, hi)];
-                    RaySpec {
-                        o,
-                        d: [p[0] - o[0], p[1] - o[1], p[2] - o[2]],
-                        t_min: 0.0,
-                        t_max: f64::INFINITY,
-                    }
-                })
-                .collect()
-        },
+        12,
+        |r, f, _| from_far(r, f),
     );
     let dda32 = &case.rows.iter().find(|r| r.0 == "dda f32").unwrap().2;
     println!(
@@ -1187,7 +1168,7 @@ fn quadratic_textbook_vs_stable() {
         });
         let baked = Baked::new(&field.hf());
         let mut r = Rng::new(k as u64);
-        for spec in kinds(
+        for spec in of_kinds(
             &mut r,
             &field,
             Surface::Bilinear,
@@ -1224,12 +1205,7 @@ fn nearly_parallel_planes() {
         let eps = [0.0, -1e-3, -1e-4, 1e-4][rng.below(4)];
         let d = [1.0, s, 0.25 + s / 8.0 + eps];
         let z = x / 4.0 + y / 8.0 + delta;
-        let spec = RaySpec {
-            o: [x, y, z],
-            d,
-            t_min: 0.0,
-            t_max: f64::INFINITY,
-        };
+        let spec = RaySpec::whole([x, y, z], d);
         trace_all(&mut case, &field, &baked, Surface::Triangles, &spec);
         // Where the f32 ray meets the plane, in f64 from its own (rounded) numbers.
         let q = spec.q32().cast::<f64>();
@@ -1280,12 +1256,7 @@ fn nearly_parallel_planes() {
                 ([-5.0, 7.3, z], [1.0, 0.01, dz]),
                 ([300.0, 2.5, z], [-1.0, 0.0, dz]),
             ] {
-                let spec = RaySpec {
-                    o,
-                    d,
-                    t_min: 0.0,
-                    t_max: f64::INFINITY,
-                };
+                let spec = RaySpec::whole(o, d);
                 trace_all(&mut top, &field, &baked, Surface::Triangles, &spec);
             }
         }
@@ -1320,12 +1291,7 @@ fn dda_drift_over_1e4_cells() {
         let (x0, y0) = (-rng.range(0.1, 30.0), rng.range(1.0, 14.0));
         // y stays inside the footprint up to the ramp.
         let dy = (rng.range(1.0, 14.0) - y0) / (12050.0 - x0);
-        let spec = RaySpec {
-            o: [x0, y0, z],
-            d: [1.0, dy, 0.0],
-            t_min: 0.0,
-            t_max: f64::INFINITY,
-        };
+        let spec = RaySpec::whole([x0, y0, z], [1.0, dy, 0.0]);
         trace_all(&mut case, &field, &baked, Surface::Triangles, &spec);
         let q = spec.q32();
         let q64 = q.cast::<f64>();
@@ -1368,48 +1334,17 @@ fn dda_drift_over_1e4_cells() {
 #[test]
 fn step_bounds() {
     let mut rng = Rng::new(0xE7_0008);
-    let fields = vec![
-        needles(&mut rng, 300, 200, 3.0, 50),
-        fractal_field(&mut rng, 257, 257, 257, 20.0),
-    ];
-    let mut r = Rng::new(13);
-    let case = run_case(
-        "costly rays (diagonals, grazing, long)",
+    let spikes = needles(&mut rng, 300, 200, 3.0, 50);
+    let fractal = fractal_field(&mut rng, 257, 257, 257, 20.0);
+    let name = "costly rays (diagonals, grazing, long)";
+    finish(&[run_case(
+        name,
         false,
-        &fields,
+        &[spikes, fractal],
         &CONTINUOUS,
-        &mut |f, s| {
-            let (xm, ym) = ((f.w - 1) as f64, (f.h - 1) as f64);
-            let (lo, hi) = f.range();
-            let mut v: Vec<RaySpec> = (0..40)
-                .map(|k| {
-                    let z = if k % 2 == 0 {
-                        hi + 1e-3
-                    } else {
-                        r.range(lo, hi)
-                    };
-                    let (o, d) = match k % 4 {
-                        0 => ([-0.5, -0.5, z], [1.0, ym / xm, 0.0]),
-                        1 => ([xm + 0.5, -0.5, z], [-1.0, ym / xm, -1e-4]),
-                        2 => ([-1.0, r.range(0.0, ym), z], [1.0, 1e-3, 0.0]),
-                        _ => (
-                            [r.range(0.0, xm), -1.0, z],
-                            [r.range(-0.01, 0.01), 1.0, 1e-5],
-                        ),
-                    };
-                    RaySpec {
-                        o,
-                        d,
-                        t_min: 0.0,
-                        t_max: f64::INFINITY,
-                    }
-                })
-                .collect();
-            v.extend(grazing(&mut r, f, s, 20, 1e-4));
-            v
-        },
-    );
-    finish(&[case]);
+        13,
+        costly,
+    )]);
 }
 
 /// The oracle's own ground: on a few random small fields with extreme ray kinds, the
@@ -1418,20 +1353,18 @@ fn step_bounds() {
 fn oracle_on_small_fields() {
     let mut rng = Rng::new(0xE7_0009);
     let mut j = Judged::new("small random fields: DDA vs brute force, extreme kinds");
+    let kinds = [
+        RayKind::Grazing,
+        RayKind::VerticalHalf,
+        RayKind::CornerOrigin,
+        RayKind::Inside,
+    ];
     for _ in 0..30 {
         let field = small_field(&mut rng);
         for surface in CONTINUOUS {
-            for kind in [
-                RayKind::Grazing,
-                RayKind::VerticalHalf,
-                RayKind::CornerOrigin,
-                RayKind::Inside,
-            ] {
-                for _ in 0..4 {
-                    let spec = random_ray(&mut rng, &field, surface, kind);
-                    j.add(&field, surface, &spec.q64());
-                    j.add(&field, surface, &spec.q32());
-                }
+            for spec in kind_blocks(&mut rng, &field, surface, &kinds, 4) {
+                j.add(&field, surface, &spec.q64());
+                j.add(&field, surface, &spec.q32());
             }
         }
     }

@@ -36,19 +36,15 @@ fn compare(field: &Field, surface: Surface, q32: &Query<f32>, tally: &mut Tally,
     let q64 = q32.cast::<f64>();
     let oracle = dda::trace(&hf, surface, &q64);
     let fast = dda::trace(&hf, surface, q32);
-    tally.tried += 1;
-    if oracle.hit.is_some() {
-        tally.hits += 1;
-    }
-    if is_ambiguous(&oracle, eps_f32(field.z_scale())) || near_pinch(field, surface, &q64, PINCH) {
-        tally.ambiguous += 1;
+    let ambiguous =
+        is_ambiguous(&oracle, eps_f32(field.z_scale())) || near_pinch(field, surface, &q64, PINCH);
+    if !tally.ray(oracle.hit.is_some(), ambiguous) {
         return;
     }
     match (oracle.hit, fast.hit) {
         (None, None) => {}
         (Some(o), Some(f)) => {
-            let e = dist(p64::<f64>(o.point), p64::<f32>(f.point));
-            tally.err(e);
+            let e = tally.err_between(p64::<f64>(o.point), p64::<f32>(f.point));
             if e > WRONG {
                 tally.wrong(|| format!("{surface:?} {q32:?}: f64 {o:?} f32 {f:?}"));
             } else if e > tight(p64::<f64>(o.point)) {
@@ -84,11 +80,8 @@ fn f32_traversal_matches_f64_on_fractal_fields() {
         for surface in Surface::ALL {
             let mut t = Tally::new(format!("{name} / {}", surface.name()));
             let mut over = 0;
-            for _ in 0..RAYS_PER_KIND {
-                for kind in RayKind::ALL {
-                    let spec = random_ray(&mut rng, field, surface, kind);
-                    compare(field, surface, &spec.q32(), &mut t, &mut over);
-                }
+            for spec in of_kinds(&mut rng, field, surface, &RayKind::ALL, RAYS_PER_KIND) {
+                compare(field, surface, &spec.q32(), &mut t, &mut over);
             }
             t.report(&mut out);
             if over > 0 {
@@ -112,7 +105,7 @@ fn f32_traversal_matches_f64_on_fractal_fields() {
 /// ground, and a checkerboard of ridges (every cell a saddle or a fold).
 fn crack_fields(rng: &mut Rng) -> Vec<(&'static str, Field)> {
     let needles = {
-        let mut r = Rng::new(rng.u64());
+        let mut r = Rng::new(rng.next_u64());
         Field::from_fn(33, 29, 35, |_, _| {
             if r.chance(0.15) {
                 r.int(1, 9) as f32
@@ -282,9 +275,7 @@ fn f32_traversal_is_watertight_on_corners_edges_and_diagonals() {
                         t.wrong(|| format!("{surface:?} f32 slips through {q:?}, oracle {oh:?}"))
                     }
                     Some(fh) => {
-                        let e = dist(p64::<f64>(oh.point), p64::<f32>(fh.point));
-                        t.err(e);
-                        if e > WRONG {
+                        if t.err_between(p64::<f64>(oh.point), p64::<f32>(fh.point)) > WRONG {
                             t.wrong(|| format!("{surface:?} {q:?}: f64 {oh:?} f32 {fh:?}"));
                         }
                     }

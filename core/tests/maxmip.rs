@@ -4,7 +4,7 @@
 
 mod common;
 
-use common::{dist, eps_f32, fractal_field, is_ambiguous, p64, random_ray, Field, RayKind, Rng};
+use common::{dist, eps_f32, fractal_field, is_ambiguous, kind_blocks, p64, Field, RayKind, Rng};
 use hfcast::maxmip::{self, Ascent, Layout, MaxMip, Options, PyramidError};
 use hfcast::{dda, HeightField, Query, Real, Surface, Trace};
 
@@ -35,6 +35,14 @@ fn baked(hf: &HeightField) -> Vec<f32> {
     let mut p = vec![f32::NAN; maxmip::pyramid_len(hf.width(), hf.height())];
     maxmip::bake(hf, &mut p).unwrap();
     p
+}
+
+/// A `w × h` fractal field (rows not padded, amplitude `amp`) drawn from `rng`, and
+/// its pyramid.
+fn fractal_pyramid(rng: &mut Rng, w: u32, h: u32, amp: f64) -> (Field, Vec<f32>) {
+    let field = fractal_field(rng, w, h, w as usize, amp);
+    let pyramid = baked(&field.hf());
+    (field, pyramid)
 }
 
 #[test]
@@ -74,20 +82,23 @@ fn layout_sizes() {
     );
 }
 
+/// The field sizes (samples) the bake is checked on: one cell, single rows and columns
+/// of cells, power-of-two cell counts (129 × 65) and others.
+const BAKE_SIZES: [(u32, u32); 8] = [
+    (2, 2),
+    (3, 2),
+    (2, 64),
+    (64, 2),
+    (37, 23),
+    (129, 65),
+    (17, 33),
+    (64, 64),
+];
+
 #[test]
 fn bake_matches_definition() {
     let mut rng = Rng::new(41);
-    let sizes = [
-        (2, 2),
-        (3, 2),
-        (2, 64),
-        (64, 2),
-        (37, 23),
-        (129, 65),
-        (17, 33),
-        (64, 64),
-    ];
-    for (w, h) in sizes {
+    for (w, h) in BAKE_SIZES {
         let stride = w as usize + rng.below(3);
         let f = fractal_field(&mut rng, w, h, stride, 10.0);
         let hf = f.hf();
@@ -316,15 +327,13 @@ fn march_matches_oracle() {
         let eps = eps_f32(field.z_scale());
         for surface in [Surface::Triangles, Surface::Bilinear] {
             let (mut n32, mut n64) = (Count::default(), Count::default());
-            for kind in RayKind::ALL {
-                for _ in 0..rays_per_kind {
-                    let q32 = random_ray(&mut rng, field, surface, kind).q32();
-                    let q64: Query<f64> = q32.cast();
-                    let oracle = dda::trace(&hf, surface, &q64);
-                    let amb = is_ambiguous(&oracle, eps);
-                    check(&hf, &mip, surface, &q32, &oracle, amb, &mut n32);
-                    check(&hf, &mip, surface, &q64, &oracle, amb, &mut n64);
-                }
+            for spec in kind_blocks(&mut rng, field, surface, &RayKind::ALL, rays_per_kind) {
+                let q32 = spec.q32();
+                let q64: Query<f64> = q32.cast();
+                let oracle = dda::trace(&hf, surface, &q64);
+                let amb = is_ambiguous(&oracle, eps);
+                check(&hf, &mip, surface, &q32, &oracle, amb, &mut n32);
+                check(&hf, &mip, surface, &q64, &oracle, amb, &mut n64);
             }
             print_case(&format!("{name} {} f32", surface.name()), &n32);
             print_case(&format!("{name} {} f64", surface.name()), &n64);
@@ -350,9 +359,8 @@ fn other_surfaces_match_dda() {
     // Height planes and view-linear are bounded by the corners too: maxmip = DDA exactly.
     // Linear planes are not, and go to the DDA.
     let mut rng = Rng::new(99);
-    let field = fractal_field(&mut rng, 37, 29, 37, 6.0);
+    let (field, pyr) = fractal_pyramid(&mut rng, 37, 29, 6.0);
     let hf = field.hf();
-    let pyr = baked(&hf);
     let mip = MaxMip::new(&hf, &pyr).unwrap();
     for surface in [
         Surface::HeightPlanes,
@@ -360,12 +368,10 @@ fn other_surfaces_match_dda() {
         Surface::LinearPlanes,
     ] {
         let mut differ = 0;
-        for kind in RayKind::ALL {
-            for _ in 0..100 {
-                let q = random_ray(&mut rng, &field, surface, kind).q64();
-                let mm = maxmip::trace(&hf, &mip, surface, &q, &Options::default());
-                differ += usize::from(mm.hit != dda::trace(&hf, surface, &q).hit);
-            }
+        for spec in kind_blocks(&mut rng, &field, surface, &RayKind::ALL, 100) {
+            let q = spec.q64();
+            let mm = maxmip::trace(&hf, &mip, surface, &q, &Options::default());
+            differ += usize::from(mm.hit != dda::trace(&hf, surface, &q).hit);
         }
         println!(
             "{:<14} tried 1300  differ from dda {differ}",
@@ -378,10 +384,8 @@ fn other_surfaces_match_dda() {
 #[test]
 fn approximate_options() {
     // LOD and iterative bilinear are approximate: measured, not asserted exact.
-    let mut rng = Rng::new(5);
-    let field = fractal_field(&mut rng, 257, 129, 257, 26.0);
+    let (field, pyr) = fractal_pyramid(&mut Rng::new(5), 257, 129, 26.0);
     let hf = field.hf();
-    let pyr = baked(&hf);
     let mip = MaxMip::new(&hf, &pyr).unwrap();
     let eps = eps_f32(field.z_scale());
     let cases: [(&str, Surface, Options); 4] = [
@@ -418,29 +422,27 @@ fn approximate_options() {
             },
         ),
     ];
+    let kinds = [
+        RayKind::Down,
+        RayKind::Outside,
+        RayKind::Grazing,
+        RayKind::Up,
+    ];
     for (name, surface, opts) in cases {
         assert!(!opts.is_exact());
-        let mut rng = Rng::new(6);
         let (mut tried, mut wrong, mut amb, mut f_exact, mut f_opt) = (0, 0, 0, 0u64, 0u64);
-        for kind in [
-            RayKind::Down,
-            RayKind::Outside,
-            RayKind::Grazing,
-            RayKind::Up,
-        ] {
-            for _ in 0..500 {
-                let q = random_ray(&mut rng, &field, surface, kind).q32();
-                let oracle = dda::trace(&hf, surface, &q.cast::<f64>());
-                let exact = maxmip::trace(&hf, &mip, surface, &q, &Options::default());
-                let approx = maxmip::trace(&hf, &mip, surface, &q, &opts);
-                tried += 1;
-                f_exact += u64::from(exact.fetches);
-                f_opt += u64::from(approx.fetches);
-                if is_ambiguous(&oracle, eps) {
-                    amb += 1;
-                } else if differs(&approx, &oracle) {
-                    wrong += 1;
-                }
+        for spec in kind_blocks(&mut Rng::new(6), &field, surface, &kinds, 500) {
+            let q = spec.q32();
+            let oracle = dda::trace(&hf, surface, &q.cast::<f64>());
+            let exact = maxmip::trace(&hf, &mip, surface, &q, &Options::default());
+            let approx = maxmip::trace(&hf, &mip, surface, &q, &opts);
+            tried += 1;
+            f_exact += u64::from(exact.fetches);
+            f_opt += u64::from(approx.fetches);
+            if is_ambiguous(&oracle, eps) {
+                amb += 1;
+            } else if differs(&approx, &oracle) {
+                wrong += 1;
             }
         }
         println!(
@@ -455,10 +457,8 @@ fn approximate_options() {
 #[test]
 fn vertical_and_axis_rays_at_integers() {
     // Every integer grid point, straight down and along both axes through it.
-    let mut rng = Rng::new(3);
-    let field = fractal_field(&mut rng, 19, 11, 19, 4.0);
+    let (field, pyr) = fractal_pyramid(&mut Rng::new(3), 19, 11, 4.0);
     let hf = field.hf();
-    let pyr = baked(&hf);
     let mip = MaxMip::new(&hf, &pyr).unwrap();
     let z = hf.max_height() + 1.0;
     let mut n = 0;

@@ -9,8 +9,8 @@
 mod common;
 
 use common::{
-    breakpoints, check_bakes, class_axis, eps_f32, is_touch, march_fields, rays_with_grazing,
-    rows_field, Field, Probe, RaySpec, Rng,
+    assert_rows_rebake, breakpoints, check_bakes, class_axis, eps_f32, is_touch, march_fields,
+    rays_with_grazing, rows_field, Field, Probe, RaySpec, Rng,
 };
 use hfcast::radius::{self, BakeOptions, Options, RadiusMap, Zero};
 use hfcast::safety::{self, Variant, CLASSES};
@@ -333,12 +333,9 @@ fn rows_relation_and_monotone_tolerance() {
     for e in TOLERANCES {
         let opts = tolerant(e);
         let whole = bake(&field, opts);
-        let mut parts = vec![0u8; whole.len()];
-        for r in [0..5u32, 5..6, 6..17] {
-            let out = &mut parts[r.start as usize * 23..r.end as usize * 23];
-            radius::bake_rows(&hf, &scratch, r, opts, out).unwrap();
-        }
-        assert_eq!(whole, parts);
+        assert_rows_rebake(&whole, 23, &[0..5, 5..6, 6..17], |r, out| {
+            radius::bake_rows(&hf, &scratch, r, opts, out).unwrap()
+        });
         for j in 0..17 {
             for i in 0..23 {
                 let t = (j * 23 + i) as usize;

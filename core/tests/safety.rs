@@ -7,15 +7,17 @@
 mod common;
 
 use common::{
-    breakpoints, check_bakes, class_axis, eps_f32, is_touch, march_fields, rays_with_grazing,
-    rows_field, Field, Probe, RaySpec, Rng, Tally,
+    assert_rows_rebake, breakpoints, check_bakes, class_axis, eps_f32, is_touch, march_fields,
+    rays_with_grazing, rows_field, Field, Probe, RaySpec, Rng, Tally,
 };
 use hfcast::safety::cc::{self, CcMap, CcOptions, Slope};
 use hfcast::safety::{self, MarchSurface, Options, SafetyMap, Variant, CLASSES};
-use hfcast::{dda, Flags, Query, Real, Surface, Trace};
+use hfcast::{dda, Flags, Marcher, Query, Real, Surface, Trace};
 
 const TRI: Surface = Surface::Triangles;
 const VL: Surface = Surface::ViewLinear;
+/// The maps' march on the triangle surface they are baked for.
+const TRI_MARCH: MarchSurface = MarchSurface::Triangles;
 
 /// The synthetic fields of the brief.
 fn fields() -> Vec<(String, Field)> {
@@ -61,24 +63,6 @@ fn judge<R: Real>(
     }
 }
 
-/// Rays of every kind and class, plus grazing rays down to 1e-4 rad in each class,
-/// starting above the surface.
-fn rays(field: &Field, rng: &mut Rng, per_kind: usize) -> Vec<RaySpec> {
-    rays_with_grazing(field, TRI, rng, per_kind)
-}
-
-fn run_case<R: Real>(
-    name: &str,
-    field: &Field,
-    map: &SafetyMap,
-    specs: &[RaySpec],
-    to_q: impl Fn(&RaySpec) -> Query<R>,
-) -> Tally {
-    run_with(name, field, TRI, specs, to_q, |q| {
-        safety::trace(map, &field.hf(), q)
-    })
-}
-
 fn bake_cc(field: &Field, opts: CcOptions) -> Vec<u8> {
     let hf = field.hf();
     let mut scratch = vec![0f32; safety::scratch_len(field.w, field.h)];
@@ -88,37 +72,67 @@ fn bake_cc(field: &Field, opts: CcOptions) -> Vec<u8> {
     out
 }
 
-/// Traces every ray of `specs` with `tracer` and judges it on `surface`.
-fn run_with<R: Real>(
-    name: &str,
-    field: &Field,
-    surface: Surface,
-    specs: &[RaySpec],
-    to_q: impl Fn(&RaySpec) -> Query<R>,
-    tracer: impl Fn(&Query<R>) -> Trace<R>,
-) -> Tally {
-    let hf = field.hf();
-    let zs = field.z_scale();
-    let mut t = Tally::new(name);
-    for s in specs {
-        let q = to_q(s);
-        let got = tracer(&q);
-        assert!(
-            !got.flags.contains(Flags::BUDGET_EXHAUSTED),
-            "{name}: budget"
-        );
-        t.tried += 1;
-        t.hits += u64::from(got.hit.is_some());
-        match judge(field, surface, &got, &q, zs) {
-            None => t.ambiguous += 1,
-            Some(true) => {}
-            Some(false) => t.wrong(|| {
-                let o = dda::trace(&hf, surface, &q.cast::<f64>());
-                format!("{q:?} got {:?} oracle {:?}", got.hit, o.hit)
-            }),
+/// One field's rays, traced with every map and judged.
+struct Rays<'a> {
+    name: &'a str,
+    field: &'a Field,
+    specs: Vec<RaySpec>,
+}
+
+impl<'a> Rays<'a> {
+    /// `per_kind[0]` rays of every kind and class on fields of more than 200 samples,
+    /// `per_kind[1]` on the others, plus twice as many grazing rays down to 1e-4 rad,
+    /// starting above the surface ([`rays_with_grazing`]).
+    fn new(name: &'a str, field: &'a Field, rng: &mut Rng, per_kind: [usize; 2]) -> Rays<'a> {
+        let per_kind = if field.w * field.h > 200 {
+            per_kind[0]
+        } else {
+            per_kind[1]
+        };
+        Rays {
+            name,
+            field,
+            specs: rays_with_grazing(field, TRI, rng, per_kind),
         }
     }
-    t
+
+    /// Traces every ray with `m` in precision `R` and judges it on `surface`: the
+    /// tally `name`.
+    fn run<R: Real>(&self, name: &str, surface: Surface, m: &Marcher) -> Tally {
+        let field = self.field;
+        let hf = field.hf();
+        let zs = field.z_scale();
+        let mut t = Tally::new(name);
+        for s in &self.specs {
+            let q = s.query::<R>();
+            let got = m.trace(&hf, &q);
+            assert!(
+                !got.flags.contains(Flags::BUDGET_EXHAUSTED),
+                "{name}: budget"
+            );
+            t.tried += 1;
+            t.hits += u64::from(got.hit.is_some());
+            match judge(field, surface, &got, &q, zs) {
+                None => t.ambiguous += 1,
+                Some(true) => {}
+                Some(false) => t.wrong(|| {
+                    let o = dda::trace(&hf, surface, &q.cast::<f64>());
+                    format!("{q:?} got {:?} oracle {:?}", got.hit, o.hit)
+                }),
+            }
+        }
+        t
+    }
+
+    /// [`Rays::run`] in `f32` and in `f64`: the tallies "`name` `what` f32" and
+    /// "`name` `what` f64".
+    fn both(&self, what: &str, surface: Surface, m: &Marcher) -> [Tally; 2] {
+        let name = |p: &str| format!("{} {what} {p}", self.name);
+        [
+            self.run::<f32>(&name("f32"), surface, m),
+            self.run::<f64>(&name("f64"), surface, m),
+        ]
+    }
 }
 
 #[test]
@@ -130,33 +144,16 @@ fn zero_wrong_rays() {
     let mut positive_tried = 0;
     for (name, field) in fields() {
         let hf = field.hf();
-        let per_kind = if field.w * field.h > 200 { 400 } else { 60 };
-        let specs = rays(&field, &mut rng, per_kind);
+        let rays = Rays::new(&name, &field, &mut rng, [400, 60]);
+        let mut tallies = Vec::new();
         for variant in [Variant::Directional, Variant::Isotropic] {
             let opts = Options {
                 variant,
                 ..Options::default()
             };
             let data = bake(&field, opts);
-            let map = SafetyMap::new(&hf, &data, variant).unwrap();
-            let t32 = run_case(
-                &format!("{name} {variant:?} f32"),
-                &field,
-                &map,
-                &specs,
-                |s| s.q32(),
-            );
-            let t64 = run_case(
-                &format!("{name} {variant:?} f64"),
-                &field,
-                &map,
-                &specs,
-                |s| s.q64(),
-            );
-            for t in [&t32, &t64] {
-                wrong += t.wrong;
-                t.report(&mut out);
-            }
+            let m = Marcher::Safety(SafetyMap::new(&hf, &data, variant).unwrap(), TRI_MARCH);
+            tallies.extend(rays.both(&format!("{variant:?}"), TRI, &m));
         }
         for slope in [Slope::Exact, Slope::NBuffer] {
             let opts = CcOptions {
@@ -164,27 +161,12 @@ fn zero_wrong_rays() {
                 ..CcOptions::default()
             };
             let data = bake_cc(&field, opts);
-            let map = CcMap::new(&hf, &data, opts.cap).unwrap();
-            let t32 = run_with(
-                &format!("{name} CC {slope:?} f32"),
-                &field,
-                TRI,
-                &specs,
-                |s| s.q32(),
-                |q| cc::trace(&map, &hf, q),
-            );
-            let t64 = run_with(
-                &format!("{name} CC {slope:?} f64"),
-                &field,
-                TRI,
-                &specs,
-                |s| s.q64(),
-                |q| cc::trace(&map, &hf, q),
-            );
-            for t in [&t32, &t64] {
-                wrong += t.wrong;
-                t.report(&mut out);
-            }
+            let m = Marcher::Cc(CcMap::new(&hf, &data, opts.cap).unwrap(), TRI_MARCH);
+            tallies.extend(rays.both(&format!("CC {slope:?}"), TRI, &m));
+        }
+        for t in &tallies {
+            wrong += t.wrong;
+            t.report(&mut out);
         }
         // The strictly positive variant: approximate; its silhouette errors measured.
         let opts = Options {
@@ -192,14 +174,8 @@ fn zero_wrong_rays() {
             ..Options::default()
         };
         let data = bake(&field, opts);
-        let map = SafetyMap::new(&hf, &data, opts.variant).unwrap();
-        let t = run_case(
-            &format!("{name} positive f32 (approximate)"),
-            &field,
-            &map,
-            &specs,
-            |s| s.q32(),
-        );
+        let m = Marcher::Safety(SafetyMap::new(&hf, &data, opts.variant).unwrap(), TRI_MARCH);
+        let t = rays.run::<f32>(&format!("{name} positive f32 (approximate)"), TRI, &m);
         positive_wrong += t.wrong;
         positive_tried += t.tried;
     }
@@ -220,60 +196,20 @@ fn view_linear_zero_wrong_rays() {
     let vl = MarchSurface::ViewLinear;
     for (name, field) in fields() {
         let hf = field.hf();
-        let per_kind = if field.w * field.h > 200 { 200 } else { 40 };
-        let specs = rays(&field, &mut rng, per_kind);
+        let rays = Rays::new(&name, &field, &mut rng, [200, 40]);
         let sd = bake(&field, Options::default());
         let sd = SafetyMap::new(&hf, &sd, Variant::Directional).unwrap();
         let ccd = bake_cc(&field, CcOptions::default());
         let ccm = CcMap::new(&hf, &ccd, CcOptions::default().cap).unwrap();
-        let tallies = [
-            run_with(
-                &format!("{name} SD view-linear f32"),
-                &field,
-                VL,
-                &specs,
-                |s| s.q32(),
-                |q| safety::trace_on(&sd, &hf, vl, q),
-            ),
-            run_with(
-                &format!("{name} SD view-linear f64"),
-                &field,
-                VL,
-                &specs,
-                |s| s.q64(),
-                |q| safety::trace_on(&sd, &hf, vl, q),
-            ),
-            run_with(
-                &format!("{name} CC view-linear f32"),
-                &field,
-                VL,
-                &specs,
-                |s| s.q32(),
-                |q| cc::trace_on(&ccm, &hf, vl, q),
-            ),
-            run_with(
-                &format!("{name} CC view-linear f64"),
-                &field,
-                VL,
-                &specs,
-                |s| s.q64(),
-                |q| cc::trace_on(&ccm, &hf, vl, q),
-            ),
-        ];
+        let mut tallies = Vec::from(rays.both("SD view-linear", VL, &Marcher::Safety(sd, vl)));
+        tallies.extend(rays.both("CC view-linear", VL, &Marcher::Cc(ccm, vl)));
         for t in &tallies {
             wrong += t.wrong;
             tried += t.tried;
             t.report(&mut out);
         }
         // The test tells the surfaces apart: the triangle march fails it.
-        let tri = run_with(
-            "triangles",
-            &field,
-            VL,
-            &specs,
-            |s| s.q64(),
-            |q| safety::trace(&sd, &hf, q),
-        );
+        let tri = rays.run::<f64>("triangles", VL, &Marcher::Safety(sd, TRI_MARCH));
         triangles_wrong += tri.wrong;
     }
     println!("{out}");
@@ -391,13 +327,12 @@ fn row_ranges_match_whole_bake() {
         let whole = bake(&field, opts);
         let mut scratch = vec![0f32; safety::scratch_len(23, 17)];
         safety::prepare(&hf, &mut scratch).unwrap();
-        let mut parts = vec![0u8; whole.len()];
-        let row = 23 * variant.channels();
-        for r in [0..5u32, 5..6, 6..17] {
-            let out = &mut parts[r.start as usize * row..r.end as usize * row];
-            safety::bake_rows(&hf, &scratch, r, opts, out).unwrap();
-        }
-        assert_eq!(whole, parts);
+        assert_rows_rebake(
+            &whole,
+            23 * variant.channels(),
+            &[0..5, 5..6, 6..17],
+            |r, out| safety::bake_rows(&hf, &scratch, r, opts, out).unwrap(),
+        );
     }
     // Isotropic = minimum of the directional channels.
     let dir = bake(&field, Options::default());
@@ -517,12 +452,12 @@ fn check_cc_bake(
                 let ground = TRI.height_at(&hf, p[0], p[1]);
                 p[2] = match r % 4 {
                     0 => ground + rng.range(0.0, 0.05) * relief,
-                    _ => ground.max(zc) + rng.range(0.0, 0.6) * relief * rng.f64(),
+                    _ => ground.max(zc) + rng.range(0.0, 0.6) * relief * rng.unit(),
                 };
                 let sd = match r % 6 {
                     0 => rng.range(0.0, 1.5),
                     1 => -rng.range(0.0, 0.05),
-                    _ => -rng.range(0.0, 3.0) * rng.f64(),
+                    _ => -rng.range(0.0, 3.0) * rng.unit(),
                 };
                 let slope = match r % 3 {
                     0 => rng.sign(),
@@ -684,13 +619,12 @@ fn cc_rows_and_packing() {
         let mut nb = vec![0f32; cc::nbuffer_len(23, 17, opts.cap)];
         safety::prepare(&hf, &mut scratch).unwrap();
         cc::prepare_nbuffer(&hf, opts.cap, &mut nb).unwrap();
-        let mut parts = vec![0u8; whole.len()];
-        let row = 23 * cc::BYTES_PER_TEXEL;
-        for r in [0..4u32, 4..11, 11..17] {
-            let out = &mut parts[r.start as usize * row..r.end as usize * row];
-            cc::bake_rows(&hf, &scratch, &nb, r, opts, out).unwrap();
-        }
-        assert_eq!(whole, parts);
+        assert_rows_rebake(
+            &whole,
+            23 * cc::BYTES_PER_TEXEL,
+            &[0..4, 4..11, 11..17],
+            |r, out| cc::bake_rows(&hf, &scratch, &nb, r, opts, out).unwrap(),
+        );
         // r equals the SD bake; the N-buffer slope is never below the exact one.
         let sd = bake(&field, Options::default());
         let exact = bake_cc(

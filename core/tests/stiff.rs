@@ -24,6 +24,35 @@ use common::*;
 use hfcast::surface::smallest_root_in_unit;
 use hfcast::{brute, dda, Query, Surface};
 
+/// The `f64` and `f32` judgements of one case: "`name` / f64" and "`name` / f32".
+struct Both {
+    j64: Judged,
+    j32: Judged,
+}
+
+impl Both {
+    fn new(name: &str) -> Both {
+        Both {
+            j64: Judged::new(format!("{name} / f64")),
+            j32: Judged::new(format!("{name} / f32")),
+        }
+    }
+
+    /// Judges `spec` on `field` and `surface` in both precisions.
+    fn add(&mut self, field: &Field, surface: Surface, spec: &RaySpec) {
+        self.j64.add(field, surface, &spec.q64());
+        self.j32.add(field, surface, &spec.q32());
+    }
+
+    /// Appends both per-case lines to `out` and adds both counts to `all`.
+    fn report_into(&self, out: &mut String, all: &mut Judged) {
+        self.j64.report(out);
+        self.j32.report(out);
+        all.absorb(&self.j64);
+        all.absorb(&self.j32);
+    }
+}
+
 /// Judges every ray of `rays` on every surface, in `f64` and in `f32`, and appends the
 /// per-case lines; returns both precisions' counts together.
 fn run_case(
@@ -32,76 +61,35 @@ fn run_case(
     field: &Field,
     rays: &mut dyn FnMut(Surface) -> Vec<RaySpec>,
 ) -> Judged {
-    let mut j64 = Judged::new(format!("{name} / f64"));
-    let mut j32 = Judged::new(format!("{name} / f32"));
+    let mut both = Both::new(name);
     for surface in Surface::ALL {
         for spec in rays(surface) {
-            j64.add(field, surface, &spec.q64());
-            j32.add(field, surface, &spec.q32());
+            both.add(field, surface, &spec);
         }
     }
+    let Both { mut j64, j32 } = both;
     j64.report(out);
     j32.report(out);
     j64.absorb(&j32);
     j64
 }
 
-/// `n` rays of every kind.
-fn mixed(rng: &mut Rng, field: &Field, surface: Surface, n: usize) -> Vec<RaySpec> {
-    (0..n)
-        .flat_map(|_| RayKind::ALL)
-        .map(|k| random_ray(rng, field, surface, k))
-        .collect::<Vec<_>>()
-}
-
-/// `n` rays of the given kinds.
-fn of_kinds(
-    rng: &mut Rng,
-    field: &Field,
-    surface: Surface,
-    kinds: &[RayKind],
-    n: usize,
-) -> Vec<RaySpec> {
-    (0..n)
-        .flat_map(|_| kinds.iter().copied())
-        .map(|k| random_ray(rng, field, surface, k))
-        .collect()
-}
-
-/// Rays at exactly `elevation` (radians, up or down), from just above the surface.
-fn grazing(rng: &mut Rng, field: &Field, surface: Surface, n: usize) -> Vec<RaySpec> {
-    let hf = field.hf();
-    let (xm, ym) = ((field.w - 1) as f64, (field.h - 1) as f64);
-    let (lo, hi) = field.range();
-    (0..n)
-        .map(|_| {
-            let el = 1e-4 * rng.sign();
-            let az = rng.range(0.0, std::f64::consts::TAU);
-            let (x, y) = (rng.range(-0.5, xm + 0.5), rng.range(-0.5, ym + 0.5));
-            let z = surface.height_at(&hf, x, y) + rng.range(-0.001, 0.2) * (hi - lo).max(1e-3);
-            let d = if rng.chance(0.25) {
-                // Axis-parallel and grazing.
-                let mut d = [0.0, 0.0, el.sin()];
-                d[rng.below(2)] = rng.sign() * el.cos();
-                d
-            } else {
-                [el.cos() * az.cos(), el.cos() * az.sin(), el.sin()]
-            };
-            RaySpec {
-                o: [x, y, z],
-                d,
-                t_min: 0.0,
-                t_max: f64::INFINITY,
-            }
-        })
-        .collect()
+/// Appends the totals `all` to `out`, prints it and asserts no wrong ray and few
+/// enough ambiguous ones (under 1 in 7) for the case to be a test.
+fn finish(mut out: String, all: &Judged) {
+    all.report(&mut out);
+    println!("{out}");
+    assert_eq!(all.tally.wrong, 0);
+    assert!(
+        all.tally.ambiguous * 7 < all.tally.tried,
+        "too few rays compared"
+    );
 }
 
 #[test]
 fn stiff_rays_on_small_fields() {
     let mut rng = Rng::new(0x57_1FF);
     let mut out = String::from("stiff rays: f64 / f32 DDA vs brute force\n");
-    let mut wrong = 0;
     let mut fields: Vec<Field> = (0..40).map(|_| small_field(&mut rng)).collect();
     fields.push(fractal_field(&mut rng, 24, 20, 27, 3.0));
     // A tilted plane: grazing rays along the slope graze at every step.
@@ -111,7 +99,7 @@ fn stiff_rays_on_small_fields() {
 
     type Gen = fn(&mut Rng, &Field, Surface) -> Vec<RaySpec>;
     let cases: [(&str, Gen); 4] = [
-        ("grazing 1e-4 rad", |r, f, s| grazing(r, f, s, 40)),
+        ("grazing 1e-4 rad", |r, f, s| grazing(r, f, s, 40, 1e-4)),
         ("axis-parallel", |r, f, s| {
             of_kinds(r, f, s, &[RayKind::AxisX, RayKind::AxisY], 12)
         }),
@@ -130,29 +118,17 @@ fn stiff_rays_on_small_fields() {
     ];
     let mut all = Judged::new("all stiff rays, both precisions");
     for (name, gen) in cases {
-        let mut j64 = Judged::new(format!("{name} / f64"));
-        let mut j32 = Judged::new(format!("{name} / f32"));
+        let mut both = Both::new(name);
         for field in &fields {
             for surface in Surface::ALL {
                 for spec in gen(&mut rng, field, surface) {
-                    j64.add(field, surface, &spec.q64());
-                    j32.add(field, surface, &spec.q32());
+                    both.add(field, surface, &spec);
                 }
             }
         }
-        j64.report(&mut out);
-        j32.report(&mut out);
-        wrong += j64.tally.wrong + j32.tally.wrong;
-        all.absorb(&j64);
-        all.absorb(&j32);
+        both.report_into(&mut out, &mut all);
     }
-    all.report(&mut out);
-    println!("{out}");
-    assert_eq!(wrong, 0);
-    assert!(
-        all.tally.ambiguous * 7 < all.tally.tried,
-        "too few rays compared"
-    );
+    finish(out, &all);
 }
 
 #[test]
@@ -166,12 +142,11 @@ fn stiff_fields() {
         let field = Field::from_fn(7, 5, 9, |_, _| level);
         let name = format!("all heights {level}");
         all.absorb(&run_case(&mut out, &name, &field, &mut |s| {
-            mixed(&mut rng, &field, s, 12)
+            of_kinds(&mut rng, &field, s, &RayKind::ALL, 12)
         }));
     }
     {
-        let mut j64 = Judged::new("2x2 fields / f64");
-        let mut j32 = Judged::new("2x2 fields / f32");
+        let mut both = Both::new("2x2 fields");
         for k in 0..150 {
             let stride = 2 + k % 3;
             let field = Field::from_fn(2, 2, stride, |_, _| {
@@ -182,36 +157,26 @@ fn stiff_fields() {
                 }
             });
             for surface in Surface::ALL {
-                for spec in mixed(&mut rng, &field, surface, 2) {
-                    j64.add(&field, surface, &spec.q64());
-                    j32.add(&field, surface, &spec.q32());
+                for spec in of_kinds(&mut rng, &field, surface, &RayKind::ALL, 2) {
+                    both.add(&field, surface, &spec);
                 }
             }
         }
-        j64.report(&mut out);
-        j32.report(&mut out);
-        all.absorb(&j64);
-        all.absorb(&j32);
+        both.report_into(&mut out, &mut all);
     }
-    let tiny = Field::from_fn(9, 7, 9, |_, _| (rng.f64() * 1e-6) as f32);
+    let tiny = Field::from_fn(9, 7, 9, |_, _| (rng.unit() * 1e-6) as f32);
     all.absorb(&run_case(&mut out, "height range 1e-6", &tiny, &mut |s| {
-        mixed(&mut rng, &tiny, s, 12)
+        of_kinds(&mut rng, &tiny, s, &RayKind::ALL, 12)
     }));
     let small_hills = fractal_field(&mut rng, 2, 4096, 2, 3.0);
     all.absorb(&run_case(&mut out, "2 x 4096", &small_hills, &mut |s| {
-        mixed(&mut rng, &small_hills, s, 4)
+        of_kinds(&mut rng, &small_hills, s, &RayKind::ALL, 4)
     }));
     let wide = fractal_field(&mut rng, 4096, 2, 4100, 3.0);
     all.absorb(&run_case(&mut out, "4096 x 2", &wide, &mut |s| {
-        mixed(&mut rng, &wide, s, 4)
+        of_kinds(&mut rng, &wide, s, &RayKind::ALL, 4)
     }));
-    all.report(&mut out);
-    println!("{out}");
-    assert_eq!(all.tally.wrong, 0);
-    assert!(
-        all.tally.ambiguous * 7 < all.tally.tried,
-        "too few rays compared"
-    );
+    finish(out, &all);
 }
 
 /// Heights up to 1e6: in `f32` the hit's `z` is only good to its spacing (0.06 at 1e6),
@@ -219,14 +184,14 @@ fn stiff_fields() {
 #[test]
 fn height_range_1e6() {
     let mut rng = Rng::new(0xB16);
-    let field = Field::from_fn(9, 7, 9, |_, _| (rng.f64() * 1e6) as f32);
+    let field = Field::from_fn(9, 7, 9, |_, _| (rng.unit() * 1e6) as f32);
     let hf = field.hf();
     let mut out = String::new();
     let mut j64 = Judged::new("height range 1e6 / f64");
     let mut t32 = Tally::new("height range 1e6 / f32 (z relative)");
     let eps = eps_f32(field.z_scale());
     let mut raw_max = 0f64;
-    let (xm, ym) = ((field.w - 1) as f64, (field.h - 1) as f64);
+    let (xm, ym) = field.far_corner();
     for surface in Surface::ALL {
         // Origins near the footprint horizontally (far origins cost `f32` the same
         // precision on any field), at any height; aimed at points of the box, or vertical.
@@ -248,12 +213,7 @@ fn height_range_1e6() {
                 } else {
                     o
                 };
-                RaySpec {
-                    o,
-                    d,
-                    t_min: 0.0,
-                    t_max: f64::INFINITY,
-                }
+                RaySpec::whole(o, d)
             })
             .collect();
         for spec in rays {
@@ -330,7 +290,7 @@ fn field_8193_by_16() {
     let mut long = Tally::new("8193 x 16 long rays, exact far hit / f32+f64");
     let mut j = Judged::new("8193 x 16 long rays vs brute force");
     for k in 0..40 {
-        let z = 0.5 + 9.0 * rng.f64();
+        let z = 0.5 + 9.0 * rng.unit();
         let o = [
             if k % 2 == 0 {
                 rng.range(0.0, 3.0)
@@ -343,12 +303,7 @@ fn field_8193_by_16() {
         let dy = rng.range(-1.0, 1.0) * (14.0 - 1.0) / 8200.0;
         let d = [rng.range(0.5, 2.0), dy, 0.0];
         for surface in Surface::ALL {
-            let spec = RaySpec {
-                o,
-                d,
-                t_min: 0.0,
-                t_max: f64::INFINITY,
-            };
+            let spec = RaySpec::whole(o, d);
             let q32 = spec.q32();
             let q64 = q32.cast::<f64>();
             let [ox, oy, oz] = q64.origin();
@@ -466,12 +421,7 @@ fn saddle_cells() {
                 ([v, 5.5, z], [0.0, -1.0, dz]),
                 ([5.5, v + 0.0625, z], [-1.0, 0.0, dz]),
             ] {
-                let spec = RaySpec {
-                    o,
-                    d,
-                    t_min: 0.0,
-                    t_max: f64::INFINITY,
-                };
+                let spec = RaySpec::whole(o, d);
                 j.add(&field, Surface::Bilinear, &spec.q64());
                 j.add(&field, Surface::Bilinear, &spec.q32());
                 j.add(&field, Surface::ViewLinear, &spec.q64());

@@ -12,67 +12,30 @@ use hfcast::{dda, FieldError, HeightField, Query, RayError, Surface};
 #[test]
 fn height_field_sizes_and_strides() {
     let s = [0.0f32; 64];
-    assert_eq!(
-        HeightField::new(&s, 1, 4, 4).unwrap_err(),
-        FieldError::TooSmall
-    );
-    assert_eq!(
-        HeightField::new(&s, 4, 1, 4).unwrap_err(),
-        FieldError::TooSmall
-    );
-    assert_eq!(
-        HeightField::new(&s, 0, 0, 0).unwrap_err(),
-        FieldError::TooSmall
-    );
-    assert_eq!(
-        HeightField::new(&s, 4, 4, 3).unwrap_err(),
-        FieldError::StrideTooSmall
-    );
-    assert_eq!(
-        HeightField::new(&s, MAX_SIDE + 1, 2, usize::MAX).unwrap_err(),
-        FieldError::TooLarge
-    );
-    assert_eq!(
-        HeightField::new(&s, 2, MAX_SIDE + 1, 2).unwrap_err(),
-        FieldError::TooLarge
-    );
-    // Slice too short: exactly one sample missing, with and without padding.
-    assert_eq!(
-        HeightField::new(&s[..15], 4, 4, 4).unwrap_err(),
-        FieldError::SliceTooShort {
-            needed: 16,
-            given: 15
-        }
-    );
-    assert_eq!(
-        HeightField::new(&s[..20], 3, 4, 6).unwrap_err(),
-        FieldError::SliceTooShort {
-            needed: 21,
-            given: 20
-        }
-    );
+    let short = |needed, given| FieldError::SliceTooShort { needed, given };
+    // (samples given, width, height, stride, the error)
+    let refused = [
+        (64, 1, 4, 4, FieldError::TooSmall),
+        (64, 4, 1, 4, FieldError::TooSmall),
+        (64, 0, 0, 0, FieldError::TooSmall),
+        (64, 4, 4, 3, FieldError::StrideTooSmall),
+        (64, MAX_SIDE + 1, 2, usize::MAX, FieldError::TooLarge),
+        (64, 2, MAX_SIDE + 1, 2, FieldError::TooLarge),
+        // Slice too short: exactly one sample missing, with and without padding.
+        (15, 4, 4, 4, short(16, 15)),
+        (20, 3, 4, 6, short(21, 20)),
+        // Huge strides over a short slice: errors, no panic, no allocation.
+        (64, 4, 3, usize::MAX / 2 + 1, FieldError::SizeOverflow),
+        (64, 4, 2, usize::MAX - 3, FieldError::SizeOverflow),
+        (64, 4, 2, usize::MAX - 4, short(usize::MAX, 64)),
+        (64, 4, 5, usize::MAX / 4, FieldError::SizeOverflow),
+    ];
+    for (n, w, h, stride, e) in refused {
+        let got = HeightField::new(&s[..n], w, h, stride).unwrap_err();
+        assert_eq!(got, e, "{n} samples, {w} x {h}, stride {stride}");
+    }
     // The last row needs only `width` samples, not a full stride.
     assert!(HeightField::new(&s[..21], 3, 4, 6).is_ok());
-    // Huge strides over a short slice: errors, no panic, no allocation.
-    assert_eq!(
-        HeightField::new(&s, 4, 3, usize::MAX / 2 + 1).unwrap_err(),
-        FieldError::SizeOverflow
-    );
-    assert_eq!(
-        HeightField::new(&s, 4, 2, usize::MAX - 3).unwrap_err(),
-        FieldError::SizeOverflow
-    );
-    assert_eq!(
-        HeightField::new(&s, 4, 2, usize::MAX - 4).unwrap_err(),
-        FieldError::SliceTooShort {
-            needed: usize::MAX,
-            given: 64
-        }
-    );
-    assert_eq!(
-        HeightField::new(&s, 4, 5, usize::MAX / 4).unwrap_err(),
-        FieldError::SizeOverflow
-    );
     let mut out = [0.0f32; 16];
     assert_eq!(
         HeightField::from_u8(&[0u8; 8], 4, 3, usize::MAX / 2 + 1, 1.0, &mut out).unwrap_err(),
@@ -166,38 +129,33 @@ fn integer_maps() {
             given: 13
         }
     );
-    assert_eq!(
-        HeightField::from_u8(&[0u8; 12], 1, 3, 4, 1.0, &mut out).unwrap_err(),
-        FieldError::TooSmall
-    );
-    assert_eq!(
-        HeightField::from_u8(&[0u8; 12], 4, 3, 3, 1.0, &mut out).unwrap_err(),
-        FieldError::StrideTooSmall
-    );
+    for (w, stride, e) in [
+        (1, 4, FieldError::TooSmall),
+        (4, 3, FieldError::StrideTooSmall),
+    ] {
+        let got = HeightField::from_u8(&[0u8; 12], w, 3, stride, 1.0, &mut out).unwrap_err();
+        assert_eq!(got, e, "{w} x 3, stride {stride}");
+    }
 
     // Values: 0 → 0, full scale → depth (within 1 ulp), monotone, padding skipped,
     // output row-major with stride = width.
     let within_ulp = |a: f32, b: f32| (a - b).abs() <= b.abs() * f32::EPSILON;
     for depth in [1.0f32, 0.1, 3.7, 1000.0, 1e-3, 12345.678, 1e30, -2.5] {
+        // Sample (0, 0) is 0, the full-scale one at `full` reads `depth`, the one at
+        // `mid` its `share` of it.
+        let scaled = |hf: &HeightField, full: [u32; 2], (mid, share): ([u32; 2], f32)| {
+            assert_eq!(hf.at(0, 0), 0.0);
+            let top = hf.at(full[0], full[1]);
+            assert!(within_ulp(top, depth), "full scale -> {top} vs {depth}");
+            assert!((hf.at(mid[0], mid[1]) - share * depth).abs() <= depth.abs() * 1e-6);
+        };
         let s8 = [0u8, 1, 128, 255, 7, 7, 254, 2, 3];
         let hf = HeightField::from_u8(&s8, 3, 3, 3, depth, &mut out).unwrap();
-        assert_eq!(hf.at(0, 0), 0.0);
-        assert!(
-            within_ulp(hf.at(0, 1), depth),
-            "u8 255 -> {} vs {depth}",
-            hf.at(0, 1)
-        );
-        assert!((hf.at(2, 0) - 128.0 / 255.0 * depth).abs() <= depth.abs() * 1e-6);
+        scaled(&hf, [0, 1], ([2, 0], 128.0 / 255.0));
         let s16 = [0u16, 1, 65535, 9, 65534, 32768, 0, 0];
         let hf = HeightField::from_u16(&s16, 3, 2, 4, depth, &mut out).unwrap();
         assert_eq!(hf.stride(), 3);
-        assert_eq!(hf.at(0, 0), 0.0);
-        assert!(
-            within_ulp(hf.at(2, 0), depth),
-            "u16 65535 -> {} vs {depth}",
-            hf.at(2, 0)
-        );
-        assert!((hf.at(1, 1) - 32768.0 / 65535.0 * depth).abs() <= depth.abs() * 1e-6);
+        scaled(&hf, [2, 0], ([1, 1], 32768.0 / 65535.0));
         assert_eq!(hf.samples().len(), 6);
         // Monotone over the whole range.
         let all16: Vec<u16> = (0..=u16::MAX).collect();

@@ -235,34 +235,30 @@ pub fn par_chunks<T: Send>(
     });
 }
 
-/// A small deterministic random generator (SplitMix64), enough for test and benchmark
-/// rays; no dependency.
+/// A small deterministic random generator ([`hfcast::rng::SplitMix`] with the seed as
+/// its state), enough for test and benchmark rays; no dependency.
 #[derive(Clone, Debug)]
-pub struct Rng(u64);
+pub struct Rng(hfcast::rng::SplitMix);
 
 impl Rng {
     /// A generator from a seed.
     pub fn new(seed: u64) -> Rng {
-        Rng(seed)
+        Rng(hfcast::rng::SplitMix::from_state(seed))
     }
 
     /// The next 64 random bits.
     pub fn next_u64(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
+        self.0.next_u64()
     }
 
     /// Uniform in `[0, 1)`.
     pub fn unit(&mut self) -> f64 {
-        (self.next_u64() >> 11) as f64 / (1u64 << 53) as f64
+        self.0.unit()
     }
 
     /// Uniform in `[lo, hi)`.
     pub fn range(&mut self, lo: f64, hi: f64) -> f64 {
-        lo + (hi - lo) * self.unit()
+        self.0.range(lo, hi)
     }
 
     /// A direction uniform on the unit sphere.

@@ -2,53 +2,13 @@
 //! ambiguity rule of docs/DESIGN.md, ray generators and a tally that prints per-case counts.
 #![allow(dead_code)] // every test binary uses a different part of this module
 
+use hfcast::bake::{Spec, Texels};
+use hfcast::ktx2::{Desc, MapKind};
 use hfcast::{brute, dda, judge, Flags, HeightField, Query, RayClass, Real, Surface, Trace};
+use std::ops::Range;
 
-/// SplitMix64: tiny, seeded, reproducible on every platform.
-pub struct Rng(u64);
-
-impl Rng {
-    /// A generator with a fixed seed.
-    pub fn new(seed: u64) -> Rng {
-        Rng(seed ^ 0x9E37_79B9_7F4A_7C15)
-    }
-    /// Next 64 random bits.
-    pub fn u64(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
-    }
-    /// Uniform in `[0, 1)`.
-    pub fn f64(&mut self) -> f64 {
-        (self.u64() >> 11) as f64 * (1.0 / (1u64 << 53) as f64)
-    }
-    /// Uniform in `[lo, hi)`.
-    pub fn range(&mut self, lo: f64, hi: f64) -> f64 {
-        lo + (hi - lo) * self.f64()
-    }
-    /// Uniform integer in `[lo, hi]`.
-    pub fn int(&mut self, lo: i64, hi: i64) -> i64 {
-        lo + (self.u64() % (hi - lo + 1) as u64) as i64
-    }
-    /// Uniform index below `n`.
-    pub fn below(&mut self, n: usize) -> usize {
-        (self.u64() % n as u64) as usize
-    }
-    /// `true` with probability `p`.
-    pub fn chance(&mut self, p: f64) -> bool {
-        self.f64() < p
-    }
-    /// `±1`.
-    pub fn sign(&mut self) -> f64 {
-        if self.chance(0.5) {
-            1.0
-        } else {
-            -1.0
-        }
-    }
-}
+/// The tests' seeded generator: SplitMix64 from `seed ^ GOLDEN` ([`Rng::new`]).
+pub use hfcast::rng::SplitMix as Rng;
 
 /// An owned height field; row padding (stride > width) is filled with NaN so that a
 /// read outside the rows poisons the result.
@@ -83,6 +43,10 @@ impl Field {
     /// Sample (i, j).
     pub fn at(&self, i: u32, j: u32) -> f32 {
         self.samples[j as usize * self.stride + i as usize]
+    }
+    /// The footprint's far corner `(W − 1, H − 1)`.
+    pub fn far_corner(&self) -> (f64, f64) {
+        ((self.w - 1) as f64, (self.h - 1) as f64)
     }
     /// `(min, max)` height.
     pub fn range(&self) -> (f64, f64) {
@@ -150,7 +114,7 @@ pub fn fractal_field(rng: &mut Rng, w: u32, h: u32, stride: usize, amp: f64) -> 
             ]
         })
         .collect();
-    let mut noise = Rng::new(rng.u64());
+    let mut noise = Rng::new(rng.next_u64());
     Field::from_fn(w, h, stride, |i, j| {
         let (x, y) = (i as f64, j as f64);
         let s: f64 = waves
@@ -251,6 +215,16 @@ pub fn march_fields(
     v
 }
 
+/// `hf`'s float map `map` (the pyramid, cone, relaxed cone or QDM map), baked whole
+/// through the one bake interface (`hfcast::bake::Spec` with the defaults).
+pub fn baked_floats(map: MapKind, hf: &HeightField) -> Vec<f32> {
+    let spec = Spec::new(Desc::new(map, hf.width(), hf.height()));
+    match spec.bake_owned(hf).expect("bake") {
+        Texels::F32(v) => v,
+        Texels::U8(_) => panic!("{map:?} is not a float map"),
+    }
+}
+
 /// docs/DESIGN.md's ambiguity threshold `2⁻¹³ · max(1, |z|)`.
 pub fn eps_f32(z_scale: f64) -> f64 {
     z_scale / 8192.0
@@ -341,15 +315,28 @@ pub struct RaySpec {
 }
 
 impl RaySpec {
+    /// The ray `o + t·d` over `[0, ∞)`.
+    pub fn whole(o: [f64; 3], d: [f64; 3]) -> RaySpec {
+        RaySpec {
+            o,
+            d,
+            t_min: 0.0,
+            t_max: f64::INFINITY,
+        }
+    }
+    /// The query in precision `R` (values rounded to `R`).
+    pub fn query<R: Real>(&self) -> Query<R> {
+        let c = |v: [f64; 3]| v.map(R::from_f64);
+        let (t_min, t_max) = (R::from_f64(self.t_min), R::from_f64(self.t_max));
+        Query::from_arrays(c(self.o), c(self.d), t_min, t_max).expect("valid ray")
+    }
     /// The `f64` query.
     pub fn q64(&self) -> Query<f64> {
-        Query::from_arrays(self.o, self.d, self.t_min, self.t_max).expect("valid ray")
+        self.query()
     }
     /// The `f32` query (values rounded to `f32`).
     pub fn q32(&self) -> Query<f32> {
-        let c = |v: [f64; 3]| v.map(|x| x as f32);
-        Query::from_arrays(c(self.o), c(self.d), self.t_min as f32, self.t_max as f32)
-            .expect("valid ray")
+        self.query()
     }
 }
 
@@ -408,7 +395,7 @@ fn dir_from(rng: &mut Rng, elevation: f64) -> [f64; 3] {
 /// A random ray of `kind` for `field`: the origin is sometimes inside and sometimes
 /// outside the box, `t_min`/`t_max` are usually `0`/`∞` but not always.
 pub fn random_ray(rng: &mut Rng, field: &Field, surface: Surface, kind: RayKind) -> RaySpec {
-    let (xm, ym) = ((field.w - 1) as f64, (field.h - 1) as f64);
+    let (xm, ym) = field.far_corner();
     let (zlo, zhi) = field.range();
     let zr = (zhi - zlo).max(1e-3);
     let hf = field.hf();
@@ -567,6 +554,42 @@ pub fn random_ray(rng: &mut Rng, field: &Field, surface: Surface, kind: RayKind)
     finish(rng, o, d)
 }
 
+/// `n` random rays (for surface `s` of `f`) of each kind of `ks`, kind after kind.
+pub fn kind_blocks(rng: &mut Rng, f: &Field, s: Surface, ks: &[RayKind], n: usize) -> Vec<RaySpec> {
+    let kinds = ks.iter().flat_map(|&k| vec![k; n]);
+    kinds.map(|k| random_ray(rng, f, s, k)).collect()
+}
+
+/// `n` rounds of one random ray (for surface `s` of `f`) of each kind of `ks`, in turn.
+pub fn of_kinds(rng: &mut Rng, f: &Field, s: Surface, ks: &[RayKind], n: usize) -> Vec<RaySpec> {
+    let kinds = (0..n).flat_map(|_| ks.iter().copied());
+    kinds.map(|k| random_ray(rng, f, s, k)).collect()
+}
+
+/// Rays at exactly `elevation` (radians, up or down) from just above the surface,
+/// some along an axis.
+pub fn grazing(rng: &mut Rng, field: &Field, surface: Surface, n: usize, el: f64) -> Vec<RaySpec> {
+    let hf = field.hf();
+    let (xm, ym) = field.far_corner();
+    let (lo, hi) = field.range();
+    (0..n)
+        .map(|_| {
+            let el = el * rng.sign();
+            let az = rng.range(0.0, std::f64::consts::TAU);
+            let (x, y) = (rng.range(-0.5, xm + 0.5), rng.range(-0.5, ym + 0.5));
+            let z = surface.height_at(&hf, x, y) + rng.range(-0.001, 0.2) * (hi - lo).max(1e-3);
+            let d = if rng.chance(0.25) {
+                let mut d = [0.0, 0.0, el.sin()];
+                d[rng.below(2)] = rng.sign() * el.cos();
+                d
+            } else {
+                [el.cos() * az.cos(), el.cos() * az.sin(), el.sin()]
+            };
+            RaySpec::whole([x, y, z], d)
+        })
+        .collect()
+}
+
 /// Picks the parameter range: mostly `[0, ∞)`, sometimes a negative or positive
 /// `t_min` and a finite `t_max`.
 fn finish(rng: &mut Rng, o: [f64; 3], d: [f64; 3]) -> RaySpec {
@@ -579,6 +602,24 @@ fn finish(rng: &mut Rng, o: [f64; 3], d: [f64; 3]) -> RaySpec {
         _ => (0.0, f64::INFINITY),
     };
     RaySpec { o, d, t_min, t_max }
+}
+
+/// Adds the named counters of `$from` to those of `$to` (`$to.tried += $from.tried`, …):
+/// the per-case counts of a test summed into its totals.
+macro_rules! add_counts {
+    ($to:expr, $from:expr, $($counter:ident),+ $(,)?) => {
+        $($to.$counter += $from.$counter;)+
+    };
+}
+#[allow(unused_imports)] // the test binaries that sum counts of their own use it
+pub(crate) use add_counts;
+
+/// Keeps `what()` among `examples` while they are fewer than `max`: the first few of
+/// something are described, the rest only counted.
+pub fn keep_example(examples: &mut Vec<String>, max: usize, what: impl FnOnce() -> String) {
+    if examples.len() < max {
+        examples.push(what());
+    }
 }
 
 /// Per-case counts, printed as one line: `tried`, `wrong`, `ambiguous` and the largest
@@ -606,9 +647,22 @@ impl Tally {
     /// Records one wrong ray (keeps the first few descriptions).
     pub fn wrong(&mut self, what: impl FnOnce() -> String) {
         self.wrong += 1;
-        if self.examples.len() < 5 {
-            self.examples.push(what());
-        }
+        keep_example(&mut self.examples, 5, what);
+    }
+    /// Counts one traced ray, a hit of its reference (`hits`) and whether it is
+    /// `ambiguous`; `true` when it is to be compared (not ambiguous).
+    pub fn ray(&mut self, hits: bool, ambiguous: bool) -> bool {
+        self.tried += 1;
+        self.hits += u64::from(hits);
+        self.ambiguous += u64::from(ambiguous);
+        !ambiguous
+    }
+    /// Records the position error of two compared hit points (the reference's `a`,
+    /// the trace's `b`) and returns it.
+    pub fn err_between(&mut self, a: [f64; 3], b: [f64; 3]) -> f64 {
+        let e = dist(a, b);
+        self.err(e);
+        e
     }
     /// Records the position error of one compared hit.
     pub fn err(&mut self, e: f64) {
@@ -618,17 +672,19 @@ impl Tally {
     }
     /// Adds another tally's counts.
     pub fn absorb(&mut self, o: &Tally) {
-        self.tried += o.tried;
-        self.wrong += o.wrong;
-        self.ambiguous += o.ambiguous;
-        self.hits += o.hits;
+        add_counts!(
+            self,
+            o,
+            tried,
+            wrong,
+            ambiguous,
+            hits,
+            sum_err,
+            compared_hits
+        );
         self.max_err = self.max_err.max(o.max_err);
-        self.sum_err += o.sum_err;
-        self.compared_hits += o.compared_hits;
         for e in &o.examples {
-            if self.examples.len() < 5 {
-                self.examples.push(e.clone());
-            }
+            keep_example(&mut self.examples, 5, || e.clone());
         }
     }
     /// Appends the line the project notes quote (and a few wrong examples).
@@ -748,7 +804,7 @@ pub fn judge<R: Real>(field: &Field, surface: Surface, q: &Query<R>) -> (Outcome
     let is64 = R::EPSILON.to_f64() < 1e-10;
     let hf = field.hf();
     let q64 = q.cast::<f64>();
-    let (xm, ym) = ((field.w - 1) as f64, (field.h - 1) as f64);
+    let (xm, ym) = field.far_corner();
     let (zlo, zhi) = field.range();
     let (o, d) = (q64.origin(), q64.dir());
     let dlen = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
@@ -966,24 +1022,18 @@ pub fn rays_with_grazing(
     rng: &mut Rng,
     per_kind: usize,
 ) -> Vec<RaySpec> {
-    let mut v: Vec<RaySpec> = RayKind::ALL
-        .into_iter()
-        .flat_map(|kind| vec![kind; per_kind])
-        .map(|kind| random_ray(rng, field, surface, kind))
-        .collect();
+    let mut v = kind_blocks(rng, field, surface, &RayKind::ALL, per_kind);
     let hf = field.hf();
-    let (xm, ym) = ((field.w - 1) as f64, (field.h - 1) as f64);
+    let (xm, ym) = field.far_corner();
     for _ in 0..per_kind * 2 {
         let (x, y) = (rng.range(0.0, xm), rng.range(0.0, ym));
         let el = rng.sign() * 10f64.powf(rng.range(-4.0, -1.0));
         let az = rng.range(0.0, std::f64::consts::TAU);
         let z = surface.height_at(&hf, x, y) + rng.range(0.0, 0.05);
-        v.push(RaySpec {
-            o: [x, y, z],
-            d: [az.cos() * el.cos(), az.sin() * el.cos(), el.sin()],
-            t_min: 0.0,
-            t_max: f64::INFINITY,
-        });
+        v.push(RaySpec::whole(
+            [x, y, z],
+            [az.cos() * el.cos(), az.sin() * el.cos(), el.sin()],
+        ));
     }
     v
 }
@@ -1078,7 +1128,7 @@ impl Probe<'_> {
         let above = match r % 4 {
             0 => 0.0,
             1 => 1e-6 * self.zs,
-            _ => rng.range(0.0, 0.3) * self.relief * rng.f64(),
+            _ => rng.range(0.0, 0.3) * self.relief * rng.unit(),
         };
         p[2] = Surface::Triangles.height_at(&self.hf, p[0], p[1]) + above;
         p
@@ -1118,6 +1168,25 @@ pub fn check_bakes(
 /// The fractal field of the row-range tests: 23×17, rows padded to a stride of 25.
 pub fn rows_field(seed: u64) -> Field {
     fractal_field(&mut Rng::new(seed), 23, 17, 25, 5.0)
+}
+
+/// `whole`, a byte map of `row` bytes a row, baked again by `bake_rows(rows, out)` in
+/// the row ranges `ranges` (every row once), each into its rows of a buffer of
+/// `whole`'s size: the bytes must be `whole`'s.
+pub fn assert_rows_rebake(
+    whole: &[u8],
+    row: usize,
+    ranges: &[Range<u32>],
+    mut bake_rows: impl FnMut(Range<u32>, &mut [u8]),
+) {
+    let mut parts = vec![0u8; whole.len()];
+    for r in ranges {
+        bake_rows(
+            r.clone(),
+            &mut parts[r.start as usize * row..r.end as usize * row],
+        );
+    }
+    assert_eq!(whole, parts);
 }
 
 /// An independent bake check must fail somewhere on the bakes inflated by one (their
