@@ -90,6 +90,24 @@ fn needed_len(width: u32, height: u32, stride: usize) -> Result<usize, FieldErro
         .ok_or(FieldError::SizeOverflow)
 }
 
+/// Defines the constructor `$name` from unsigned integer samples of type `$t` (the
+/// integer-map constructors differ only in it and its full scale `$full`: [`convert`]).
+macro_rules! from_unorm {
+    ($(#[$doc:meta])* $name:ident($t:ty, $full:expr)) => {
+        $(#[$doc])*
+        pub fn $name(
+            samples: &[$t],
+            width: u32,
+            height: u32,
+            stride: usize,
+            depth: f32,
+            out: &'a mut [f32],
+        ) -> Result<Self, FieldError> {
+            convert(samples, width, height, stride, $full, depth, out)
+        }
+    };
+}
+
 impl<'a> HeightField<'a> {
     /// Validates `samples` as a `width × height` map whose rows start `stride` apart.
     pub fn new(
@@ -117,31 +135,17 @@ impl<'a> HeightField<'a> {
         })
     }
 
-    /// Converts 8-bit samples to heights `s / 255 × depth` into `out` (stride = width)
-    /// and returns the field over `out`.
-    pub fn from_u8(
-        samples: &[u8],
-        width: u32,
-        height: u32,
-        stride: usize,
-        depth: f32,
-        out: &'a mut [f32],
-    ) -> Result<Self, FieldError> {
-        convert(samples, width, height, stride, 255.0, depth, out)
-    }
+    from_unorm!(
+        /// Converts 8-bit samples to heights `s / 255 × depth` into `out` (stride = width)
+        /// and returns the field over `out`.
+        from_u8(u8, 255.0)
+    );
 
-    /// Converts 16-bit samples to heights `s / 65535 × depth` into `out` (stride = width)
-    /// and returns the field over `out`.
-    pub fn from_u16(
-        samples: &[u16],
-        width: u32,
-        height: u32,
-        stride: usize,
-        depth: f32,
-        out: &'a mut [f32],
-    ) -> Result<Self, FieldError> {
-        convert(samples, width, height, stride, 65535.0, depth, out)
-    }
+    from_unorm!(
+        /// Converts 16-bit samples to heights `s / 65535 × depth` into `out` (stride =
+        /// width) and returns the field over `out`.
+        from_u16(u16, 65535.0)
+    );
 
     /// The field after the caller changed only the samples in `[x0, x1) × [y0, y1)` of
     /// `samples` (same width, height and stride as `self`): checks just those samples
