@@ -32,7 +32,10 @@ fn table(dir: &Path, ext: &str) -> String {
 }
 
 fn main() {
-    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    // The manifest directory of this build, not the one the build script was compiled
+    // in (a target directory copied from another checkout keeps the script).
+    let root = std::env::var("CARGO_MANIFEST_DIR").unwrap();
+    let root = Path::new(&root);
     let out = Path::new(&std::env::var("OUT_DIR").unwrap()).join("files.rs");
     let text = format!(
         "/// `(stem, text)` of every file of `shaders/glsl`, sorted by name.\n\

@@ -669,6 +669,28 @@ fn dispatch(lang: Lang) -> String {
     s
 }
 
+/// The check of a committed generated file (the GLSL ports, the shared files, the C
+/// header) in the test that keeps it current: `fresh`, generated now, must be the file
+/// at `path`; with `HFCAST_BLESS` set the test writes it there instead. Returns whether
+/// it checked (false: it wrote).
+///
+/// # Panics
+///
+/// When the committed file differs, with `stale` (what is out of date) and the command
+/// `regenerate` that rewrites it; when blessing cannot write the file.
+pub fn check_generated(path: &std::path::Path, fresh: &str, stale: &str, regenerate: &str) -> bool {
+    if std::env::var_os("HFCAST_BLESS").is_some() {
+        std::fs::write(path, fresh).unwrap_or_else(|e| panic!("write {}: {e}", path.display()));
+        return false;
+    }
+    let committed = std::fs::read_to_string(path).unwrap_or_default();
+    assert!(
+        committed == fresh,
+        "{stale}: regenerate it with `{regenerate}` and commit it"
+    );
+    true
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -682,18 +704,16 @@ mod tests {
             lang.ext(),
             lang.ext()
         );
-        if std::env::var_os("HFCAST_BLESS").is_some() {
-            std::fs::write(&path, fresh).expect("write the shared file");
-            return;
+        let stale = format!("{path} is out of date");
+        if check_generated(
+            path.as_ref(),
+            fresh,
+            &stale,
+            "HFCAST_BLESS=1 cargo test -p hfcast-shaders",
+        ) {
+            // The compiled-in copy is the committed one.
+            assert_eq!(file(lang, "hfcast_shared"), Some(fresh));
         }
-        let committed = std::fs::read_to_string(&path).unwrap_or_default();
-        assert!(
-            committed == fresh,
-            "{path} is out of date: regenerate it with \
-             `HFCAST_BLESS=1 cargo test -p hfcast-shaders` and commit it"
-        );
-        // The compiled-in copy is the committed one.
-        assert_eq!(file(lang, "hfcast_shared"), Some(committed.as_str()));
     }
 
     #[test]

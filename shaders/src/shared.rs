@@ -124,6 +124,14 @@ const WGSL_BINDINGS: [(u32, &str, &str, &str); 13] = [
     (b::WORLD, "hf_world", "uniform WorldParams", "world.wgsl"),
 ];
 
+/// The ray classes by the names of their constants (`HF_RAY_CLASS_*`, `HF_RAYS_*`).
+const RAY_CLASSES: [(&str, RayClass); 4] = [
+    ("X_POS", RayClass::XPos),
+    ("X_NEG", RayClass::XNeg),
+    ("Y_POS", RayClass::YPos),
+    ("Y_NEG", RayClass::YNeg),
+];
+
 /// A `u32` constant.
 fn uint(name: String, v: u32) -> Line {
     Line::Const(name, Ty::U32, format!("{v}u"))
@@ -162,12 +170,7 @@ fn table() -> Vec<Line> {
         (
             "Ray classes (hfcast::RayClass).",
             "HF_RAY_CLASS",
-            named([
-                ("X_POS", RayClass::XPos as u32),
-                ("X_NEG", RayClass::XNeg as u32),
-                ("Y_POS", RayClass::YPos as u32),
-                ("Y_NEG", RayClass::YNeg as u32),
-            ]),
+            named(RAY_CLASSES.map(|(name, class)| (name, class as u32))),
             vec![],
         ),
         (
@@ -175,13 +178,11 @@ fn table() -> Vec<Line> {
              the classes a safety-distance or cylinder-cone map holds (hf_safety_classes,\n\
              hf_cc_classes): n of them, texel (i, j) of a class at row n j + its slot.",
             "HF_RAYS",
-            named([
-                ("X_POS", 1 << RayClass::XPos as u32),
-                ("X_NEG", 1 << RayClass::XNeg as u32),
-                ("Y_POS", 1 << RayClass::YPos as u32),
-                ("Y_NEG", 1 << RayClass::YNeg as u32),
-                ("ALL", u32::from(RayClasses::ALL.0)),
-            ]),
+            RAY_CLASSES
+                .map(|(name, class)| (name.to_string(), 1 << class as u32))
+                .into_iter()
+                .chain([("ALL".to_string(), u32::from(RayClasses::ALL.0))])
+                .collect(),
             vec![],
         ),
         (

@@ -231,6 +231,30 @@ fn code(s: &str) -> String {
         .collect()
 }
 
+/// The declaration in `lang` of the `u32` `name`: a constant, or with `input` a GLSL
+/// uniform or WGSL override; up to the name without a `value`, else whole.
+fn u32_decl(lang: Lang, input: bool, name: &str, value: Option<&str>) -> String {
+    let keyword = match (lang, input) {
+        (_, false) => "const",
+        (Lang::Glsl, true) => "uniform",
+        (Lang::Wgsl, true) => "override",
+    };
+    match (lang, value) {
+        (Lang::Glsl, None) => format!("{keyword} uint {name}"),
+        (Lang::Glsl, Some(v)) => format!("{keyword} uint {name} = {v};"),
+        (Lang::Wgsl, None) => format!("{keyword} {name}"),
+        (Lang::Wgsl, Some(v)) => format!("{keyword} {name}: u32 = {v};"),
+    }
+}
+
+/// The head of the entry point `name` of `lang`, its query parameter named `param`.
+fn entry_head(lang: Lang, name: &str, param: &str) -> String {
+    match lang {
+        Lang::Glsl => format!("Trace {name}(Query {param})"),
+        Lang::Wgsl => format!("fn {name}({param}: Query) -> Trace"),
+    }
+}
+
 fn lines(s: &str) -> usize {
     s.lines().count()
 }
@@ -243,16 +267,8 @@ fn a_minimal_shader_leaves_out_what_its_scene_does_not_use() {
         ..Scene::general(MethodKind::Exact, Surface::Triangles)
     };
     for lang in Lang::ALL {
-        let (uniform, constant) = match lang {
-            Lang::Glsl => (
-                "uniform uint hf_surface",
-                "const uint hf_surface = HF_SURFACE_TRIANGLES;",
-            ),
-            Lang::Wgsl => (
-                "override hf_surface",
-                "const hf_surface: u32 = HF_SURFACE_TRIANGLES;",
-            ),
-        };
+        let uniform = u32_decl(lang, true, "hf_surface", None);
+        let constant = u32_decl(lang, false, "hf_surface", Some("HF_SURFACE_TRIANGLES"));
         let min = code(&generate(&scene, lang).unwrap());
         let gen = code(&general(MethodKind::Exact, lang).unwrap());
         // Each is in the general shader and not in the minimal one.
@@ -262,7 +278,7 @@ fn a_minimal_shader_leaves_out_what_its_scene_does_not_use() {
             "HF_SURFACE_LINEAR_PLANES",
             "surface_height_planes_segment",
             "surface_is_continuous",
-            uniform,
+            uniform.as_str(),
             "d[2] > 0.0",
         ] {
             assert!(!min.contains(absent), "{absent} in\n{min}");
@@ -271,7 +287,7 @@ fn a_minimal_shader_leaves_out_what_its_scene_does_not_use() {
         for absent in ["hf_pyramid", "hf_safety_map", "search_", "hf_method"] {
             assert!(!min.contains(absent), "{absent} in\n{min}");
         }
-        assert!(min.contains(constant), "{min}");
+        assert!(min.contains(&constant), "{min}");
         assert!(min.contains("surface_triangles_segment"));
         assert!(
             lines(&min) * 3 < lines(&gen) * 2,
@@ -306,20 +322,16 @@ fn generated_shaders_keep_only_their_method_inputs() {
         ray_classes: RayClasses(0b1001),
         ..Scene::general(MethodKind::Cc, Surface::Triangles)
     };
-    for (lang, constant) in [
-        (Lang::Glsl, "const uint hf_cc_classes = 9u;"),
-        (Lang::Wgsl, "const hf_cc_classes: u32 = 9u;"),
-    ] {
+    for lang in Lang::ALL {
         let text = generate(&cc_subset, lang).unwrap();
-        assert!(text.contains(constant), "{text}");
+        let constant = u32_decl(lang, false, "hf_cc_classes", Some("9u"));
+        assert!(text.contains(&constant), "{text}");
         assert!(
             !text.contains("uniform uint hf_cc_classes")
                 && !text.contains("override hf_cc_classes")
         );
-        assert!(general(MethodKind::Cc, lang).unwrap().contains(match lang {
-            Lang::Glsl => "uniform uint hf_cc_classes = 15u;",
-            Lang::Wgsl => "override hf_cc_classes: u32 = 15u;",
-        }));
+        let input = u32_decl(lang, true, "hf_cc_classes", Some("15u"));
+        assert!(general(MethodKind::Cc, lang).unwrap().contains(&input));
     }
     let sd = |v| {
         let scene = Scene::general(MethodKind::Safety, Surface::Triangles);
@@ -353,19 +365,11 @@ fn generated_shaders_keep_only_their_method_inputs() {
 #[test]
 fn safety_shape_shaders_finish_on_the_view_linear_surface() {
     for lang in Lang::ALL {
-        let (constant, uniform) = match lang {
-            Lang::Glsl => (
-                "const uint hf_surface = HF_SURFACE_VIEW_LINEAR;",
-                "uniform uint hf_surface",
-            ),
-            Lang::Wgsl => (
-                "const hf_surface: u32 = HF_SURFACE_VIEW_LINEAR;",
-                "override hf_surface",
-            ),
-        };
+        let constant = u32_decl(lang, false, "hf_surface", Some("HF_SURFACE_VIEW_LINEAR"));
+        let uniform = u32_decl(lang, true, "hf_surface", None);
         for m in [MethodKind::Safety, MethodKind::Cc, MethodKind::Radius] {
             let text = code(&generate(&Scene::general(m, Surface::ViewLinear), lang).unwrap());
-            assert!(text.contains(constant), "{}: {text}", m.name());
+            assert!(text.contains(&constant), "{}: {text}", m.name());
             assert!(
                 !text.contains("surface_triangles_segment")
                     && !text.contains("HF_SURFACE_BILINEAR"),
@@ -374,7 +378,7 @@ fn safety_shape_shaders_finish_on_the_view_linear_surface() {
             );
             // The general shader: the runtime surface, with the fallback to triangles.
             let gen = general(m, lang).unwrap();
-            assert!(gen.contains(uniform) && gen.contains("safety_march_surface(march_surface)"));
+            assert!(gen.contains(&uniform) && gen.contains("safety_march_surface(march_surface)"));
             let tri = code(&generate(&Scene::general(m, Surface::Triangles), lang).unwrap());
             assert!(
                 tri.contains("surface_triangles_segment")
@@ -403,24 +407,19 @@ fn unsupported_scenes_are_errors() {
         let e = generate(&Scene::general(m, s), Lang::Wgsl).unwrap_err();
         assert!(matches!(e, GenError::SurfaceNotSupported { .. }), "{e}");
     }
-    let e = generate(
-        &Scene::general(MethodKind::Safety, Surface::Bilinear),
-        Lang::Glsl,
-    )
-    .unwrap_err();
-    assert_eq!(
-        e.to_string(),
-        "method safety traces the view-linear and the triangle surface only, not bilinear"
-    );
-    let e = generate(
-        &Scene::general(MethodKind::Cone, Surface::Bilinear),
-        Lang::Glsl,
-    )
-    .unwrap_err();
-    assert_eq!(
-        e.to_string(),
-        "method cone traces the triangle surface only, not bilinear"
-    );
+    for (m, why) in [
+        (
+            MethodKind::Safety,
+            "method safety traces the view-linear and the triangle surface only, not bilinear",
+        ),
+        (
+            MethodKind::Cone,
+            "method cone traces the triangle surface only, not bilinear",
+        ),
+    ] {
+        let e = generate(&Scene::general(m, Surface::Bilinear), Lang::Glsl).unwrap_err();
+        assert_eq!(e.to_string(), why);
+    }
     let lod = Scene {
         lod: true,
         ..Scene::general(MethodKind::MaxMip, Surface::Triangles)
@@ -442,12 +441,10 @@ fn unsupported_scenes_are_errors() {
 #[test]
 fn every_shader_has_one_world_entry_after_hf_trace() {
     for lang in Lang::ALL {
-        let (world, inputs) = match lang {
-            Lang::Glsl => (
-                "Trace hf_trace_world(Query world)",
-                "hf_world_offset, hf_world_scale.",
-            ),
-            Lang::Wgsl => ("fn hf_trace_world(world: Query) -> Trace", "hf_world."),
+        let world = entry_head(lang, "hf_trace_world", "world");
+        let inputs = match lang {
+            Lang::Glsl => "hf_world_offset, hf_world_scale.",
+            Lang::Wgsl => "hf_world.",
         };
         let mut texts: Vec<(String, String)> = MethodKind::ALL
             .into_iter()
@@ -465,13 +462,10 @@ fn every_shader_has_one_world_entry_after_hf_trace() {
         texts.push(("all methods".into(), all_methods(lang).unwrap()));
         for (label, text) in &texts {
             let text = &code(text);
-            assert_eq!(text.matches(world).count(), 1, "{label}");
+            assert_eq!(text.matches(&world).count(), 1, "{label}");
             // Last: it calls the (dispatching) hf_trace, which comes before it.
-            let trace = match lang {
-                Lang::Glsl => "Trace hf_trace(Query q)",
-                Lang::Wgsl => "fn hf_trace(q: Query) -> Trace",
-            };
-            assert!(text.rfind(trace) < text.find(world), "{label}");
+            let trace = entry_head(lang, "hf_trace", "q");
+            assert!(text.rfind(&trace) < text.find(&world), "{label}");
             assert!(text.trim_end().ends_with('}'), "{label}");
         }
         // A generated shader names the transform among its inputs (last: the world file
@@ -504,16 +498,11 @@ fn glsl_ports_are_generated_from_the_wgsl() {
         let wgsl = std::fs::read_to_string(dir.join(format!("wgsl/{stem}.wgsl"))).expect("wgsl");
         let glsl = hfcast_shaders::translate::glsl_from_wgsl(&wgsl, &stem)
             .unwrap_or_else(|e| panic!("{e}"));
-        let path = dir.join(format!("glsl/{stem}.glsl"));
-        if std::env::var_os("HFCAST_BLESS").is_some() {
-            std::fs::write(&path, &glsl).expect("write the generated GLSL");
-            continue;
-        }
-        let committed = std::fs::read_to_string(&path).unwrap_or_default();
-        assert!(
-            committed == glsl,
-            "glsl/{stem}.glsl is not the translation of wgsl/{stem}.wgsl: regenerate it with \
-             `HFCAST_BLESS=1 cargo test -p hfcast-shaders --test validate`"
+        hfcast_shaders::check_generated(
+            &dir.join(format!("glsl/{stem}.glsl")),
+            &glsl,
+            &format!("glsl/{stem}.glsl is not the translation of wgsl/{stem}.wgsl"),
+            "HFCAST_BLESS=1 cargo test -p hfcast-shaders --test validate",
         );
     }
 }

@@ -26,50 +26,37 @@
 mod common;
 
 use common::{
-    camera_rays, describe, load_bundled_map, random_rays, run_kernel, spiky_fractal, Case, Gpu,
-    GpuHit, Kernel, Ray, Scene, SceneGpu,
+    describe, load_bundled_map, run_kernel, scene_rays, Agreement, Case, Gpu, GpuHit, Kernel, Ray,
+    Scene, SceneGpu,
 };
 use std::fmt::Write as _;
 use std::time::Instant;
 
 /// Largest |t_gpu − t_cpu| (texels) of an agreeing hit.
 const T_TOL: f64 = 1e-3;
-/// Smallest agreeing fraction of the rays of a case.
-const MIN_AGREE: f64 = 0.9999;
 
 /// Counts of one case over the scenes.
 #[derive(Default)]
 struct Tally {
-    rays: u64,
-    agree: u64,
-    hits: u64,
-    max_dt: f64,
-    fetches_differ: u64,
+    /// The counts both tests keep (`max_dt`: |t_gpu − t_cpu|).
+    n: Agreement,
     /// Rays of a class the case's map does not hold.
     unheld: u64,
     flags_differ: u64,
-    cell_differ: u64,
     point_differ: u64,
-    /// Every ray that does not agree, described.
-    wrong: Vec<String>,
     /// A few rays that agree but not bit for bit (t, fetches or flags differ).
     other: Vec<String>,
 }
 
 impl Tally {
     fn add(&mut self, scene: &str, r: &Ray, cpu: &hfcast::Trace<f32>, g: &GpuHit) {
-        self.rays += 1;
         let cpu_flags = cpu.flags.0 | cpu.hit.map_or(0, |h| h.flags.0);
         let agree = match cpu.hit {
             None => !g.hit,
             Some(h) => {
                 let dt = (f64::from(g.t) - f64::from(h.t)).abs();
                 if g.hit && dt <= T_TOL {
-                    self.hits += 1;
-                    self.max_dt = self.max_dt.max(dt);
-                    if g.cell != h.cell {
-                        self.cell_differ += 1;
-                    }
+                    self.n.hit(dt, g.cell != h.cell);
                     let p = h.point.to_array();
                     if (0..3).any(|k| f64::from((p[k] - g.point[k]).abs()) > T_TOL) {
                         self.point_differ += 1;
@@ -80,48 +67,26 @@ impl Tally {
                 }
             }
         };
-        if !agree {
-            self.wrong.push(format!("{scene}: {}", describe(r, cpu, g)));
+        let fetches = cpu.fetches != g.fetches;
+        if !self.n.ray(agree, fetches, || {
+            format!("{scene}: {}", describe(r, cpu, g))
+        }) {
             return;
         }
-        self.agree += 1;
-        let fetches = cpu.fetches != g.fetches;
         let flags = cpu_flags != g.flags;
         let inexact = cpu.hit.is_some_and(|h| h.t != g.t);
-        self.fetches_differ += u64::from(fetches);
         self.flags_differ += u64::from(flags);
         if (fetches || flags || inexact) && self.other.len() < 3 {
             self.other.push(format!("{scene}: {}", describe(r, cpu, g)));
         }
     }
-
-    fn rate(&self) -> f64 {
-        self.agree as f64 / self.rays.max(1) as f64
-    }
-}
-
-/// The rays of a scene: 45° and 5° camera rays from two azimuths each, and random rays.
-fn rays_for(scene: &Scene, seed: u64) -> Vec<Ray> {
-    let mut rays = Vec::new();
-    for (el, az) in [(45.0, 34.0), (45.0, 215.0), (5.0, 71.0), (5.0, 290.0)] {
-        rays.extend(camera_rays(scene, el, az, 16));
-    }
-    rays.extend(random_rays(scene, seed, 800));
-    rays
 }
 
 #[test]
 fn wgsl_marches_match_the_rust_core_ray_by_ray() {
     let start = Instant::now();
     let gpu = Gpu::new();
-    println!(
-        "adapter: {} ({:?}, {:?}, driver {} {})",
-        gpu.info.name,
-        gpu.info.device_type,
-        gpu.info.backend,
-        gpu.info.driver,
-        gpu.info.driver_info
-    );
+    println!("{}", gpu.describe());
     let (w, h, samples, depth, heights) = load_bundled_map();
     let scenes = [
         Scene::new("jacksboro 403x344", w, h, heights.clone(), false)
@@ -134,27 +99,11 @@ fn wgsl_marches_match_the_rust_core_ray_by_ray() {
             true,
         )
         .with_samples(Scene::crop(&samples, w, 64, 64), depth),
-        Scene::new(
-            "spiky fractal 96x80",
-            96,
-            80,
-            spiky_fractal(7, 96, 80, 6.0),
-            false,
-        ),
-        Scene::new(
-            "spiky fractal 40x36",
-            40,
-            36,
-            spiky_fractal(11, 40, 36, 6.0),
-            true,
-        ),
+        Scene::spiky(7, 96, 80, false),
+        Scene::spiky(11, 40, 36, true),
     ];
     let uploaded: Vec<SceneGpu> = scenes.iter().map(|s| SceneGpu::new(&gpu, s)).collect();
-    let rays: Vec<Vec<Ray>> = scenes
-        .iter()
-        .enumerate()
-        .map(|(k, s)| rays_for(s, 1000 + k as u64))
-        .collect();
+    let rays = scene_rays(&scenes, 1000, 16, 800);
     println!(
         "scenes baked and uploaded in {:.1} s",
         start.elapsed().as_secs_f64()
@@ -191,14 +140,14 @@ fn wgsl_marches_match_the_rust_core_ray_by_ray() {
             "{:<26} {kind:<11} rays {:>6}  agree {:>6} ({:.4} %)  hits {:>6}  max |dt| {:.2e}  \
              fetches differ {}  flags differ {}  cell differ {}  point > 1e-3 {}{}  (compile {:.1} s, total {:.1} s)",
             case.label(),
-            tally.rays,
-            tally.agree,
-            100.0 * tally.rate(),
-            tally.hits,
-            tally.max_dt,
-            tally.fetches_differ,
+            tally.n.rays,
+            tally.n.agree,
+            100.0 * tally.n.rate(),
+            tally.n.hits,
+            tally.n.max_dt,
+            tally.n.fetches_differ,
             tally.flags_differ,
-            tally.cell_differ,
+            tally.n.cell_differ,
             tally.point_differ,
             if case.classes == 15 {
                 String::new()
@@ -211,19 +160,19 @@ fn wgsl_marches_match_the_rust_core_ray_by_ray() {
         for o in &tally.other {
             let _ = writeln!(report, "    agrees, but not bit for bit: {o}");
         }
-        if tally.rate() < MIN_AGREE {
+        if !tally.n.passes() {
             let _ = writeln!(
                 failures,
                 "{}: {} of {} rays differ:",
                 case.label(),
-                tally.wrong.len(),
-                tally.rays
+                tally.n.wrong.len(),
+                tally.n.rays
             );
-            for wr in &tally.wrong {
+            for wr in &tally.n.wrong {
                 let _ = writeln!(failures, "    {wr}");
             }
         } else {
-            for wr in &tally.wrong {
+            for wr in &tally.n.wrong {
                 let _ = writeln!(report, "    differs (within the allowed rate): {wr}");
             }
         }

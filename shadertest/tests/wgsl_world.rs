@@ -22,8 +22,8 @@
 mod common;
 
 use common::{
-    camera_rays, describe, load_bundled_map, random_rays, run_kernel, spiky_fractal, Case, Gpu,
-    GpuHit, Kernel, Ray, Scene, SceneGpu,
+    describe, load_bundled_map, run_kernel, scene_rays, Agreement, Case, Gpu, GpuHit, Kernel, Ray,
+    Scene, SceneGpu,
 };
 use hfcast::scene::MethodKind;
 use hfcast::world::WorldTransform;
@@ -35,8 +35,6 @@ use std::fmt::Write as _;
 const REL_TOL: f64 = 1e-5;
 /// Largest difference of an agreeing hit's unit world normal components.
 const NORMAL_TOL: f64 = 1e-3;
-/// Smallest agreeing fraction of the world rays of a case.
-const MIN_AGREE: f64 = 0.9999;
 
 /// Unequal spacings, y flipped (a north-up raster), heights scaled and offset: no
 /// coefficient is 1 or 0. World coordinates stay within a few thousand units, where f32
@@ -61,17 +59,6 @@ fn to_world(t: &WorldTransform, r: &Ray) -> Ray {
     .expect("a valid world ray")
 }
 
-/// The grid rays of a scene: 45° and 5° camera rays from two azimuths each, and random
-/// rays (upward, grazing, axis-parallel, vertical, under the surface, finite ranges).
-fn rays_for(scene: &Scene, seed: u64) -> Vec<Ray> {
-    let mut rays = Vec::new();
-    for (el, az) in [(45.0, 34.0), (45.0, 215.0), (5.0, 71.0), (5.0, 290.0)] {
-        rays.extend(camera_rays(scene, el, az, 40));
-    }
-    rays.extend(random_rays(scene, seed, 3000));
-    rays
-}
-
 /// Whether two GPU answers are the same bit for bit.
 fn same_bits(a: &GpuHit, b: &GpuHit) -> bool {
     let f = |v: &[f32]| v.iter().map(|x| x.to_bits()).collect::<Vec<u32>>();
@@ -88,24 +75,17 @@ fn same_bits(a: &GpuHit, b: &GpuHit) -> bool {
 /// Counts of one world case over the scenes.
 #[derive(Default)]
 struct Tally {
-    rays: u64,
-    agree: u64,
-    hits: u64,
-    /// Largest relative differences of the agreeing hits: t, point, and the normal's
+    /// The counts both tests keep (`max_dt`: the largest relative difference of t).
+    n: Agreement,
+    /// Largest relative differences of the agreeing hits' points, and of the normals'
     /// largest component difference.
-    max_dt: f64,
     max_dp: f64,
     max_dn: f64,
-    fetches_differ: u64,
-    cell_differ: u64,
     clearance_differ: u64,
-    /// Every world ray that does not agree, described.
-    wrong: Vec<String>,
 }
 
 impl Tally {
     fn add(&mut self, scene: &str, r: &Ray, cpu: &Trace<f32>, g: &GpuHit) {
-        self.rays += 1;
         // The ray's magnitude: where the conversion's rounding is relative to.
         let o = r.origin().map(|v| f64::from(v).abs());
         let mag = o.into_iter().fold(1f64, f64::max);
@@ -131,52 +111,33 @@ impl Tally {
                     }
                     let ok = dt <= REL_TOL && dp <= REL_TOL && dn <= NORMAL_TOL;
                     if ok {
-                        self.hits += 1;
-                        self.max_dt = self.max_dt.max(dt);
+                        self.n.hit(dt, g.cell != h.cell);
                         self.max_dp = self.max_dp.max(dp);
                         self.max_dn = self.max_dn.max(dn);
-                        self.cell_differ += u64::from(g.cell != h.cell);
                     }
                     ok
                 }
                 Some(_) => false,
             };
-        if !agree {
-            self.wrong
-                .push(format!("{scene}: world {}", describe(r, cpu, g)));
-            return;
-        }
-        self.agree += 1;
-        self.fetches_differ += u64::from(cpu.fetches != g.fetches);
-    }
-
-    fn rate(&self) -> f64 {
-        self.agree as f64 / self.rays.max(1) as f64
+        let wrong = || format!("{scene}: world {}", describe(r, cpu, g));
+        self.n.ray(agree, cpu.fetches != g.fetches, wrong);
     }
 }
 
 #[test]
 fn wgsl_world_rays_match_the_rust_core_ray_by_ray() {
     let gpu = Gpu::new();
-    println!("adapter: {} ({:?})", gpu.info.name, gpu.info.device_type);
+    println!("{}", gpu.describe());
     let (w, h, _, _, heights) = load_bundled_map();
     let scenes = [
         Scene::new("jacksboro 403x344", w, h, heights, false),
-        Scene::new(
-            "spiky fractal 96x80",
-            96,
-            80,
-            spiky_fractal(7, 96, 80, 6.0),
-            false,
-        ),
+        Scene::spiky(7, 96, 80, false),
     ];
     let uploaded: Vec<SceneGpu> = scenes.iter().map(|s| SceneGpu::new(&gpu, s)).collect();
     let world = transform();
-    let grid_rays: Vec<Vec<Ray>> = scenes
-        .iter()
-        .enumerate()
-        .map(|(k, s)| rays_for(s, 2000 + k as u64))
-        .collect();
+    // The parity test's camera and random rays (upward, grazing, axis-parallel, vertical,
+    // under the surface, finite ranges).
+    let grid_rays = scene_rays(&scenes, 2000, 40, 3000);
     let world_rays: Vec<Vec<Ray>> = grid_rays
         .iter()
         .map(|rays| rays.iter().map(|r| to_world(&world, r)).collect())
@@ -231,29 +192,29 @@ fn wgsl_world_rays_match_the_rust_core_ray_by_ray() {
                  {:.1e}  max rel |dp| {:.1e}  max |dn| {:.1e}  fetches differ {}  cell differ {}  \
                  clearance differ {}  \
                  | identity: {identity_rays} rays, {identity_differ} not bit-identical to hf_trace",
-                tally.rays,
-                tally.agree,
-                100.0 * tally.rate(),
-                tally.hits,
-                tally.max_dt,
+                tally.n.rays,
+                tally.n.agree,
+                100.0 * tally.n.rate(),
+                tally.n.hits,
+                tally.n.max_dt,
                 tally.max_dp,
                 tally.max_dn,
-                tally.fetches_differ,
-                tally.cell_differ,
+                tally.n.fetches_differ,
+                tally.n.cell_differ,
                 tally.clearance_differ,
             );
-            let verdict = if tally.rate() < MIN_AGREE {
+            let verdict = if !tally.n.passes() {
                 let _ = writeln!(
                     failures,
                     "{label}: {} of {} world rays differ",
-                    tally.wrong.len(),
-                    tally.rays
+                    tally.n.wrong.len(),
+                    tally.n.rays
                 );
                 "differs"
             } else {
                 "differs (within the allowed rate)"
             };
-            for wr in &tally.wrong {
+            for wr in &tally.n.wrong {
                 let _ = writeln!(report, "    {verdict}: {wr}");
             }
             if identity_differ > 0 {

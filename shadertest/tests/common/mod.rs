@@ -645,6 +645,13 @@ impl Scene {
         self
     }
 
+    /// The synthetic `w × h` field of [`spiky_fractal`] (relief 6) for `seed`, named by
+    /// its size; relaxed baked when `relaxed`.
+    pub fn spiky(seed: u64, w: u32, h: u32, relaxed: bool) -> Scene {
+        let name = format!("spiky fractal {w}x{h}");
+        Scene::new(&name, w, h, spiky_fractal(seed, w, h, 6.0), relaxed)
+    }
+
     /// The height field over [`Scene::heights`].
     pub fn hf(&self) -> HeightField<'_> {
         HeightField::new(&self.heights, self.w, self.h, self.w as usize).expect("valid field")
@@ -751,6 +758,66 @@ pub fn spiky_fractal(seed: u64, w: u32, h: u32, amp: f64) -> Vec<f32> {
 // Rays
 // ---------------------------------------------------------------------------------
 
+/// Smallest agreeing fraction of the rays of a case.
+pub const MIN_AGREE: f64 = 0.9999;
+
+/// How the rays of one case compare with the core, counted over the scenes (each test
+/// counts more differences of its own beside these).
+#[derive(Default)]
+pub struct Agreement {
+    /// Rays traced.
+    pub rays: u64,
+    /// Rays that agree.
+    pub agree: u64,
+    /// Agreeing hits.
+    pub hits: u64,
+    /// Largest difference of an agreeing hit's t (the test's measure).
+    pub max_dt: f64,
+    /// Agreeing rays whose fetch counts differ.
+    pub fetches_differ: u64,
+    /// Agreeing hits whose cells differ.
+    pub cell_differ: u64,
+    /// Every ray that does not agree, described.
+    pub wrong: Vec<String>,
+}
+
+impl Agreement {
+    /// Counts an agreeing hit: its t difference, and whether its cell differs.
+    pub fn hit(&mut self, dt: f64, cell_differs: bool) {
+        self.hits += 1;
+        self.max_dt = self.max_dt.max(dt);
+        self.cell_differ += u64::from(cell_differs);
+    }
+
+    /// Counts a ray: whether it agrees (else `wrong` describes it), and for an agreeing
+    /// one whether its fetch count differs. Returns `agree`.
+    pub fn ray(
+        &mut self,
+        agree: bool,
+        fetches_differ: bool,
+        wrong: impl FnOnce() -> String,
+    ) -> bool {
+        self.rays += 1;
+        if !agree {
+            self.wrong.push(wrong());
+            return false;
+        }
+        self.agree += 1;
+        self.fetches_differ += u64::from(fetches_differ);
+        true
+    }
+
+    /// The agreeing fraction.
+    pub fn rate(&self) -> f64 {
+        self.agree as f64 / self.rays.max(1) as f64
+    }
+
+    /// Whether at least [`MIN_AGREE`] of the rays agree.
+    pub fn passes(&self) -> bool {
+        self.rate() >= MIN_AGREE
+    }
+}
+
 /// A ray: the validated f32 query the core traces and the wrapper reads (origin, unit
 /// direction so t is in texels, range).
 pub type Ray = Query<f32>;
@@ -800,6 +867,21 @@ pub fn camera_rays(scene: &Scene, elevation: f64, azimuth: f64, n: u32) -> Vec<R
         }
     }
     rays
+}
+
+/// The rays of each of `scenes` (scene `k` with seed `seed + k`): `n × n` camera rays
+/// from 45° and 5° above the horizon, two azimuths each ([`camera_rays`]), then
+/// `random` random rays ([`random_rays`]).
+pub fn scene_rays(scenes: &[Scene], seed: u64, n: u32, random: usize) -> Vec<Vec<Ray>> {
+    let rays_of = |(k, scene): (usize, &Scene)| {
+        let mut rays = Vec::new();
+        for (el, az) in [(45.0, 34.0), (45.0, 215.0), (5.0, 71.0), (5.0, 290.0)] {
+            rays.extend(camera_rays(scene, el, az, n));
+        }
+        rays.extend(random_rays(scene, seed + k as u64, random));
+        rays
+    };
+    scenes.iter().enumerate().map(rays_of).collect()
 }
 
 /// `n` random rays in and around the field's box: origins above, inside (some under
@@ -905,6 +987,15 @@ impl Gpu {
             queue,
             info,
         }
+    }
+
+    /// The adapter, for the report: name, type, backend and driver.
+    pub fn describe(&self) -> String {
+        let i = &self.info;
+        format!(
+            "adapter: {} ({:?}, {:?}, driver {} {})",
+            i.name, i.device_type, i.backend, i.driver, i.driver_info
+        )
     }
 
     fn texture(
