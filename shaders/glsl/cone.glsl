@@ -27,76 +27,126 @@ vec2 cone_texel(uint i, uint j) { return texelFetch(hf_cone_map, ivec2(i, j), 0)
 // `margin`: rounding margin on a clearance above a stored top.
 float cone_margin(float z, float top) { return 64.0 * REAL_EPSILON * (1.0 + abs(z) + abs(top)); }
 
-// The closure `cell_exit` of `march`: where the ray leaves the walk's cell (or its span).
-float cone_cell_exit(DdaWalk w, Query q) {
-    vec2 t_cross = dda_next_crossings(w.cell, w.step, q);
-    return real_min(real_min(t_cross[0], t_cross[1]), w.span.t1);
+// The closure `locate` of `march`.
+uvec2 cone_locate(vec3 p, vec3 d, uvec2 cells) {
+    return uvec2(dda_cell_index(real_clamp_to(p[0], 0.0, float(cells[0])), d[0], cells[0]), dda_cell_index(real_clamp_to(p[1], 0.0, float(cells[1])), d[1], cells[1]));
+}
+
+// The closure `cell_exit` of `march`.
+float cone_cell_exit(uvec2 cell, ivec2 dstep, vec3 o, vec3 d, float t1) {
+    float t0 = dda_next_crossing(cell[0], dstep[0], o[0], d[0]);
+    float t1c = dda_next_crossing(cell[1], dstep[1], o[1], d[1]);
+    return real_min(real_min(t0, t1c), t1);
 }
 
 // `march`: at each iteration the step either jumps, ends in a miss, or asks for the
-// exact cell test of dda_trace (the walk of dda.wgsl; `w.ta` is the march's t, and the
-// closure `locate` is dda_cell_of).
+// exact cell test of dda_trace.
 Trace cone_march(Query q, uint max_iter) {
-    DdaWalk w;
-    if (!dda_walk_start(HF_SURFACE_TRIANGLES, HF_SURFACE_TRIANGLES, q, w)) {
+    Span span;
+    if (!dda_clip(q, span)) {
         return trace_miss(0u, real_infinity());
     }
-    if (w.ca <= 0.0) {
-        return trace_hit(dda_walk_start_hit(w, q), w.fetches, 0.0);
+    vec3 o = q.origin;
+    vec3 d = q.dir;
+    uvec2 cells = uvec2(field_width() - 1u, field_height() - 1u);
+    ivec2 dstep = ivec2(dda_step_of(d[0]), dda_step_of(d[1]));
+    vec3 p0 = query_at(q, span.t0);
+    vec2 start = vec2(real_clamp_to(p0[0], 0.0, float(cells[0])), real_clamp_to(p0[1], 0.0, float(cells[1])));
+    uvec2 cell = cone_locate(p0, d, cells);
+    vec4 c = surface_corners(cell[0], cell[1]);
+    uint fetches = 4u;
+    vec3 a;
+    float ca = dda_local_clearance(HF_SURFACE_TRIANGLES, c, cell, vec3(start[0], start[1], p0[2]), dda_entry_on(HF_SURFACE_TRIANGLES, span), a);
+    if (ca <= 0.0) {
+        return trace_hit(dda_start_hit(HF_SURFACE_TRIANGLES, span, c, cell, a, p0), fetches, 0.0);
     }
-    // `w.a, w.ca` valid for the current point.
+    float clearance = ca;
+    // `a, ca` valid for the current point; `have_c`: `c` holds the current cell's corners.
     bool have_ca = true;
+    bool have_c = true;
+    float t = span.t0;
     uint iter = 0u;
     for (;;) {
-        vec3 p = query_at(q, w.ta);
+        vec3 p = query_at(q, t);
         if (iter >= max_iter) {
-            Trace tr = trace_hit(Hit(w.ta, p, w.cell, vec3(0.0, 0.0, 1.0), 0u), w.fetches, w.clearance);
+            Trace tr = trace_hit(Hit(t, p, cell, vec3(0.0, 0.0, 1.0), 0u), fetches, clearance);
             tr.flags = HF_FLAG_BUDGET_EXHAUSTED;
             return tr;
         }
         iter += 1u;
         float dt;
         uint f;
-        int s = cone_march_step(w.cell, p, q.dir, dt, f);
-        w.fetches += f;
+        int s = cone_march_step(cell, p, d, dt, f);
+        fetches += f;
         if (s == CONE_STEP_MISS) {
-            return trace_miss(w.fetches, w.clearance);
+            return trace_miss(fetches, clearance);
         }
         // A jump that stays in the cell would crawl: the cell test reaches its exit at once.
-        if (s == CONE_STEP_JUMP && dt > 0.0 && w.ta + dt >= cone_cell_exit(w, q)) {
-            float tn = w.ta + dt;
-            if (!(tn < w.span.t1)) {
-                return trace_miss(w.fetches, w.clearance);
+        if (s == CONE_STEP_JUMP && dt > 0.0 && t + dt >= cone_cell_exit(cell, dstep, o, d, span.t1)) {
+            float tn = t + dt;
+            if (!(tn < span.t1)) {
+                return trace_miss(fetches, clearance);
             }
-            w.ta = tn;
-            w.cell = dda_cell_of(query_at(q, tn), q.dir, w.cells);
-            w.stale = true;
+            t = tn;
+            cell = cone_locate(query_at(q, t), d, cells);
             have_ca = false;
+            have_c = false;
             continue;
         }
         // The exact cell test from t to the cell's exit.
-        dda_walk_corners(w);
+        if (!have_c) {
+            c = surface_corners(cell[0], cell[1]);
+            fetches += 4u;
+        }
         if (!have_ca) {
-            vec3 a;
-            w.ca = dda_local_clearance(HF_SURFACE_TRIANGLES, w.c, w.cell, p, ivec2(-1), a);
-            w.a = a;
-            w.clearance = real_min(w.clearance, w.ca);
-            if (w.ca <= 0.0) {
-                vec3 n = surface_cell_normal(HF_SURFACE_TRIANGLES, w.c, a[0], a[1]);
-                return trace_hit(Hit(w.ta, p, w.cell, n, 0u), w.fetches, w.clearance);
+            ca = dda_local_clearance(HF_SURFACE_TRIANGLES, c, cell, p, ivec2(-1), a);
+            clearance = real_min(clearance, ca);
+            if (ca <= 0.0) {
+                vec3 n = surface_cell_normal(HF_SURFACE_TRIANGLES, c, a[0], a[1]);
+                return trace_hit(Hit(t, p, cell, n, 0u), fetches, clearance);
             }
         }
-        DdaExit ex = dda_walk_exit(w, q);
-        Hit hit;
-        if (dda_walk_test(w, ex, hit)) {
-            return trace_hit(hit, w.fetches, w.clearance);
+        vec2 t_cross = vec2(dda_next_crossing(cell[0], dstep[0], o[0], d[0]), dda_next_crossing(cell[1], dstep[1], o[1], d[1]));
+        float t_next = real_min(t_cross[0], t_cross[1]);
+        float tb;
+        bvec2 cross;
+        if (t_next < span.t1) {
+            tb = real_max(t_next, t);
+            cross = bvec2(t_cross[0] <= t_next, t_cross[1] <= t_next);
+        } else {
+            tb = span.t1;
+            cross = bvec2(false);
         }
-        if (!dda_walk_next(w, ex)) {
-            return trace_miss(w.fetches, w.clearance);
+        ivec2 on = ivec2(((cross[0]) ? (int(dstep[0] > 0)) : (-1)), ((cross[1]) ? (int(dstep[1] > 0)) : (-1)));
+        vec3 b;
+        float cb = dda_local_clearance(HF_SURFACE_TRIANGLES, c, cell, query_at(q, tb), on, b);
+        SegmentHit seg = surface_segment_hit(HF_SURFACE_TRIANGLES, c, a, b, ca, cb, vec3(0.0, 0.0, 1.0));
+        clearance = real_min(clearance, seg.clearance);
+        if (seg.has_hit) {
+            float sh = seg.s;
+            float th = t + sh * (tb - t);
+            vec3 point = vec3(float(cell[0]) + (a[0] + sh * (b[0] - a[0])), float(cell[1]) + (a[1] + sh * (b[1] - a[1])), a[2] + sh * (b[2] - a[2]));
+            return trace_hit(Hit(th, point, cell, seg.normal, seg.flags), fetches, clearance);
         }
+        if (!cross[0] && !cross[1]) {
+            return trace_miss(fetches, clearance);
+        }
+        for (int k = 0; k < 2; k++) {
+            if (cross[k]) {
+                int next = int(cell[k]) + dstep[k];
+                if (next < 0 || next >= int(cells[k])) {
+                    return trace_miss(fetches, clearance);
+                }
+                cell[k] = uint(next);
+            }
+        }
+        a = vec3(((cross[0]) ? (1.0 - b[0]) : (b[0])), ((cross[1]) ? (1.0 - b[1]) : (b[1])), b[2]);
+        ca = cb;
+        t = tb;
         have_ca = true;
+        have_c = false;
     }
-    return trace_miss(w.fetches, w.clearance);
+    return trace_miss(fetches, clearance);
 }
 
 // `cone_step`: the cone step from ray point p with direction d over a texel [top, ratio].

@@ -181,172 +181,85 @@ Hit dda_start_hit(uint surface, Span span, vec4 c, uvec2 cell, vec3 a, vec3 p0) 
     return Hit(span.t0, p0, cell, normal, flags);
 }
 
-// `cell_index` on both axes: the cell of grid point p, clamped into the footprint of
-// `cells` cells, moving with direction d.
-uvec2 dda_cell_of(vec3 p, vec3 d, uvec2 cells) {
-    return uvec2(dda_cell_index(real_clamp_to(p[0], 0.0, float(cells[0])), d[0], cells[0]), dda_cell_index(real_clamp_to(p[1], 0.0, float(cells[1])), d[1], cells[1]));
-}
-
-// `next_crossing` on both axes: the next centerline crossings of q after `cell`.
-vec2 dda_next_crossings(uvec2 cell, ivec2 step, Query q) {
-    return vec2(dda_next_crossing(cell[0], step[0], q.origin[0], q.dir[0]), dda_next_crossing(cell[1], step[1], q.origin[1], q.dir[1]));
-}
-
-// The normal of a wall facing a ray of steps `step` on `axis`.
-vec3 dda_wall(ivec2 step, int axis) {
-    vec3 n = vec3(0.0);
-    n[axis] = ((step[axis] > 0) ? (-1.0) : (1.0));
-    return n;
-}
-
-// The cell walk of `trace`, shared by the marches that finish with its cell test (cone,
-// qdm, the safety-shape methods): the surface of the test, the clipped span, the cell
-// counts and steps, the current cell and its corners `c` (`stale`: not fetched yet),
-// the current segment's start (local point `a`, clearance `ca`, ray parameter `ta`),
-// the wall the cell was entered through, and the fetches and clearance so far.
-struct DdaWalk {
-    uint surface;
-    Span span;
-    uvec2 cells;
-    ivec2 step;
-    uvec2 cell;
-    vec4 c;
-    bool stale;
-    vec3 a;
-    float ca;
-    float ta;
-    vec3 wall;
-    uint fetches;
-    float clearance;
-};
-
-// The start of the walk on `surface` over the box of the surface `clip`: false when q
-// misses the box; else `w` is at the span's first point (clamped into the footprint), in
-// its cell with the corners fetched, on its side's edge for a side entry (`entry_on`).
-bool dda_walk_start(uint clip, uint surface, Query q, inout DdaWalk w) {
-    Span span;
-    if (!dda_clip_surface(clip, q, span)) {
-        return false;
-    }
-    vec3 d = q.dir;
-    uvec2 cells = uvec2(field_width() - 1u, field_height() - 1u);
-    vec3 p0 = query_at(q, span.t0);
-    vec3 start = vec3(real_clamp_to(p0[0], 0.0, float(cells[0])), real_clamp_to(p0[1], 0.0, float(cells[1])), p0[2]);
-    uvec2 cell = dda_cell_of(p0, d, cells);
-    vec4 c = surface_corners(cell[0], cell[1]);
-    vec3 a;
-    float ca = dda_local_clearance(surface, c, cell, start, dda_entry_on(surface, span), a);
-    w = DdaWalk(surface, span, cells, ivec2(dda_step_of(d[0]), dda_step_of(d[1])), cell, c, false, a, ca, span.t0, vec3(0.0, 0.0, 1.0), 4u, ca);
-    return true;
-}
-
-// `start_hit` of the walk: the hit of a ray already under the surface where its span
-// begins (`ca <= 0` after dda_walk_start).
-Hit dda_walk_start_hit(DdaWalk w, Query q) {
-    return dda_start_hit(w.surface, w.span, w.c, w.cell, w.a, query_at(q, w.span.t0));
-}
-
-// The corners of the walk's cell, fetched when stale.
-void dda_walk_corners(inout DdaWalk w) {
-    if ((w).stale) {
-        (w).c = surface_corners((w).cell[0], (w).cell[1]);
-        (w).fetches += 4u;
-        (w).stale = false;
-    }
-}
-
-// Where the walk's segment in its cell ends: `tb`, the next crossing (not before `ta`)
-// or the span's end when that comes first; `cross`, the axes crossed there; `b` and
-// `cb`, the end's local point and clearance.
-struct DdaExit {
-    float tb;
-    bvec2 cross;
-    vec3 b;
-    float cb;
-};
-
-// The end of the walk's segment in its cell (its corners fetched).
-DdaExit dda_walk_exit(DdaWalk w, Query q) {
-    vec2 t_cross = dda_next_crossings(w.cell, w.step, q);
-    float t_next = real_min(t_cross[0], t_cross[1]);
-    float tb = w.span.t1;
-    bvec2 cross = bvec2(false);
-    if (t_next < w.span.t1) {
-        tb = real_max(t_next, w.ta);
-        cross = bvec2(t_cross[0] <= t_next, t_cross[1] <= t_next);
-    }
-    // Clearance at the exit point; on a centerline, from that edge's two samples only.
-    ivec2 on = ivec2(((cross[0]) ? (int(w.step[0] > 0)) : (-1)), ((cross[1]) ? (int(w.step[1] > 0)) : (-1)));
-    vec3 b;
-    float cb = dda_local_clearance(w.surface, w.c, w.cell, query_at(q, tb), on, b);
-    return DdaExit(tb, cross, b, cb);
-}
-
-// `segment_point`: the hit at `seg.s` of the segment a -> b in `cell` (ray parameters ta
-// to tb), the point from the cell's integer corner plus local coordinates.
-Hit dda_segment_point(uvec2 cell, float ta, float tb, vec3 a, vec3 b, SegmentHit seg) {
-    float s = seg.s;
-    vec3 point = vec3(float(cell[0]) + (a[0] + s * (b[0] - a[0])), float(cell[1]) + (a[1] + s * (b[1] - a[1])), a[2] + s * (b[2] - a[2]));
-    return Hit(ta + s * (tb - ta), point, cell, seg.normal, seg.flags);
-}
-
-// The cell test of the walk's segment, from `a` to the end `ex`: the clearance counted;
-// true, with the hit in `hit`, when the segment meets the surface.
-bool dda_walk_test(inout DdaWalk w, DdaExit ex, inout Hit hit) {
-    SegmentHit seg = surface_segment_hit((w).surface, (w).c, (w).a, ex.b, (w).ca, ex.cb, (w).wall);
-    (w).clearance = real_min((w).clearance, seg.clearance);
-    if (seg.has_hit) {
-        hit = dda_segment_point((w).cell, (w).ta, ex.tb, (w).a, ex.b, seg);
-    }
-    return seg.has_hit;
-}
-
-// Moves the walk past the end `ex` of its segment into the next cell (its corners
-// stale; the wall is the caller's): false when the walk ends there, at the span's end
-// or off the grid.
-bool dda_walk_next(inout DdaWalk w, DdaExit ex) {
-    if (!ex.cross[0] && !ex.cross[1]) {
-        return false;
-    }
-    for (int k = 0; k < 2; k++) {
-        if (ex.cross[k]) {
-            int next = int((w).cell[k]) + (w).step[k];
-            if (next < 0 || next >= int((w).cells[k])) {
-                return false;
-            }
-            (w).cell[k] = uint(next);
-        }
-    }
-    vec3 b = ex.b;
-    (w).a = vec3(((ex.cross[0]) ? (1.0 - b[0]) : (b[0])), ((ex.cross[1]) ? (1.0 - b[1]) : (b[1])), b[2]);
-    (w).ca = ex.cb;
-    (w).ta = ex.tb;
-    (w).stale = true;
-    return true;
-}
-
 // `trace`: traces q cell by cell and returns the exact first hit on `surface`.
 // Cost: four fetches (the corners) per cell visited.
 Trace dda_trace(uint surface, Query q) {
-    DdaWalk w;
-    if (!dda_walk_start(surface, surface, q, w)) {
+    Span span;
+    if (!dda_clip_surface(surface, q, span)) {
         return trace_miss(0u, real_infinity());
     }
-    if (w.ca <= 0.0) {
-        return trace_hit(dda_walk_start_hit(w, q), w.fetches, dda_start_clearance(w.span, w.ca));
+    vec3 o = q.origin;
+    vec3 d = q.dir;
+    // Per-axis state, index 0 = x, 1 = y.
+    uvec2 cells = uvec2(field_width() - 1u, field_height() - 1u);
+    vec3 p0 = query_at(q, span.t0);
+    vec2 start = vec2(real_clamp_to(p0[0], 0.0, float(cells[0])), real_clamp_to(p0[1], 0.0, float(cells[1])));
+    uvec2 cell = uvec2(dda_cell_index(start[0], d[0], cells[0]), dda_cell_index(start[1], d[1], cells[1]));
+    ivec2 step = ivec2(dda_step_of(d[0]), dda_step_of(d[1]));
+    vec4 c = surface_corners(cell[0], cell[1]);
+    uint fetches = 4u;
+    vec3 a;
+    float ca = dda_local_clearance(surface, c, cell, vec3(start[0], start[1], p0[2]), dda_entry_on(surface, span), a);
+
+    if (ca <= 0.0) {
+        return trace_hit(dda_start_hit(surface, span, c, cell, a, p0), fetches, dda_start_clearance(span, ca));
     }
+
+    float clearance = ca;
+    float ta = span.t0;
+    vec3 wall = vec3(0.0, 0.0, 1.0);
+    vec2 t_cross = vec2(dda_next_crossing(cell[0], step[0], o[0], d[0]), dda_next_crossing(cell[1], step[1], o[1], d[1]));
     for (;;) {
-        dda_walk_corners(w);
-        DdaExit ex = dda_walk_exit(w, q);
-        Hit hit;
-        if (dda_walk_test(w, ex, hit)) {
-            return trace_hit(hit, w.fetches, w.clearance);
+        float t_next = real_min(t_cross[0], t_cross[1]);
+        float tb;
+        bvec2 cross;
+        if (t_next < span.t1) {
+            tb = real_max(t_next, ta);
+            cross = bvec2(t_cross[0] <= t_next, t_cross[1] <= t_next);
+        } else {
+            tb = span.t1;
+            cross = bvec2(false);
         }
-        if (!dda_walk_next(w, ex)) {
+        // Clearance at the exit point; on a centerline, from that edge's two samples only.
+        ivec2 on = ivec2(((cross[0]) ? (int(step[0] > 0)) : (-1)), ((cross[1]) ? (int(step[1] > 0)) : (-1)));
+        vec3 b;
+        float cb = dda_local_clearance(surface, c, cell, query_at(q, tb), on, b);
+        SegmentHit seg = surface_segment_hit(surface, c, a, b, ca, cb, wall);
+        clearance = real_min(clearance, seg.clearance);
+        if (seg.has_hit) {
+            float s = seg.s;
+            float t = ta + s * (tb - ta);
+            // The point from the cell's integer corner plus local coordinates.
+            vec3 point = vec3(float(cell[0]) + (a[0] + s * (b[0] - a[0])), float(cell[1]) + (a[1] + s * (b[1] - a[1])), a[2] + s * (b[2] - a[2]));
+            return trace_hit(Hit(t, point, cell, seg.normal, seg.flags), fetches, clearance);
+        }
+        if (!cross[0] && !cross[1]) {
+            break;
+        }
+        bool leave = false;
+        for (int k = 0; k < 2; k++) {
+            if (cross[k]) {
+                int next = int(cell[k]) + step[k];
+                if (next < 0 || next >= int(cells[k])) {
+                    leave = true;
+                    break;
+                }
+                cell[k] = uint(next);
+                t_cross[k] = dda_next_crossing(cell[k], step[k], o[k], d[k]);
+            }
+        }
+        if (leave) {
             break;
         }
         // The face entered (x's when the ray passes exactly through a corner).
-        w.wall = dda_wall(w.step, ((ex.cross[0]) ? (0) : (1)));
+        int k = ((cross[0]) ? (0) : (1));
+        wall = vec3(0.0);
+        wall[k] = ((step[k] > 0) ? (-1.0) : (1.0));
+        c = surface_corners(cell[0], cell[1]);
+        fetches += 4u;
+        a = vec3(((cross[0]) ? (1.0 - b[0]) : (b[0])), ((cross[1]) ? (1.0 - b[1]) : (b[1])), b[2]);
+        ca = cb;
+        ta = tb;
     }
-    return trace_miss(w.fetches, w.clearance);
+    return trace_miss(fetches, clearance);
 }

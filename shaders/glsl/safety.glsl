@@ -109,62 +109,133 @@ const int SAFETY_STEP_HIT = 0;
 const int SAFETY_STEP_LINE = 1;
 const int SAFETY_STEP_END = 2;
 
-// `March`: the state of the march, the cell walk of dda_trace on its surface (dda.wgsl's
-// DdaWalk) along the main axis `ax`.
+// `March`: the state of the march, the cell walk of dda_trace on `surface`.
+struct SafetyMarch {
+    uint surface;
+    Span span;
+    int ax;
+    ivec2 step;
+    uvec2 cells;
+    uvec2 ic;
+    vec4 c;
+    bool stale;
+    vec3 a;
+    float ca;
+    float ta;
+    vec3 wall;
+    vec2 tn;
+    uint fetches;
+    float clearance;
+};
 
 // `March::line`: a centerline evaluation, counted.
-SafetyLine safety_march_line(inout DdaWalk w, int ax, Query q, uint m) {
-    (w).fetches += 2u;
-    SafetyLine l = safety_line_at(q, ax, m);
+SafetyLine safety_march_line(inout SafetyMarch mr, Query q, uint m) {
+    (mr).fetches += 2u;
+    SafetyLine l = safety_line_at(q, (mr).ax, m);
     if (l.c > 0.0) {
-        (w).clearance = real_min((w).clearance, l.c);
+        (mr).clearance = real_min((mr).clearance, l.c);
     }
     return l;
 }
 
+// `March::wall_of`: normal of a wall facing the ray on `axis`.
+vec3 safety_march_wall_of(SafetyMarch mr, int axis) {
+    vec3 n = vec3(0.0);
+    n[axis] = ((mr.step[axis] > 0) ? (-1.0) : (1.0));
+    return n;
+}
+
 // `March::enter`: puts the walk just past the crossing l (above the surface).
-void safety_march_enter(inout DdaWalk w, int ax, Query q, SafetyLine l) {
-    int mi = 1 - ax;
-    float y = real_clamp_to(l.p[mi], 0.0, float((w).cells[mi]));
-    (w).cell[ax] = (((w).step[ax] > 0) ? (l.m) : (l.m - 1u));
-    (w).cell[mi] = dda_cell_index(y, q.dir[mi], (w).cells[mi]);
-    (w).a[ax] = (((w).step[ax] > 0) ? (0.0) : (1.0));
-    (w).a[mi] = real_clamp_to(l.p[mi] - float((w).cell[mi]), 0.0, 1.0);
-    (w).a[2] = l.p[2];
-    (w).ca = l.c;
-    (w).ta = l.t;
-    (w).wall = dda_wall((w).step, ax);
-    (w).stale = true;
+void safety_march_enter(inout SafetyMarch mr, Query q, SafetyLine l) {
+    int ax = (mr).ax;
+    int mi = 1 - (mr).ax;
+    vec3 o = q.origin;
+    vec3 d = q.dir;
+    (mr).ic[ax] = (((mr).step[ax] > 0) ? (l.m) : (l.m - 1u));
+    float y = real_clamp_to(l.p[mi], 0.0, float((mr).cells[mi]));
+    (mr).ic[mi] = dda_cell_index(y, d[mi], (mr).cells[mi]);
+    (mr).a[ax] = (((mr).step[ax] > 0) ? (0.0) : (1.0));
+    (mr).a[mi] = real_clamp_to(l.p[mi] - float((mr).ic[mi]), 0.0, 1.0);
+    (mr).a[2] = l.p[2];
+    (mr).ca = l.c;
+    (mr).ta = l.t;
+    (mr).wall = safety_march_wall_of(mr, ax);
+    for (int k = 0; k < 2; k++) {
+        (mr).tn[k] = dda_next_crossing((mr).ic[k], (mr).step[k], o[k], d[k]);
+    }
+    (mr).stale = true;
 }
 
 // `March::walk`: walks cell by cell, as dda_trace, up to the next main-axis
 // centerline (SAFETY_STEP_LINE, `line`), the hit (SAFETY_STEP_HIT, `hit`), or the end.
-int safety_march_walk(inout DdaWalk w, int ax, Query q, inout Hit hit, inout SafetyLine line) {
+int safety_march_walk(inout SafetyMarch mr, Query q, inout Hit hit, inout SafetyLine line) {
+    int ax = (mr).ax;
+    int mi = 1 - (mr).ax;
+    vec3 o = q.origin;
+    vec3 d = q.dir;
     hit = hit_none();
     line = SafetyLine(0u, 0.0, vec3(0.0), 0.0, 0u, 0u, 0.0);
     for (;;) {
-        dda_walk_corners(w);
-        DdaExit ex = dda_walk_exit(w, q);
+        if ((mr).stale) {
+            (mr).c = surface_corners((mr).ic[0], (mr).ic[1]);
+            (mr).fetches += 4u;
+            (mr).stale = false;
+        }
+        float t_next = real_min((mr).tn[0], (mr).tn[1]);
+        float tb;
+        bvec2 cross;
+        if (t_next < (mr).span.t1) {
+            tb = real_max(t_next, (mr).ta);
+            cross = bvec2((mr).tn[0] <= t_next, (mr).tn[1] <= t_next);
+        } else {
+            tb = (mr).span.t1;
+            cross = bvec2(false);
+        }
+        ivec2 on = ivec2(((cross[0]) ? (int((mr).step[0] > 0)) : (-1)), ((cross[1]) ? (int((mr).step[1] > 0)) : (-1)));
+        vec3 p = query_at(q, tb);
+        vec3 b;
+        float cb = dda_local_clearance((mr).surface, (mr).c, (mr).ic, p, on, b);
         bool has_line = false;
-        if (ex.cross[ax]) {
+        if (cross[ax]) {
             // The clearance the jumps use at this centerline (same samples, same
             // arithmetic), so walking and jumping agree.
-            uint m = (((w).step[ax] > 0) ? ((w).cell[ax] + 1u) : ((w).cell[ax]));
+            uint m = (((mr).step[ax] > 0) ? ((mr).ic[ax] + 1u) : ((mr).ic[ax]));
             SafetyLine l = safety_line_at(q, ax, m);
-            if (l.edge != (w).cell[1 - ax]) {
-                (w).fetches += 2u;
+            if (l.edge != (mr).ic[mi]) {
+                (mr).fetches += 2u;
             }
-            ex.cb = l.c;
+            cb = l.c;
             line = l;
             has_line = true;
         }
-        if (dda_walk_test(w, ex, hit)) {
+        SegmentHit seg = surface_segment_hit((mr).surface, (mr).c, (mr).a, b, (mr).ca, cb, (mr).wall);
+        (mr).clearance = real_min((mr).clearance, seg.clearance);
+        if (seg.has_hit) {
+            float s = seg.s;
+            vec3 a = (mr).a;
+            uvec2 ic = (mr).ic;
+            vec3 point = vec3(float(ic[0]) + (a[0] + s * (b[0] - a[0])), float(ic[1]) + (a[1] + s * (b[1] - a[1])), a[2] + s * (b[2] - a[2]));
+            hit = Hit((mr).ta + s * (tb - (mr).ta), point, ic, seg.normal, seg.flags);
             return SAFETY_STEP_HIT;
         }
-        if (!dda_walk_next(w, ex)) {
+        if (!(cross[0] || cross[1])) {
             return SAFETY_STEP_END;
         }
-        (w).wall = dda_wall((w).step, ((ex.cross[0]) ? (0) : (1)));
+        for (int k = 0; k < 2; k++) {
+            if (cross[k]) {
+                int next = int((mr).ic[k]) + (mr).step[k];
+                if (next < 0 || next >= int((mr).cells[k])) {
+                    return SAFETY_STEP_END;
+                }
+                (mr).ic[k] = uint(next);
+                (mr).tn[k] = dda_next_crossing((mr).ic[k], (mr).step[k], o[k], d[k]);
+            }
+        }
+        (mr).wall = safety_march_wall_of(mr, ((cross[0]) ? (0) : (1)));
+        (mr).a = vec3(((cross[0]) ? (1.0 - b[0]) : (b[0])), ((cross[1]) ? (1.0 - b[1]) : (b[1])), b[2]);
+        (mr).ca = cb;
+        (mr).ta = tb;
+        (mr).stale = true;
         if (has_line) {
             return SAFETY_STEP_LINE;
         }
@@ -173,8 +244,8 @@ int safety_march_walk(inout DdaWalk w, int ax, Query q, inout Hit hit, inout Saf
 }
 
 // `March::done`.
-Trace safety_march_done(DdaWalk w, bool has_hit, Hit hit, uint flags) {
-    return Trace(has_hit, hit, w.fetches, w.clearance, flags);
+Trace safety_march_done(SafetyMarch mr, bool has_hit, Hit hit, uint flags) {
+    return Trace(has_hit, hit, mr.fetches, mr.clearance, flags);
 }
 
 // `last_line`: last main-axis centerline the ray crosses strictly before t1 (false
@@ -219,55 +290,67 @@ uint safety_march_surface(uint surface) {
 // `march`: the march shared by the safety-shape methods; the walk between jumps and
 // the final test use `march_surface` (see safety_march_surface).
 Trace safety_march(uint march_surface, Query q) {
-    DdaWalk w;
-    if (!dda_walk_start(HF_SURFACE_TRIANGLES, safety_march_surface(march_surface), q, w)) {
+    Span span;
+    if (!dda_clip(q, span)) {
         return trace_miss(0u, real_infinity());
     }
-    if (w.ca <= 0.0) {
-        return trace_hit(dda_walk_start_hit(w, q), w.fetches, dda_start_clearance(w.span, w.ca));
-    }
+    vec3 o = q.origin;
     vec3 d = q.dir;
     uint ray_class = ray_class_of(d[0], d[1]);
     int ax = safety_axis_of(ray_class);
-    int sg = w.step[ax];
+    uvec2 cells = uvec2(field_width() - 1u, field_height() - 1u);
+    vec3 p0 = query_at(q, span.t0);
+    float x0 = real_clamp_to(p0[0], 0.0, float(cells[0]));
+    float y0 = real_clamp_to(p0[1], 0.0, float(cells[1]));
+    ivec2 step = ivec2(dda_step_of(d[0]), dda_step_of(d[1]));
+    uvec2 ic = uvec2(dda_cell_index(x0, d[0], cells[0]), dda_cell_index(y0, d[1], cells[1]));
+    vec4 c = surface_corners(ic[0], ic[1]);
+    uint surface = safety_march_surface(march_surface);
+    vec3 a;
+    float ca = dda_local_clearance(surface, c, ic, vec3(x0, y0, p0[2]), dda_entry_on(surface, span), a);
+    if (ca <= 0.0) {
+        return trace_hit(dda_start_hit(surface, span, c, ic, a, p0), 4u, dda_start_clearance(span, ca));
+    }
+    SafetyMarch mr = SafetyMarch(surface, span, ax, step, cells, ic, c, false, a, ca, span.t0, vec3(0.0, 0.0, 1.0), vec2(dda_next_crossing(ic[0], step[0], o[0], d[0]), dda_next_crossing(ic[1], step[1], o[1], d[1])), 4u, ca);
+    int sg = step[ax];
     uint last = 0u;
-    bool has_last = sg != 0 && safety_last_line(q, ax, sg, w.span.t1, last);
+    bool has_last = sg != 0 && safety_last_line(q, ax, sg, span.t1, last);
     uint budget = safety_extents(ax)[0] + 8u;
     Hit hit;
     SafetyLine l;
-    int st = safety_march_walk(w, ax, q, hit, l);
+    int st = safety_march_walk(mr, q, hit, l);
     for (;;) {
         if (st == SAFETY_STEP_HIT) {
-            return safety_march_done(w, true, hit, 0u);
+            return safety_march_done(mr, true, hit, 0u);
         } else if (st == SAFETY_STEP_END) {
-            return safety_march_done(w, false, hit_none(), 0u);
+            return safety_march_done(mr, false, hit_none(), 0u);
         }
         if (budget == 0u) {
-            return safety_march_done(w, false, hit_none(), HF_FLAG_BUDGET_EXHAUSTED);
+            return safety_march_done(mr, false, hit_none(), HF_FLAG_BUDGET_EXHAUSTED);
         }
         budget -= 1u;
         if (!has_last || last == l.m) {
-            st = safety_march_walk(w, ax, q, hit, l);
+            st = safety_march_walk(mr, q, hit, l);
             continue;
         }
         uint k = 0u;
         if (l.c > l.tol) {
-            w.fetches += 1u;
+            mr.fetches += 1u;
             uvec2 ij = ((ax == 0) ? (uvec2(l.m, l.texel)) : (uvec2(l.texel, l.m)));
             uvec2 jump = safety_march_jump(l, ray_class, ij[0], ij[1], d);
             k = jump.x;
-            w.fetches += jump.y;
+            mr.fetches += jump.y;
         }
         if (k == 0u) {
-            st = safety_march_walk(w, ax, q, hit, l);
+            st = safety_march_walk(mr, q, hit, l);
             continue;
         }
         uint room = uint(abs(int(last) - int(l.m)));
         // `target` in Rust and GLSL, a reserved word in WGSL.
         uint goal = uint(int(l.m) + sg * int(min(k, room)));
-        SafetyLine lt = safety_march_line(w, ax, q, goal);
+        SafetyLine lt = safety_march_line(mr, q, goal);
         if (lt.c > 0.0) {
-            safety_march_enter(w, ax, q, lt);
+            safety_march_enter(mr, q, lt);
             l = lt;
             st = SAFETY_STEP_LINE;
             continue;
@@ -277,17 +360,17 @@ Trace safety_march(uint march_surface, Query q) {
         uint hi = goal;
         while (abs(int(hi) - int(lo.m)) > 1) {
             uint mid = uint((int(hi) + int(lo.m)) / 2);
-            SafetyLine lm = safety_march_line(w, ax, q, mid);
+            SafetyLine lm = safety_march_line(mr, q, mid);
             if (lm.c > 0.0) {
                 lo = lm;
             } else {
                 hi = mid;
             }
         }
-        safety_march_enter(w, ax, q, lo);
-        st = safety_march_walk(w, ax, q, hit, l);
+        safety_march_enter(mr, q, lo);
+        st = safety_march_walk(mr, q, hit, l);
     }
-    return safety_march_done(w, false, hit_none(), 0u);
+    return safety_march_done(mr, false, hit_none(), 0u);
 }
 
 // `trace_on`: `trace` finishing on `surface` (HF_SURFACE_TRIANGLES or

@@ -27,76 +27,133 @@ fn cone_texel(i: u32, j: u32) -> vec2<f32> { return textureLoad(hf_cone_map, vec
 // `margin`: rounding margin on a clearance above a stored top.
 fn cone_margin(z: f32, top: f32) -> f32 { return 64.0 * REAL_EPSILON * (1.0 + abs(z) + abs(top)); }
 
-// The closure `cell_exit` of `march`: where the ray leaves the walk's cell (or its span).
-fn cone_cell_exit(w: DdaWalk, q: Query) -> f32 {
-    let t_cross: vec2<f32> = dda_next_crossings(w.cell, w.step, q);
-    return real_min(real_min(t_cross[0], t_cross[1]), w.span.t1);
+// The closure `locate` of `march`.
+fn cone_locate(p: vec3<f32>, d: vec3<f32>, cells: vec2<u32>) -> vec2<u32> {
+    return vec2<u32>(dda_cell_index(real_clamp_to(p[0], 0.0, f32(cells[0])), d[0], cells[0]),
+                     dda_cell_index(real_clamp_to(p[1], 0.0, f32(cells[1])), d[1], cells[1]));
+}
+
+// The closure `cell_exit` of `march`.
+fn cone_cell_exit(cell: vec2<u32>, dstep: vec2<i32>, o: vec3<f32>, d: vec3<f32>, t1: f32) -> f32 {
+    let t0: f32 = dda_next_crossing(cell[0], dstep[0], o[0], d[0]);
+    let t1c: f32 = dda_next_crossing(cell[1], dstep[1], o[1], d[1]);
+    return real_min(real_min(t0, t1c), t1);
 }
 
 // `march`: at each iteration the step either jumps, ends in a miss, or asks for the
-// exact cell test of dda_trace (the walk of dda.wgsl; `w.ta` is the march's t, and the
-// closure `locate` is dda_cell_of).
+// exact cell test of dda_trace.
 fn cone_march(q: Query, max_iter: u32) -> Trace {
-    var w: DdaWalk;
-    if (!dda_walk_start(HF_SURFACE_TRIANGLES, HF_SURFACE_TRIANGLES, q, &w)) {
+    var span: Span;
+    if (!dda_clip(q, &span)) {
         return trace_miss(0u, real_infinity());
     }
-    if (w.ca <= 0.0) {
-        return trace_hit(dda_walk_start_hit(w, q), w.fetches, 0.0);
+    let o: vec3<f32> = q.origin;
+    let d: vec3<f32> = q.dir;
+    let cells: vec2<u32> = vec2<u32>(field_width() - 1u, field_height() - 1u);
+    let dstep: vec2<i32> = vec2<i32>(dda_step_of(d[0]), dda_step_of(d[1]));
+    let p0: vec3<f32> = query_at(q, span.t0);
+    let start: vec2<f32> = vec2<f32>(real_clamp_to(p0[0], 0.0, f32(cells[0])),
+                          real_clamp_to(p0[1], 0.0, f32(cells[1])));
+    var cell: vec2<u32> = cone_locate(p0, d, cells);
+    var c: vec4<f32> = surface_corners(cell[0], cell[1]);
+    var fetches: u32 = 4u;
+    var a: vec3<f32>;
+    var ca: f32 = dda_local_clearance(HF_SURFACE_TRIANGLES, c, cell, vec3<f32>(start[0], start[1], p0[2]),
+                                 dda_entry_on(HF_SURFACE_TRIANGLES, span), &a);
+    if (ca <= 0.0) {
+        return trace_hit(dda_start_hit(HF_SURFACE_TRIANGLES, span, c, cell, a, p0), fetches, 0.0);
     }
-    // `w.a, w.ca` valid for the current point.
+    var clearance: f32 = ca;
+    // `a, ca` valid for the current point; `have_c`: `c` holds the current cell's corners.
     var have_ca: bool = true;
+    var have_c: bool = true;
+    var t: f32 = span.t0;
     var iter: u32 = 0u;
     loop {
-        let p: vec3<f32> = query_at(q, w.ta);
+        let p: vec3<f32> = query_at(q, t);
         if (iter >= max_iter) {
-            var tr: Trace = trace_hit(Hit(w.ta, p, w.cell, vec3<f32>(0.0, 0.0, 1.0), 0u), w.fetches, w.clearance);
+            var tr: Trace = trace_hit(Hit(t, p, cell, vec3<f32>(0.0, 0.0, 1.0), 0u), fetches, clearance);
             tr.flags = HF_FLAG_BUDGET_EXHAUSTED;
             return tr;
         }
         iter += 1u;
         var dt: f32;
         var f: u32;
-        let s: i32 = cone_march_step(w.cell, p, q.dir, &dt, &f);
-        w.fetches += f;
+        let s: i32 = cone_march_step(cell, p, d, &dt, &f);
+        fetches += f;
         if (s == CONE_STEP_MISS) {
-            return trace_miss(w.fetches, w.clearance);
+            return trace_miss(fetches, clearance);
         }
         // A jump that stays in the cell would crawl: the cell test reaches its exit at once.
-        if (s == CONE_STEP_JUMP && dt > 0.0 && w.ta + dt >= cone_cell_exit(w, q)) {
-            let tn: f32 = w.ta + dt;
-            if (!(tn < w.span.t1)) {
-                return trace_miss(w.fetches, w.clearance);
+        if (s == CONE_STEP_JUMP && dt > 0.0 && t + dt >= cone_cell_exit(cell, dstep, o, d, span.t1)) {
+            let tn: f32 = t + dt;
+            if (!(tn < span.t1)) {
+                return trace_miss(fetches, clearance);
             }
-            w.ta = tn;
-            w.cell = dda_cell_of(query_at(q, tn), q.dir, w.cells);
-            w.stale = true;
+            t = tn;
+            cell = cone_locate(query_at(q, t), d, cells);
             have_ca = false;
+            have_c = false;
             continue;
         }
         // The exact cell test from t to the cell's exit.
-        dda_walk_corners(&w);
+        if (!have_c) {
+            c = surface_corners(cell[0], cell[1]);
+            fetches += 4u;
+        }
         if (!have_ca) {
-            var a: vec3<f32>;
-            w.ca = dda_local_clearance(HF_SURFACE_TRIANGLES, w.c, w.cell, p, vec2<i32>(-1), &a);
-            w.a = a;
-            w.clearance = real_min(w.clearance, w.ca);
-            if (w.ca <= 0.0) {
-                let n: vec3<f32> = surface_cell_normal(HF_SURFACE_TRIANGLES, w.c, a[0], a[1]);
-                return trace_hit(Hit(w.ta, p, w.cell, n, 0u), w.fetches, w.clearance);
+            ca = dda_local_clearance(HF_SURFACE_TRIANGLES, c, cell, p, vec2<i32>(-1), &a);
+            clearance = real_min(clearance, ca);
+            if (ca <= 0.0) {
+                let n: vec3<f32> = surface_cell_normal(HF_SURFACE_TRIANGLES, c, a[0], a[1]);
+                return trace_hit(Hit(t, p, cell, n, 0u), fetches, clearance);
             }
         }
-        let ex: DdaExit = dda_walk_exit(w, q);
-        var hit: Hit;
-        if (dda_walk_test(&w, ex, &hit)) {
-            return trace_hit(hit, w.fetches, w.clearance);
+        let t_cross: vec2<f32> = vec2<f32>(dda_next_crossing(cell[0], dstep[0], o[0], d[0]),
+                                dda_next_crossing(cell[1], dstep[1], o[1], d[1]));
+        let t_next: f32 = real_min(t_cross[0], t_cross[1]);
+        var tb: f32;
+        var cross: vec2<bool>;
+        if (t_next < span.t1) {
+            tb = real_max(t_next, t);
+            cross = vec2<bool>(t_cross[0] <= t_next, t_cross[1] <= t_next);
+        } else {
+            tb = span.t1;
+            cross = vec2<bool>(false);
         }
-        if (!dda_walk_next(&w, ex)) {
-            return trace_miss(w.fetches, w.clearance);
+        let on: vec2<i32> = vec2<i32>(select(-1, i32(dstep[0] > 0), cross[0]), select(-1, i32(dstep[1] > 0), cross[1]));
+        var b: vec3<f32>;
+        let cb: f32 = dda_local_clearance(HF_SURFACE_TRIANGLES, c, cell, query_at(q, tb), on, &b);
+        let seg: SegmentHit = surface_segment_hit(HF_SURFACE_TRIANGLES, c, a, b, ca, cb,
+                                      vec3<f32>(0.0, 0.0, 1.0));
+        clearance = real_min(clearance, seg.clearance);
+        if (seg.has_hit) {
+            let sh: f32 = seg.s;
+            let th: f32 = t + sh * (tb - t);
+            let point: vec3<f32> = vec3<f32>(f32(cell[0]) + (a[0] + sh * (b[0] - a[0])),
+                                  f32(cell[1]) + (a[1] + sh * (b[1] - a[1])),
+                                  a[2] + sh * (b[2] - a[2]));
+            return trace_hit(Hit(th, point, cell, seg.normal, seg.flags), fetches, clearance);
         }
+        if (!cross[0] && !cross[1]) {
+            return trace_miss(fetches, clearance);
+        }
+        for (var k: i32 = 0; k < 2; k++) {
+            if (cross[k]) {
+                let next: i32 = i32(cell[k]) + dstep[k];
+                if (next < 0 || next >= i32(cells[k])) {
+                    return trace_miss(fetches, clearance);
+                }
+                cell[k] = u32(next);
+            }
+        }
+        a = vec3<f32>(select(b[0], 1.0 - b[0], cross[0]), select(b[1], 1.0 - b[1], cross[1]), b[2]);
+        ca = cb;
+        t = tb;
         have_ca = true;
+        have_c = false;
     }
-    return trace_miss(w.fetches, w.clearance);
+    return trace_miss(fetches, clearance);
 }
 
 // `cone_step`: the cone step from ray point p with direction d over a texel [top, ratio].

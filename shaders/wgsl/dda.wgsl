@@ -181,178 +181,92 @@ fn dda_start_hit(surface: u32, span: Span, c: vec4<f32>, cell: vec2<u32>, a: vec
     return Hit(span.t0, p0, cell, normal, flags);
 }
 
-// `cell_index` on both axes: the cell of grid point p, clamped into the footprint of
-// `cells` cells, moving with direction d.
-fn dda_cell_of(p: vec3<f32>, d: vec3<f32>, cells: vec2<u32>) -> vec2<u32> {
-    return vec2<u32>(dda_cell_index(real_clamp_to(p[0], 0.0, f32(cells[0])), d[0], cells[0]),
-                     dda_cell_index(real_clamp_to(p[1], 0.0, f32(cells[1])), d[1], cells[1]));
-}
-
-// `next_crossing` on both axes: the next centerline crossings of q after `cell`.
-fn dda_next_crossings(cell: vec2<u32>, step: vec2<i32>, q: Query) -> vec2<f32> {
-    return vec2<f32>(dda_next_crossing(cell[0], step[0], q.origin[0], q.dir[0]),
-                     dda_next_crossing(cell[1], step[1], q.origin[1], q.dir[1]));
-}
-
-// The normal of a wall facing a ray of steps `step` on `axis`.
-fn dda_wall(step: vec2<i32>, axis: i32) -> vec3<f32> {
-    var n: vec3<f32> = vec3<f32>(0.0);
-    n[axis] = select(1.0, -1.0, step[axis] > 0);
-    return n;
-}
-
-// The cell walk of `trace`, shared by the marches that finish with its cell test (cone,
-// qdm, the safety-shape methods): the surface of the test, the clipped span, the cell
-// counts and steps, the current cell and its corners `c` (`stale`: not fetched yet),
-// the current segment's start (local point `a`, clearance `ca`, ray parameter `ta`),
-// the wall the cell was entered through, and the fetches and clearance so far.
-struct DdaWalk {
-    surface: u32,
-    span: Span,
-    cells: vec2<u32>,
-    step: vec2<i32>,
-    cell: vec2<u32>,
-    c: vec4<f32>,
-    stale: bool,
-    a: vec3<f32>,
-    ca: f32,
-    ta: f32,
-    wall: vec3<f32>,
-    fetches: u32,
-    clearance: f32,
-}
-
-// The start of the walk on `surface` over the box of the surface `clip`: false when q
-// misses the box; else `w` is at the span's first point (clamped into the footprint), in
-// its cell with the corners fetched, on its side's edge for a side entry (`entry_on`).
-fn dda_walk_start(clip: u32, surface: u32, q: Query, w: ptr<function, DdaWalk>) -> bool {
-    var span: Span;
-    if (!dda_clip_surface(clip, q, &span)) {
-        return false;
-    }
-    let d: vec3<f32> = q.dir;
-    let cells: vec2<u32> = vec2<u32>(field_width() - 1u, field_height() - 1u);
-    let p0: vec3<f32> = query_at(q, span.t0);
-    let start: vec3<f32> = vec3<f32>(real_clamp_to(p0[0], 0.0, f32(cells[0])),
-                                     real_clamp_to(p0[1], 0.0, f32(cells[1])), p0[2]);
-    let cell: vec2<u32> = dda_cell_of(p0, d, cells);
-    let c: vec4<f32> = surface_corners(cell[0], cell[1]);
-    var a: vec3<f32>;
-    let ca: f32 = dda_local_clearance(surface, c, cell, start, dda_entry_on(surface, span), &a);
-    *w = DdaWalk(surface, span, cells, vec2<i32>(dda_step_of(d[0]), dda_step_of(d[1])), cell, c, false,
-                 a, ca, span.t0, vec3<f32>(0.0, 0.0, 1.0), 4u, ca);
-    return true;
-}
-
-// `start_hit` of the walk: the hit of a ray already under the surface where its span
-// begins (`ca <= 0` after dda_walk_start).
-fn dda_walk_start_hit(w: DdaWalk, q: Query) -> Hit {
-    return dda_start_hit(w.surface, w.span, w.c, w.cell, w.a, query_at(q, w.span.t0));
-}
-
-// The corners of the walk's cell, fetched when stale.
-fn dda_walk_corners(w: ptr<function, DdaWalk>) {
-    if ((*w).stale) {
-        (*w).c = surface_corners((*w).cell[0], (*w).cell[1]);
-        (*w).fetches += 4u;
-        (*w).stale = false;
-    }
-}
-
-// Where the walk's segment in its cell ends: `tb`, the next crossing (not before `ta`)
-// or the span's end when that comes first; `cross`, the axes crossed there; `b` and
-// `cb`, the end's local point and clearance.
-struct DdaExit {
-    tb: f32,
-    cross: vec2<bool>,
-    b: vec3<f32>,
-    cb: f32,
-}
-
-// The end of the walk's segment in its cell (its corners fetched).
-fn dda_walk_exit(w: DdaWalk, q: Query) -> DdaExit {
-    let t_cross: vec2<f32> = dda_next_crossings(w.cell, w.step, q);
-    let t_next: f32 = real_min(t_cross[0], t_cross[1]);
-    var tb: f32 = w.span.t1;
-    var cross: vec2<bool> = vec2<bool>(false);
-    if (t_next < w.span.t1) {
-        tb = real_max(t_next, w.ta);
-        cross = vec2<bool>(t_cross[0] <= t_next, t_cross[1] <= t_next);
-    }
-    // Clearance at the exit point; on a centerline, from that edge's two samples only.
-    let on: vec2<i32> = vec2<i32>(select(-1, i32(w.step[0] > 0), cross[0]), select(-1, i32(w.step[1] > 0), cross[1]));
-    var b: vec3<f32>;
-    let cb: f32 = dda_local_clearance(w.surface, w.c, w.cell, query_at(q, tb), on, &b);
-    return DdaExit(tb, cross, b, cb);
-}
-
-// `segment_point`: the hit at `seg.s` of the segment a -> b in `cell` (ray parameters ta
-// to tb), the point from the cell's integer corner plus local coordinates.
-fn dda_segment_point(cell: vec2<u32>, ta: f32, tb: f32, a: vec3<f32>, b: vec3<f32>, seg: SegmentHit) -> Hit {
-    let s: f32 = seg.s;
-    let point: vec3<f32> = vec3<f32>(f32(cell[0]) + (a[0] + s * (b[0] - a[0])),
-                                     f32(cell[1]) + (a[1] + s * (b[1] - a[1])),
-                                     a[2] + s * (b[2] - a[2]));
-    return Hit(ta + s * (tb - ta), point, cell, seg.normal, seg.flags);
-}
-
-// The cell test of the walk's segment, from `a` to the end `ex`: the clearance counted;
-// true, with the hit in `hit`, when the segment meets the surface.
-fn dda_walk_test(w: ptr<function, DdaWalk>, ex: DdaExit, hit: ptr<function, Hit>) -> bool {
-    let seg: SegmentHit = surface_segment_hit((*w).surface, (*w).c, (*w).a, ex.b, (*w).ca, ex.cb, (*w).wall);
-    (*w).clearance = real_min((*w).clearance, seg.clearance);
-    if (seg.has_hit) {
-        *hit = dda_segment_point((*w).cell, (*w).ta, ex.tb, (*w).a, ex.b, seg);
-    }
-    return seg.has_hit;
-}
-
-// Moves the walk past the end `ex` of its segment into the next cell (its corners
-// stale; the wall is the caller's): false when the walk ends there, at the span's end
-// or off the grid.
-fn dda_walk_next(w: ptr<function, DdaWalk>, ex: DdaExit) -> bool {
-    if (!ex.cross[0] && !ex.cross[1]) {
-        return false;
-    }
-    for (var k: i32 = 0; k < 2; k++) {
-        if (ex.cross[k]) {
-            let next: i32 = i32((*w).cell[k]) + (*w).step[k];
-            if (next < 0 || next >= i32((*w).cells[k])) {
-                return false;
-            }
-            (*w).cell[k] = u32(next);
-        }
-    }
-    let b: vec3<f32> = ex.b;
-    (*w).a = vec3<f32>(select(b[0], 1.0 - b[0], ex.cross[0]), select(b[1], 1.0 - b[1], ex.cross[1]), b[2]);
-    (*w).ca = ex.cb;
-    (*w).ta = ex.tb;
-    (*w).stale = true;
-    return true;
-}
-
 // `trace`: traces q cell by cell and returns the exact first hit on `surface`.
 // Cost: four fetches (the corners) per cell visited.
 fn dda_trace(surface: u32, q: Query) -> Trace {
-    var w: DdaWalk;
-    if (!dda_walk_start(surface, surface, q, &w)) {
+    var span: Span;
+    if (!dda_clip_surface(surface, q, &span)) {
         return trace_miss(0u, real_infinity());
     }
-    if (w.ca <= 0.0) {
-        return trace_hit(dda_walk_start_hit(w, q), w.fetches, dda_start_clearance(w.span, w.ca));
+    let o: vec3<f32> = q.origin;
+    let d: vec3<f32> = q.dir;
+    // Per-axis state, index 0 = x, 1 = y.
+    let cells: vec2<u32> = vec2<u32>(field_width() - 1u, field_height() - 1u);
+    let p0: vec3<f32> = query_at(q, span.t0);
+    let start: vec2<f32> = vec2<f32>(real_clamp_to(p0[0], 0.0, f32(cells[0])),
+                          real_clamp_to(p0[1], 0.0, f32(cells[1])));
+    var cell: vec2<u32> = vec2<u32>(dda_cell_index(start[0], d[0], cells[0]),
+                         dda_cell_index(start[1], d[1], cells[1]));
+    let step: vec2<i32> = vec2<i32>(dda_step_of(d[0]), dda_step_of(d[1]));
+    var c: vec4<f32> = surface_corners(cell[0], cell[1]);
+    var fetches: u32 = 4u;
+    var a: vec3<f32>;
+    var ca: f32 = dda_local_clearance(surface, c, cell, vec3<f32>(start[0], start[1], p0[2]), dda_entry_on(surface, span),
+                                 &a);
+
+    if (ca <= 0.0) {
+        return trace_hit(dda_start_hit(surface, span, c, cell, a, p0), fetches,
+                         dda_start_clearance(span, ca));
     }
+
+    var clearance: f32 = ca;
+    var ta: f32 = span.t0;
+    var wall: vec3<f32> = vec3<f32>(0.0, 0.0, 1.0);
+    var t_cross: vec2<f32> = vec2<f32>(dda_next_crossing(cell[0], step[0], o[0], d[0]),
+                            dda_next_crossing(cell[1], step[1], o[1], d[1]));
     loop {
-        dda_walk_corners(&w);
-        let ex: DdaExit = dda_walk_exit(w, q);
-        var hit: Hit;
-        if (dda_walk_test(&w, ex, &hit)) {
-            return trace_hit(hit, w.fetches, w.clearance);
+        let t_next: f32 = real_min(t_cross[0], t_cross[1]);
+        var tb: f32;
+        var cross: vec2<bool>;
+        if (t_next < span.t1) {
+            tb = real_max(t_next, ta);
+            cross = vec2<bool>(t_cross[0] <= t_next, t_cross[1] <= t_next);
+        } else {
+            tb = span.t1;
+            cross = vec2<bool>(false);
         }
-        if (!dda_walk_next(&w, ex)) {
+        // Clearance at the exit point; on a centerline, from that edge's two samples only.
+        let on: vec2<i32> = vec2<i32>(select(-1, i32(step[0] > 0), cross[0]), select(-1, i32(step[1] > 0), cross[1]));
+        var b: vec3<f32>;
+        let cb: f32 = dda_local_clearance(surface, c, cell, query_at(q, tb), on, &b);
+        let seg: SegmentHit = surface_segment_hit(surface, c, a, b, ca, cb, wall);
+        clearance = real_min(clearance, seg.clearance);
+        if (seg.has_hit) {
+            let s: f32 = seg.s;
+            let t: f32 = ta + s * (tb - ta);
+            // The point from the cell's integer corner plus local coordinates.
+            let point: vec3<f32> = vec3<f32>(f32(cell[0]) + (a[0] + s * (b[0] - a[0])),
+                                  f32(cell[1]) + (a[1] + s * (b[1] - a[1])),
+                                  a[2] + s * (b[2] - a[2]));
+            return trace_hit(Hit(t, point, cell, seg.normal, seg.flags), fetches, clearance);
+        }
+        if (!cross[0] && !cross[1]) {
+            break;
+        }
+        var leave: bool = false;
+        for (var k: i32 = 0; k < 2; k++) {
+            if (cross[k]) {
+                let next: i32 = i32(cell[k]) + step[k];
+                if (next < 0 || next >= i32(cells[k])) {
+                    leave = true;
+                    break;
+                }
+                cell[k] = u32(next);
+                t_cross[k] = dda_next_crossing(cell[k], step[k], o[k], d[k]);
+            }
+        }
+        if (leave) {
             break;
         }
         // The face entered (x's when the ray passes exactly through a corner).
-        w.wall = dda_wall(w.step, select(1, 0, ex.cross[0]));
+        let k: i32 = select(1, 0, cross[0]);
+        wall = vec3<f32>(0.0);
+        wall[k] = select(1.0, -1.0, step[k] > 0);
+        c = surface_corners(cell[0], cell[1]);
+        fetches += 4u;
+        a = vec3<f32>(select(b[0], 1.0 - b[0], cross[0]), select(b[1], 1.0 - b[1], cross[1]), b[2]);
+        ca = cb;
+        ta = tb;
     }
-    return trace_miss(w.fetches, w.clearance);
+    return trace_miss(fetches, clearance);
 }

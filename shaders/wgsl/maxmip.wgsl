@@ -124,7 +124,8 @@ fn maxmip_trace(surface: u32, q: Query) -> Trace {
     let cells: vec2<u32> = vec2<u32>(field_width() - 1u, field_height() - 1u);
     let step: vec2<i32> = vec2<i32>(dda_step_of(d[0]), dda_step_of(d[1]));
     var p: vec3<f32> = query_at(q, span.t0);
-    var cell: vec2<u32> = dda_cell_of(p, d, cells);
+    var cell: vec2<u32> = vec2<u32>(dda_cell_index(real_clamp_to(p[0], 0.0, f32(cells[0])), d[0], cells[0]),
+                         dda_cell_index(real_clamp_to(p[1], 0.0, f32(cells[1])), d[1], cells[1]));
     let top: u32 = u32(maxmip_levels()) - 1u;
     // Start where nodes are a quarter to an eighth of the ray's horizontal reach.
     let reach: f32 = real_max(abs(d[0]), abs(d[1])) * (span.t1 - span.t0);
@@ -194,7 +195,13 @@ fn maxmip_trace(surface: u32, q: Query) -> Trace {
             let seg: SegmentHit = surface_segment_hit(surface, c, a, b, ca, cb, wall);
             clearance = real_min(clearance, seg.clearance);
             if (seg.has_hit) {
-                return trace_hit(dda_segment_point(cell, t, tb, a, b, seg), fetches, clearance);
+                let s: f32 = seg.s;
+                let th: f32 = t + s * (tb - t);
+                // As dda_trace: the cell's corner plus local coordinates.
+                let point: vec3<f32> = vec3<f32>(f32(cell[0]) + (a[0] + s * (b[0] - a[0])),
+                                      f32(cell[1]) + (a[1] + s * (b[1] - a[1])),
+                                      a[2] + s * (b[2] - a[2]));
+                return trace_hit(Hit(th, point, cell, seg.normal, seg.flags), fetches, clearance);
             }
         }
         // Leave the node: step over the crossed boundaries, bring the other axis up to

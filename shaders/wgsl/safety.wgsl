@@ -109,63 +109,137 @@ const SAFETY_STEP_HIT: i32 = 0;
 const SAFETY_STEP_LINE: i32 = 1;
 const SAFETY_STEP_END: i32 = 2;
 
-// `March`: the state of the march, the cell walk of dda_trace on its surface (dda.wgsl's
-// DdaWalk) along the main axis `ax`.
+// `March`: the state of the march, the cell walk of dda_trace on `surface`.
+struct SafetyMarch {
+    surface: u32,
+    span: Span,
+    ax: i32,
+    step: vec2<i32>,
+    cells: vec2<u32>,
+    ic: vec2<u32>,
+    c: vec4<f32>,
+    stale: bool,
+    a: vec3<f32>,
+    ca: f32,
+    ta: f32,
+    wall: vec3<f32>,
+    tn: vec2<f32>,
+    fetches: u32,
+    clearance: f32,
+}
 
 // `March::line`: a centerline evaluation, counted.
-fn safety_march_line(w: ptr<function, DdaWalk>, ax: i32, q: Query, m: u32) -> SafetyLine {
-    (*w).fetches += 2u;
-    let l: SafetyLine = safety_line_at(q, ax, m);
+fn safety_march_line(mr: ptr<function, SafetyMarch>, q: Query, m: u32) -> SafetyLine {
+    (*mr).fetches += 2u;
+    let l: SafetyLine = safety_line_at(q, (*mr).ax, m);
     if (l.c > 0.0) {
-        (*w).clearance = real_min((*w).clearance, l.c);
+        (*mr).clearance = real_min((*mr).clearance, l.c);
     }
     return l;
 }
 
+// `March::wall_of`: normal of a wall facing the ray on `axis`.
+fn safety_march_wall_of(mr: SafetyMarch, axis: i32) -> vec3<f32> {
+    var n: vec3<f32> = vec3<f32>(0.0);
+    n[axis] = select(1.0, -1.0, mr.step[axis] > 0);
+    return n;
+}
+
 // `March::enter`: puts the walk just past the crossing l (above the surface).
-fn safety_march_enter(w: ptr<function, DdaWalk>, ax: i32, q: Query, l: SafetyLine) {
-    let mi: i32 = 1 - ax;
-    let y: f32 = real_clamp_to(l.p[mi], 0.0, f32((*w).cells[mi]));
-    (*w).cell[ax] = select(l.m - 1u, l.m, (*w).step[ax] > 0);
-    (*w).cell[mi] = dda_cell_index(y, q.dir[mi], (*w).cells[mi]);
-    (*w).a[ax] = select(1.0, 0.0, (*w).step[ax] > 0);
-    (*w).a[mi] = real_clamp_to(l.p[mi] - f32((*w).cell[mi]), 0.0, 1.0);
-    (*w).a[2] = l.p[2];
-    (*w).ca = l.c;
-    (*w).ta = l.t;
-    (*w).wall = dda_wall((*w).step, ax);
-    (*w).stale = true;
+fn safety_march_enter(mr: ptr<function, SafetyMarch>, q: Query, l: SafetyLine) {
+    let ax: i32 = (*mr).ax;
+    let mi: i32 = 1 - (*mr).ax;
+    let o: vec3<f32> = q.origin;
+    let d: vec3<f32> = q.dir;
+    (*mr).ic[ax] = select(l.m - 1u, l.m, (*mr).step[ax] > 0);
+    let y: f32 = real_clamp_to(l.p[mi], 0.0, f32((*mr).cells[mi]));
+    (*mr).ic[mi] = dda_cell_index(y, d[mi], (*mr).cells[mi]);
+    (*mr).a[ax] = select(1.0, 0.0, (*mr).step[ax] > 0);
+    (*mr).a[mi] = real_clamp_to(l.p[mi] - f32((*mr).ic[mi]), 0.0, 1.0);
+    (*mr).a[2] = l.p[2];
+    (*mr).ca = l.c;
+    (*mr).ta = l.t;
+    (*mr).wall = safety_march_wall_of(*mr, ax);
+    for (var k: i32 = 0; k < 2; k++) {
+        (*mr).tn[k] = dda_next_crossing((*mr).ic[k], (*mr).step[k], o[k], d[k]);
+    }
+    (*mr).stale = true;
 }
 
 // `March::walk`: walks cell by cell, as dda_trace, up to the next main-axis
 // centerline (SAFETY_STEP_LINE, `line`), the hit (SAFETY_STEP_HIT, `hit`), or the end.
-fn safety_march_walk(w: ptr<function, DdaWalk>, ax: i32, q: Query, hit: ptr<function, Hit>,
+fn safety_march_walk(mr: ptr<function, SafetyMarch>, q: Query, hit: ptr<function, Hit>,
                      line: ptr<function, SafetyLine>) -> i32 {
+    let ax: i32 = (*mr).ax;
+    let mi: i32 = 1 - (*mr).ax;
+    let o: vec3<f32> = q.origin;
+    let d: vec3<f32> = q.dir;
     *hit = hit_none();
     *line = SafetyLine(0u, 0.0, vec3<f32>(0.0), 0.0, 0u, 0u, 0.0);
     loop {
-        dda_walk_corners(w);
-        var ex: DdaExit = dda_walk_exit(*w, q);
+        if ((*mr).stale) {
+            (*mr).c = surface_corners((*mr).ic[0], (*mr).ic[1]);
+            (*mr).fetches += 4u;
+            (*mr).stale = false;
+        }
+        let t_next: f32 = real_min((*mr).tn[0], (*mr).tn[1]);
+        var tb: f32;
+        var cross: vec2<bool>;
+        if (t_next < (*mr).span.t1) {
+            tb = real_max(t_next, (*mr).ta);
+            cross = vec2<bool>((*mr).tn[0] <= t_next, (*mr).tn[1] <= t_next);
+        } else {
+            tb = (*mr).span.t1;
+            cross = vec2<bool>(false);
+        }
+        let on: vec2<i32> = vec2<i32>(select(-1, i32((*mr).step[0] > 0), cross[0]),
+                           select(-1, i32((*mr).step[1] > 0), cross[1]));
+        let p: vec3<f32> = query_at(q, tb);
+        var b: vec3<f32>;
+        var cb: f32 = dda_local_clearance((*mr).surface, (*mr).c, (*mr).ic, p, on, &b);
         var has_line: bool = false;
-        if (ex.cross[ax]) {
+        if (cross[ax]) {
             // The clearance the jumps use at this centerline (same samples, same
             // arithmetic), so walking and jumping agree.
-            let m: u32 = select((*w).cell[ax], (*w).cell[ax] + 1u, (*w).step[ax] > 0);
+            let m: u32 = select((*mr).ic[ax], (*mr).ic[ax] + 1u, (*mr).step[ax] > 0);
             let l: SafetyLine = safety_line_at(q, ax, m);
-            if (l.edge != (*w).cell[1 - ax]) {
-                (*w).fetches += 2u;
+            if (l.edge != (*mr).ic[mi]) {
+                (*mr).fetches += 2u;
             }
-            ex.cb = l.c;
+            cb = l.c;
             *line = l;
             has_line = true;
         }
-        if (dda_walk_test(w, ex, hit)) {
+        let seg: SegmentHit = surface_segment_hit((*mr).surface, (*mr).c, (*mr).a, b, (*mr).ca, cb, (*mr).wall);
+        (*mr).clearance = real_min((*mr).clearance, seg.clearance);
+        if (seg.has_hit) {
+            let s: f32 = seg.s;
+            let a: vec3<f32> = (*mr).a;
+            let ic: vec2<u32> = (*mr).ic;
+            let point: vec3<f32> = vec3<f32>(f32(ic[0]) + (a[0] + s * (b[0] - a[0])),
+                                  f32(ic[1]) + (a[1] + s * (b[1] - a[1])),
+                                  a[2] + s * (b[2] - a[2]));
+            *hit = Hit((*mr).ta + s * (tb - (*mr).ta), point, ic, seg.normal, seg.flags);
             return SAFETY_STEP_HIT;
         }
-        if (!dda_walk_next(w, ex)) {
+        if (!(cross[0] || cross[1])) {
             return SAFETY_STEP_END;
         }
-        (*w).wall = dda_wall((*w).step, select(1, 0, ex.cross[0]));
+        for (var k: i32 = 0; k < 2; k++) {
+            if (cross[k]) {
+                let next: i32 = i32((*mr).ic[k]) + (*mr).step[k];
+                if (next < 0 || next >= i32((*mr).cells[k])) {
+                    return SAFETY_STEP_END;
+                }
+                (*mr).ic[k] = u32(next);
+                (*mr).tn[k] = dda_next_crossing((*mr).ic[k], (*mr).step[k], o[k], d[k]);
+            }
+        }
+        (*mr).wall = safety_march_wall_of(*mr, select(1, 0, cross[0]));
+        (*mr).a = vec3<f32>(select(b[0], 1.0 - b[0], cross[0]), select(b[1], 1.0 - b[1], cross[1]), b[2]);
+        (*mr).ca = cb;
+        (*mr).ta = tb;
+        (*mr).stale = true;
         if (has_line) {
             return SAFETY_STEP_LINE;
         }
@@ -174,8 +248,8 @@ fn safety_march_walk(w: ptr<function, DdaWalk>, ax: i32, q: Query, hit: ptr<func
 }
 
 // `March::done`.
-fn safety_march_done(w: DdaWalk, has_hit: bool, hit: Hit, flags: u32) -> Trace {
-    return Trace(has_hit, hit, w.fetches, w.clearance, flags);
+fn safety_march_done(mr: SafetyMarch, has_hit: bool, hit: Hit, flags: u32) -> Trace {
+    return Trace(has_hit, hit, mr.fetches, mr.clearance, flags);
 }
 
 // `last_line`: last main-axis centerline the ray crosses strictly before t1 (false
@@ -222,55 +296,72 @@ fn safety_march_surface(surface: u32) -> u32 {
 // `march`: the march shared by the safety-shape methods; the walk between jumps and
 // the final test use `march_surface` (see safety_march_surface).
 fn safety_march(march_surface: u32, q: Query) -> Trace {
-    var w: DdaWalk;
-    if (!dda_walk_start(HF_SURFACE_TRIANGLES, safety_march_surface(march_surface), q, &w)) {
+    var span: Span;
+    if (!dda_clip(q, &span)) {
         return trace_miss(0u, real_infinity());
     }
-    if (w.ca <= 0.0) {
-        return trace_hit(dda_walk_start_hit(w, q), w.fetches, dda_start_clearance(w.span, w.ca));
-    }
+    let o: vec3<f32> = q.origin;
     let d: vec3<f32> = q.dir;
     let ray_class: u32 = ray_class_of(d[0], d[1]);
     let ax: i32 = safety_axis_of(ray_class);
-    let sg: i32 = w.step[ax];
+    let cells: vec2<u32> = vec2<u32>(field_width() - 1u, field_height() - 1u);
+    let p0: vec3<f32> = query_at(q, span.t0);
+    let x0: f32 = real_clamp_to(p0[0], 0.0, f32(cells[0]));
+    let y0: f32 = real_clamp_to(p0[1], 0.0, f32(cells[1]));
+    let step: vec2<i32> = vec2<i32>(dda_step_of(d[0]), dda_step_of(d[1]));
+    let ic: vec2<u32> = vec2<u32>(dda_cell_index(x0, d[0], cells[0]), dda_cell_index(y0, d[1], cells[1]));
+    let c: vec4<f32> = surface_corners(ic[0], ic[1]);
+    let surface: u32 = safety_march_surface(march_surface);
+    var a: vec3<f32>;
+    let ca: f32 = dda_local_clearance(surface, c, ic, vec3<f32>(x0, y0, p0[2]), dda_entry_on(surface, span), &a);
+    if (ca <= 0.0) {
+        return trace_hit(dda_start_hit(surface, span, c, ic, a, p0), 4u,
+                         dda_start_clearance(span, ca));
+    }
+    var mr: SafetyMarch = SafetyMarch(surface, span, ax, step, cells, ic, c, false, a, ca, span.t0,
+                         vec3<f32>(0.0, 0.0, 1.0),
+                         vec2<f32>(dda_next_crossing(ic[0], step[0], o[0], d[0]),
+                                   dda_next_crossing(ic[1], step[1], o[1], d[1])),
+                         4u, ca);
+    let sg: i32 = step[ax];
     var last: u32 = 0u;
-    let has_last: bool = sg != 0 && safety_last_line(q, ax, sg, w.span.t1, &last);
+    let has_last: bool = sg != 0 && safety_last_line(q, ax, sg, span.t1, &last);
     var budget: u32 = safety_extents(ax)[0] + 8u;
     var hit: Hit;
     var l: SafetyLine;
-    var st: i32 = safety_march_walk(&w, ax, q, &hit, &l);
+    var st: i32 = safety_march_walk(&mr, q, &hit, &l);
     loop {
         if (st == SAFETY_STEP_HIT) {
-            return safety_march_done(w, true, hit, 0u);
+            return safety_march_done(mr, true, hit, 0u);
         } else if (st == SAFETY_STEP_END) {
-            return safety_march_done(w, false, hit_none(), 0u);
+            return safety_march_done(mr, false, hit_none(), 0u);
         }
         if (budget == 0u) {
-            return safety_march_done(w, false, hit_none(), HF_FLAG_BUDGET_EXHAUSTED);
+            return safety_march_done(mr, false, hit_none(), HF_FLAG_BUDGET_EXHAUSTED);
         }
         budget -= 1u;
         if (!has_last || last == l.m) {
-            st = safety_march_walk(&w, ax, q, &hit, &l);
+            st = safety_march_walk(&mr, q, &hit, &l);
             continue;
         }
         var k: u32 = 0u;
         if (l.c > l.tol) {
-            w.fetches += 1u;
+            mr.fetches += 1u;
             let ij: vec2<u32> = select(vec2<u32>(l.texel, l.m), vec2<u32>(l.m, l.texel), ax == 0);
             let jump: vec2<u32> = safety_march_jump(l, ray_class, ij[0], ij[1], d);
             k = jump.x;
-            w.fetches += jump.y;
+            mr.fetches += jump.y;
         }
         if (k == 0u) {
-            st = safety_march_walk(&w, ax, q, &hit, &l);
+            st = safety_march_walk(&mr, q, &hit, &l);
             continue;
         }
         let room: u32 = u32(abs(i32(last) - i32(l.m)));
         // `target` in Rust and GLSL, a reserved word in WGSL.
         let goal: u32 = u32(i32(l.m) + sg * i32(min(k, room)));
-        let lt: SafetyLine = safety_march_line(&w, ax, q, goal);
+        let lt: SafetyLine = safety_march_line(&mr, q, goal);
         if (lt.c > 0.0) {
-            safety_march_enter(&w, ax, q, lt);
+            safety_march_enter(&mr, q, lt);
             l = lt;
             st = SAFETY_STEP_LINE;
             continue;
@@ -280,17 +371,17 @@ fn safety_march(march_surface: u32, q: Query) -> Trace {
         var hi: u32 = goal;
         while (abs(i32(hi) - i32(lo.m)) > 1) {
             let mid: u32 = u32((i32(hi) + i32(lo.m)) / 2);
-            let lm: SafetyLine = safety_march_line(&w, ax, q, mid);
+            let lm: SafetyLine = safety_march_line(&mr, q, mid);
             if (lm.c > 0.0) {
                 lo = lm;
             } else {
                 hi = mid;
             }
         }
-        safety_march_enter(&w, ax, q, lo);
-        st = safety_march_walk(&w, ax, q, &hit, &l);
+        safety_march_enter(&mr, q, lo);
+        st = safety_march_walk(&mr, q, &hit, &l);
     }
-    return safety_march_done(w, false, hit_none(), 0u);
+    return safety_march_done(mr, false, hit_none(), 0u);
 }
 
 // `trace_on`: `trace` finishing on `surface` (HF_SURFACE_TRIANGLES or
