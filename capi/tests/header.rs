@@ -57,18 +57,15 @@ fn generate() -> String {
 }
 
 /// Compares the committed file `path` (from the crate's directory) with `fresh`, or
-/// writes it under `HFCAST_BLESS=1`.
+/// writes it under `HFCAST_BLESS=1` (the workspace's one bless-or-compare,
+/// `hfcast_shaders::check_generated`).
 fn check_generated(path: &str, fresh: &str) {
     let full = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join(path);
-    if std::env::var_os("HFCAST_BLESS").is_some() {
-        std::fs::write(&full, fresh).unwrap_or_else(|e| panic!("write {path}: {e}"));
-        return;
-    }
-    let committed = std::fs::read_to_string(&full).unwrap_or_default();
-    assert!(
-        committed == fresh,
-        "{path} is out of date: regenerate it with \
-         `HFCAST_BLESS=1 cargo test -p hfcast-capi --test header` and commit it"
+    hfcast_shaders::check_generated(
+        &full,
+        fresh,
+        &format!("{path} is out of date"),
+        "HFCAST_BLESS=1 cargo test -p hfcast-capi --test header",
     );
 }
 

@@ -87,7 +87,10 @@ macro_rules! named_enum {
 
             /// The value numbered `v`, if any.
             pub fn from_u32(v: u32) -> Option<$name> {
-                $name::ALL.into_iter().find(|x| *x as u32 == v)
+                match v {
+                    $($value => Some($name::$variant),)+
+                    _ => None,
+                }
             }
 
             /// Its short name (lower case; a format's Vulkan name).

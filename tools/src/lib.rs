@@ -40,15 +40,21 @@ pub fn method_names() -> String {
     let names = MethodKind::ALL.into_iter().map(|k| {
         let letters = ["N", "M"].iter().take(k.info().steps.len());
         let steps: String = letters.map(|l| format!(":{l}")).collect();
-        let name = MethodSpec::of(k).name();
-        let word = name.split(':').next().unwrap_or_default().to_string();
-        if steps.is_empty() {
-            word
-        } else {
-            format!("{word}[{steps}]")
+        match steps.is_empty() {
+            true => word(k).to_string(),
+            false => format!("{}[{steps}]", word(k)),
         }
     });
     names.collect::<Vec<_>>().join(" | ")
+}
+
+/// The command line's word for `kind`: its registry name, `secant` for the
+/// linear-secant search.
+fn word(kind: MethodKind) -> &'static str {
+    match kind {
+        MethodKind::LinearSecant => "secant",
+        k => k.name(),
+    }
 }
 
 /// The help text of the methods and surfaces: every method of the registry with its
@@ -163,13 +169,9 @@ impl MethodSpec {
 
     /// The name [`parse_method`] reads back (`secant:N` for the linear-secant search).
     pub fn name(self) -> String {
-        let kind = match self.kind {
-            MethodKind::LinearSecant => "secant",
-            k => k.name(),
-        };
         self.values()
             .iter()
-            .fold(kind.to_string(), |s, v| format!("{s}:{v}"))
+            .fold(word(self.kind).to_string(), |s, v| format!("{s}:{v}"))
     }
 }
 
