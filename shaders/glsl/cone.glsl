@@ -33,10 +33,9 @@ uvec2 cone_locate(vec3 p, vec3 d, uvec2 cells) {
 }
 
 // The closure `cell_exit` of `march`.
-float cone_cell_exit(uvec2 cell, ivec2 dstep, vec3 o, vec3 d, float t1) {
-    float t0 = dda_next_crossing(cell[0], dstep[0], o[0], d[0]);
-    float t1c = dda_next_crossing(cell[1], dstep[1], o[1], d[1]);
-    return real_min(real_min(t0, t1c), t1);
+float cone_cell_exit(uvec2 cell, ivec2 dstep, Query q, float t1) {
+    vec2 t_cross = dda_crossings(cell, dstep, q);
+    return real_min(real_min(t_cross[0], t_cross[1]), t1);
 }
 
 // `march`: at each iteration the step either jumps, ends in a miss, or asks for the
@@ -46,9 +45,8 @@ Trace cone_march(Query q, uint max_iter) {
     if (!dda_clip(q, span)) {
         return trace_miss(0u, real_infinity());
     }
-    vec3 o = q.origin;
     vec3 d = q.dir;
-    uvec2 cells = uvec2(field_width() - 1u, field_height() - 1u);
+    uvec2 cells = dda_cells();
     ivec2 dstep = ivec2(dda_step_of(d[0]), dda_step_of(d[1]));
     vec3 p0 = query_at(q, span.t0);
     vec2 start = vec2(real_clamp_to(p0[0], 0.0, float(cells[0])), real_clamp_to(p0[1], 0.0, float(cells[1])));
@@ -82,7 +80,7 @@ Trace cone_march(Query q, uint max_iter) {
             return trace_miss(fetches, clearance);
         }
         // A jump that stays in the cell would crawl: the cell test reaches its exit at once.
-        if (s == CONE_STEP_JUMP && dt > 0.0 && t + dt >= cone_cell_exit(cell, dstep, o, d, span.t1)) {
+        if (s == CONE_STEP_JUMP && dt > 0.0 && t + dt >= cone_cell_exit(cell, dstep, q, span.t1)) {
             float tn = t + dt;
             if (!(tn < span.t1)) {
                 return trace_miss(fetches, clearance);
@@ -106,27 +104,16 @@ Trace cone_march(Query q, uint max_iter) {
                 return trace_hit(Hit(t, p, cell, n, 0u), fetches, clearance);
             }
         }
-        vec2 t_cross = vec2(dda_next_crossing(cell[0], dstep[0], o[0], d[0]), dda_next_crossing(cell[1], dstep[1], o[1], d[1]));
-        float t_next = real_min(t_cross[0], t_cross[1]);
-        float tb;
+        vec2 t_cross = dda_crossings(cell, dstep, q);
         bvec2 cross;
-        if (t_next < span.t1) {
-            tb = real_max(t_next, t);
-            cross = bvec2(t_cross[0] <= t_next, t_cross[1] <= t_next);
-        } else {
-            tb = span.t1;
-            cross = bvec2(false);
-        }
-        ivec2 on = ivec2(((cross[0]) ? (int(dstep[0] > 0)) : (-1)), ((cross[1]) ? (int(dstep[1] > 0)) : (-1)));
+        float tb = dda_exit(t_cross, t, span.t1, cross);
+        ivec2 on = dda_exit_on(dstep, cross);
         vec3 b;
         float cb = dda_local_clearance(HF_SURFACE_TRIANGLES, c, cell, query_at(q, tb), on, b);
         SegmentHit seg = surface_segment_hit(HF_SURFACE_TRIANGLES, c, a, b, ca, cb, vec3(0.0, 0.0, 1.0));
         clearance = real_min(clearance, seg.clearance);
         if (seg.has_hit) {
-            float sh = seg.s;
-            float th = t + sh * (tb - t);
-            vec3 point = vec3(float(cell[0]) + (a[0] + sh * (b[0] - a[0])), float(cell[1]) + (a[1] + sh * (b[1] - a[1])), a[2] + sh * (b[2] - a[2]));
-            return trace_hit(Hit(th, point, cell, seg.normal, seg.flags), fetches, clearance);
+            return trace_hit(dda_segment_point(seg, cell, a, b, t, tb), fetches, clearance);
         }
         if (!cross[0] && !cross[1]) {
             return trace_miss(fetches, clearance);
@@ -140,7 +127,7 @@ Trace cone_march(Query q, uint max_iter) {
                 cell[k] = uint(next);
             }
         }
-        a = vec3(((cross[0]) ? (1.0 - b[0]) : (b[0])), ((cross[1]) ? (1.0 - b[1]) : (b[1])), b[2]);
+        a = dda_next_entry(b, cross);
         ca = cb;
         t = tb;
         have_ca = true;

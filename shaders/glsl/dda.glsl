@@ -181,6 +181,50 @@ Hit dda_start_hit(uint surface, Span span, vec4 c, uvec2 cell, vec3 a, vec3 p0) 
     return Hit(span.t0, p0, cell, normal, flags);
 }
 
+// `grid_cells`: the field's cells per axis (samples − 1).
+uvec2 dda_cells() {
+    return uvec2(field_width() - 1u, field_height() - 1u);
+}
+
+// `next_crossings`: the ray parameters of the next centerline crossing on each axis
+// out of `cell` (infinity on an axis the ray does not move along).
+vec2 dda_crossings(uvec2 cell, ivec2 step, Query q) {
+    return vec2(dda_next_crossing(cell[0], step[0], q.origin[0], q.dir[0]), dda_next_crossing(cell[1], step[1], q.origin[1], q.dir[1]));
+}
+
+// `exit_of`: where the ray leaves the cell whose next centerline crossings are
+// `t_cross` (entered at `ta`): tb, clamped to [ta, t1], and the axes it crosses
+// there (none when the span ends first).
+float dda_exit(vec2 t_cross, float ta, float t1, inout bvec2 cross) {
+    float t_next = real_min(t_cross[0], t_cross[1]);
+    if (t_next < t1) {
+        cross = bvec2(t_cross[0] <= t_next, t_cross[1] <= t_next);
+        return real_max(t_next, ta);
+    }
+    cross = bvec2(false);
+    return t1;
+}
+
+// `exit_on`: how a cell's exit point lies on the centerline crossings `cross` (the
+// `on` vector of local_clearance).
+ivec2 dda_exit_on(ivec2 step, bvec2 cross) {
+    return ivec2(((cross[0]) ? (int(step[0] > 0)) : (-1)), ((cross[1]) ? (int(step[1] > 0)) : (-1)));
+}
+
+// `next_entry`: the exit point `b` in the local coordinates of the next cell, entered
+// across `cross`.
+vec3 dda_next_entry(vec3 b, bvec2 cross) {
+    return vec3(((cross[0]) ? (1.0 - b[0]) : (b[0])), ((cross[1]) ? (1.0 - b[1]) : (b[1])), b[2]);
+}
+
+// `segment_point`: the hit of `seg` on the segment a→b (local coordinates) of `cell`,
+// from ta to tb: the point from the cell's integer corner plus local coordinates.
+Hit dda_segment_point(SegmentHit seg, uvec2 cell, vec3 a, vec3 b, float ta, float tb) {
+    float s = seg.s;
+    vec3 point = vec3(float(cell[0]) + (a[0] + s * (b[0] - a[0])), float(cell[1]) + (a[1] + s * (b[1] - a[1])), a[2] + s * (b[2] - a[2]));
+    return Hit(ta + s * (tb - ta), point, cell, seg.normal, seg.flags);
+}
+
 // `trace`: traces q cell by cell and returns the exact first hit on `surface`.
 // Cost: four fetches (the corners) per cell visited.
 Trace dda_trace(uint surface, Query q) {
@@ -191,7 +235,7 @@ Trace dda_trace(uint surface, Query q) {
     vec3 o = q.origin;
     vec3 d = q.dir;
     // Per-axis state, index 0 = x, 1 = y.
-    uvec2 cells = uvec2(field_width() - 1u, field_height() - 1u);
+    uvec2 cells = dda_cells();
     vec3 p0 = query_at(q, span.t0);
     vec2 start = vec2(real_clamp_to(p0[0], 0.0, float(cells[0])), real_clamp_to(p0[1], 0.0, float(cells[1])));
     uvec2 cell = uvec2(dda_cell_index(start[0], d[0], cells[0]), dda_cell_index(start[1], d[1], cells[1]));
@@ -208,30 +252,18 @@ Trace dda_trace(uint surface, Query q) {
     float clearance = ca;
     float ta = span.t0;
     vec3 wall = vec3(0.0, 0.0, 1.0);
-    vec2 t_cross = vec2(dda_next_crossing(cell[0], step[0], o[0], d[0]), dda_next_crossing(cell[1], step[1], o[1], d[1]));
+    vec2 t_cross = dda_crossings(cell, step, q);
     for (;;) {
-        float t_next = real_min(t_cross[0], t_cross[1]);
-        float tb;
         bvec2 cross;
-        if (t_next < span.t1) {
-            tb = real_max(t_next, ta);
-            cross = bvec2(t_cross[0] <= t_next, t_cross[1] <= t_next);
-        } else {
-            tb = span.t1;
-            cross = bvec2(false);
-        }
+        float tb = dda_exit(t_cross, ta, span.t1, cross);
         // Clearance at the exit point; on a centerline, from that edge's two samples only.
-        ivec2 on = ivec2(((cross[0]) ? (int(step[0] > 0)) : (-1)), ((cross[1]) ? (int(step[1] > 0)) : (-1)));
+        ivec2 on = dda_exit_on(step, cross);
         vec3 b;
         float cb = dda_local_clearance(surface, c, cell, query_at(q, tb), on, b);
         SegmentHit seg = surface_segment_hit(surface, c, a, b, ca, cb, wall);
         clearance = real_min(clearance, seg.clearance);
         if (seg.has_hit) {
-            float s = seg.s;
-            float t = ta + s * (tb - ta);
-            // The point from the cell's integer corner plus local coordinates.
-            vec3 point = vec3(float(cell[0]) + (a[0] + s * (b[0] - a[0])), float(cell[1]) + (a[1] + s * (b[1] - a[1])), a[2] + s * (b[2] - a[2]));
-            return trace_hit(Hit(t, point, cell, seg.normal, seg.flags), fetches, clearance);
+            return trace_hit(dda_segment_point(seg, cell, a, b, ta, tb), fetches, clearance);
         }
         if (!cross[0] && !cross[1]) {
             break;
@@ -257,7 +289,7 @@ Trace dda_trace(uint surface, Query q) {
         wall[k] = ((step[k] > 0) ? (-1.0) : (1.0));
         c = surface_corners(cell[0], cell[1]);
         fetches += 4u;
-        a = vec3(((cross[0]) ? (1.0 - b[0]) : (b[0])), ((cross[1]) ? (1.0 - b[1]) : (b[1])), b[2]);
+        a = dda_next_entry(b, cross);
         ca = cb;
         ta = tb;
     }

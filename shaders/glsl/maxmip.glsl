@@ -102,7 +102,7 @@ Trace maxmip_trace(uint surface, Query q) {
     }
     vec3 o = q.origin;
     vec3 d = q.dir;
-    uvec2 cells = uvec2(field_width() - 1u, field_height() - 1u);
+    uvec2 cells = dda_cells();
     ivec2 step = ivec2(dda_step_of(d[0]), dda_step_of(d[1]));
     vec3 p = query_at(q, span.t0);
     uvec2 cell = uvec2(dda_cell_index(real_clamp_to(p[0], 0.0, float(cells[0])), d[0], cells[0]), dda_cell_index(real_clamp_to(p[1], 0.0, float(cells[1])), d[1], cells[1]));
@@ -174,11 +174,7 @@ Trace maxmip_trace(uint surface, Query q) {
             SegmentHit seg = surface_segment_hit(surface, c, a, b, ca, cb, wall);
             clearance = real_min(clearance, seg.clearance);
             if (seg.has_hit) {
-                float s = seg.s;
-                float th = t + s * (tb - t);
-                // As dda_trace: the cell's corner plus local coordinates.
-                vec3 point = vec3(float(cell[0]) + (a[0] + s * (b[0] - a[0])), float(cell[1]) + (a[1] + s * (b[1] - a[1])), a[2] + s * (b[2] - a[2]));
-                return trace_hit(Hit(th, point, cell, seg.normal, seg.flags), fetches, clearance);
+                return trace_hit(dda_segment_point(seg, cell, a, b, t, tb), fetches, clearance);
             }
         }
         // Leave the node: step over the crossed boundaries, bring the other axis up to

@@ -181,17 +181,9 @@ int safety_march_walk(inout SafetyMarch mr, Query q, inout Hit hit, inout Safety
             (mr).fetches += 4u;
             (mr).stale = false;
         }
-        float t_next = real_min((mr).tn[0], (mr).tn[1]);
-        float tb;
         bvec2 cross;
-        if (t_next < (mr).span.t1) {
-            tb = real_max(t_next, (mr).ta);
-            cross = bvec2((mr).tn[0] <= t_next, (mr).tn[1] <= t_next);
-        } else {
-            tb = (mr).span.t1;
-            cross = bvec2(false);
-        }
-        ivec2 on = ivec2(((cross[0]) ? (int((mr).step[0] > 0)) : (-1)), ((cross[1]) ? (int((mr).step[1] > 0)) : (-1)));
+        float tb = dda_exit((mr).tn, (mr).ta, (mr).span.t1, cross);
+        ivec2 on = dda_exit_on((mr).step, cross);
         vec3 p = query_at(q, tb);
         vec3 b;
         float cb = dda_local_clearance((mr).surface, (mr).c, (mr).ic, p, on, b);
@@ -211,11 +203,7 @@ int safety_march_walk(inout SafetyMarch mr, Query q, inout Hit hit, inout Safety
         SegmentHit seg = surface_segment_hit((mr).surface, (mr).c, (mr).a, b, (mr).ca, cb, (mr).wall);
         (mr).clearance = real_min((mr).clearance, seg.clearance);
         if (seg.has_hit) {
-            float s = seg.s;
-            vec3 a = (mr).a;
-            uvec2 ic = (mr).ic;
-            vec3 point = vec3(float(ic[0]) + (a[0] + s * (b[0] - a[0])), float(ic[1]) + (a[1] + s * (b[1] - a[1])), a[2] + s * (b[2] - a[2]));
-            hit = Hit((mr).ta + s * (tb - (mr).ta), point, ic, seg.normal, seg.flags);
+            hit = dda_segment_point(seg, (mr).ic, (mr).a, b, (mr).ta, tb);
             return SAFETY_STEP_HIT;
         }
         if (!(cross[0] || cross[1])) {
@@ -232,7 +220,7 @@ int safety_march_walk(inout SafetyMarch mr, Query q, inout Hit hit, inout Safety
             }
         }
         (mr).wall = safety_march_wall_of(mr, ((cross[0]) ? (0) : (1)));
-        (mr).a = vec3(((cross[0]) ? (1.0 - b[0]) : (b[0])), ((cross[1]) ? (1.0 - b[1]) : (b[1])), b[2]);
+        (mr).a = dda_next_entry(b, cross);
         (mr).ca = cb;
         (mr).ta = tb;
         (mr).stale = true;
@@ -294,11 +282,10 @@ Trace safety_march(uint march_surface, Query q) {
     if (!dda_clip(q, span)) {
         return trace_miss(0u, real_infinity());
     }
-    vec3 o = q.origin;
     vec3 d = q.dir;
     uint ray_class = ray_class_of(d[0], d[1]);
     int ax = safety_axis_of(ray_class);
-    uvec2 cells = uvec2(field_width() - 1u, field_height() - 1u);
+    uvec2 cells = dda_cells();
     vec3 p0 = query_at(q, span.t0);
     float x0 = real_clamp_to(p0[0], 0.0, float(cells[0]));
     float y0 = real_clamp_to(p0[1], 0.0, float(cells[1]));
@@ -311,7 +298,7 @@ Trace safety_march(uint march_surface, Query q) {
     if (ca <= 0.0) {
         return trace_hit(dda_start_hit(surface, span, c, ic, a, p0), 4u, dda_start_clearance(span, ca));
     }
-    SafetyMarch mr = SafetyMarch(surface, span, ax, step, cells, ic, c, false, a, ca, span.t0, vec3(0.0, 0.0, 1.0), vec2(dda_next_crossing(ic[0], step[0], o[0], d[0]), dda_next_crossing(ic[1], step[1], o[1], d[1])), 4u, ca);
+    SafetyMarch mr = SafetyMarch(surface, span, ax, step, cells, ic, c, false, a, ca, span.t0, vec3(0.0, 0.0, 1.0), dda_crossings(ic, step, q), 4u, ca);
     int sg = step[ax];
     uint last = 0u;
     bool has_last = sg != 0 && safety_last_line(q, ax, sg, span.t1, last);

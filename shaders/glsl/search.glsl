@@ -63,11 +63,7 @@ Trace search_search(uint surface, Query q, uint linear_in, bool secant, uint bin
         t = above[0] + (under[0] - above[0]) * above[1] / (above[1] - under[1]);
     }
     vec3 p = query_at(q, t);
-    vec4 c;
-    float u;
-    float v;
-    uvec2 cell;
-    surface_locate(p[0], p[1], c, u, v, cell);
+    SurfaceLocal l = surface_locate(p[0], p[1]);
     uint flags = 0u;
     if (!(t > span.t0)) {
         if (span.entry == HF_ENTRY_START) {
@@ -76,7 +72,7 @@ Trace search_search(uint surface, Query q, uint linear_in, bool secant, uint bin
             flags = HF_FLAG_SIDE;
         }
     }
-    return trace_hit(Hit(t, p, cell, surface_cell_normal(surface, c, u, v), flags), fetches, real_infinity());
+    return trace_hit(Hit(t, p, l.cell, surface_cell_normal(surface, l.c, l.u, l.v), flags), fetches, real_infinity());
 }
 
 // `linear_binary`.

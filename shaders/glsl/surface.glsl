@@ -133,37 +133,34 @@ vec3 surface_cell_normal(uint surface, vec4 c, float u, float v) {
 // `corners`.
 vec4 surface_corners(uint i, uint j) { return field_cell_corners(i, j); }
 
+// `locate`'s tuple: the cell's corners, the local coordinates and the cell.
+struct SurfaceLocal {
+    vec4 c;
+    float u;
+    float v;
+    uvec2 cell;
+};
+
 // `locate`: corners, local coordinates and cell of grid point (x, y), clamped into
 // the footprint.
-void surface_locate(float x_in, float y_in, inout vec4 c, inout float u, inout float v, inout uvec2 cell) {
+SurfaceLocal surface_locate(float x_in, float y_in) {
     float x = real_clamp_to(x_in, 0.0, float(field_width() - 1u));
     float y = real_clamp_to(y_in, 0.0, float(field_height() - 1u));
     uint i = min(uint(floor(x)), field_width() - 2u);
     uint j = min(uint(floor(y)), field_height() - 2u);
-    c = surface_corners(i, j);
-    u = x - float(i);
-    v = y - float(j);
-    cell = uvec2(i, j);
+    return SurfaceLocal(surface_corners(i, j), x - float(i), y - float(j), uvec2(i, j));
 }
 
 // `Surface::height_at`.
 float surface_height_at(uint surface, float x, float y) {
-    vec4 c;
-    float u;
-    float v;
-    uvec2 cell;
-    surface_locate(x, y, c, u, v, cell);
-    return surface_cell_height(surface, c, u, v);
+    SurfaceLocal l = surface_locate(x, y);
+    return surface_cell_height(surface, l.c, l.u, l.v);
 }
 
 // `Surface::normal_at`.
 vec3 surface_normal_at(uint surface, float x, float y) {
-    vec4 c;
-    float u;
-    float v;
-    uvec2 cell;
-    surface_locate(x, y, c, u, v, cell);
-    vec2 g = surface_cell_gradient(surface, c, u, v);
+    SurfaceLocal l = surface_locate(x, y);
+    vec2 g = surface_cell_gradient(surface, l.c, l.u, l.v);
     return math_normal_from_gradient(g.x, g.y);
 }
 

@@ -34,10 +34,9 @@ fn cone_locate(p: vec3<f32>, d: vec3<f32>, cells: vec2<u32>) -> vec2<u32> {
 }
 
 // The closure `cell_exit` of `march`.
-fn cone_cell_exit(cell: vec2<u32>, dstep: vec2<i32>, o: vec3<f32>, d: vec3<f32>, t1: f32) -> f32 {
-    let t0: f32 = dda_next_crossing(cell[0], dstep[0], o[0], d[0]);
-    let t1c: f32 = dda_next_crossing(cell[1], dstep[1], o[1], d[1]);
-    return real_min(real_min(t0, t1c), t1);
+fn cone_cell_exit(cell: vec2<u32>, dstep: vec2<i32>, q: Query, t1: f32) -> f32 {
+    let t_cross: vec2<f32> = dda_crossings(cell, dstep, q);
+    return real_min(real_min(t_cross[0], t_cross[1]), t1);
 }
 
 // `march`: at each iteration the step either jumps, ends in a miss, or asks for the
@@ -47,9 +46,8 @@ fn cone_march(q: Query, max_iter: u32) -> Trace {
     if (!dda_clip(q, &span)) {
         return trace_miss(0u, real_infinity());
     }
-    let o: vec3<f32> = q.origin;
     let d: vec3<f32> = q.dir;
-    let cells: vec2<u32> = vec2<u32>(field_width() - 1u, field_height() - 1u);
+    let cells: vec2<u32> = dda_cells();
     let dstep: vec2<i32> = vec2<i32>(dda_step_of(d[0]), dda_step_of(d[1]));
     let p0: vec3<f32> = query_at(q, span.t0);
     let start: vec2<f32> = vec2<f32>(real_clamp_to(p0[0], 0.0, f32(cells[0])),
@@ -85,7 +83,7 @@ fn cone_march(q: Query, max_iter: u32) -> Trace {
             return trace_miss(fetches, clearance);
         }
         // A jump that stays in the cell would crawl: the cell test reaches its exit at once.
-        if (s == CONE_STEP_JUMP && dt > 0.0 && t + dt >= cone_cell_exit(cell, dstep, o, d, span.t1)) {
+        if (s == CONE_STEP_JUMP && dt > 0.0 && t + dt >= cone_cell_exit(cell, dstep, q, span.t1)) {
             let tn: f32 = t + dt;
             if (!(tn < span.t1)) {
                 return trace_miss(fetches, clearance);
@@ -109,31 +107,17 @@ fn cone_march(q: Query, max_iter: u32) -> Trace {
                 return trace_hit(Hit(t, p, cell, n, 0u), fetches, clearance);
             }
         }
-        let t_cross: vec2<f32> = vec2<f32>(dda_next_crossing(cell[0], dstep[0], o[0], d[0]),
-                                dda_next_crossing(cell[1], dstep[1], o[1], d[1]));
-        let t_next: f32 = real_min(t_cross[0], t_cross[1]);
-        var tb: f32;
+        let t_cross: vec2<f32> = dda_crossings(cell, dstep, q);
         var cross: vec2<bool>;
-        if (t_next < span.t1) {
-            tb = real_max(t_next, t);
-            cross = vec2<bool>(t_cross[0] <= t_next, t_cross[1] <= t_next);
-        } else {
-            tb = span.t1;
-            cross = vec2<bool>(false);
-        }
-        let on: vec2<i32> = vec2<i32>(select(-1, i32(dstep[0] > 0), cross[0]), select(-1, i32(dstep[1] > 0), cross[1]));
+        let tb: f32 = dda_exit(t_cross, t, span.t1, &cross);
+        let on: vec2<i32> = dda_exit_on(dstep, cross);
         var b: vec3<f32>;
         let cb: f32 = dda_local_clearance(HF_SURFACE_TRIANGLES, c, cell, query_at(q, tb), on, &b);
         let seg: SegmentHit = surface_segment_hit(HF_SURFACE_TRIANGLES, c, a, b, ca, cb,
                                       vec3<f32>(0.0, 0.0, 1.0));
         clearance = real_min(clearance, seg.clearance);
         if (seg.has_hit) {
-            let sh: f32 = seg.s;
-            let th: f32 = t + sh * (tb - t);
-            let point: vec3<f32> = vec3<f32>(f32(cell[0]) + (a[0] + sh * (b[0] - a[0])),
-                                  f32(cell[1]) + (a[1] + sh * (b[1] - a[1])),
-                                  a[2] + sh * (b[2] - a[2]));
-            return trace_hit(Hit(th, point, cell, seg.normal, seg.flags), fetches, clearance);
+            return trace_hit(dda_segment_point(seg, cell, a, b, t, tb), fetches, clearance);
         }
         if (!cross[0] && !cross[1]) {
             return trace_miss(fetches, clearance);
@@ -147,7 +131,7 @@ fn cone_march(q: Query, max_iter: u32) -> Trace {
                 cell[k] = u32(next);
             }
         }
-        a = vec3<f32>(select(b[0], 1.0 - b[0], cross[0]), select(b[1], 1.0 - b[1], cross[1]), b[2]);
+        a = dda_next_entry(b, cross);
         ca = cb;
         t = tb;
         have_ca = true;

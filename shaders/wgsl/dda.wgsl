@@ -181,6 +181,53 @@ fn dda_start_hit(surface: u32, span: Span, c: vec4<f32>, cell: vec2<u32>, a: vec
     return Hit(span.t0, p0, cell, normal, flags);
 }
 
+// `grid_cells`: the field's cells per axis (samples − 1).
+fn dda_cells() -> vec2<u32> {
+    return vec2<u32>(field_width() - 1u, field_height() - 1u);
+}
+
+// `next_crossings`: the ray parameters of the next centerline crossing on each axis
+// out of `cell` (infinity on an axis the ray does not move along).
+fn dda_crossings(cell: vec2<u32>, step: vec2<i32>, q: Query) -> vec2<f32> {
+    return vec2<f32>(dda_next_crossing(cell[0], step[0], q.origin[0], q.dir[0]),
+                     dda_next_crossing(cell[1], step[1], q.origin[1], q.dir[1]));
+}
+
+// `exit_of`: where the ray leaves the cell whose next centerline crossings are
+// `t_cross` (entered at `ta`): tb, clamped to [ta, t1], and the axes it crosses
+// there (none when the span ends first).
+fn dda_exit(t_cross: vec2<f32>, ta: f32, t1: f32, cross: ptr<function, vec2<bool>>) -> f32 {
+    let t_next: f32 = real_min(t_cross[0], t_cross[1]);
+    if (t_next < t1) {
+        *cross = vec2<bool>(t_cross[0] <= t_next, t_cross[1] <= t_next);
+        return real_max(t_next, ta);
+    }
+    *cross = vec2<bool>(false);
+    return t1;
+}
+
+// `exit_on`: how a cell's exit point lies on the centerline crossings `cross` (the
+// `on` vector of local_clearance).
+fn dda_exit_on(step: vec2<i32>, cross: vec2<bool>) -> vec2<i32> {
+    return vec2<i32>(select(-1, i32(step[0] > 0), cross[0]), select(-1, i32(step[1] > 0), cross[1]));
+}
+
+// `next_entry`: the exit point `b` in the local coordinates of the next cell, entered
+// across `cross`.
+fn dda_next_entry(b: vec3<f32>, cross: vec2<bool>) -> vec3<f32> {
+    return vec3<f32>(select(b[0], 1.0 - b[0], cross[0]), select(b[1], 1.0 - b[1], cross[1]), b[2]);
+}
+
+// `segment_point`: the hit of `seg` on the segment a→b (local coordinates) of `cell`,
+// from ta to tb: the point from the cell's integer corner plus local coordinates.
+fn dda_segment_point(seg: SegmentHit, cell: vec2<u32>, a: vec3<f32>, b: vec3<f32>, ta: f32, tb: f32) -> Hit {
+    let s: f32 = seg.s;
+    let point: vec3<f32> = vec3<f32>(f32(cell[0]) + (a[0] + s * (b[0] - a[0])),
+                          f32(cell[1]) + (a[1] + s * (b[1] - a[1])),
+                          a[2] + s * (b[2] - a[2]));
+    return Hit(ta + s * (tb - ta), point, cell, seg.normal, seg.flags);
+}
+
 // `trace`: traces q cell by cell and returns the exact first hit on `surface`.
 // Cost: four fetches (the corners) per cell visited.
 fn dda_trace(surface: u32, q: Query) -> Trace {
@@ -191,7 +238,7 @@ fn dda_trace(surface: u32, q: Query) -> Trace {
     let o: vec3<f32> = q.origin;
     let d: vec3<f32> = q.dir;
     // Per-axis state, index 0 = x, 1 = y.
-    let cells: vec2<u32> = vec2<u32>(field_width() - 1u, field_height() - 1u);
+    let cells: vec2<u32> = dda_cells();
     let p0: vec3<f32> = query_at(q, span.t0);
     let start: vec2<f32> = vec2<f32>(real_clamp_to(p0[0], 0.0, f32(cells[0])),
                           real_clamp_to(p0[1], 0.0, f32(cells[1])));
@@ -212,33 +259,18 @@ fn dda_trace(surface: u32, q: Query) -> Trace {
     var clearance: f32 = ca;
     var ta: f32 = span.t0;
     var wall: vec3<f32> = vec3<f32>(0.0, 0.0, 1.0);
-    var t_cross: vec2<f32> = vec2<f32>(dda_next_crossing(cell[0], step[0], o[0], d[0]),
-                            dda_next_crossing(cell[1], step[1], o[1], d[1]));
+    var t_cross: vec2<f32> = dda_crossings(cell, step, q);
     loop {
-        let t_next: f32 = real_min(t_cross[0], t_cross[1]);
-        var tb: f32;
         var cross: vec2<bool>;
-        if (t_next < span.t1) {
-            tb = real_max(t_next, ta);
-            cross = vec2<bool>(t_cross[0] <= t_next, t_cross[1] <= t_next);
-        } else {
-            tb = span.t1;
-            cross = vec2<bool>(false);
-        }
+        let tb: f32 = dda_exit(t_cross, ta, span.t1, &cross);
         // Clearance at the exit point; on a centerline, from that edge's two samples only.
-        let on: vec2<i32> = vec2<i32>(select(-1, i32(step[0] > 0), cross[0]), select(-1, i32(step[1] > 0), cross[1]));
+        let on: vec2<i32> = dda_exit_on(step, cross);
         var b: vec3<f32>;
         let cb: f32 = dda_local_clearance(surface, c, cell, query_at(q, tb), on, &b);
         let seg: SegmentHit = surface_segment_hit(surface, c, a, b, ca, cb, wall);
         clearance = real_min(clearance, seg.clearance);
         if (seg.has_hit) {
-            let s: f32 = seg.s;
-            let t: f32 = ta + s * (tb - ta);
-            // The point from the cell's integer corner plus local coordinates.
-            let point: vec3<f32> = vec3<f32>(f32(cell[0]) + (a[0] + s * (b[0] - a[0])),
-                                  f32(cell[1]) + (a[1] + s * (b[1] - a[1])),
-                                  a[2] + s * (b[2] - a[2]));
-            return trace_hit(Hit(t, point, cell, seg.normal, seg.flags), fetches, clearance);
+            return trace_hit(dda_segment_point(seg, cell, a, b, ta, tb), fetches, clearance);
         }
         if (!cross[0] && !cross[1]) {
             break;
@@ -264,7 +296,7 @@ fn dda_trace(surface: u32, q: Query) -> Trace {
         wall[k] = select(1.0, -1.0, step[k] > 0);
         c = surface_corners(cell[0], cell[1]);
         fetches += 4u;
-        a = vec3<f32>(select(b[0], 1.0 - b[0], cross[0]), select(b[1], 1.0 - b[1], cross[1]), b[2]);
+        a = dda_next_entry(b, cross);
         ca = cb;
         ta = tb;
     }

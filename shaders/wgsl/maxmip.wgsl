@@ -121,7 +121,7 @@ fn maxmip_trace(surface: u32, q: Query) -> Trace {
     }
     let o: vec3<f32> = q.origin;
     let d: vec3<f32> = q.dir;
-    let cells: vec2<u32> = vec2<u32>(field_width() - 1u, field_height() - 1u);
+    let cells: vec2<u32> = dda_cells();
     let step: vec2<i32> = vec2<i32>(dda_step_of(d[0]), dda_step_of(d[1]));
     var p: vec3<f32> = query_at(q, span.t0);
     var cell: vec2<u32> = vec2<u32>(dda_cell_index(real_clamp_to(p[0], 0.0, f32(cells[0])), d[0], cells[0]),
@@ -195,13 +195,7 @@ fn maxmip_trace(surface: u32, q: Query) -> Trace {
             let seg: SegmentHit = surface_segment_hit(surface, c, a, b, ca, cb, wall);
             clearance = real_min(clearance, seg.clearance);
             if (seg.has_hit) {
-                let s: f32 = seg.s;
-                let th: f32 = t + s * (tb - t);
-                // As dda_trace: the cell's corner plus local coordinates.
-                let point: vec3<f32> = vec3<f32>(f32(cell[0]) + (a[0] + s * (b[0] - a[0])),
-                                      f32(cell[1]) + (a[1] + s * (b[1] - a[1])),
-                                      a[2] + s * (b[2] - a[2]));
-                return trace_hit(Hit(th, point, cell, seg.normal, seg.flags), fetches, clearance);
+                return trace_hit(dda_segment_point(seg, cell, a, b, t, tb), fetches, clearance);
             }
         }
         // Leave the node: step over the crossed boundaries, bring the other axis up to

@@ -182,18 +182,9 @@ fn safety_march_walk(mr: ptr<function, SafetyMarch>, q: Query, hit: ptr<function
             (*mr).fetches += 4u;
             (*mr).stale = false;
         }
-        let t_next: f32 = real_min((*mr).tn[0], (*mr).tn[1]);
-        var tb: f32;
         var cross: vec2<bool>;
-        if (t_next < (*mr).span.t1) {
-            tb = real_max(t_next, (*mr).ta);
-            cross = vec2<bool>((*mr).tn[0] <= t_next, (*mr).tn[1] <= t_next);
-        } else {
-            tb = (*mr).span.t1;
-            cross = vec2<bool>(false);
-        }
-        let on: vec2<i32> = vec2<i32>(select(-1, i32((*mr).step[0] > 0), cross[0]),
-                           select(-1, i32((*mr).step[1] > 0), cross[1]));
+        let tb: f32 = dda_exit((*mr).tn, (*mr).ta, (*mr).span.t1, &cross);
+        let on: vec2<i32> = dda_exit_on((*mr).step, cross);
         let p: vec3<f32> = query_at(q, tb);
         var b: vec3<f32>;
         var cb: f32 = dda_local_clearance((*mr).surface, (*mr).c, (*mr).ic, p, on, &b);
@@ -213,13 +204,7 @@ fn safety_march_walk(mr: ptr<function, SafetyMarch>, q: Query, hit: ptr<function
         let seg: SegmentHit = surface_segment_hit((*mr).surface, (*mr).c, (*mr).a, b, (*mr).ca, cb, (*mr).wall);
         (*mr).clearance = real_min((*mr).clearance, seg.clearance);
         if (seg.has_hit) {
-            let s: f32 = seg.s;
-            let a: vec3<f32> = (*mr).a;
-            let ic: vec2<u32> = (*mr).ic;
-            let point: vec3<f32> = vec3<f32>(f32(ic[0]) + (a[0] + s * (b[0] - a[0])),
-                                  f32(ic[1]) + (a[1] + s * (b[1] - a[1])),
-                                  a[2] + s * (b[2] - a[2]));
-            *hit = Hit((*mr).ta + s * (tb - (*mr).ta), point, ic, seg.normal, seg.flags);
+            *hit = dda_segment_point(seg, (*mr).ic, (*mr).a, b, (*mr).ta, tb);
             return SAFETY_STEP_HIT;
         }
         if (!(cross[0] || cross[1])) {
@@ -236,7 +221,7 @@ fn safety_march_walk(mr: ptr<function, SafetyMarch>, q: Query, hit: ptr<function
             }
         }
         (*mr).wall = safety_march_wall_of(*mr, select(1, 0, cross[0]));
-        (*mr).a = vec3<f32>(select(b[0], 1.0 - b[0], cross[0]), select(b[1], 1.0 - b[1], cross[1]), b[2]);
+        (*mr).a = dda_next_entry(b, cross);
         (*mr).ca = cb;
         (*mr).ta = tb;
         (*mr).stale = true;
@@ -300,11 +285,10 @@ fn safety_march(march_surface: u32, q: Query) -> Trace {
     if (!dda_clip(q, &span)) {
         return trace_miss(0u, real_infinity());
     }
-    let o: vec3<f32> = q.origin;
     let d: vec3<f32> = q.dir;
     let ray_class: u32 = ray_class_of(d[0], d[1]);
     let ax: i32 = safety_axis_of(ray_class);
-    let cells: vec2<u32> = vec2<u32>(field_width() - 1u, field_height() - 1u);
+    let cells: vec2<u32> = dda_cells();
     let p0: vec3<f32> = query_at(q, span.t0);
     let x0: f32 = real_clamp_to(p0[0], 0.0, f32(cells[0]));
     let y0: f32 = real_clamp_to(p0[1], 0.0, f32(cells[1]));
@@ -320,8 +304,7 @@ fn safety_march(march_surface: u32, q: Query) -> Trace {
     }
     var mr: SafetyMarch = SafetyMarch(surface, span, ax, step, cells, ic, c, false, a, ca, span.t0,
                          vec3<f32>(0.0, 0.0, 1.0),
-                         vec2<f32>(dda_next_crossing(ic[0], step[0], o[0], d[0]),
-                                   dda_next_crossing(ic[1], step[1], o[1], d[1])),
+                         dda_crossings(ic, step, q),
                          4u, ca);
     let sg: i32 = step[ax];
     var last: u32 = 0u;

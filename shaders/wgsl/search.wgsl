@@ -61,11 +61,7 @@ fn search_search(surface: u32, q: Query, linear_in: u32, secant: bool, binary: u
         t = above[0] + (under[0] - above[0]) * above[1] / (above[1] - under[1]);
     }
     let p: vec3<f32> = query_at(q, t);
-    var c: vec4<f32>;
-    var u: f32;
-    var v: f32;
-    var cell: vec2<u32>;
-    surface_locate(p[0], p[1], &c, &u, &v, &cell);
+    let l: SurfaceLocal = surface_locate(p[0], p[1]);
     var flags: u32 = 0u;
     if (!(t > span.t0)) {
         if (span.entry == HF_ENTRY_START) {
@@ -74,7 +70,7 @@ fn search_search(surface: u32, q: Query, linear_in: u32, secant: bool, binary: u
             flags = HF_FLAG_SIDE;
         }
     }
-    return trace_hit(Hit(t, p, cell, surface_cell_normal(surface, c, u, v), flags), fetches,
+    return trace_hit(Hit(t, p, l.cell, surface_cell_normal(surface, l.c, l.u, l.v), flags), fetches,
                      real_infinity());
 }
 

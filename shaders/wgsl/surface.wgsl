@@ -131,38 +131,34 @@ fn surface_cell_normal(surface: u32, c: vec4<f32>, u: f32, v: f32) -> vec3<f32> 
 // `corners`.
 fn surface_corners(i: u32, j: u32) -> vec4<f32> { return field_cell_corners(i, j); }
 
+// `locate`'s tuple: the cell's corners, the local coordinates and the cell.
+struct SurfaceLocal {
+    c: vec4<f32>,
+    u: f32,
+    v: f32,
+    cell: vec2<u32>,
+}
+
 // `locate`: corners, local coordinates and cell of grid point (x, y), clamped into
 // the footprint.
-fn surface_locate(x_in: f32, y_in: f32, c: ptr<function, vec4<f32>>, u: ptr<function, f32>,
-                  v: ptr<function, f32>, cell: ptr<function, vec2<u32>>) {
+fn surface_locate(x_in: f32, y_in: f32) -> SurfaceLocal {
     let x: f32 = real_clamp_to(x_in, 0.0, f32(field_width() - 1u));
     let y: f32 = real_clamp_to(y_in, 0.0, f32(field_height() - 1u));
     let i: u32 = min(u32(floor(x)), field_width() - 2u);
     let j: u32 = min(u32(floor(y)), field_height() - 2u);
-    *c = surface_corners(i, j);
-    *u = x - f32(i);
-    *v = y - f32(j);
-    *cell = vec2<u32>(i, j);
+    return SurfaceLocal(surface_corners(i, j), x - f32(i), y - f32(j), vec2<u32>(i, j));
 }
 
 // `Surface::height_at`.
 fn surface_height_at(surface: u32, x: f32, y: f32) -> f32 {
-    var c: vec4<f32>;
-    var u: f32;
-    var v: f32;
-    var cell: vec2<u32>;
-    surface_locate(x, y, &c, &u, &v, &cell);
-    return surface_cell_height(surface, c, u, v);
+    let l: SurfaceLocal = surface_locate(x, y);
+    return surface_cell_height(surface, l.c, l.u, l.v);
 }
 
 // `Surface::normal_at`.
 fn surface_normal_at(surface: u32, x: f32, y: f32) -> vec3<f32> {
-    var c: vec4<f32>;
-    var u: f32;
-    var v: f32;
-    var cell: vec2<u32>;
-    surface_locate(x, y, &c, &u, &v, &cell);
-    let g: vec2<f32> = surface_cell_gradient(surface, c, u, v);
+    let l: SurfaceLocal = surface_locate(x, y);
+    let g: vec2<f32> = surface_cell_gradient(surface, l.c, l.u, l.v);
     return math_normal_from_gradient(g.x, g.y);
 }
 
