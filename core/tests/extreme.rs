@@ -48,7 +48,7 @@ mod common;
 use common::*;
 use hfcast::maxmip::{self, Ascent, Layout, MaxMip};
 use hfcast::safety::{self, SafetyMap, Variant};
-use hfcast::search::{linear_binary, linear_secant};
+use hfcast::search::{self, Refine};
 use hfcast::surface::smallest_root_in_unit;
 use hfcast::{cone, qdm, relaxed};
 use hfcast::{
@@ -315,8 +315,8 @@ fn run<R: Real>(def: &Def, b: &Baked, hf: &HeightField, s: Surface, q: &Query<R>
             let map = SafetyMap::new(hf, data, o.variant).expect("baked");
             safety::trace(&map, hf, q)
         }
-        Kind::LinearBinary(st) => linear_binary(hf, s, q, st),
-        Kind::Secant(n) => linear_secant(hf, s, q, n),
+        Kind::LinearBinary(st) => search::linear(hf, s, q, st.linear, Refine::Binary(st.binary)),
+        Kind::Secant(n) => search::linear(hf, s, q, n, Refine::Secant),
         Kind::Cone(cap) => {
             let map = cone::ConeMap::new(hf, b.cone.as_ref().expect("baked")).expect("baked");
             cone::trace(&map, hf, q, cap)
