@@ -47,9 +47,9 @@ fn bake(hf: &HeightField, which: &str, threads: u32) -> Vec<f32> {
     let row_len = ch * (w - 1) as usize;
     common::in_bands(&mut out, row_len, h - 1, threads, |rows, part| {
         if which == "cone" {
-            cone::bake_rows(hf, &scratch, rows, part).unwrap()
+            cone::bake_rows::<cone::Cone>(hf, &scratch, rows, part).unwrap()
         } else {
-            qdm::bake_rows(hf, &scratch, rows, part).unwrap()
+            cone::bake_rows::<qdm::Qdm>(hf, &scratch, rows, part).unwrap()
         }
     });
     out

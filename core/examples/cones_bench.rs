@@ -49,20 +49,20 @@ fn main() {
         let t0 = Instant::now();
         let mut cm = vec![0.0; cone::map_len(n, n)];
         bake2(n - 1, cw * cone::CHANNELS, &mut cm, |r, o| {
-            cone::bake_rows(&hf, &scratch, r, o).unwrap()
+            cone::bake_rows::<cone::Cone>(&hf, &scratch, r, o).unwrap()
         });
         let tc = t0.elapsed().as_secs_f64();
         let t0 = Instant::now();
         let mut qm = vec![0.0; qdm::map_len(n, n)];
         bake2(n - 1, cw * qdm::CHANNELS, &mut qm, |r, o| {
-            qdm::bake_rows(&hf, &scratch, r, o).unwrap()
+            cone::bake_rows::<qdm::Qdm>(&hf, &scratch, r, o).unwrap()
         });
         let tq = t0.elapsed().as_secs_f64();
         let tr = if n <= 128 || relaxed_1024 {
             let t0 = Instant::now();
             let mut rm = vec![0.0; relaxed::map_len(n, n)];
             bake2(n, n as usize, &mut rm, |r, o| {
-                relaxed::bake_rows(&hf, &scratch, r, o).unwrap()
+                cone::bake_rows::<relaxed::Relaxed>(&hf, &scratch, r, o).unwrap()
             });
             format!("{:.2}", t0.elapsed().as_secs_f64())
         } else {

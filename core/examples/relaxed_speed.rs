@@ -18,7 +18,7 @@ fn main() {
 }
 
 #[cfg(feature = "relaxed")]
-use hfcast::{relaxed, HeightField};
+use hfcast::{cone, relaxed, HeightField};
 #[cfg(feature = "relaxed")]
 use std::time::Instant;
 
@@ -104,7 +104,7 @@ fn main() {
             hfcast::cone::prepare(&hf, &mut scratch).unwrap();
             let mut map = vec![0.0; relaxed::map_len(side, side)];
             common::in_bands(&mut map, side as usize, side, threads, |r, o| {
-                relaxed::bake_rows(&hf, &scratch, r, o).unwrap()
+                cone::bake_rows::<relaxed::Relaxed>(&hf, &scratch, r, o).unwrap()
             });
             let (tr, cr) = (t0.elapsed().as_secs_f64(), cpu_s() - c0);
             let (tb, eq) = if brute {

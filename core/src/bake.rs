@@ -10,8 +10,14 @@
 //! each other; `maxmip::bake_rows` splits it by level).
 
 use crate::buffer::BufferError;
+#[cfg(feature = "cone")]
+use crate::cone::{self, Cone};
 use crate::field::HeightField;
 use crate::ktx2::{self, DataMut, Desc, MapKind};
+#[cfg(feature = "qdm")]
+use crate::qdm::Qdm;
+#[cfg(feature = "relaxed")]
+use crate::relaxed::Relaxed;
 use core::fmt;
 use core::ops::Range;
 
@@ -100,7 +106,7 @@ impl Spec {
                     + crate::safety::cc::nbuffer_len(w, h, self.desc.cap)
             }
             #[cfg(feature = "cone")]
-            MapKind::Cone | MapKind::Relaxed | MapKind::Qdm => crate::cone::scratch_len(w, h),
+            MapKind::Cone | MapKind::Relaxed | MapKind::Qdm => cone::scratch_len(w, h),
             #[allow(unreachable_patterns)]
             _ => 0,
         }
@@ -150,7 +156,7 @@ impl Spec {
                 crate::safety::cc::prepare_nbuffer(hf, self.desc.cap, nb)?;
             }
             #[cfg(feature = "cone")]
-            MapKind::Cone | MapKind::Relaxed | MapKind::Qdm => crate::cone::prepare(hf, scratch)?,
+            MapKind::Cone | MapKind::Relaxed | MapKind::Qdm => cone::prepare(hf, scratch)?,
             #[allow(unreachable_patterns)]
             m => return Err(Error::NotBuilt(m)),
         }
@@ -200,14 +206,16 @@ impl Spec {
             (MapKind::MaxMip, DataMut::F32(out)) => Ok(crate::maxmip::bake(hf, out)?),
             #[cfg(feature = "cone")]
             (MapKind::Cone, DataMut::F32(out)) => {
-                Ok(crate::cone::bake_rows(hf, scratch, rows, out)?)
+                Ok(cone::bake_rows::<Cone>(hf, scratch, rows, out)?)
             }
             #[cfg(feature = "relaxed")]
             (MapKind::Relaxed, DataMut::F32(out)) => {
-                Ok(crate::relaxed::bake_rows(hf, scratch, rows, out)?)
+                Ok(cone::bake_rows::<Relaxed>(hf, scratch, rows, out)?)
             }
             #[cfg(feature = "qdm")]
-            (MapKind::Qdm, DataMut::F32(out)) => Ok(crate::qdm::bake_rows(hf, scratch, rows, out)?),
+            (MapKind::Qdm, DataMut::F32(out)) => {
+                Ok(cone::bake_rows::<Qdm>(hf, scratch, rows, out)?)
+            }
             #[cfg(feature = "safety")]
             (MapKind::Safety | MapKind::SafetyIsotropic, DataMut::U8(out)) => {
                 use crate::safety::{self, AllRays, Options, Variant};

@@ -28,7 +28,7 @@
 //! search starts from the bound of the cell that limited the previous texel's cone (a
 //! term of the minimum, so it changes nothing but the pruning), and a leaf's bound is
 //! abandoned as soon as one of its directions shows it cannot lower the ratio. Rows of
-//! the map bake independently ([`bake_rows`]).
+//! the map bake independently ([`bake_rows`], generic over the cone [`Family`]).
 //!
 //! **March** ([`trace`]). At the ray point, fetch the texel of the cell under it (one
 //! fetch). Above `top`: step to where the ray leaves the cone, shortened by a rounding
@@ -108,7 +108,7 @@ pub fn scratch_len(width: u32, height: u32) -> usize {
     maxmip::pyramid_len(width, height)
 }
 
-/// Bakes the scratch pyramid every [`bake_rows`] call reads.
+/// Bakes the scratch pyramid every [`bake_rows`] call of the [`Family`] reads.
 pub fn prepare(hf: &HeightField, scratch: &mut [f32]) -> Result<(), BakeError> {
     check(scratch_len(hf.width(), hf.height()), scratch.len())?;
     maxmip::bake(hf, scratch).map_err(|_| BakeError::TooShort {
@@ -344,65 +344,83 @@ pub fn ratio_search(
     (best.get(), arg)
 }
 
-/// Bakes the texels of cell rows `rows` into `out` (`rows.len() × (W−1) × 2` floats),
-/// reading the pyramid [`prepare`] baked into `scratch`. Rows are independent: split
-/// them over threads as you like.
-pub fn bake_rows(
+/// A map of the cone family, baked row by row from the max pyramid [`prepare`] bakes
+/// into the scratch: the cone map ([`Cone`]), the QDM (`crate::qdm::Qdm`) and the relaxed
+/// cone map (`crate::relaxed::Relaxed`). [`bake_rows`] and [`bake`] bake any of them.
+pub trait Family {
+    /// Floats per texel.
+    const CHANNELS: usize;
+
+    /// Texels per row and rows of the map of a `width × height` field.
+    fn texels(width: u32, height: u32) -> [u32; 2];
+
+    /// Bakes texel rows `rows` (rows of the map) into `out` (at least those rows'
+    /// floats), searching `mip`: what [`bake_rows`] runs once it checked the buffers.
+    fn bake_texel_rows(hf: &HeightField, mip: &MaxMip, rows: Range<u32>, out: &mut [f32]);
+}
+
+/// The cone map, one texel `[top, ratio]` per cell: the [`Family`] member of this
+/// module.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Cone;
+
+impl Family for Cone {
+    const CHANNELS: usize = CHANNELS;
+
+    fn texels(width: u32, height: u32) -> [u32; 2] {
+        [width - 1, height - 1]
+    }
+
+    fn bake_texel_rows(hf: &HeightField, mip: &MaxMip, rows: Range<u32>, out: &mut [f32]) {
+        let cw = hf.width() - 1;
+        // Each search starts from the cell that limited the previous texel's cone.
+        let mut hint = [0, rows.start];
+        for (r, j) in rows.enumerate() {
+            for i in 0..cw {
+                let k = CHANNELS * (r * cw as usize + i as usize);
+                let (ratio, arg) = ratio_search(hf, mip, [i, j], hint);
+                hint = arg;
+                out[k] = mip.texel(0, i, j);
+                out[k + 1] = f32_down(ratio);
+            }
+        }
+    }
+}
+
+/// Bakes texel rows `rows` of `F`'s map into `out` (`rows.len()` rows of
+/// [`Family::texels`] texels, [`Family::CHANNELS`] floats each: the rows' part of the
+/// whole map), reading the pyramid [`prepare`] baked into `scratch`. Rows are
+/// independent: split them over threads as you like.
+pub fn bake_rows<F: Family>(
     hf: &HeightField,
     scratch: &[f32],
     rows: Range<u32>,
     out: &mut [f32],
 ) -> Result<(), BakeError> {
     let mip = scratch_pyramid(hf, scratch)?;
-    let cw = hf.width() - 1;
-    if rows.end > hf.height() - 1 || rows.start > rows.end {
+    let [row_texels, map_rows] = F::texels(hf.width(), hf.height());
+    if rows.end > map_rows || rows.start > rows.end {
         return Err(BakeError::BadRows);
     }
-    check(CHANNELS * rows.len() * cw as usize, out.len())?;
-    // Each search starts from the cell that limited the previous texel's cone.
-    let mut hint = [0, rows.start];
-    for (r, j) in rows.enumerate() {
-        for i in 0..cw {
-            let k = CHANNELS * (r * cw as usize + i as usize);
-            let (ratio, arg) = ratio_search(hf, &mip, [i, j], hint);
-            hint = arg;
-            out[k] = mip.texel(0, i, j);
-            out[k + 1] = f32_down(ratio);
-        }
-    }
+    check(F::CHANNELS * rows.len() * row_texels as usize, out.len())?;
+    F::bake_texel_rows(hf, &mip, rows, out);
     Ok(())
 }
 
-/// Bakes the whole map: [`prepare`] then [`bake_rows`] over every row.
-pub fn bake(hf: &HeightField, scratch: &mut [f32], out: &mut [f32]) -> Result<(), BakeError> {
-    bake_whole(hf, scratch, out, map_len, hf.height() - 1, bake_rows)
-}
-
-/// A cone-family row bake: the texels of `rows` into `out`, reading the pyramid in the
-/// scratch ([`bake_rows`], `qdm::bake_rows`, `relaxed::bake_rows`).
-pub type RowBake = fn(&HeightField, &[f32], Range<u32>, &mut [f32]) -> Result<(), BakeError>;
-
-/// The whole bake of a cone-family map (`map_len` floats, `rows` rows): [`prepare`]
-/// into `scratch`, then its `bake_rows` over every row.
-pub(crate) fn bake_whole(
+/// Bakes the whole map of `F` into `out`: [`prepare`] into `scratch`, then
+/// [`bake_rows`] over every row.
+pub fn bake<F: Family>(
     hf: &HeightField,
     scratch: &mut [f32],
     out: &mut [f32],
-    map_len: fn(u32, u32) -> usize,
-    rows: u32,
-    bake_rows: RowBake,
 ) -> Result<(), BakeError> {
     prepare(hf, scratch)?;
-    let len = map_len(hf.width(), hf.height());
-    check(len, out.len())?;
-    bake_rows(hf, scratch, 0..rows, &mut out[..len])
+    let map_rows = F::texels(hf.width(), hf.height())[1];
+    bake_rows::<F>(hf, scratch, 0..map_rows, out)
 }
 
 /// The pyramid [`prepare`] baked into `scratch`, the row bakes' search structure.
-pub(crate) fn scratch_pyramid<'a>(
-    hf: &HeightField,
-    scratch: &'a [f32],
-) -> Result<MaxMip<'a>, BakeError> {
+fn scratch_pyramid<'a>(hf: &HeightField, scratch: &'a [f32]) -> Result<MaxMip<'a>, BakeError> {
     MaxMip::new(hf, scratch).map_err(|_| BakeError::TooShort {
         what: "scratch",
         needed: scratch_len(hf.width(), hf.height()),
@@ -444,7 +462,8 @@ pub struct CellMap<'a, const N: usize> {
 pub type ConeMap<'a> = CellMap<'a, CHANNELS>;
 
 impl<'a, const N: usize> CellMap<'a, N> {
-    /// Views `data` (baked for `hf` by [`bake`], or `crate::qdm::bake`) as `hf`'s map.
+    /// Views `data` (baked for `hf` by [`bake`] of [`Cone`] or `crate::qdm::Qdm`) as `hf`'s
+    /// map.
     pub fn new(hf: &HeightField, data: &'a [f32]) -> Result<Self, BakeError> {
         check(N * cell_count(hf.width(), hf.height()), data.len())?;
         Ok(CellMap {

@@ -163,11 +163,12 @@ pub use world::{TransformError, WorldTransform};
 pub enum Method {
     /// Exact grid traversal ([`dda::trace`]).
     Exact,
-    /// Linear then binary search ([`search::linear_binary`]); approximate.
+    /// Linear then binary search ([`search::linear`], [`search::Refine::Binary`]);
+    /// approximate.
     #[cfg(feature = "search")]
     LinearBinary(SearchSteps),
     /// Linear search then a secant step, parallax-occlusion style
-    /// ([`search::linear_secant`]); approximate.
+    /// ([`search::linear`], [`search::Refine::Secant`]); approximate.
     #[cfg(feature = "search")]
     LinearSecant(u32),
 }
@@ -183,9 +184,15 @@ impl Method {
         match self {
             Method::Exact => dda::trace(hf, surface, q),
             #[cfg(feature = "search")]
-            Method::LinearBinary(steps) => search::linear_binary(hf, surface, q, steps),
+            Method::LinearBinary(steps) => search::linear(
+                hf,
+                surface,
+                q,
+                steps.linear,
+                search::Refine::Binary(steps.binary),
+            ),
             #[cfg(feature = "search")]
-            Method::LinearSecant(n) => search::linear_secant(hf, surface, q, n),
+            Method::LinearSecant(n) => search::linear(hf, surface, q, n, search::Refine::Secant),
         }
     }
 }

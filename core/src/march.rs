@@ -47,10 +47,11 @@ impl MarchOptions {
 pub enum Marcher<'a> {
     /// The exact traversal on a surface ([`dda::trace`]).
     Exact(Surface),
-    /// Linear search then bisection ([`crate::search::linear_binary`]).
+    /// Linear search then bisection ([`crate::search::linear`], [`Refine::Binary`](crate::search::Refine::Binary)).
     #[cfg(feature = "search")]
     LinearBinary(Surface, crate::search::SearchSteps),
-    /// Linear search then a secant step ([`crate::search::linear_secant`]): the linear steps.
+    /// Linear search then a secant step ([`crate::search::linear`],
+    /// [`Refine::Secant`](crate::search::Refine::Secant)): the linear steps.
     #[cfg(feature = "search")]
     LinearSecant(Surface, u32),
     /// Maximum mipmaps ([`crate::maxmip::trace`]).
@@ -207,11 +208,17 @@ impl<'a> Marcher<'a> {
         match *self {
             Marcher::Exact(surface) => dda::trace(hf, surface, q),
             #[cfg(feature = "search")]
-            Marcher::LinearBinary(surface, steps) => {
-                crate::search::linear_binary(hf, surface, q, steps)
-            }
+            Marcher::LinearBinary(surface, steps) => crate::search::linear(
+                hf,
+                surface,
+                q,
+                steps.linear,
+                crate::search::Refine::Binary(steps.binary),
+            ),
             #[cfg(feature = "search")]
-            Marcher::LinearSecant(surface, n) => crate::search::linear_secant(hf, surface, q, n),
+            Marcher::LinearSecant(surface, n) => {
+                crate::search::linear(hf, surface, q, n, crate::search::Refine::Secant)
+            }
             #[cfg(feature = "maxmip")]
             Marcher::MaxMip(ref mip, surface, ref opts) => {
                 crate::maxmip::trace(hf, mip, surface, q, opts)

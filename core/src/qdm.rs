@@ -196,36 +196,31 @@ pub fn prepare(hf: &HeightField, scratch: &mut [f32]) -> Result<(), BakeError> {
     cone::prepare(hf, scratch)
 }
 
-/// Bakes cell rows `rows` into `out` (`rows.len() × (W−1) × 4` floats) from the
-/// pyramid in `scratch`. Rows are independent.
-pub fn bake_rows(
-    hf: &HeightField,
-    scratch: &[f32],
-    rows: Range<u32>,
-    out: &mut [f32],
-) -> Result<(), BakeError> {
-    let mip = cone::scratch_pyramid(hf, scratch)?;
-    let cw = hf.width() - 1;
-    if rows.end > hf.height() - 1 || rows.start > rows.end {
-        return Err(BakeError::BadRows);
+/// The QDM, one texel `[a, b, c, h]` per cell: its [`cone::Family`] member, baked by
+/// [`cone::bake_rows`] and [`cone::bake`] from the pyramid [`prepare`] bakes.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Qdm;
+
+impl cone::Family for Qdm {
+    const CHANNELS: usize = CHANNELS;
+
+    fn texels(width: u32, height: u32) -> [u32; 2] {
+        [width - 1, height - 1]
     }
-    check(CHANNELS * rows.len() * cw as usize, out.len())?;
-    // Each search starts from the cells that set the previous texel.
-    let mut hints = [[0, rows.start]; 2];
-    for (r, j) in rows.enumerate() {
-        for i in 0..cw {
-            let k = CHANNELS * (r * cw as usize + i as usize);
-            let (tex, arg) = texel_search(hf, &mip, [i, j], hints);
-            hints = arg;
-            out[k..k + 4].copy_from_slice(&tex);
+
+    fn bake_texel_rows(hf: &HeightField, mip: &MaxMip, rows: Range<u32>, out: &mut [f32]) {
+        let cw = hf.width() - 1;
+        // Each search starts from the cells that set the previous texel.
+        let mut hints = [[0, rows.start]; 2];
+        for (r, j) in rows.enumerate() {
+            for i in 0..cw {
+                let k = CHANNELS * (r * cw as usize + i as usize);
+                let (tex, arg) = texel_search(hf, mip, [i, j], hints);
+                hints = arg;
+                out[k..k + 4].copy_from_slice(&tex);
+            }
         }
     }
-    Ok(())
-}
-
-/// Bakes the whole map: [`prepare`] then [`bake_rows`] over every row.
-pub fn bake(hf: &HeightField, scratch: &mut [f32], out: &mut [f32]) -> Result<(), BakeError> {
-    crate::cone::bake_whole(hf, scratch, out, map_len, hf.height() - 1, bake_rows)
 }
 
 /// The brute force (every cell against every cell; `a` from the cone map's brute

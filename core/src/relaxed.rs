@@ -17,7 +17,7 @@
 //! - the max pyramid skips whole regions whose bound `dist(T, node) / (max − h_T)`
 //!   cannot lower the ratio (E lies beyond D and not above it);
 //! - the search starts from an upper bound: the pairs that won for the left and upper
-//!   neighbours, moved along with T ([`bake_rows`]).
+//!   neighbours, moved along with T ([`Relaxed`]).
 //!
 //! **March** ([`trace`]): cone steps `Δt = Δh / (|d_xy| / r + |d_z|)` with `Δh` the
 //! ray's height over the surface at its point and `r` the ratio of the nearest sample,
@@ -263,7 +263,7 @@ pub fn pair_ratio_below(hf: &HeightField, src: [u32; 2], dst: [u32; 2], best: f6
 const NODE_SAFETY: f64 = 1.0 + 1e-12;
 
 /// Columns whose upper neighbour's destination seeds the search (a 32 KiB array on the
-/// stack of [`bake_rows`]; wider fields go without that seed past it).
+/// stack of [`Relaxed`]'s row bake; wider fields go without that seed past it).
 const ABOVE: usize = 4096;
 
 /// Pyramid level whose nodes the search enumerates sample by sample.
@@ -375,52 +375,48 @@ pub fn texel_search(
     (best, win)
 }
 
-/// Bakes sample rows `rows` into `out` (`rows.len() × W` ratios) from the pyramid in
-/// `scratch` ([`crate::cone::prepare`]). Rows are independent: the destinations that
-/// won for the left and upper neighbours seed each texel's search ([`texel_search`]),
-/// which changes its speed, never its result.
-pub fn bake_rows(
-    hf: &HeightField,
-    scratch: &[f32],
-    rows: Range<u32>,
-    out: &mut [f32],
-) -> Result<(), BakeError> {
-    let mip = crate::cone::scratch_pyramid(hf, scratch)?;
-    let w = hf.width();
-    if rows.end > hf.height() || rows.start > rows.end {
-        return Err(BakeError::BadRows);
+/// The relaxed cone map, one ratio per sample: its [`crate::cone::Family`] member,
+/// baked by [`crate::cone::bake_rows`] and [`crate::cone::bake`] from the pyramid
+/// [`crate::cone::prepare`] bakes. Rows are independent: the destinations that won for
+/// the left and upper neighbours seed each texel's search ([`texel_search`]), which
+/// changes its speed, never its result.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Relaxed;
+
+impl crate::cone::Family for Relaxed {
+    const CHANNELS: usize = 1;
+
+    fn texels(width: u32, height: u32) -> [u32; 2] {
+        [width, height]
     }
-    check(rows.len() * w as usize, out.len())?;
-    // Seeds: the left and upper neighbours' destinations, as are and moved along.
-    let mut above = [[u32::MAX; 2]; ABOVE];
-    for (r, j) in rows.enumerate() {
-        let mut left = [u32::MAX; 2];
-        for i in 0..w {
-            let mut seeds: heapless::Vec<[u32; 2], 4> = heapless::Vec::new();
-            if left[0] != u32::MAX {
-                let _ = seeds.push(left);
-                let _ = seeds.push([left[0] + 1, left[1]]);
-            }
-            if let Some(&d) = above.get(i as usize) {
-                if d[0] != u32::MAX && d != left {
-                    let _ = seeds.push(d);
-                    let _ = seeds.push([d[0], d[1] + 1]);
+
+    fn bake_texel_rows(hf: &HeightField, mip: &MaxMip, rows: Range<u32>, out: &mut [f32]) {
+        let w = hf.width();
+        // Seeds: the left and upper neighbours' destinations, as are and moved along.
+        let mut above = [[u32::MAX; 2]; ABOVE];
+        for (r, j) in rows.enumerate() {
+            let mut left = [u32::MAX; 2];
+            for i in 0..w {
+                let mut seeds: heapless::Vec<[u32; 2], 4> = heapless::Vec::new();
+                if left[0] != u32::MAX {
+                    let _ = seeds.push(left);
+                    let _ = seeds.push([left[0] + 1, left[1]]);
                 }
+                if let Some(&d) = above.get(i as usize) {
+                    if d[0] != u32::MAX && d != left {
+                        let _ = seeds.push(d);
+                        let _ = seeds.push([d[0], d[1] + 1]);
+                    }
+                }
+                let (best, win) = texel_search(hf, mip, [i, j], &seeds);
+                left = win.unwrap_or([u32::MAX; 2]);
+                if let Some(a) = above.get_mut(i as usize) {
+                    *a = left;
+                }
+                out[r * w as usize + i as usize] = f32_down(best);
             }
-            let (best, win) = texel_search(hf, &mip, [i, j], &seeds);
-            left = win.unwrap_or([u32::MAX; 2]);
-            if let Some(a) = above.get_mut(i as usize) {
-                *a = left;
-            }
-            out[r * w as usize + i as usize] = f32_down(best);
         }
     }
-    Ok(())
-}
-
-/// Bakes the whole map.
-pub fn bake(hf: &HeightField, scratch: &mut [f32], out: &mut [f32]) -> Result<(), BakeError> {
-    crate::cone::bake_whole(hf, scratch, out, map_len, hf.height(), bake_rows)
 }
 
 /// The book's Θ(N⁴) loop over every pair: the test oracle of the bake.

@@ -432,11 +432,11 @@ named_enum! {
         /// The N-buffers the cylinder–cone slopes read (`safety::cc::prepare_nbuffer`),
         /// with either slope: the exact slope culls columns with them too.
         NBuffer = 4 => "n-buffer" (None),
-        /// The conservative cone map (`cone::bake_rows`).
+        /// The conservative cone map (`cone::bake_rows::<cone::Cone>`).
         ConeMap = 5 => "cone map" (Some(MapKind::Cone)),
-        /// The relaxed cone map (`relaxed::bake_rows`).
+        /// The relaxed cone map (`cone::bake_rows::<relaxed::Relaxed>`).
         RelaxedMap = 6 => "relaxed map" (Some(MapKind::Relaxed)),
-        /// The quadratic displacement map (`qdm::bake_rows`).
+        /// The quadratic displacement map (`cone::bake_rows::<qdm::Qdm>`).
         QdmMap = 7 => "qdm map" (Some(MapKind::Qdm)),
         /// The safety-radius map (`radius::bake_rows`).
         RadiusMap = 8 => "radius map" (Some(MapKind::Radius)),

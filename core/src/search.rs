@@ -2,9 +2,11 @@
 //! box, then a refinement. Approximate: a feature thinner than a step is missed, and
 //! the refined point is only as good as the refinement. Measured, never called exact.
 //!
-//! - [`linear_binary`]: linear search, then binary search (Policarpo et al. 2005).
-//! - [`linear_secant`]: linear search, then one secant step on the last bracket, as in
-//!   parallax occlusion mapping (Tatarchuk 2006).
+//! [`linear`] does the linear search, then refines the bracket it found ([`Refine`]):
+//!
+//! - [`Refine::Binary`]: binary search (Policarpo et al. 2005);
+//! - [`Refine::Secant`]: one secant step on the last bracket, as in parallax occlusion
+//!   mapping (Tatarchuk 2006).
 //!
 //! Cost: four fetches per height sample (the cell's corners).
 
@@ -23,38 +25,22 @@ pub struct SearchSteps {
     pub binary: u32,
 }
 
-/// How the bracket found by the linear search is refined.
+/// How [`linear`] refines the bracket its linear search found.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-enum Refine {
+pub enum Refine {
+    /// That many bisections of the bracket (Policarpo et al. 2005).
     Binary(u32),
+    /// One secant step on the bracket: parallax occlusion mapping (Tatarchuk 2006).
     Secant,
 }
 
-/// Linear search with `steps.linear` steps, then `steps.binary` bisections.
-pub fn linear_binary<R: Real>(
+/// Linear search with `linear_steps` equal steps (at least 1) through the field's box,
+/// then `refine` on the first bracket that goes under the surface.
+pub fn linear<R: Real>(
     hf: &HeightField,
     surface: Surface,
     q: &Query<R>,
-    steps: SearchSteps,
-) -> Trace<R> {
-    search(hf, surface, q, steps.linear, Refine::Binary(steps.binary))
-}
-
-/// Linear search with `linear` steps, then one secant step (parallax occlusion mapping).
-pub fn linear_secant<R: Real>(
-    hf: &HeightField,
-    surface: Surface,
-    q: &Query<R>,
-    linear: u32,
-) -> Trace<R> {
-    search(hf, surface, q, linear, Refine::Secant)
-}
-
-fn search<R: Real>(
-    hf: &HeightField,
-    surface: Surface,
-    q: &Query<R>,
-    linear: u32,
+    linear_steps: u32,
     refine: Refine,
 ) -> Trace<R> {
     let Some(span) = clip_surface(hf, surface, q) else {
@@ -66,7 +52,7 @@ fn search<R: Real>(
         let p = q.at(t);
         p[2] - surface.height_at(hf, p[0], p[1])
     };
-    let linear = linear.max(1);
+    let linear = linear_steps.max(1);
     let dt = (span.t1 - span.t0) / R::from_u32(linear);
     let mut prev = (span.t0, clearance_at(span.t0));
     let mut bracket = None;

@@ -57,9 +57,9 @@ fn own_bake(hf: &HeightField, spec: &Spec) -> Map {
             }
         }
         MapKind::MaxMip => maxmip::bake(hf, &mut f).unwrap(),
-        MapKind::Cone => cone::bake(hf, &mut pyramid, &mut f).unwrap(),
-        MapKind::Relaxed => relaxed::bake(hf, &mut pyramid, &mut f).unwrap(),
-        MapKind::Qdm => qdm::bake(hf, &mut pyramid, &mut f).unwrap(),
+        MapKind::Cone => cone::bake::<cone::Cone>(hf, &mut pyramid, &mut f).unwrap(),
+        MapKind::Relaxed => cone::bake::<relaxed::Relaxed>(hf, &mut pyramid, &mut f).unwrap(),
+        MapKind::Qdm => cone::bake::<qdm::Qdm>(hf, &mut pyramid, &mut f).unwrap(),
         MapKind::Safety => b = safety_bake(hf, spec, Variant::Directional),
         MapKind::SafetyIsotropic => b = safety_bake(hf, spec, Variant::Isotropic),
         MapKind::Cc => {

@@ -1,4 +1,4 @@
-//! The bake-free baselines (`search::linear_binary`, `search::linear_secant`, through
+//! The bake-free baselines (`search::linear` with either `search::Refine`, through
 //! `hfcast::Method`) are approximate. This test asserts only what must hold, and prints
 //! their wrong-ray rates against the oracle (the `f64` exact traversal on the same ray):
 //!

@@ -70,12 +70,12 @@ fn hinted_bakes_equal_brute_force() {
         let mut scratch = vec![0.0; cone::scratch_len(w, h)];
         let mut fast = vec![0.0; cone::map_len(w, h)];
         let mut brute = fast.clone();
-        cone::bake(&hf, &mut scratch, &mut fast).unwrap();
+        cone::bake::<cone::Cone>(&hf, &mut scratch, &mut fast).unwrap();
         cone::bake_brute(&hf, &mut brute).unwrap();
         assert_eq!(bits(&fast), bits(&brute), "{name}: cone");
         let mut qfast = vec![0.0; qdm::map_len(w, h)];
         let mut qbrute = qfast.clone();
-        qdm::bake(&hf, &mut scratch, &mut qfast).unwrap();
+        cone::bake::<qdm::Qdm>(&hf, &mut scratch, &mut qfast).unwrap();
         qdm::bake_brute(&hf, &mut qbrute).unwrap();
         assert_eq!(bits(&qfast), bits(&qbrute), "{name}: qdm");
         // Any hint gives the same texel.

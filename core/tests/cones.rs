@@ -12,8 +12,10 @@ use common::{
     kind_blocks, needles_field, plateau_field, random_ray, small_fields, Field, RayKind, Rng,
 };
 use hfcast::bake::Spec;
-use hfcast::cone::CellMap;
+use hfcast::cone::{CellMap, Cone, Family};
 use hfcast::ktx2::{Desc, MapKind};
+use hfcast::qdm::Qdm;
+use hfcast::relaxed::Relaxed;
 use hfcast::{cone, dda, qdm, relaxed, HeightField, Query, Real, Surface, Trace};
 
 const TRI: Surface = Surface::Triangles;
@@ -121,8 +123,6 @@ fn rays_for(field: &Field, rng: &mut Rng, per_kind: usize) -> Vec<Query<f32>> {
     specs.iter().map(|s| s.q32()).collect()
 }
 
-/// A core bake `(field, scratch, out)`.
-type Bake = fn(&HeightField, &mut [f32], &mut [f32]) -> Result<(), cone::BakeError>;
 /// A brute-force oracle of a bake `(field, out)`.
 type Brute = fn(&HeightField, &mut [f32]) -> Result<(), cone::BakeError>;
 
@@ -136,9 +136,9 @@ struct BakedTwice {
     brute: Vec<f32>,
 }
 
-/// The fields of at most `max_samples` samples, each with its `map` baked by `bake`
-/// and by `brute`.
-fn baked_twice(map: MapKind, max_samples: u32, bake: Bake, brute: Brute) -> Vec<BakedTwice> {
+/// The fields of at most `max_samples` samples, each with its `map` (of family member
+/// `F`) baked by `cone::bake::<F>` and by `brute`.
+fn baked_twice<F: Family>(map: MapKind, max_samples: u32, brute: Brute) -> Vec<BakedTwice> {
     let small = fields()
         .into_iter()
         .filter(|(_, f)| f.w * f.h <= max_samples);
@@ -148,7 +148,7 @@ fn baked_twice(map: MapKind, max_samples: u32, bake: Bake, brute: Brute) -> Vec<
             let mut scratch = vec![0.0; spec.scratch_len()];
             let mut fast = vec![0.0; spec.map_len().unwrap()];
             let mut oracle = fast.clone();
-            bake(&field.hf(), &mut scratch, &mut fast).unwrap();
+            cone::bake::<F>(&field.hf(), &mut scratch, &mut fast).unwrap();
             brute(&field.hf(), &mut oracle).unwrap();
             BakedTwice {
                 name,
@@ -193,7 +193,7 @@ fn cells_and_surface_points(
 
 #[test]
 fn cone_bake_equals_brute_force() {
-    for m in baked_twice(MapKind::Cone, 2000, cone::bake, cone::bake_brute) {
+    for m in baked_twice::<Cone>(MapKind::Cone, 2000, cone::bake_brute) {
         let (f, name) = (&m.field, &m.name);
         assert_eq!(
             m.fast.iter().map(|v| v.to_bits()).collect::<Vec<_>>(),
@@ -206,8 +206,8 @@ fn cone_bake_equals_brute_force() {
         let cw = (f.w - 1) as usize * cone::CHANNELS;
         let mid = (f.h - 1) / 2;
         let (lo, hi) = rows.split_at_mut(mid as usize * cw);
-        cone::bake_rows(&hf, &m.scratch, 0..mid, lo).unwrap();
-        cone::bake_rows(&hf, &m.scratch, mid..f.h - 1, hi).unwrap();
+        cone::bake_rows::<Cone>(&hf, &m.scratch, 0..mid, lo).unwrap();
+        cone::bake_rows::<Cone>(&hf, &m.scratch, mid..f.h - 1, hi).unwrap();
         assert_eq!(rows, m.fast, "{name} rows");
     }
 }
@@ -290,7 +290,7 @@ fn cone_march_is_conservative() {
 
 #[test]
 fn qdm_bake_matches_brute_force_and_bounds_the_surface() {
-    for m in baked_twice(MapKind::Qdm, 2000, qdm::bake, qdm::bake_brute) {
+    for m in baked_twice::<Qdm>(MapKind::Qdm, 2000, qdm::bake_brute) {
         let name = &m.name;
         for (k, (a, b)) in m.fast.iter().zip(&m.brute).enumerate() {
             let tol = 1e-5 * (1.0 + a.abs().max(b.abs()));
@@ -353,7 +353,7 @@ fn stable_quadratic_beats_textbook_on_stiff_cases() {
 
 #[test]
 fn relaxed_bake_equals_brute_force() {
-    for m in baked_twice(MapKind::Relaxed, 1200, relaxed::bake, relaxed::bake_brute) {
+    for m in baked_twice::<Relaxed>(MapKind::Relaxed, 1200, relaxed::bake_brute) {
         assert_eq!(m.fast, m.brute, "{}", m.name);
     }
 }

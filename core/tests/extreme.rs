@@ -48,9 +48,9 @@ mod common;
 use common::*;
 use hfcast::maxmip::{self, Ascent, Layout, MaxMip};
 use hfcast::safety::{self, SafetyMap, Variant};
-use hfcast::search::{linear_binary, linear_secant};
+use hfcast::search::{self, Refine};
 use hfcast::surface::smallest_root_in_unit;
-use hfcast::{cone, qdm, relaxed};
+use hfcast::{cone, cone::Cone, qdm, qdm::Qdm, relaxed, relaxed::Relaxed};
 use hfcast::{
     dda, FieldError, Flags, HeightField, Query, RayError, Real, SearchSteps, Surface, Trace,
 };
@@ -266,8 +266,9 @@ impl Baked {
             .collect();
         let (w, h) = (hf.width(), hf.height());
         let samples = w as usize * h as usize;
-        let map = |scratch: usize, len: usize, bake: BakeFn| {
-            let mut s = vec![0f32; scratch];
+        // The cone family's bakes all search the pyramid in the same scratch.
+        let map = |len: usize, bake: BakeFn| {
+            let mut s = vec![0f32; cone::scratch_len(w, h)];
             let mut out = vec![f32::NAN; len];
             bake(hf, &mut s, &mut out).expect("sized");
             out
@@ -277,15 +278,10 @@ impl Baked {
             pyramid,
             safety,
             levels: Layout::of(hf).levels(),
-            cone: small.then(|| map(cone::scratch_len(w, h), cone::map_len(w, h), cone::bake)),
-            qdm: small.then(|| map(qdm::scratch_len(w, h), qdm::map_len(w, h), qdm::bake)),
-            relaxed: (samples <= relaxed_max).then(|| {
-                map(
-                    relaxed::scratch_len(w, h),
-                    relaxed::map_len(w, h),
-                    relaxed::bake,
-                )
-            }),
+            cone: small.then(|| map(cone::map_len(w, h), cone::bake::<Cone>)),
+            qdm: small.then(|| map(qdm::map_len(w, h), cone::bake::<Qdm>)),
+            relaxed: (samples <= relaxed_max)
+                .then(|| map(relaxed::map_len(w, h), cone::bake::<Relaxed>)),
         }
     }
 
@@ -315,8 +311,8 @@ fn run<R: Real>(def: &Def, b: &Baked, hf: &HeightField, s: Surface, q: &Query<R>
             let map = SafetyMap::new(hf, data, o.variant).expect("baked");
             safety::trace(&map, hf, q)
         }
-        Kind::LinearBinary(st) => linear_binary(hf, s, q, st),
-        Kind::Secant(n) => linear_secant(hf, s, q, n),
+        Kind::LinearBinary(st) => search::linear(hf, s, q, st.linear, Refine::Binary(st.binary)),
+        Kind::Secant(n) => search::linear(hf, s, q, n, Refine::Secant),
         Kind::Cone(cap) => {
             let map = cone::ConeMap::new(hf, b.cone.as_ref().expect("baked")).expect("baked");
             cone::trace(&map, hf, q, cap)

@@ -8,7 +8,7 @@
 mod common;
 
 use common::{checkerboard_field, needles_field, random_walls_field, small_fields, Field, Rng};
-use hfcast::relaxed;
+use hfcast::{cone, relaxed};
 
 /// Bakes `f` fast (whole, and in bands of 5 rows) and by brute force; asserts equality.
 fn assert_equal(name: &str, f: &Field) {
@@ -16,10 +16,10 @@ fn assert_equal(name: &str, f: &Field) {
     let n = relaxed::map_len(f.w, f.h);
     let mut scratch = vec![0.0; relaxed::scratch_len(f.w, f.h)];
     let (mut fast, mut bands, mut brute) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
-    relaxed::bake(&hf, &mut scratch, &mut fast).unwrap();
+    cone::bake::<relaxed::Relaxed>(&hf, &mut scratch, &mut fast).unwrap();
     for (k, part) in bands.chunks_mut(5 * f.w as usize).enumerate() {
         let r0 = 5 * k as u32;
-        relaxed::bake_rows(&hf, &scratch, r0..(r0 + 5).min(f.h), part).unwrap();
+        cone::bake_rows::<relaxed::Relaxed>(&hf, &scratch, r0..(r0 + 5).min(f.h), part).unwrap();
     }
     relaxed::bake_brute(&hf, &mut brute).unwrap();
     let bits = |v: &[f32]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();

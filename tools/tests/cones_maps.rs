@@ -143,10 +143,10 @@ fn cones_on_every_map() {
             .collect();
         let mut scratch = vec![0f32; cone::scratch_len(w, h)];
         let mut cdata = vec![0f32; cone::map_len(w, h)];
-        cone::bake(&hf, &mut scratch, &mut cdata).unwrap();
+        cone::bake::<cone::Cone>(&hf, &mut scratch, &mut cdata).unwrap();
         let cm = cone::ConeMap::new(&hf, &cdata).unwrap();
         let mut qdata = vec![0f32; qdm::map_len(w, h)];
-        qdm::bake(&hf, &mut scratch, &mut qdata).unwrap();
+        cone::bake::<qdm::Qdm>(&hf, &mut scratch, &mut qdata).unwrap();
         let qm = qdm::QdmMap::new(&hf, &qdata).unwrap();
         println!(
             "{} ({w}x{h} window, depth {depth}): {} rays",
@@ -197,8 +197,10 @@ fn cones_on_every_map() {
         let (a, b) = rdata.split_at_mut(half as usize * w as usize);
         let (hf_ref, scratch) = (&hf, &scratch);
         std::thread::scope(|s| {
-            s.spawn(move || relaxed::bake_rows(hf_ref, scratch, 0..half, a).unwrap());
-            relaxed::bake_rows(hf_ref, scratch, half..h, b).unwrap();
+            s.spawn(move || {
+                cone::bake_rows::<relaxed::Relaxed>(hf_ref, scratch, 0..half, a).unwrap()
+            });
+            cone::bake_rows::<relaxed::Relaxed>(hf_ref, scratch, half..h, b).unwrap();
         });
         let bake_s = t0.elapsed().as_secs_f64();
         let (mut tried, mut amb, mut bad, mut h2m, mut m2h, mut exh) = (0, 0, 0, 0, 0, 0);

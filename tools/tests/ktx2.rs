@@ -102,9 +102,9 @@ fn bake(hf: &HeightField, desc: &Desc) -> Baked {
         MapKind::Cone | MapKind::Relaxed | MapKind::Qdm => {
             let mut scratch = vec![0.0; cone::scratch_len(w, h)];
             let (len, bake): (usize, WholeBake) = match desc.map {
-                MapKind::Cone => (cone::map_len(w, h), cone::bake),
-                MapKind::Relaxed => (relaxed::map_len(w, h), relaxed::bake),
-                _ => (qdm::map_len(w, h), qdm::bake),
+                MapKind::Cone => (cone::map_len(w, h), cone::bake::<cone::Cone>),
+                MapKind::Relaxed => (relaxed::map_len(w, h), cone::bake::<relaxed::Relaxed>),
+                _ => (qdm::map_len(w, h), cone::bake::<qdm::Qdm>),
             };
             let mut out = vec![0.0; len];
             bake(hf, &mut scratch, &mut out).unwrap();

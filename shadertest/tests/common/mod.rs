@@ -541,13 +541,13 @@ impl Scene {
         cone::prepare(&hf, &mut cone_scratch).expect("cone pyramid");
         let mut cone_map = vec![0f32; cone::map_len(w, h)];
         in_row_ranges(h - 1, 2 * (w - 1) as usize, &mut cone_map, |rows, out| {
-            cone::bake_rows(&hf, &cone_scratch, rows, out).expect("cone bake");
+            cone::bake_rows::<cone::Cone>(&hf, &cone_scratch, rows, out).expect("cone bake");
         });
         let mut qdm_scratch = vec![0f32; qdm::scratch_len(w, h)];
         qdm::prepare(&hf, &mut qdm_scratch).expect("qdm pyramid");
         let mut qdm_map = vec![0f32; qdm::map_len(w, h)];
         in_row_ranges(h - 1, 4 * (w - 1) as usize, &mut qdm_map, |rows, out| {
-            qdm::bake_rows(&hf, &qdm_scratch, rows, out).expect("qdm bake");
+            cone::bake_rows::<qdm::Qdm>(&hf, &qdm_scratch, rows, out).expect("qdm bake");
         });
         // The compact maps of the class subsets; `scratch` holds what safety::prepare
         // filled.
@@ -594,7 +594,7 @@ impl Scene {
         let relaxed_map = relaxed.then(|| {
             let mut s = vec![0f32; relaxed::scratch_len(w, h)];
             let mut out = vec![0f32; relaxed::map_len(w, h)];
-            relaxed::bake(&hf, &mut s, &mut out).expect("relaxed bake");
+            cone::bake::<relaxed::Relaxed>(&hf, &mut s, &mut out).expect("relaxed bake");
             out
         });
         Scene {
