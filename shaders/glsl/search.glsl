@@ -75,12 +75,12 @@ Trace search_search(uint surface, Query q, uint linear_in, bool secant, uint bin
     return trace_hit(Hit(t, p, l.cell, surface_cell_normal(surface, l.c, l.u, l.v), flags), fetches, real_infinity());
 }
 
-// `linear_binary`.
+// `linear` with `Refine::Binary(binary)`.
 Trace search_linear_binary(uint surface, Query q, uint linear, uint binary) {
     return search_search(surface, q, linear, false, binary);
 }
 
-// `linear_secant`.
+// `linear` with `Refine::Secant`.
 Trace search_linear_secant(uint surface, Query q, uint linear) {
     return search_search(surface, q, linear, true, 0u);
 }

@@ -1,4 +1,4 @@
-// HF_METHOD_LINEAR_BINARY: hf_trace is search::linear_binary.
+// HF_METHOD_LINEAR_BINARY: hf_trace is search::linear with Refine::Binary.
 override hf_surface: u32 = 0u;
 
 struct LinearBinaryParams {

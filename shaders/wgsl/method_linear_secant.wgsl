@@ -1,4 +1,4 @@
-// HF_METHOD_LINEAR_SECANT: hf_trace is search::linear_secant.
+// HF_METHOD_LINEAR_SECANT: hf_trace is search::linear with Refine::Secant.
 override hf_surface: u32 = 0u;
 
 struct LinearSecantParams {

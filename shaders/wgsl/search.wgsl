@@ -74,12 +74,12 @@ fn search_search(surface: u32, q: Query, linear_in: u32, secant: bool, binary: u
                      real_infinity());
 }
 
-// `linear_binary`.
+// `linear` with `Refine::Binary(binary)`.
 fn search_linear_binary(surface: u32, q: Query, linear: u32, binary: u32) -> Trace {
     return search_search(surface, q, linear, false, binary);
 }
 
-// `linear_secant`.
+// `linear` with `Refine::Secant`.
 fn search_linear_secant(surface: u32, q: Query, linear: u32) -> Trace {
     return search_search(surface, q, linear, true, 0u);
 }
