@@ -5,7 +5,7 @@
 use crate::detail::{fail, Named};
 use crate::hf_result::{self, *};
 use crate::trace::{
-    answer, check, hf_hit, hf_ray, hf_trace_options, marcher, query, shadow_ray_of,
+    check, hf_hit, hf_ray, hf_trace_options, marcher, query, shadow_ray_of, trace_locals,
 };
 use crate::{guard, hf_field, ptr, surface_of};
 use hfcore::camera::{Pinhole, TILE};
@@ -187,20 +187,20 @@ unsafe fn trace_pixels(
                 // cheap rays (measured: 190 against 105 ns a ray that misses the box).
                 let width = c.width as usize;
                 let mut local = [hf_hit::default(); (TILE * TILE) as usize];
+                let mut queries = Vec::with_capacity(local.len());
                 for (ys, xs) in p.tiles(rows) {
                     let (y0, x0, tw) = (ys.start, xs.start, xs.len());
+                    queries.clear();
                     for y in ys.clone() {
                         for x in xs.clone() {
                             let k = y as usize * width + x as usize;
-                            let at = (y - y0) as usize * tw + (x - x0) as usize;
-                            local[at] = match ray(&p, c.t_max, x, y)? {
-                                Some(r) => {
-                                    answer(hf, query(hf, &r, Some(k))?.trace(|q| m.trace(hf, q)))
-                                }
-                                None => hf_hit::from(hfcore::Trace::<f32>::miss(0, f32::INFINITY)),
-                            };
+                            queries.push(match ray(&p, c.t_max, x, y)? {
+                                Some(r) => Some(query(hf, &r, Some(k))?),
+                                None => None,
+                            });
                         }
                     }
+                    trace_locals(&m, hf, &queries, &mut local[..queries.len()]);
                     for (dy, row) in local.chunks(tw).take(ys.len()).enumerate() {
                         let k = (y0 as usize + dy) * width + x0 as usize - first;
                         band[k..k + tw].copy_from_slice(row);

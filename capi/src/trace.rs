@@ -352,6 +352,40 @@ pub unsafe extern "C" fn hf_trace(
     })
 }
 
+/// The CPU's SIMD token for the core's laned marches: AVX2 when it has it.
+fn simd() -> Option<hfcore::simd::Avx2> {
+    #[cfg(target_arch = "x86_64")]
+    if std::is_x86_feature_detected!("avx2") {
+        // SAFETY: just detected.
+        return Some(unsafe { hfcore::simd::Avx2::new_unchecked() });
+    }
+    None
+}
+
+/// The hits of the conditioned queries `locals` into `out` (same lengths; `None`: a
+/// miss that cost nothing), traced together by `m` ([`Marcher::trace_all`]: in SIMD
+/// lanes where the method and the CPU can), the answers those of one `hf_trace` each.
+pub(crate) fn trace_locals(
+    m: &Marcher,
+    hf: &HeightField,
+    locals: &[Option<Local>],
+    out: &mut [hf_hit],
+) {
+    let queries: Vec<Query<f32>> = locals.iter().flatten().map(|l| l.query).collect();
+    let mut traces = vec![Trace::MISS; queries.len()];
+    m.trace_all(hf, &queries, &mut traces, simd());
+    let mut traces = traces.into_iter();
+    for (l, h) in locals.iter().zip(out.iter_mut()) {
+        *h = match l {
+            Some(local) => {
+                let trace = traces.next().expect("one trace per query");
+                answer(hf, local.trace(|_| trace))
+            }
+            None => hf_hit::from(Trace::<f32>::miss(0, f32::INFINITY)),
+        };
+    }
+}
+
 /// Rays a thread of `hf_trace_batch` takes at a time (the bands of `par::bake_bands`).
 const RAY_BAND: u32 = 256;
 
@@ -409,10 +443,12 @@ pub unsafe extern "C" fn hf_trace_batch(
         crate::par::bake_bands(n, 1, RAY_BAND, threads, hits, |band, out| {
             let first = band.start as usize;
             let band_rays = &rays[first..first + out.len()];
-            for (k, (r, h)) in band_rays.iter().zip(out.iter_mut()).enumerate() {
-                let local = query(hf, r, Some(first + k))?;
-                *h = answer(hf, local.trace(|q| m.trace(hf, q)));
-            }
+            let locals = band_rays
+                .iter()
+                .enumerate()
+                .map(|(k, r)| query(hf, r, Some(first + k)).map(Some))
+                .collect::<Result<Vec<_>, _>>()?;
+            trace_locals(&m, hf, &locals, out);
             Ok(())
         })
     })

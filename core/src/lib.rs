@@ -24,7 +24,7 @@
 //! assert!((hit.point.z - 1.0).abs() < 1e-6);
 //! ```
 #![no_std]
-#![forbid(unsafe_code)]
+#![deny(unsafe_code)]
 
 #[cfg(feature = "alloc")]
 extern crate alloc;
@@ -145,6 +145,7 @@ pub mod safety;
 pub mod scene;
 #[cfg(feature = "search")]
 pub mod search;
+pub mod simd;
 pub mod surface;
 pub mod world;
 

@@ -203,6 +203,32 @@ impl<'a> Marcher<'a> {
         }
     }
 
+    /// [`Marcher::trace`] of every query of `queries` into `out` (same lengths), the
+    /// answers bit for bit the same: with `simd`, the methods with a laned march
+    /// ([`crate::maxmip::trace_lanes`]) march several rays at once; the others, and
+    /// every method without `simd`, trace one ray after another.
+    pub fn trace_all(
+        &self,
+        hf: &HeightField,
+        queries: &[Query<f32>],
+        out: &mut [Trace<f32>],
+        simd: Option<crate::simd::Avx2>,
+    ) {
+        assert_eq!(queries.len(), out.len(), "one answer per query");
+        match *self {
+            #[cfg(feature = "maxmip")]
+            Marcher::MaxMip(ref mip, surface, ref opts) => {
+                crate::maxmip::trace_lanes(hf, mip, surface, queries, opts, out, simd)
+            }
+            _ => {
+                let _ = simd;
+                for (o, q) in out.iter_mut().zip(queries) {
+                    *o = self.trace(hf, q);
+                }
+            }
+        }
+    }
+
     /// Traces `q` on `hf`, the field the map was baked for.
     pub fn trace<R: Real>(&self, hf: &HeightField, q: &Query<R>) -> Trace<R> {
         match *self {

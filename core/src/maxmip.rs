@@ -33,6 +33,9 @@ use crate::ray::{Flags, Hit, Query, Trace};
 use crate::surface::{bilinear, corners, SegmentHit, Surface};
 use core::ops::Range;
 
+mod lanes;
+pub use lanes::{trace_lanes, LANES};
+
 /// Most levels a pyramid has: fewer than 2²⁴ cells per side need at most 25.
 pub const MAX_LEVELS: usize = 25;
 
@@ -439,161 +442,291 @@ pub fn trace<R: Real>(
     q: &Query<R>,
     opts: &Options,
 ) -> Trace<R> {
-    let trace = march(hf, mip, surface, q, opts);
-    // The exact answer gets the DDA's robust finish, the approximate ones keep theirs
-    // (the iterative bilinear search is approximate on the bilinear surface only).
-    if opts.lod.is_none() && (opts.iterative_bilinear.is_none() || surface != Surface::Bilinear) {
-        finish(hf, surface, q, trace)
-    } else {
-        trace
-    }
+    let march = March::new(hf, mip, surface, opts);
+    let trace = match march.begin(q) {
+        Ok(mut walk) => loop {
+            if let Some(trace) = march.advance(&mut walk) {
+                break trace;
+            }
+        },
+        Err(trace) => trace,
+    };
+    march.finish(q, trace)
 }
 
-/// [`trace`] before the robust finish.
-fn march<R: Real>(
-    hf: &HeightField,
-    mip: &MaxMip,
+/// What every ray's march over one pyramid reads: the field, the pyramid, the surface
+/// and the options, with what follows from them.
+struct March<'m, 'a> {
+    hf: &'m HeightField<'a>,
+    mip: &'m MaxMip<'m>,
     surface: Surface,
-    q: &Query<R>,
-    opts: &Options,
-) -> Trace<R> {
-    if surface == Surface::LinearPlanes {
-        return dda::trace(hf, surface, q);
+    opts: &'m Options,
+    cells: [u32; 2],
+    top: u32,
+    iterative: Option<(u32, u32)>,
+}
+
+/// One ray's march between two node visits ([`March::advance`]).
+#[derive(Clone, Copy)]
+struct Walk<R: Real> {
+    q: Query<R>,
+    span: dda::Span<R>,
+    step: [i64; 2],
+    /// Level-of-detail factor per unit `t` (`None`: exact).
+    lod: Option<R>,
+    cell: [u32; 2],
+    level: u32,
+    /// Where the ray entered the current node, and whether that is the span's start.
+    t: R,
+    p: [R; 3],
+    start: bool,
+    /// How the current cell was entered: `on[axis] = Some(far)` when through a
+    /// centerline crossing on that axis, or a side of the footprint (see
+    /// `local_clearance`, `entry_on`).
+    on: [Option<bool>; 2],
+    fetches: u32,
+    clearance: R,
+}
+
+impl<'m, 'a> March<'m, 'a> {
+    fn new(
+        hf: &'m HeightField<'a>,
+        mip: &'m MaxMip<'m>,
+        surface: Surface,
+        opts: &'m Options,
+    ) -> Self {
+        March {
+            hf,
+            mip,
+            surface,
+            opts,
+            cells: [hf.width() - 1, hf.height() - 1],
+            top: mip.layout().levels() - 1,
+            iterative: opts
+                .iterative_bilinear
+                .filter(|_| surface == Surface::Bilinear),
+        }
     }
-    let Some(span) = clip(hf, q) else {
-        return Trace::MISS;
-    };
-    let (o, d) = (q.origin(), q.dir());
-    let cells = [hf.width() - 1, hf.height() - 1];
-    let step = [step_of(d[0]), step_of(d[1])];
-    let mut p = q.at(span.t0);
-    let first = |k: usize| {
-        cell_index(
-            p[k].clamp_to(R::ZERO, R::from_u32(cells[k])),
-            d[k],
-            cells[k],
-        )
-    };
-    let mut cell = [first(0), first(1)];
-    let top = mip.layout().levels() - 1;
-    let lod = opts
-        .lod
-        .map(|f| R::from_f32(f) * (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt());
-    let iterative = opts
-        .iterative_bilinear
-        .filter(|_| surface == Surface::Bilinear);
-    // Start where nodes are a quarter to an eighth of the ray's horizontal reach over
-    // the span: from higher up, nearly every ray pays a fetch per level only to descend
-    // (measured: 15–45 % fewer fetches on the maps); the march ascends when it pays.
-    let reach = (d[0].abs().max(d[1].abs()) * (span.t1 - span.t0)).to_f64();
-    let start_level = (reach.min(f64::from(1u32 << 30)) as u32 + 1)
-        .ilog2()
-        .saturating_sub(2);
-    let (mut level, mut t, mut start) = (start_level.min(top), span.t0, true);
-    // How the current cell was entered: `on[axis] = Some(far)` when through a centerline
-    // crossing on that axis, or a side of the footprint (see `local_clearance`,
-    // `entry_on`).
-    let mut on = entry_on(surface, &span.entry);
-    let (mut fetches, mut clearance) = (0u32, R::INFINITY);
-    loop {
-        // The node holding the cell at this level, and where the ray leaves it.
-        let mut lo = [0u32; 2];
-        let mut hi = [0u32; 2];
-        let mut bound = [0u32; 2];
-        let mut t_out = [R::INFINITY; 2];
-        for k in 0..2 {
-            lo[k] = (cell[k] >> level) << level;
-            hi[k] = (lo[k] + (1 << level)).min(cells[k]);
-            bound[k] = if step[k] > 0 { hi[k] } else { lo[k] };
-            if step[k] != 0 {
-                t_out[k] = (R::from_u32(bound[k]) - o[k]) / d[k];
-            }
-        }
-        let t_next = t_out[0].min(t_out[1]);
-        let crossing = t_next < span.t1;
-        let tb = if crossing { t_next.max(t) } else { span.t1 };
-        let pb = q.at(tb);
-        let top_z = R::from_f32(mip.texel(level, cell[0] >> level, cell[1] >> level));
-        fetches += 1;
-        let low = p[2].min(pb[2]);
-        if low > top_z {
-            clearance = clearance.min(low - top_z);
-        } else if level > lod_level(lod, t) {
-            level -= 1;
-            continue;
-        } else if level > 0 {
-            // Level of detail: the node's box up to its maximum is the surface.
-            let hit = lod_hit(q, &span, start, on, step, t, tb, top_z, lo, hi);
-            return Trace::hit(hit, fetches, clearance);
+
+    /// The exact answer gets the DDA's robust finish, the approximate ones keep theirs
+    /// (the iterative bilinear search is approximate on the bilinear surface only).
+    fn finish<R: Real>(&self, q: &Query<R>, trace: Trace<R>) -> Trace<R> {
+        let opts = self.opts;
+        if opts.lod.is_none()
+            && (opts.iterative_bilinear.is_none() || self.surface != Surface::Bilinear)
+        {
+            finish(self.hf, self.surface, q, trace)
         } else {
-            // Level 0: the exact test of dda::trace, on the same shared edge clearances.
-            let c: [R; 4] = corners(hf, cell[0], cell[1]);
-            fetches += 4;
-            let (a, ca) = local_clearance(surface, c, cell, p, on);
-            // Past the start a continuous surface leaves `ca > 0` unless rounding lifts an
-            // edge above its node's maximum (discontinuous ones ignore `ca`).
-            if ca <= R::ZERO && (start || surface.is_continuous()) {
-                let hit = if start {
-                    start_hit(surface, &span, c, cell, a, p)
-                } else {
-                    // A graze of the edge the ray came in through.
-                    Hit {
-                        t,
-                        point: R::v3(p),
-                        cell,
-                        normal: R::v3(surface.cell_normal(c, a[0], a[1])),
-                        flags: Flags::default(),
-                    }
-                };
-                let clearance = match start {
-                    true => start_clearance(&span.entry, ca),
-                    false => clearance.min(ca),
-                };
-                return Trace::hit(hit, fetches, clearance);
+            trace
+        }
+    }
+
+    /// The walk of `q` at its first node, or its whole answer (before the finish) when
+    /// it needs no march: a miss of the box, or the DDA on linear planes.
+    fn begin<R: Real>(&self, q: &Query<R>) -> Result<Walk<R>, Trace<R>> {
+        let (hf, surface, cells) = (self.hf, self.surface, self.cells);
+        if surface == Surface::LinearPlanes {
+            return Err(dda::trace(hf, surface, q));
+        }
+        let Some(span) = clip(hf, q) else {
+            return Err(Trace::MISS);
+        };
+        let d = q.dir();
+        let p = q.at(span.t0);
+        let first = |k: usize| {
+            cell_index(
+                p[k].clamp_to(R::ZERO, R::from_u32(cells[k])),
+                d[k],
+                cells[k],
+            )
+        };
+        // Start where nodes are a quarter to an eighth of the ray's horizontal reach over
+        // the span: from higher up, nearly every ray pays a fetch per level only to
+        // descend (measured: 15–45 % fewer fetches on the maps); the march ascends when
+        // it pays.
+        let reach = (d[0].abs().max(d[1].abs()) * (span.t1 - span.t0)).to_f64();
+        let start_level = (reach.min(f64::from(1u32 << 30)) as u32 + 1)
+            .ilog2()
+            .saturating_sub(2);
+        Ok(Walk {
+            q: *q,
+            step: [step_of(d[0]), step_of(d[1])],
+            lod: self
+                .opts
+                .lod
+                .map(|f| R::from_f32(f) * (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt()),
+            cell: [first(0), first(1)],
+            level: start_level.min(self.top),
+            t: span.t0,
+            p,
+            start: true,
+            on: entry_on(surface, &span.entry),
+            span,
+            fetches: 0,
+            clearance: R::INFINITY,
+        })
+    }
+
+    /// Visits the walk's current node: skips it, descends into it, or tests its cell;
+    /// the answer (before the finish) once the ray hits or leaves the field.
+    #[inline]
+    fn advance<R: Real>(&self, w: &mut Walk<R>) -> Option<Trace<R>> {
+        let node = self.node(w);
+        let top_z = R::from_f32(self.mip.texel(
+            w.level,
+            w.cell[0] >> w.level,
+            w.cell[1] >> w.level,
+        ));
+        w.fetches += 1;
+        let low = w.p[2].min(node.pb[2]);
+        if low > top_z {
+            w.clearance = w.clearance.min(low - top_z);
+        } else if w.level > lod_level(w.lod, w.t) {
+            w.level -= 1;
+            return None;
+        } else if w.level > 0 {
+            // Level of detail: the node's box up to its maximum is the surface.
+            let (t, tb, lo, hi) = (w.t, node.tb, node.lo, node.hi);
+            let hit = lod_hit(&w.q, &w.span, w.start, w.on, w.step, t, tb, top_z, lo, hi);
+            return Some(Trace::hit(hit, w.fetches, w.clearance));
+        } else if let Some(trace) = self.cell_test(w, &node) {
+            return Some(trace);
+        }
+        self.leave(w, &node)
+    }
+
+    /// The walk's current node at its level: its cells, the boundary the ray leaves it
+    /// through on each axis and when, and where the ray is then.
+    #[inline]
+    fn node<R: Real>(&self, w: &Walk<R>) -> Node<R> {
+        let (o, d) = (w.q.origin(), w.q.dir());
+        let mut n = Node {
+            lo: [0; 2],
+            hi: [0; 2],
+            bound: [0; 2],
+            t_out: [R::INFINITY; 2],
+            t_next: R::INFINITY,
+            crossing: false,
+            tb: R::ZERO,
+            pb: [R::ZERO; 3],
+        };
+        for k in 0..2 {
+            n.lo[k] = (w.cell[k] >> w.level) << w.level;
+            n.hi[k] = (n.lo[k] + (1 << w.level)).min(self.cells[k]);
+            n.bound[k] = if w.step[k] > 0 { n.hi[k] } else { n.lo[k] };
+            if w.step[k] != 0 {
+                n.t_out[k] = (R::from_u32(n.bound[k]) - o[k]) / d[k];
             }
-            let exit = |k: usize| (crossing && t_out[k] <= t_next).then_some(step[k] > 0);
-            let (b, cb) = local_clearance(surface, c, cell, pb, [exit(0), exit(1)]);
-            let wall = entry_wall(on, step);
-            let seg = match iterative {
-                Some(steps) => iterative_bilinear(c, a, b, ca, cb, steps),
-                None => surface.segment_hit(c, a, b, ca, cb, wall),
+        }
+        n.t_next = n.t_out[0].min(n.t_out[1]);
+        n.crossing = n.t_next < w.span.t1;
+        n.tb = if n.crossing {
+            n.t_next.max(w.t)
+        } else {
+            w.span.t1
+        };
+        n.pb = w.q.at(n.tb);
+        n
+    }
+
+    /// Level 0: the exact test of dda::trace on the walk's cell, on the same shared edge
+    /// clearances; the hit, if the ray meets the surface in the cell.
+    #[inline]
+    fn cell_test<R: Real>(&self, w: &mut Walk<R>, node: &Node<R>) -> Option<Trace<R>> {
+        let (surface, step) = (self.surface, w.step);
+        let (cell, p, t, tb) = (w.cell, w.p, w.t, node.tb);
+        let c: [R; 4] = corners(self.hf, cell[0], cell[1]);
+        w.fetches += 4;
+        let (a, ca) = local_clearance(surface, c, cell, p, w.on);
+        // Past the start a continuous surface leaves `ca > 0` unless rounding lifts an
+        // edge above its node's maximum (discontinuous ones ignore `ca`).
+        if ca <= R::ZERO && (w.start || surface.is_continuous()) {
+            let hit = if w.start {
+                start_hit(surface, &w.span, c, cell, a, p)
+            } else {
+                // A graze of the edge the ray came in through.
+                Hit {
+                    t,
+                    point: R::v3(p),
+                    cell,
+                    normal: R::v3(surface.cell_normal(c, a[0], a[1])),
+                    flags: Flags::default(),
+                }
             };
-            clearance = clearance.min(seg.clearance);
-            if let Some(found) = seg.hit {
-                // As dda::trace (the iterative bilinear search's `s` included).
-                let hit = segment_point(cell, ((t, tb), (a, b)), found);
-                return Trace::hit(hit, fetches, clearance);
-            }
+            let clearance = match w.start {
+                true => start_clearance(&w.span.entry, ca),
+                false => w.clearance.min(ca),
+            };
+            return Some(Trace::hit(hit, w.fetches, clearance));
         }
-        // Leave the node: step over the crossed boundaries, bring the other axis up to
-        // date, ascend.
-        if !crossing {
-            return Trace::miss(fetches, clearance);
+        let exit =
+            |k: usize| (node.crossing && node.t_out[k] <= node.t_next).then_some(step[k] > 0);
+        let (b, cb) = local_clearance(surface, c, cell, node.pb, [exit(0), exit(1)]);
+        let wall = entry_wall(w.on, step);
+        let seg = match self.iterative {
+            Some(steps) => iterative_bilinear(c, a, b, ca, cb, steps),
+            None => surface.segment_hit(c, a, b, ca, cb, wall),
+        };
+        w.clearance = w.clearance.min(seg.clearance);
+        // As dda::trace (the iterative bilinear search's `s` included).
+        seg.hit.map(|found| {
+            Trace::hit(
+                segment_point(cell, ((t, tb), (a, b)), found),
+                w.fetches,
+                w.clearance,
+            )
+        })
+    }
+
+    /// Leaves the node: steps over the crossed boundaries, brings the other axis up to
+    /// date, ascends; the miss when the ray leaves the field.
+    #[inline]
+    fn leave<R: Real>(&self, w: &mut Walk<R>, node: &Node<R>) -> Option<Trace<R>> {
+        let (cells, step, level) = (self.cells, w.step, w.level);
+        if !node.crossing {
+            return Some(Trace::miss(w.fetches, w.clearance));
         }
+        let (o, d) = (w.q.origin(), w.q.dir());
         let mut crossed_level = level;
         for k in 0..2 {
-            if step[k] != 0 && t_out[k] <= t_next {
-                if bound[k] == if step[k] > 0 { cells[k] } else { 0 } {
-                    return Trace::miss(fetches, clearance);
+            let bound = node.bound[k];
+            if step[k] != 0 && node.t_out[k] <= node.t_next {
+                if bound == if step[k] > 0 { cells[k] } else { 0 } {
+                    return Some(Trace::miss(w.fetches, w.clearance));
                 }
-                cell[k] = if step[k] > 0 { bound[k] } else { bound[k] - 1 };
-                on[k] = Some(step[k] < 0);
-                crossed_level = crossed_level.max(bound[k].trailing_zeros());
+                w.cell[k] = if step[k] > 0 { bound } else { bound - 1 };
+                w.on[k] = Some(step[k] < 0);
+                crossed_level = crossed_level.max(bound.trailing_zeros());
             } else if step[k] != 0 && level > 0 {
-                let (i, exact) = sync_axis(cell[k], step[k], lo[k], hi[k], o[k], d[k], t_next);
-                (cell[k], on[k]) = (i, exact.then_some(step[k] < 0));
+                let (lo, hi) = (node.lo[k], node.hi[k]);
+                let (i, exact) = sync_axis(w.cell[k], step[k], lo, hi, o[k], d[k], node.t_next);
+                (w.cell[k], w.on[k]) = (i, exact.then_some(step[k] < 0));
             } else {
-                on[k] = None;
+                w.on[k] = None;
             }
         }
-        level = match opts.ascent {
+        w.level = match self.opts.ascent {
             Ascent::OneLevel if crossed_level > level => level + 1,
             Ascent::OneLevel => level,
             Ascent::Highest => crossed_level,
         }
-        .min(top);
-        (t, p, start) = (tb, pb, false);
+        .min(self.top);
+        (w.t, w.p, w.start) = (node.tb, node.pb, false);
+        None
     }
+}
+
+/// The node a walk is in ([`March::node`]).
+#[derive(Clone, Copy)]
+struct Node<R: Real> {
+    lo: [u32; 2],
+    hi: [u32; 2],
+    bound: [u32; 2],
+    t_out: [R; 2],
+    t_next: R,
+    crossing: bool,
+    tb: R,
+    pb: [R; 3],
 }
 
 /// Normal of the wall a cell was entered through (up at the start), as [`dda::trace`]

@@ -492,3 +492,78 @@ fn vertical_and_axis_rays_at_integers() {
     }
     println!("{n} vertical / axis rays through grid points: all equal to the DDA");
 }
+
+/// A trace as text: equal texts are equal bit for bit (`-0.0` and `0.0` differ).
+fn bits<R: Real>(tr: &Trace<R>) -> String {
+    format!("{tr:?}")
+}
+
+/// The SIMD token when this CPU has AVX2 (the laned march's SIMD path), else `None`
+/// (its portable path: the scalar march).
+fn simd() -> Option<hfcast::simd::Avx2> {
+    #[cfg(target_arch = "x86_64")]
+    if std::is_x86_feature_detected!("avx2") {
+        // SAFETY: just detected.
+        return Some(unsafe { hfcast::simd::Avx2::new_unchecked() });
+    }
+    None
+}
+
+/// [`maxmip::trace_lanes`] answers each query with exactly [`maxmip::trace`]'s answer,
+/// hit, fetches and clearance, on every march field, surface and ray kind, with both
+/// ascents, with level of detail and with the iterative bilinear search; fewer
+/// queries than lanes and more; with the SIMD token and without.
+#[test]
+fn lanes_equal_the_scalar_march() {
+    let mut rng = Rng::new(0x1a7e5);
+    let fields = common::march_fields(0x1a7e, 3, ("checkerboard 24x20", 0.0, 1.0), Vec::new(), 4);
+    let options = [
+        Options::default(),
+        Options {
+            ascent: Ascent::Highest,
+            ..Options::default()
+        },
+        Options {
+            lod: Some(1.0 / 64.0),
+            ..Options::default()
+        },
+        Options {
+            iterative_bilinear: Some((4, 8)),
+            ..Options::default()
+        },
+    ];
+    let (mut tried, mut differ) = (0, 0);
+    for (name, field) in &fields {
+        let hf = field.hf();
+        let pyramid = baked(&hf);
+        let mip = MaxMip::new(&hf, &pyramid).unwrap();
+        for surface in Surface::ALL {
+            let specs = kind_blocks(&mut rng, field, surface, &RayKind::ALL, 7);
+            for o in &options {
+                for n in [1, 5, specs.len()] {
+                    let qs: Vec<Query<f32>> = specs[..n].iter().map(|s| s.q32()).collect();
+                    let want: Vec<String> = qs
+                        .iter()
+                        .map(|q| bits(&maxmip::trace(&hf, &mip, surface, q, o)))
+                        .collect();
+                    for simd in [simd(), None] {
+                        let mut got = vec![Trace::MISS; n];
+                        maxmip::trace_lanes(&hf, &mip, surface, &qs, o, &mut got, simd);
+                        let d = got
+                            .iter()
+                            .zip(&want)
+                            .filter(|(g, w)| bits(*g) != **w)
+                            .count();
+                        assert_eq!(d, 0, "{name} {surface:?} {o:?} {n} queries, {simd:?}");
+                        (tried, differ) = (tried + n, differ + d);
+                    }
+                }
+            }
+        }
+    }
+    println!(
+        "lanes ({:?}): {tried} answers compared, {differ} differ",
+        simd()
+    );
+    assert!(tried > 10_000);
+}

@@ -3,7 +3,7 @@
 
 use crate::trace::Tracer;
 use crate::{par_chunks, MethodSpec, Rng};
-use hfcast::{HeightField, Query, Surface};
+use hfcast::{HeightField, Query, Surface, Trace};
 use std::fmt::Write;
 use std::time::Instant;
 
@@ -43,6 +43,17 @@ pub struct BenchResult {
     pub rays_per_s: Vec<(usize, f64)>,
 }
 
+/// How the benchmark hands its rays to the march.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Order {
+    /// One ray after another ([`Tracer::trace_each`]).
+    Scalar,
+    /// In SIMD lanes where the method has them and the CPU can
+    /// ([`Tracer::trace_all`]).
+    #[default]
+    Lanes,
+}
+
 /// Traces `rays` with `tracer` `reps` times on each thread count in `threads` and
 /// measures them.
 pub fn bench_rays(
@@ -51,8 +62,9 @@ pub fn bench_rays(
     rays: &[Query<f32>],
     threads: &[usize],
     reps: usize,
+    order: Order,
 ) -> BenchResult {
-    let mut out = vec![(0u32, false); rays.len()];
+    let mut out = vec![Trace::MISS; rays.len()];
     let rays_per_s = threads
         .iter()
         .map(|&t| {
@@ -60,9 +72,10 @@ pub fn bench_rays(
                 .map(|_| {
                     let start = Instant::now();
                     par_chunks(&mut out, 1024, t, |first, chunk| {
-                        for (o, q) in chunk.iter_mut().zip(&rays[first..]) {
-                            let tr = tracer.trace(q);
-                            *o = (tr.fetches, tr.hit.is_some());
+                        let rays = &rays[first..first + chunk.len()];
+                        match order {
+                            Order::Scalar => tracer.trace_each(rays, chunk),
+                            Order::Lanes => tracer.trace_all(rays, chunk),
                         }
                     });
                     rays.len() as f64 / start.elapsed().as_secs_f64()
@@ -72,13 +85,13 @@ pub fn bench_rays(
             (t, rates[rates.len() / 2])
         })
         .collect();
-    let mut fetches: Vec<u32> = out.iter().map(|o| o.0).collect();
+    let mut fetches: Vec<u32> = out.iter().map(|o| o.fetches).collect();
     fetches.sort_unstable();
     let n = rays.len().max(1);
     BenchResult {
         name: name.into(),
         rays: rays.len(),
-        hit_rate: out.iter().filter(|o| o.1).count() as f64 / n as f64,
+        hit_rate: out.iter().filter(|o| o.hit.is_some()).count() as f64 / n as f64,
         fetch_mean: fetches.iter().map(|&f| f64::from(f)).sum::<f64>() / n as f64,
         fetch_p99: fetches.get((n - 1) * 99 / 100).copied().unwrap_or(0),
         fetch_max: fetches.last().copied().unwrap_or(0),

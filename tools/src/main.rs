@@ -3,7 +3,7 @@
 use hfcast::scene::{MethodKind, RayClasses};
 use hfcast::{Surface, WorldTransform};
 use hfcast_tools::advise::{self, AdviseOptions};
-use hfcast_tools::bench::{bench_rays, markdown_table, random_rays};
+use hfcast_tools::bench::{self, bench_rays, markdown_table, random_rays};
 use hfcast_tools::maps::{bundled_map, shared_data_dir, Depth, Map, MapSpec, Nodata};
 use hfcast_tools::render::{heat_maps, render, write_png, Camera, RenderOptions};
 use hfcast_tools::report::{self, ReportOptions};
@@ -38,7 +38,8 @@ commands:
   bench    rays/s, fetches/ray and hit rate of camera and random rays
            --map PATH (default ../shared/data/dem_etopo5_himalaya_1024.png)
            --depth GRID_UNITS --reps N (3) --random N (1000000) --size WxH (1280x1024)
-           --threads LIST (1,2) --method M --surface S
+           --threads LIST (1,2) --method M --surface S --order lanes|scalar
+           (lanes, the default: 8 rays at once in AVX2 where the method and CPU can)
   report   error against run time of every method setting vs the f64 oracle, on every
            map of ../shared/data at two depths and synthetic fields: Markdown + SVG plots
            (a map that cannot be read is skipped with a warning)
@@ -367,6 +368,11 @@ fn cmd_bench(mut args: Args) -> Result<bool, String> {
     let (method, surface) = args.method_surface()?;
     let reps = args.get("reps", 3usize)?;
     let n_random = args.get("random", 1_000_000usize)?;
+    let order = match args.opt("order").as_deref() {
+        None | Some("lanes") => bench::Order::Lanes,
+        Some("scalar") => bench::Order::Scalar,
+        Some(o) => return Err(format!("--order: bad value {o:?} (want scalar or lanes)")),
+    };
     let size = args.opt("size").unwrap_or("1280x1024".into());
     let (w, h) = size
         .split_once('x')
@@ -401,13 +407,13 @@ fn cmd_bench(mut args: Args) -> Result<bool, String> {
         let rays = Camera::orbit(&hf, elevation, 200.0, w, h).rays();
         let name = format!("camera {w}x{h}, elevation {elevation}°");
         eprintln!("bench: {name}");
-        results.push(bench_rays(&tracer, &name, &rays, &threads, reps));
+        results.push(bench_rays(&tracer, &name, &rays, &threads, reps, order));
     }
     if n_random > 0 {
         let rays = random_rays(&hf, n_random, 1);
         eprintln!("bench: random rays");
         let name = "random, origin in box";
-        results.push(bench_rays(&tracer, name, &rays, &threads, reps));
+        results.push(bench_rays(&tracer, name, &rays, &threads, reps, order));
     }
     println!("{}", markdown_table(method, surface, &results));
     Ok(true)

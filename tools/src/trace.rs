@@ -95,8 +95,15 @@ impl<'a> Tracer<'a> {
         self.marcher().trace(&self.hf, q)
     }
 
-    /// Traces `rays[k]` into `out[k]` (same lengths), one thread.
+    /// Traces `rays[k]` into `out[k]` (same lengths), one thread, in SIMD lanes where the
+    /// method has them and the CPU can ([`Marcher::trace_all`]).
     pub fn trace_all(&self, rays: &[Query<f32>], out: &mut [Trace<f32>]) {
+        self.marcher().trace_all(&self.hf, rays, out, crate::simd());
+    }
+
+    /// [`Tracer::trace_all`] one ray after another, never in SIMD lanes (the benchmark's
+    /// `--order scalar`).
+    pub fn trace_each(&self, rays: &[Query<f32>], out: &mut [Trace<f32>]) {
         let m = self.marcher();
         for (o, q) in out.iter_mut().zip(rays) {
             *o = m.trace(&self.hf, q);

@@ -138,7 +138,13 @@ impl Caster for Marched<'_> {
             (Marcher::MaxMip(mip, surface, _), Some(o)) => Marcher::MaxMip(mip, surface, o),
             (m, _) => m,
         };
-        each(rays, out, |q| Out::of(&m.trace(&self.hf, q)))
+        // In SIMD lanes where the method has them (the maximum mipmap's), so that the
+        // report's wrong-ray counts cover the laned march on every scene.
+        let mut traces = vec![Trace::MISS; rays.len()];
+        m.trace_all(&self.hf, rays, &mut traces, crate::simd());
+        for (o, t) in out.iter_mut().zip(&traces) {
+            *o = Out::of(t);
+        }
     }
     fn baked_bytes(&self) -> usize {
         self.map.bytes()
