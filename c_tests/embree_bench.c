@@ -10,28 +10,48 @@
  * marches; a C suite of scripts/test.sh.
  *
  * The field: a 16-bit PNG, heights v / 65535 x 0.1 x side, as the Rust benchmarks load
- * it. Embree gets the field's triangle surface (each cell cut along the diagonal whose
- * midpoint is lower, as hfcast's triangle surface) and the four side walls from the
- * surface's edges far down: for hfcast everything under the surface is solid, so a ray
- * entering the field's footprint through a side under the surface (even under the
+ * it, or a synthetic one of the same relief, synthetic:NAME[:SIDE] (SIDE x SIDE, default
+ * 1024; seeded, the same on every run): `fractal`, fBm of value noise over the whole
+ * depth (fractal_heights), or `needles`, a low base under one-texel-wide walls and
+ * one-texel needles (needles_heights). Both go through hf_field_create_f32 as the
+ * PNGs do. Embree gets the field's triangle surface (each cell cut along the diagonal
+ * whose midpoint is lower, as hfcast's triangle surface) and the four side walls from
+ * the surface's edges far down: for hfcast everything under the surface is solid, so a
+ * ray entering the field's footprint through a side under the surface (even under the
  * lowest sample) hits there, and with the walls it does in Embree too.
  *
- * The rays, computed as core/examples/common (camera_rays) and safety_bench
- * (random_rays) compute them: camera rays at 45 and 5 degrees elevation (azimuth 30,
- * the whole box in view; 640 x 512 in the benchmark) and random rays inside the box,
- * any direction (a quarter as many). Random rays that start under the surface are a hit
- * at t = 0 for hfcast (the solid is solid) but not for a triangle mesh, so only those
- * that start above it are kept. hfcast traces through its C API (hf_trace_batch with
- * HF_METHOD_CC: the exact CC map, cap 64; HF_METHOD_MAXMIP; HF_METHOD_SAFETY: the exact
- * directional safety distances; HF_METHOD_EXACT: the exact DDA, no bake); Embree
- * traces single rays (rtcIntersect1) and, for the cameras, packets of 8 rays from
- * 4 x 2 pixel tiles (rtcIntersect8).
+ * The rays (ray_set; 640 x 512 cameras in the benchmark), all at azimuth 30, each a
+ * set with its tag in the speedup lines:
+ * - 45deg, 5deg: cameras at 45 and 5 degrees elevation framing the whole box, 40
+ *   degrees of vertical field of view, as core/examples/common (camera_rays) computes
+ *   them; more than half of their rays leave the box early (issue 21).
+ * - filled45deg, filled5deg: the terrain filling the frame: the 40 degree lens from 45
+ *   degrees, and a 2 degree telephoto from 5 degrees, its eye outside the box, its
+ *   rays grazing across the field. Each is as far back as keeps its corner rays'
+ *   meetings with the plane z = zmin inside the footprint, so that every ray meets the
+ *   field (camera_rays); the telephoto, whose lower rays would then enter the near side
+ *   under the surface, is lifted as far as every ray still hits (ray_set). The set's
+ *   name gives the lift and the misses and side hits in hfcast's exact answers.
+ * - random: random rays inside the box, any direction (a quarter as many), as
+ *   safety_bench (random_rays) computes them. Those that start under the surface are a
+ *   hit at t = 0 for hfcast (the solid is solid) but not for a triangle mesh, so only
+ *   those that start above it are kept.
+ * hfcast traces through its C API (hf_trace_batch with HF_METHOD_CC: the exact CC map,
+ * cap 64; HF_METHOD_MAXMIP; HF_METHOD_SAFETY: the exact directional safety distances;
+ * HF_METHOD_EXACT: the exact DDA, no bake); Embree traces single rays (rtcIntersect1)
+ * and, for the cameras, packets of 8 rays from 4 x 2 pixel tiles (rtcIntersect8).
  *
- * Usage: embree_bench [map.png [reps]]   (default the Himalaya DEM of ../shared/data at
- *                                         1024², 5 repetitions; medians)
- *        embree_bench --check map.png...
+ * The benchmark ends with two lines per set, `speedup over embree-packets <set>: <x>`
+ * and `speedup over embree-single <set>: <x>`: x = the best Embree variant's ns per ray
+ * (plain or robust) over hfcast's fastest exact method's in the same run.
+ *
+ * Usage: embree_bench [MAP [reps]]   (MAP: a PNG or synthetic:NAME[:SIDE]; default the
+ *                                     Himalaya DEM of ../shared/data at 1024², 5
+ *                                     repetitions; medians)
+ *        embree_bench --check MAP...
  * Built by `make -C c_tests embree-bench` / `embree-check`; scripts/embree_bench.sh
- * installs libembree-dev, builds the library in release and runs the benchmark. */
+ * installs libembree-dev, builds the library in release and runs the benchmark (--all:
+ * on the Himalaya DEM, synthetic:fractal and synthetic:needles). */
 #define _POSIX_C_SOURCE 199309L
 #include <embree3/rtcore.h>
 #include <math.h>
@@ -85,32 +105,66 @@ static double dot3(const double a[3], const double b[3]) {
     return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
 }
 
-/* The camera of core/examples/common/mod.rs (camera_rays): looking at the box's centre
- * from `elevation` degrees, 40 degrees vertical field of view, far enough that the
- * whole box is in view. */
-static void camera_rays(uint32_t fw, uint32_t fh, double zmin, double zmax, double elevation,
-                        double azimuth, uint32_t cam_w, uint32_t cam_h, hf_ray *rays) {
+/* A camera of the ray sets: its view from `elevation` degrees above the horizon and
+ * `azimuth` degrees, `half_fov` degrees of half its vertical field of view, and its
+ * framing. */
+typedef struct camera {
+    const char *tag; /* the set's name in the speedup lines */
+    double elevation, azimuth, half_fov;
+    int filled; /* 0: the whole box in view; 1: the terrain fills the frame */
+} camera;
+
+/* The rays of `cam`, a `cam_w x cam_h` image. Whole-box framing, the camera of
+ * core/examples/common/mod.rs (camera_rays): looking at the box's centre, far enough that
+ * the whole box is in view (`zref` unused). Filled framing: looking at the footprint's
+ * centre on the plane z = zref, as far back as keeps the four corner rays' meetings with
+ * that plane inside the footprint (shrunk by 1%). With zref = zmin every ray meets the
+ * field: it descends (half_fov < elevation), and over the footprint the surface is never
+ * under zmin, so by the time the ray is down to zmin it is at or under the surface (the
+ * rays between the corners meet the plane inside the corners' quadrilateral, convex). */
+static void camera_rays(uint32_t fw, uint32_t fh, double zmin, double zmax, const camera *cam,
+                        double zref, uint32_t cam_w, uint32_t cam_h, hf_ray *rays) {
     double size[3] = {(double)(fw - 1), (double)(fh - 1), zmax - zmin};
-    double centre[3] = {size[0] / 2.0, size[1] / 2.0, zmin + size[2] / 2.0};
-    double tan_y = tan(20.0 * (PI / 180.0));
+    double tan_y = tan(cam->half_fov * (PI / 180.0));
     double tan_x = tan_y * cam_w / cam_h;
     double to_eye[3], fwd[3], right[3], up[3];
-    direction(azimuth, elevation, to_eye);
+    direction(cam->azimuth, cam->elevation, to_eye);
     for (int k = 0; k < 3; k++) fwd[k] = -to_eye[k];
-    direction(azimuth + 270.0, 0.0, right);
+    direction(cam->azimuth + 270.0, 0.0, right);
     up[0] = fwd[1] * right[2] - fwd[2] * right[1];
     up[1] = fwd[2] * right[0] - fwd[0] * right[2];
     up[2] = fwd[0] * right[1] - fwd[1] * right[0];
+    double target[3] = {size[0] / 2.0, size[1] / 2.0, zmin + size[2] / 2.0};
     double dist = 1e-3;
-    for (int corner = 0; corner < 8; corner++) {
-        double c[3];
-        for (int k = 0; k < 3; k++) c[k] = size[k] * ((double)((corner >> k) & 1) - 0.5);
-        double need_x = fabs(dot3(c, right)) / tan_x - dot3(c, fwd);
-        double need_y = fabs(dot3(c, up)) / tan_y - dot3(c, fwd);
-        dist = fmax(dist, fmax(need_x, need_y));
+    if (!cam->filled) {
+        for (int corner = 0; corner < 8; corner++) {
+            double c[3];
+            for (int k = 0; k < 3; k++) c[k] = size[k] * ((double)((corner >> k) & 1) - 0.5);
+            double need_x = fabs(dot3(c, right)) / tan_x - dot3(c, fwd);
+            double need_y = fabs(dot3(c, up)) / tan_y - dot3(c, fwd);
+            dist = fmax(dist, fmax(need_x, need_y));
+        }
+        dist *= 1.05;
+    } else {
+        /* The eye at target + dist x to_eye; corner ray c meets the plane after
+         * s = dist x to_eye_z / -c_z, at target + dist x (to_eye + to_eye_z / -c_z x c):
+         * horizontally linear in dist, so each bound gives dist directly. */
+        target[2] = zref;
+        dist = INFINITY;
+        for (int corner = 0; corner < 4; corner++) {
+            double c[3];
+            for (int k = 0; k < 3; k++) {
+                c[k] = fwd[k] + (corner & 1 ? tan_x : -tan_x) * right[k] +
+                       (corner & 2 ? tan_y : -tan_y) * up[k];
+            }
+            for (int k = 0; k < 2; k++) {
+                double v = to_eye[k] + to_eye[2] / -c[2] * c[k];
+                if (v != 0.0) dist = fmin(dist, 0.99 * (size[k] / 2.0) / fabs(v));
+            }
+        }
     }
     float eye[3];
-    for (int k = 0; k < 3; k++) eye[k] = (float)(centre[k] + 1.05 * dist * to_eye[k]);
+    for (int k = 0; k < 3; k++) eye[k] = (float)(target[k] + dist * to_eye[k]);
     for (uint32_t py = 0; py < cam_h; py++) {
         for (uint32_t px = 0; px < cam_w; px++) {
             double sx = 2.0 * (px + 0.5) / cam_w - 1.0;
@@ -319,22 +373,141 @@ static void *bake_map(const field_data *fd, uint32_t method, hf_bake_options o, 
     return map;
 }
 
-/* Loads `path` (heights v / 65535 x 0.1 x side) and bakes its exact CC map, its
- * maximum mipmap and its exact safety distances; 0 when the file cannot be read. */
-static int field_load(const char *path, field_data *fd) {
+/* ---- synthetic fields ----------------------------------------------------------- */
+
+/* A hash of (seed, i, j) to [0, 1) (splitmix64's finaliser over the packed inputs). */
+static double lattice(uint64_t seed, int64_t i, int64_t j) {
+    uint64_t x = seed * 0x9e3779b97f4a7c15ull ^ (uint64_t)i * 0xbf58476d1ce4e5b9ull ^
+                 (uint64_t)j * 0x94d049bb133111ebull;
+    x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ull;
+    x = (x ^ (x >> 27)) * 0x94d049bb133111ebull;
+    x ^= x >> 31;
+    return (double)(x >> 11) / 9007199254740992.0;
+}
+
+/* Value noise: the lattice's values at the integer points around (x, y), blended with
+ * smoothstep weights; in [0, 1]. */
+static double value_noise(uint64_t seed, double x, double y) {
+    double fx = floor(x), fy = floor(y);
+    int64_t i = (int64_t)fx, j = (int64_t)fy;
+    double u = x - fx, v = y - fy;
+    u = u * u * (3.0 - 2.0 * u);
+    v = v * v * (3.0 - 2.0 * v);
+    double a = lattice(seed, i, j) + (lattice(seed, i + 1, j) - lattice(seed, i, j)) * u;
+    double b = lattice(seed, i, j + 1) + (lattice(seed, i + 1, j + 1) - lattice(seed, i, j + 1)) * u;
+    return a + (b - a) * v;
+}
+
+/* fBm over an n x n grid into h: octaves of value noise from period `period` texels
+ * down to 2, each half the period and half the amplitude of the one before (seeded by
+ * `seed` and the octave), scaled to [0, relief]. */
+static void fbm(uint32_t n, double period, uint64_t seed, double relief, float *h) {
+    double lo = INFINITY, hi = -INFINITY;
+    double *acc = (double *)calloc((size_t)n * n, sizeof *acc);
+    for (uint32_t j = 0; j < n; j++) {
+        for (uint32_t i = 0; i < n; i++) {
+            double sum = 0.0, amp = 1.0, p = period;
+            for (uint64_t octave = 0; p >= 2.0; octave++, p /= 2.0, amp /= 2.0) {
+                sum += amp * value_noise(seed * 64 + octave, i / p, j / p);
+            }
+            acc[(size_t)j * n + i] = sum;
+            lo = fmin(lo, sum);
+            hi = fmax(hi, sum);
+        }
+    }
+    for (size_t k = 0; k < (size_t)n * n; k++) h[k] = (float)((acc[k] - lo) / (hi - lo) * relief);
+    free(acc);
+}
+
+/* synthetic:fractal: fBm from a quarter of the side down to 2 texels, over the whole
+ * depth (0.1 x side, as a PNG that uses its whole range): mountains whose slopes stay
+ * rough down to the texel. */
+static void fractal_heights(uint32_t n, double depth, float *h) {
+    fbm(n, n / 4.0, 1, depth, h);
+}
+
+/* synthetic:needles: a low base (fBm over a tenth of the depth) under thin walls, each
+ * a 4-connected line of samples one texel wide (a ridge of the triangle surface with no
+ * gap), side / 32 of them, side / 8 to side / 2 long, in any direction, 0.1 to 0.3 x the
+ * depth high (low enough that grazing rays pass over some), and one-texel needles (a
+ * single tall sample: a spike of four triangles over 2 x 2 cells), side^2 / 1024 of
+ * them, 0.3 to 1 x the depth high. A cone or a maximum-mipmap level sees their tops
+ * over cells they barely cover: the marches must step slowly near every one while the
+ * rays pass between them. */
+static void needles_heights(uint32_t n, double depth, float *h) {
+    fbm(n, n / 8.0, 2, 0.1 * depth, h);
+    uint64_t x = 0x2545f4914f6cdd1dull;
+#define NEXT() (x ^= x << 13, x ^= x >> 7, x ^= x << 17, (double)(x >> 11) / 9007199254740992.0)
+#define RAISE(i, j, z) (h[(size_t)(j) * n + (i)] = fmaxf(h[(size_t)(j) * n + (i)], (float)(z)))
+    for (uint32_t w = 0; w < n / 32; w++) {
+        int x0 = (int)(NEXT() * n), y0 = (int)(NEXT() * n);
+        double len = n * (0.125 + 0.375 * NEXT()), a = 2.0 * PI * NEXT();
+        double z = depth * (0.1 + 0.2 * NEXT());
+        int x1 = (int)fmin(fmax(x0 + len * cos(a), 0.0), n - 1.0);
+        int y1 = (int)fmin(fmax(y0 + len * sin(a), 0.0), n - 1.0);
+        /* The grid walk: one step in x or in y at a time, whichever lags the line. */
+        int dx = abs(x1 - x0), dy = abs(y1 - y0), sx = x1 > x0 ? 1 : -1, sy = y1 > y0 ? 1 : -1;
+        RAISE(x0, y0, z);
+        for (int ix = 0, iy = 0; ix < dx || iy < dy;) {
+            if ((2 * ix + 1) * dy < (2 * iy + 1) * dx) {
+                x0 += sx;
+                ix++;
+            } else {
+                y0 += sy;
+                iy++;
+            }
+            RAISE(x0, y0, z);
+        }
+    }
+    for (size_t k = 0; k < (size_t)n * n / 1024; k++) {
+        uint32_t i = (uint32_t)(NEXT() * n), j = (uint32_t)(NEXT() * n);
+        RAISE(i, j, depth * (0.3 + 0.7 * NEXT()));
+    }
+#undef RAISE
+#undef NEXT
+}
+
+/* The heights of `path` into fd->heights, fd->w x fd->h, and fd->depth (0.1 x side): a
+ * 16-bit PNG (heights v / 65535 x depth, as the Rust benchmarks load it) or
+ * synthetic:NAME[:SIDE] (fractal or needles, SIDE x SIDE, default 1024). 0 when the file
+ * cannot be read or the name is unknown. */
+static int field_heights(const char *path, field_data *fd) {
+    if (strncmp(path, "synthetic:", 10) == 0) {
+        const char *name = path + 10, *colon = strchr(name, ':');
+        size_t name_len = colon ? (size_t)(colon - name) : strlen(name);
+        long side = colon ? strtol(colon + 1, NULL, 10) : 1024;
+        void (*gen)(uint32_t, double, float *) =
+            name_len == 7 && strncmp(name, "fractal", 7) == 0   ? fractal_heights
+            : name_len == 7 && strncmp(name, "needles", 7) == 0 ? needles_heights
+                                                                : NULL;
+        if (!gen || side < 16 || side > 16384) return 0;
+        fd->w = fd->h = (uint32_t)side;
+        fd->depth = 0.1f * (float)side;
+        fd->heights = (float *)malloc(sizeof(float) * (size_t)side * side);
+        gen(fd->w, fd->depth, fd->heights);
+        return 1;
+    }
     uint16_t *raw = read_png_gray16(path, &fd->w, &fd->h);
     if (!raw) return 0;
     size_t n = (size_t)fd->w * fd->h;
     fd->depth = 0.1f * (float)(fd->w > fd->h ? fd->w : fd->h);
     fd->heights = (float *)malloc(sizeof(float) * n);
+    for (size_t i = 0; i < n; i++) fd->heights[i] = (float)raw[i] / 65535.0f * fd->depth;
+    free(raw);
+    return 1;
+}
+
+/* Loads `path` ([field_heights]) and bakes its exact CC map, its maximum mipmap and its
+ * exact safety distances; 0 when it cannot be read. */
+static int field_load(const char *path, field_data *fd) {
+    if (!field_heights(path, fd)) return 0;
+    size_t n = (size_t)fd->w * fd->h;
     fd->zmin = INFINITY;
     fd->zmax = -INFINITY;
     for (size_t i = 0; i < n; i++) {
-        fd->heights[i] = (float)raw[i] / 65535.0f * fd->depth;
         fd->zmin = fminf(fd->zmin, fd->heights[i]);
         fd->zmax = fmaxf(fd->zmax, fd->heights[i]);
     }
-    free(raw);
     check_hf("hf_field_create_f32",
              hf_field_create_f32(fd->heights, n, fd->w, fd->h, fd->w, &fd->field));
     /* All four ray classes (the defaults): the CC map of the exact slope and cap CC_CAP,
@@ -356,34 +529,6 @@ static void field_free(field_data *fd) {
     free(fd->cc);
     hf_field_destroy(fd->field);
     free(fd->heights);
-}
-
-#define RAY_SETS 3
-
-/* Ray set `k` of a `cam_w x cam_h` camera into `rays` (room for cam_w x cam_h rays):
- * the 45 and 5 degree cameras, then random rays starting above the surface (from
- * cam_w x cam_h / 4 drawn). Writes its name; returns its ray count. */
-static size_t ray_set(const field_data *fd, int k, uint32_t cam_w, uint32_t cam_h, hf_ray *rays,
-                      char *name, size_t name_len) {
-    size_t n = (size_t)cam_w * cam_h;
-    if (k < 2) {
-        double elevation = k == 0 ? 45.0 : 5.0;
-        camera_rays(fd->w, fd->h, fd->zmin, fd->zmax, elevation, 30.0, cam_w, cam_h, rays);
-        snprintf(name, name_len, "camera %.0f deg", elevation);
-        return n;
-    }
-    size_t drawn = n / 4;
-    random_rays(fd->w, fd->h, fd->zmin, fd->zmax, drawn, 7, rays);
-    hf_hit *probe = (hf_hit *)malloc(sizeof(hf_hit) * drawn);
-    check_hf("hf_trace_batch (exact)", hf_trace_batch(fd->field, HF_METHOD_EXACT, NULL, 0, NULL,
-                                                      rays, drawn, probe, drawn));
-    size_t above = 0;
-    for (size_t i = 0; i < drawn; i++) {
-        if (!(probe[i].flags & HF_FLAG_ORIGIN_INSIDE)) rays[above++] = rays[i];
-    }
-    free(probe);
-    snprintf(name, name_len, "random, starting above the surface (%zu of %zu)", above, drawn);
-    return above;
 }
 
 /* Rays whose hit differs between `hits` and Embree's `t` (one hits and not the other,
@@ -416,6 +561,83 @@ static void trace_method(const field_data *fd, int method, const hf_ray *rays, s
     check_hf(METHOD_NAMES[method],
              hf_trace_batch(fd->field, api[method], map[method], len[method], NULL, rays, n,
                             hits, n));
+}
+
+/* The cameras, then the random rays: the whole box from 45 and 5 degrees (more than
+ * half their rays leave the box early), and the terrain filling the frame from 45 and
+ * 5 degrees (a 2 degree telephoto, its rays grazing across the field), all at azimuth
+ * 30 and 40 degrees of vertical field of view but the telephoto. */
+static const camera CAMERAS[] = {{"45deg", 45.0, 30.0, 20.0, 0},
+                                 {"5deg", 5.0, 30.0, 20.0, 0},
+                                 {"filled45deg", 45.0, 30.0, 20.0, 1},
+                                 {"filled5deg", 5.0, 30.0, 1.0, 1}};
+#define CAMERA_SETS ((int)(sizeof CAMERAS / sizeof CAMERAS[0]))
+#define RAY_SETS (CAMERA_SETS + 1)
+
+/* The rays of `cam` framed on zref, traced by the exact CC march into `hits`; the
+ * misses, and in *side the hits on the field's sides (rays that enter it under the
+ * surface). */
+static size_t camera_misses(const field_data *fd, const camera *cam, double zref, uint32_t cam_w,
+                            uint32_t cam_h, hf_ray *rays, hf_hit *hits, size_t *side) {
+    size_t n = (size_t)cam_w * cam_h, misses = 0;
+    camera_rays(fd->w, fd->h, fd->zmin, fd->zmax, cam, zref, cam_w, cam_h, rays);
+    trace_method(fd, METHOD_CC, rays, n, hits);
+    *side = 0;
+    for (size_t i = 0; i < n; i++) {
+        misses += !hits[i].hit;
+        *side += hits[i].hit && (hits[i].flags & HF_FLAG_SIDE);
+    }
+    return misses;
+}
+
+/* Ray set `k` of a `cam_w x cam_h` camera into `rays` (room for cam_w x cam_h rays):
+ * the cameras of CAMERAS, then random rays starting above the surface (from
+ * cam_w x cam_h / 4 drawn). Writes its name; returns its ray count. A filled camera
+ * framed on zmin meets the field with every ray, but a low one (the telephoto) sees
+ * rays enter the near side under the surface: hits on the side wall, not on the
+ * terrain. Then it is lifted: zref raised by bisection (8 halvings of the relief) to
+ * the highest level at which hfcast's exact answers still have every ray hit. Its name
+ * says the lift, the misses and the side hits. */
+static size_t ray_set(const field_data *fd, int k, uint32_t cam_w, uint32_t cam_h, hf_ray *rays,
+                      char *name, size_t name_len) {
+    size_t n = (size_t)cam_w * cam_h;
+    if (k < CAMERA_SETS) {
+        const camera *cam = &CAMERAS[k];
+        if (!cam->filled) {
+            camera_rays(fd->w, fd->h, fd->zmin, fd->zmax, cam, fd->zmin, cam_w, cam_h, rays);
+            snprintf(name, name_len, "camera %.0f deg", cam->elevation);
+            return n;
+        }
+        hf_hit *hits = (hf_hit *)malloc(sizeof(hf_hit) * n);
+        double lo = fd->zmin, hi = fd->zmax;
+        size_t side, misses = camera_misses(fd, cam, lo, cam_w, cam_h, rays, hits, &side);
+        if (side > 0) {
+            for (int step = 0; step < 8; step++) {
+                double mid = 0.5 * (lo + hi);
+                size_t s;
+                *(camera_misses(fd, cam, mid, cam_w, cam_h, rays, hits, &s) == 0 ? &lo : &hi) = mid;
+            }
+            misses = camera_misses(fd, cam, lo, cam_w, cam_h, rays, hits, &side);
+        }
+        free(hits);
+        snprintf(name, name_len,
+                 "filled camera %.0f deg, %.0f deg vertical fov (lift %.1f; %zu misses, %zu side "
+                 "hits)",
+                 cam->elevation, 2.0 * cam->half_fov, lo - fd->zmin, misses, side);
+        return n;
+    }
+    size_t drawn = n / 4;
+    random_rays(fd->w, fd->h, fd->zmin, fd->zmax, drawn, 7, rays);
+    hf_hit *probe = (hf_hit *)malloc(sizeof(hf_hit) * drawn);
+    check_hf("hf_trace_batch (exact)", hf_trace_batch(fd->field, HF_METHOD_EXACT, NULL, 0, NULL,
+                                                      rays, drawn, probe, drawn));
+    size_t above = 0;
+    for (size_t i = 0; i < drawn; i++) {
+        if (!(probe[i].flags & HF_FLAG_ORIGIN_INSIDE)) rays[above++] = rays[i];
+    }
+    free(probe);
+    snprintf(name, name_len, "random, starting above the surface (%zu of %zu)", above, drawn);
+    return above;
 }
 
 /* ---- benchmark ------------------------------------------------------------------- */
@@ -565,10 +787,10 @@ static int bench(const char *path, int reps) {
            fd.cc_bake_s, fd.pyramid_bake_s, build[0], build[1]);
     hf_ray *rays = (hf_ray *)malloc(sizeof(hf_ray) * BENCH_W * BENCH_H);
     for (int k = 0; k < RAY_SETS; k++) {
-        char name[96];
+        char name[160];
         size_t m = ray_set(&fd, k, BENCH_W, BENCH_H, rays, name, sizeof name);
-        static const char *const tags[RAY_SETS] = {"45deg", "5deg", "random"};
-        bench_set(&fd, scenes, reps, name, tags[k], rays, m, k < 2);
+        int camera = k < CAMERA_SETS;
+        bench_set(&fd, scenes, reps, name, camera ? CAMERAS[k].tag : "random", rays, m, camera);
     }
     for (int k = 0; k < set_count; k++) printf("%s\n%s\n", speedups[1][k], speedups[0][k]);
     free(rays);
@@ -647,7 +869,7 @@ static void check_map(const char *path, RTCDevice dev, int *passed, int *failed)
     size_t *bad = (size_t *)malloc(sizeof(size_t) * cap);
     const char *base = strrchr(path, '/') ? strrchr(path, '/') + 1 : path;
     for (int k = 0; k < RAY_SETS; k++) {
-        char name[96];
+        char name[160];
         size_t n = ray_set(&fd, k, CHECK_W, CHECK_H, rays, name, sizeof name);
         embree_trace1(scene, rays, n, t);
         for (int method = 0; method < METHODS; method++) {

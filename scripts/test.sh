@@ -105,7 +105,8 @@ echo "== OSMesa (llvmpipe): generated minimal shaders against the general ones a
 echo "== GLFW under Xvfb: the window's screenshot against the OSMesa image"
 "${C_MAKE[@]}" glfw-test 2>&1 | tee -a target/c_tests.log
 echo "== Embree (watertight) as an oracle: hfcast's exact CC, maximum-mipmap, safety-distance and DDA marches, every hit that differs within rounding"
-EMBREE_MAPS="$C_MAPS"
+# The synthetic fields at 256² too: fBm, and one-texel walls and needles (embree_bench.c).
+EMBREE_MAPS="$C_MAPS synthetic:fractal:256 synthetic:needles:256"
 if [ -f ../shared/data/dem_etopo5_himalaya_1024.png ]; then
   EMBREE_MAPS="$EMBREE_MAPS ../../shared/data/dem_etopo5_himalaya_1024.png"
 fi
