@@ -37,7 +37,8 @@
  *   hit at t = 0 for hfcast (the solid is solid) but not for a triangle mesh, so only
  *   those that start above it are kept.
  * hfcast traces through its C API (hf_trace_batch with HF_METHOD_CC: the exact CC map,
- * cap 64; HF_METHOD_MAXMIP; HF_METHOD_SAFETY: the exact directional safety distances;
+ * cap 64; HF_METHOD_MAXMIP, in AVX2 lanes where the CPU has them and with HF_SIMD_OFF
+ * one ray after another; HF_METHOD_SAFETY: the exact directional safety distances;
  * HF_METHOD_EXACT: the exact DDA, no bake); Embree traces single rays (rtcIntersect1)
  * and, for the cameras, packets of 8 rays from 4 x 2 pixel tiles (rtcIntersect8).
  *
@@ -546,21 +547,27 @@ static size_t disagreements(const hf_hit *hits, const float *t, size_t n, size_t
     return bad;
 }
 
-/* hfcast's exact methods compared, through the batch functions of the C API. */
-enum { METHOD_CC, METHOD_MAXMIP, METHOD_SD, METHOD_DDA, METHODS };
-static const char *const METHOD_NAMES[METHODS] = {"cc exact", "maxmip exact", "sd exact",
+/* hfcast's exact methods compared, through the batch functions of the C API; the
+ * maximum mipmap twice, in AVX2 lanes of 8 rays (the default where the CPU has AVX2)
+ * and one ray after another (HF_SIMD_OFF). */
+enum { METHOD_CC, METHOD_MAXMIP, METHOD_MAXMIP_SCALAR, METHOD_SD, METHOD_DDA, METHODS };
+static const char *const METHOD_NAMES[METHODS] = {"cc exact", "maxmip exact (lanes)",
+                                                  "maxmip exact (scalar)", "sd exact",
                                                   "dda exact"};
 
 /* Traces `rays` with hfcast's exact `method` (triangle surface) into `hits`. */
 static void trace_method(const field_data *fd, int method, const hf_ray *rays, size_t n,
                          hf_hit *hits) {
-    static const uint32_t api[METHODS] = {HF_METHOD_CC, HF_METHOD_MAXMIP, HF_METHOD_SAFETY,
-                                          HF_METHOD_EXACT};
-    const void *map[METHODS] = {fd->cc, fd->pyramid, fd->sd, NULL};
-    const size_t len[METHODS] = {fd->cc_len, fd->pyramid_len, fd->sd_len, 0};
+    static const uint32_t api[METHODS] = {HF_METHOD_CC, HF_METHOD_MAXMIP, HF_METHOD_MAXMIP,
+                                          HF_METHOD_SAFETY, HF_METHOD_EXACT};
+    const void *map[METHODS] = {fd->cc, fd->pyramid, fd->pyramid, fd->sd, NULL};
+    const size_t len[METHODS] = {fd->cc_len, fd->pyramid_len, fd->pyramid_len, fd->sd_len, 0};
+    hf_trace_options o;
+    check_hf("hf_trace_options_default", hf_trace_options_default(&o));
+    if (method == METHOD_MAXMIP_SCALAR) o.simd = HF_SIMD_OFF;
     check_hf(METHOD_NAMES[method],
-             hf_trace_batch(fd->field, api[method], map[method], len[method], NULL, rays, n,
-                            hits, n));
+             hf_trace_batch(fd->field, api[method], map[method], len[method], &o, rays, n, hits,
+                            n));
 }
 
 /* The cameras, then the random rays: the whole box from 45 and 5 degrees (more than
@@ -711,7 +718,7 @@ static void bench_set(const field_data *fd, RTCScene scenes[2], int reps, const 
         if (!run_applies(run, camera)) continue;
         double m = median(ns + run * reps, reps), w = median(warm + run * reps, reps);
         if (run < METHODS) {
-            printf("  hfcast %-20s %6.0f ns/ray %6.2f M rays/s  (warm %4.0f)  %.1f fetches/ray\n",
+            printf("  hfcast %-22s %6.0f ns/ray %6.2f M rays/s  (warm %4.0f)  %.1f fetches/ray\n",
                    METHOD_NAMES[run], m, 1e3 / m, w, fetches[run] / n);
         } else {
             printf("  %-27s %6.0f ns/ray %6.2f M rays/s  (warm %4.0f)  cc / this %.2f (warm %.2f); "

@@ -1673,10 +1673,10 @@ static void test_trace_options(void) {
     memset(&d, 0xAB, sizeof d);
     CHECK_OK(hf_trace_options_default(&d));
     int reserved_zero = 1;
-    for (int k = 0; k < 10; k++) reserved_zero &= d.reserved[k] == 0;
+    for (int k = 0; k < 9; k++) reserved_zero &= d.reserved[k] == 0;
     CHECK(d.surface == HF_SURFACE_TRIANGLES && d.ray_classes == 0 && d.steps == 64 &&
           d.binary_steps == 8 && d.radius_zero == HF_RADIUS_WALK && d.threads == 1 &&
-          reserved_zero);
+          d.simd == HF_SIMD_AUTO && reserved_zero);
     CHECK_BAD(hf_trace_options_default(NULL), HF_ERR_NULL_POINTER, nothing, 0);
 
     /* Every method's map of this field (NULL and 0 for the three without one): the
@@ -1707,9 +1707,9 @@ static void test_trace_options(void) {
         CHECK(memcmp(a, b, sizeof a) == 0);
         CHECK_OK(hf_trace(f, me, map, len, NULL, &rays[3], &h));
         CHECK(memcmp(&h, &a[3], sizeof h) == 0);
-        /* A nonzero reserved word, whichever, is refused. */
+        /* A nonzero reserved word, whichever, is refused; so is an unknown hf_simd. */
         memset(b, 0x5A, sizeof b);
-        for (int k = 0; k < 10; k++) {
+        for (int k = 0; k < 9; k++) {
             hf_trace_options o = d;
             o.reserved[k] = 1;
             CHECK_BAD(hf_trace(f, me, map, len, &o, &rays[0], &h), HF_ERR_INVALID_ARGUMENT, &h,
@@ -1717,6 +1717,12 @@ static void test_trace_options(void) {
             CHECK_BAD(hf_trace_batch(f, me, map, len, &o, rays, R, b, R), HF_ERR_INVALID_ARGUMENT,
                       b, sizeof b);
         }
+        hf_trace_options bad_simd = d;
+        bad_simd.simd = HF_SIMD_OFF + 1;
+        CHECK_BAD(hf_trace(f, me, map, len, &bad_simd, &rays[0], &h), HF_ERR_INVALID_ENUM, &h,
+                  sizeof h);
+        CHECK_BAD(hf_trace_batch(f, me, map, len, &bad_simd, rays, R, b, R), HF_ERR_INVALID_ENUM,
+                  b, sizeof b);
         /* The surfaces it does not trace are refused, unknown ones are bad enums. */
         for (uint32_t s = HF_SURFACE_TRIANGLES; s <= HF_SURFACE_VIEW_LINEAR + 1; s++) {
             hf_trace_options o = on(s);
@@ -1731,7 +1737,8 @@ static void test_trace_options(void) {
         }
     }
     /* A batch on several threads (bands of 256 rays) answers as on one, every method:
-     * threads 2, 3 and 0 (one per core) against the default 1. */
+     * threads 2, 3 and 0 (one per core) against the default 1; and without SIMD lanes
+     * as with them. */
     enum { BIG = 2000 };
     hf_ray *many = (hf_ray *)malloc(sizeof(hf_ray) * BIG);
     hf_hit *one_thread = (hf_hit *)malloc(sizeof(hf_hit) * BIG);
@@ -1750,6 +1757,12 @@ static void test_trace_options(void) {
             CHECK(memcmp(one_thread, threaded, sizeof(hf_hit) * BIG) == 0);
             if (t == 0) break;
         }
+        hf_trace_options scalar = d;
+        scalar.simd = HF_SIMD_OFF;
+        memset(threaded, 0x5A, sizeof(hf_hit) * BIG);
+        CHECK_OK(hf_trace_batch(f, all[m].method, all[m].map, all[m].len, &scalar, many, BIG,
+                                threaded, BIG));
+        CHECK(memcmp(one_thread, threaded, sizeof(hf_hit) * BIG) == 0);
     }
     /* A bad ray far into a threaded batch still fails it first and writes nothing. */
     many[1500].dir[0] = many[1500].dir[1] = many[1500].dir[2] = 0.0f;

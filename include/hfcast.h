@@ -347,6 +347,25 @@ typedef uint32_t hf_radius_zero;
 #endif // __cplusplus
 #endif
 
+// Whether a batch may use SIMD lanes (`hf_trace_options::simd`). Passed as `uint32_t`.
+enum hf_simd
+#if defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+  : uint32_t
+#endif // defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+ {
+  // Lanes where the method has them and the CPU can (detected at run time).
+  HF_SIMD_AUTO = 0,
+  // One ray after another.
+  HF_SIMD_OFF = 1,
+};
+#ifndef __cplusplus
+#if __STDC_VERSION__ >= 202311L
+typedef enum hf_simd hf_simd;
+#else
+typedef uint32_t hf_simd;
+#endif // __STDC_VERSION__ >= 202311L
+#endif // __cplusplus
+
 #if defined(HF_HAVE_SAFETY)
 // How the cone slope of a cylinder–cone bake is computed (`hf_bake_options::slope`).
 // Passed as `uint32_t`.
@@ -532,8 +551,13 @@ typedef struct hf_trace_options {
   // `n` (at most the available cores), 0 one per available core, as the bakes. The
   // answers do not depend on it. `hf_trace` (one ray) ignores it.
   uint32_t threads;
+  // Whether batches and cameras may use the CPU's SIMD lanes, an `hf_simd`: default
+  // `HF_SIMD_AUTO` (the maximum mipmap marches 8 rays at once in AVX2 where the CPU
+  // has it), `HF_SIMD_OFF` (one ray after another: for comparison). The answers do
+  // not depend on it.
+  uint32_t simd;
   // Room for later options: must be 0 (else `HF_ERR_INVALID_ARGUMENT`).
-  uint32_t reserved[10];
+  uint32_t reserved[9];
 } hf_trace_options;
 
 // The answer to one query. On a miss `hit` is 0 and every field but `fetches`,

@@ -200,7 +200,7 @@ unsafe fn trace_pixels(
                             });
                         }
                     }
-                    trace_locals(&m, hf, &queries, &mut local[..queries.len()]);
+                    trace_locals(&m, &o, hf, &queries, &mut local[..queries.len()]);
                     for (dy, row) in local.chunks(tw).take(ys.len()).enumerate() {
                         let k = (y0 as usize + dy) * width + x0 as usize - first;
                         band[k..k + tw].copy_from_slice(row);

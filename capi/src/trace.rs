@@ -163,8 +163,23 @@ pub struct hf_trace_options {
     /// `n` (at most the available cores), 0 one per available core, as the bakes. The
     /// answers do not depend on it. `hf_trace` (one ray) ignores it.
     pub threads: u32,
+    /// Whether batches and cameras may use the CPU's SIMD lanes, an `hf_simd`: default
+    /// `HF_SIMD_AUTO` (the maximum mipmap marches 8 rays at once in AVX2 where the CPU
+    /// has it), `HF_SIMD_OFF` (one ray after another: for comparison). The answers do
+    /// not depend on it.
+    pub simd: u32,
     /// Room for later options: must be 0 (else `HF_ERR_INVALID_ARGUMENT`).
-    pub reserved: [u32; 10],
+    pub reserved: [u32; 9],
+}
+
+/// Whether a batch may use SIMD lanes (`hf_trace_options::simd`). Passed as `uint32_t`.
+#[repr(u32)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum hf_simd {
+    /// Lanes where the method has them and the CPU can (detected at run time).
+    HF_SIMD_AUTO = 0,
+    /// One ray after another.
+    HF_SIMD_OFF = 1,
 }
 
 impl Default for hf_trace_options {
@@ -178,7 +193,8 @@ impl Default for hf_trace_options {
             binary_steps: m.binary_steps,
             radius_zero: 0,
             threads: 1,
-            reserved: [0; 10],
+            simd: hf_simd::HF_SIMD_AUTO as u32,
+            reserved: [0; 9],
         }
     }
 }
@@ -208,6 +224,8 @@ pub(crate) struct TraceOptions {
     pub classes: Option<RayClasses>,
     /// The batch's thread count, as passed (0: one per core).
     pub threads: u32,
+    /// The SIMD lanes a batch may use: the CPU's, unless the options turn them off.
+    pub simd: Option<hfcore::simd::Avx2>,
 }
 
 impl TraceOptions {
@@ -249,6 +267,11 @@ impl TraceOptions {
             0 => None,
             v => Some(crate::scene::classes_of(v)?),
         };
+        let simd = match o.simd {
+            0 => simd(),
+            1 => None,
+            _ => return Err(fail(HF_ERR_INVALID_ENUM, "options.simd: not an hf_simd")),
+        };
         Ok(TraceOptions {
             march: MarchOptions {
                 surface,
@@ -258,6 +281,7 @@ impl TraceOptions {
             },
             classes,
             threads: o.threads,
+            simd,
         })
     }
 }
@@ -363,17 +387,19 @@ fn simd() -> Option<hfcore::simd::Avx2> {
 }
 
 /// The hits of the conditioned queries `locals` into `out` (same lengths; `None`: a
-/// miss that cost nothing), traced together by `m` ([`Marcher::trace_all`]: in SIMD
-/// lanes where the method and the CPU can), the answers those of one `hf_trace` each.
+/// miss that cost nothing), traced together by `m` ([`Marcher::trace_all`]: in the
+/// SIMD lanes `o` allows where the method has them), the answers those of one
+/// `hf_trace` each.
 pub(crate) fn trace_locals(
     m: &Marcher,
+    o: &TraceOptions,
     hf: &HeightField,
     locals: &[Option<Local>],
     out: &mut [hf_hit],
 ) {
     let queries: Vec<Query<f32>> = locals.iter().flatten().map(|l| l.query).collect();
     let mut traces = vec![Trace::MISS; queries.len()];
-    m.trace_all(hf, &queries, &mut traces, simd());
+    m.trace_all(hf, &queries, &mut traces, o.simd);
     let mut traces = traces.into_iter();
     for (l, h) in locals.iter().zip(out.iter_mut()) {
         *h = match l {
@@ -448,7 +474,7 @@ pub unsafe extern "C" fn hf_trace_batch(
                 .enumerate()
                 .map(|(k, r)| query(hf, r, Some(first + k)).map(Some))
                 .collect::<Result<Vec<_>, _>>()?;
-            trace_locals(&m, hf, &locals, out);
+            trace_locals(&m, &o, hf, &locals, out);
             Ok(())
         })
     })

@@ -345,6 +345,19 @@ pub fn shadow_ray(
     Some((q, lambert))
 }
 
+/// The traces of the queries of `queries` that are there, as one batch
+/// ([`Tracer::trace_all`]); `None` where there is none.
+fn trace_some(tracer: &Tracer, queries: &[Option<Query<f32>>]) -> Vec<Option<Trace<f32>>> {
+    let some: Vec<Query<f32>> = queries.iter().flatten().copied().collect();
+    let mut out = vec![Trace::MISS; some.len()];
+    tracer.trace_all(&some, &mut out);
+    let mut traces = out.into_iter();
+    queries
+        .iter()
+        .map(|q| q.and_then(|_| traces.next()))
+        .collect()
+}
+
 /// The largest |origin| coordinate of `q`: the `magnitude` of [`shadow_ray`].
 pub fn origin_magnitude(q: &Query<f32>) -> f32 {
     q.origin().iter().fold(0.0, |m, v| m.max(v.abs()))
@@ -409,10 +422,9 @@ pub fn render(hf: &HeightField, opts: &RenderOptions) -> Result<Frame, String> {
     let band = 4;
     let mut pixels = vec![Pixel::default(); width * opts.height as usize];
 
-    let shade = |world: &Query<f32>, grid: Option<Query<f32>>| -> Pixel {
-        let tr = grid
-            .and_then(|q| above_base(&q, base))
-            .map(|q| tracer.trace(&q));
+    // A pixel from its world ray, its primary trace (none when the ray misses the slab)
+    // and its shadow trace with the Lambert factor (none when the hit faces away).
+    let shade = |world: &Query<f32>, tr: Option<Trace<f32>>, shadow: Option<(Trace<f32>, f64)>| {
         let mut px = Pixel {
             fetches: tr.map_or(0, |t| t.fetches),
             ..Pixel::default()
@@ -433,9 +445,7 @@ pub fn render(hf: &HeightField, opts: &RenderOptions) -> Result<Frame, String> {
             albedo((f64::from(p[2]) - zmin) / (zmax - zmin).max(1e-9))
         };
         let mut lit = 0.0;
-        let magnitude = grid.as_ref().map_or(0.0, origin_magnitude);
-        if let Some((sq, lambert)) = shadow_ray(hf, opts.surface, &hit, &light, magnitude) {
-            let st = tracer.trace(&sq);
+        if let Some((st, lambert)) = shadow {
             px.counts[1] = true;
             px.fetches += st.fetches;
             if st.hit.is_none() {
@@ -446,14 +456,33 @@ pub fn render(hf: &HeightField, opts: &RenderOptions) -> Result<Frame, String> {
         px
     };
 
+    // A band's primary rays are traced as one batch, then its shadow rays as another:
+    // batches march in SIMD lanes where the method has them (`Tracer::trace_all`).
     par_chunks(&mut pixels, width * band, opts.threads, |first, chunk| {
-        let y0 = first / width;
-        for (r, row) in chunk.chunks_mut(width).enumerate() {
-            let py = (y0 + r) as u32;
-            for (px, out) in row.iter_mut().enumerate() {
-                let px = px as u32;
-                *out = shade(&cam.ray(px, py), cam.grid_ray(px, py));
-            }
+        let at = |k: usize| (((first + k) % width) as u32, ((first + k) / width) as u32);
+        let grid: Vec<Option<Query<f32>>> = (0..chunk.len())
+            .map(|k| {
+                let (px, py) = at(k);
+                cam.grid_ray(px, py).and_then(|q| above_base(&q, base))
+            })
+            .collect();
+        let primary = trace_some(&tracer, &grid);
+        let shadows: Vec<Option<(Query<f32>, f64)>> = primary
+            .iter()
+            .zip(&grid)
+            .map(|(tr, q)| {
+                let hit = tr.as_ref()?.hit?;
+                let magnitude = q.as_ref().map_or(0.0, origin_magnitude);
+                shadow_ray(hf, opts.surface, &hit, &light, magnitude)
+            })
+            .collect();
+        let shadow_queries: Vec<Option<Query<f32>>> =
+            shadows.iter().map(|s| s.map(|(q, _)| q)).collect();
+        let shadow_traces = trace_some(&tracer, &shadow_queries);
+        for (k, out) in chunk.iter_mut().enumerate() {
+            let (px, py) = at(k);
+            let shadow = shadow_traces[k].zip(shadows[k].map(|(_, l)| l));
+            *out = shade(&cam.ray(px, py), primary[k], shadow);
         }
         let done =
             rows_done.fetch_add(chunk.len() / width, Ordering::Relaxed) + chunk.len() / width;
