@@ -127,6 +127,8 @@ pub struct Marched<'a> {
     map: Arc<Texels>,
     opts: MarchOptions,
     maxmip: Option<maxmip::Options>,
+    /// One ray after another even where the method has SIMD lanes.
+    scalar: bool,
     shared_seconds: Option<f64>,
 }
 
@@ -141,7 +143,8 @@ impl Caster for Marched<'_> {
         // In SIMD lanes where the method has them (the maximum mipmap's), so that the
         // report's wrong-ray counts cover the laned march on every scene.
         let mut traces = vec![Trace::MISS; rays.len()];
-        m.trace_all(&self.hf, rays, &mut traces, crate::simd());
+        let simd = if self.scalar { None } else { crate::simd() };
+        m.trace_all(&self.hf, rays, &mut traces, simd);
         for (o, t) in out.iter_mut().zip(&traces) {
             *o = Out::of(t);
         }
@@ -156,13 +159,14 @@ impl Caster for Marched<'_> {
 
 /// How a setting over a baked map bakes and marches: the method, the map's bake (the
 /// default `Spec` of the method's map changed by `spec`), the step budgets, the
-/// maximum mipmap's options, and the bake it shares with other settings (`None`: its
-/// own).
+/// maximum mipmap's options, whether it marches one ray after another even where the
+/// method has SIMD lanes, and the bake it shares with other settings (`None`: its own).
 struct MapSetting {
     kind: MethodKind,
     spec: fn(&mut Spec),
     steps: [u32; 2],
     maxmip: Option<maxmip::Options>,
+    scalar: bool,
     shared: Option<Arc<SharedBake>>,
 }
 
@@ -175,6 +179,7 @@ impl MapSetting {
             spec: |_| {},
             steps: [o.steps, o.binary_steps],
             maxmip: None,
+            scalar: false,
             shared: None,
         }
     }
@@ -205,6 +210,7 @@ impl MapSetting {
                 map,
                 opts,
                 maxmip: self.maxmip,
+                scalar: self.scalar,
                 shared_seconds,
             })
         })
@@ -427,10 +433,11 @@ fn core_method(m: Method) -> Baker {
     })
 }
 
-/// The maximum mipmap with `opts`.
-fn maxmip_setting(opts: maxmip::Options) -> Baker {
+/// The maximum mipmap with `opts`, in SIMD lanes where the CPU has them unless `scalar`.
+fn maxmip_setting(opts: maxmip::Options, scalar: bool) -> Baker {
     MapSetting {
         maxmip: Some(opts),
+        scalar,
         ..MapSetting::of(MethodKind::MaxMip)
     }
     .baker()
@@ -477,9 +484,12 @@ pub fn settings(sweep: &Sweep) -> Vec<Setting> {
             )
         },
     ];
-    for (ascent, name) in [
-        (Ascent::OneLevel, "one-level"),
-        (Ascent::Highest, "highest"),
+    // One-level ascent in AVX2 lanes (where the CPU has them) and one ray after another;
+    // the highest ascent is not laned.
+    for (ascent, name, scalar) in [
+        (Ascent::OneLevel, "one-level", false),
+        (Ascent::OneLevel, "one-level scalar", true),
+        (Ascent::Highest, "highest", false),
     ] {
         let opts = maxmip::Options {
             ascent,
@@ -490,7 +500,7 @@ pub fn settings(sweep: &Sweep) -> Vec<Setting> {
             format!("maxmip {name}"),
             true,
             ALL_SURFACES,
-            maxmip_setting(opts),
+            maxmip_setting(opts, scalar),
         ));
     }
     for &px in &sweep.lod_pixels {
@@ -503,7 +513,7 @@ pub fn settings(sweep: &Sweep) -> Vec<Setting> {
             format!("maxmip lod {px}px"),
             false,
             ALL_SURFACES,
-            maxmip_setting(opts),
+            maxmip_setting(opts, false),
         ));
     }
     for &(linear, bisect) in &sweep.iterative {
@@ -516,7 +526,7 @@ pub fn settings(sweep: &Sweep) -> Vec<Setting> {
             format!("maxmip iter {linear}:{bisect}"),
             false,
             BILINEAR,
-            maxmip_setting(opts),
+            maxmip_setting(opts, false),
         ));
     }
     let safety: [(_, _, fn(&mut Spec)); 3] = [
