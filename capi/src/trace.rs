@@ -268,7 +268,7 @@ impl TraceOptions {
             v => Some(crate::scene::classes_of(v)?),
         };
         let simd = match o.simd {
-            0 => simd(),
+            0 => hfcore::detect_avx2!(),
             1 => None,
             _ => return Err(fail(HF_ERR_INVALID_ENUM, "options.simd: not an hf_simd")),
         };
@@ -374,16 +374,6 @@ pub unsafe extern "C" fn hf_trace(
         unsafe { out.set(hit) };
         Ok(())
     })
-}
-
-/// The CPU's SIMD token for the core's laned marches: AVX2 when it has it.
-fn simd() -> Option<hfcore::simd::Avx2> {
-    #[cfg(target_arch = "x86_64")]
-    if std::is_x86_feature_detected!("avx2") {
-        // SAFETY: just detected.
-        return Some(unsafe { hfcore::simd::Avx2::new_unchecked() });
-    }
-    None
 }
 
 /// The hits of the conditioned queries `locals` into `out` (same lengths; `None`: a

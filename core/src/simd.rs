@@ -11,10 +11,29 @@ impl Avx2 {
     /// The token, on the caller's word.
     ///
     /// # Safety
-    /// The CPU running the program supports AVX2 (with `std`:
-    /// `is_x86_feature_detected!("avx2")`).
+    /// The CPU running the program supports AVX2 (with `std`, [`detect_avx2!`](crate::detect_avx2)
+    /// makes the token after checking).
     #[allow(unsafe_code)]
     pub unsafe fn new_unchecked() -> Avx2 {
         Avx2(())
     }
+}
+
+/// The [`Avx2`] token when the running CPU has AVX2, else `None`: run-time detection
+/// for the std-side crates (it expands to `std::is_x86_feature_detected!` where it is
+/// used; the core itself has no `std`).
+#[macro_export]
+macro_rules! detect_avx2 {
+    () => {{
+        #[cfg(target_arch = "x86_64")]
+        let avx2 = if ::std::is_x86_feature_detected!("avx2") {
+            // SAFETY: just detected.
+            Some(unsafe { $crate::simd::Avx2::new_unchecked() })
+        } else {
+            None
+        };
+        #[cfg(not(target_arch = "x86_64"))]
+        let avx2: Option<$crate::simd::Avx2> = None;
+        avx2
+    }};
 }

@@ -498,17 +498,6 @@ fn bits<R: Real>(tr: &Trace<R>) -> String {
     format!("{tr:?}")
 }
 
-/// The SIMD token when this CPU has AVX2 (the laned march's SIMD path), else `None`
-/// (its portable path: the scalar march).
-fn simd() -> Option<hfcast::simd::Avx2> {
-    #[cfg(target_arch = "x86_64")]
-    if std::is_x86_feature_detected!("avx2") {
-        // SAFETY: just detected.
-        return Some(unsafe { hfcast::simd::Avx2::new_unchecked() });
-    }
-    None
-}
-
 /// [`maxmip::trace_lanes`] answers each query with exactly [`maxmip::trace`]'s answer,
 /// hit, fetches and clearance, on every march field, surface and ray kind, with both
 /// ascents, with level of detail and with the iterative bilinear search; fewer
@@ -546,7 +535,7 @@ fn lanes_equal_the_scalar_march() {
                         .iter()
                         .map(|q| bits(&maxmip::trace(&hf, &mip, surface, q, o)))
                         .collect();
-                    for simd in [simd(), None] {
+                    for simd in [hfcast::detect_avx2!(), None] {
                         let mut got = vec![Trace::MISS; n];
                         maxmip::trace_lanes(&hf, &mip, surface, &qs, o, &mut got, simd);
                         let d = got
@@ -563,7 +552,7 @@ fn lanes_equal_the_scalar_march() {
     }
     println!(
         "lanes ({:?}): {tried} answers compared, {differ} differ",
-        simd()
+        hfcast::detect_avx2!()
     );
     assert!(tried > 10_000);
 }

@@ -215,16 +215,6 @@ pub fn default_threads() -> usize {
     std::thread::available_parallelism().map_or(1, |n| n.get())
 }
 
-/// The CPU's SIMD token for the core's laned marches: AVX2 when it has it.
-pub fn simd() -> Option<hfcast::simd::Avx2> {
-    #[cfg(target_arch = "x86_64")]
-    if std::is_x86_feature_detected!("avx2") {
-        // SAFETY: just detected.
-        return Some(unsafe { hfcast::simd::Avx2::new_unchecked() });
-    }
-    None
-}
-
 /// Runs `f(first_index, chunk)` over `data` cut into chunks of `chunk` elements, on
 /// `threads` scoped threads that take chunks in order as they become free (so uneven
 /// work balances). Returns when every chunk is done.

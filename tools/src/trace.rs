@@ -98,7 +98,8 @@ impl<'a> Tracer<'a> {
     /// Traces `rays[k]` into `out[k]` (same lengths), one thread, in SIMD lanes where the
     /// method has them and the CPU can ([`Marcher::trace_all`]).
     pub fn trace_all(&self, rays: &[Query<f32>], out: &mut [Trace<f32>]) {
-        self.marcher().trace_all(&self.hf, rays, out, crate::simd());
+        self.marcher()
+            .trace_all(&self.hf, rays, out, hfcast::detect_avx2!());
     }
 
     /// [`Tracer::trace_all`] one ray after another, never in SIMD lanes (the benchmark's

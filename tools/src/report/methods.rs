@@ -143,7 +143,11 @@ impl Caster for Marched<'_> {
         // In SIMD lanes where the method has them (the maximum mipmap's), so that the
         // report's wrong-ray counts cover the laned march on every scene.
         let mut traces = vec![Trace::MISS; rays.len()];
-        let simd = if self.scalar { None } else { crate::simd() };
+        let simd = if self.scalar {
+            None
+        } else {
+            hfcast::detect_avx2!()
+        };
         m.trace_all(&self.hf, rays, &mut traces, simd);
         for (o, t) in out.iter_mut().zip(&traces) {
             *o = Out::of(t);
