@@ -69,7 +69,7 @@ for f in "" cone safety search; do
   cargo check -q -p hfcast-capi --no-default-features ${f:+--features "$f"}
 done
 
-echo "== hfcast report --quick (smoke test of the error-against-time report, < 2 min)"
+echo "== hfcast report --quick (smoke test of the error-against-time report, < 3 min)"
 cargo run --release -p hfcast-tools --bin hfcast -- report --quick --out target/report-quick
 
 echo "== cargo test"

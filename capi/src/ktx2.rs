@@ -137,12 +137,13 @@ fn fingerprint_of<T: Texel>(desc: &Desc, data: &[T], texels: usize) -> Result<u6
         return Err(crate::detail::fail(
             HF_ERR_MAP_MISMATCH,
             format_args!(
-                "data: its descriptor describes a {} map of a {} x {} field (cap {}, classes {:#x}), not desc's",
+                "data: its descriptor describes a {} map of a {} x {} field (cap {}, classes {:#x}, ray set {}), not desc's",
                 d.map.method(),
                 d.width,
                 d.height,
                 d.cap,
-                d.classes.0
+                d.classes.0,
+                d.rays
             ),
         ));
     }

@@ -218,7 +218,7 @@ impl Spec {
             }
             #[cfg(feature = "safety")]
             (MapKind::Safety | MapKind::SafetyIsotropic, DataMut::U8(out)) => {
-                use crate::safety::{self, AllRays, Options, Variant};
+                use crate::safety::{self, Options, Variant};
                 let variant = match self.desc.map {
                     MapKind::Safety => Variant::Directional,
                     _ => Variant::Isotropic,
@@ -229,8 +229,9 @@ impl Spec {
                     cap: self.desc.cap,
                 };
                 let classes = self.desc.classes;
+                let rays = self.desc.rays.on(hf);
                 Ok(safety::bake_rows_classes(
-                    hf, scratch, &AllRays, classes, rows, opts, out,
+                    hf, scratch, &rays, classes, rows, opts, out,
                 )?)
             }
             #[cfg(feature = "safety")]
@@ -246,10 +247,11 @@ impl Spec {
                     },
                     cap: self.desc.cap,
                 };
-                Ok(cc::bake_rows_classes(
+                Ok(cc::bake_rows_with(
                     hf,
                     strips,
                     nb,
+                    &self.desc.rays.on(hf),
                     self.desc.classes,
                     rows,
                     opts,

@@ -49,12 +49,14 @@
 //! written when the description has one, optional on reading), and for the safety-distance,
 //! cylinder–cone and radius maps `hfcast.cap` (the bake's cap), `hfcast.ray_classes`
 //! (`x+,x-,y+,y-`, those the map holds) and `hfcast.ray_set` (`all`: every ray of each
-//! class; `lowered:E`: the radius bake's tolerance `E`); `hfcast.variant`
+//! class; `lowered:E`: the radius bake's tolerance `E`; `exterior`, `angle:A` or
+//! `exterior,angle:A`: the safety and cylinder–cone maps' [`Rays`]); `hfcast.variant`
 //! (`directional` / `isotropic`) for the safety map.
 
 use core::fmt::{self, Write as _};
 
 use crate::field::MAX_SIDE;
+use crate::rayset::Rays;
 use crate::scene::RayClasses;
 
 /// The 12-byte file identifier, `«KTX 20»\r\n\x1A\n`.
@@ -218,6 +220,10 @@ pub struct Desc {
     /// The radius bake's tolerance (grid units, finite, ≥ 0; else ignored): the ray
     /// set is the rays meeting the surface lowered by it (`lowered:E`), 0 is `all`.
     pub tolerance: f32,
+    /// The rays the safety-distance and cylinder–cone maps are baked for (else
+    /// ignored): `exterior`, `angle:A`, both (`exterior,angle:A`), or `all`. Their
+    /// marches check every ray against it ([`Rays::holds`]).
+    pub rays: Rays,
     /// The fingerprint of the heights the map was baked from
     /// ([`crate::mapdesc::fingerprint`]; `hfcast.fingerprint`, 16 hex digits), if known.
     pub fingerprint: Option<u64>,
@@ -234,6 +240,7 @@ impl Desc {
             cap: map.default_cap(),
             classes: RayClasses::ALL,
             tolerance: 0.0,
+            rays: Rays::ALL,
             fingerprint: None,
         }
     }
@@ -251,6 +258,7 @@ impl Desc {
             MapKind::Safety | MapKind::SafetyIsotropic | MapKind::Cc
         ) {
             d.classes = RayClasses(self.classes.0 & RayClasses::ALL.0);
+            d.rays = self.rays;
         }
         if self.map == MapKind::Radius {
             d.tolerance = self.tolerance;
@@ -355,7 +363,9 @@ impl Texture {
         let (w, h) = (d.width, d.height);
         let rows = d.classes.count();
         let class_rows = matches!(d.map, MapKind::Safety | MapKind::Cc);
-        if (class_rows && rows == 0) || !(d.tolerance >= 0.0 && d.tolerance.is_finite()) {
+        let bad_rays = d.rays.validate().is_err();
+        if (class_rows && rows == 0) || !(d.tolerance >= 0.0 && d.tolerance.is_finite()) || bad_rays
+        {
             return Err(Ktx2Error::BadDesc);
         }
         let base = match d.map {
@@ -481,7 +491,7 @@ fn metadata(d: &Desc) -> Metadata {
         let set = if d.tolerance > 0.0 {
             text(format_args!("lowered:{}", d.tolerance))
         } else {
-            text("all")
+            text(d.rays)
         };
         put("hfcast.ray_set", set);
     }
@@ -1023,11 +1033,15 @@ impl<'a> View<'a> {
             d.classes = classes.ok_or(bad("hfcast.ray_classes"))?;
             let set = self.text("hfcast.ray_set").ok_or(bad("hfcast.ray_set"))?;
             let lowered = set.strip_prefix("lowered:").map(str::parse::<f32>);
-            d.tolerance = match (set, lowered) {
-                ("all", _) => 0.0,
-                (_, Some(Ok(e))) if map == MapKind::Radius && e > 0.0 => e,
+            let narrowed = (map != MapKind::Radius)
+                .then(|| set.parse::<Rays>().ok())
+                .flatten();
+            match (set, lowered, narrowed) {
+                ("all", _, _) => {}
+                (_, Some(Ok(e)), _) if map == MapKind::Radius && e > 0.0 => d.tolerance = e,
+                (_, _, Some(rays)) => d.rays = rays,
                 _ => return Err(bad("hfcast.ray_set")),
-            };
+            }
             if map == MapKind::Radius && d.classes != RayClasses::ALL {
                 return Err(bad("hfcast.ray_classes"));
             }
@@ -1101,6 +1115,21 @@ mod tests {
         assert_eq!(back, data);
         assert_eq!(view.text("KTXwriter"), Some(WRITER));
         assert_eq!(view.text("hfcast.ray_classes"), Some("x+,x-,y+,y-"));
+        // A map of a narrower ray set says so, and reads back with it.
+        let narrowed = Desc {
+            rays: "exterior,angle:45".parse().unwrap(),
+            ..d
+        };
+        let n = write(&narrowed, Data::U8(&data), &mut file).unwrap();
+        let view = read(&file[..n]).unwrap();
+        assert_eq!(view.text("hfcast.ray_set"), Some("exterior,angle:45"));
+        assert_eq!(view.desc(), Ok(narrowed));
+        // A radius map keeps no such set.
+        let radius = Desc {
+            rays: Rays::EXTERIOR,
+            ..Desc::new(MapKind::Radius, 3, 2)
+        };
+        assert_eq!(radius.normalized().rays, Rays::ALL);
     }
 
     #[test]

@@ -137,6 +137,7 @@ pub mod qdm;
 #[cfg(feature = "safety")]
 pub mod radius;
 pub mod ray;
+pub mod rayset;
 #[cfg(feature = "relaxed")]
 pub mod relaxed;
 pub mod rng;

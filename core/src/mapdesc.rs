@@ -12,7 +12,8 @@
 //! **Layout** (little-endian, [`LEN`] bytes): `0` magic `HFMD`; `4` u32 layout
 //! version ([`VERSION`]); `8` u32 map (`MapKind` value); `12`, `16` u32 width,
 //! height; `20` u32 cap; `24` u32 ray-class bits; `28` f32 tolerance (the radius
-//! bake's ray set); `32` u64 fingerprint; `40` u64 reserved (0); `48` u64 texel bytes;
+//! bake's ray set); `32` u64 fingerprint; `40` u32 ray-set flags (bit 0: exterior rays only); `44` f32
+//! largest view angle of the ray set (0: any, 180°); `48` u64 texel bytes;
 //! `56` u32 flags ([`FINGERPRINT_KNOWN`]); `60` u32 FNV-1a hash of bytes 0–59.
 
 use crate::ktx2::{Desc, MapKind};
@@ -73,7 +74,13 @@ impl MapDescriptor {
         for (k, w) in words.iter().enumerate() {
             b[4 + 4 * k..8 + 4 * k].copy_from_slice(&w.to_le_bytes());
         }
-        let longs = [d.fingerprint.unwrap_or(0), 0, self.texel_bytes];
+        let angle = if d.rays.max_view_angle_deg < 180.0 {
+            u64::from(d.rays.max_view_angle_deg.to_bits())
+        } else {
+            0
+        };
+        let rays = u64::from(d.rays.exterior) | angle << 32;
+        let longs = [d.fingerprint.unwrap_or(0), rays, self.texel_bytes];
         for (k, v) in longs.iter().enumerate() {
             b[32 + 8 * k..40 + 8 * k].copy_from_slice(&v.to_le_bytes());
         }
@@ -98,7 +105,7 @@ impl MapDescriptor {
         if word(4) != VERSION {
             return Err(DescriptorError::Version(word(4)));
         }
-        if word(60) != fnv1a(&b[..60]) || word(56) & !FINGERPRINT_KNOWN != 0 || long(40) != 0 {
+        if word(60) != fnv1a(&b[..60]) || word(56) & !FINGERPRINT_KNOWN != 0 || word(40) > 1 {
             return Err(DescriptorError::Corrupt);
         }
         let map = MapKind::from_u32(word(8)).ok_or(DescriptorError::Corrupt)?;
@@ -108,6 +115,15 @@ impl MapDescriptor {
         desc.cap = cap;
         desc.classes = RayClasses(classes);
         desc.tolerance = f32::from_bits(word(28));
+        desc.rays = crate::rayset::Rays {
+            exterior: word(40) == 1,
+            max_view_angle_deg: match word(44) {
+                0 => 180.0,
+                bits => f32::from_bits(bits),
+            },
+        }
+        .validate()
+        .map_err(|_| DescriptorError::Corrupt)?;
         desc.fingerprint = (word(56) & FINGERPRINT_KNOWN != 0).then(|| long(32));
         Ok(MapDescriptor {
             desc,
@@ -169,6 +185,26 @@ mod tests {
         let mut unknown = d;
         unknown.desc.fingerprint = None;
         assert_eq!(MapDescriptor::decode(&unknown.encode()), Ok(unknown));
+        for rays in ["exterior", "angle:45", "exterior,angle:120.5"] {
+            let mut narrowed = d;
+            narrowed.desc.rays = rays.parse().unwrap();
+            assert_eq!(
+                MapDescriptor::decode(&narrowed.encode()),
+                Ok(narrowed),
+                "{rays}"
+            );
+        }
+        // A ray-set word of a later version, and a NaN angle: refused.
+        let mut later = b;
+        later[40] = 2;
+        let h = fnv1a(&later[..60]);
+        later[60..64].copy_from_slice(&h.to_le_bytes());
+        assert_eq!(MapDescriptor::decode(&later), Err(DescriptorError::Corrupt));
+        let mut nan = b;
+        nan[44..48].copy_from_slice(&f32::NAN.to_bits().to_le_bytes());
+        let h = fnv1a(&nan[..60]);
+        nan[60..64].copy_from_slice(&h.to_le_bytes());
+        assert_eq!(MapDescriptor::decode(&nan), Err(DescriptorError::Corrupt));
         for at in 4..LEN {
             let mut bad = b;
             bad[at] ^= 0x10;

@@ -140,13 +140,13 @@ impl<'a> Marcher<'a> {
                     _ => Variant::Isotropic,
                 };
                 let map = SafetyMap::with_classes(hf, bytes()?, variant, desc.classes)?;
-                Marcher::Safety(map, surface)
+                Marcher::Safety(map.with_rays(desc.rays), surface)
             }
             #[cfg(feature = "safety")]
             MethodKind::Cc => {
                 let map =
                     crate::safety::cc::CcMap::with_classes(hf, bytes()?, desc.cap, desc.classes)?;
-                Marcher::Cc(map, surface)
+                Marcher::Cc(map.with_rays(desc.rays), surface)
             }
             #[cfg(feature = "safety")]
             MethodKind::Radius => {

@@ -50,6 +50,10 @@ use crate::scene::RayClasses;
 use crate::surface::{corners, triangle_planes, Surface};
 
 pub mod cc;
+pub mod rays;
+
+pub use crate::rayset::{Rays, RaysError};
+pub use rays::{RaysOn, Witness};
 
 /// Cells per strip of the bake's bound (along the minor axis of a class).
 pub const STRIP: u32 = 8;
@@ -231,6 +235,10 @@ pub fn prepare(hf: &HeightField, scratch: &mut [f32]) -> Result<(), SafetyError>
 /// the samples), over `[lo, hi]` (the segment widened by [`SEG_PAD`]).
 #[derive(Clone, Copy, Debug)]
 pub struct Sigma {
+    /// Main axis of the class's frame (0 = x, 1 = y).
+    pub ax: usize,
+    /// Direction of the class along it (`1` or `−1`).
+    pub sg: i64,
     /// Main-axis centerline.
     pub m: u32,
     /// Minor index of the texel.
@@ -307,6 +315,15 @@ pub trait RaySet {
     fn lowering(&self) -> f64 {
         0.0
     }
+
+    /// How fast (`−∞` to `+∞`) the plane of a limiting triangle must at least rise
+    /// going back towards the segment along some direction of the class's quadrant
+    /// (`−f + |g|` for forward and minor slopes `f`, `g`): a strip whose fastest rise
+    /// is below it holds no limiting triangle (a view-angle set,
+    /// [`Rays`]). Default `−∞` (always safe).
+    fn least_rise_back(&self) -> f64 {
+        f64::NEG_INFINITY
+    }
 }
 
 /// Every ray of the class (any vertical angle, up or down).
@@ -336,9 +353,10 @@ impl RaySet for AllRays {
     }
 }
 
-/// The surface over the segment of texel `(m, n)` (main, minor indices) of axis `ax`.
+/// The surface over the segment of texel `(m, n)` (main, minor indices) of axis `ax`,
+/// for the class of direction `sg` along it.
 #[inline]
-pub(crate) fn sigma_of(hf: &HeightField, ax: usize, m: u32, n: u32) -> Sigma {
+pub(crate) fn sigma_of(hf: &HeightField, ax: usize, sg: i64, m: u32, n: u32) -> Sigma {
     let (_, ln) = extents(hf, ax);
     let s = |k: u32| f64::from(sample(hf, ax, m, k));
     let h = s(n);
@@ -350,6 +368,8 @@ pub(crate) fn sigma_of(hf: &HeightField, ax: usize, m: u32, n: u32) -> Sigma {
     };
     let nf = f64::from(n);
     Sigma {
+        ax,
+        sg,
         m,
         n: nf,
         h,
@@ -393,7 +413,7 @@ fn class_distance<S: RaySet, const AX: usize, const SG: i64>(
     let (ax, sg) = (AX, SG);
     let (lm, ln) = extents(hf, ax);
     let (m, n) = if ax == 0 { (i, j) } else { (j, i) };
-    let sigma = sigma_of(hf, ax, m, n);
+    let sigma = sigma_of(hf, ax, sg, m, n);
     // The lowest surface point of the segment: an end or `n`.
     let [at_lo, at_hi] = sigma.end_heights();
     let floor = at_lo.min(sigma.h).min(at_hi);
@@ -410,6 +430,7 @@ fn class_distance<S: RaySet, const AX: usize, const SG: i64>(
     // itself would pass (`e = 0`: the plain bound).
     let e = rays.lowering();
     let floor = floor + (e - e * (1.0 / 1_048_576.0));
+    let least = rays.least_rise_back();
     // Columns of cells ahead before the field ends.
     let ahead = if sg > 0 { lm - 1 - m } else { m };
     let columns = u32::from(cap).min(ahead);
@@ -420,7 +441,7 @@ fn class_distance<S: RaySet, const AX: usize, const SG: i64>(
         let at = base + 3 * (column(k) as usize * per_line + b);
         let (top, beta) = (f64::from(scratch[at]), f64::from(scratch[at + chan]));
         let kf = f64::from(k);
-        top + (beta * kf).max(beta * (kf + 1.0)) <= floor
+        top + (beta * kf).max(beta * (kf + 1.0)) <= floor || beta < least
     };
     // The answer is the first column holding a limiting cell, whatever the order of
     // the cells tested inside it; so the cell of column 0 (where most scans end) that
@@ -765,6 +786,7 @@ pub struct SafetyMap<'a> {
     width: u32,
     variant: Variant,
     classes: RayClasses,
+    rays: Rays,
 }
 
 impl<'a> SafetyMap<'a> {
@@ -791,7 +813,20 @@ impl<'a> SafetyMap<'a> {
             width: hf.width(),
             variant,
             classes,
+            rays: Rays::ALL,
         })
+    }
+
+    /// The same map, baked for the rays of `rays` ([`bake_rows_classes`] with
+    /// `rays.on(hf)`): the march reads it for those rays only ([`Rays::holds`]); any
+    /// other ray walks cell by cell (exact).
+    pub fn with_rays(self, rays: Rays) -> Self {
+        SafetyMap { rays, ..self }
+    }
+
+    /// The rays the map is baked for.
+    pub fn rays(&self) -> Rays {
+        self.rays
     }
 
     /// The layout.
@@ -1132,9 +1167,11 @@ pub fn trace_on<R: Real>(
     surface: MarchSurface,
     q: &Query<R>,
 ) -> Trace<R> {
+    let held = map.rays.holds(hf, q);
     march_with(hf, surface, q, |class| {
-        // A class the map does not hold: distance 0 (zero jumps, exact).
-        let at = map.rows(class);
+        // A class the map does not hold, or a ray outside its set: distance 0 (zero
+        // jumps, exact).
+        let at = map.rows(class).filter(|_| held);
         move |_: &Line<R>, _, i, j| {
             Jump::steps(at.map_or(0, |at| u32::from(map.data[at.index(i, j)])))
         }

@@ -495,6 +495,13 @@ pub struct BakePlan {
     /// one ray class occurs — then it holds that class's distances exactly —,
     /// directional (four) otherwise. `false` when no safety map is baked.
     pub isotropic: bool,
+    /// The rays the safety-distance and cylinder–cone maps are baked for
+    /// ([`Rays`](crate::rayset::Rays); [`Rays::ALL`](crate::rayset::Rays::ALL) for
+    /// the other methods): exterior when the scene's origins stay outside the box,
+    /// its view angle when below 180°, but every ray once it traces shadows (shadow
+    /// rays start on the surface, inside the box, and rise). A ray outside the set
+    /// still gets its exact answer (the march's guard), only without the map's steps.
+    pub rays: crate::rayset::Rays,
 }
 
 impl BakePlan {
@@ -512,6 +519,7 @@ impl BakePlan {
             MapKind::Safety | MapKind::SafetyIsotropic | MapKind::Cc
         ) {
             desc.classes = self.classes;
+            desc.rays = self.rays;
         }
         Some(crate::bake::Spec::new(desc))
     }
@@ -567,6 +575,15 @@ impl Scene {
         let mut set = |p: P, n: Need| needs[p as usize] = n;
         let mut classes = RayClasses::NONE;
         let mut isotropic = false;
+        let mut rays = crate::rayset::Rays::ALL;
+        let scene_rays = crate::rayset::Rays {
+            exterior: self.outside_only,
+            max_view_angle_deg: self.max_view_angle_deg,
+        };
+        let scene_rays = match scene_rays.validate() {
+            Ok(r) if !self.shadows => r,
+            _ => crate::rayset::Rays::ALL,
+        };
         // The method's own map is kept; the bakes' inputs are scratch.
         let map = self.method.info().map;
         for p in P::ALL {
@@ -586,8 +603,10 @@ impl Scene {
                 set(P::SafetyScratch, Scratch);
                 classes = self.ray_classes;
                 isotropic = classes.count() == 1;
+                rays = scene_rays;
             }
             MethodKind::Cc => {
+                rays = scene_rays;
                 set(P::SafetyScratch, Scratch);
                 set(P::SafetyMap, Skip(CC_OWN));
                 set(P::NBuffer, Scratch);
@@ -601,6 +620,7 @@ impl Scene {
             needs,
             classes: RayClasses(classes.0 & RayClasses::ALL.0),
             isotropic,
+            rays,
         }
     }
 }

@@ -7,12 +7,12 @@
 mod common;
 
 use common::{
-    assert_rows_rebake, breakpoints, check_bakes, class_axis, eps_f32, is_touch, march_fields,
+    assert_rows_rebake, breakpoints, check_bakes, class_axis, judge_trace, march_fields,
     rays_with_grazing, rows_field, Field, Probe, RaySpec, Rng, Tally,
 };
 use hfcast::safety::cc::{self, CcMap, CcOptions, Slope};
 use hfcast::safety::{self, MarchSurface, Options, SafetyMap, Variant, CLASSES};
-use hfcast::{dda, Flags, Marcher, Query, Real, Surface, Trace};
+use hfcast::{dda, Flags, Marcher, Query, Real, Surface};
 
 const TRI: Surface = Surface::Triangles;
 const VL: Surface = Surface::ViewLinear;
@@ -30,37 +30,6 @@ fn bake(field: &Field, opts: Options) -> Vec<u8> {
     let mut out = vec![0u8; safety::map_len(field.w, field.h, opts.variant)];
     safety::bake(&hf, &mut scratch, opts, &mut out).unwrap();
     out
-}
-
-/// Judges one ray on `surface`: `Some(true)` right, `Some(false)` wrong, `None`
-/// ambiguous.
-fn judge<R: Real>(
-    field: &Field,
-    surface: Surface,
-    got: &Trace<R>,
-    q: &Query<R>,
-    zs: f64,
-) -> Option<bool> {
-    let oracle = dda::trace(&field.hf(), surface, &q.cast::<f64>());
-    if oracle.clearance < eps_f32(zs) {
-        return None;
-    }
-    let mask = Flags(Flags::ORIGIN_INSIDE.0 | Flags::SIDE.0);
-    let right = match (oracle.hit, got.hit) {
-        (None, None) => true,
-        (Some(a), Some(b)) => {
-            let pa = a.point.to_array();
-            let pb = R::xyz(b.point).map(|x| x.to_f64());
-            common::dist(pa, pb) <= 1e-3 && (a.flags.0 & mask.0) == (b.flags.0 & mask.0)
-        }
-        _ => false,
-    };
-    // A touch (the ray meets the surface at zero clearance without going under it,
-    // e.g. level with a ridge) is decided by rounding: ambiguous, as in docs/DESIGN.md.
-    match oracle.hit {
-        Some(hit) if !right && is_touch(field, surface, &q.cast(), hit.t, eps_f32(zs)) => None,
-        _ => Some(right),
-    }
 }
 
 fn bake_cc(field: &Field, opts: CcOptions) -> Vec<u8> {
@@ -112,7 +81,7 @@ impl<'a> Rays<'a> {
             );
             t.tried += 1;
             t.hits += u64::from(got.hit.is_some());
-            match judge(field, surface, &got, &q, zs) {
+            match judge_trace(field, surface, &got, &q, zs) {
                 None => t.ambiguous += 1,
                 Some(true) => {}
                 Some(false) => t.wrong(|| {

@@ -49,6 +49,10 @@ pub fn cmd_bake(mut args: Args) -> Result<bool, String> {
         None => RayClasses::ALL,
     };
     let tolerance = args.get("tolerance", 0.0f32)?;
+    let rays: hfcast::rayset::Rays = match args.opt("rays") {
+        None => hfcast::rayset::Rays::ALL,
+        Some(r) => r.parse().map_err(|e| format!("--rays: {e}"))?,
+    };
     let threads = args.get("threads", default_threads())?.max(1);
     args.finish()?;
     if let Some(p) = args.positional.first() {
@@ -60,6 +64,7 @@ pub fn cmd_bake(mut args: Args) -> Result<bool, String> {
         cap,
         classes,
         tolerance,
+        rays,
         fingerprint: Some(hfcast::mapdesc::fingerprint(hf.samples())),
         ..Desc::new(map, hf.width(), hf.height())
     };
@@ -74,14 +79,17 @@ pub fn cmd_bake(mut args: Args) -> Result<bool, String> {
         threads
     );
     let mut file = vec![0u8; len];
-    match bake(&hf, &desc, threads)? {
+    let start = std::time::Instant::now();
+    let baked = bake(&hf, &desc, threads)?;
+    let seconds = start.elapsed().as_secs_f64();
+    match baked {
         Baked::U8(m) => ktx2::write(&desc, Data::U8(&m), &mut file),
         Baked::F32(m) => ktx2::write(&desc, Data::F32(&m), &mut file),
     }
     .map_err(|e| format!("bake: {e}"))?;
     std::fs::write(&out, &file).map_err(|e| format!("{}: {e}", out.display()))?;
     println!(
-        "wrote {} ({} bytes, {:?})",
+        "wrote {} ({} bytes, {:?}; baked in {seconds:.2} s)",
         out.display(),
         len,
         map.format()

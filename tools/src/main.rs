@@ -1,5 +1,6 @@
 //! `hfcast`: render, trace and benchmark height fields from the command line.
 
+use hfcast::rayset::Rays;
 use hfcast::scene::{MethodKind, RayClasses};
 use hfcast::{Surface, WorldTransform};
 use hfcast_tools::advise::{self, AdviseOptions};
@@ -40,6 +41,8 @@ commands:
            --depth GRID_UNITS --reps N (3) --random N (1000000) --size WxH (1280x1024)
            --threads LIST (1,2) --method M --surface S --order lanes|scalar
            (lanes, the default: 8 rays at once in AVX2 where the method and CPU can)
+           --rays all|exterior|angle:A|exterior,angle:A (all): the ray set the safety
+           and cylinder-cone maps are baked for (rays outside it march cell by cell)
   report   error against run time of every method setting vs the f64 oracle, on every
            map of ../shared/data at two depths and synthetic fields: Markdown + SVG plots
            (a map that cannot be read is skipped with a warning)
@@ -60,6 +63,7 @@ commands:
            --depth GRID_UNITS --out FILE.ktx2 --cap N (safety, radius 255; cc 64)
            --classes x+,x-,y+,y- (all; safety, cc) --safety-variant
            directional|isotropic --tolerance E (radius, 0) --threads N (all cores)
+           --rays all|exterior|angle:A|exterior,angle:A (all; safety, cc)
 
 angles: compass degrees (azimuth 0 = north = image top of the map, 90 = east)
 maps: grayscale PNG, heights = png/65535 * depth; depth defaults to 0.1 * max(W, H);
@@ -373,6 +377,10 @@ fn cmd_bench(mut args: Args) -> Result<bool, String> {
         Some("scalar") => bench::Order::Scalar,
         Some(o) => return Err(format!("--order: bad value {o:?} (want scalar or lanes)")),
     };
+    let rays: Rays = match args.opt("rays") {
+        None => Rays::ALL,
+        Some(r) => r.parse().map_err(|e| format!("--rays: {e}"))?,
+    };
     let size = args.opt("size").unwrap_or("1280x1024".into());
     let (w, h) = size
         .split_once('x')
@@ -388,7 +396,7 @@ fn cmd_bench(mut args: Args) -> Result<bool, String> {
     args.finish()?;
     let map = load(&map_spec)?;
     let hf = map.field();
-    let tracer = Tracer::bake(hf, method, surface, RayClasses::ALL)?;
+    let tracer = Tracer::bake_for(hf, method, surface, RayClasses::ALL, rays)?;
     println!(
         "## hfcast bench: {} ({} x {}), depth {}, {} reps (median), {} cores available\n",
         map_spec
@@ -401,6 +409,11 @@ fn cmd_bench(mut args: Args) -> Result<bool, String> {
         map.depth,
         reps,
         default_threads()
+    );
+    println!(
+        "bake: {:.2} s (one thread), {} bytes, ray set {rays}\n",
+        tracer.bake_time().as_secs_f64(),
+        tracer.bytes()
     );
     let mut results = Vec::new();
     for elevation in [45.0, 5.0] {

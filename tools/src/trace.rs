@@ -10,6 +10,7 @@
 use crate::MethodSpec;
 use hfcast::bake::Texels;
 use hfcast::ktx2::{Desc, MapKind};
+use hfcast::rayset::Rays;
 use hfcast::scene::{BakePlan, RayClasses, Scene};
 use hfcast::{HeightField, Marcher, Query, Surface, Trace};
 use std::time::{Duration, Instant};
@@ -37,6 +38,18 @@ impl<'a> Tracer<'a> {
         surface: Surface,
         classes: RayClasses,
     ) -> Result<Tracer<'a>, String> {
+        Tracer::bake_for(hf, method, surface, classes, Rays::ALL)
+    }
+
+    /// [`Tracer::bake`] with the safety-distance and cylinder–cone maps baked for the
+    /// rays of `rays` (other methods ignore it); the march guards the rays outside it.
+    pub fn bake_for(
+        hf: HeightField<'a>,
+        method: MethodSpec,
+        surface: Surface,
+        classes: RayClasses,
+        rays: Rays,
+    ) -> Result<Tracer<'a>, String> {
         if !method.supports(surface) {
             return Err(format!(
                 "method {} does not trace the {} surface",
@@ -48,7 +61,10 @@ impl<'a> Tracer<'a> {
             ray_classes: classes,
             ..Scene::general(method.kind(), surface)
         };
-        let plan = scene.bake_plan();
+        let mut plan = scene.bake_plan();
+        if plan.map_spec(2, 2).is_some_and(|s| s.desc.map.has_rays()) {
+            plan.rays = rays;
+        }
         let start = Instant::now();
         let map = match plan.map_spec(hf.width(), hf.height()) {
             Some(spec) => {

@@ -88,7 +88,7 @@ use core::ops::Range;
 
 use super::{
     axis_of, band_cells, cell_tris, check_len, column_ahead, extents, march_with, sample, sigma_of,
-    strides, texel_distance, tri_masks, AllRays, ClassRows, Jump, Line, MarchSurface, RaySet,
+    strides, texel_distance, tri_masks, AllRays, ClassRows, Jump, Line, MarchSurface, RaySet, Rays,
     SafetyError, Sigma, Tri, Variant, CLASSES,
 };
 use crate::field::HeightField;
@@ -608,7 +608,7 @@ fn class_search<S: RaySet, const AX: usize, const SG: i64>(
     let (ax, sg) = (AX, SG);
     let (lm, ln) = extents(hf, ax);
     let (m, n) = if ax == 0 { (i, j) } else { (j, i) };
-    let sigma = sigma_of(hf, ax, m, n);
+    let sigma = sigma_of(hf, ax, sg, m, n);
     let zc = segment_top(&sigma);
     let hmax = f64::from(hf.max_height());
     let mut s = S_MIN;
@@ -1045,7 +1045,7 @@ pub fn decode_slope(code: u8) -> f64 {
 pub fn base_height(hf: &HeightField, class: RayClass, i: u32, j: u32) -> f64 {
     let ax = axis_of(class);
     let (m, n) = if ax == 0 { (i, j) } else { (j, i) };
-    segment_top(&sigma_of(hf, ax, m, n))
+    segment_top(&sigma_of(hf, ax, 1, m, n))
 }
 
 /// The highest point of the surface on the widened segment `sigma` (it is linear on
@@ -1092,6 +1092,23 @@ pub fn bake_rows_classes(
     opts: CcOptions,
     out: &mut [u8],
 ) -> Result<(), SafetyError> {
+    bake_rows_with(hf, scratch, nb, &AllRays, classes, rows, opts, out)
+}
+
+/// [`bake_rows_classes`] for the rays of `rays` (a [`Rays`] set's
+/// [`Rays::on`]): both the radius and the slope count the triangles that limit those
+/// rays only. Read it with [`CcMap::with_rays`] for the same set.
+#[allow(clippy::too_many_arguments)]
+pub fn bake_rows_with<S: RaySet>(
+    hf: &HeightField,
+    scratch: &[f32],
+    nb: &[f32],
+    rays: &S,
+    classes: RayClasses,
+    rows: Range<u32>,
+    opts: CcOptions,
+    out: &mut [u8],
+) -> Result<(), SafetyError> {
     let needed = super::scratch_len(hf.width(), hf.height());
     crate::buffer::check("scratch", needed, scratch.len())?;
     let needed = nbuffer_len(hf.width(), hf.height(), opts.cap);
@@ -1122,13 +1139,13 @@ pub fn bake_rows_classes(
                 let mut left: Cell = None;
                 for i in i0..i1 {
                     let k = (i - i0) as usize;
-                    let r = texel_distance(hf, scratch, &AllRays, class, i, j, u8::MAX);
+                    let r = texel_distance(hf, scratch, rays, class, i, j, u8::MAX);
                     let sc = if r >= opts.cap {
                         f64::INFINITY
                     } else {
                         let seeds = [left, above[k], above[k + 1]];
                         let (cone, best) =
-                            cone_search(hf, &views, &AllRays, class, (i, j), r, opts, seeds);
+                            cone_search(hf, &views, rays, class, (i, j), r, opts, seeds);
                         left = best.or(left);
                         above[k] = best.or(above[k]);
                         cone.1
@@ -1166,6 +1183,7 @@ pub struct CcMap<'a> {
     width: u32,
     classes: RayClasses,
     cap: u8,
+    rays: Rays,
 }
 
 /// One texel's shape for one class, decoded.
@@ -1201,7 +1219,20 @@ impl<'a> CcMap<'a> {
             width: hf.width(),
             classes,
             cap,
+            rays: Rays::ALL,
         })
+    }
+
+    /// The same map, baked for the rays of `rays` ([`bake_rows_with`]): the march
+    /// reads it for those rays only ([`Rays::holds`]); any other ray walks cell by
+    /// cell (exact).
+    pub fn with_rays(self, rays: Rays) -> Self {
+        CcMap { rays, ..self }
+    }
+
+    /// The rays the map is baked for.
+    pub fn rays(&self) -> Rays {
+        self.rays
     }
 
     /// Longest cone step.
@@ -1361,6 +1392,7 @@ pub fn trace_on<R: Real>(
     surface: MarchSurface,
     q: &Query<R>,
 ) -> Trace<R> {
+    let held = map.rays.holds(hf, q);
     // The per-trace constants, once the ray is known to march.
     march_with(hf, surface, q, |class| {
         let d = q.dir();
@@ -1379,8 +1411,9 @@ pub fn trace_on<R: Real>(
             ns,
             ln: extents(hf, ax).1,
         };
-        // A class the map does not hold: radius 0 without a cone (zero jumps, exact).
-        let at = map.rows(class);
+        // A class the map does not hold, or a ray outside its set: radius 0 without a
+        // cone (zero jumps, exact).
+        let at = map.rows(class).filter(|_| held);
         // The step reads the bytes' slice directly, not through a reference to the map
         // (copied here, on the rays that march only).
         let data = map.data;

@@ -1197,3 +1197,34 @@ pub fn assert_check_bites(inflated_bad: u64) {
         "the check never fails, even on an inflated bake"
     );
 }
+
+/// Judges the trace `got` of `q` on `surface` against the `f64` exact traversal: `Some(true)` right, `Some(false)` wrong, `None`
+/// ambiguous.
+pub fn judge_trace<R: Real>(
+    field: &Field,
+    surface: Surface,
+    got: &Trace<R>,
+    q: &Query<R>,
+    zs: f64,
+) -> Option<bool> {
+    let oracle = dda::trace(&field.hf(), surface, &q.cast::<f64>());
+    if oracle.clearance < eps_f32(zs) {
+        return None;
+    }
+    let mask = Flags(Flags::ORIGIN_INSIDE.0 | Flags::SIDE.0);
+    let right = match (oracle.hit, got.hit) {
+        (None, None) => true,
+        (Some(a), Some(b)) => {
+            let pa = a.point.to_array();
+            let pb = R::xyz(b.point).map(|x| x.to_f64());
+            dist(pa, pb) <= 1e-3 && (a.flags.0 & mask.0) == (b.flags.0 & mask.0)
+        }
+        _ => false,
+    };
+    // A touch (the ray meets the surface at zero clearance without going under it,
+    // e.g. level with a ridge) is decided by rounding: ambiguous, as in docs/DESIGN.md.
+    match oracle.hit {
+        Some(hit) if !right && is_touch(field, surface, &q.cast(), hit.t, eps_f32(zs)) => None,
+        _ => Some(right),
+    }
+}

@@ -8,6 +8,7 @@ use hfcast::bake::{Spec, Texels};
 use hfcast::ktx2::{Desc, MapKind};
 use hfcast::march::MarchOptions;
 use hfcast::maxmip::{self, Ascent};
+use hfcast::rayset::Rays;
 use hfcast::scene::MethodKind;
 use hfcast::search::SearchSteps;
 use hfcast::{dda, HeightField, Marcher, Method, Query, Real, Surface, Trace};
@@ -447,6 +448,18 @@ fn maxmip_setting(opts: maxmip::Options, scalar: bool) -> Baker {
     .baker()
 }
 
+/// Rays within 45° of the downward vertical (the paper's φmax = −45°).
+const PHI45: Rays = Rays {
+    exterior: false,
+    max_view_angle_deg: 45.0,
+};
+
+/// Exterior rays within 45° of the downward vertical.
+const EXTERIOR_PHI45: Rays = Rays {
+    exterior: true,
+    max_view_angle_deg: 45.0,
+};
+
 /// A setting of the cone family (`kind`) with step budgets `steps`, sharing `shared`.
 fn cone_family(kind: MethodKind, shared: &Arc<SharedBake>, steps: [u32; 2]) -> Baker {
     MapSetting {
@@ -533,10 +546,18 @@ pub fn settings(sweep: &Sweep) -> Vec<Setting> {
             maxmip_setting(opts, false),
         ));
     }
-    let safety: [(_, _, fn(&mut Spec)); 3] = [
+    let safety: [(_, _, fn(&mut Spec)); 6] = [
         (Family::Safety, "safety 4 classes", |_| {}),
         (Family::Safety, "safety isotropic", |s| {
             s.desc.map = MapKind::SafetyIsotropic
+        }),
+        // Narrower ray sets: the scene's rays outside them walk cell by cell.
+        (Family::Safety, "safety exterior", |s| {
+            s.desc.rays = Rays::EXTERIOR
+        }),
+        (Family::Safety, "safety phi45", |s| s.desc.rays = PHI45),
+        (Family::Safety, "safety exterior phi45", |s| {
+            s.desc.rays = EXTERIOR_PHI45
         }),
         (Family::SafetyApprox, "safety 4 classes, positive", |s| {
             s.positive = true
@@ -550,9 +571,11 @@ pub fn settings(sweep: &Sweep) -> Vec<Setting> {
         let exact = family == Family::Safety;
         v.push(setting(family, name, exact, TRIANGLES, bake.baker()));
     }
-    let cc: [(_, fn(&mut Spec)); 2] = [
+    let cc: [(_, fn(&mut Spec)); 4] = [
         ("cc exact slope", |_| {}),
         ("cc N-buffer slope", |s| s.nbuffer_slope = true),
+        ("cc exterior", |s| s.desc.rays = Rays::EXTERIOR),
+        ("cc exterior phi45", |s| s.desc.rays = EXTERIOR_PHI45),
     ];
     for (name, spec) in cc {
         let bake = MapSetting {

@@ -1,0 +1,446 @@
+//! Ray sets narrower than every ray (`hfcast::safety::Rays`: exterior rays, a largest
+//! view angle, both): both safety-shape bakes for each set, against the brute-force
+//! oracle on rays of the set (cameras outside the box, shadow rays traced from an
+//! outside light, steep rays) and on every other kind of ray through the march's
+//! guard; a test that the guard matters; the sets' distances against all rays'; and
+//! the bake's witnesses, explicit rays of the set that a distance one larger would
+//! get wrong.
+#![cfg(feature = "safety")]
+
+mod common;
+
+use common::{judge_trace, march_fields, rays_with_grazing, Field, RaySpec, Rng, Tally};
+use hfcast::bake::{Spec, Texels};
+use hfcast::ktx2::{Desc, MapKind};
+use hfcast::safety::cc::{CcMap, CcOptions, Slope};
+use hfcast::safety::{self, MarchSurface, Rays, SafetyMap, Variant, Witness, CLASSES};
+use hfcast::{dda, Marcher, Query, Real, Surface, Trace};
+
+const TRI: Surface = Surface::Triangles;
+
+/// The sets under test, by name.
+fn sets() -> [(&'static str, Rays); 4] {
+    let angle = |exterior, deg| Rays {
+        exterior,
+        max_view_angle_deg: deg,
+    };
+    [
+        ("exterior", Rays::EXTERIOR),
+        ("angle 45", angle(false, 45.0)),
+        ("angle 120", angle(false, 120.0)),
+        ("exterior angle 45", angle(true, 45.0)),
+    ]
+}
+
+fn fields() -> Vec<(String, Field)> {
+    march_fields(0xe7e, 5, ("checkerboard 24x20", 0.0, 1.0), Vec::new(), 6)
+}
+
+/// `field`'s map `map` baked for `rays` through the one bake interface.
+fn bake_for(field: &Field, map: MapKind, rays: Rays, nbuffer_slope: bool) -> Vec<u8> {
+    let spec = Spec {
+        nbuffer_slope,
+        ..Spec::new(Desc {
+            rays,
+            ..Desc::new(map, field.w, field.h)
+        })
+    };
+    match spec.bake_owned(&field.hf()).unwrap() {
+        Texels::U8(v) => v,
+        Texels::F32(_) => unreachable!("8-bit maps"),
+    }
+}
+
+/// The directional (or isotropic) safety distances of `field` for `rays`.
+fn bake_sd(field: &Field, rays: Rays, variant: Variant) -> Vec<u8> {
+    let map = match variant {
+        Variant::Directional => MapKind::Safety,
+        Variant::Isotropic => MapKind::SafetyIsotropic,
+    };
+    bake_for(field, map, rays, false)
+}
+
+/// The cylinder–cone map of `field` for `rays`.
+fn bake_cc(field: &Field, rays: Rays, slope: Slope) -> Vec<u8> {
+    bake_for(field, MapKind::Cc, rays, slope == Slope::NBuffer)
+}
+
+/// Rays of the exterior and steep kinds: cameras outside the box aimed at the surface
+/// (some grazing it), shadow rays traced from outside lights down to surface points,
+/// and steep rays from above.
+fn set_rays(field: &Field, rng: &mut Rng, n: usize) -> Vec<RaySpec> {
+    let hf = field.hf();
+    let (xm, ym) = field.far_corner();
+    let (zlo, zhi) = field.range();
+    let zr = (zhi - zlo).max(1e-3);
+    let far = 2.0 * (xm + ym) + 4.0 * zr + 4.0;
+    let mut v = Vec::new();
+    for k in 0..n {
+        let (x, y) = (rng.range(0.0, xm), rng.range(0.0, ym));
+        let z = TRI.height_at(&hf, x, y);
+        let az = rng.range(0.0, std::f64::consts::TAU);
+        // Down to the surface point (camera rays), from slightly above it (grazing),
+        // or the light's ray to it (shadow rays traced from the light).
+        let el = match k % 4 {
+            0 => rng.range(0.01, 0.2),
+            1 => rng.range(0.2, 1.0),
+            2 => rng.range(0.8, 1.55),
+            _ => 10f64.powf(rng.range(-3.0, -1.0)),
+        };
+        let target = [
+            x,
+            y,
+            z + if k % 4 == 3 {
+                rng.range(0.0, 0.05)
+            } else {
+                0.0
+            },
+        ];
+        let d = [-az.cos() * el.cos(), -az.sin() * el.cos(), -el.sin()];
+        let o = [0, 1, 2].map(|c| target[c] - far * d[c]);
+        v.push(RaySpec::whole(o, d));
+    }
+    v
+}
+
+/// The rays that would go wrong first on a map whose distances are too long: for
+/// sampled texels and classes, the every-ray witness of the every-ray distance `k`
+/// (it dips under the surface in column `k`), lowered by a thousandth or a half,
+/// started far back outside the box. Those of them that are exterior and within a view
+/// angle exercise the narrower sets' longer distances (independently of their bake:
+/// the witnesses come from the every-ray bake).
+fn dipping_rays(field: &Field, rng: &mut Rng, n: usize) -> Vec<RaySpec> {
+    let hf = field.hf();
+    let all = bake_sd(field, Rays::ALL, Variant::Directional);
+    let every = Rays::ALL.on(&hf);
+    let (xm, ym) = field.far_corner();
+    let (zlo, zhi) = field.range();
+    let far = 2.0 * (xm + ym) + 4.0 * (zhi - zlo) + 4.0;
+    let mut v = Vec::new();
+    for _ in 0..n {
+        let (i, j) = (
+            rng.below(field.w as usize) as u32,
+            rng.below(field.h as usize) as u32,
+        );
+        let class = CLASSES[rng.below(4)];
+        let k = all[safety::texel_offset(field.w, Variant::Directional, class, i, j)];
+        let lower = if rng.chance(0.5) { 1e-3 } else { 0.5 };
+        if let Witness::Ray(q) = every.witness(class, i, j, u32::from(k), lower) {
+            let (o, d) = (q.origin(), q.dir());
+            let len = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
+            let o = [0, 1, 2].map(|c| o[c] - far / len * d[c]);
+            v.push(RaySpec::whole(o, d));
+        }
+    }
+    v
+}
+
+/// Judges `rays` traced with `m` in `f32` and `f64`; counts how many the map's set
+/// holds.
+fn judge_all(
+    name: &str,
+    field: &Field,
+    m: &Marcher,
+    rays: Rays,
+    specs: &[RaySpec],
+    held: &mut u64,
+) -> Tally {
+    let mut t = Tally::new(name);
+    for s in specs {
+        *held += u64::from(rays.holds(&field.hf(), &s.q64()));
+        judge_one(field, m, &s.q32(), &mut t);
+        judge_one(field, m, &s.q64(), &mut t);
+    }
+    t
+}
+
+/// Traces `q` with `m` and counts the verdict in `t`.
+fn judge_one<R: Real>(field: &Field, m: &Marcher, q: &Query<R>, t: &mut Tally) {
+    let got: Trace<R> = m.trace(&field.hf(), q);
+    t.tried += 1;
+    t.hits += u64::from(got.hit.is_some());
+    match judge_trace(field, TRI, &got, q, field.z_scale()) {
+        None => t.ambiguous += 1,
+        Some(true) => {}
+        Some(false) => t.wrong(|| format!("{q:?} got {:?}", got.hit)),
+    }
+}
+
+#[test]
+fn zero_wrong_rays_for_every_set() {
+    let mut rng = Rng::new(0xe7e);
+    let mut out = String::new();
+    let (mut wrong, mut tried, mut held) = (0, 0, 0);
+    for (name, field) in fields() {
+        let hf = field.hf();
+        let mut specs = set_rays(&field, &mut rng, 240);
+        specs.extend(rays_with_grazing(&field, TRI, &mut rng, 12));
+        specs.extend(dipping_rays(&field, &mut rng, 400));
+        for (set_name, rays) in sets() {
+            let mut maps: Vec<(String, Vec<u8>, Option<Variant>)> = Vec::new();
+            for variant in [Variant::Directional, Variant::Isotropic] {
+                maps.push((
+                    format!("{variant:?}"),
+                    bake_sd(&field, rays, variant),
+                    Some(variant),
+                ));
+            }
+            for slope in [Slope::Exact, Slope::NBuffer] {
+                maps.push((format!("CC {slope:?}"), bake_cc(&field, rays, slope), None));
+            }
+            for (what, data, variant) in &maps {
+                let m = match variant {
+                    Some(v) => Marcher::Safety(
+                        SafetyMap::new(&hf, data, *v).unwrap().with_rays(rays),
+                        MarchSurface::Triangles,
+                    ),
+                    None => Marcher::Cc(
+                        CcMap::new(&hf, data, CcOptions::default().cap)
+                            .unwrap()
+                            .with_rays(rays),
+                        MarchSurface::Triangles,
+                    ),
+                };
+                let j = judge_all(
+                    &format!("{name} {set_name} {what}"),
+                    &field,
+                    &m,
+                    rays,
+                    &specs,
+                    &mut held,
+                );
+                wrong += j.wrong;
+                tried += j.tried;
+                j.report(&mut out);
+            }
+        }
+    }
+    println!("{out}");
+    println!("{tried} traces, {held} of their rays in the map's set");
+    assert!(held > 20_000, "too few rays of the sets: {held}");
+    assert_eq!(wrong, 0, "wrong rays");
+}
+
+/// Without the guard (the same bytes read as a map for every ray) some ray outside
+/// the set is wrong, for the exterior set and for the view angle alike. The rays: of
+/// every kind (most start inside the box), and, for every texel whose distance the set
+/// lengthens, the every-ray witness of the shorter distance started a quarter texel
+/// before the texel's centerline (inside the box, so not exterior).
+#[test]
+fn the_guard_matters() {
+    let mut rng = Rng::new(0x6a7d);
+    for (set_name, rays) in [sets()[0], sets()[1]] {
+        let (mut wrong_unguarded, mut wrong_guarded, mut tried) = (0, 0, 0);
+        for (_, field) in fields() {
+            let hf = field.hf();
+            let all = bake_sd(&field, Rays::ALL, Variant::Directional);
+            let data = bake_sd(&field, rays, Variant::Directional);
+            let mut qs: Vec<Query<f64>> = rays_with_grazing(&field, TRI, &mut rng, 40)
+                .iter()
+                .map(RaySpec::q64)
+                .collect();
+            qs.extend(inside_witnesses(&field, &all, &data));
+            let map = SafetyMap::new(&hf, &data, Variant::Directional).unwrap();
+            for q in &qs {
+                if rays.holds(&hf, q) {
+                    continue;
+                }
+                tried += 1;
+                let oracle = dda::trace(&hf, TRI, q);
+                let bad = |t: &hfcast::Trace<f64>| match (oracle.hit, t.hit) {
+                    (None, None) => false,
+                    (Some(a), Some(b)) => {
+                        common::dist(a.point.to_array(), b.point.to_array()) > 1e-6
+                    }
+                    _ => true,
+                };
+                let unguarded = safety::trace(&map, &hf, q);
+                let guarded = safety::trace(&map.with_rays(rays), &hf, q);
+                wrong_unguarded += u64::from(bad(&unguarded) && oracle.clearance > 1e-9);
+                wrong_guarded += u64::from(bad(&guarded) && oracle.clearance > 1e-9);
+            }
+        }
+        println!(
+            "{set_name}: {tried} rays outside the set; unguarded {wrong_unguarded} wrong, \
+             guarded {wrong_guarded}"
+        );
+        assert_eq!(wrong_guarded, 0, "{set_name}: guarded");
+        assert!(wrong_unguarded > 0, "{set_name}: the guard saved no ray");
+    }
+}
+
+/// For the texels whose distance in `longer` exceeds that in `all`: the every-ray
+/// witness of the `all` distance, started a quarter texel before the texel's
+/// centerline (where it is above the surface).
+fn inside_witnesses(field: &Field, all: &[u8], longer: &[u8]) -> Vec<Query<f64>> {
+    let hf = field.hf();
+    let every = Rays::ALL.on(&hf);
+    let mut v = Vec::new();
+    for j in 0..field.h {
+        for i in 0..field.w {
+            for class in CLASSES {
+                let at = safety::texel_offset(field.w, Variant::Directional, class, i, j);
+                if longer[at] <= all[at] {
+                    continue;
+                }
+                let Witness::Ray(q) = every.witness(class, i, j, u32::from(all[at]), 0.5) else {
+                    continue;
+                };
+                let (ax, _) = common::class_axis(class);
+                let (o, d) = (q.origin(), q.dir());
+                let m = f64::from(if ax == 0 { i } else { j });
+                let t = (m - o[ax]) / d[ax] - 0.25 / d[ax].abs();
+                let start = q.at(t);
+                if common::clearance(field, TRI, &q, t) > 1e-6 {
+                    v.extend(Query::from_arrays(start, d, 0.0, f64::INFINITY));
+                }
+            }
+        }
+    }
+    v
+}
+
+/// A narrower set never has a shorter distance (its limiting triangles are some of
+/// the wider set's), and the sets lengthen them on the fields.
+#[test]
+fn narrower_sets_have_longer_distances() {
+    for (name, field) in fields().into_iter().take(6) {
+        let all = bake_sd(&field, Rays::ALL, Variant::Directional);
+        let mut sums = vec![("all", all.iter().map(|&d| u64::from(d)).sum::<u64>())];
+        let maps: Vec<(&str, Vec<u8>)> = sets()
+            .into_iter()
+            .map(|(n, r)| (n, bake_sd(&field, r, Variant::Directional)))
+            .collect();
+        let get = |n: &str| &maps.iter().find(|(m, _)| *m == n).unwrap().1;
+        let pairs = [
+            ("exterior", "all"),
+            ("angle 45", "all"),
+            ("angle 120", "all"),
+            ("angle 45", "angle 120"),
+            ("exterior angle 45", "angle 45"),
+            ("exterior angle 45", "exterior"),
+        ];
+        for (narrow, wide) in pairs {
+            let (a, b) = (get(narrow), if wide == "all" { &all } else { get(wide) });
+            let shorter = a.iter().zip(b).filter(|(x, y)| x < y).count();
+            assert_eq!(shorter, 0, "{name}: {narrow} shorter than {wide}");
+        }
+        for (n, m) in &maps {
+            sums.push((n, m.iter().map(|&d| u64::from(d)).sum()));
+        }
+        println!("{name}: distance sums {sums:?}");
+    }
+}
+
+/// For sampled texels and classes of distance `k` below the cap, the bake's witness
+/// for column `k` is checked with the oracle ([`witness_checks`]): a ray of the set
+/// (outside the box for the exterior set) that exits the solid in column `k`, and,
+/// for many, is above the surface where a jump of `k + 1` would land, so that jump
+/// would skip its hit. The witness line is lowered by a millionth to nine tenths of
+/// its height above the surface (the first that lands above counts). Every sampled
+/// texel must have a witness or a scan that gave up (conservative); nine in ten
+/// witnesses must exit in column `k`, one in three land above.
+#[test]
+fn witnesses_show_distance_plus_one_is_wrong() {
+    let mut rng = Rng::new(0x717);
+    for (set_name, rays) in sets() {
+        let (mut sampled, mut shown, mut gave_up) = (0u64, 0u64, 0u64);
+        let (mut exits, mut lands) = (0u64, 0u64);
+        for (_, field) in fields().into_iter().take(8) {
+            let hf = field.hf();
+            let (w, h) = (field.w, field.h);
+            if w < 8 || h < 8 {
+                continue;
+            }
+            let data = bake_sd(&field, rays, Variant::Directional);
+            let set = rays.on(&hf);
+            for _ in 0..120 {
+                let (i, j) = (rng.below(w as usize) as u32, rng.below(h as usize) as u32);
+                let class = CLASSES[rng.below(4)];
+                let k = u32::from(data[safety::texel_offset(w, Variant::Directional, class, i, j)]);
+                let (ax, sg) = common::class_axis(class);
+                let (m, lm) = if ax == 0 { (i, w) } else { (j, h) };
+                let ahead = if sg > 0.0 { lm - 1 - m } else { m };
+                if k >= ahead || k == 255 {
+                    continue;
+                }
+                sampled += 1;
+                let (mut any, mut exit, mut land) = (false, false, false);
+                for lower in [1e-6, 1e-3, 0.1, 0.5, 0.9] {
+                    match set.witness(class, i, j, k, lower) {
+                        Witness::Ray(q) => {
+                            any = true;
+                            let verdict = witness_checks(&field, rays, &q, ax, sg, m, k);
+                            exit |= verdict.is_some();
+                            land |= verdict == Some(true);
+                            if land {
+                                break;
+                            }
+                        }
+                        Witness::NoRay => {
+                            gave_up += 1;
+                            break;
+                        }
+                        Witness::None => break,
+                    }
+                }
+                shown += u64::from(any);
+                exits += u64::from(exit);
+                lands += u64::from(land);
+            }
+        }
+        println!(
+            "{set_name}: {sampled} texels sampled: {shown} witnesses, {gave_up} without a \
+             ray to show (conservative); by the oracle {exits} exit the solid in column k, {lands} of them are \
+             above it where a jump of k + 1 lands"
+        );
+        assert!(sampled > 200, "{set_name}: {sampled} sampled");
+        assert_eq!(
+            shown + gave_up,
+            sampled,
+            "{set_name}: a texel without a witness"
+        );
+        assert!(
+            exits * 10 >= shown * 9,
+            "{set_name}: {exits} of {shown} witnesses exit"
+        );
+        assert!(
+            lands * 3 >= shown,
+            "{set_name}: {lands} of {shown} witnesses land above"
+        );
+    }
+}
+
+/// What the oracle says of a witness `q` for the texel on centerline `m` and column
+/// `k` ahead: `Some(lands_above)` when `q` is a ray of `rays`, above the surface where
+/// it crosses centerline `m`, whose first hit lies before the centerline `k + 1`
+/// ahead and which leaves the solid again before it (an exit in column `k`: the bake's
+/// distance cannot exceed `k`); `lands_above` when it is above the surface on that
+/// centerline, where a jump of `k + 1` would land (so that jump would skip the hit).
+fn witness_checks(
+    field: &Field,
+    rays: Rays,
+    q: &Query<f64>,
+    ax: usize,
+    sg: f64,
+    m: u32,
+    k: u32,
+) -> Option<bool> {
+    let hf = field.hf();
+    if !rays.holds(&hf, q) {
+        return None;
+    }
+    let (o, d) = (q.origin(), q.dir());
+    let t_at = |line: f64| (line - o[ax]) / d[ax];
+    let (t0, t1) = (
+        t_at(f64::from(m)),
+        t_at(f64::from(m) + sg * f64::from(k + 1)),
+    );
+    let above = |t: f64| common::clearance(field, TRI, q, t) > 1e-9;
+    let hit = dda::trace(&hf, TRI, q).hit.map(|h| h.t)?;
+    if !(above(t0) && hit > t0 && hit < t1) {
+        return None;
+    }
+    let exits = common::breakpoints(q, hit, t1).into_iter().any(above) || above(t1);
+    exits.then(|| above(t1))
+}
