@@ -229,7 +229,8 @@ static void check_size_queries(uint32_t method, uint32_t w, uint32_t h, const hf
     CHECK_BAD(hf_bake_row_count(method, w, h, o, NULL), HF_ERR_NULL_POINTER, nothing, 0);
 }
 
-/* An option set to a bad value (`value`: a float for the tolerance, else a uint32_t) and
+/* An option set to a bad value (`value`: a float for the tolerance and the view angle,
+ * else a uint32_t) and
  * the code every bake function answers it with. */
 typedef struct bad_option {
     size_t offset;
@@ -252,8 +253,13 @@ static const bad_option bad_options[] = {
     BAD_OPTION(tolerance, -1.0, HF_ERR_INVALID_ARGUMENT),
     BAD_OPTION(tolerance, NAN, HF_ERR_INVALID_ARGUMENT),
     BAD_OPTION(tolerance, INFINITY, HF_ERR_INVALID_ARGUMENT),
+    BAD_OPTION(exterior, 2, HF_ERR_INVALID_ARGUMENT),
+    BAD_OPTION(max_view_angle_deg, -1.0, HF_ERR_INVALID_ARGUMENT),
+    BAD_OPTION(max_view_angle_deg, 180.5, HF_ERR_INVALID_ARGUMENT),
+    BAD_OPTION(max_view_angle_deg, NAN, HF_ERR_INVALID_ARGUMENT),
+    BAD_OPTION(max_view_angle_deg, INFINITY, HF_ERR_INVALID_ARGUMENT),
     BAD_OPTION(reserved[0], 1, HF_ERR_INVALID_ARGUMENT),
-    BAD_OPTION(reserved[8], 1, HF_ERR_INVALID_ARGUMENT),
+    BAD_OPTION(reserved[6], 1, HF_ERR_INVALID_ARGUMENT),
 };
 
 /* `o` with the bad option `b`. */
@@ -261,6 +267,8 @@ static hf_bake_options with_bad(const hf_bake_options *o, const bad_option *b) {
     hf_bake_options x = *o;
     if (b->offset == offsetof(hf_bake_options, tolerance)) {
         x.tolerance = (float)b->value;
+    } else if (b->offset == offsetof(hf_bake_options, max_view_angle_deg)) {
+        x.max_view_angle_deg = (float)b->value;
     } else {
         uint32_t v = (uint32_t)b->value;
         memcpy((char *)&x + b->offset, &v, sizeof v);
@@ -1304,6 +1312,30 @@ static void test_safety(void) {
     CHECK(memcmp(&one_vl, &sd[7], sizeof one_vl) == 0);
     printf("safety on the view-linear surface: agrees on %d of %d\n", vl, N);
 
+    /* Ray sets: maps baked for exterior rays, for rays within 45 degrees of the
+     * vertical, and both, are never shorter than the every-ray map and longer somewhere;
+     * their traces (the descriptor records the set, and rays outside it walk cell by
+     * cell) find the exact hits of every ray, inside the box or not. */
+    for (int set = 0; set < 3; set++) {
+        hf_bake_options ro = good;
+        ro.exterior = set != 1;
+        ro.max_view_angle_deg = set == 0 ? 0.0f : 45.0f;
+        size_t rlen = 0;
+        unsigned char *rmap = (unsigned char *)bake_map(sm, f, &ro, &rlen);
+        int shorter = 0, longer = 0;
+        for (size_t k = 0; k + HF_MAP_DESC_BYTES < rlen; k++) {
+            shorter += rmap[k] < dmap[k];
+            longer += rmap[k] > dmap[k];
+        }
+        CHECK(rlen == dlen && shorter == 0 && longer > 0);
+        CHECK_OK(hf_trace_batch(f, sm, rmap, rlen, NULL, rays, N, sd, N));
+        int agree = agreeing(exact, sd, N);
+        CHECK(agree == N);
+        printf("safety, ray set %d: %d texel distances longer, %d of %d rays agree\n", set,
+               longer, agree, N);
+        free(rmap);
+    }
+
     /* Bad trace inputs (unknown surfaces too: the layout is no longer passed, nor a bad
      * one). The isotropic map traces as itself (it was refused when named directional). */
     check_bad_traces(f, sm, dmap, dlen, NULL, rays, N, sd);
@@ -1845,10 +1877,10 @@ static void test_bake_defaults(void) {
     for (uint32_t m = HF_METHOD_EXACT; m <= HF_METHOD_RADIUS; m++) {
         const hf_bake_options d = bake_defaults(m);
         int zero = 1;
-        for (int k = 0; k < 9; k++) zero &= d.reserved[k] == 0;
+        for (int k = 0; k < 7; k++) zero &= d.reserved[k] == 0;
         CHECK(d.variant == HF_SAFETY_DIRECTIONAL && d.positive == 0 && d.cap == caps[m] &&
               d.slope == HF_CC_SLOPE_EXACT && d.ray_classes == 0 && d.tolerance == 0.0f &&
-              d.threads == 1 && zero);
+              d.threads == 1 && d.exterior == 0 && d.max_view_angle_deg == 0.0f && zero);
         uint32_t r_null = 77, r_def = 77;
         CHECK_OK(hf_bake_row_count(m, W, H, NULL, &r_null));
         CHECK_OK(hf_bake_row_count(m, W, H, &d, &r_def));

@@ -483,8 +483,18 @@ typedef struct hf_bake_options {
   // (at most the available cores), 0 one per available core. The map does not
   // depend on it. The other bake functions ignore it.
   uint32_t threads;
+  // Safety distances, cylinder–cone shapes: 1 bakes for exterior rays only (rays
+  // that start outside the field's box: longer steps for them); 0 (the default):
+  // every ray. The map's descriptor records it, and `hf_trace` walks any other ray
+  // cell by cell (still exact).
+  uint32_t exterior;
+  // Safety distances, cylinder–cone shapes: the largest angle, in degrees, between a
+  // ray the map serves and the downward vertical, in (0, 180] (45: the paper's
+  // φmax = −45°); 0 (the default) is 180, every direction. Recorded and guarded as
+  // `exterior`.
+  float max_view_angle_deg;
   // Room for later options: must be 0.
-  uint32_t reserved[9];
+  uint32_t reserved[7];
 } hf_bake_options;
 
 // A pinhole camera in the field's world units (grid units for a field without a

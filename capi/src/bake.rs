@@ -10,6 +10,7 @@ use crate::ptr::Named;
 use crate::{guard, hf_field, ptr};
 use hfcore::bake::{self, Spec};
 use hfcore::ktx2::{DataMut, Desc, MapKind};
+use hfcore::rayset::Rays;
 use hfcore::scene::{MethodKind, RayClasses};
 use hfcore::HeightField;
 use std::ffi::c_void;
@@ -48,8 +49,18 @@ pub struct hf_bake_options {
     /// (at most the available cores), 0 one per available core. The map does not
     /// depend on it. The other bake functions ignore it.
     pub threads: u32,
+    /// Safety distances, cylinder–cone shapes: 1 bakes for exterior rays only (rays
+    /// that start outside the field's box: longer steps for them); 0 (the default):
+    /// every ray. The map's descriptor records it, and `hf_trace` walks any other ray
+    /// cell by cell (still exact).
+    pub exterior: u32,
+    /// Safety distances, cylinder–cone shapes: the largest angle, in degrees, between a
+    /// ray the map serves and the downward vertical, in (0, 180] (45: the paper's
+    /// φmax = −45°); 0 (the default) is 180, every direction. Recorded and guarded as
+    /// `exterior`.
+    pub max_view_angle_deg: f32,
     /// Room for later options: must be 0.
-    pub reserved: [u32; 9],
+    pub reserved: [u32; 7],
 }
 
 impl hf_bake_options {
@@ -63,7 +74,9 @@ impl hf_bake_options {
             ray_classes: 0,
             tolerance: 0.0,
             threads: 1,
-            reserved: [0; 9],
+            exterior: 0,
+            max_view_angle_deg: 0.0,
+            reserved: [0; 7],
         }
     }
 }
@@ -123,6 +136,23 @@ unsafe fn checked(
         0 => RayClasses::ALL,
         v => crate::scene::classes_of(v)?,
     };
+    let exterior = binary(
+        o.exterior,
+        HF_ERR_INVALID_ARGUMENT,
+        "exterior: must be 0 or 1",
+    )?;
+    let rays = Rays {
+        exterior,
+        max_view_angle_deg: match o.max_view_angle_deg {
+            0.0 => 180.0,
+            a => a,
+        },
+    }
+    .validate()
+    .map_err(|_| {
+        let why = "options.max_view_angle_deg: must be 0 or in (0, 180]";
+        fail(HF_ERR_INVALID_ARGUMENT, why)
+    })?;
     if !o.tolerance.is_finite() || o.tolerance < 0.0 {
         let why = "options.tolerance: must be finite and at least 0";
         return Err(fail(HF_ERR_INVALID_ARGUMENT, why));
@@ -137,6 +167,7 @@ unsafe fn checked(
             cap,
             classes,
             tolerance: o.tolerance,
+            rays,
             ..Desc::new(map, width, height)
         }
         .normalized(),

@@ -142,7 +142,7 @@ pub(crate) fn read<T: Texel>(data: &[T], texels: usize) -> Result<MapDescriptor,
         let why = match e {
             DescriptorError::Missing => "none (a map baked before maps had descriptors, or read at the length of another size or class set)",
             DescriptorError::Version(_) => "of another layout version",
-            DescriptorError::Corrupt => "damaged (its hash disagrees)",
+            DescriptorError::Corrupt => "damaged (its hash disagrees, or a field holds no valid value)",
         };
         fail(
             HF_ERR_MAP_MISMATCH,
