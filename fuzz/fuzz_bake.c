@@ -3,7 +3,7 @@
  * arbitrary methods and options.
  * Input: a field (fz_field), a method number (now and then any u32), every
  * hf_bake_options field (variant, positive, cap, slope, ray classes, tolerance,
- * threads 0..4, a reserved word; each now and then out of range), whether to pass
+ * threads 0..4, the ray set, a reserved word; each now and then out of range), whether to pass
  * NULL options (the defaults), an output length off the needed one by a fuzzed
  * amount, a row split, then a few rays. Checks: a valid code; the size queries
  * accept exactly the known methods with valid options, and the bakes refuse the
@@ -39,17 +39,22 @@ static void read_options(fz_in *in, hf_bake_options *o) {
     o->tolerance = (fz_u8(in) < 200) ? 0.0f : fz_range(in, -1.0f, 4.0f);
     if (fz_u8(in) == 255) o->tolerance = fz_raw_float(in);
     o->threads = opt(in, 5);
+    o->exterior = opt(in, 2);
+    uint8_t a = fz_u8(in);
+    o->max_view_angle_deg = a < 128 ? 0.0f : a < 250 ? fz_range(in, 1.0f, 180.0f) : fz_raw_float(in);
     uint8_t rb = fz_u8(in);
-    if (rb >= 248) o->reserved[rb % 9] = fz_u32(in);
+    if (rb >= 248) o->reserved[rb % 7] = fz_u32(in);
 }
 
 /* Whether the library must accept `o` (whatever the method): the checks that
  * hf_bake_options documents. */
 static int options_valid(const hf_bake_options *o) {
-    for (int k = 0; k < 9; k++)
+    for (int k = 0; k < 7; k++)
         if (o->reserved[k] != 0) return 0;
+    float a = o->max_view_angle_deg;
     return o->variant <= 1 && o->positive <= 1 && o->cap <= 255 && o->slope <= 1 &&
-           o->ray_classes <= HF_RAYS_ALL && isfinite(o->tolerance) && o->tolerance >= 0.0f;
+           o->ray_classes <= HF_RAYS_ALL && isfinite(o->tolerance) && o->tolerance >= 0.0f &&
+           o->exterior <= 1 && (a == 0.0f || (a > 0.0f && a <= 180.0f));
 }
 
 /* Whether `method`'s map is floats (else bytes; methods without a map: bytes). */
