@@ -52,6 +52,8 @@
 //! past [`MAX_BEHIND`] columns, answers "limiting". All of that can only make
 //! distances smaller (slower), never a ray wrong.
 
+use core::cell::RefCell;
+
 use heapless::Vec;
 
 use super::{cell_corners, tri_masks, AllRays, RaySet, Sigma, Tri};
@@ -78,6 +80,7 @@ impl Rays {
             top,
             tol: 1e-7 * (1.0 + top.abs().max(low.abs())),
             sliver: 1e-12 * (1.0 + top.abs().max(low.abs())),
+            scan: RefCell::new(Scan::new()),
         }
     }
 }
@@ -95,8 +98,10 @@ pub enum Witness {
     None,
 }
 
-/// A [`Rays`] set bound to its field: the [`RaySet`] both bakes scan with.
-#[derive(Clone, Copy, Debug)]
+/// A [`Rays`] set bound to its field: the [`RaySet`] both bakes scan with. It holds
+/// the scan's buffers (tens of kilobytes), so make one per thread and bake many
+/// texels with it.
+#[derive(Debug)]
 pub struct RaysOn<'a> {
     hf: &'a HeightField<'a>,
     rays: Rays,
@@ -118,6 +123,27 @@ pub struct RaysOn<'a> {
     /// Where the segment lies on the triangle's own edge, the plane *is* the surface
     /// there, and only touching rays lie between.
     sliver: f64,
+    /// The buffers of [`RaySet::limiting`]'s scan, reused by every triangle tested:
+    /// clearing new ones per triangle cost a tenth of the bake.
+    scan: RefCell<Scan>,
+}
+
+/// The buffers of one triangle's scan.
+#[derive(Debug)]
+struct Scan {
+    /// The candidate lines ([`RaysOn::candidates`]).
+    pieces: Pieces,
+    /// The polygons [`RaysOn::survives`] has still to take through the columns behind.
+    stack: Stack,
+}
+
+impl Scan {
+    const fn new() -> Self {
+        Scan {
+            pieces: Pieces::new(),
+            stack: Vec::new(),
+        }
+    }
 }
 
 /// Growth of every dual set (dual coordinates are minor coordinates and slopes: far
@@ -163,63 +189,118 @@ fn side(h: &Half, p: &Dual) -> f64 {
 /// `p` ∩ `h` (Sutherland–Hodgman); `p` itself when the result would not fit.
 fn clip(p: &Poly, h: &Half) -> Poly {
     let mut out = Poly::new();
+    clip_into(p, h, &mut out);
+    out
+}
+
+/// [`clip`] into `out` (a polygon is hundreds of bytes: written in place, not moved).
+fn clip_into(p: &Poly, h: &Half, out: &mut Poly) {
+    out.clear();
     let n = p.len();
     for k in 0..n {
         let (a, b) = (p[k], p[(k + 1) % n]);
         let (sa, sb) = (side(h, &a), side(h, &b));
         if sa >= 0.0 && out.push(a).is_err() {
-            return p.clone();
+            out.clone_from(p);
+            return;
         }
         if (sa >= 0.0) != (sb >= 0.0) {
             let t = sa / (sa - sb);
             let x = [a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1])];
             if out.push(x).is_err() {
-                return p.clone();
+                out.clone_from(p);
+                return;
             }
         }
     }
-    out
 }
 
-/// `p` ∩ every half-plane of `hs`.
+/// `p` ∩ every half-plane of `hs`, clipping back and forth between two polygons.
 fn clip_all(p: &Poly, hs: &[Half]) -> Poly {
-    let mut out = p.clone();
+    let (mut a, mut b) = (p.clone(), Poly::new());
+    let mut in_a = true;
     for h in hs {
-        if out.is_empty() {
+        if in_a {
+            clip_into(&a, h, &mut b);
+        } else {
+            clip_into(&b, h, &mut a);
+        }
+        in_a = !in_a;
+        if (if in_a { &a } else { &b }).is_empty() {
             break;
         }
-        out = clip(&out, h);
     }
-    out
+    if in_a {
+        a
+    } else {
+        b
+    }
 }
 
+/// A polygon, the column behind the segment it is in, and the first blocker of that
+/// column (`2·cell + triangle`) it has still to pass.
+type Stack = Vec<(Poly, u32, u32), PIECES>;
+
 /// The polygons a scan holds; `Err` once they would not fit (the caller then answers
-/// "limiting").
-struct Pieces(Vec<Poly, PIECES>);
+/// "limiting"). Two lists that take turns ([`Pieces::keep_meeting`] reads one and
+/// fills the other): a list is kilobytes, so it is filled and read in place, never
+/// moved or returned (moving them was half of an exterior bake's time).
+#[derive(Debug)]
+struct Pieces {
+    lists: [Vec<Poly, PIECES>; 2],
+    /// Which list holds the polygons.
+    live: usize,
+}
 
 /// The list overflowed.
 struct Full;
 
+/// Appends `p` to `list` unless it is empty (fewer than 3 vertices).
+fn add(list: &mut Vec<Poly, PIECES>, p: Poly) -> Result<(), Full> {
+    if p.len() < 3 {
+        return Ok(());
+    }
+    list.push(p).map_err(|_| Full)
+}
+
 impl Pieces {
-    fn add(&mut self, p: Poly) -> Result<(), Full> {
-        if p.len() < 3 {
-            return Ok(());
+    const fn new() -> Self {
+        Pieces {
+            lists: [Vec::new(), Vec::new()],
+            live: 0,
         }
-        self.0.push(p).map_err(|_| Full)
+    }
+
+    /// Empties both lists.
+    fn clear(&mut self) {
+        self.lists.iter_mut().for_each(Vec::clear);
+        self.live = 0;
+    }
+
+    /// The polygons.
+    fn polys(&self) -> &[Poly] {
+        &self.lists[self.live]
+    }
+
+    fn add(&mut self, p: Poly) -> Result<(), Full> {
+        add(&mut self.lists[self.live], p)
     }
 
     /// Keeps the lines that meet the closed triangle `verts` (grown by [`EPS`]): the
     /// lines not strictly above all of its vertices nor strictly below all of them.
     fn keep_meeting(&mut self, verts: &[[f64; 2]; 3]) -> Result<(), Full> {
         for dir in [below as fn(f64, f64) -> Half, above] {
-            let old = core::mem::take(&mut self.0);
-            for p in old {
+            let [a, b] = &mut self.lists;
+            let (old, new) = if self.live == 0 { (a, b) } else { (b, a) };
+            new.clear();
+            self.live ^= 1;
+            for p in old.iter() {
                 // Through or on this side of a vertex, the first such vertex being
                 // `k` (the parts are disjoint but for their common edges).
-                let mut rest = p;
+                let mut rest = p.clone();
                 for (k, &[u, v]) in verts.iter().enumerate() {
                     let h = dir(u, v);
-                    self.add(clip(&rest, &h))?;
+                    add(new, clip(&rest, &h))?;
                     if k == 2 {
                         break;
                     }
@@ -249,8 +330,7 @@ impl RaysOn<'_> {
 
     /// The candidate lines: over the segment where the plane is not under the surface
     /// (per half of the segment), in the quadrant, within the view angle, meeting `T`.
-    fn candidates(&self, sigma: &Sigma, tri: &Tri) -> Result<Pieces, Full> {
-        let mut pieces = Pieces(Vec::new());
+    fn candidates(&self, sigma: &Sigma, tri: &Tri, pieces: &mut Pieces) -> Result<(), Full> {
         let s_lim = 1.0 + EPS;
         for (a, b) in [(sigma.lo, sigma.n), (sigma.n, sigma.hi)] {
             // `P_T − σ` is linear on the half: where it is above `sliver` (a ray between
@@ -280,8 +360,7 @@ impl RaysOn<'_> {
             }
             pieces.add(p)?;
         }
-        pieces.keep_meeting(&tri.verts)?;
-        Ok(pieces)
+        pieces.keep_meeting(&tri.verts)
     }
 
     /// Whether a line of `pieces` survives the surface behind the segment (exterior):
@@ -293,7 +372,8 @@ impl RaysOn<'_> {
         &self,
         sigma: &Sigma,
         tri: &Tri,
-        pieces: Pieces,
+        pieces: &Pieces,
+        stack: &mut Stack,
         witness: bool,
     ) -> Result<Option<Dual>, Full> {
         let hf = self.hf;
@@ -310,11 +390,9 @@ impl RaysOn<'_> {
         };
         let top_v = f64::from(ln - 1);
         let lim = 2.0 * self.tol;
-        // A polygon, the column it is in, and the first blocker of that column
-        // (`2·cell + triangle`) it has still to pass.
-        let mut stack: Vec<(Poly, u32, u32), PIECES> = Vec::new();
-        for p in pieces.0 {
-            stack.push((p, 1, 0)).map_err(|_| Full)?;
+        stack.clear();
+        for p in pieces.polys() {
+            stack.push((p.clone(), 1, 0)).map_err(|_| Full)?;
         }
         let mut best: Option<Poly> = None;
         'jobs: while let Some((mut p, mut j, mut from)) = stack.pop() {
@@ -423,14 +501,19 @@ impl RaysOn<'_> {
         if tri.forward_slope - tri.minor_slope.abs() > self.rise || !AllRays.limiting(sigma, tri) {
             return None;
         }
-        let Ok(pieces) = self.candidates(sigma, tri) else {
+        let Scan { pieces, stack } = &mut *self.scan.borrow_mut();
+        pieces.clear();
+        if self.candidates(sigma, tri, pieces).is_err() {
             return Some(None);
-        };
-        let widest = pieces.0.iter().max_by(|a, b| area(a).total_cmp(&area(b)))?;
+        }
+        let widest = pieces
+            .polys()
+            .iter()
+            .max_by(|a, b| area(a).total_cmp(&area(b)))?;
         if !self.rays.exterior {
             return Some(Some(centre(widest)));
         }
-        match self.survives(sigma, tri, pieces, true) {
+        match self.survives(sigma, tri, pieces, stack, true) {
             Ok(line) => line.map(Some),
             Err(Full) => Some(None),
         }
@@ -686,15 +769,17 @@ impl RaySet for RaysOn<'_> {
         if self.rays.is_all() {
             return true;
         }
-        let Ok(pieces) = self.candidates(sigma, tri) else {
+        let Scan { pieces, stack } = &mut *self.scan.borrow_mut();
+        pieces.clear();
+        if self.candidates(sigma, tri, pieces).is_err() {
             return true;
-        };
-        if pieces.0.is_empty() {
+        }
+        if pieces.polys().is_empty() {
             return false;
         }
         if !self.rays.exterior {
             return true;
         }
-        !matches!(self.survives(sigma, tri, pieces, false), Ok(None))
+        !matches!(self.survives(sigma, tri, pieces, stack, false), Ok(None))
     }
 }
