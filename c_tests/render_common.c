@@ -141,24 +141,31 @@ static void *bake_map(const scene *s, uint32_t method, const hf_bake_options *o,
 }
 
 /* Bakes the directional and isotropic safety maps and the cylinder-cone map of the ray
- * classes s->classes (all cores): W x nH texels for n classes, isotropic W x H. */
+ * classes s->classes for the ray set s->exterior, s->max_view_angle_deg (all cores):
+ * W x nH texels for n classes, isotropic W x H. */
 static void bake_class_maps(scene *s) {
     hf_bake_options o = bake_defaults(HF_METHOD_SAFETY); /* exact, cap 255 */
     o.ray_classes = s->classes;
+    o.exterior = s->exterior;
+    o.max_view_angle_deg = s->max_view_angle_deg;
     s->safety = bake_map(s, HF_METHOD_SAFETY, &o, 1, &s->safety_len, &s->safety_bake_ms);
     o.variant = HF_SAFETY_ISOTROPIC;
     s->safety_iso = bake_map(s, HF_METHOD_SAFETY, &o, 1, &s->safety_iso_len, NULL);
     hf_bake_options cc = bake_defaults(HF_METHOD_CC); /* exact slope */
     cc.cap = CC_CAP;
     cc.ray_classes = s->classes;
+    cc.exterior = s->exterior;
+    cc.max_view_angle_deg = s->max_view_angle_deg;
     s->cc = bake_map(s, HF_METHOD_CC, &cc, 1, &s->cc_len, &s->cc_bake_ms);
 }
 
-void scene_set_classes(scene *s, uint32_t classes) {
+void scene_set_maps(scene *s, uint32_t classes, uint32_t exterior, float max_view_angle_deg) {
     free(s->safety);
     free(s->safety_iso);
     free(s->cc);
     s->classes = classes;
+    s->exterior = exterior;
+    s->max_view_angle_deg = max_view_angle_deg;
     bake_class_maps(s);
 }
 
@@ -573,6 +580,12 @@ void gpu_render_program(gpu *g, GLuint p, const scene *s, method_cfg cfg, float 
     if (sloc >= 0) glUniform1ui(sloc, s->classes);
     sloc = glGetUniformLocation(p, "hf_cc_classes");
     if (sloc >= 0) glUniform1ui(sloc, s->classes);
+    /* Their ray set (180 degrees: any direction). */
+    sloc = glGetUniformLocation(p, "hf_rays_exterior");
+    if (sloc >= 0) glUniform1ui(sloc, s->exterior);
+    sloc = glGetUniformLocation(p, "hf_rays_max_view_angle");
+    if (sloc >= 0)
+        glUniform1f(sloc, s->max_view_angle_deg > 0.0f ? s->max_view_angle_deg : 180.0f);
     GLint loc = glGetUniformLocation(p, "hf_linear_steps");
     if (loc >= 0) glUniform1ui(loc, cfg.linear);
     loc = glGetUniformLocation(p, "hf_binary_steps");

@@ -44,8 +44,13 @@ typedef struct scene {
     hf_level levels[HF_MAX_LEVELS];
     uint32_t nlevels;
     /* HF_RAYS_* bits of the ray classes the safety and cylinder-cone maps hold:
-     * HF_RAYS_ALL (whole maps) after scene_load, else scene_set_classes's. */
+     * HF_RAYS_ALL (whole maps) after scene_load, else scene_set_maps's. */
     uint32_t classes;
+    /* The ray set those maps are baked for, as hf_bake_options.exterior and
+     * .max_view_angle_deg (0 and 0, every ray, after scene_load): the shaders'
+     * hf_rays_exterior and hf_rays_max_view_angle. */
+    uint32_t exterior;
+    float max_view_angle_deg;
     unsigned char *safety; /* directional safety distances, W x H x n for n classes */
     size_t safety_len;
     unsigned char *safety_iso; /* isotropic safety distances, W x H (of those classes) */
@@ -98,10 +103,11 @@ int scene_load(scene *s, const char *png_path);
 int scene_load_ex(scene *s, const char *png_path, int relaxed);
 void scene_free(scene *s);
 /* Rebakes the safety (both layouts) and cylinder-cone maps for the ray classes
- * `classes` only (HF_RAYS_* bits, not 0): the compact maps that hf_bake of
- * HF_METHOD_SAFETY and HF_METHOD_CC writes for options of those ray_classes, which
- * cpu_trace and gpu_render then use with that mask (after gpu_upload_class_maps). */
-void scene_set_classes(scene *s, uint32_t classes);
+ * `classes` only (HF_RAYS_* bits, not 0) and the ray set `exterior`,
+ * `max_view_angle_deg` (hf_bake_options' fields): the maps that hf_bake of
+ * HF_METHOD_SAFETY and HF_METHOD_CC writes for those options, which cpu_trace and
+ * gpu_render then use with that mask and set (after gpu_upload_class_maps). */
+void scene_set_maps(scene *s, uint32_t classes, uint32_t exterior, float max_view_angle_deg);
 /* The fixed view of the tests: both renderers' images of it are compared. */
 camera default_camera(void);
 float scene_depth_far(const scene *s, const camera *c);

@@ -232,6 +232,44 @@ static void cfg_name(char *buf, size_t len, method_cfg c) {
 static const uint32_t SUBSETS[] = {HF_RAYS_X_POS | HF_RAYS_Y_NEG, HF_RAYS_X_NEG};
 #define NUM_SUBSETS (sizeof SUBSETS / sizeof SUBSETS[0])
 
+/* The maps of one compact-map or ray-set case: the classes they hold and the ray set
+ * they are baked for (hf_bake_options' exterior and max_view_angle_deg). */
+typedef struct map_set {
+    uint32_t classes, exterior;
+    float angle;
+} map_set;
+
+/* Each class subset for every ray, then every class for exterior rays within 60
+ * degrees of the downward vertical (shadertest's RAY_SET). The default camera is
+ * outside the box and looks 14 to 54 degrees below the horizon: its steeper rays are
+ * in the set, the flatter ones not; the shadow rays start on the surface, outside it.
+ * A ray outside the set walks cell by cell. */
+static const map_set MAP_SETS[] = {
+    {HF_RAYS_X_POS | HF_RAYS_Y_NEG, 0, 0.0f},
+    {HF_RAYS_X_NEG, 0, 0.0f},
+    {HF_RAYS_ALL, 1, 60.0f},
+};
+#define NUM_MAP_SETS (sizeof MAP_SETS / sizeof MAP_SETS[0])
+
+/* Whether `r` is a ray of the set of s's maps (`Rays::holds`, in float: for the counts
+ * printed only). */
+static int ray_in_set(const scene *s, const hf_ray *r) {
+    if (s->exterior) {
+        float p[3];
+        for (int k = 0; k < 3; k++) p[k] = r->origin[k] + r->t_min * r->dir[k];
+        int outside = p[0] < 0.0f || p[0] > (float)(s->w - 1) || p[1] < 0.0f ||
+                      p[1] > (float)(s->h - 1) || p[2] < s->info.min_height ||
+                      p[2] > s->info.max_height;
+        if (!outside) return 0;
+    }
+    if (s->max_view_angle_deg > 0.0f && s->max_view_angle_deg < 180.0f) {
+        float a = s->max_view_angle_deg * 0.017453292519943295f;
+        float run = sqrtf(r->dir[0] * r->dir[0] + r->dir[1] * r->dir[1]);
+        if (r->dir[2] > -cosf(a) / sinf(a) * run) return 0;
+    }
+    return 1;
+}
+
 /* The HF_RAYS_* bit of a ray direction's class (as the library classifies). */
 static uint32_t ray_class_bit(const float *d) {
     float dx = d[0], dy = d[1];
@@ -242,16 +280,23 @@ static uint32_t ray_class_bit(const float *d) {
 }
 
 /* " holding x+,y-" for maps of the classes `classes`; "" for the whole maps. */
-static void classes_suffix(char *buf, size_t len, uint32_t classes) {
+static void classes_suffix(char *buf, size_t len, const scene *s) {
     static const char *names[4] = {"x+", "x-", "y+", "y-"};
     const char *sep = " holding ";
     buf[0] = 0;
-    for (int k = 0; k < 4 && classes != HF_RAYS_ALL; k++) {
-        if (!(classes & (1u << k))) continue;
+    for (int k = 0; k < 4 && s->classes != HF_RAYS_ALL; k++) {
+        if (!(s->classes & (1u << k))) continue;
         size_t at = strlen(buf);
         snprintf(buf + at, len - at, "%s%s", sep, names[k]);
         sep = ",";
     }
+    size_t at = strlen(buf);
+    if (s->exterior && s->max_view_angle_deg > 0.0f)
+        snprintf(buf + at, len - at, " for exterior,angle:%g", s->max_view_angle_deg);
+    else if (s->exterior)
+        snprintf(buf + at, len - at, " for exterior");
+    else if (s->max_view_angle_deg > 0.0f)
+        snprintf(buf + at, len - at, " for angle:%g", s->max_view_angle_deg);
 }
 
 /* A map set up for rendering: its scene, GPU state and the default camera's rays. */
@@ -269,7 +314,7 @@ typedef void (*map_fn)(map_job *j, int w, int h, void *ctx);
 static void case_label(char *buf, size_t len, const map_job *j, method_cfg c,
                        const char *extra) {
     char holding[32];
-    classes_suffix(holding, sizeof holding, j->s.classes);
+    classes_suffix(holding, sizeof holding, &j->s);
     snprintf(buf, len, "%s %s%s/%s%s%s", j->s.name, method_name(c.method),
              c.method == HF_METHOD_SAFETY && c.variant == HF_SAFETY_ISOTROPIC ? "-isotropic"
              : c.method == HF_METHOD_RADIUS && c.zero == HF_RADIUS_CLAMP   ? "-clamp"
@@ -382,7 +427,7 @@ static int parity_case(map_job *j, int w, int h, method_cfg c, frame *f, int str
     return parity_case_with(j, w, h, c, f, strict, 0, j->rays, "");
 }
 
-/* The configurations run on the compact maps of each of SUBSETS: safety (directional
+/* The configurations run on the compact maps of each of MAP_SETS: safety (directional
  * and isotropic) and cylinder-cones on triangles. */
 enum { SUBSET_CFGS = 3 };
 static void subset_cfgs(method_cfg out[SUBSET_CFGS]) {
@@ -392,19 +437,23 @@ static void subset_cfgs(method_cfg out[SUBSET_CFGS]) {
     out[2] = cfg_of(HF_METHOD_CC, HF_SURFACE_TRIANGLES);
 }
 
-/* Rebakes the job's safety and cylinder-cone maps for the ray classes `classes` only,
- * uploads them (W x nH) and prints how many primary rays are of classes held. */
-static void use_subset(map_job *j, int w, int h, uint32_t classes) {
-    scene_set_classes(&j->s, classes);
+/* Rebakes the job's safety and cylinder-cone maps for the map set `m` (its ray classes
+ * only, for its ray set), uploads them (W x nH) and prints how many primary rays are of
+ * classes held and in the set. */
+static void use_maps(map_job *j, int w, int h, map_set m) {
+    scene_set_maps(&j->s, m.classes, m.exterior, m.angle);
     gpu_upload_class_maps(&j->g, &j->s);
-    size_t held = 0, n = (size_t)w * h;
-    for (size_t k = 0; k < n; k++) held += (ray_class_bit(j->rays[k].dir) & classes) != 0;
-    char holding[32];
-    classes_suffix(holding, sizeof holding, classes);
-    printf("maps of %s%s: %zu primary rays of classes held, %zu of classes not held; shadow "
-           "rays (x+) %s\n",
-           j->s.name, holding, held, n - held,
-           ray_class_bit(LIGHT_DIR) & classes ? "held" : "not held");
+    size_t held = 0, in_set = 0, n = (size_t)w * h;
+    for (size_t k = 0; k < n; k++) {
+        held += (ray_class_bit(j->rays[k].dir) & m.classes) != 0;
+        in_set += ray_in_set(&j->s, &j->rays[k]);
+    }
+    char holding[64];
+    classes_suffix(holding, sizeof holding, &j->s);
+    printf("maps of %s%s: %zu primary rays of classes held, %zu of classes not held, %zu in "
+           "the ray set; shadow rays (x+) %s\n",
+           j->s.name, holding, held, n - held, in_set,
+           ray_class_bit(LIGHT_DIR) & m.classes ? "held" : "not held");
 }
 
 /* The rays of `a` and `b` that differ: hit or miss, or hit points more than 1e-3 apart. */
@@ -415,9 +464,10 @@ static int hits_differ(const hf_hit *a, const hf_hit *b, size_t n) {
     return differ;
 }
 
-/* The class-subset cases on one map (after the whole-map ones): the GPU on the compact
- * maps (the uniform masks set) against the CPU with the same mask, no pixel differing,
- * and the CPU answers on the compact maps against those on the whole maps (exact
+/* The compact-map and ray-set cases on one map (after the whole-map ones), each of
+ * MAP_SETS: the GPU on those maps (the uniform masks and ray set set) against the CPU
+ * with the same mask (the ray set read from the maps' descriptors), no pixel
+ * differing, and the CPU answers on those maps against those on the whole maps (exact
  * marches: the same hits). */
 static void parity_subsets(map_job *j, int w, int h, frame *f, tally *t) {
     size_t n = (size_t)w * h;
@@ -427,14 +477,14 @@ static void parity_subsets(map_job *j, int w, int h, frame *f, tally *t) {
     hf_hit *part = (hf_hit *)malloc(sizeof(hf_hit) * n);
     for (int k = 0; k < SUBSET_CFGS; k++)
         if (cpu_trace(&j->s, cfgs[k], j->rays, n, whole + k * n) != HF_OK) t->failed++;
-    for (size_t m = 0; m < NUM_SUBSETS; m++) {
-        use_subset(j, w, h, SUBSETS[m]);
+    for (size_t m = 0; m < NUM_MAP_SETS; m++) {
+        use_maps(j, w, h, MAP_SETS[m]);
         for (int k = 0; k < SUBSET_CFGS; k++) {
             int ok = parity_case(j, w, h, cfgs[k], f, 1);
             int differ = cpu_trace(&j->s, cfgs[k], j->rays, n, part) == HF_OK
                              ? hits_differ(whole + k * n, part, n)
                              : (int)n;
-            printf("  cpu on the compact map vs the whole map: %d of %zu rays differ  %s\n",
+            printf("  cpu on these maps vs the whole maps: %d of %zu rays differ  %s\n",
                    differ, n, differ == 0 ? "ok" : "FAILED");
             if (ok && differ == 0) t->passed++; else t->failed++;
         }
@@ -769,7 +819,8 @@ static void generated_map(map_job *j, int w, int h, void *ctx) {
     }
     for (int k = 0; k < ncases; k++) generated_case(j, w, h, cases[k], &fg, &fm, t);
     for (size_t m = 0; m < NUM_SUBSETS; m++) {
-        use_subset(j, w, h, SUBSETS[m]);
+        map_set ms = {SUBSETS[m], 0, 0.0f};
+        use_maps(j, w, h, ms);
         gen_case gc = {cfg_of(HF_METHOD_SAFETY, HF_SURFACE_TRIANGLES), 0};
         hf_scene sc = scene_of_cfg(gc.cfg, 0, SUBSETS[m]);
         hf_bake_plan plan;

@@ -2054,6 +2054,23 @@ static void test_build_and_plan(void) {
     CHECK_OK(hf_scene_bake_plan(&scene, &plan));
     CHECK(plan.cc_map == HF_NEED_KEEP && plan.nbuffer == HF_NEED_SCRATCH &&
           plan.safety_map == HF_NEED_SKIP && plan.ray_classes == HF_RAYS_ALL);
+    /* The plan's ray set: every ray for the general scene (it traces shadows), the
+     * scene's set without shadows, and the angle only below 180 degrees. */
+    CHECK(plan.exterior == 0 && plan.max_view_angle_deg == 0.0f);
+    scene.outside_only = 1;
+    scene.max_view_angle_deg = 60.0f;
+    CHECK_OK(hf_scene_bake_plan(&scene, &plan));
+    CHECK(plan.exterior == 0 && plan.max_view_angle_deg == 0.0f);
+    scene.shadows = 0;
+    CHECK_OK(hf_scene_bake_plan(&scene, &plan));
+    CHECK(plan.exterior == 1 && plan.max_view_angle_deg == 60.0f);
+    scene.max_view_angle_deg = 180.0f;
+    CHECK_OK(hf_scene_bake_plan(&scene, &plan));
+    CHECK(plan.exterior == 1 && plan.max_view_angle_deg == 0.0f);
+    scene.outside_only = 0;
+    scene.max_view_angle_deg = 45.0f;
+    CHECK_OK(hf_scene_bake_plan(&scene, &plan));
+    CHECK(plan.exterior == 0 && plan.max_view_angle_deg == 45.0f);
     CHECK_OK(hf_scene_general(HF_METHOD_RADIUS, HF_SURFACE_TRIANGLES, &scene));
     CHECK_OK(hf_scene_bake_plan(&scene, &plan));
     CHECK(plan.radius_map == HF_NEED_KEEP && plan.safety_scratch == HF_NEED_SCRATCH &&

@@ -159,9 +159,10 @@ pub enum hf_need {
 }
 
 /// What to bake for a scene (`hf_scene_bake_plan`): an `hf_need` per product, the ray
-/// classes the safety-shape bakes compute and the safety map's layout.
+/// classes and the ray set the safety-shape bakes compute for, and the safety map's
+/// layout.
 #[repr(C)]
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub struct hf_bake_plan {
     /// The maximum-mipmap pyramid (`hf_bake` of `HF_METHOD_MAXMIP`): kept for maxmip;
     /// the scratch of the cone, relaxed-cone and QDM bakes (`hf_bake_prepare`).
@@ -193,6 +194,13 @@ pub struct hf_bake_plan {
     /// The safety-radius map (`hf_bake` of `HF_METHOD_RADIUS`; its scratch is
     /// `safety_scratch`).
     pub radius_map: u32,
+    /// The ray set the safety-distance and cylinder–cone bakes are for (pass it as
+    /// `hf_bake_options::exterior`): 1 for exterior rays only when the scene's rays all
+    /// start outside the box and it traces no shadows, else 0.
+    pub exterior: u32,
+    /// Likewise `hf_bake_options::max_view_angle_deg`: the scene's largest view angle
+    /// when below 180° and it traces no shadows, else 0 (any direction).
+    pub max_view_angle_deg: f32,
 }
 
 /// The C form of a `Need`.
@@ -221,12 +229,17 @@ fn c_plan(p: &BakePlan) -> hf_bake_plan {
         ray_classes: u32::from(p.classes.0),
         safety_variant: u32::from(p.isotropic),
         radius_map,
+        exterior: u32::from(p.rays.exterior),
+        max_view_angle_deg: match p.rays.max_view_angle_deg {
+            a if a < 180.0 => a,
+            _ => 0.0,
+        },
     }
 }
 
 /// Writes what to bake for `*scene` to `*out_plan`: only the data its method reads
 /// (nothing for the exact and search methods), safety-shape channels only for the ray
-/// classes that occur. Any method, built or not (a plan is data). A bad scene gives
+/// classes that occur, for the scene's ray set. Any method, built or not (a plan is data). A bad scene gives
 /// the code of `hf_scene_check`. Thread safe.
 ///
 /// # Safety

@@ -105,7 +105,11 @@ pub unsafe extern "C" fn hf_shader_source_len(method: u32, out_len: *mut usize) 
 /// `hf_safety_classes`; cylinder–cone: `hf_cc_map`, `hf_cc_classes`, `hf_cc_cap`;
 /// radius: `hf_radius_map`, `hf_radius_clamp`. `hf_safety_classes` and
 /// `hf_cc_classes` (`HF_RAYS_*` bits, default `HF_RAYS_ALL`) are the ray classes the
-/// map holds (its bake options' `ray_classes`). Thread safe.
+/// map holds (its bake options' `ray_classes`); `hf_rays_exterior` (uint, default 0)
+/// and `hf_rays_max_view_angle` (float degrees, default 180: any direction) the ray
+/// set the safety or cylinder–cone map is baked for (its bake options' `exterior` and
+/// `max_view_angle_deg`, 0 there being 180 here): a ray outside the set walks cell by
+/// cell, as `hf_trace` does with the map. Thread safe.
 ///
 /// # Safety
 /// `buf` is NULL (an error) or valid for writing `buf_len` bytes; `out_written` NULL
@@ -148,11 +152,14 @@ pub unsafe extern "C" fn hf_shader_generate_len(
 /// `hf_shader_generate_len`. The shader holds only the code the scene uses: the
 /// scene's surface and method, no branch for another surface, no upward-ray code
 /// without shadows and with a view angle of at most 90°, and only the uniforms and
-/// textures its march reads; `hf_surface`, `hf_safety_variant` and the map's ray
-/// classes `hf_safety_classes` / `hf_cc_classes` are constants (safety: the layout
-/// `hf_bake_plan` picks, isotropic for a single ray class, else directional; the
-/// classes: the scene's `ray_classes`, so the maps are those baked with them as the
-/// options' `ray_classes`). Its entry point and its remaining inputs are those of
+/// textures its march reads; `hf_surface`, `hf_safety_variant`, the map's ray
+/// classes `hf_safety_classes` / `hf_cc_classes` and its ray set `hf_rays_exterior` /
+/// `hf_rays_max_view_angle` are constants (safety: the layout `hf_bake_plan` picks,
+/// isotropic for a single ray class, else directional; the classes: the scene's
+/// `ray_classes`, so the maps are those baked with them as the options'
+/// `ray_classes`; the set: `hf_bake_plan`'s, from the scene's `outside_only` and
+/// `max_view_angle_deg`, every ray when it traces shadows). Such a shader serves the
+/// scene's rays only. Its entry point and its remaining inputs are those of
 /// `hf_shader_source` for the method, less what it does not read (a header comment
 /// lists them): GLSL `hf_heights` (`R32F`; for `HF_HEIGHTS_U16` / `HF_HEIGHTS_U8` an
 /// `R16UI` / `R8UI` texture of the samples and `hf_height_step` = depth / 65535 or

@@ -564,10 +564,9 @@ impl BakePlan {
 
 impl Scene {
     /// What to bake for this scene, and what not: only the data its method reads,
-    /// safety-shape channels only for the ray classes that occur. The plan depends on
-    /// the method and the ray classes; the other fields change no bake (the bakes
-    /// assume every ray of a class: exterior-only and narrow-angle ray sets are not
-    /// exploited yet).
+    /// safety-shape channels only for the ray classes that occur, and the safety
+    /// shapes for the scene's ray set (`outside_only`, `max_view_angle_deg`; every
+    /// ray when the scene traces shadows, which start on the surface and rise).
     pub fn bake_plan(&self) -> BakePlan {
         use Need::{Keep, Scratch, Skip};
         use Product as P;

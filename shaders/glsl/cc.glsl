@@ -104,7 +104,7 @@ vec2 cc_rise(vec3 d) {
 
 // `trace_on`: `trace` finishing on `surface` (HF_SURFACE_TRIANGLES or
 // HF_SURFACE_VIEW_LINEAR; the same map bounds both, see safety_march_surface).
-Trace cc_trace_on(uint surface, Query q) { return safety_march(surface, q); }
+Trace cc_trace_on(uint surface, Query q) { return safety_march(surface, q, safety_rays_hold(q)); }
 
 // `trace`: the safety march with cylinder-cone steps, on the triangle surface.
 Trace cc_trace(Query q) { return cc_trace_on(HF_SURFACE_TRIANGLES, q); }

@@ -12,4 +12,4 @@ uvec2 safety_march_jump(SafetyLine l, uint ray_class, uint i, uint j, vec3 d) {
     return uvec2(max(radius_at(i, j), floor_), 0u);
 }
 
-Trace hf_trace(Query q) { return safety_march(hf_surface, q); }
+Trace hf_trace(Query q) { return safety_march(hf_surface, q, true); }

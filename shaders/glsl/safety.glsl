@@ -12,10 +12,46 @@
 // `hf_safety_variant` (directional or isotropic) and `hf_safety_classes` (the classes it
 // holds; `SafetyMap::with_classes`). A ray of a class the map does not hold reads
 // distance 0 without a fetch (it walks cell by cell, still exact).
+//
+// Ray sets (docs/DESIGN.md, "Ray sets"; `Rays`): the safety-distance or cylinder-cone
+// map in use was baked for exterior rays only when `hf_rays_exterior` is 1, and for
+// rays within `hf_rays_max_view_angle` degrees of the downward vertical (180: any
+// direction). A ray outside the set reads distance 0 and no cone (one fetch counted,
+// as for a class the map does not hold): it walks cell by cell, still exact.
 
 uniform usampler2D hf_safety_map;
 uniform uint hf_safety_variant = 0u;
 uniform uint hf_safety_classes = 15u;
+uniform uint hf_rays_exterior = 0u;
+uniform float hf_rays_max_view_angle = 180.0;
+
+// `Rays::holds`: whether q is a ray of the map's set. The core checks in f64, here in
+// f32; the set's margin (a millionth) is far above the difference.
+bool safety_rays_hold(Query q) {
+    if (hf_rays_exterior != 0u) {
+        vec3 p = query_at(q, q.t_min);
+        float w = float(field_width() - 1u);
+        float h = float(field_height() - 1u);
+        bool outside = p[0] < 0.0 || p[0] > w || p[1] < 0.0 || p[1] > h ||
+                            p[2] < field_min_height() || p[2] > field_max_height();
+        if (!outside) {
+            return false;
+        }
+    }
+    if (hf_rays_max_view_angle < 180.0) {
+        // `Rays::rise_bound`: a rise of at most tau = -cot(angle) per unit of
+        // horizontal distance.
+        float a = hf_rays_max_view_angle * 0.017453292519943295;
+        float tau = -cos(a) / sin(a);
+        vec3 d = q.dir;
+        float run = sqrt(d[0] * d[0] + d[1] * d[1]);
+        float bound = tau * run - 1e-6 * (abs(tau) * run + abs(d[2]));
+        if (d[2] > bound) {
+            return false;
+        }
+    }
+    return true;
+}
 
 // `RayClasses::contains`: whether the set `classes` (HF_RAYS_* bits) holds ray_class.
 bool safety_holds(uint classes, uint ray_class) { return (classes & (1u << ray_class)) != 0u; }
@@ -276,8 +312,9 @@ uint safety_march_surface(uint surface) {
 }
 
 // `march`: the march shared by the safety-shape methods; the walk between jumps and
-// the final test use `march_surface` (see safety_march_surface).
-Trace safety_march(uint march_surface, Query q) {
+// the final test use `march_surface` (see safety_march_surface). `held`: whether the
+// map's data serves q (safety_rays_hold); else every jump reads 0.
+Trace safety_march(uint march_surface, Query q, bool held) {
     Span span;
     if (!dda_clip(q, span)) {
         return trace_miss(0u, real_infinity());
@@ -323,10 +360,12 @@ Trace safety_march(uint march_surface, Query q) {
         uint k = 0u;
         if (l.c > l.tol) {
             mr.fetches += 1u;
-            uvec2 ij = ((ax == 0) ? (uvec2(l.m, l.texel)) : (uvec2(l.texel, l.m)));
-            uvec2 jump = safety_march_jump(l, ray_class, ij[0], ij[1], d);
-            k = jump.x;
-            mr.fetches += jump.y;
+            if (held) {
+                uvec2 ij = ((ax == 0) ? (uvec2(l.m, l.texel)) : (uvec2(l.texel, l.m)));
+                uvec2 jump = safety_march_jump(l, ray_class, ij[0], ij[1], d);
+                k = jump.x;
+                mr.fetches += jump.y;
+            }
         }
         if (k == 0u) {
             st = safety_march_walk(mr, q, hit, l);
@@ -362,7 +401,7 @@ Trace safety_march(uint march_surface, Query q) {
 
 // `trace_on`: `trace` finishing on `surface` (HF_SURFACE_TRIANGLES or
 // HF_SURFACE_VIEW_LINEAR; see safety_march_surface), from the same map.
-Trace safety_trace_on(uint surface, Query q) { return safety_march(surface, q); }
+Trace safety_trace_on(uint surface, Query q) { return safety_march(surface, q, safety_rays_hold(q)); }
 
 // `trace`: traces q on the triangle surface with the safety distances.
 Trace safety_trace(Query q) { return safety_trace_on(HF_SURFACE_TRIANGLES, q); }

@@ -387,7 +387,9 @@ pub fn generate(scene: &Scene, lang: Lang) -> Result<String, GenError> {
 /// evaluated for the scene's flags ([`scene_flags`]); `hf_surface`,
 /// `hf_safety_variant` and the class sets of the safety-distance and cylinder–cone
 /// maps, `hf_safety_classes` and `hf_cc_classes` (the scene's `ray_classes`, the
-/// classes its bake plan bakes and its maps hold: [`map_classes`]), become constants;
+/// classes its bake plan bakes and its maps hold: [`map_classes`]), and the ray set
+/// those maps are baked for, `hf_rays_exterior` and `hf_rays_max_view_angle` (the bake
+/// plan's `rays`), become constants;
 /// then only the top-level items reachable from the entry points
 /// `Trace hf_trace(Query q)` and `Trace hf_trace_world(Query world)` stay. A header
 /// comment names the scene and lists the inputs (uniforms, textures, bindings) left for
@@ -408,6 +410,10 @@ pub fn generate_with(scene: &Scene, lang: Lang, opts: &Options) -> Result<String
         SafetyVariant::Isotropic => "HF_SAFETY_ISOTROPIC",
     };
     let classes_const = format!("{}u", map_classes(scene));
+    // The ray set the scene's safety-shape map is baked for (its bake plan's).
+    let rays = scene.bake_plan().rays;
+    let exterior_const = if rays.exterior { "1u" } else { "0u" };
+    let angle_const = format!("{:?}", rays.max_view_angle_deg);
     for seg in segs.iter_mut().flatten() {
         if let Seg::Item(it) = seg {
             match (it.kind, it.name.as_str()) {
@@ -416,6 +422,8 @@ pub fn generate_with(scene: &Scene, lang: Lang, opts: &Options) -> Result<String
                 (Kind::Input, "hf_safety_classes" | "hf_cc_classes") => {
                     make_const(lang, it, &classes_const)?
                 }
+                (Kind::Input, "hf_rays_exterior") => make_const(lang, it, exterior_const)?,
+                (Kind::Input, "hf_rays_max_view_angle") => make_const(lang, it, &angle_const)?,
                 _ => {}
             }
         }

@@ -115,7 +115,7 @@ fn cc_rise(d: vec3<f32>) -> vec2<f32> {
 
 // `trace_on`: `trace` finishing on `surface` (HF_SURFACE_TRIANGLES or
 // HF_SURFACE_VIEW_LINEAR; the same map bounds both, see safety_march_surface).
-fn cc_trace_on(surface: u32, q: Query) -> Trace { return safety_march(surface, q); }
+fn cc_trace_on(surface: u32, q: Query) -> Trace { return safety_march(surface, q, safety_rays_hold(q)); }
 
 // `trace`: the safety march with cylinder-cone steps, on the triangle surface.
 fn cc_trace(q: Query) -> Trace { return cc_trace_on(HF_SURFACE_TRIANGLES, q); }

@@ -17,4 +17,4 @@ fn safety_march_jump(l: SafetyLine, ray_class: u32, i: u32, j: u32, d: vec3<f32>
     return vec2<u32>(max(radius_at(i, j), floor_), 0u);
 }
 
-fn hf_trace(q: Query) -> Trace { return safety_march(hf_surface, q); }
+fn hf_trace(q: Query) -> Trace { return safety_march(hf_surface, q, true); }

@@ -10,10 +10,46 @@
 // `hf_safety_variant` (directional or isotropic) and `hf_safety_classes` (the classes it
 // holds; `SafetyMap::with_classes`). A ray of a class the map does not hold reads
 // distance 0 without a fetch (it walks cell by cell, still exact).
+//
+// Ray sets (docs/DESIGN.md, "Ray sets"; `Rays`): the safety-distance or cylinder-cone
+// map in use was baked for exterior rays only when `hf_rays_exterior` is 1, and for
+// rays within `hf_rays_max_view_angle` degrees of the downward vertical (180: any
+// direction). A ray outside the set reads distance 0 and no cone (one fetch counted,
+// as for a class the map does not hold): it walks cell by cell, still exact.
 
 @group(0) @binding(5) var hf_safety_map: texture_2d<u32>;
 override hf_safety_variant: u32 = 0u;
 override hf_safety_classes: u32 = 15u;
+override hf_rays_exterior: u32 = 0u;
+override hf_rays_max_view_angle: f32 = 180.0;
+
+// `Rays::holds`: whether q is a ray of the map's set. The core checks in f64, here in
+// f32; the set's margin (a millionth) is far above the difference.
+fn safety_rays_hold(q: Query) -> bool {
+    if (hf_rays_exterior != 0u) {
+        let p: vec3<f32> = query_at(q, q.t_min);
+        let w: f32 = f32(field_width() - 1u);
+        let h: f32 = f32(field_height() - 1u);
+        let outside: bool = p[0] < 0.0 || p[0] > w || p[1] < 0.0 || p[1] > h ||
+                            p[2] < field_min_height() || p[2] > field_max_height();
+        if (!outside) {
+            return false;
+        }
+    }
+    if (hf_rays_max_view_angle < 180.0) {
+        // `Rays::rise_bound`: a rise of at most tau = -cot(angle) per unit of
+        // horizontal distance.
+        let a: f32 = hf_rays_max_view_angle * 0.017453292519943295;
+        let tau: f32 = -cos(a) / sin(a);
+        let d: vec3<f32> = q.dir;
+        let run: f32 = sqrt(d[0] * d[0] + d[1] * d[1]);
+        let bound: f32 = tau * run - 1e-6 * (abs(tau) * run + abs(d[2]));
+        if (d[2] > bound) {
+            return false;
+        }
+    }
+    return true;
+}
 
 // `RayClasses::contains`: whether the set `classes` (HF_RAYS_* bits) holds ray_class.
 fn safety_holds(classes: u32, ray_class: u32) -> bool { return (classes & (1u << ray_class)) != 0u; }
@@ -279,8 +315,9 @@ fn safety_march_surface(surface: u32) -> u32 {
 }
 
 // `march`: the march shared by the safety-shape methods; the walk between jumps and
-// the final test use `march_surface` (see safety_march_surface).
-fn safety_march(march_surface: u32, q: Query) -> Trace {
+// the final test use `march_surface` (see safety_march_surface). `held`: whether the
+// map's data serves q (safety_rays_hold); else every jump reads 0.
+fn safety_march(march_surface: u32, q: Query, held: bool) -> Trace {
     var span: Span;
     if (!dda_clip(q, &span)) {
         return trace_miss(0u, real_infinity());
@@ -330,10 +367,12 @@ fn safety_march(march_surface: u32, q: Query) -> Trace {
         var k: u32 = 0u;
         if (l.c > l.tol) {
             mr.fetches += 1u;
-            let ij: vec2<u32> = select(vec2<u32>(l.texel, l.m), vec2<u32>(l.m, l.texel), ax == 0);
-            let jump: vec2<u32> = safety_march_jump(l, ray_class, ij[0], ij[1], d);
-            k = jump.x;
-            mr.fetches += jump.y;
+            if (held) {
+                let ij: vec2<u32> = select(vec2<u32>(l.texel, l.m), vec2<u32>(l.m, l.texel), ax == 0);
+                let jump: vec2<u32> = safety_march_jump(l, ray_class, ij[0], ij[1], d);
+                k = jump.x;
+                mr.fetches += jump.y;
+            }
         }
         if (k == 0u) {
             st = safety_march_walk(&mr, q, &hit, &l);
@@ -369,7 +408,7 @@ fn safety_march(march_surface: u32, q: Query) -> Trace {
 
 // `trace_on`: `trace` finishing on `surface` (HF_SURFACE_TRIANGLES or
 // HF_SURFACE_VIEW_LINEAR; see safety_march_surface), from the same map.
-fn safety_trace_on(surface: u32, q: Query) -> Trace { return safety_march(surface, q); }
+fn safety_trace_on(surface: u32, q: Query) -> Trace { return safety_march(surface, q, safety_rays_hold(q)); }
 
 // `trace`: traces q on the triangle surface with the safety distances.
 fn safety_trace(q: Query) -> Trace { return safety_trace_on(HF_SURFACE_TRIANGLES, q); }

@@ -8,6 +8,7 @@ use hfcast::cone::{self, ConeMap};
 use hfcast::maxmip::{self, Layout, MaxMip};
 use hfcast::qdm::{self, QdmMap};
 use hfcast::radius::{self, RadiusMap, Zero};
+use hfcast::rayset::Rays;
 use hfcast::relaxed;
 use hfcast::safety::cc::{self, CcMap, CcOptions, Slope};
 use hfcast::safety::{self, MarchSurface, SafetyMap, Variant};
@@ -78,6 +79,23 @@ pub fn scene_of(method: MethodKind, surface: Surface, int_heights: bool) -> hfca
 /// also runs, on rays of every class: {x+, y−} and {x−}.
 pub const SUBSETS: [u8; 2] = [0b1001, 0b0010];
 
+/// The ray set whose safety-distance and cylinder–cone maps (every class) the parity
+/// test also runs: exterior rays within 60° of the downward vertical. The cameras'
+/// rays start outside the box (the 45° ones mostly within the angle, the 5° ones
+/// not); the random rays start anywhere: a ray outside the set walks cell by cell.
+pub const RAY_SET: Rays = Rays {
+    exterior: true,
+    max_view_angle_deg: 60.0,
+};
+
+/// The maps the scenes bake beside the whole ones: each class subset for every ray,
+/// and every class for [`RAY_SET`].
+pub const MAP_SETS: [(u8, Rays); 3] = [
+    (SUBSETS[0], Rays::ALL),
+    (SUBSETS[1], Rays::ALL),
+    (15, RAY_SET),
+];
+
 /// A short name of the ray-class set `classes`: `x+,y-`.
 pub fn classes_name(classes: u8) -> String {
     let names: Vec<&str> = ["x+", "x-", "y+", "y-"]
@@ -117,11 +135,13 @@ pub fn int_heights_source(method: MethodKind) -> String {
 }
 
 /// The `override` constants of the general sources (scene-level choices).
-const OVERRIDES: [&str; 4] = [
+const OVERRIDES: [&str; 6] = [
     "hf_surface",
     "hf_safety_variant",
     "hf_safety_classes",
     "hf_cc_classes",
+    "hf_rays_exterior",
+    "hf_rays_max_view_angle",
 ];
 
 /// The cylinder–cone cap of the bake and the march (as the C tests).
@@ -150,6 +170,10 @@ pub struct Case {
     /// holds (`hf_safety_classes`, `hf_cc_classes`; the generated shader's scene's
     /// `ray_classes`): 15 for the whole maps, else one of [`SUBSETS`]' compact maps.
     pub classes: u8,
+    /// The ray set those maps are baked for (`hf_rays_exterior`,
+    /// `hf_rays_max_view_angle`; the generated shader's scene's `outside_only` and
+    /// `max_view_angle_deg`): [`Rays::ALL`], or [`RAY_SET`] on the whole maps.
+    pub rays: Rays,
     /// Traces world rays with `hf_trace_world` under this transform (the `hf_world`
     /// uniform; the CPU side `WorldTransform::trace`) instead of grid rays with
     /// `hf_trace`.
@@ -168,6 +192,7 @@ impl Case {
             int_heights: false,
             generated: false,
             classes: 15,
+            rays: Rays::ALL,
             world: None,
         }
     }
@@ -176,6 +201,14 @@ impl Case {
     /// [`SUBSETS`]).
     const fn holding(self, classes: u8) -> Case {
         Case { classes, ..self }
+    }
+
+    /// This case on the maps baked for [`RAY_SET`].
+    const fn exterior(self) -> Case {
+        Case {
+            rays: RAY_SET,
+            ..self
+        }
     }
 
     /// This case with the heights as 16-bit samples: hfcast-shaders makes shaders for
@@ -252,6 +285,17 @@ impl Case {
             Case::new(MethodKind::Safety, Surface::ViewLinear, [0; 4], true).holding(SUBSETS[1]),
             Case::new(MethodKind::Cc, Surface::ViewLinear, [0; 4], true).holding(SUBSETS[0]),
         ]);
+        // Maps of a ray set, read with the set: a ray outside it reads zero jumps.
+        cases.extend([
+            Case::new(MethodKind::Safety, tri, [0; 4], true).exterior(),
+            Case {
+                variant: Variant::Isotropic,
+                ..Case::new(MethodKind::Safety, tri, [0; 4], true)
+            }
+            .exterior(),
+            Case::new(MethodKind::Cc, tri, [0; 4], true).exterior(),
+            Case::new(MethodKind::Cc, Surface::ViewLinear, [0; 4], true).exterior(),
+        ]);
         // And every general one generated for its scene (overrides made constants,
         // unused branches and functions left out).
         let generated: Vec<Case> = cases
@@ -300,17 +344,29 @@ impl Case {
         } else {
             format!(" holding {}", classes_name(self.classes))
         };
-        name + &surface + &classes + heights + generated
+        let rays = if self.rays.is_all() {
+            String::new()
+        } else {
+            format!(" for {}", self.rays)
+        };
+        name + &surface + &classes + &rays + heights + generated
     }
 
     /// The source the case runs, with the test entry point (calling `hf_trace_world`
     /// for a world case): the method's general source, or the shader generated for the
     /// case's scene (its surface, heights and safety layout) when `generated`.
     pub fn source(&self) -> String {
-        let scene = hfcast::scene::Scene {
+        let mut scene = hfcast::scene::Scene {
             ray_classes: RayClasses(self.classes),
             ..scene_of(self.method, self.surface, self.int_heights)
         };
+        if !self.rays.is_all() {
+            // The scene whose bake plan bakes the maps for the case's set: its rays,
+            // no shadow rays (they start on the surface).
+            scene.outside_only = self.rays.exterior;
+            scene.max_view_angle_deg = self.rays.max_view_angle_deg;
+            scene.shadows = false;
+        }
         let src = if self.generated {
             generated_source(&scene, self.variant)
         } else {
@@ -328,6 +384,8 @@ impl Case {
         let value = |name: &str| match name {
             "hf_surface" => f64::from(self.surface as u32),
             "hf_safety_classes" | "hf_cc_classes" => f64::from(self.classes),
+            "hf_rays_exterior" => f64::from(u8::from(self.rays.exterior)),
+            "hf_rays_max_view_angle" => f64::from(self.rays.max_view_angle_deg),
             _ => f64::from(layout(self.variant) as u32),
         };
         OVERRIDES
@@ -352,15 +410,18 @@ impl Case {
         let hf = scene.hf();
         let p = self.params;
         let mip = MaxMip::new(&hf, &scene.pyramid).expect("pyramid");
-        let maps = scene.maps(self.classes);
+        let maps = scene.maps(self.classes, self.rays);
         let safety_data = match self.variant {
             Variant::Directional => maps.safety_dir,
             Variant::Isotropic => maps.safety_iso,
         };
         let classes = RayClasses(self.classes);
-        let safety_map =
-            SafetyMap::with_classes(&hf, safety_data, self.variant, classes).expect("safety map");
-        let cc_map = CcMap::with_classes(&hf, maps.cc, CC_CAP, classes).expect("cc map");
+        let safety_map = SafetyMap::with_classes(&hf, safety_data, self.variant, classes)
+            .expect("safety map")
+            .with_rays(self.rays);
+        let cc_map = CcMap::with_classes(&hf, maps.cc, CC_CAP, classes)
+            .expect("cc map")
+            .with_rays(self.rays);
         let cone_map = ConeMap::new(&hf, &scene.cone).expect("cone map");
         let qdm_map = QdmMap::new(&hf, &scene.qdm).expect("qdm map");
         let radius_map = RadiusMap::new(&hf, &scene.radius).expect("radius map");
@@ -472,7 +533,7 @@ pub struct Scene {
     /// The 16-bit samples the heights came from and the height of one sample step
     /// (`depth / 65535` in f32), for maps read from PNG.
     pub samples: Option<(Vec<u16>, f32)>,
-    /// The compact maps of each of [`SUBSETS`], in its order.
+    /// The maps of each of [`MAP_SETS`], in its order.
     pub subsets: Vec<ClassMaps>,
 }
 
@@ -483,6 +544,8 @@ pub struct Scene {
 pub struct ClassMaps {
     /// The classes held (`HF_RAYS_*` bits).
     pub classes: u8,
+    /// The rays the maps are baked for.
+    pub rays: Rays,
     /// Directional safety distances, W × nH bytes.
     pub safety_dir: Vec<u8>,
     /// Isotropic safety distances over the set, W × H bytes.
@@ -549,11 +612,11 @@ impl Scene {
         in_row_ranges(h - 1, 4 * (w - 1) as usize, &mut qdm_map, |rows, out| {
             cone::bake_rows::<qdm::Qdm>(&hf, &qdm_scratch, rows, out).expect("qdm bake");
         });
-        // The compact maps of the class subsets; `scratch` holds what safety::prepare
-        // filled.
-        let subsets = SUBSETS
+        // The maps of the class subsets and the ray set; `scratch` holds what
+        // safety::prepare filled.
+        let subsets = MAP_SETS
             .iter()
-            .map(|&bits| {
+            .map(|&(bits, rays)| {
                 let classes = RayClasses(bits);
                 let sd = |variant: Variant| {
                     let opts = safety::Options {
@@ -567,7 +630,7 @@ impl Scene {
                         safety::bake_rows_classes(
                             &hf,
                             &scratch,
-                            &safety::AllRays,
+                            &rays.on(&hf),
                             classes,
                             rows,
                             opts,
@@ -580,11 +643,12 @@ impl Scene {
                 let mut cc_sub = vec![0u8; cc::map_len_classes(w, h, classes)];
                 let row_len = cc::map_len_classes(w, 1, classes);
                 in_row_ranges(h, row_len, &mut cc_sub, |rows, out| {
-                    cc::bake_rows_classes(&hf, &scratch, &nb, classes, rows, opts, out)
+                    cc::bake_rows_with(&hf, &scratch, &nb, &rays.on(&hf), classes, rows, opts, out)
                         .expect("cc bake of a class subset");
                 });
                 ClassMaps {
                     classes: bits,
+                    rays,
                     safety_dir: sd(Variant::Directional),
                     safety_iso: sd(Variant::Isotropic),
                     cc: cc_sub,
@@ -615,10 +679,10 @@ impl Scene {
         }
     }
 
-    /// The maps holding the ray classes `classes`: the whole maps for 15, else those of
-    /// one of [`SUBSETS`].
-    pub fn maps(&self, classes: u8) -> MapsRef<'_> {
-        if classes == 15 {
+    /// The maps holding the ray classes `classes` for the rays `rays`: the whole maps
+    /// for 15 and every ray, else those of one of [`MAP_SETS`].
+    pub fn maps(&self, classes: u8, rays: Rays) -> MapsRef<'_> {
+        if classes == 15 && rays.is_all() {
             return MapsRef {
                 safety_dir: &self.safety_dir,
                 safety_iso: &self.safety_iso,
@@ -628,8 +692,8 @@ impl Scene {
         let m = self
             .subsets
             .iter()
-            .find(|m| m.classes == classes)
-            .unwrap_or_else(|| panic!("no maps of the classes {classes:#06b}"));
+            .find(|m| m.classes == classes && m.rays == rays)
+            .unwrap_or_else(|| panic!("no maps of the classes {classes:#06b} for {rays}"));
         MapsRef {
             safety_dir: &m.safety_dir,
             safety_iso: &m.safety_iso,
@@ -1078,9 +1142,9 @@ pub struct SceneGpu {
     cc_map: wgpu::TextureView,
     cc: wgpu::Buffer,
     radius: wgpu::TextureView,
-    /// Per [`SUBSETS`] entry: its classes and its compact maps' textures (directional
+    /// Per [`MAP_SETS`] entry: its classes, its rays and its maps' textures (directional
     /// and cylinder–cone W × nH, isotropic W × H).
-    subsets: Vec<(u8, ClassTextures)>,
+    subsets: Vec<(u8, Rays, ClassTextures)>,
 }
 
 /// The textures of one class set's maps.
@@ -1145,7 +1209,7 @@ impl SceneGpu {
                         safety_iso: gpu.texture(w, h, F::R8Uint, &m.safety_iso),
                         cc_map: gpu.texture(w, n * h, F::Rg8Uint, &m.cc),
                     };
-                    (m.classes, tex)
+                    (m.classes, m.rays, tex)
                 })
                 .collect(),
             safety_dir: gpu.texture(w, 4 * h, F::R8Uint, &s.safety_dir),
@@ -1165,16 +1229,20 @@ impl SceneGpu {
 
 impl SceneGpu {
     /// The directional and isotropic safety and the cylinder–cone textures of the maps
-    /// holding `classes` (the whole maps for 15).
-    fn maps(&self, classes: u8) -> (&wgpu::TextureView, &wgpu::TextureView, &wgpu::TextureView) {
-        if classes == 15 {
+    /// holding `classes` for the rays `rays` (the whole maps for 15 and every ray).
+    fn maps(
+        &self,
+        classes: u8,
+        rays: Rays,
+    ) -> (&wgpu::TextureView, &wgpu::TextureView, &wgpu::TextureView) {
+        if classes == 15 && rays.is_all() {
             return (&self.safety_dir, &self.safety_iso, &self.cc_map);
         }
-        let (_, t) = self
+        let (_, _, t) = self
             .subsets
             .iter()
-            .find(|(c, _)| *c == classes)
-            .unwrap_or_else(|| panic!("no textures of the classes {classes:#06b}"));
+            .find(|(c, r, _)| *c == classes && *r == rays)
+            .unwrap_or_else(|| panic!("no textures of the classes {classes:#06b} for {rays}"));
         (&t.safety_dir, &t.safety_iso, &t.cc_map)
     }
 }
@@ -1361,7 +1429,7 @@ pub fn run_kernel(
     let (oz, sz) = (t.height_offset(), t.height_scale());
     let world = [ox, oy, oz, 0.0, sx, sy, sz, 0.0].map(|v| v as f32);
     let world = gpu.uniform(&f32_bytes(&world));
-    let (safety_dir, safety_iso, cc_map) = sg.maps(case.classes);
+    let (safety_dir, safety_iso, cc_map) = sg.maps(case.classes, case.rays);
     let resource = |b: u32| -> wgpu::BindingResource<'_> {
         match b {
             binding::HEIGHTS if case.int_heights => {
