@@ -158,9 +158,11 @@ fn overrides_and_bindings_are_one_line_and_fixed() {
         for line in text.lines() {
             let l = line.trim();
             if l.starts_with("override ") {
+                let scalar = l.contains(": u32 = ") || l.contains(": f32 = ");
                 assert!(
-                    l.ends_with(';') && l.contains(": u32 = ") && line == l,
-                    "{name}: an override must be one unindented line `override NAME: u32 = V;`: {line}"
+                    l.ends_with(';') && scalar && line == l,
+                    "{name}: an override must be one unindented line `override NAME: u32 = V;` \
+                     (or f32): {line}"
                 );
             }
             if let Some(rest) = l.strip_prefix("@group(") {
