@@ -3,17 +3,13 @@
 //! settings as metadata).
 
 use crate::Args;
-use hfcast::bake::Spec;
-use hfcast::ktx2::{self, Data, DataMut, Desc, MapKind};
+use hfcast::bake::Texels;
+use hfcast::ktx2::{self, Data, Desc, MapKind};
 use hfcast::scene::RayClasses;
-use hfcast::HeightField;
+use hfcast_tools::default_threads;
 use hfcast_tools::maps::{bundled_map, load_map};
-use hfcast_tools::{default_threads, par_chunks};
-use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
-use std::io::IsTerminal;
-use std::ops::Range;
+use hfcast_tools::trace::bake_texels;
 use std::path::PathBuf;
-use std::sync::Mutex;
 
 /// The map of `--method` (and `--safety-variant`).
 fn map_kind(method: &str, variant: Option<&str>) -> Result<MapKind, String> {
@@ -80,11 +76,11 @@ pub fn cmd_bake(mut args: Args) -> Result<bool, String> {
     );
     let mut file = vec![0u8; len];
     let start = std::time::Instant::now();
-    let baked = bake(&hf, &desc, threads)?;
+    let baked = bake_texels(&hf, &desc, threads)?;
     let seconds = start.elapsed().as_secs_f64();
     match baked {
-        Baked::U8(m) => ktx2::write(&desc, Data::U8(&m), &mut file),
-        Baked::F32(m) => ktx2::write(&desc, Data::F32(&m), &mut file),
+        Texels::U8(m) => ktx2::write(&desc, Data::U8(&m), &mut file),
+        Texels::F32(m) => ktx2::write(&desc, Data::F32(&m), &mut file),
     }
     .map_err(|e| format!("bake: {e}"))?;
     std::fs::write(&out, &file).map_err(|e| format!("{}: {e}", out.display()))?;
@@ -95,74 +91,4 @@ pub fn cmd_bake(mut args: Args) -> Result<bool, String> {
         map.format()
     );
     Ok(true)
-}
-
-/// A baked map.
-enum Baked {
-    U8(Vec<u8>),
-    F32(Vec<f32>),
-}
-
-/// Bakes the map of `desc` on `threads` threads (the core's one bake interface,
-/// `hfcast::bake::Spec`), rows in ranges, with a progress bar on a terminal.
-fn bake(hf: &HeightField, desc: &Desc, threads: usize) -> Result<Baked, String> {
-    let spec = Spec::new(*desc);
-    let n = spec.map_len().map_err(|e| e.to_string())?;
-    let mut scratch = vec![0.0; spec.scratch_len()];
-    spec.prepare(hf, &mut scratch).map_err(|e| e.to_string())?;
-    let scratch = &scratch;
-    let rows = spec.rows();
-    Ok(if spec.is_float() {
-        let mut out = vec![0.0f32; n];
-        by_rows(rows, &mut out, threads, |r, o| {
-            spec.bake_rows(hf, scratch, r, DataMut::F32(o))
-        })?;
-        Baked::F32(out)
-    } else {
-        let mut out = vec![0u8; n];
-        by_rows(rows, &mut out, threads, |r, o| {
-            spec.bake_rows(hf, scratch, r, DataMut::U8(o))
-        })?;
-        Baked::U8(out)
-    })
-}
-
-/// Runs `bake_rows(rows, part)` over the `rows` rows of `out` in ranges of a few rows,
-/// on `threads` threads, advancing a progress bar (drawn only on a terminal) by the
-/// rows each range baked. The first error stops nothing but is returned.
-fn by_rows<T: Send, E: std::fmt::Display>(
-    rows: u32,
-    out: &mut [T],
-    threads: usize,
-    bake_rows: impl Fn(Range<u32>, &mut [T]) -> Result<(), E> + Sync,
-) -> Result<(), String> {
-    let row_len = out.len() / rows as usize;
-    let per_range = (rows as usize).div_ceil(256).max(1);
-    let bar = ProgressBar::new(u64::from(rows));
-    if std::io::stderr().is_terminal() {
-        let style = ProgressStyle::with_template("{elapsed_precise} [{bar:30}] {pos}/{len} rows")
-            .map_err(|e| e.to_string())?
-            .progress_chars("=> ");
-        bar.set_style(style);
-    } else {
-        bar.set_draw_target(ProgressDrawTarget::hidden());
-    }
-    let first_error = Mutex::new(None);
-    par_chunks(out, per_range * row_len, threads, |at, part| {
-        let start = (at / row_len) as u32;
-        let range = start..start + (part.len() / row_len) as u32;
-        let n = range.len() as u64;
-        if let Err(e) = bake_rows(range, part) {
-            first_error
-                .lock()
-                .expect("a bake thread panicked")
-                .get_or_insert(e.to_string());
-        }
-        bar.inc(n);
-    });
-    bar.finish_and_clear();
-    match first_error.into_inner().expect("a bake thread panicked") {
-        Some(e) => Err(format!("bake: {e}")),
-        None => Ok(()),
-    }
 }

@@ -17,6 +17,7 @@ pub mod bench;
 pub mod maps;
 pub mod render;
 pub mod report;
+pub mod table1;
 pub mod trace;
 
 /// The most march parameters a method of the registry takes (`MethodInfo::steps`).

@@ -8,6 +8,7 @@ use hfcast_tools::bench::{self, bench_rays, markdown_table, random_rays};
 use hfcast_tools::maps::{bundled_map, shared_data_dir, Depth, Map, MapSpec, Nodata};
 use hfcast_tools::render::{heat_maps, render, write_png, Camera, RenderOptions};
 use hfcast_tools::report::{self, ReportOptions};
+use hfcast_tools::table1::{self, Table1Options};
 use hfcast_tools::trace::{self, Tracer};
 use hfcast_tools::{default_threads, parse_method, MethodSpec};
 use std::collections::HashMap;
@@ -51,6 +52,14 @@ commands:
            --reps N (3) --size WxH (160x120; quick 64x48) --synthetic N (512;
            quick 128) --threads N (oracle only; timing is single-threaded)
            --scenes WORD,WORD (keep scenes whose name contains a word)
+  table1   the paper's Table 1 side by side: safety distances and cylinder-cones for
+           every ray and exterior rays, without and with phi_max = -45 deg, on centre
+           crops: bake s, bytes, fetches/ray, ns/ray of a 45 deg camera, rays that
+           differ from the exact traversal (none)
+           --map PATH (default ../shared/data/dem_etopo5_himalaya_1024.png) --depth
+           GRID_UNITS --sides LIST (256,512,1024) --threads N (bakes; all cores)
+           --size WxH (320x256) --elevation DEG (45) --reps N (3) --out FILE
+           (docs/report/table1.md)
   shader   the GLSL or WGSL shader of one scene: only the code it uses
            --method M (exact | linear-binary | linear-secant | maxmip | safety | cone |
            relaxed | qdm | cc; default exact) --surface S (triangles) --lang glsl|wgsl
@@ -121,6 +130,17 @@ impl Args {
     /// Removes option `name` if given.
     fn opt(&mut self, name: &str) -> Option<String> {
         self.opts.remove(name)
+    }
+
+    /// Removes `--size WxH` and parses it (both positive), or gives `default`.
+    fn size(&mut self, default: (u32, u32)) -> Result<(u32, u32), String> {
+        let Some(size) = self.opt("size") else {
+            return Ok(default);
+        };
+        size.split_once('x')
+            .and_then(|(w, h)| Some((w.parse::<u32>().ok()?, h.parse::<u32>().ok()?)))
+            .filter(|&(w, h)| w > 0 && h > 0)
+            .ok_or(format!("--size: bad value {size:?} (want WxH)"))
     }
 
     /// Fails on options nobody asked for.
@@ -381,12 +401,7 @@ fn cmd_bench(mut args: Args) -> Result<bool, String> {
         None => Rays::ALL,
         Some(r) => r.parse().map_err(|e| format!("--rays: {e}"))?,
     };
-    let size = args.opt("size").unwrap_or("1280x1024".into());
-    let (w, h) = size
-        .split_once('x')
-        .and_then(|(w, h)| Some((w.parse::<u32>().ok()?, h.parse::<u32>().ok()?)))
-        .filter(|&(w, h)| w > 0 && h > 0)
-        .ok_or(format!("--size: bad value {size:?} (want WxH)"))?;
+    let (w, h) = args.size((1280, 1024))?;
     let threads: Vec<usize> = args
         .opt("threads")
         .unwrap_or("1,2".into())
@@ -396,7 +411,7 @@ fn cmd_bench(mut args: Args) -> Result<bool, String> {
     args.finish()?;
     let map = load(&map_spec)?;
     let hf = map.field();
-    let tracer = Tracer::bake_for(hf, method, surface, RayClasses::ALL, rays)?;
+    let tracer = Tracer::bake_for(hf, method, surface, RayClasses::ALL, rays, 1)?;
     println!(
         "## hfcast bench: {} ({} x {}), depth {}, {} reps (median), {} cores available\n",
         map_spec
@@ -432,18 +447,52 @@ fn cmd_bench(mut args: Args) -> Result<bool, String> {
     Ok(true)
 }
 
+fn cmd_table1(mut args: Args) -> Result<bool, String> {
+    let default_map = shared_data_dir().join("dem_etopo5_himalaya_1024.png");
+    let map_spec = args.map(default_map)?;
+    let sides: Vec<u32> = args
+        .opt("sides")
+        .unwrap_or("256,512,1024".into())
+        .split(',')
+        .map(|t| t.parse().ok().filter(|&s| s >= 2))
+        .collect::<Option<_>>()
+        .ok_or("--sides: want a list of sides of at least 2")?;
+    let opts = Table1Options {
+        sides,
+        threads: args.get("threads", default_threads())?.max(1),
+        size: args.size((320, 256))?,
+        elevation: args.get("elevation", 45.0)?,
+        reps: args.get("reps", 3usize)?.max(1),
+    };
+    let out = PathBuf::from(args.opt("out").unwrap_or("docs/report/table1.md".into()));
+    args.finish()?;
+    let map = load(&map_spec)?;
+    let name = map_spec
+        .path
+        .file_name()
+        .unwrap_or_default()
+        .to_string_lossy();
+    let table = table1::run(&name, &map.heights, map.width, map.height, &opts);
+    let command: Vec<String> = std::iter::once("hfcast".to_string())
+        .chain(std::env::args().skip(1))
+        .collect();
+    let text = format!(
+        "# Table 1 of Baboud, Eisemann, Seidel (2011), side by side\n\n\
+         Made by `{}` (`tools/src/table1.rs`).\n\n{table}",
+        command.join(" ")
+    );
+    std::fs::write(&out, &text).map_err(|e| format!("{}: {e}", out.display()))?;
+    println!("{table}");
+    println!("wrote {}", out.display());
+    Ok(true)
+}
+
 fn cmd_report(mut args: Args) -> Result<bool, String> {
     let quick = args.get("quick", false)?;
     let out = PathBuf::from(args.opt("out").unwrap_or("out/report".into()));
     let mut opts = ReportOptions::new(quick, out);
     opts.reps = args.get("reps", opts.reps)?;
-    if let Some(size) = args.opt("size") {
-        opts.size = size
-            .split_once('x')
-            .and_then(|(w, h)| Some((w.parse::<u32>().ok()?, h.parse::<u32>().ok()?)))
-            .filter(|&(w, h)| w > 0 && h > 0)
-            .ok_or(format!("--size: bad value {size:?} (want WxH)"))?;
-    }
+    opts.size = args.size(opts.size)?;
     opts.synthetic_size = args.get("synthetic", opts.synthetic_size)?;
     if opts.synthetic_size < 2 {
         return Err("--synthetic must be at least 2".into());
@@ -476,6 +525,7 @@ fn main() -> ExitCode {
         "advise" => run(cmd_advise),
         "bench" => run(cmd_bench),
         "report" => run(cmd_report),
+        "table1" => run(cmd_table1),
         "shader" => run(shader::cmd_shader),
         "bake" => run(bake::cmd_bake),
         "help" | "--help" | "-h" => {

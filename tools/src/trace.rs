@@ -7,13 +7,82 @@
 //! `hit t x y z cell_i cell_j nx ny nz fetches flags` (flags as the bit value of
 //! [`hfcast::Flags`]), `miss fetches`, or `error <message>`.
 
-use crate::MethodSpec;
-use hfcast::bake::Texels;
-use hfcast::ktx2::{Desc, MapKind};
+use crate::{par_chunks, MethodSpec};
+use hfcast::bake::{Spec, Texels};
+use hfcast::ktx2::{DataMut, Desc, MapKind};
 use hfcast::rayset::Rays;
 use hfcast::scene::{BakePlan, RayClasses, Scene};
 use hfcast::{HeightField, Marcher, Query, Surface, Trace};
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+use std::io::IsTerminal;
+use std::ops::Range;
+use std::sync::Mutex;
 use std::time::{Duration, Instant};
+
+/// Bakes the map of `desc` for `hf` on `threads` threads (the core's one bake
+/// interface, `hfcast::bake::Spec`), rows in ranges, with a progress bar on a
+/// terminal. The same texels for any thread count.
+pub fn bake_texels(hf: &HeightField, desc: &Desc, threads: usize) -> Result<Texels, String> {
+    let spec = Spec::new(*desc);
+    let n = spec.map_len().map_err(|e| e.to_string())?;
+    let mut scratch = vec![0.0; spec.scratch_len()];
+    spec.prepare(hf, &mut scratch).map_err(|e| e.to_string())?;
+    let scratch = &scratch;
+    let rows = spec.rows();
+    Ok(if spec.is_float() {
+        let mut out = vec![0.0f32; n];
+        by_rows(rows, &mut out, threads, |r, o| {
+            spec.bake_rows(hf, scratch, r, DataMut::F32(o))
+        })?;
+        Texels::F32(out)
+    } else {
+        let mut out = vec![0u8; n];
+        by_rows(rows, &mut out, threads, |r, o| {
+            spec.bake_rows(hf, scratch, r, DataMut::U8(o))
+        })?;
+        Texels::U8(out)
+    })
+}
+
+/// Runs `bake_rows(rows, part)` over the `rows` rows of `out` in ranges of a few rows,
+/// on `threads` threads, advancing a progress bar (drawn only on a terminal) by the
+/// rows each range baked. The first error stops nothing but is returned.
+fn by_rows<T: Send, E: std::fmt::Display>(
+    rows: u32,
+    out: &mut [T],
+    threads: usize,
+    bake_rows: impl Fn(Range<u32>, &mut [T]) -> Result<(), E> + Sync,
+) -> Result<(), String> {
+    let row_len = out.len() / rows as usize;
+    let per_range = (rows as usize).div_ceil(256).max(1);
+    let bar = ProgressBar::new(u64::from(rows));
+    if std::io::stderr().is_terminal() {
+        let style = ProgressStyle::with_template("{elapsed_precise} [{bar:30}] {pos}/{len} rows")
+            .map_err(|e| e.to_string())?
+            .progress_chars("=> ");
+        bar.set_style(style);
+    } else {
+        bar.set_draw_target(ProgressDrawTarget::hidden());
+    }
+    let first_error = Mutex::new(None);
+    par_chunks(out, per_range * row_len, threads, |at, part| {
+        let start = (at / row_len) as u32;
+        let range = start..start + (part.len() / row_len) as u32;
+        let n = range.len() as u64;
+        if let Err(e) = bake_rows(range, part) {
+            first_error
+                .lock()
+                .expect("a bake thread panicked")
+                .get_or_insert(e.to_string());
+        }
+        bar.inc(n);
+    });
+    bar.finish_and_clear();
+    match first_error.into_inner().expect("a bake thread panicked") {
+        Some(e) => Err(format!("bake: {e}")),
+        None => Ok(()),
+    }
+}
 
 /// A method baked for one field and surface: traces one ray at a time.
 pub struct Tracer<'a> {
@@ -38,17 +107,19 @@ impl<'a> Tracer<'a> {
         surface: Surface,
         classes: RayClasses,
     ) -> Result<Tracer<'a>, String> {
-        Tracer::bake_for(hf, method, surface, classes, Rays::ALL)
+        Tracer::bake_for(hf, method, surface, classes, Rays::ALL, 1)
     }
 
     /// [`Tracer::bake`] with the safety-distance and cylinder–cone maps baked for the
-    /// rays of `rays` (other methods ignore it); the march guards the rays outside it.
+    /// rays of `rays` (other methods ignore it; the march guards the rays outside it),
+    /// on `threads` threads ([`bake_texels`]).
     pub fn bake_for(
         hf: HeightField<'a>,
         method: MethodSpec,
         surface: Surface,
         classes: RayClasses,
         rays: Rays,
+        threads: usize,
     ) -> Result<Tracer<'a>, String> {
         if !method.supports(surface) {
             return Err(format!(
@@ -67,12 +138,7 @@ impl<'a> Tracer<'a> {
         }
         let start = Instant::now();
         let map = match plan.map_spec(hf.width(), hf.height()) {
-            Some(spec) => {
-                let texels = spec
-                    .bake_owned(&hf)
-                    .map_err(|e| format!("bake failed: {e}"))?;
-                Some((spec.desc, texels))
-            }
+            Some(spec) => Some((spec.desc, bake_texels(&hf, &spec.desc, threads.max(1))?)),
             None => None,
         };
         Ok(Tracer {
