@@ -79,6 +79,36 @@ impl Layout {
         Layout::new(hf.width(), hf.height()).expect("a valid field has a valid size")
     }
 
+    /// The texels of every level that depend on the samples `[x0, x1) × [y0, y1)`
+    /// (a non-empty rectangle inside the field), finest level first: `(level, lo, hi)`,
+    /// texels `[lo[0], hi[0]) × [lo[1], hi[1])` of that level. What [`update_rect`]
+    /// rebakes, and what a GPU update dispatches over, level by level.
+    pub fn update_ranges(
+        &self,
+        x0: u32,
+        y0: u32,
+        x1: u32,
+        y1: u32,
+    ) -> impl Iterator<Item = (u32, [u32; 2], [u32; 2])> {
+        // Sample s is a corner of cells s − 1 and s: the cells touched, half-open.
+        let cells = self.dims(0);
+        let first = (
+            0,
+            [x0.saturating_sub(1), y0.saturating_sub(1)],
+            [x1.min(cells[0]), y1.min(cells[1])],
+        );
+        let levels = self.levels;
+        core::iter::successors(Some(first), move |&(level, lo, hi)| {
+            (level + 1 < levels).then(|| {
+                (
+                    level + 1,
+                    lo.map(|v| v >> 1),
+                    hi.map(|v| ((v - 1) >> 1) + 1),
+                )
+            })
+        })
+    }
+
     /// Number of levels (level `levels − 1` is the single top texel).
     #[inline]
     pub fn levels(&self) -> u32 {
@@ -243,15 +273,7 @@ pub fn update_rect(
     if x0 == x1 || y0 == y1 {
         return Ok(());
     }
-    // Sample s is a corner of cells s − 1 and s: the cells touched, half-open.
-    let cells = layout.dims(0);
-    let mut lo = [x0.saturating_sub(1), y0.saturating_sub(1)];
-    let mut hi = [x1.min(cells[0]), y1.min(cells[1])];
-    for level in 0..layout.levels() {
-        if level > 0 {
-            lo = lo.map(|v| v >> 1);
-            hi = hi.map(|v| ((v - 1) >> 1) + 1);
-        }
+    for (level, lo, hi) in layout.update_ranges(x0, y0, x1, y1) {
         let w = layout.dims(level)[0] as usize;
         let (finer, out) = layout.split_level(pyramid, level);
         for j in lo[1]..hi[1] {

@@ -36,7 +36,12 @@
 //! so it is exactly the files with the marker lines removed. The WGSL sources also hold
 //! language regions for the translation (`//#wgsl` … `//#end`, `//#glsl` … `//#end`),
 //! which the WGSL shaders drop.
+//!
+//! GPU bakes (`bake_*.wgsl`, compute shaders of their own, WGSL only for now): the
+//! maximum mipmap, whole and by sub-rectangle, byte for byte the CPU bake's; [`bake`]
+//! gives their passes.
 
+pub mod bake;
 mod directive;
 mod shake;
 mod shared;

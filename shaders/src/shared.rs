@@ -58,7 +58,7 @@ enum Line {
 
 /// WGSL resource bindings of group 0 ([`crate::wgsl_layout`]): `(binding, name, type,
 /// declared in)`.
-const WGSL_BINDINGS: [(u32, &str, &str, &str); 13] = [
+const WGSL_BINDINGS: [(u32, &str, &str, &str); 15] = [
     (
         b::HEIGHTS,
         "hf_heights",
@@ -122,6 +122,18 @@ const WGSL_BINDINGS: [(u32, &str, &str, &str); 13] = [
         "radius.wgsl",
     ),
     (b::WORLD, "hf_world", "uniform WorldParams", "world.wgsl"),
+    (
+        b::PYRAMID_OUT,
+        "hf_pyramid_out",
+        "storage array<f32>, read_write",
+        "bake_maxmip.wgsl",
+    ),
+    (
+        b::MAXMIP_PASS,
+        "hf_maxmip_pass",
+        "uniform MaxMipPass",
+        "bake_maxmip.wgsl",
+    ),
 ];
 
 /// The ray classes by the names of their constants (`HF_RAY_CLASS_*`, `HF_RAYS_*`).
@@ -274,11 +286,15 @@ fn render(lang: Lang) -> String {
             writeln!(s, "//   {b:<8} {name:<15} {ty:<38} {file}").unwrap();
         }
         let next = WGSL_BINDINGS.len();
+        let reserved = match next {
+            15 => "Binding 15 of group 0 is".to_string(),
+            n => format!("Bindings {n} to 15 of group 0 are"),
+        };
         s.push_str(&format!(
-            "// Bindings {next} to 15 of group 0 are reserved; a caller's own resources go in group 1\n\
+            "// {reserved} reserved; a caller's own resources go in group 1\n\
              // or later. Textures are read with textureLoad only (never sampled). Scene-level\n\
              // choices are override constants: hf_surface, hf_safety_variant,\n\
-             // hf_safety_classes, hf_cc_classes.\n"
+             // hf_safety_classes, hf_cc_classes, hf_rays_exterior, hf_rays_max_view_angle.\n"
         ));
     }
     for line in table() {

@@ -28,9 +28,15 @@
 pub const BOTH_LANGUAGES: [&str; 4] = ["hfcast_shared", "field", "field_int", "world"];
 
 /// Whether the GLSL of the file `stem` is generated from its WGSL: every file but the
-/// [`BOTH_LANGUAGES`] ones and the `method_*` files.
+/// [`BOTH_LANGUAGES`] ones, the `method_*` files and the GPU bakes.
 pub fn is_translated(stem: &str) -> bool {
-    !BOTH_LANGUAGES.contains(&stem) && !stem.starts_with("method_")
+    !BOTH_LANGUAGES.contains(&stem) && !stem.starts_with("method_") && !is_gpu_bake(stem)
+}
+
+/// Whether `stem` is a GPU bake (`bake_*`: a WGSL compute shader of its own, not part
+/// of a march; its GLSL compute port is not written yet).
+pub fn is_gpu_bake(stem: &str) -> bool {
+    stem.starts_with("bake_")
 }
 
 /// Which language's region a line is in.

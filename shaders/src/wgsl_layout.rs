@@ -1,7 +1,7 @@
 //! The resource layout of the WGSL ports: the fixed `@group(0)` binding numbers of
 //! the resources the files of `shaders/wgsl` declare, a contract with every caller
 //! that binds them (the table at the top of `hfcast_shared.wgsl` is rendered from
-//! these). Any set of files composes without clashes; bindings 13 to 15 of group 0 are
+//! these). Any set of files composes without clashes; binding 15 of group 0 is
 //! reserved, and a caller's own resources go in `@group(1)` or later.
 
 /// `hf_heights`: `texture_2d<f32>`, R32Float, W × H (field.wgsl); in a shader
@@ -37,3 +37,9 @@ pub const RADIUS_MAP: u32 = 11;
 /// `hf_world`: uniform `WorldParams`, the field's grid-to-world transform, read by
 /// `hf_trace_world` only (world.wgsl).
 pub const WORLD: u32 = 12;
+/// `hf_pyramid_out`: `array<f32>`, a read-write storage buffer, the pyramid the GPU
+/// bake writes in the core's `maxmip::Layout` (bake_maxmip.wgsl).
+pub const PYRAMID_OUT: u32 = 13;
+/// `hf_maxmip_pass`: uniform `MaxMipPass`, one level's pass of the GPU bake
+/// (bake_maxmip.wgsl).
+pub const MAXMIP_PASS: u32 = 14;

@@ -18,10 +18,12 @@
 //   10       hf_cc           uniform CcParams                       cc.wgsl
 //   11       hf_radius_map   texture_2d<u32>, R8Uint                radius.wgsl
 //   12       hf_world        uniform WorldParams                    world.wgsl
-// Bindings 13 to 15 of group 0 are reserved; a caller's own resources go in group 1
+//   13       hf_pyramid_out  storage array<f32>, read_write         bake_maxmip.wgsl
+//   14       hf_maxmip_pass  uniform MaxMipPass                     bake_maxmip.wgsl
+// Binding 15 of group 0 is reserved; a caller's own resources go in group 1
 // or later. Textures are read with textureLoad only (never sampled). Scene-level
 // choices are override constants: hf_surface, hf_safety_variant,
-// hf_safety_classes, hf_cc_classes.
+// hf_safety_classes, hf_cc_classes, hf_rays_exterior, hf_rays_max_view_angle.
 
 // Surfaces (hfcast::Surface, hf_surface).
 const HF_SURFACE_TRIANGLES: u32 = 0u;

@@ -58,8 +58,8 @@ commands:
            differ from the exact traversal (none)
            --map PATH (default ../shared/data/dem_etopo5_himalaya_1024.png) --depth
            GRID_UNITS --sides LIST (256,512,1024) --threads N (bakes; all cores)
-           --size WxH (320x256) --elevation DEG (45) --reps N (3) --out FILE
-           (docs/report/table1.md)
+           --size WxH (320x256) --elevations LIST (45,70: a camera each; at 70
+           every ray is within phi_max) --reps N (3) --out FILE (docs/report/table1.md)
   shader   the GLSL or WGSL shader of one scene: only the code it uses
            --method M (exact | linear-binary | linear-secant | maxmip | safety | cone |
            relaxed | qdm | cc; default exact) --surface S (triangles) --lang glsl|wgsl
@@ -461,7 +461,13 @@ fn cmd_table1(mut args: Args) -> Result<bool, String> {
         sides,
         threads: args.get("threads", default_threads())?.max(1),
         size: args.size((320, 256))?,
-        elevation: args.get("elevation", 45.0)?,
+        elevations: args
+            .opt("elevations")
+            .unwrap_or("45,70".into())
+            .split(',')
+            .map(|e| e.parse().ok().filter(|e: &f64| *e > 0.0 && *e <= 90.0))
+            .collect::<Option<_>>()
+            .ok_or("--elevations: want a list of degrees in (0, 90]")?,
         reps: args.get("reps", 3usize)?.max(1),
     };
     let out = PathBuf::from(args.opt("out").unwrap_or("docs/report/table1.md".into()));

@@ -2,19 +2,19 @@
 //! side: safety distances (`cyl`) and cylinder–cone shapes (`cyl+cone`) baked for
 //! every ray and for exterior rays, each without and with a largest view angle of
 //! 45° from the vertical (the paper's φmax = −45°), on centre crops of one map. Per
-//! setting: bake seconds on the given threads, map bytes, and on an orbit camera the
+//! setting: bake seconds on the given threads, map bytes, and on each orbit camera the
 //! share of its rays in the map's ray set (the others walk cell by cell), the texel
 //! fetches per ray, single-thread CPU ns per ray, and the rays whose answer differs
 //! from the exact traversal's (hit or miss, or hit points over 10⁻³ texel apart),
 //! which must be none.
 
-use crate::bench::{bench_rays, Order};
+use crate::bench::{bench_rays, BenchResult, Order};
 use crate::render::Camera;
 use crate::trace::Tracer;
 use crate::MethodSpec;
 use hfcast::rayset::Rays;
 use hfcast::scene::{MethodKind, RayClasses};
-use hfcast::{HeightField, Surface, Trace};
+use hfcast::{HeightField, Query, Surface, Trace};
 use std::fmt::Write as _;
 
 /// What `hfcast table1` measures.
@@ -26,8 +26,8 @@ pub struct Table1Options {
     pub threads: usize,
     /// The camera's image size, pixels.
     pub size: (u32, u32),
-    /// The camera's elevation, degrees.
-    pub elevation: f64,
+    /// The cameras' elevations, degrees.
+    pub elevations: Vec<f64>,
     /// Timing repetitions (median).
     pub reps: usize,
 }
@@ -65,6 +65,14 @@ fn centre_crop(heights: &[f32], w: u32, h: u32, side: u32) -> HeightField<'_> {
     HeightField::new(&heights[at..], cw, ch, w as usize).expect("a crop of a valid field")
 }
 
+/// One camera of the table: its elevation, rays, the exact traversal's answers and
+/// cost.
+struct View {
+    elevation: f64,
+    rays: Vec<Query<f32>>,
+    want: Vec<Trace<f32>>,
+}
+
 /// Runs the table on the row-major `heights` of a `w × h` map named `name`; returns
 /// it as Markdown.
 pub fn run(name: &str, heights: &[f32], w: u32, h: u32, opts: &Table1Options) -> String {
@@ -72,24 +80,23 @@ pub fn run(name: &str, heights: &[f32], w: u32, h: u32, opts: &Table1Options) ->
     let (iw, ih) = opts.size;
     let _ = writeln!(
         md,
-        "Map `{name}`, centre crops; a {iw} × {ih} orbit camera at {}° elevation \
-         (vertical field of view {}°). Bakes on {} threads; ns per ray on one thread, \
-         median of {}. `in set`: the camera's rays in the map's ray set (the others walk \
-         cell by cell); `differ`: rays whose answer is not the exact traversal's.\n",
-        opts.elevation,
+        "Map `{name}`, centre crops; {iw} × {ih} orbit cameras (vertical field of view \
+         {}°) at the elevations of the `camera` column. Bakes on {} threads; ns per ray \
+         on one thread, median of {}. `in set`: the camera's rays in the map's ray set \
+         (the others walk cell by cell); `differ`: rays whose answer is not the exact \
+         traversal's.\n",
         crate::render::FOV_Y_DEG,
         opts.threads,
         opts.reps
     );
     let _ = writeln!(
         md,
-        "| side | setting | φmax | bake s | bytes | in set | fetches / ray | ns / ray | differ |\n\
-         |---:|---|---|---:|---:|---:|---:|---:|---:|"
+        "| side | setting | φmax | bake s | bytes | camera | in set | fetches / ray | ns / ray | differ |\n\
+         |---:|---|---|---:|---:|---:|---:|---:|---:|---:|"
     );
     for &side in &opts.sides {
         let hf = centre_crop(heights, w, h, side);
-        let rays = Camera::orbit(&hf, opts.elevation, 200.0, iw, ih).rays();
-        let bench = |t: &Tracer| bench_rays(t, "", &rays, &[1], opts.reps, Order::Lanes);
+        let side_s = format!("{} × {}", hf.width(), hf.height());
         let exact = Tracer::bake(
             hf,
             MethodSpec::of(MethodKind::Exact),
@@ -97,23 +104,40 @@ pub fn run(name: &str, heights: &[f32], w: u32, h: u32, opts: &Table1Options) ->
             RayClasses::ALL,
         )
         .expect("the exact traversal needs no bake");
-        let mut want = vec![Trace::MISS; rays.len()];
-        exact.trace_all(&rays, &mut want);
-        let b = bench(&exact);
-        let side_s = format!("{} × {}", hf.width(), hf.height());
-        let ns = |b: &crate::bench::BenchResult| 1e9 / b.rays_per_s[0].1;
-        let _ = writeln!(
-            md,
-            "| {side_s} | exact traversal (DDA) | – | – | 0 | – | {:.1} | {:.0} | 0 |",
-            b.fetch_mean,
-            ns(&b)
-        );
+        let views: Vec<View> = opts
+            .elevations
+            .iter()
+            .map(|&elevation| {
+                let rays = Camera::orbit(&hf, elevation, 200.0, iw, ih).rays();
+                let mut want = vec![Trace::MISS; rays.len()];
+                exact.trace_all(&rays, &mut want);
+                View {
+                    elevation,
+                    rays,
+                    want,
+                }
+            })
+            .collect();
+        let bench =
+            |t: &Tracer, v: &View| bench_rays(t, "", &v.rays, &[1], opts.reps, Order::Lanes);
+        let ns = |b: &BenchResult| 1e9 / b.rays_per_s[0].1;
+        for v in &views {
+            let b = bench(&exact, v);
+            let _ = writeln!(
+                md,
+                "| {side_s} | exact traversal (DDA) | – | – | 0 | {}° | – | {:.1} | {:.0} | 0 |",
+                v.elevation,
+                b.fetch_mean,
+                ns(&b)
+            );
+        }
         for (label, kind, exterior) in ROWS {
             for phi in [None, Some(PHI_DEG)] {
                 let rays_set = Rays {
                     exterior,
                     max_view_angle_deg: phi.unwrap_or(180.0),
                 };
+                let phi_s = phi.map_or("–".into(), |p| format!("−{p}°"));
                 eprintln!("table1: {side_s} {label} {rays_set}");
                 let tracer = match Tracer::bake_for(
                     hf,
@@ -125,25 +149,27 @@ pub fn run(name: &str, heights: &[f32], w: u32, h: u32, opts: &Table1Options) ->
                 ) {
                     Ok(t) => t,
                     Err(e) => {
-                        let _ = writeln!(md, "| {side_s} | {label} | | {e} | | | | | |");
+                        let _ = writeln!(md, "| {side_s} | {label} | {phi_s} | {e} | | | | | | |");
                         continue;
                     }
                 };
-                let mut got = vec![Trace::MISS; rays.len()];
-                tracer.trace_all(&rays, &mut got);
-                let b = bench(&tracer);
-                let held = rays.iter().filter(|q| rays_set.holds(&hf, q)).count();
-                let _ = writeln!(
-                    md,
-                    "| {side_s} | {label} | {} | {:.2} | {} | {:.0} % | {:.1} | {:.0} | {} |",
-                    phi.map_or("–".into(), |p| format!("−{p}°")),
-                    tracer.bake_time().as_secs_f64(),
-                    tracer.bytes(),
-                    100.0 * held as f64 / rays.len().max(1) as f64,
-                    b.fetch_mean,
-                    ns(&b),
-                    differ(&want, &got)
-                );
+                for v in &views {
+                    let mut got = vec![Trace::MISS; v.rays.len()];
+                    tracer.trace_all(&v.rays, &mut got);
+                    let b = bench(&tracer, v);
+                    let held = v.rays.iter().filter(|q| rays_set.holds(&hf, q)).count();
+                    let _ = writeln!(
+                        md,
+                        "| {side_s} | {label} | {phi_s} | {:.2} | {} | {}° | {:.0} % | {:.1} | {:.0} | {} |",
+                        tracer.bake_time().as_secs_f64(),
+                        tracer.bytes(),
+                        v.elevation,
+                        100.0 * held as f64 / v.rays.len().max(1) as f64,
+                        b.fetch_mean,
+                        ns(&b),
+                        differ(&v.want, &got)
+                    );
+                }
             }
         }
     }
@@ -172,12 +198,12 @@ mod tests {
             sides: vec![16],
             threads: 2,
             size: (16, 12),
-            elevation: 45.0,
+            elevations: vec![45.0, 70.0],
             reps: 1,
         };
         let md = run("test", &heights, side, side, &opts);
         let rows: Vec<&str> = md.lines().filter(|l| l.starts_with("| 16 × 16")).collect();
-        assert_eq!(rows.len(), 1 + 2 * ROWS.len(), "{md}");
+        assert_eq!(rows.len(), 2 * (1 + 2 * ROWS.len()), "{md}");
         for row in &rows {
             assert!(row.trim_end().ends_with("| 0 |"), "a ray differs: {row}");
         }

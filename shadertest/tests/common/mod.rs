@@ -1100,8 +1100,59 @@ impl Gpu {
             })
     }
 
-    fn uniform(&self, data: &[u8]) -> wgpu::Buffer {
+    /// A uniform buffer holding `data`.
+    pub fn uniform(&self, data: &[u8]) -> wgpu::Buffer {
         self.buffer(wgpu::BufferUsages::UNIFORM, data)
+    }
+
+    /// An R32Float `w × h` texture of `heights` (what `hf_heights` binds).
+    pub fn heights_texture(&self, w: u32, h: u32, heights: &[f32]) -> wgpu::TextureView {
+        self.texture(w, h, wgpu::TextureFormat::R32Float, &f32_bytes(heights))
+    }
+
+    /// A storage buffer holding `words`, readable back ([`Gpu::read_u32`]).
+    pub fn storage(&self, words: &[u32]) -> wgpu::Buffer {
+        let usage = wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC;
+        self.buffer(usage, &u32_bytes(words))
+    }
+
+    /// The first `n` words of `buffer` (made with `COPY_SRC`), read back.
+    pub fn read_u32(&self, buffer: &wgpu::Buffer, n: usize) -> Vec<u32> {
+        let enc = self
+            .device
+            .create_command_encoder(&wgpu::CommandEncoderDescriptor::default());
+        self.submit_and_read(enc, buffer, 4 * n as u64)
+            .chunks_exact(4)
+            .map(|b| u32::from_le_bytes([b[0], b[1], b[2], b[3]]))
+            .collect()
+    }
+
+    /// Submits `enc` with a copy of the first `size` bytes of `buffer` (made with
+    /// `COPY_SRC`) appended, waits for it, and returns those bytes.
+    fn submit_and_read(
+        &self,
+        mut enc: wgpu::CommandEncoder,
+        buffer: &wgpu::Buffer,
+        size: u64,
+    ) -> Vec<u8> {
+        let staging = self.device.create_buffer(&wgpu::BufferDescriptor {
+            label: None,
+            size,
+            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        enc.copy_buffer_to_buffer(buffer, 0, &staging, 0, size);
+        self.queue.submit([enc.finish()]);
+        staging.map_async(wgpu::MapMode::Read, .., |r| r.expect("map the results"));
+        self.device
+            .poll(wgpu::PollType::wait_indefinitely())
+            .expect("wait for the GPU");
+        let bytes = staging
+            .get_mapped_range(..)
+            .expect("mapped results")
+            .to_vec();
+        staging.unmap();
+        bytes
     }
 }
 
@@ -1483,12 +1534,6 @@ pub fn run_kernel(
         usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
         mapped_at_creation: false,
     });
-    let staging = dev.create_buffer(&wgpu::BufferDescriptor {
-        label: None,
-        size,
-        usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-        mapped_at_creation: false,
-    });
     let group1 = dev.create_bind_group(&wgpu::BindGroupDescriptor {
         label: None,
         layout: &kernel.layout1,
@@ -1511,17 +1556,7 @@ pub fn run_kernel(
         pass.set_bind_group(1, &group1, &[]);
         pass.dispatch_workgroups((rays.len() as u32).div_ceil(64), 1, 1);
     }
-    enc.copy_buffer_to_buffer(&out, 0, &staging, 0, size);
-    gpu.queue.submit([enc.finish()]);
-    staging.map_async(wgpu::MapMode::Read, .., |r| r.expect("map the results"));
-    dev.poll(wgpu::PollType::wait_indefinitely())
-        .expect("wait for the dispatch");
-    let bytes = staging
-        .get_mapped_range(..)
-        .expect("mapped results")
-        .to_vec();
-    staging.unmap();
-    bytes
+    gpu.submit_and_read(enc, &out, size)
         .chunks_exact(OUT_BYTES as usize)
         .map(|c| {
             let w: Vec<u32> = c

@@ -1,0 +1,303 @@
+//! The GPU bakes (`shaders/wgsl/bake_*.wgsl`, issue 27) executed through wgpu
+//! (lavapipe in CI) against the core's CPU bakes, byte for byte: the maximum mipmap of
+//! every map of `../shared/data`, the bundled map and synthetic fields (one of odd
+//! sizes with negative heights and signed zeros), baked whole, then refreshed after
+//! edits of sub-rectangles (a crater over about 1 %, 10 % and 100 % of the field,
+//! and one sample at a corner), each update dispatched over the texels that depend on
+//! the edit only (`hfcast_shaders::bake::maxmip_update_passes`). The pyramid buffer
+//! starts as NaN bits, so a texel no pass writes shows. Times are printed (llvmpipe:
+//! software figures) beside the CPU's.
+
+mod common;
+
+use common::{spiky_fractal, Gpu};
+use hfcast::maxmip;
+use hfcast::HeightField;
+use hfcast_shaders::bake::{maxmip_bake_passes, maxmip_update_passes, MaxMipPass};
+use hfcast_shaders::{wgsl_layout as binding, Lang};
+use std::time::Instant;
+
+/// Bits the pyramid buffer starts with: a NaN no bake writes.
+const POISON: u32 = 0x7fc0_dead;
+
+/// The bake pipeline and its bind group layout.
+struct Bake {
+    pipeline: wgpu::ComputePipeline,
+    layout: wgpu::BindGroupLayout,
+}
+
+impl Bake {
+    fn new(gpu: &Gpu) -> Bake {
+        let dev = &gpu.device;
+        let src = hfcast_shaders::file(Lang::Wgsl, "bake_maxmip").expect("bake_maxmip.wgsl");
+        let scope = dev.push_error_scope(wgpu::ErrorFilter::Validation);
+        let module = dev.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some("bake_maxmip"),
+            source: wgpu::ShaderSource::Wgsl(src.into()),
+        });
+        let entry = |b: u32, ty| wgpu::BindGroupLayoutEntry {
+            binding: b,
+            visibility: wgpu::ShaderStages::COMPUTE,
+            ty,
+            count: None,
+        };
+        let layout = dev.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: None,
+            entries: &[
+                entry(
+                    binding::HEIGHTS,
+                    wgpu::BindingType::Texture {
+                        sample_type: wgpu::TextureSampleType::Float { filterable: false },
+                        view_dimension: wgpu::TextureViewDimension::D2,
+                        multisampled: false,
+                    },
+                ),
+                entry(
+                    binding::PYRAMID_OUT,
+                    wgpu::BindingType::Buffer {
+                        ty: wgpu::BufferBindingType::Storage { read_only: false },
+                        has_dynamic_offset: false,
+                        min_binding_size: None,
+                    },
+                ),
+                entry(
+                    binding::MAXMIP_PASS,
+                    wgpu::BindingType::Buffer {
+                        ty: wgpu::BufferBindingType::Uniform,
+                        has_dynamic_offset: false,
+                        min_binding_size: None,
+                    },
+                ),
+            ],
+        });
+        let pipeline_layout = dev.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: None,
+            bind_group_layouts: &[Some(&layout)],
+            immediate_size: 0,
+        });
+        let pipeline = dev.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+            label: Some("bake_maxmip"),
+            layout: Some(&pipeline_layout),
+            module: &module,
+            entry_point: Some("maxmip_bake_pass"),
+            compilation_options: wgpu::PipelineCompilationOptions::default(),
+            cache: None,
+        });
+        if let Some(e) = pollster::block_on(scope.pop()) {
+            panic!("bake_maxmip: wgpu refused the shader or pipeline: {e}");
+        }
+        Bake { pipeline, layout }
+    }
+
+    /// Runs `passes` over `heights` (a `w × h` texture) into `pyramid`, one compute
+    /// pass each, and waits for them.
+    fn run(
+        &self,
+        gpu: &Gpu,
+        heights: &wgpu::TextureView,
+        pyramid: &wgpu::Buffer,
+        passes: &[MaxMipPass],
+    ) {
+        let dev = &gpu.device;
+        let mut enc = dev.create_command_encoder(&wgpu::CommandEncoderDescriptor::default());
+        for p in passes {
+            let uniform = gpu.uniform(&p.uniform_bytes());
+            let group = dev.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: None,
+                layout: &self.layout,
+                entries: &[
+                    wgpu::BindGroupEntry {
+                        binding: binding::HEIGHTS,
+                        resource: wgpu::BindingResource::TextureView(heights),
+                    },
+                    wgpu::BindGroupEntry {
+                        binding: binding::PYRAMID_OUT,
+                        resource: pyramid.as_entire_binding(),
+                    },
+                    wgpu::BindGroupEntry {
+                        binding: binding::MAXMIP_PASS,
+                        resource: uniform.as_entire_binding(),
+                    },
+                ],
+            });
+            let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor::default());
+            pass.set_pipeline(&self.pipeline);
+            pass.set_bind_group(0, &group, &[]);
+            pass.dispatch_workgroups(p.workgroups[0], p.workgroups[1], 1);
+        }
+        gpu.queue.submit([enc.finish()]);
+        dev.poll(wgpu::PollType::wait_indefinitely())
+            .expect("wait for the bake");
+    }
+}
+
+/// A field to bake: name, size, heights.
+struct Field {
+    name: String,
+    w: u32,
+    h: u32,
+    heights: Vec<f32>,
+}
+
+/// The fields: every map of ../shared/data, the bundled map, a spiky fractal and an
+/// odd-sized field of negative heights and signed zeros.
+fn fields() -> Vec<Field> {
+    let mut out = Vec::new();
+    let mut paths: Vec<_> = hfcast_tools::maps::list_maps()
+        .into_iter()
+        .map(|m| (m.name, m.path))
+        .collect();
+    paths.push(("bundled".into(), hfcast_tools::maps::bundled_map()));
+    for (name, path) in paths {
+        let map = hfcast_tools::maps::load_map(&path, None)
+            .unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+        out.push(Field {
+            name,
+            w: map.width,
+            h: map.height,
+            heights: map.heights,
+        });
+    }
+    out.push(Field {
+        name: "spiky fractal 301 x 173".into(),
+        w: 301,
+        h: 173,
+        heights: spiky_fractal(5, 301, 173, 40.0),
+    });
+    let (w, h) = (37u32, 19u32);
+    let signed: Vec<f32> = (0..w * h)
+        .map(|k| match k % 7 {
+            0 => 0.0,
+            1 => -0.0,
+            2 => -3.5,
+            3 => f32::MIN_POSITIVE,
+            _ => ((k * 37 % 101) as f32 - 50.0) * 0.25,
+        })
+        .collect();
+    out.push(Field {
+        name: "negative and signed zeros 37 x 19".into(),
+        w,
+        h,
+        heights: signed,
+    });
+    out
+}
+
+/// The bits of `v`.
+fn bits(v: &[f32]) -> Vec<u32> {
+    v.iter().map(|x| x.to_bits()).collect()
+}
+
+/// The first texel where `got` and `want` differ, as a message.
+fn first_difference(got: &[u32], want: &[u32]) -> Option<String> {
+    let k = got.iter().zip(want).position(|(a, b)| a != b)?;
+    Some(format!(
+        "texel {k} of {}: gpu {:#010x} ({}), cpu {:#010x} ({})",
+        want.len(),
+        got[k],
+        f32::from_bits(got[k]),
+        want[k],
+        f32::from_bits(want[k])
+    ))
+}
+
+/// `heights` with a crater of radius `r` (samples) at `(cx, cy)` sunk into it, and the
+/// rectangle of samples it changed, `[x0, y0, x1, y1]`.
+fn crater(f: &Field, heights: &mut [f32], cx: u32, cy: u32, r: u32) -> [u32; 4] {
+    let rect = [
+        cx.saturating_sub(r),
+        cy.saturating_sub(r),
+        (cx + r + 1).min(f.w),
+        (cy + r + 1).min(f.h),
+    ];
+    for j in rect[1]..rect[3] {
+        for i in rect[0]..rect[2] {
+            let d = (f64::from(i) - f64::from(cx)).hypot(f64::from(j) - f64::from(cy));
+            let k = (j * f.w + i) as usize;
+            heights[k] -= (1.0 + f64::from(r) - d).max(0.0) as f32 * 0.5;
+        }
+    }
+    rect
+}
+
+#[test]
+fn gpu_maximum_mipmap_is_the_cpu_one_byte_for_byte() {
+    let gpu = Gpu::new();
+    println!("{}", gpu.describe());
+    let bake = Bake::new(&gpu);
+    let mut failures = Vec::new();
+    for f in fields() {
+        let hf = HeightField::new(&f.heights, f.w, f.h, f.w as usize).expect("field");
+        let n = maxmip::pyramid_len(f.w, f.h);
+        let t0 = Instant::now();
+        let mut want = vec![0f32; n];
+        maxmip::bake(&hf, &mut want).expect("cpu bake");
+        let cpu_ms = 1e3 * t0.elapsed().as_secs_f64();
+        let pyramid = gpu.storage(&vec![POISON; n]);
+        let tex = gpu.heights_texture(f.w, f.h, &f.heights);
+        let passes = maxmip_bake_passes(f.w, f.h).expect("passes");
+        let t0 = Instant::now();
+        bake.run(&gpu, &tex, &pyramid, &passes);
+        let gpu_ms = 1e3 * t0.elapsed().as_secs_f64();
+        let got = gpu.read_u32(&pyramid, n);
+        let whole = first_difference(&got, &bits(&want));
+        println!(
+            "{:<40} {:>5} x {:<5} {:>9} texels, {:>2} passes: cpu {cpu_ms:7.1} ms, gpu (software) {gpu_ms:7.1} ms  {}",
+            f.name,
+            f.w,
+            f.h,
+            n,
+            passes.len(),
+            whole.as_deref().unwrap_or("identical")
+        );
+        if let Some(d) = whole {
+            failures.push(format!("{}: whole bake: {d}", f.name));
+            continue;
+        }
+        // Edits: craters of about 1 %, 10 % and 100 % of the field, and one corner
+        // sample; each refreshes the GPU pyramid in place from the edited texture.
+        let mut heights = f.heights.clone();
+        let side = f.w.min(f.h);
+        let edits = [
+            (f.w / 3, f.h / 2, side / 20),
+            (2 * f.w / 3, f.h / 3, side / 6),
+            (f.w / 2, f.h / 2, f.w.max(f.h)),
+            (f.w - 1, f.h - 1, 0),
+        ];
+        for (cx, cy, r) in edits {
+            let rect = crater(&f, &mut heights, cx, cy, r);
+            let hf = HeightField::new(&heights, f.w, f.h, f.w as usize).expect("field");
+            let [x0, y0, x1, y1] = rect;
+            maxmip::update_rect(&hf, &mut want, x0, y0, x1, y1).expect("cpu update");
+            let tex = gpu.heights_texture(f.w, f.h, &heights);
+            let passes = maxmip_update_passes(f.w, f.h, rect).expect("update passes");
+            let texels: u32 = passes
+                .iter()
+                .map(|p| (p.uniform[8] - p.uniform[6]) * (p.uniform[9] - p.uniform[7]))
+                .sum();
+            let t0 = Instant::now();
+            bake.run(&gpu, &tex, &pyramid, &passes);
+            let gpu_ms = 1e3 * t0.elapsed().as_secs_f64();
+            let got = gpu.read_u32(&pyramid, n);
+            let diff = first_difference(&got, &bits(&want));
+            println!(
+                "    update of {} x {} samples: {texels} texels rewritten ({:.1} % of the pyramid), gpu (software) {gpu_ms:.1} ms  {}",
+                x1 - x0,
+                y1 - y0,
+                100.0 * f64::from(texels) / n as f64,
+                diff.as_deref().unwrap_or("identical")
+            );
+            if let Some(d) = diff {
+                failures.push(format!("{}: update {rect:?}: {d}", f.name));
+            }
+        }
+        // And the CPU update equals a whole CPU bake of the edited field.
+        let hf = HeightField::new(&heights, f.w, f.h, f.w as usize).expect("field");
+        let mut again = vec![0f32; n];
+        maxmip::bake(&hf, &mut again).expect("cpu bake");
+        if bits(&again) != bits(&want) {
+            failures.push(format!("{}: cpu update differs from a whole bake", f.name));
+        }
+    }
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+}
