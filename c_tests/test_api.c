@@ -2117,6 +2117,64 @@ static void test_shader_source(void) {
     CHECK_BAD(hf_shader_source(0, buf, sizeof buf, NULL), HF_ERR_NULL_POINTER, buf, sizeof buf);
 }
 
+/* The GPU maximum-mipmap bake's shader and passes: a pass per level, in the layout of
+ * hf_maxmip_levels; an update's passes cover the texels the edit touches only; the
+ * WGSL source has the entry point and bindings; bad inputs write nothing. */
+static void test_gpu_bake(void) {
+    size_t len = 0, written = 0;
+    CHECK_OK(hf_maxmip_bake_shader_len(HF_SHADER_WGSL, &len));
+    char *src = (char *)malloc(len);
+    CHECK_OK(hf_maxmip_bake_shader(HF_SHADER_WGSL, src, len, &written));
+    CHECK(written == len - 1 && strlen(src) == written);
+    CHECK(strstr(src, "fn maxmip_bake_pass(") != NULL);
+    CHECK(strstr(src, "@binding(13) var<storage, read_write> hf_pyramid_out") != NULL);
+    CHECK(strstr(src, "@binding(14) var<uniform> hf_maxmip_pass") != NULL);
+    free(src);
+    CHECK_BAD(hf_maxmip_bake_shader_len(HF_SHADER_GLSL, &len), HF_ERR_NOT_BUILT, &len, sizeof len);
+    CHECK_BAD(hf_maxmip_bake_shader_len(9, &len), HF_ERR_INVALID_ENUM, &len, sizeof len);
+
+    hf_level levels[HF_MAX_LEVELS];
+    hf_maxmip_pass passes[HF_MAX_LEVELS];
+    uint32_t nl = 0, np = 0;
+    CHECK_OK(hf_maxmip_levels(13, 6, levels, HF_MAX_LEVELS, &nl));
+    CHECK_OK(hf_maxmip_bake_passes(13, 6, NULL, passes, HF_MAX_LEVELS, &np));
+    CHECK(np == nl);
+    for (uint32_t l = 0; l < np; l++) {
+        const uint32_t *u = passes[l].uniform;
+        CHECK(passes[l].level == l && u[0] == l && u[1] == levels[l].offset &&
+              u[2] == levels[l].width);
+        CHECK(u[6] == 0 && u[7] == 0 && u[8] == levels[l].width && u[9] == levels[l].height);
+        CHECK(passes[l].workgroups[0] == (levels[l].width + 7) / 8 &&
+              passes[l].workgroups[1] == (levels[l].height + 7) / 8);
+        CHECK(l == 0 || (u[3] == levels[l - 1].offset && u[4] == levels[l - 1].width &&
+                         u[5] == levels[l - 1].height));
+    }
+    /* Sample (4, 2) is a corner of cells 3..5 x 1..3 of level 0. */
+    const uint32_t rect[4] = {4, 2, 5, 3};
+    CHECK_OK(hf_maxmip_bake_passes(13, 6, rect, passes, HF_MAX_LEVELS, &np));
+    CHECK(np == nl && passes[0].uniform[6] == 3 && passes[0].uniform[7] == 1 &&
+          passes[0].uniform[8] == 5 && passes[0].uniform[9] == 3);
+    const uint32_t empty[4] = {4, 2, 4, 3};
+    CHECK_OK(hf_maxmip_bake_passes(13, 6, empty, passes, HF_MAX_LEVELS, &np));
+    CHECK(np == 0);
+
+    hf_maxmip_pass keep[HF_MAX_LEVELS];
+    memset(keep, 0xAB, sizeof keep);
+    np = 77;
+    const uint32_t outside[4] = {4, 2, 14, 3};
+    CHECK_BAD(hf_maxmip_bake_passes(13, 6, outside, keep, HF_MAX_LEVELS, &np), HF_ERR_INVALID_RECT,
+              keep, sizeof keep);
+    CHECK(np == 77);
+    CHECK_BAD(hf_maxmip_bake_passes(13, 6, NULL, keep, 2, &np), HF_ERR_BUFFER_TOO_SMALL, keep,
+              sizeof keep);
+    CHECK_BAD(hf_maxmip_bake_passes(1, 6, NULL, keep, HF_MAX_LEVELS, &np), HF_ERR_INVALID_SIZE,
+              keep, sizeof keep);
+    CHECK_BAD(hf_maxmip_bake_passes(13, 6, NULL, NULL, HF_MAX_LEVELS, &np), HF_ERR_NULL_POINTER,
+              &np, sizeof np);
+    CHECK_BAD(hf_maxmip_bake_passes(13, 6, NULL, keep, HF_MAX_LEVELS, NULL), HF_ERR_NULL_POINTER,
+              keep, sizeof keep);
+}
+
 int main(void) {
     test_version_and_messages();
     test_field_constructors();
@@ -2134,6 +2192,7 @@ int main(void) {
     test_bake_defaults();
     test_build_and_plan();
     test_shader_source();
+    test_gpu_bake();
     printf("c api: %d checks, %d bad inputs tried\n", checks, bad_inputs);
     printf("c-api: %d passed, %d failed\n", checks - failures, failures);
     return failures == 0 ? 0 : 1;

@@ -696,6 +696,21 @@ typedef struct hf_level {
 } hf_level;
 #endif
 
+#if defined(HF_HAVE_MAXMIP)
+// One dispatch of the GPU maximum-mipmap bake (`hf_maxmip_bake_passes`), a compute
+// pass of `maxmip_bake_pass` in the shader of `hf_maxmip_bake_shader`.
+typedef struct hf_maxmip_pass {
+  // The level it writes (passes come finest first).
+  uint32_t level;
+  // Workgroups along x and y (each 8 × 8 texels).
+  uint32_t workgroups[2];
+  // Its uniform `hf_maxmip_pass` (`MaxMipPass`, 48 bytes): level, the level's first
+  // texel in the pyramid buffer, its width, the finer level's first texel, width and
+  // height, the texels written `lo` (x, y) and `hi` (x, y, exclusive), then 2 zeros.
+  uint32_t uniform[12];
+} hf_maxmip_pass;
+#endif
+
 // What a scene uses; shader generation and bakes leave out everything else. Fill it
 // with `hf_scene_general`, then narrow it.
 typedef struct hf_scene {
@@ -1329,6 +1344,59 @@ hf_result hf_maxmip_update_rect(const struct hf_field *field,
                                 uint32_t y1,
                                 float *pyramid,
                                 size_t pyramid_len);
+#endif
+
+#if defined(HF_HAVE_MAXMIP)
+// Writes the length in bytes of `hf_maxmip_bake_shader(lang)`, including its NUL
+// terminator, to `*out_len`. Errors as `hf_maxmip_bake_shader`. Thread safe.
+//
+// # Safety
+// `out_len` is NULL (an error) or valid for writing one `size_t`.
+hf_result hf_maxmip_bake_shader_len(uint32_t lang,
+                                    size_t *out_len);
+#endif
+
+#if defined(HF_HAVE_MAXMIP)
+// Writes the compute shader that bakes the maximum mipmap on the GPU in `lang` into
+// `buf` as a NUL-terminated string and its length without the NUL to
+// `*out_written` (`buf_len` at least `hf_maxmip_bake_shader_len`). Its entry point
+// `maxmip_bake_pass` writes one level's texels (or those an edit touches) into the
+// storage buffer `hf_pyramid_out` (binding 13, `hf_maxmip_levels`' layout, `float`s)
+// from the heights texture `hf_heights` (binding 0, R32Float W × H) or the finer
+// level, reading its `hf_maxmip_pass` uniform (binding 14); dispatch
+// `hf_maxmip_bake_passes` in order, each finished before the next. The result equals
+// `hf_bake` of `HF_METHOD_MAXMIP` (and `hf_maxmip_update` for an edit) byte for byte.
+// `HF_SHADER_WGSL` only: `HF_SHADER_GLSL` is `HF_ERR_NOT_BUILT` (no GLSL compute port
+// yet), another value `HF_ERR_INVALID_ENUM`. Thread safe.
+//
+// # Safety
+// `buf` is NULL (an error) or valid for writing `buf_len` bytes; `out_written` NULL
+// (an error) or valid for writing one `size_t`.
+hf_result hf_maxmip_bake_shader(uint32_t lang,
+                                char *buf,
+                                size_t buf_len,
+                                size_t *out_written);
+#endif
+
+#if defined(HF_HAVE_MAXMIP)
+// Writes the passes of the GPU maximum-mipmap bake of a `width × height` field to
+// `out_passes` and their count to `*out_count`: with `rect` NULL the whole pyramid
+// (one pass per level, `hf_maxmip_levels`' count; `HF_MAX_LEVELS` passes always
+// suffice), else the refresh after the samples `[rect[0], rect[2]) × [rect[1],
+// rect[3])` changed: each level's pass over the texels that depend on them only (none
+// for an empty rectangle; `HF_ERR_INVALID_RECT` for one outside the field). Nothing
+// is written on an error. Thread safe.
+//
+// # Safety
+// `rect` is NULL or valid for reading 4 `uint32_t`s; `out_passes` NULL (an error) or
+// valid for writing `out_passes_len` passes; `out_count` NULL (an error) or valid for
+// writing one `uint32_t`.
+hf_result hf_maxmip_bake_passes(uint32_t width,
+                                uint32_t height,
+                                const uint32_t *rect,
+                                struct hf_maxmip_pass *out_passes,
+                                size_t out_passes_len,
+                                uint32_t *out_count);
 #endif
 
 // Writes the general scene of `method` on `surface` to `*out`: every ray class,

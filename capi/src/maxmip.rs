@@ -6,6 +6,7 @@ use crate::{guard, hf_field, ptr};
 use hfcore::ktx2::{Desc, MapKind};
 use hfcore::maxmip::{self, Layout};
 use hfcore::HeightField;
+use std::ffi::c_char;
 
 /// One level of a maximum-mipmap pyramid: its texels lie at
 /// `pyramid[offset + j * width + i]`, row-major.
@@ -219,6 +220,123 @@ pub unsafe extern "C" fn hf_maxmip_update_rect(
         check_refresh(f, p, n, [x0, y0, x1, y1])?;
         maxmip::update_rect(hf, &mut p[..n], x0, y0, x1, y1)?;
         stamp_pyramid(f, &l, p);
+        Ok(())
+    })
+}
+
+/// One dispatch of the GPU maximum-mipmap bake (`hf_maxmip_bake_passes`), a compute
+/// pass of `maxmip_bake_pass` in the shader of `hf_maxmip_bake_shader`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct hf_maxmip_pass {
+    /// The level it writes (passes come finest first).
+    pub level: u32,
+    /// Workgroups along x and y (each 8 × 8 texels).
+    pub workgroups: [u32; 2],
+    /// Its uniform `hf_maxmip_pass` (`MaxMipPass`, 48 bytes): level, the level's first
+    /// texel in the pyramid buffer, its width, the finer level's first texel, width and
+    /// height, the texels written `lo` (x, y) and `hi` (x, y, exclusive), then 2 zeros.
+    pub uniform: [u32; 12],
+}
+
+/// The GPU bake's source in `lang`, or why not.
+fn bake_source(lang: u32) -> Result<String, hf_result> {
+    match lang {
+        crate::shader::HF_SHADER_WGSL => {
+            hfcast_shaders::file(hfcast_shaders::Lang::Wgsl, "bake_maxmip")
+                .map(String::from)
+                .ok_or(HF_ERR_NOT_BUILT)
+        }
+        // Not ported to GLSL compute yet.
+        crate::shader::HF_SHADER_GLSL => Err(HF_ERR_NOT_BUILT),
+        _ => Err(HF_ERR_INVALID_ENUM),
+    }
+}
+
+/// Writes the length in bytes of `hf_maxmip_bake_shader(lang)`, including its NUL
+/// terminator, to `*out_len`. Errors as `hf_maxmip_bake_shader`. Thread safe.
+///
+/// # Safety
+/// `out_len` is NULL (an error) or valid for writing one `size_t`.
+#[no_mangle]
+pub unsafe extern "C" fn hf_maxmip_bake_shader_len(lang: u32, out_len: *mut usize) -> hf_result {
+    // SAFETY: the caller's promise.
+    unsafe { crate::shader::write_len(out_len, || bake_source(lang)) }
+}
+
+/// Writes the compute shader that bakes the maximum mipmap on the GPU in `lang` into
+/// `buf` as a NUL-terminated string and its length without the NUL to
+/// `*out_written` (`buf_len` at least `hf_maxmip_bake_shader_len`). Its entry point
+/// `maxmip_bake_pass` writes one level's texels (or those an edit touches) into the
+/// storage buffer `hf_pyramid_out` (binding 13, `hf_maxmip_levels`' layout, `float`s)
+/// from the heights texture `hf_heights` (binding 0, R32Float W × H) or the finer
+/// level, reading its `hf_maxmip_pass` uniform (binding 14); dispatch
+/// `hf_maxmip_bake_passes` in order, each finished before the next. The result equals
+/// `hf_bake` of `HF_METHOD_MAXMIP` (and `hf_maxmip_update` for an edit) byte for byte.
+/// `HF_SHADER_WGSL` only: `HF_SHADER_GLSL` is `HF_ERR_NOT_BUILT` (no GLSL compute port
+/// yet), another value `HF_ERR_INVALID_ENUM`. Thread safe.
+///
+/// # Safety
+/// `buf` is NULL (an error) or valid for writing `buf_len` bytes; `out_written` NULL
+/// (an error) or valid for writing one `size_t`.
+#[no_mangle]
+pub unsafe extern "C" fn hf_maxmip_bake_shader(
+    lang: u32,
+    buf: *mut c_char,
+    buf_len: usize,
+    out_written: *mut usize,
+) -> hf_result {
+    // SAFETY: the caller's promises.
+    unsafe { crate::shader::write_text(buf, buf_len, out_written, || bake_source(lang)) }
+}
+
+/// Writes the passes of the GPU maximum-mipmap bake of a `width × height` field to
+/// `out_passes` and their count to `*out_count`: with `rect` NULL the whole pyramid
+/// (one pass per level, `hf_maxmip_levels`' count; `HF_MAX_LEVELS` passes always
+/// suffice), else the refresh after the samples `[rect[0], rect[2]) × [rect[1],
+/// rect[3])` changed: each level's pass over the texels that depend on them only (none
+/// for an empty rectangle; `HF_ERR_INVALID_RECT` for one outside the field). Nothing
+/// is written on an error. Thread safe.
+///
+/// # Safety
+/// `rect` is NULL or valid for reading 4 `uint32_t`s; `out_passes` NULL (an error) or
+/// valid for writing `out_passes_len` passes; `out_count` NULL (an error) or valid for
+/// writing one `uint32_t`.
+#[no_mangle]
+pub unsafe extern "C" fn hf_maxmip_bake_passes(
+    width: u32,
+    height: u32,
+    rect: *const u32,
+    out_passes: *mut hf_maxmip_pass,
+    out_passes_len: usize,
+    out_count: *mut u32,
+) -> hf_result {
+    guard(|| {
+        // SAFETY: the caller promises `out_passes` is writable for its length.
+        let out = unsafe { ptr::slice_mut(out_passes, out_passes_len) }?;
+        let count = ptr::out(out_count)?;
+        layout(width, height)?;
+        // The size is valid (checked above): `None` below is a bad rectangle.
+        let passes = if rect.is_null() {
+            hfcast_shaders::bake::maxmip_bake_passes(width, height).ok_or(HF_ERR_INVALID_SIZE)?
+        } else {
+            // SAFETY: the caller promises `rect` is readable for 4 words.
+            let r = unsafe { ptr::slice(rect, 4) }?;
+            hfcast_shaders::bake::maxmip_update_passes(width, height, [r[0], r[1], r[2], r[3]])
+                .ok_or(HF_ERR_INVALID_RECT)?
+        };
+        if out.len() < passes.len() {
+            return Err(HF_ERR_BUFFER_TOO_SMALL);
+        }
+        for (o, p) in out.iter_mut().zip(&passes) {
+            *o = hf_maxmip_pass {
+                level: p.level,
+                workgroups: p.workgroups,
+                uniform: p.uniform,
+            };
+        }
+        // SAFETY: the caller promises `out_count` is writable.
+        unsafe { count.set(passes.len() as u32) };
         Ok(())
     })
 }

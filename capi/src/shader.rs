@@ -43,7 +43,7 @@ unsafe fn generated(scene: *const hf_scene, lang: u32) -> Result<String, hf_resu
 ///
 /// # Safety
 /// `out_len` is NULL (an error) or valid for writing one `size_t`.
-unsafe fn write_len(
+pub(crate) unsafe fn write_len(
     out_len: *mut usize,
     text: impl FnOnce() -> Result<String, hf_result>,
 ) -> hf_result {
@@ -62,7 +62,7 @@ unsafe fn write_len(
 /// # Safety
 /// `buf` is NULL (an error) or valid for writing `buf_len` bytes; `out_written` NULL
 /// (an error) or valid for writing one `size_t`.
-unsafe fn write_text(
+pub(crate) unsafe fn write_text(
     buf: *mut c_char,
     buf_len: usize,
     out_written: *mut usize,

@@ -15,6 +15,7 @@ use crate::MethodSpec;
 use hfcast::rayset::Rays;
 use hfcast::scene::{MethodKind, RayClasses};
 use hfcast::{HeightField, Query, Surface, Trace};
+use std::cmp::Ordering;
 use std::fmt::Write as _;
 
 /// What `hfcast table1` measures.
@@ -50,7 +51,11 @@ fn differ(a: &[Trace<f32>], b: &[Trace<f32>]) -> usize {
     a.iter()
         .zip(b)
         .filter(|(x, y)| match (&x.hit, &y.hit) {
-            (Some(p), Some(q)) => !(p.point.distance(q.point) <= 1e-3),
+            // Over 10⁻³ apart, or a NaN distance.
+            (Some(p), Some(q)) => !matches!(
+                p.point.distance(q.point).partial_cmp(&1e-3),
+                Some(Ordering::Less | Ordering::Equal)
+            ),
             (None, None) => false,
             _ => true,
         })
