@@ -38,9 +38,10 @@
 //! which the WGSL shaders drop.
 //!
 //! GPU bakes (`bake_*.wgsl`, compute shaders of their own, WGSL only for now): the
-//! maximum mipmap, whole and by sub-rectangle, byte for byte the CPU bake's; [`bake`]
-//! gives their passes.
+//! maximum mipmap, whole and by sub-rectangle, byte for byte the CPU bake's; the
+//! module `bake` (feature `maxmip`) gives their passes.
 
+#[cfg(feature = "maxmip")]
 pub mod bake;
 mod directive;
 mod shake;
