@@ -2169,6 +2169,9 @@ static void test_gpu_bake(void) {
               sizeof keep);
     CHECK_BAD(hf_maxmip_bake_passes(1, 6, NULL, keep, HF_MAX_LEVELS, &np), HF_ERR_INVALID_SIZE,
               keep, sizeof keep);
+    /* A valid field, but a pyramid of 2^32 texels or more: the shader's offsets are 32-bit. */
+    CHECK_BAD(hf_maxmip_bake_passes(65536, 65536, NULL, keep, HF_MAX_LEVELS, &np),
+              HF_ERR_INVALID_SIZE, keep, sizeof keep);
     CHECK_BAD(hf_maxmip_bake_passes(13, 6, NULL, NULL, HF_MAX_LEVELS, &np), HF_ERR_NULL_POINTER,
               &np, sizeof np);
     CHECK_BAD(hf_maxmip_bake_passes(13, 6, NULL, keep, HF_MAX_LEVELS, NULL), HF_ERR_NULL_POINTER,

@@ -1384,8 +1384,9 @@ hf_result hf_maxmip_bake_shader(uint32_t lang,
 // (one pass per level, `hf_maxmip_levels`' count; `HF_MAX_LEVELS` passes always
 // suffice), else the refresh after the samples `[rect[0], rect[2]) × [rect[1],
 // rect[3])` changed: each level's pass over the texels that depend on them only (none
-// for an empty rectangle; `HF_ERR_INVALID_RECT` for one outside the field). Nothing
-// is written on an error. Thread safe.
+// for an empty rectangle; `HF_ERR_INVALID_RECT` for one outside the field).
+// `HF_ERR_INVALID_SIZE` for a size no field has, or a pyramid of 2³² texels or more
+// (the shader's offsets are 32-bit). Nothing is written on an error. Thread safe.
 //
 // # Safety
 // `rect` is NULL or valid for reading 4 `uint32_t`s; `out_passes` NULL (an error) or

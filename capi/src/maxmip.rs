@@ -295,8 +295,9 @@ pub unsafe extern "C" fn hf_maxmip_bake_shader(
 /// (one pass per level, `hf_maxmip_levels`' count; `HF_MAX_LEVELS` passes always
 /// suffice), else the refresh after the samples `[rect[0], rect[2]) × [rect[1],
 /// rect[3])` changed: each level's pass over the texels that depend on them only (none
-/// for an empty rectangle; `HF_ERR_INVALID_RECT` for one outside the field). Nothing
-/// is written on an error. Thread safe.
+/// for an empty rectangle; `HF_ERR_INVALID_RECT` for one outside the field).
+/// `HF_ERR_INVALID_SIZE` for a size no field has, or a pyramid of 2³² texels or more
+/// (the shader's offsets are 32-bit). Nothing is written on an error. Thread safe.
 ///
 /// # Safety
 /// `rect` is NULL or valid for reading 4 `uint32_t`s; `out_passes` NULL (an error) or
@@ -315,10 +316,12 @@ pub unsafe extern "C" fn hf_maxmip_bake_passes(
         // SAFETY: the caller promises `out_passes` is writable for its length.
         let out = unsafe { ptr::slice_mut(out_passes, out_passes_len) }?;
         let count = ptr::out(out_count)?;
-        layout(width, height)?;
-        // The size is valid (checked above): `None` below is a bad rectangle.
+        // A size the shader cannot index (2³² texels or more) is invalid too; a valid
+        // one makes `None` below a bad rectangle.
+        let whole =
+            hfcast_shaders::bake::maxmip_bake_passes(width, height).ok_or(HF_ERR_INVALID_SIZE)?;
         let passes = if rect.is_null() {
-            hfcast_shaders::bake::maxmip_bake_passes(width, height).ok_or(HF_ERR_INVALID_SIZE)?
+            whole
         } else {
             // SAFETY: the caller promises `rect` is readable for 4 words.
             let r = unsafe { ptr::slice(rect, 4) }?;

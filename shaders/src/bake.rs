@@ -8,7 +8,7 @@
 //! Each pass must finish before the next starts (a barrier between dispatches, as
 //! separate compute passes give).
 
-use hfcast::maxmip::Layout;
+use hfcast::maxmip::{pyramid_len, Layout};
 
 /// The side of `maxmip_bake_pass`'s square workgroups (`@workgroup_size(8, 8)`).
 pub const MAXMIP_WORKGROUP: u32 = 8;
@@ -56,11 +56,19 @@ impl MaxMipPass {
     }
 }
 
-/// The passes that bake the whole pyramid of a `width × height` field, finest level
-/// first (`maxmip::bake`); `None` for a size no field has. The pyramid must fit 32-bit
-/// texel offsets.
-pub fn maxmip_bake_passes(width: u32, height: u32) -> Option<Vec<MaxMipPass>> {
+/// The layout of a `width × height` field whose pyramid has 32-bit texel offsets (what
+/// the shader indexes with); `None` else.
+fn layout32(width: u32, height: u32) -> Option<Layout> {
     let layout = Layout::new(width, height)?;
+    u32::try_from(pyramid_len(width, height)).ok()?;
+    Some(layout)
+}
+
+/// The passes that bake the whole pyramid of a `width × height` field, finest level
+/// first (`maxmip::bake`); `None` for a size no field has or a pyramid of 2³² texels
+/// or more (the shader's offsets are 32-bit).
+pub fn maxmip_bake_passes(width: u32, height: u32) -> Option<Vec<MaxMipPass>> {
+    let layout = layout32(width, height)?;
     Some(
         (0..layout.levels())
             .map(|l| MaxMipPass::new(&layout, l, [0, 0], layout.dims(l)))
@@ -70,14 +78,14 @@ pub fn maxmip_bake_passes(width: u32, height: u32) -> Option<Vec<MaxMipPass>> {
 
 /// The passes that refresh the pyramid after the samples `[x0, x1) × [y0, y1)`
 /// changed (`maxmip::update_rect`), finest level first, each over the texels that
-/// depend on them only: none for an empty rectangle, `None` for a bad size or a
-/// rectangle outside the field.
+/// depend on them only: none for an empty rectangle, `None` for a size
+/// [`maxmip_bake_passes`] refuses or a rectangle outside the field.
 pub fn maxmip_update_passes(
     width: u32,
     height: u32,
     [x0, y0, x1, y1]: [u32; 4],
 ) -> Option<Vec<MaxMipPass>> {
-    let layout = Layout::new(width, height)?;
+    let layout = layout32(width, height)?;
     if x0 > x1 || y0 > y1 || x1 > width || y1 > height {
         return None;
     }
@@ -118,5 +126,7 @@ mod tests {
         assert_eq!(maxmip_update_passes(13, 6, [4, 2, 4, 3]), Some(Vec::new()));
         assert_eq!(maxmip_update_passes(13, 6, [4, 2, 14, 3]), None);
         assert_eq!(maxmip_bake_passes(1, 6), None);
+        // Over 2³² texels: 65536² samples.
+        assert_eq!(maxmip_bake_passes(65536, 65536), None);
     }
 }

@@ -129,6 +129,22 @@ impl Bake {
         dev.poll(wgpu::PollType::wait_indefinitely())
             .expect("wait for the bake");
     }
+
+    /// [`Bake::run`], timed; then the pyramid's first difference from `want`, if any.
+    fn run_and_compare(
+        &self,
+        gpu: &Gpu,
+        heights: &wgpu::TextureView,
+        pyramid: &wgpu::Buffer,
+        passes: &[MaxMipPass],
+        want: &[f32],
+    ) -> (f64, Option<String>) {
+        let t0 = Instant::now();
+        self.run(gpu, heights, pyramid, passes);
+        let ms = 1e3 * t0.elapsed().as_secs_f64();
+        let got = gpu.read_u32(pyramid, want.len());
+        (ms, first_difference(&got, &bits(want)))
+    }
 }
 
 /// A field to bake: name, size, heights.
@@ -236,11 +252,7 @@ fn gpu_maximum_mipmap_is_the_cpu_one_byte_for_byte() {
         let pyramid = gpu.storage(&vec![POISON; n]);
         let tex = gpu.heights_texture(f.w, f.h, &f.heights);
         let passes = maxmip_bake_passes(f.w, f.h).expect("passes");
-        let t0 = Instant::now();
-        bake.run(&gpu, &tex, &pyramid, &passes);
-        let gpu_ms = 1e3 * t0.elapsed().as_secs_f64();
-        let got = gpu.read_u32(&pyramid, n);
-        let whole = first_difference(&got, &bits(&want));
+        let (gpu_ms, whole) = bake.run_and_compare(&gpu, &tex, &pyramid, &passes, &want);
         println!(
             "{:<40} {:>5} x {:<5} {:>9} texels, {:>2} passes: cpu {cpu_ms:7.1} ms, gpu (software) {gpu_ms:7.1} ms  {}",
             f.name,
@@ -275,11 +287,7 @@ fn gpu_maximum_mipmap_is_the_cpu_one_byte_for_byte() {
                 .iter()
                 .map(|p| (p.uniform[8] - p.uniform[6]) * (p.uniform[9] - p.uniform[7]))
                 .sum();
-            let t0 = Instant::now();
-            bake.run(&gpu, &tex, &pyramid, &passes);
-            let gpu_ms = 1e3 * t0.elapsed().as_secs_f64();
-            let got = gpu.read_u32(&pyramid, n);
-            let diff = first_difference(&got, &bits(&want));
+            let (gpu_ms, diff) = bake.run_and_compare(&gpu, &tex, &pyramid, &passes, &want);
             println!(
                 "    update of {} x {} samples: {texels} texels rewritten ({:.1} % of the pyramid), gpu (software) {gpu_ms:.1} ms  {}",
                 x1 - x0,
