@@ -389,6 +389,10 @@ pub struct Sweep {
     /// Largest field (samples) the cylinder–cone shapes bake on (the exact slope takes
     /// about 7 s at 1024², one thread: every 1024² map, not the 4096 × 2048 one).
     pub cc_max_texels: usize,
+    /// Largest field (samples) the ray-set settings (exterior, φmax) of the safety
+    /// distances and cylinder–cone shapes bake on: one thread takes 23–110 s per map at
+    /// 1024² (`docs/report/table1.md` has them there, on 2 cores).
+    pub rayset_max_texels: usize,
 }
 
 impl Sweep {
@@ -405,6 +409,7 @@ impl Sweep {
             cone_max_texels: 300_000,
             relaxed_max_texels: 300_000,
             cc_max_texels: 1_100_000,
+            rayset_max_texels: 300_000,
         }
     }
 
@@ -421,6 +426,8 @@ impl Sweep {
             cone_max_texels: 5_000,
             relaxed_max_texels: 5_000,
             cc_max_texels: 5_000,
+            // Every `--quick` scene (128² crops and fields).
+            rayset_max_texels: 20_000,
         }
     }
 }
@@ -563,13 +570,20 @@ pub fn settings(sweep: &Sweep) -> Vec<Setting> {
             s.positive = true
         }),
     ];
+    // A ray-set setting's bake: [`Sweep::rayset_max_texels`].
+    let rays_limit = |name: &str| {
+        (name.contains("exterior") || name.contains("phi")).then_some(sweep.rayset_max_texels)
+    };
     for (family, name, spec) in safety {
         let bake = MapSetting {
             spec,
             ..MapSetting::of(MethodKind::Safety)
         };
         let exact = family == Family::Safety;
-        v.push(setting(family, name, exact, TRIANGLES, bake.baker()));
+        v.push(Setting {
+            max_texels: rays_limit(name),
+            ..setting(family, name, exact, TRIANGLES, bake.baker())
+        });
     }
     let cc: [(_, fn(&mut Spec)); 4] = [
         ("cc exact slope", |_| {}),
@@ -582,8 +596,9 @@ pub fn settings(sweep: &Sweep) -> Vec<Setting> {
             spec,
             ..MapSetting::of(MethodKind::Cc)
         };
+        let limit = rays_limit(name).map_or(sweep.cc_max_texels, |r| r.min(sweep.cc_max_texels));
         v.push(Setting {
-            max_texels: Some(sweep.cc_max_texels),
+            max_texels: Some(limit),
             ..setting(Family::Cc, name, true, TRIANGLES, bake.baker())
         });
     }
