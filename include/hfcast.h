@@ -1421,8 +1421,8 @@ hf_result hf_scene_check(const struct hf_scene *scene);
 
 // Writes what to bake for `*scene` to `*out_plan`: only the data its method reads
 // (nothing for the exact and search methods), safety-shape channels only for the ray
-// classes that occur, for the scene's ray set. Any method, built or not (a plan is data). A bad scene gives
-// the code of `hf_scene_check`. Thread safe.
+// classes that occur, for the scene's ray set. Any method, built or not (a plan is
+// data). A bad scene gives the code of `hf_scene_check`. Thread safe.
 //
 // # Safety
 // `scene` is NULL (an error) or valid for reading one `hf_scene`; `out_plan` NULL (an

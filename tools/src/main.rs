@@ -132,6 +132,22 @@ impl Args {
         self.opts.remove(name)
     }
 
+    /// Removes `--name A,B,…` (or takes `default`) and parses each item, each one that
+    /// `ok` refuses an error that says what is wanted (`want`).
+    fn list<T: FromStr>(
+        &mut self,
+        name: &str,
+        default: &str,
+        ok: impl Fn(&T) -> bool,
+        want: &str,
+    ) -> Result<Vec<T>, String> {
+        let text = self.opt(name).unwrap_or(default.into());
+        text.split(',')
+            .map(|t| t.parse().ok().filter(&ok))
+            .collect::<Option<_>>()
+            .ok_or(format!("--{name}: bad list {text:?} (want {want})"))
+    }
+
     /// Removes `--size WxH` and parses it (both positive), or gives `default`.
     fn size(&mut self, default: (u32, u32)) -> Result<(u32, u32), String> {
         let Some(size) = self.opt("size") else {
@@ -402,12 +418,7 @@ fn cmd_bench(mut args: Args) -> Result<bool, String> {
         Some(r) => r.parse().map_err(|e| format!("--rays: {e}"))?,
     };
     let (w, h) = args.size((1280, 1024))?;
-    let threads: Vec<usize> = args
-        .opt("threads")
-        .unwrap_or("1,2".into())
-        .split(',')
-        .map(|t| t.parse().map_err(|_| format!("--threads: bad count {t:?}")))
-        .collect::<Result<_, _>>()?;
+    let threads: Vec<usize> = args.list("threads", "1,2", |_| true, "thread counts")?;
     args.finish()?;
     let map = load(&map_spec)?;
     let hf = map.field();
@@ -450,24 +461,17 @@ fn cmd_bench(mut args: Args) -> Result<bool, String> {
 fn cmd_table1(mut args: Args) -> Result<bool, String> {
     let default_map = shared_data_dir().join("dem_etopo5_himalaya_1024.png");
     let map_spec = args.map(default_map)?;
-    let sides: Vec<u32> = args
-        .opt("sides")
-        .unwrap_or("256,512,1024".into())
-        .split(',')
-        .map(|t| t.parse().ok().filter(|&s| s >= 2))
-        .collect::<Option<_>>()
-        .ok_or("--sides: want a list of sides of at least 2")?;
+    let sides = args.list("sides", "256,512,1024", |&s| s >= 2, "sides of at least 2")?;
     let opts = Table1Options {
         sides,
         threads: args.get("threads", default_threads())?.max(1),
         size: args.size((320, 256))?,
-        elevations: args
-            .opt("elevations")
-            .unwrap_or("45,70".into())
-            .split(',')
-            .map(|e| e.parse().ok().filter(|e: &f64| *e > 0.0 && *e <= 90.0))
-            .collect::<Option<_>>()
-            .ok_or("--elevations: want a list of degrees in (0, 90]")?,
+        elevations: args.list(
+            "elevations",
+            "45,70",
+            |&e: &f64| e > 0.0 && e <= 90.0,
+            "degrees in (0, 90]",
+        )?,
         reps: args.get("reps", 3usize)?.max(1),
     };
     let out = PathBuf::from(args.opt("out").unwrap_or("docs/report/table1.md".into()));
