@@ -577,6 +577,74 @@ fn cc_nbuffer_slope_is_per_abscissa() {
     );
 }
 
+/// The N-buffers hold what their definition says: per axis, sample column `c`, level
+/// `l` and minor index `y`, the maximum of the samples `y ..= min(y + 2^l − 1, last)`
+/// of the column; per block `b` the maximum of that over the sample columns
+/// `8b ..= min(8b + 8, last)`. The steps only locate the entries; every entry of
+/// every step is checked, and every element of the buffer is written by one.
+#[test]
+fn nbuffers_hold_their_window_maxima() {
+    let mut checked = 0usize;
+    for (name, field) in fields().into_iter().take(5) {
+        let hf = field.hf();
+        for cap in [1u8, 6, 255] {
+            let len = cc::nbuffer_len(field.w, field.h, cap);
+            let mut nb = vec![f32::NAN; len];
+            cc::prepare_nbuffer(&hf, cap, &mut nb).unwrap();
+            assert!(
+                nb.iter().all(|v| !v.is_nan()),
+                "{name} cap {cap}: unwritten entries"
+            );
+            let steps: Vec<cc::NbufferStep> = cc::nbuffer_steps(field.w, field.h, cap).collect();
+            let written: usize = steps
+                .iter()
+                .map(|s| s.rows as usize * s.row_len as usize)
+                .sum();
+            assert_eq!(
+                written, len,
+                "{name} cap {cap}: the steps write every entry once"
+            );
+            for ax in 0..2u32 {
+                let at = |m: u32, n: u32| if ax == 0 { hf.at(m, n) } else { hf.at(n, m) };
+                let of_axis = steps.iter().filter(|s| s.axis == ax);
+                // Level 0 (heights, blocks), then each level above over the sample
+                // columns and then the blocks.
+                let mut level = 0u32;
+                for s in of_axis {
+                    if s.kind == cc::NbufferKind::Double {
+                        level += 1;
+                    }
+                    let last = s.row_len - 1;
+                    for r in 0..s.rows {
+                        let block = match s.kind {
+                            cc::NbufferKind::Heights => None,
+                            cc::NbufferKind::Blocks => Some(r),
+                            cc::NbufferKind::Double => r.checked_sub(s.columns),
+                        };
+                        let cols = match block {
+                            Some(b) => 8 * b..=(8 * b + 8).min(s.columns - 1),
+                            None => r..=r,
+                        };
+                        for y in 0..s.row_len {
+                            let window = y..=(y + (1 << level) - 1).min(last);
+                            let want = cols
+                                .clone()
+                                .flat_map(|c| window.clone().map(move |n| (c, n)))
+                                .map(|(c, n)| at(c, n))
+                                .fold(f32::NEG_INFINITY, f32::max);
+                            let got = nb[s.dst + (r * s.row_len + y) as usize];
+                            assert_eq!(got, want, "{name} cap {cap} axis {ax} {s:?} row {r} y {y}");
+                            checked += 1;
+                        }
+                    }
+                }
+            }
+        }
+    }
+    println!("N-buffer entries checked against their definition: {checked}");
+    assert!(checked > 100_000, "{checked}");
+}
+
 #[test]
 fn cc_rows_and_packing() {
     let field = rows_field(5);

@@ -1,19 +1,101 @@
-//! The host side of the GPU bakes (`shaders/wgsl/bake_*.wgsl`, issue 27): the passes a
-//! caller dispatches, in order, each with the uniform it binds and its workgroup
-//! count. Bindings: `hf_heights` ([`wgsl_layout::HEIGHTS`](crate::wgsl_layout::HEIGHTS),
-//! R32Float W × H), `hf_pyramid_out`
-//! ([`wgsl_layout::PYRAMID_OUT`](crate::wgsl_layout::PYRAMID_OUT), a read-write storage
-//! buffer of `maxmip::pyramid_len` floats) and `hf_maxmip_pass`
-//! ([`wgsl_layout::MAXMIP_PASS`](crate::wgsl_layout::MAXMIP_PASS), [`MaxMipPass::uniform`]).
-//! Each pass must finish before the next starts (a barrier between dispatches, as
-//! separate compute passes give).
+//! The host side of the GPU bakes (`shaders/{wgsl,glsl}/bake_*`, issue 27): the passes
+//! a caller dispatches, in order, each with the uniform it binds and its workgroup
+//! count. Each pass must finish before the next starts (a barrier between dispatches,
+//! as separate compute passes give in wgpu, `glMemoryBarrier` in OpenGL).
+//!
+//! - `bake_maxmip` (feature `maxmip`): `hf_heights`
+//!   ([`wgsl_layout::HEIGHTS`](crate::wgsl_layout::HEIGHTS), R32Float W × H),
+//!   `hf_pyramid_out` ([`wgsl_layout::PYRAMID_OUT`](crate::wgsl_layout::PYRAMID_OUT), a
+//!   read-write storage buffer of `maxmip::pyramid_len` floats) and `hf_maxmip_pass`
+//!   ([`wgsl_layout::MAXMIP_PASS`](crate::wgsl_layout::MAXMIP_PASS),
+//!   [`MaxMipPass::uniform`]).
+//! - `bake_nbuffer` (feature `safety`): `hf_heights`, `hf_nbuffer_out`
+//!   ([`wgsl_layout::NBUFFER_OUT`](crate::wgsl_layout::NBUFFER_OUT), a read-write
+//!   storage buffer of `cc::nbuffer_len` floats, each pass binding the range
+//!   [`BakePass::bind_offset`], [`BakePass::bind_size`] of it) and `hf_nbuffer_pass`
+//!   ([`wgsl_layout::NBUFFER_PASS`](crate::wgsl_layout::NBUFFER_PASS),
+//!   [`BakePass::uniform`] of [`nbuffer_bake_passes`]).
 
+#[cfg(feature = "maxmip")]
 use hfcast::maxmip::{pyramid_len, Layout};
 
-/// The side of `maxmip_bake_pass`'s square workgroups (`@workgroup_size(8, 8)`).
-pub const MAXMIP_WORKGROUP: u32 = 8;
+/// The side of every GPU bake's square workgroups (`@workgroup_size(8, 8)`).
+pub const WORKGROUP: u32 = 8;
+
+/// The side of `maxmip_bake_pass`'s square workgroups.
+pub const MAXMIP_WORKGROUP: u32 = WORKGROUP;
+
+/// Byte alignment of a pass's bound range: the largest storage-buffer offset
+/// alignment WebGPU and OpenGL allow a device to require.
+pub const BIND_ALIGN: u64 = 256;
+
+/// One dispatch of `nbuffer_bake_pass`: one step of `cc::nbuffer_steps`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct BakePass {
+    /// Its `NbufferPass` uniform as 32-bit words (32 bytes, little-endian on upload):
+    /// kind, axis, rows, row length, first element written and first element read
+    /// (both counted from the bound range's start), half, columns.
+    pub uniform: [u32; 8],
+    /// Workgroups along x (along a row) and y (across rows).
+    pub workgroups: [u32; 2],
+    /// The part of the output buffer the pass binds: from this byte (a multiple of
+    /// [`BIND_ALIGN`]) …
+    pub bind_offset: u64,
+    /// … this many bytes: what it reads and writes, at most two levels of one axis, so
+    /// that a field whose whole N-buffers exceed a device's binding limit still bakes.
+    pub bind_size: u64,
+}
+
+impl BakePass {
+    /// The uniform's bytes.
+    pub fn uniform_bytes(&self) -> Vec<u8> {
+        self.uniform.iter().flat_map(|w| w.to_le_bytes()).collect()
+    }
+}
+
+/// The passes that fill the N-buffers of a `width × height` field for the cone reach
+/// `cap` (`cc::prepare_nbuffer`), in order (steps without rows left out); `None` for a
+/// size no field has or N-buffers of 2³² floats or more (the shader's offsets are
+/// 32-bit).
+#[cfg(feature = "safety")]
+pub fn nbuffer_bake_passes(width: u32, height: u32, cap: u8) -> Option<Vec<BakePass>> {
+    use hfcast::safety::cc;
+    let side = |n: u32| (2..=hfcast::field::MAX_SIDE).contains(&n);
+    if !side(width) || !side(height) {
+        return None;
+    }
+    u32::try_from(cc::nbuffer_len(width, height, cap)).ok()?;
+    Some(
+        cc::nbuffer_steps(width, height, cap)
+            .filter(|s| s.rows > 0)
+            .map(|s| {
+                // Elements, from the first read (or written) to the last written.
+                let float = 4u64;
+                let first = (s.src.min(s.dst) as u64 * float) / BIND_ALIGN * BIND_ALIGN;
+                let end = (s.dst + s.rows as usize * s.row_len as usize) as u64 * float;
+                let skip = (first / float) as usize;
+                BakePass {
+                    uniform: [
+                        s.kind as u32,
+                        s.axis,
+                        s.rows,
+                        s.row_len,
+                        (s.dst - skip) as u32,
+                        (s.src - skip) as u32,
+                        s.half,
+                        s.columns,
+                    ],
+                    workgroups: [s.row_len.div_ceil(WORKGROUP), s.rows.div_ceil(WORKGROUP)],
+                    bind_offset: first,
+                    bind_size: end - first,
+                }
+            })
+            .collect(),
+    )
+}
 
 /// One dispatch of `maxmip_bake_pass`.
+#[cfg(feature = "maxmip")]
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct MaxMipPass {
     /// The level it writes.
@@ -24,6 +106,7 @@ pub struct MaxMipPass {
     pub workgroups: [u32; 2],
 }
 
+#[cfg(feature = "maxmip")]
 impl MaxMipPass {
     fn new(layout: &Layout, level: u32, lo: [u32; 2], hi: [u32; 2]) -> MaxMipPass {
         let [w, _] = layout.dims(level);
@@ -56,6 +139,7 @@ impl MaxMipPass {
     }
 }
 
+#[cfg(feature = "maxmip")]
 /// The layout of a `width × height` field whose pyramid has 32-bit texel offsets (what
 /// the shader indexes with); `None` else.
 fn layout32(width: u32, height: u32) -> Option<Layout> {
@@ -64,6 +148,7 @@ fn layout32(width: u32, height: u32) -> Option<Layout> {
     Some(layout)
 }
 
+#[cfg(feature = "maxmip")]
 /// The passes that bake the whole pyramid of a `width × height` field, finest level
 /// first (`maxmip::bake`); `None` for a size no field has or a pyramid of 2³² texels
 /// or more (the shader's offsets are 32-bit).
@@ -76,6 +161,7 @@ pub fn maxmip_bake_passes(width: u32, height: u32) -> Option<Vec<MaxMipPass>> {
     )
 }
 
+#[cfg(feature = "maxmip")]
 /// The passes that refresh the pyramid after the samples `[x0, x1) × [y0, y1)`
 /// changed (`maxmip::update_rect`), finest level first, each over the texels that
 /// depend on them only: none for an empty rectangle, `None` for a size
@@ -106,11 +192,48 @@ mod tests {
 
     #[test]
     fn the_workgroup_is_the_shaders() {
-        let src = crate::file(crate::Lang::Wgsl, "bake_maxmip").expect("bake_maxmip.wgsl");
-        let size = format!("@workgroup_size({MAXMIP_WORKGROUP}, {MAXMIP_WORKGROUP})");
-        assert!(src.contains(&size), "bake_maxmip.wgsl lacks {size}");
+        for stem in ["bake_maxmip", "bake_nbuffer"] {
+            let wgsl = crate::file(crate::Lang::Wgsl, stem).expect("a bake");
+            let size = format!("@workgroup_size({WORKGROUP}, {WORKGROUP})");
+            assert!(wgsl.contains(&size), "{stem}.wgsl lacks {size}");
+            let glsl = crate::file(crate::Lang::Glsl, stem).expect("a bake");
+            let size =
+                format!("layout(local_size_x = {WORKGROUP}, local_size_y = {WORKGROUP}) in;");
+            assert!(glsl.contains(&size), "{stem}.glsl lacks {size}");
+        }
     }
 
+    #[cfg(feature = "safety")]
+    #[test]
+    fn nbuffer_passes_are_the_steps_with_rows() {
+        use hfcast::safety::cc;
+        // 9 samples across: one block of 8 cell columns per axis.
+        let passes = nbuffer_bake_passes(9, 3, 1).unwrap();
+        let steps: Vec<_> = cc::nbuffer_steps(9, 3, 1).collect();
+        assert_eq!(passes.len(), steps.len());
+        assert_eq!(passes[0].uniform, [0, 0, 9, 3, 0, 0, 0, 9]);
+        assert_eq!(passes[0].workgroups, [1, 2]);
+        assert_eq!([passes[0].bind_offset, passes[0].bind_size], [0, 4 * 27]);
+        // Each pass binds from an aligned byte at or below what it reads, to the end
+        // of what it writes.
+        for (p, s) in passes.iter().zip(&steps) {
+            assert_eq!(p.bind_offset % BIND_ALIGN, 0);
+            let skip = (p.bind_offset / 4) as usize;
+            assert_eq!(
+                [p.uniform[4], p.uniform[5]].map(|v| v as usize + skip),
+                [s.dst, s.src]
+            );
+            let end = (s.dst + (s.rows * s.row_len) as usize) as u64 * 4;
+            assert_eq!(p.bind_offset + p.bind_size, end);
+        }
+        let written: u32 = passes.iter().map(|p| p.uniform[2] * p.uniform[3]).sum();
+        assert_eq!(written as usize, cc::nbuffer_len(9, 3, 1));
+        assert_eq!(nbuffer_bake_passes(1, 3, 1), None);
+        // Over 2³² floats.
+        assert_eq!(nbuffer_bake_passes(20000, 20000, 255), None);
+    }
+
+    #[cfg(feature = "maxmip")]
     #[test]
     fn passes_cover_each_level_and_an_update_only_its_texels() {
         let bake = maxmip_bake_passes(13, 6).unwrap();

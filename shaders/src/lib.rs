@@ -41,7 +41,7 @@
 //! maximum mipmap, whole and by sub-rectangle, byte for byte the CPU bake's; the
 //! module `bake` (feature `maxmip`) gives their passes.
 
-#[cfg(feature = "maxmip")]
+#[cfg(any(feature = "maxmip", feature = "safety"))]
 pub mod bake;
 mod directive;
 mod shake;

@@ -58,7 +58,7 @@ enum Line {
 
 /// WGSL resource bindings of group 0 ([`crate::wgsl_layout`]): `(binding, name, type,
 /// declared in)`.
-const WGSL_BINDINGS: [(u32, &str, &str, &str); 15] = [
+const WGSL_BINDINGS: [(u32, &str, &str, &str); 17] = [
     (
         b::HEIGHTS,
         "hf_heights",
@@ -133,6 +133,18 @@ const WGSL_BINDINGS: [(u32, &str, &str, &str); 15] = [
         "hf_maxmip_pass",
         "uniform MaxMipPass",
         "bake_maxmip.wgsl",
+    ),
+    (
+        b::NBUFFER_OUT,
+        "hf_nbuffer_out",
+        "storage array<f32>, read_write",
+        "bake_nbuffer.wgsl",
+    ),
+    (
+        b::NBUFFER_PASS,
+        "hf_nbuffer_pass",
+        "uniform NbufferPass",
+        "bake_nbuffer.wgsl",
     ),
 ];
 
@@ -285,11 +297,8 @@ fn render(lang: Lang) -> String {
         for (b, name, ty, file) in WGSL_BINDINGS {
             writeln!(s, "//   {b:<8} {name:<15} {ty:<38} {file}").unwrap();
         }
-        let next = WGSL_BINDINGS.len();
-        let reserved = match next {
-            15 => "Binding 15 of group 0 is".to_string(),
-            n => format!("Bindings {n} to 15 of group 0 are"),
-        };
+        let (next, last) = (WGSL_BINDINGS.len(), b::RESERVED_UP_TO);
+        let reserved = format!("Bindings {next} to {last} of group 0 are");
         s.push_str(&format!(
             "// {reserved} reserved; a caller's own resources go in group 1\n\
              // or later. Textures are read with textureLoad only (never sampled). Scene-level\n\

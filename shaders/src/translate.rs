@@ -28,13 +28,15 @@
 pub const BOTH_LANGUAGES: [&str; 4] = ["hfcast_shared", "field", "field_int", "world"];
 
 /// Whether the GLSL of the file `stem` is generated from its WGSL: every file but the
-/// [`BOTH_LANGUAGES`] ones, the `method_*` files and the GPU bakes.
+/// [`BOTH_LANGUAGES`] ones and the `method_*` files. The GPU bakes are translated too:
+/// their GLSL is a whole GLSL 4.30 compute shader (its `#version` line and `main` in
+/// `//#glsl` regions).
 pub fn is_translated(stem: &str) -> bool {
-    !BOTH_LANGUAGES.contains(&stem) && !stem.starts_with("method_") && !is_gpu_bake(stem)
+    !BOTH_LANGUAGES.contains(&stem) && !stem.starts_with("method_")
 }
 
-/// Whether `stem` is a GPU bake (`bake_*`: a WGSL compute shader of its own, not part
-/// of a march; its GLSL compute port is not written yet).
+/// Whether `stem` is a GPU bake (`bake_*`: a compute shader of its own, not part of a
+/// march; complete in either language, with its own bindings and entry point).
 pub fn is_gpu_bake(stem: &str) -> bool {
     stem.starts_with("bake_")
 }

@@ -1,8 +1,9 @@
 //! The resource layout of the WGSL ports: the fixed `@group(0)` binding numbers of
 //! the resources the files of `shaders/wgsl` declare, a contract with every caller
 //! that binds them (the table at the top of `hfcast_shared.wgsl` is rendered from
-//! these). Any set of files composes without clashes; binding 15 of group 0 is
-//! reserved, and a caller's own resources go in `@group(1)` or later.
+//! these). Any set of files composes without clashes; the bindings of group 0 up to
+//! [`RESERVED_UP_TO`] are hfcast's, and a caller's own resources go in `@group(1)` or
+//! later.
 
 /// `hf_heights`: `texture_2d<f32>`, R32Float, W × H (field.wgsl); in a shader
 /// generated for 16- or 8-bit heights a `texture_2d<u32>`, R16Uint or R8Uint
@@ -43,3 +44,11 @@ pub const PYRAMID_OUT: u32 = 13;
 /// `hf_maxmip_pass`: uniform `MaxMipPass`, one level's pass of the GPU bake
 /// (bake_maxmip.wgsl).
 pub const MAXMIP_PASS: u32 = 14;
+/// `hf_nbuffer_out`: `array<f32>`, a read-write storage buffer, the N-buffers the GPU
+/// bake writes in the core's layout (`cc::nbuffer_len` floats) (bake_nbuffer.wgsl).
+pub const NBUFFER_OUT: u32 = 15;
+/// `hf_nbuffer_pass`: uniform `NbufferPass`, one step of the GPU N-buffer bake
+/// (bake_nbuffer.wgsl).
+pub const NBUFFER_PASS: u32 = 16;
+/// The last binding of group 0 kept for hfcast's own resources.
+pub const RESERVED_UP_TO: u32 = 31;

@@ -141,6 +141,43 @@ fn every_generated_glsl_shader_compiles_with_glslang() {
     assert!(all.len() > 50, "only {} shaders", all.len());
 }
 
+/// The GPU bakes' GLSL (whole GLSL 4.30 compute shaders, translated from their WGSL)
+/// compile as compute shaders.
+#[test]
+fn gpu_bakes_compile_as_glsl_compute_shaders() {
+    let dir = tmp_dir("glsl_bakes");
+    let glsl_dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("glsl");
+    let mut stems: Vec<String> = std::fs::read_dir(glsl_dir)
+        .expect("glsl/")
+        .filter_map(|e| {
+            Some(
+                e.ok()?
+                    .file_name()
+                    .to_str()?
+                    .strip_suffix(".glsl")?
+                    .to_string(),
+            )
+        })
+        .filter(|s| hfcast_shaders::translate::is_gpu_bake(s))
+        .collect();
+    stems.sort();
+    for stem in &stems {
+        let text = hfcast_shaders::file(Lang::Glsl, stem).unwrap_or_else(|| panic!("{stem}.glsl"));
+        let path = dir.join(format!("{stem}.comp"));
+        std::fs::write(&path, text).unwrap();
+        let out = Command::new("glslangValidator")
+            .arg(&path)
+            .output()
+            .expect("glslangValidator must be installed (apt-get install glslang-tools)");
+        assert!(
+            out.status.success(),
+            "{stem}.glsl: {}",
+            String::from_utf8_lossy(&out.stdout)
+        );
+    }
+    assert_eq!(stems, ["bake_maxmip", "bake_nbuffer"]);
+}
+
 #[test]
 fn every_generated_wgsl_shader_validates_with_naga() {
     if parts(MethodKind::Cc)

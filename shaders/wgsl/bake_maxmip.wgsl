@@ -9,7 +9,11 @@
 // 2 x 2 children, or of the last column's two at an odd width (rows clamp to the last
 // at an odd height). The maxima are taken in the core's order with its
 // `a > b ? a : b`, so the bytes equal the CPU bake's (signed zeros too; a GPU that
-// flushes subnormal heights to zero may compare those as zero).
+// flushes subnormal heights to zero may compare those as zero). The GLSL 4.30 compute
+// port (glsl/bake_maxmip.glsl) is generated from this file; its `main` is the entry.
+//#glsl
+// #version 430 core
+//#end
 
 // One pass: the level, where it and the finer level lie in `hf_pyramid_out`, and the
 // texels it writes. 48 bytes (WGSL rounds the uniform struct to 16).
@@ -29,8 +33,14 @@ struct MaxMipPass {
 }
 
 @group(0) @binding(0) var hf_heights: texture_2d<f32>;
+//#wgsl
 @group(0) @binding(13) var<storage, read_write> hf_pyramid_out: array<f32>;
 @group(0) @binding(14) var<uniform> hf_maxmip_pass: MaxMipPass;
+//#end
+//#glsl
+// layout(std430, binding = 13) buffer HfPyramidOut { float hf_pyramid_out[]; };
+// layout(std140, binding = 14) uniform HfMaxMipPass { MaxMipPass hf_maxmip_pass; };
+//#end
 
 // `mx`: the core's maximum, `a` when a > b, else `b`.
 fn bake_mx(a: f32, b: f32) -> f32 { return select(b, a, a > b); }
@@ -40,13 +50,13 @@ fn bake_height(i: u32, j: u32) -> f32 { return textureLoad(hf_heights, vec2<u32>
 
 // Texel (i, j) of the finer level.
 fn bake_finer(i: u32, j: u32) -> f32 {
-    let p = hf_maxmip_pass;
+    let p: MaxMipPass = hf_maxmip_pass;
     return hf_pyramid_out[p.finer_offset + j * p.finer_dims.x + i];
 }
 
-@compute @workgroup_size(8, 8)
-fn maxmip_bake_pass(@builtin(global_invocation_id) gid: vec3<u32>) {
-    let p = hf_maxmip_pass;
+// Texel `gid` of the pass's range.
+fn maxmip_bake_texel(gid: vec3<u32>) {
+    let p: MaxMipPass = hf_maxmip_pass;
     let i: u32 = p.lo.x + gid.x;
     let j: u32 = p.lo.y + gid.y;
     if (i >= p.hi.x || j >= p.hi.y) {
@@ -71,3 +81,17 @@ fn maxmip_bake_pass(@builtin(global_invocation_id) gid: vec3<u32>) {
     }
     hf_pyramid_out[p.offset + j * p.width + i] = v;
 }
+
+// The entry point: one invocation per texel.
+//#wgsl
+@compute @workgroup_size(8, 8)
+fn maxmip_bake_pass(@builtin(global_invocation_id) gid: vec3<u32>) {
+    maxmip_bake_texel(gid);
+}
+//#end
+//#glsl
+// layout(local_size_x = 8, local_size_y = 8) in;
+// void main() {
+//     maxmip_bake_texel(gl_GlobalInvocationID);
+// }
+//#end

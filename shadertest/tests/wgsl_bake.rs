@@ -1,41 +1,53 @@
 //! The GPU bakes (`shaders/wgsl/bake_*.wgsl`, issue 27) executed through wgpu
-//! (lavapipe in CI) against the core's CPU bakes, byte for byte: the maximum mipmap of
-//! every map of `../shared/data`, the bundled map and synthetic fields (one of odd
-//! sizes with negative heights and signed zeros), baked whole, then refreshed after
-//! edits of sub-rectangles (a crater over about 1 %, 10 % and 100 % of the field,
-//! and one sample at a corner), each update dispatched over the texels that depend on
-//! the edit only (`hfcast_shaders::bake::maxmip_update_passes`). The pyramid buffer
-//! starts as NaN bits, so a texel no pass writes shows. Times are printed (llvmpipe:
-//! software figures) beside the CPU's.
+//! (lavapipe in CI) against the core's CPU bakes, byte for byte, on every map of
+//! `../shared/data`, the bundled map and synthetic fields (one of odd sizes with
+//! negative heights and signed zeros):
+//! - the maximum mipmap, baked whole, then refreshed after edits of sub-rectangles (a
+//!   crater over about 1 %, 10 % and 100 % of the field, and one sample at a corner),
+//!   each update dispatched over the texels that depend on the edit only
+//!   (`hfcast_shaders::bake::maxmip_update_passes`);
+//! - the N-buffers of the cylinder–cone bake, for a short and the longest cone reach.
+//!
+//! Output buffers start as NaN bits, so an element no pass writes shows. Times are
+//! printed (lavapipe: software figures) beside the CPU's.
 
 mod common;
 
 use common::{spiky_fractal, Gpu};
 use hfcast::maxmip;
+use hfcast::safety::cc;
 use hfcast::HeightField;
-use hfcast_shaders::bake::{maxmip_bake_passes, maxmip_update_passes, MaxMipPass};
+use hfcast_shaders::bake::{maxmip_bake_passes, maxmip_update_passes, nbuffer_bake_passes};
 use hfcast_shaders::{wgsl_layout as binding, Lang};
 use std::time::Instant;
 
 /// Bits the pyramid buffer starts with: a NaN no bake writes.
 const POISON: u32 = 0x7fc0_dead;
 
-/// The bake pipeline and its bind group layout.
+/// A bake pipeline, its bind group layout and its bindings (output, pass uniform).
 struct Bake {
     pipeline: wgpu::ComputePipeline,
     layout: wgpu::BindGroupLayout,
+    out: u32,
+    pass: u32,
 }
 
+/// One dispatch: the pass uniform's bytes, the workgroups along x and y, and the
+/// part of the output it binds (byte offset and size; `None`: all of it).
+type Dispatch = (Vec<u8>, [u32; 2], Option<(u64, u64)>);
+
 impl Bake {
-    fn new(gpu: &Gpu) -> Bake {
+    /// The bake `stem` (`bake_maxmip`, …) with entry point `entry`, writing the storage
+    /// buffer at binding `out`, reading its pass uniform at `pass`.
+    fn new(gpu: &Gpu, stem: &str, entry: &str, out: u32, pass: u32) -> Bake {
         let dev = &gpu.device;
-        let src = hfcast_shaders::file(Lang::Wgsl, "bake_maxmip").expect("bake_maxmip.wgsl");
+        let src = hfcast_shaders::file(Lang::Wgsl, stem).expect("a bake");
         let scope = dev.push_error_scope(wgpu::ErrorFilter::Validation);
         let module = dev.create_shader_module(wgpu::ShaderModuleDescriptor {
-            label: Some("bake_maxmip"),
+            label: Some(stem),
             source: wgpu::ShaderSource::Wgsl(src.into()),
         });
-        let entry = |b: u32, ty| wgpu::BindGroupLayoutEntry {
+        let layout_entry = |b: u32, ty| wgpu::BindGroupLayoutEntry {
             binding: b,
             visibility: wgpu::ShaderStages::COMPUTE,
             ty,
@@ -44,7 +56,7 @@ impl Bake {
         let layout = dev.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: None,
             entries: &[
-                entry(
+                layout_entry(
                     binding::HEIGHTS,
                     wgpu::BindingType::Texture {
                         sample_type: wgpu::TextureSampleType::Float { filterable: false },
@@ -52,16 +64,16 @@ impl Bake {
                         multisampled: false,
                     },
                 ),
-                entry(
-                    binding::PYRAMID_OUT,
+                layout_entry(
+                    out,
                     wgpu::BindingType::Buffer {
                         ty: wgpu::BufferBindingType::Storage { read_only: false },
                         has_dynamic_offset: false,
                         min_binding_size: None,
                     },
                 ),
-                entry(
-                    binding::MAXMIP_PASS,
+                layout_entry(
+                    pass,
                     wgpu::BindingType::Buffer {
                         ty: wgpu::BufferBindingType::Uniform,
                         has_dynamic_offset: false,
@@ -76,32 +88,51 @@ impl Bake {
             immediate_size: 0,
         });
         let pipeline = dev.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-            label: Some("bake_maxmip"),
+            label: Some(stem),
             layout: Some(&pipeline_layout),
             module: &module,
-            entry_point: Some("maxmip_bake_pass"),
+            entry_point: Some(entry),
             compilation_options: wgpu::PipelineCompilationOptions::default(),
             cache: None,
         });
         if let Some(e) = pollster::block_on(scope.pop()) {
-            panic!("bake_maxmip: wgpu refused the shader or pipeline: {e}");
+            panic!("{stem}: wgpu refused the shader or pipeline: {e}");
         }
-        Bake { pipeline, layout }
+        Bake {
+            pipeline,
+            layout,
+            out,
+            pass,
+        }
     }
 
-    /// Runs `passes` over `heights` (a `w × h` texture) into `pyramid`, one compute
-    /// pass each, and waits for them.
-    fn run(
-        &self,
-        gpu: &Gpu,
-        heights: &wgpu::TextureView,
-        pyramid: &wgpu::Buffer,
-        passes: &[MaxMipPass],
-    ) {
+    /// The maximum-mipmap bake.
+    fn maxmip(gpu: &Gpu) -> Bake {
+        let b = (binding::PYRAMID_OUT, binding::MAXMIP_PASS);
+        Bake::new(gpu, "bake_maxmip", "maxmip_bake_pass", b.0, b.1)
+    }
+
+    /// The N-buffer bake.
+    fn nbuffer(gpu: &Gpu) -> Bake {
+        let b = (binding::NBUFFER_OUT, binding::NBUFFER_PASS);
+        Bake::new(gpu, "bake_nbuffer", "nbuffer_bake_pass", b.0, b.1)
+    }
+
+    /// Runs `passes` over `heights` (a `w × h` texture) into `out`, one compute pass
+    /// each, and waits for them.
+    fn run(&self, gpu: &Gpu, heights: &wgpu::TextureView, out: &wgpu::Buffer, passes: &[Dispatch]) {
         let dev = &gpu.device;
         let mut enc = dev.create_command_encoder(&wgpu::CommandEncoderDescriptor::default());
-        for p in passes {
-            let uniform = gpu.uniform(&p.uniform_bytes());
+        for (bytes, workgroups, range) in passes {
+            let uniform = gpu.uniform(bytes);
+            let bound = match *range {
+                None => out.as_entire_binding(),
+                Some((offset, size)) => wgpu::BindingResource::Buffer(wgpu::BufferBinding {
+                    buffer: out,
+                    offset,
+                    size: std::num::NonZeroU64::new(size),
+                }),
+            };
             let group = dev.create_bind_group(&wgpu::BindGroupDescriptor {
                 label: None,
                 layout: &self.layout,
@@ -111,11 +142,11 @@ impl Bake {
                         resource: wgpu::BindingResource::TextureView(heights),
                     },
                     wgpu::BindGroupEntry {
-                        binding: binding::PYRAMID_OUT,
-                        resource: pyramid.as_entire_binding(),
+                        binding: self.out,
+                        resource: bound,
                     },
                     wgpu::BindGroupEntry {
-                        binding: binding::MAXMIP_PASS,
+                        binding: self.pass,
                         resource: uniform.as_entire_binding(),
                     },
                 ],
@@ -123,28 +154,36 @@ impl Bake {
             let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor::default());
             pass.set_pipeline(&self.pipeline);
             pass.set_bind_group(0, &group, &[]);
-            pass.dispatch_workgroups(p.workgroups[0], p.workgroups[1], 1);
+            pass.dispatch_workgroups(workgroups[0], workgroups[1], 1);
         }
         gpu.queue.submit([enc.finish()]);
         dev.poll(wgpu::PollType::wait_indefinitely())
             .expect("wait for the bake");
     }
 
-    /// [`Bake::run`], timed; then the pyramid's first difference from `want`, if any.
+    /// [`Bake::run`], timed; then the output's first difference from `want`, if any.
     fn run_and_compare(
         &self,
         gpu: &Gpu,
         heights: &wgpu::TextureView,
-        pyramid: &wgpu::Buffer,
-        passes: &[MaxMipPass],
+        out: &wgpu::Buffer,
+        passes: &[Dispatch],
         want: &[f32],
     ) -> (f64, Option<String>) {
         let t0 = Instant::now();
-        self.run(gpu, heights, pyramid, passes);
+        self.run(gpu, heights, out, passes);
         let ms = 1e3 * t0.elapsed().as_secs_f64();
-        let got = gpu.read_u32(pyramid, want.len());
+        let got = gpu.read_u32(out, want.len());
         (ms, first_difference(&got, &bits(want)))
     }
+}
+
+/// The dispatches of maximum-mipmap passes.
+fn dispatches(passes: &[hfcast_shaders::bake::MaxMipPass]) -> Vec<Dispatch> {
+    passes
+        .iter()
+        .map(|p| (p.uniform_bytes(), p.workgroups, None))
+        .collect()
 }
 
 /// A field to bake: name, size, heights.
@@ -240,7 +279,7 @@ fn crater(f: &Field, heights: &mut [f32], cx: u32, cy: u32, r: u32) -> [u32; 4] 
 fn gpu_maximum_mipmap_is_the_cpu_one_byte_for_byte() {
     let gpu = Gpu::new();
     println!("{}", gpu.describe());
-    let bake = Bake::new(&gpu);
+    let bake = Bake::maxmip(&gpu);
     let mut failures = Vec::new();
     for f in fields() {
         let hf = HeightField::new(&f.heights, f.w, f.h, f.w as usize).expect("field");
@@ -251,7 +290,7 @@ fn gpu_maximum_mipmap_is_the_cpu_one_byte_for_byte() {
         let cpu_ms = 1e3 * t0.elapsed().as_secs_f64();
         let pyramid = gpu.storage(&vec![POISON; n]);
         let tex = gpu.heights_texture(f.w, f.h, &f.heights);
-        let passes = maxmip_bake_passes(f.w, f.h).expect("passes");
+        let passes = dispatches(&maxmip_bake_passes(f.w, f.h).expect("passes"));
         let (gpu_ms, whole) = bake.run_and_compare(&gpu, &tex, &pyramid, &passes, &want);
         println!(
             "{:<40} {:>5} x {:<5} {:>9} texels, {:>2} passes: cpu {cpu_ms:7.1} ms, gpu (software) {gpu_ms:7.1} ms  {}",
@@ -282,11 +321,12 @@ fn gpu_maximum_mipmap_is_the_cpu_one_byte_for_byte() {
             let [x0, y0, x1, y1] = rect;
             maxmip::update_rect(&hf, &mut want, x0, y0, x1, y1).expect("cpu update");
             let tex = gpu.heights_texture(f.w, f.h, &heights);
-            let passes = maxmip_update_passes(f.w, f.h, rect).expect("update passes");
-            let texels: u32 = passes
+            let update = maxmip_update_passes(f.w, f.h, rect).expect("update passes");
+            let texels: u32 = update
                 .iter()
                 .map(|p| (p.uniform[8] - p.uniform[6]) * (p.uniform[9] - p.uniform[7]))
                 .sum();
+            let passes = dispatches(&update);
             let (gpu_ms, diff) = bake.run_and_compare(&gpu, &tex, &pyramid, &passes, &want);
             println!(
                 "    update of {} x {} samples: {texels} texels rewritten ({:.1} % of the pyramid), gpu (software) {gpu_ms:.1} ms  {}",
@@ -308,4 +348,58 @@ fn gpu_maximum_mipmap_is_the_cpu_one_byte_for_byte() {
         }
     }
     assert!(failures.is_empty(), "{}", failures.join("\n"));
+}
+
+#[test]
+fn gpu_nbuffers_are_the_cpu_ones_byte_for_byte() {
+    let gpu = Gpu::new();
+    println!("{}", gpu.describe());
+    let limit = gpu.device.limits().max_storage_buffer_binding_size;
+    let bake = Bake::nbuffer(&gpu);
+    let mut failures = Vec::new();
+    let mut baked = 0;
+    for f in fields() {
+        let hf = HeightField::new(&f.heights, f.w, f.h, f.w as usize).expect("field");
+        // A cone reach of 6 columns (4 levels) and the longest, 255 (10 levels).
+        for cap in [6u8, 255] {
+            let n = cc::nbuffer_len(f.w, f.h, cap);
+            let t0 = Instant::now();
+            let mut want = vec![0f32; n];
+            cc::prepare_nbuffer(&hf, cap, &mut want).expect("cpu n-buffers");
+            let cpu_ms = 1e3 * t0.elapsed().as_secs_f64();
+            let out = gpu.storage(&vec![POISON; n]);
+            let tex = gpu.heights_texture(f.w, f.h, &f.heights);
+            let passes: Vec<Dispatch> = nbuffer_bake_passes(f.w, f.h, cap)
+                .expect("passes")
+                .iter()
+                .map(|p| {
+                    assert!(
+                        p.bind_size <= limit,
+                        "{}: a pass binds over {limit} bytes",
+                        f.name
+                    );
+                    (
+                        p.uniform_bytes(),
+                        p.workgroups,
+                        Some((p.bind_offset, p.bind_size)),
+                    )
+                })
+                .collect();
+            let (gpu_ms, diff) = bake.run_and_compare(&gpu, &tex, &out, &passes, &want);
+            println!(
+                "{:<40} {:>5} x {:<5} cap {cap:>3}: {n:>9} floats, {:>2} passes: cpu {cpu_ms:7.1} ms, gpu (software) {gpu_ms:7.1} ms  {}",
+                f.name,
+                f.w,
+                f.h,
+                passes.len(),
+                diff.as_deref().unwrap_or("identical")
+            );
+            if let Some(d) = diff {
+                failures.push(format!("{} cap {cap}: {d}", f.name));
+            }
+            baked += 1;
+        }
+    }
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+    assert!(baked >= 20, "{baked} bakes");
 }

@@ -217,6 +217,8 @@ fn overrides_and_bindings_are_one_line_and_fixed() {
                     "hf_world" => wgsl_layout::WORLD,
                     "hf_pyramid_out" => wgsl_layout::PYRAMID_OUT,
                     "hf_maxmip_pass" => wgsl_layout::MAXMIP_PASS,
+                    "hf_nbuffer_out" => wgsl_layout::NBUFFER_OUT,
+                    "hf_nbuffer_pass" => wgsl_layout::NBUFFER_PASS,
                     other => panic!("{name}: {other} is not in hfcast_shaders::wgsl_layout"),
                 };
                 assert_eq!(b, fixed, "{name}: {id} is not at its wgsl_layout binding");

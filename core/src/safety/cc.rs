@@ -45,8 +45,9 @@
 //! **N-buffers** ([`nbuffer_len`], [`prepare_nbuffer`]): per axis, per sample column
 //! and level `L`, the maximum over `2^L` consecutive samples along the cross axis; any
 //! range is two lookups at level `⌊log₂ len⌋`. Levels up to the widest reachable
-//! range, `2·cap + 5` samples. After them, the same per block of `BLOCK`
-//! consecutive cell columns (the maximum over their `BLOCK + 1` sample columns).
+//! range, `2·cap + 5` samples. On each level, after the sample columns, the same per
+//! block of `BLOCK` consecutive cell columns (the maximum over their `BLOCK + 1`
+//! sample columns). [`nbuffer_steps`] fills them, on the CPU or as GPU passes.
 //!
 //! **Pruning.** Only the slope's code is stored, so the bake keeps the slope so far
 //! rounded up to a code's value (`C(s)`, `code_ceiling`): `C` is monotone and
@@ -186,67 +187,173 @@ pub fn nbuffer_len(width: u32, height: u32, cap: u8) -> usize {
     levels(cap) as usize * (2 * w * h + blocks)
 }
 
-/// Index of level `l`, sample column `c` (along axis `ax`), cross sample `y`.
-#[inline]
-fn nb_index(hf: &HeightField, cap: u8, ax: usize, l: u32, c: u32, y: u32) -> usize {
-    let (lm, ln) = extents(hf, ax);
+/// Where the N-buffers of axis `ax` lie: their first element, elements per level (its
+/// sample columns' then its blocks'), the sample columns' and the blocks' count.
+/// Per axis, level by level, the `lm` sample columns then the blocks, `ln` elements
+/// each: a level and the one below it are one contiguous range, what a GPU pass
+/// binds.
+fn nb_layout(width: u32, height: u32, cap: u8, ax: usize) -> NbLayout {
+    let (lm, ln) = if ax == 0 {
+        (width, height)
+    } else {
+        (height, width)
+    };
+    let blocks = (lm - 1).div_ceil(BLOCK);
+    let level = (lm + blocks) as usize * ln as usize;
     let base = if ax == 0 {
         0
     } else {
-        levels(cap) as usize * hf.width() as usize * hf.height() as usize
+        let blocks0 = (width - 1).div_ceil(BLOCK);
+        levels(cap) as usize * (width + blocks0) as usize * height as usize
     };
-    base + ((l as usize * lm as usize + c as usize) * ln as usize + y as usize)
+    NbLayout {
+        base,
+        level,
+        columns: lm,
+        blocks,
+        row_len: ln,
+    }
 }
 
-/// Fills the N-buffers ([`nbuffer_len`] elements). `O(cells · levels)`.
+/// [`nb_layout`]'s answer.
+#[derive(Clone, Copy)]
+struct NbLayout {
+    base: usize,
+    level: usize,
+    columns: u32,
+    blocks: u32,
+    row_len: u32,
+}
+
+/// Fills the N-buffers ([`nbuffer_len`] elements): runs [`nbuffer_steps`] in order.
+/// `O(cells · levels)`.
 pub fn prepare_nbuffer(hf: &HeightField, cap: u8, nb: &mut [f32]) -> Result<(), SafetyError> {
     let needed = nbuffer_len(hf.width(), hf.height(), cap);
     crate::buffer::check("n-buffer", needed, nb.len())?;
-    for ax in 0..2 {
-        let (lm, ln) = extents(hf, ax);
-        for c in 0..lm {
-            for y in 0..ln {
-                nb[nb_index(hf, cap, ax, 0, c, y)] = sample(hf, ax, c, y);
-            }
-            for l in 1..levels(cap) {
-                let half = 1u32 << (l - 1);
-                for y in 0..ln {
-                    let a = nb[nb_index(hf, cap, ax, l - 1, c, y)];
-                    let b = nb[nb_index(hf, cap, ax, l - 1, c, (y + half).min(ln - 1))];
-                    nb[nb_index(hf, cap, ax, l, c, y)] = a.max(b);
-                }
-            }
-        }
-    }
-    // The blocks' entries: level 0 the maximum of the level 0 of their sample columns
-    // (`BLOCK + 1`: both sides of each cell column), the next levels doubled as the
-    // columns' (the same windows, so the maximum of their columns' entries).
-    for ax in 0..2 {
-        let cols = NbView::new(hf, &[], cap, ax, false);
-        let blocks = NbView::new(hf, &[], cap, ax, true);
-        let (lm, ln) = (extents(hf, ax).0, extents(hf, ax).1 as usize);
-        for b in 0..(lm - 1).div_ceil(BLOCK) {
-            let to = blocks.base + b as usize * blocks.column;
-            for c in b * BLOCK..=(b * BLOCK + BLOCK).min(lm - 1) {
-                let from = cols.base + c as usize * cols.column;
-                for y in 0..ln {
-                    let v = nb[from + y];
-                    nb[to + y] = if c == b * BLOCK { v } else { nb[to + y].max(v) };
-                }
-            }
-        }
-        for l in 1..levels(cap) as usize {
-            let half = 1usize << (l - 1);
-            for b in 0..(lm - 1).div_ceil(BLOCK) as usize {
-                let below = blocks.base + (l - 1) * blocks.level + b * blocks.column;
-                let to = below + blocks.level;
-                for y in 0..ln {
-                    nb[to + y] = nb[below + y].max(nb[below + (y + half).min(ln - 1)]);
-                }
-            }
-        }
+    for step in nbuffer_steps(hf.width(), hf.height(), cap) {
+        step.run(hf, &mut nb[..needed]);
     }
     Ok(())
+}
+
+/// What an [`NbufferStep`] writes into each element `(r, y)` of its rows.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum NbufferKind {
+    /// Level 0 of the sample columns: the sample at main index `r`, minor index `y`.
+    Heights = 0,
+    /// The next level of columns or blocks: the maximum of the level below at `y` and
+    /// at `min(y + half, row_len − 1)`.
+    Double = 1,
+    /// Level 0 of the blocks: the maximum of level 0 of the block's sample columns
+    /// `BLOCK·r ..= min(BLOCK·r + BLOCK, columns − 1)`, in that order.
+    Blocks = 2,
+}
+
+/// One step of the N-buffer fill: `rows` rows of `row_len` elements (along the minor
+/// axis of `axis`) written from element `dst` on, read from element `src` on (the
+/// level below, or the sample columns' level 0); a GPU pass of `bake_nbuffer.wgsl`
+/// each, as [`prepare_nbuffer`] runs them on the CPU.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct NbufferStep {
+    /// What it computes.
+    pub kind: NbufferKind,
+    /// Main axis of its columns (0: x = c, 1: y = c).
+    pub axis: u32,
+    /// Rows written: sample columns or blocks.
+    pub rows: u32,
+    /// Elements per row: samples along the minor axis.
+    pub row_len: u32,
+    /// First element written.
+    pub dst: usize,
+    /// First element read (unused by [`NbufferKind::Heights`]).
+    pub src: usize,
+    /// The doubling's offset ([`NbufferKind::Double`]; 0 else).
+    pub half: u32,
+    /// Sample columns of the axis (what [`NbufferKind::Blocks`] clamps to).
+    pub columns: u32,
+}
+
+/// The steps that fill the N-buffers of a `width × height` field for reach `cap`, in
+/// an order that reads only what an earlier step wrote: per axis, the sample columns'
+/// level 0, the blocks' level 0, then each level above (columns and blocks together).
+pub fn nbuffer_steps(width: u32, height: u32, cap: u8) -> impl Iterator<Item = NbufferStep> {
+    let levels = levels(cap);
+    (0..2u32).flat_map(move |axis| {
+        let at = nb_layout(width, height, cap, axis as usize);
+        let step = move |kind, rows: u32, dst, src, half| NbufferStep {
+            kind,
+            axis,
+            rows,
+            row_len: at.row_len,
+            dst,
+            src,
+            half,
+            columns: at.columns,
+        };
+        let blocks = at.base + at.columns as usize * at.row_len as usize;
+        let level = move |l: u32| at.base + l as usize * at.level;
+        [
+            step(NbufferKind::Heights, at.columns, at.base, at.base, 0),
+            step(NbufferKind::Blocks, at.blocks, blocks, at.base, 0),
+        ]
+        .into_iter()
+        .chain((1..levels).map(move |l| {
+            let rows = at.columns + at.blocks;
+            step(
+                NbufferKind::Double,
+                rows,
+                level(l),
+                level(l - 1),
+                1 << (l - 1),
+            )
+        }))
+    })
+}
+
+impl NbufferStep {
+    /// Runs the step on the CPU over `nb` (the whole N-buffers).
+    pub fn run(&self, hf: &HeightField, nb: &mut [f32]) {
+        let (ln, rows) = (self.row_len as usize, self.rows as usize);
+        // Written and read parts never overlap: `src` lies below `dst`.
+        let (below, out) = nb.split_at_mut(self.dst);
+        let out = &mut out[..rows * ln];
+        let ax = self.axis as usize;
+        for (r, row) in out.chunks_exact_mut(ln).enumerate() {
+            let from = self.src + r * ln;
+            match self.kind {
+                NbufferKind::Heights => {
+                    for (y, v) in row.iter_mut().enumerate() {
+                        *v = sample(hf, ax, r as u32, y as u32);
+                    }
+                }
+                NbufferKind::Double => {
+                    let half = self.half as usize;
+                    for (y, v) in row.iter_mut().enumerate() {
+                        *v = mx(below[from + y], below[from + (y + half).min(ln - 1)]);
+                    }
+                }
+                NbufferKind::Blocks => {
+                    let first = BLOCK as usize * r;
+                    let last = (first + BLOCK as usize).min(self.columns as usize - 1);
+                    for (y, v) in row.iter_mut().enumerate() {
+                        let column = |c: usize| below[self.src + c * ln + y];
+                        *v = (first + 1..=last).fold(column(first), |acc, c| mx(acc, column(c)));
+                    }
+                }
+            }
+        }
+    }
+}
+
+/// The maximum of two finite values as the GPU bake takes it: `a` when `a > b`, else
+/// `b` (so a tie of signed zeros keeps `b` on both).
+#[inline(always)]
+fn mx(a: f32, b: f32) -> f32 {
+    if a > b {
+        a
+    } else {
+        b
+    }
 }
 
 /// The N-buffers of one axis, as [`range_max`] reads them (the offsets of
@@ -256,7 +363,7 @@ struct NbView<'a> {
     nb: &'a [f32],
     /// Index of level 0, column 0, sample 0 of the axis.
     base: usize,
-    /// Elements per level (`(columns) · ln`).
+    /// Elements per level (the axis's columns and blocks, `(columns + blocks) · ln`).
     level: usize,
     /// Elements per column (`ln`).
     column: usize,
@@ -266,28 +373,22 @@ struct NbView<'a> {
 
 impl<'a> NbView<'a> {
     /// The N-buffers of axis `ax`: of its sample columns, or (`blocks`) of its blocks
-    /// of [`BLOCK`] cell columns, stored after all the columns' (the maximum over the
-    /// block's sample columns of their entries).
+    /// of [`BLOCK`] cell columns, stored after the columns' on each level (the maximum
+    /// over the block's sample columns of their entries).
     fn new(hf: &HeightField, nb: &'a [f32], cap: u8, ax: usize, blocks: bool) -> Self {
-        let levels = levels(cap) as usize;
-        // Elements per level of axis `a`: of its sample columns or its blocks.
-        let per_level = |a: usize, blocks: bool| {
-            let (lm, ln) = extents(hf, a);
-            let n = if blocks { (lm - 1).div_ceil(BLOCK) } else { lm };
-            n as usize * ln as usize
-        };
-        let columns = levels * (per_level(0, false) + per_level(1, false));
-        let base = match (blocks, ax) {
-            (false, _) => nb_index(hf, cap, ax, 0, 0, 0),
-            (true, 0) => columns,
-            (true, _) => columns + levels * per_level(0, true),
-        };
+        let at = nb_layout(hf.width(), hf.height(), cap, ax);
+        let column = at.row_len as usize;
         NbView {
             nb,
-            base,
-            level: per_level(ax, blocks),
-            column: extents(hf, ax).1 as usize,
-            top: levels as u32 - 1,
+            base: at.base
+                + if blocks {
+                    at.columns as usize * column
+                } else {
+                    0
+                },
+            level: at.level,
+            column,
+            top: levels(cap) - 1,
         }
     }
 }
