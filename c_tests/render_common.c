@@ -169,7 +169,7 @@ void scene_set_maps(scene *s, uint32_t classes, uint32_t exterior, float max_vie
     bake_class_maps(s);
 }
 
-int scene_load_ex(scene *s, const char *png_path, int relaxed) {
+int scene_load_heights(scene *s, const char *png_path) {
     memset(s, 0, sizeof *s);
     uint16_t *samples = read_png_gray16(png_path, &s->w, &s->h);
     if (!samples) return -1;
@@ -195,6 +195,11 @@ int scene_load_ex(scene *s, const char *png_path, int relaxed) {
     s->pyramid = bake_map(s, HF_METHOD_MAXMIP, NULL, 1, &s->pyramid_len, NULL);
     if ((r = hf_maxmip_levels(s->w, s->h, s->levels, HF_MAX_LEVELS, &s->nlevels)) != HF_OK)
         die_hf("hf_maxmip_levels", r);
+    return 0;
+}
+
+int scene_load_ex(scene *s, const char *png_path, int relaxed) {
+    if (scene_load_heights(s, png_path) != 0) return -1;
     s->classes = HF_RAYS_ALL;
     bake_class_maps(s);
     /* The defaults: radii of tolerance 0 and cap 255. */
@@ -411,6 +416,16 @@ static GLuint compile(GLenum type, const char *src) {
     return sh;
 }
 
+GLuint link_compute(const char *src) {
+    GLuint cs = compile(GL_COMPUTE_SHADER, src);
+    GLuint p = glCreateProgram();
+    glAttachShader(p, cs);
+    glLinkProgram(p);
+    check_gl(p, 1, "compute program link");
+    glDeleteShader(cs);
+    return p;
+}
+
 static GLuint link_program(uint32_t method) {
     char *fs_src = fragment_source(method);
     GLuint p = link_fragment(fs_src);
@@ -431,8 +446,8 @@ GLuint link_fragment(const char *fs_src) {
     return p;
 }
 
-static GLuint make_texture(GLenum internal, int w, int h, GLenum format, GLenum type,
-                           const void *data) {
+GLuint make_texture(GLenum internal, int w, int h, GLenum format, GLenum type,
+                    const void *data) {
     GLuint t;
     glGenTextures(1, &t);
     glBindTexture(GL_TEXTURE_2D, t);
@@ -655,4 +670,108 @@ void gpu_free(gpu *g) {
     glDeleteRenderbuffers(1, &g->rb_depth);
     glDeleteFramebuffers(1, &g->fbo);
     glDeleteVertexArrays(1, &g->vao);
+}
+
+/* ---- parity ------------------------------------------------------------------------ */
+
+float dist3(const float *a, const float *b) {
+    float dx = a[0] - b[0], dy = a[1] - b[1], dz = a[2] - b[2];
+    return sqrtf(dx * dx + dy * dy + dz * dz);
+}
+
+/* Compares the GPU frame with the CPU answers for the same rays; lists every differing
+ * pixel when `list` is set. */
+parity compare(const scene *s, method_cfg cfg, const hf_ray *rays, const frame *f,
+                      float depth_far, int w, int h, int list, const char *label) {
+    size_t n = (size_t)w * h;
+    hf_hit *hits = (hf_hit *)malloc(sizeof(hf_hit) * n);
+    hf_result r = cpu_trace(s, cfg, rays, n, hits);
+    if (r != HF_OK) {
+        fprintf(stderr, "cpu_trace failed (%u)\n", (unsigned)r);
+        exit(2);
+    }
+    /* Shadow rays from the CPU's own hits, with the shader's formula. */
+    hf_ray *shadow_rays = (hf_ray *)malloc(sizeof(hf_ray) * n);
+    hf_hit *shadow = (hf_hit *)malloc(sizeof(hf_hit) * n);
+    size_t ns = 0;
+    size_t *shadow_of = (size_t *)malloc(sizeof(size_t) * n);
+    for (size_t k = 0; k < n; k++) {
+        shadow_of[k] = (size_t)-1;
+        if (!hits[k].hit) continue;
+        hf_ray *sr = &shadow_rays[ns];
+        for (int a = 0; a < 3; a++) {
+            sr->origin[a] = hits[k].point[a] + hits[k].normal[a] * SHADOW_OFFSET;
+            sr->dir[a] = LIGHT_DIR[a];
+        }
+        sr->t_min = 0.0f;
+        sr->t_max = INFINITY;
+        shadow_of[k] = ns++;
+    }
+    if (ns > 0 && (r = cpu_trace(s, cfg, shadow_rays, ns, shadow)) != HF_OK) {
+        fprintf(stderr, "cpu_trace (shadows) failed (%u)\n", (unsigned)r);
+        exit(2);
+    }
+    parity p;
+    memset(&p, 0, sizeof p);
+    p.pixels = (int)n;
+    for (size_t k = 0; k < n; k++) {
+        const float *gp = f->point + 4 * k;
+        int ghit = gp[3] >= 0.0f;
+        int chit = hits[k].hit != 0;
+        p.hits += chit;
+        int bad = 0;
+        float err = 0.0f;
+        if (ghit != chit) {
+            bad = 1;
+            p.differ_hit++;
+        } else if (chit) {
+            err = dist3(gp, hits[k].point);
+            if (err > p.max_err) p.max_err = err;
+            if (!(err <= 1e-3f)) {
+                bad = 1;
+                p.differ_pos++;
+            }
+        }
+        if (bad) {
+            p.differ++;
+            if (list) {
+                fprintf(stderr,
+                        "  %s pixel (%d, %d): gpu %s (%.6f, %.6f, %.6f) t=%.6f, cpu %s (%.6f, "
+                        "%.6f, %.6f) t=%.6f, |d| = %.3g\n",
+                        label, (int)(k % w), (int)(k / w), ghit ? "hit" : "miss", gp[0], gp[1],
+                        gp[2], gp[3], chit ? "hit" : "miss", hits[k].point[0], hits[k].point[1],
+                        hits[k].point[2], hits[k].t, err);
+            }
+            continue;
+        }
+        /* Depth: t / depth_far, 1 on a miss. */
+        float want = chit ? hits[k].t / depth_far : 1.0f;
+        if (want > 1.0f) want = 1.0f;
+        if (!(fabsf(f->depth[k] - want) <= 1e-3f / depth_far + 1e-7f)) p.depth_differ++;
+        if (chit) {
+            p.shadow_checked++;
+            int gs = f->normal[4 * k + 3] > 0.5f;
+            int cs = shadow[shadow_of[k]].hit != 0;
+            if (gs != cs) p.shadow_differ++;
+        }
+    }
+    free(hits);
+    free(shadow_rays);
+    free(shadow);
+    free(shadow_of);
+    return p;
+}
+
+int method_exact(uint32_t method) {
+    return method != HF_METHOD_LINEAR_BINARY && method != HF_METHOD_LINEAR_SECANT &&
+           method != HF_METHOD_RELAXED;
+}
+
+/* Whether a parity count passes. Exact methods: at least 99.99 % of pixels within 1e-3
+ * texel; approximate ones run the same algorithm, so they must agree nearly as well
+ * (99.9 %). Shadows: 99.9 %; depth: 99.99 %. */
+int parity_ok(const parity *p, uint32_t method) {
+    int allowed = method_exact(method) ? p->pixels / 10000 : p->pixels / 1000;
+    return p->differ <= allowed && p->shadow_differ <= p->shadow_checked / 1000 &&
+           p->depth_differ <= p->pixels / 10000;
 }

@@ -99,6 +99,8 @@ const char *method_name(uint32_t method);
 const char *surface_name(uint32_t surface);
 
 int scene_load(scene *s, const char *png_path);
+/* The field, heights and maximum mipmap of the map only (no other map baked). */
+int scene_load_heights(scene *s, const char *png_path);
 /* scene_load, and when `relaxed` the relaxed cone map too (seconds on a test map). */
 int scene_load_ex(scene *s, const char *png_path, int relaxed);
 void scene_free(scene *s);
@@ -127,6 +129,10 @@ extern const char *VERTEX_SOURCE;
 char *generated_fragment_source(const hf_scene *sc);
 /* A program of the full-screen vertex shader and the fragment shader `fs_src`. */
 GLuint link_fragment(const char *fs_src);
+/* A compute program of `src` (a whole GLSL compute shader). */
+GLuint link_compute(const char *src);
+/* A w x h 2D texture, nearest, clamped, of `data` (NULL: unset). */
+GLuint make_texture(GLenum internal, int w, int h, GLenum format, GLenum type, const void *data);
 
 int gpu_init(gpu *g, const scene *s, int w, int h);
 void gpu_upload_rays(gpu *g, const hf_ray *rays);
@@ -148,5 +154,24 @@ int write_png_rgba(const char *path, const unsigned char *rgba, int w, int h);
 int read_png_rgb(const char *path, unsigned char **rgb, int *w, int *h);
 
 double now_seconds(void);
+
+/* The distance between two points. */
+float dist3(const float *a, const float *b);
+
+/* GPU frame against the CPU's answers for the same rays. */
+typedef struct parity {
+    int pixels, hits, differ, differ_hit, differ_pos;
+    int shadow_checked, shadow_differ, depth_differ;
+    double max_err;
+} parity;
+
+/* Compares the GPU frame `f` of `cfg` with the CPU answers for `rays` (w x h, and the
+ * shadow rays from the CPU's hits); lists every differing pixel when `list` is set. */
+parity compare(const scene *s, method_cfg cfg, const hf_ray *rays, const frame *f,
+               float depth_far, int w, int h, int list, const char *label);
+/* Whether `method` is exact (all but linear + binary, linear + secant, relaxed). */
+int method_exact(uint32_t method);
+/* Whether a parity count passes (99.99 % of pixels for exact methods, 99.9 % else). */
+int parity_ok(const parity *p, uint32_t method);
 
 #endif

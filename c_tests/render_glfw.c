@@ -6,9 +6,15 @@
  * In tests:  render_glfw --frames N --screenshot OUT.png --compare REF.png MAP.png
  *   draws N frames of the fixed view (exact method, triangles, 256 x 192), reads the
  *   window back and compares it with the OSMesa image of the same view.
+ * Dynamic terrain: render_glfw --dynamic [--frames N] MAP.png
+ *   every frame raises a mound that moves along a circle (gpu_bake.h), refreshes the
+ *   pyramid on the GPU for the edited rectangle only and draws the maximum-mipmap
+ *   march; with --frames, each frame's hits are compared with the CPU's on the CPU's
+ *   own refreshed pyramid (99.99 % of pixels must agree).
  */
 #define _POSIX_C_SOURCE 200112L
 #include "render_common.h"
+#include "gpu_bake.h"
 
 #define GLFW_INCLUDE_NONE
 #include <GLFW/glfw3.h>
@@ -20,6 +26,31 @@ static camera cam;
 /* `linear`: search steps, or the cone/QDM iteration budget. */
 static method_cfg cfg = {HF_METHOD_EXACT, HF_SURFACE_TRIANGLES, 64, 8, HF_SAFETY_DIRECTIONAL, HF_RADIUS_WALK};
 static int dirty = 1;
+
+/* The dynamic scene's frame `k`: edits the heights and refreshes the GPU pyramid. With
+ * `check`, compares the frame's hits with the CPU's (`rays` are the uploaded ones) and
+ * prints its line; returns whether it passed. */
+static int dynamic_frame(scene *s, gpu *g, gpu_bakes *b, int k, const hf_ray *rays, int w,
+                         int h, int check, frame *f) {
+    uint32_t rect[4];
+    double cpu_ms = 0;
+    if (dynamic_edit(s, g->tex_heights, k, rect, &cpu_ms) != 0) return 0;
+    double t0 = now_seconds();
+    long texels = gpu_pyramid_bake(b, s->w, s->h, g->tex_heights, rect, g->tex_pyramid);
+    if (texels < 0) return 0;
+    if (!check) return 1;
+    glFinish();
+    double gpu_ms = 1e3 * (now_seconds() - t0);
+    gpu_render(g, s, cfg, scene_depth_far(s, &cam));
+    gpu_read(g, f);
+    parity p = compare(s, cfg, rays, f, scene_depth_far(s, &cam), w, h, 0, "glfw-dynamic");
+    int ok = parity_ok(&p, cfg.method);
+    printf("glfw-dynamic frame %d: edit %ux%u, cpu update %.2f ms, gpu update %.2f ms (%ld "
+           "texels); %d pixels, %d differ; shadows %d/%d differ  %s\n",
+           k, rect[2] - rect[0], rect[3] - rect[1], cpu_ms, gpu_ms, texels, p.pixels, p.differ,
+           p.shadow_differ, p.shadow_checked, ok ? "ok" : "FAILED");
+    return ok;
+}
 
 static void on_key(GLFWwindow *win, int key, int scancode, int action, int mods) {
     (void)scancode;
@@ -81,17 +112,20 @@ static int compare_images(const unsigned char *rgba, int w, int h, const char *r
 }
 
 int main(int argc, char **argv) {
-    int frames = 0, w = 800, h = 600;
+    int frames = 0, w = 800, h = 600, dynamic = 0;
     const char *shot = NULL, *ref = NULL, *map = NULL;
     for (int i = 1; i < argc; i++) {
         if (strcmp(argv[i], "--frames") == 0 && i + 1 < argc) frames = atoi(argv[++i]);
+        else if (strcmp(argv[i], "--dynamic") == 0) dynamic = 1;
         else if (strcmp(argv[i], "--screenshot") == 0 && i + 1 < argc) shot = argv[++i];
         else if (strcmp(argv[i], "--compare") == 0 && i + 1 < argc) ref = argv[++i];
         else map = argv[i];
     }
     if (!map) {
-        fprintf(stderr, "usage: %s [--frames N --screenshot OUT.png --compare REF.png] MAP.png\n",
-                argv[0]);
+        fprintf(stderr,
+                "usage: %s [--frames N --screenshot OUT.png --compare REF.png] MAP.png\n"
+                "       %s --dynamic [--frames N] MAP.png\n",
+                argv[0], argv[0]);
         return 2;
     }
     if (frames > 0) {
@@ -127,6 +161,16 @@ int main(int argc, char **argv) {
     gpu g;
     if (gpu_init(&g, &s, fw, fh) != 0) return 2;
     cam = default_camera();
+    gpu_bakes bakes;
+    frame checked;
+    int dyn_passed = 0, dyn_failed = 0;
+    if (dynamic) {
+        cfg.method = HF_METHOD_MAXMIP;
+        if (gpu_bakes_init(&bakes, s.w, s.h) != 0 ||
+            gpu_pyramid_bake(&bakes, s.w, s.h, g.tex_heights, NULL, g.tex_pyramid) < 0)
+            return 2;
+        frame_alloc(&checked, fw, fh);
+    }
     hf_ray *rays = (hf_ray *)malloc(sizeof(hf_ray) * (size_t)fw * fh);
     unsigned char *pixels = (unsigned char *)malloc((size_t)fw * fh * 4);
     int rc = 0;
@@ -136,6 +180,10 @@ int main(int argc, char **argv) {
             make_rays(&s, &cam, fw, fh, rays);
             gpu_upload_rays(&g, rays);
             dirty = 0;
+        }
+        if (dynamic) {
+            int ok = dynamic_frame(&s, &g, &bakes, frame, rays, fw, fh, frames > 0, &checked);
+            ok ? dyn_passed++ : dyn_failed++;
         }
         gpu_render(&g, &s, cfg, scene_depth_far(&s, &cam));
         glBindFramebuffer(GL_READ_FRAMEBUFFER, g.fbo);
@@ -167,6 +215,14 @@ int main(int argc, char **argv) {
     if (glGetError() != GL_NO_ERROR) {
         fprintf(stderr, "GL error\n");
         rc = 1;
+    }
+    if (dynamic) {
+        if (frames > 0) {
+            printf("glfw-dynamic: %d passed, %d failed\n", dyn_passed, dyn_failed);
+            rc |= dyn_failed != 0 || dyn_passed == 0;
+        }
+        frame_free(&checked);
+        gpu_bakes_free(&bakes);
     }
     free(rays);
     free(pixels);

@@ -8,9 +8,15 @@
  *                                               shaders: identical frames, CPU parity
  *   render_osmesa bench-generated W H FRAMES MAP.png...
  *                                               median frame time, generated vs general
+ *   render_osmesa gpu-bake MAP.png...           GPU bakes (GLSL compute) against the
+ *                                               CPU's, byte for byte, and their times
+ *   render_osmesa dynamic FRAMES MAP.png...     dynamic terrain: a mound moves every
+ *                                               frame, the pyramid refreshed on the GPU
+ *                                               for the edit only; CPU parity per frame
  */
 #define _POSIX_C_SOURCE 200112L
 #include "render_common.h"
+#include "gpu_bake.h"
 
 #include <GL/osmesa.h>
 #include <math.h>
@@ -53,102 +59,6 @@ static int gl_start(int w, int h) {
 static void gl_stop(void) {
     OSMesaDestroyContext(ctx);
     free(osmesa_buffer);
-}
-
-/* ---- parity ----------------------------------------------------------------------- */
-
-typedef struct parity {
-    int pixels, hits, differ, differ_hit, differ_pos;
-    int shadow_checked, shadow_differ, depth_differ;
-    double max_err;
-} parity;
-
-static float dist3(const float *a, const float *b) {
-    float dx = a[0] - b[0], dy = a[1] - b[1], dz = a[2] - b[2];
-    return sqrtf(dx * dx + dy * dy + dz * dz);
-}
-
-/* Compares the GPU frame with the CPU answers for the same rays; lists every differing
- * pixel when `list` is set. */
-static parity compare(const scene *s, method_cfg cfg, const hf_ray *rays, const frame *f,
-                      float depth_far, int w, int h, int list, const char *label) {
-    size_t n = (size_t)w * h;
-    hf_hit *hits = (hf_hit *)malloc(sizeof(hf_hit) * n);
-    hf_result r = cpu_trace(s, cfg, rays, n, hits);
-    if (r != HF_OK) {
-        fprintf(stderr, "cpu_trace failed (%u)\n", (unsigned)r);
-        exit(2);
-    }
-    /* Shadow rays from the CPU's own hits, with the shader's formula. */
-    hf_ray *shadow_rays = (hf_ray *)malloc(sizeof(hf_ray) * n);
-    hf_hit *shadow = (hf_hit *)malloc(sizeof(hf_hit) * n);
-    size_t ns = 0;
-    size_t *shadow_of = (size_t *)malloc(sizeof(size_t) * n);
-    for (size_t k = 0; k < n; k++) {
-        shadow_of[k] = (size_t)-1;
-        if (!hits[k].hit) continue;
-        hf_ray *sr = &shadow_rays[ns];
-        for (int a = 0; a < 3; a++) {
-            sr->origin[a] = hits[k].point[a] + hits[k].normal[a] * SHADOW_OFFSET;
-            sr->dir[a] = LIGHT_DIR[a];
-        }
-        sr->t_min = 0.0f;
-        sr->t_max = INFINITY;
-        shadow_of[k] = ns++;
-    }
-    if (ns > 0 && (r = cpu_trace(s, cfg, shadow_rays, ns, shadow)) != HF_OK) {
-        fprintf(stderr, "cpu_trace (shadows) failed (%u)\n", (unsigned)r);
-        exit(2);
-    }
-    parity p;
-    memset(&p, 0, sizeof p);
-    p.pixels = (int)n;
-    for (size_t k = 0; k < n; k++) {
-        const float *gp = f->point + 4 * k;
-        int ghit = gp[3] >= 0.0f;
-        int chit = hits[k].hit != 0;
-        p.hits += chit;
-        int bad = 0;
-        float err = 0.0f;
-        if (ghit != chit) {
-            bad = 1;
-            p.differ_hit++;
-        } else if (chit) {
-            err = dist3(gp, hits[k].point);
-            if (err > p.max_err) p.max_err = err;
-            if (!(err <= 1e-3f)) {
-                bad = 1;
-                p.differ_pos++;
-            }
-        }
-        if (bad) {
-            p.differ++;
-            if (list) {
-                fprintf(stderr,
-                        "  %s pixel (%d, %d): gpu %s (%.6f, %.6f, %.6f) t=%.6f, cpu %s (%.6f, "
-                        "%.6f, %.6f) t=%.6f, |d| = %.3g\n",
-                        label, (int)(k % w), (int)(k / w), ghit ? "hit" : "miss", gp[0], gp[1],
-                        gp[2], gp[3], chit ? "hit" : "miss", hits[k].point[0], hits[k].point[1],
-                        hits[k].point[2], hits[k].t, err);
-            }
-            continue;
-        }
-        /* Depth: t / depth_far, 1 on a miss. */
-        float want = chit ? hits[k].t / depth_far : 1.0f;
-        if (want > 1.0f) want = 1.0f;
-        if (!(fabsf(f->depth[k] - want) <= 1e-3f / depth_far + 1e-7f)) p.depth_differ++;
-        if (chit) {
-            p.shadow_checked++;
-            int gs = f->normal[4 * k + 3] > 0.5f;
-            int cs = shadow[shadow_of[k]].hit != 0;
-            if (gs != cs) p.shadow_differ++;
-        }
-    }
-    free(hits);
-    free(shadow_rays);
-    free(shadow);
-    free(shadow_of);
-    return p;
 }
 
 /* ---- shared by the runs ------------------------------------------------------------ */
@@ -205,20 +115,6 @@ static int search_to_cc_cfgs(method_cfg *out, int n, int variants) {
 }
 
 /* Whether `method` answers exactly (the searches and relaxed cones have step budgets). */
-static int method_exact(uint32_t method) {
-    return method != HF_METHOD_LINEAR_BINARY && method != HF_METHOD_LINEAR_SECANT &&
-           method != HF_METHOD_RELAXED;
-}
-
-/* Whether a parity count passes. Exact methods: at least 99.99 % of pixels within 1e-3
- * texel; approximate ones run the same algorithm, so they must agree nearly as well
- * (99.9 %). Shadows: 99.9 %; depth: 99.99 %. */
-static int parity_ok(const parity *p, uint32_t method) {
-    int allowed = method_exact(method) ? p->pixels / 10000 : p->pixels / 1000;
-    return p->differ <= allowed && p->shadow_differ <= p->shadow_checked / 1000 &&
-           p->depth_differ <= p->pixels / 10000;
-}
-
 /* "METHOD/SURFACE". */
 static void cfg_name(char *buf, size_t len, method_cfg c) {
     snprintf(buf, len, "%s/%s", method_name(c.method), surface_name(c.surface));
@@ -939,11 +835,247 @@ static int dump_shaders(const char *outdir) {
     return 0;
 }
 
+/* ---- GPU bakes ---------------------------------------------------------------------- */
+
+/* The first float where `got` and `want` differ (their bits), or -1. */
+static long first_difference(const float *got, const float *want, size_t n) {
+    for (size_t k = 0; k < n; k++)
+        if (memcmp(&got[k], &want[k], sizeof(float)) != 0) return (long)k;
+    return -1;
+}
+
+/* Prints a bake's line and counts it: `at` is first_difference's answer. */
+static void bake_result(tally *t, const char *name, const char *what, size_t n, double cpu_ms,
+                        double gpu_ms, long at, const float *got, const float *want) {
+    printf("gpu-bake %-36s %-30s %10zu floats: cpu %8.2f ms, gpu (software) %8.2f ms  ", name,
+           what, n, cpu_ms, gpu_ms);
+    if (at < 0) {
+        printf("identical\n");
+        t->passed++;
+    } else {
+        printf("FAILED at float %ld: gpu %.9g, cpu %.9g\n", at, got[at], want[at]);
+        t->failed++;
+    }
+}
+
+/* The N-buffers of `s` for `cap` on the CPU: the last hf_nbuffer_len floats of
+ * hf_bake_prepare's scratch for HF_METHOD_CC, into `out`; its time in *ms. */
+static int cpu_nbuffers(const scene *s, uint32_t cap, float *out, size_t len, double *ms) {
+    hf_bake_options o;
+    size_t scratch_len = 0;
+    if (hf_bake_options_default(HF_METHOD_CC, &o) != HF_OK) return -1;
+    o.cap = cap;
+    if (hf_bake_scratch_len(HF_METHOD_CC, s->w, s->h, &o, &scratch_len) != HF_OK) return -1;
+    float *scratch = (float *)malloc(sizeof(float) * scratch_len);
+    double t0 = now_seconds();
+    hf_result r = hf_bake_prepare(HF_METHOD_CC, s->field, &o, scratch, scratch_len);
+    *ms = 1e3 * (now_seconds() - t0);
+    if (r == HF_OK) memcpy(out, scratch + scratch_len - len, sizeof(float) * len);
+    free(scratch);
+    return r == HF_OK ? 0 : -1;
+}
+
+/* Edits the samples `rect` of `s` (a bumpy change of every sample: a quarter of 0 to
+ * 4 grid units up) on the CPU side (heights, field, pyramid refreshed by
+ * hf_maxmip_update_rect, timed in *ms) and in the texture `tex`. */
+static hf_result edit_rect(scene *s, GLuint tex, const uint32_t rect[4], double *ms) {
+    uint32_t rw = rect[2] - rect[0], rh = rect[3] - rect[1];
+    float *v = (float *)malloc(sizeof(float) * rw * rh);
+    for (uint32_t j = 0; j < rh; j++)
+        for (uint32_t i = 0; i < rw; i++) {
+            float *h = &s->heights[(size_t)(rect[1] + j) * s->w + rect[0] + i];
+            *h += 0.25f * (float)((i * 7 + j * 3) % 5);
+            v[j * rw + i] = *h;
+        }
+    double t0 = now_seconds();
+    hf_result rc = hf_field_update_rect(s->field, rect[0], rect[1], rect[2], rect[3], v,
+                                        (size_t)rw * rh, rw);
+    if (rc == HF_OK)
+        rc = hf_maxmip_update_rect(s->field, rect[0], rect[1], rect[2], rect[3], s->pyramid,
+                                   s->pyramid_len);
+    *ms = 1e3 * (now_seconds() - t0);
+    glBindTexture(GL_TEXTURE_2D, tex);
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
+    glTexSubImage2D(GL_TEXTURE_2D, 0, (GLint)rect[0], (GLint)rect[1], (GLsizei)rw, (GLsizei)rh,
+                    GL_RED, GL_FLOAT, v);
+    free(v);
+    return rc;
+}
+
+/* The GPU bakes of one map against the CPU's: the pyramid whole, then refreshed after
+ * edits of about 1 %, 10 % and 100 % of the samples; the N-buffers for the cone
+ * reaches 6 and 255. */
+static void gpu_bake_map(const char *path, tally *t) {
+    scene s;
+    if (scene_load_heights(&s, path) != 0) {
+        printf("skip %s\n", path);
+        return;
+    }
+    gpu_bakes b;
+    if (gpu_bakes_init(&b, s.w, s.h) != 0) {
+        t->failed++;
+        scene_free(&s);
+        return;
+    }
+    GLuint tex = make_texture(GL_R32F, (int)s.w, (int)s.h, GL_RED, GL_FLOAT, s.heights);
+    float *got = (float *)malloc(sizeof(float) * b.pyramid_len);
+    /* The CPU's whole bake, timed on one thread (scene_load_heights baked it on all). */
+    hf_bake_options o;
+    hf_bake_options_default(HF_METHOD_MAXMIP, &o);
+    o.threads = 1;
+    double t0 = now_seconds();
+    hf_result rc = hf_bake(HF_METHOD_MAXMIP, s.field, &o, s.pyramid, s.pyramid_len);
+    double cpu_ms = 1e3 * (now_seconds() - t0);
+    t0 = now_seconds();
+    long texels = rc == HF_OK ? gpu_pyramid_bake(&b, s.w, s.h, tex, NULL, 0) : -1;
+    glFinish();
+    double gpu_ms = 1e3 * (now_seconds() - t0);
+    gpu_pyramid_read(&b, got);
+    bake_result(t, s.name, "maximum mipmap", b.pyramid_len, cpu_ms, gpu_ms,
+                texels < 0 ? 0 : first_difference(got, s.pyramid, b.pyramid_len), got, s.pyramid);
+    uint32_t side = s.w < s.h ? s.w : s.h;
+    const uint32_t radii[3] = {side / 20, side / 6, s.w + s.h};
+    for (int e = 0; e < 3; e++) {
+        uint32_t r = radii[e], cx = (uint32_t)(e + 1) * s.w / 4, cy = s.h / 2;
+        uint32_t rect[4] = {cx > r ? cx - r : 0, cy > r ? cy - r : 0, cx + r + 1, cy + r + 1};
+        if (rect[2] > s.w) rect[2] = s.w;
+        if (rect[3] > s.h) rect[3] = s.h;
+        rc = edit_rect(&s, tex, rect, &cpu_ms);
+        t0 = now_seconds();
+        texels = gpu_pyramid_bake(&b, s.w, s.h, tex, rect, 0);
+        glFinish();
+        gpu_ms = 1e3 * (now_seconds() - t0);
+        gpu_pyramid_read(&b, got);
+        char what[64];
+        double share = 100.0 * (rect[2] - rect[0]) * (rect[3] - rect[1]) / ((double)s.w * s.h);
+        snprintf(what, sizeof what, "update %.1f %% (%ld texels)", share, texels);
+        long at = rc != HF_OK || texels < 0 ? 0 : first_difference(got, s.pyramid, b.pyramid_len);
+        bake_result(t, s.name, what, b.pyramid_len, cpu_ms, gpu_ms, at, got, s.pyramid);
+    }
+    free(got);
+    for (int c = 0; c < 2; c++) {
+        uint32_t cap = c == 0 ? 6 : 255;
+        size_t len = 0;
+        if (hf_nbuffer_len(s.w, s.h, cap, &len) != HF_OK) {
+            t->failed++;
+            continue;
+        }
+        float *want = (float *)malloc(sizeof(float) * len);
+        float *gpu_nb = (float *)malloc(sizeof(float) * len);
+        int ok = cpu_nbuffers(&s, cap, want, len, &cpu_ms) == 0;
+        t0 = now_seconds();
+        ok = ok && gpu_nbuffer_bake(&b, s.w, s.h, tex, cap, gpu_nb, len) == 0;
+        gpu_ms = 1e3 * (now_seconds() - t0);
+        char what[64];
+        snprintf(what, sizeof what, "n-buffers, cap %u", cap);
+        bake_result(t, s.name, what, len, cpu_ms, gpu_ms,
+                    ok ? first_difference(gpu_nb, want, len) : 0, gpu_nb, want);
+        free(want);
+        free(gpu_nb);
+    }
+    glDeleteTextures(1, &tex);
+    gpu_bakes_free(&b);
+    scene_free(&s);
+}
+
+static int run_gpu_bake(int nmaps, char **maps) {
+    if (tests_start() != 0) return 2;
+    tally t = {0, 0, 0, NULL};
+    for (int m = 0; m < nmaps; m++) gpu_bake_map(maps[m], &t);
+    gl_stop();
+    return t.passed == 0 ? 2 : tests_result("gpu-bake", &t);
+}
+
+/* ---- dynamic terrain ------------------------------------------------------------------ */
+
+typedef struct dynamic_ctx {
+    int frames;
+    tally t;
+} dynamic_ctx;
+
+/* `frames` frames of the dynamic scene on one map: each edits the heights (a mound
+ * moving along a circle), refreshes the GPU pyramid for the edit only, renders the
+ * maximum-mipmap march, and compares every pixel with the CPU's answer on the CPU's
+ * own refreshed pyramid. */
+static void dynamic_map(map_job *j, int w, int h, void *ctx) {
+    dynamic_ctx *d = (dynamic_ctx *)ctx;
+    gpu_bakes b;
+    if (gpu_bakes_init(&b, j->s.w, j->s.h) != 0) {
+        d->t.failed++;
+        return;
+    }
+    /* The pyramid the renderer reads comes from the GPU bake from the first frame on. */
+    if (gpu_pyramid_bake(&b, j->s.w, j->s.h, j->g.tex_heights, NULL, j->g.tex_pyramid) < 0)
+        d->t.failed++;
+    method_cfg c = cfg_of(HF_METHOD_MAXMIP, HF_SURFACE_TRIANGLES);
+    frame f;
+    frame_alloc(&f, w, h);
+    double cpu_total = 0, gpu_total = 0;
+    int worst = 0;
+    for (int k = 0; k < d->frames; k++) {
+        uint32_t rect[4];
+        double cpu_ms = 0;
+        if (dynamic_edit(&j->s, j->g.tex_heights, k, rect, &cpu_ms) != 0) {
+            d->t.failed++;
+            break;
+        }
+        double t0 = now_seconds();
+        long texels =
+            gpu_pyramid_bake(&b, j->s.w, j->s.h, j->g.tex_heights, rect, j->g.tex_pyramid);
+        glFinish();
+        double gpu_ms = 1e3 * (now_seconds() - t0);
+        double ms = render_ms(j, c, 0, 0);
+        gpu_read(&j->g, &f);
+        char label[160];
+        snprintf(label, sizeof label, "%s frame %d", j->s.name, k);
+        parity p = compare(&j->s, c, j->rays, &f, j->depth_far, w, h, 0, label);
+        int ok = texels >= 0 && parity_ok(&p, c.method);
+        printf("dynamic %-40s edit %ux%u: cpu update %.2f ms, gpu update (software) %.2f ms "
+               "(%ld texels), render %.0f ms; %d pixels, %d differ; shadows %d/%d differ  %s\n",
+               label, rect[2] - rect[0], rect[3] - rect[1], cpu_ms, gpu_ms, texels, ms, p.pixels,
+               p.differ, p.shadow_differ, p.shadow_checked, ok ? "ok" : "FAILED");
+        if (!ok) compare(&j->s, c, j->rays, &f, j->depth_far, w, h, 1, label);
+        if (p.differ > worst) worst = p.differ;
+        cpu_total += cpu_ms;
+        gpu_total += gpu_ms;
+        if (ok)
+            d->t.passed++;
+        else
+            d->t.failed++;
+    }
+    /* After all frames, the GPU's pyramid is the CPU's, byte for byte. */
+    float *got = (float *)malloc(sizeof(float) * b.pyramid_len);
+    gpu_pyramid_read(&b, got);
+    long at = first_difference(got, j->s.pyramid, b.pyramid_len);
+    printf("dynamic %-40s %d frames: pyramid after them %s; mean update cpu %.2f ms, gpu "
+           "(software) %.2f ms; most pixels differing in a frame %d\n",
+           j->s.name, d->frames, at < 0 ? "identical" : "DIFFERS", cpu_total / d->frames,
+           gpu_total / d->frames, worst);
+    if (at < 0)
+        d->t.passed++;
+    else
+        d->t.failed++;
+    free(got);
+    frame_free(&f);
+    gpu_bakes_free(&b);
+}
+
+static int run_dynamic(int frames, int nmaps, char **maps) {
+    if (frames < 1 || tests_start() != 0) return 2;
+    dynamic_ctx d = {frames, {0, 0, 0, NULL}};
+    int loaded = for_each_map(TEST_W, TEST_H, nmaps, maps, 0, "", dynamic_map, &d);
+    int stop = tests_stop(loaded);
+    return stop ? stop : tests_result("dynamic", &d.t);
+}
+
 int main(int argc, char **argv) {
     if (argc >= 4 && strcmp(argv[1], "test") == 0) return run_tests(argv[2], argc - 3, argv + 3);
     if (argc >= 6 && strcmp(argv[1], "bench") == 0)
         return run_bench(atoi(argv[2]), atoi(argv[3]), atoi(argv[4]), argc - 5, argv + 5);
     if (argc == 3 && strcmp(argv[1], "shaders") == 0) return dump_shaders(argv[2]);
+    if (argc >= 3 && strcmp(argv[1], "gpu-bake") == 0) return run_gpu_bake(argc - 2, argv + 2);
+    if (argc >= 4 && strcmp(argv[1], "dynamic") == 0)
+        return run_dynamic(atoi(argv[2]), argc - 3, argv + 3);
     if (argc >= 3 && strcmp(argv[1], "generated") == 0) return run_generated(argc - 2, argv + 2);
     if (argc >= 6 && strcmp(argv[1], "bench-generated") == 0)
         return run_bench_generated(atoi(argv[2]), atoi(argv[3]), atoi(argv[4]), argc - 5,
@@ -953,7 +1085,9 @@ int main(int argc, char **argv) {
             "       %s bench W H FRAMES MAP.png...\n"
             "       %s shaders OUTDIR\n"
             "       %s generated MAP.png...\n"
-            "       %s bench-generated W H FRAMES MAP.png...\n",
-            argv[0], argv[0], argv[0], argv[0], argv[0]);
+            "       %s bench-generated W H FRAMES MAP.png...\n"
+            "       %s gpu-bake MAP.png...\n"
+            "       %s dynamic FRAMES MAP.png...\n",
+            argv[0], argv[0], argv[0], argv[0], argv[0], argv[0], argv[0]);
     return 2;
 }

@@ -2117,21 +2117,36 @@ static void test_shader_source(void) {
     CHECK_BAD(hf_shader_source(0, buf, sizeof buf, NULL), HF_ERR_NULL_POINTER, buf, sizeof buf);
 }
 
+/* The source `fn(lang)` of a GPU bake (`len_fn` its size query), checked for its
+ * length, NUL and the strings of `want` (NULL-terminated). */
+static void check_bake_source(hf_result (*len_fn)(uint32_t, size_t *),
+                              hf_result (*fn)(uint32_t, char *, size_t, size_t *), uint32_t lang,
+                              const char *const *want) {
+    size_t len = 0, written = 0;
+    CHECK_OK(len_fn(lang, &len));
+    char *src = (char *)malloc(len);
+    CHECK_OK(fn(lang, src, len, &written));
+    CHECK(written == len - 1 && strlen(src) == written);
+    for (; *want; want++) CHECK(strstr(src, *want) != NULL);
+    free(src);
+    CHECK_BAD(len_fn(9, &len), HF_ERR_INVALID_ENUM, &len, sizeof len);
+    char buf[16];
+    CHECK_BAD(fn(lang, buf, sizeof buf, &written), HF_ERR_BUFFER_TOO_SMALL, buf, sizeof buf);
+}
+
 /* The GPU maximum-mipmap bake's shader and passes: a pass per level, in the layout of
  * hf_maxmip_levels; an update's passes cover the texels the edit touches only; the
- * WGSL source has the entry point and bindings; bad inputs write nothing. */
+ * WGSL source and the GLSL compute shader have the entry point and bindings; bad
+ * inputs write nothing. */
 static void test_gpu_bake(void) {
-    size_t len = 0, written = 0;
-    CHECK_OK(hf_maxmip_bake_shader_len(HF_SHADER_WGSL, &len));
-    char *src = (char *)malloc(len);
-    CHECK_OK(hf_maxmip_bake_shader(HF_SHADER_WGSL, src, len, &written));
-    CHECK(written == len - 1 && strlen(src) == written);
-    CHECK(strstr(src, "fn maxmip_bake_pass(") != NULL);
-    CHECK(strstr(src, "@binding(13) var<storage, read_write> hf_pyramid_out") != NULL);
-    CHECK(strstr(src, "@binding(14) var<uniform> hf_maxmip_pass") != NULL);
-    free(src);
-    CHECK_BAD(hf_maxmip_bake_shader_len(HF_SHADER_GLSL, &len), HF_ERR_NOT_BUILT, &len, sizeof len);
-    CHECK_BAD(hf_maxmip_bake_shader_len(9, &len), HF_ERR_INVALID_ENUM, &len, sizeof len);
+    const char *wgsl[] = {"fn maxmip_bake_pass(",
+                          "@binding(13) var<storage, read_write> hf_pyramid_out",
+                          "@binding(14) var<uniform> hf_maxmip_pass", NULL};
+    const char *glsl[] = {"#version 430 core", "void main()",
+                          "layout(std430, binding = 13) buffer", "layout(std140, binding = 14) uniform",
+                          NULL};
+    check_bake_source(hf_maxmip_bake_shader_len, hf_maxmip_bake_shader, HF_SHADER_WGSL, wgsl);
+    check_bake_source(hf_maxmip_bake_shader_len, hf_maxmip_bake_shader, HF_SHADER_GLSL, glsl);
 
     hf_level levels[HF_MAX_LEVELS];
     hf_maxmip_pass passes[HF_MAX_LEVELS];
@@ -2178,6 +2193,68 @@ static void test_gpu_bake(void) {
               keep, sizeof keep);
 }
 
+/* The GPU N-buffer bake's shader, passes and size: the passes write every float of
+ * hf_nbuffer_len once, each binding an aligned range that holds what it reads and
+ * writes; the size is the end of hf_bake_prepare's scratch for HF_METHOD_CC; bad
+ * inputs write nothing. */
+static void test_gpu_nbuffer_bake(void) {
+    const char *wgsl[] = {"fn nbuffer_bake_pass(",
+                          "@binding(15) var<storage, read_write> hf_nbuffer_out",
+                          "@binding(16) var<uniform> hf_nbuffer_pass", NULL};
+    const char *glsl[] = {"#version 430 core", "void main()",
+                          "layout(std430, binding = 15) buffer", "layout(std140, binding = 16) uniform",
+                          NULL};
+    check_bake_source(hf_nbuffer_bake_shader_len, hf_nbuffer_bake_shader, HF_SHADER_WGSL, wgsl);
+    check_bake_source(hf_nbuffer_bake_shader_len, hf_nbuffer_bake_shader, HF_SHADER_GLSL, glsl);
+
+    size_t len = 0, written = 0;
+    CHECK_OK(hf_nbuffer_len(37, 19, 64, &len));
+    hf_nbuffer_pass passes[HF_NBUFFER_MAX_PASSES];
+    uint32_t n = 0;
+    CHECK_OK(hf_nbuffer_bake_passes(37, 19, 64, passes, HF_NBUFFER_MAX_PASSES, &n));
+    CHECK(n > 4 && n <= HF_NBUFFER_MAX_PASSES);
+    for (uint32_t p = 0; p < n; p++) {
+        const uint32_t *u = passes[p].uniform; /* kind, axis, rows, row_len, dst, src, .. */
+        written += (size_t)u[2] * u[3];
+        CHECK(u[0] <= 2 && u[1] <= 1 && passes[p].bind_offset % 256 == 0);
+        CHECK(passes[p].bind_offset + passes[p].bind_size <= 4 * (uint64_t)len);
+        CHECK(4 * ((uint64_t)u[4] + (uint64_t)u[2] * u[3]) == passes[p].bind_size);
+        CHECK(passes[p].workgroups[0] == (u[3] + 7) / 8 && passes[p].workgroups[1] == (u[2] + 7) / 8);
+    }
+    CHECK(written == len);
+    /* The N-buffers are the last floats of the cylinder-cone bake's scratch. */
+    hf_bake_options o;
+    CHECK_OK(hf_bake_options_default(HF_METHOD_CC, &o));
+    o.cap = 64;
+    size_t scratch_len = 0;
+    CHECK_OK(hf_bake_scratch_len(HF_METHOD_CC, 37, 19, &o, &scratch_len));
+    CHECK(scratch_len > len);
+
+    hf_nbuffer_pass keep[HF_NBUFFER_MAX_PASSES];
+    memset(keep, 0xAB, sizeof keep);
+    n = 77;
+    CHECK_BAD(hf_nbuffer_bake_passes(37, 19, 256, keep, HF_NBUFFER_MAX_PASSES, &n),
+              HF_ERR_INVALID_ARGUMENT, keep, sizeof keep);
+    CHECK(n == 77);
+    CHECK_BAD(hf_nbuffer_bake_passes(37, 19, 64, keep, 2, &n), HF_ERR_BUFFER_TOO_SMALL, keep,
+              sizeof keep);
+    CHECK_BAD(hf_nbuffer_bake_passes(1, 19, 64, keep, HF_NBUFFER_MAX_PASSES, &n),
+              HF_ERR_INVALID_SIZE, keep, sizeof keep);
+    /* A valid field, but N-buffers of 2^32 floats or more: the shader's offsets are 32-bit. */
+    CHECK_BAD(hf_nbuffer_bake_passes(20000, 20000, 255, keep, HF_NBUFFER_MAX_PASSES, &n),
+              HF_ERR_INVALID_SIZE, keep, sizeof keep);
+    CHECK_BAD(hf_nbuffer_bake_passes(37, 19, 64, NULL, HF_NBUFFER_MAX_PASSES, &n),
+              HF_ERR_NULL_POINTER, &n, sizeof n);
+    CHECK_BAD(hf_nbuffer_bake_passes(37, 19, 64, keep, HF_NBUFFER_MAX_PASSES, NULL),
+              HF_ERR_NULL_POINTER, keep, sizeof keep);
+    size_t keep_len = 5;
+    CHECK_BAD(hf_nbuffer_len(37, 19, 300, &keep_len), HF_ERR_INVALID_ARGUMENT, &keep_len,
+              sizeof keep_len);
+    CHECK_BAD(hf_nbuffer_len(37, 1, 64, &keep_len), HF_ERR_INVALID_SIZE, &keep_len,
+              sizeof keep_len);
+    CHECK_BAD(hf_nbuffer_len(37, 19, 64, NULL), HF_ERR_NULL_POINTER, &written, 0);
+}
+
 int main(void) {
     test_version_and_messages();
     test_field_constructors();
@@ -2196,6 +2273,7 @@ int main(void) {
     test_build_and_plan();
     test_shader_source();
     test_gpu_bake();
+    test_gpu_nbuffer_bake();
     printf("c api: %d checks, %d bad inputs tried\n", checks, bad_inputs);
     printf("c-api: %d passed, %d failed\n", checks - failures, failures);
     return failures == 0 ? 0 : 1;

@@ -222,6 +222,12 @@ typedef uint32_t hf_surface;
 // field).
 #define HF_MAP_FINGERPRINT_KNOWN 1
 
+#if defined(HF_HAVE_SAFETY)
+// Most passes `hf_nbuffer_bake_passes` writes: per axis, the two level-0 passes and
+// one per level above (at most 10 levels).
+#define HF_NBUFFER_MAX_PASSES 22
+#endif
+
 // Ray-class bit of `hf_scene::ray_classes`: rays with dx ≥ |dy|.
 #define HF_RAYS_X_POS 1
 
@@ -709,6 +715,24 @@ typedef struct hf_maxmip_pass {
   // height, the texels written `lo` (x, y) and `hi` (x, y, exclusive), then 2 zeros.
   uint32_t uniform[12];
 } hf_maxmip_pass;
+#endif
+
+#if defined(HF_HAVE_SAFETY)
+// One dispatch of the GPU N-buffer bake (`hf_nbuffer_bake_passes`), a compute pass of
+// the shader of `hf_nbuffer_bake_shader`.
+typedef struct hf_nbuffer_pass {
+  // Workgroups along x (along a row of samples) and y (across rows), each 8 × 8.
+  uint32_t workgroups[2];
+  // Its uniform `hf_nbuffer_pass` (`NbufferPass`, 32 bytes): kind (0 heights, 1
+  // doubling, 2 blocks), axis, rows, row length, first element written and first
+  // element read (counted from `bind_offset`), half window, sample columns.
+  uint32_t uniform[8];
+  // The byte range of the N-buffer storage buffer the pass binds as
+  // `hf_nbuffer_out`: from `bind_offset` (a multiple of 256) …
+  uint64_t bind_offset;
+  // … `bind_size` bytes (at most two levels of one axis).
+  uint64_t bind_size;
+} hf_nbuffer_pass;
 #endif
 
 // What a scene uses; shader generation and bakes leave out everything else. Fill it
@@ -1360,14 +1384,16 @@ hf_result hf_maxmip_bake_shader_len(uint32_t lang,
 // Writes the compute shader that bakes the maximum mipmap on the GPU in `lang` into
 // `buf` as a NUL-terminated string and its length without the NUL to
 // `*out_written` (`buf_len` at least `hf_maxmip_bake_shader_len`). Its entry point
-// `maxmip_bake_pass` writes one level's texels (or those an edit touches) into the
-// storage buffer `hf_pyramid_out` (binding 13, `hf_maxmip_levels`' layout, `float`s)
-// from the heights texture `hf_heights` (binding 0, R32Float W × H) or the finer
-// level, reading its `hf_maxmip_pass` uniform (binding 14); dispatch
-// `hf_maxmip_bake_passes` in order, each finished before the next. The result equals
-// `hf_bake` of `HF_METHOD_MAXMIP` (and `hf_maxmip_update` for an edit) byte for byte.
-// `HF_SHADER_WGSL` only: `HF_SHADER_GLSL` is `HF_ERR_NOT_BUILT` (no GLSL compute port
-// yet), another value `HF_ERR_INVALID_ENUM`. Thread safe.
+// (WGSL `maxmip_bake_pass`, GLSL `main`) writes one level's texels (or those an edit
+// touches) into the storage buffer `hf_pyramid_out` (binding 13, `hf_maxmip_levels`'
+// layout, `float`s) from the heights texture `hf_heights` (binding 0 / texture unit 0,
+// R32F W × H) or the finer level, reading its `hf_maxmip_pass` uniform (binding 14, a
+// uniform block in GLSL); dispatch `hf_maxmip_bake_passes` in order, each finished
+// before the next (in OpenGL `glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT)` between
+// them). The result equals `hf_bake` of `HF_METHOD_MAXMIP` (and `hf_maxmip_update` for
+// an edit) byte for byte. `HF_SHADER_WGSL` or `HF_SHADER_GLSL` (a whole GLSL 4.30
+// compute shader, its `#version` line included); another value is
+// `HF_ERR_INVALID_ENUM`. Thread safe.
 //
 // # Safety
 // `buf` is NULL (an error) or valid for writing `buf_len` bytes; `out_written` NULL
@@ -1398,6 +1424,75 @@ hf_result hf_maxmip_bake_passes(uint32_t width,
                                 struct hf_maxmip_pass *out_passes,
                                 size_t out_passes_len,
                                 uint32_t *out_count);
+#endif
+
+#if defined(HF_HAVE_SAFETY)
+// Writes the floats of the N-buffers of a `width × height` field for the cone reach
+// `cap` (the `hf_bake_options.cap` of `HF_METHOD_CC`) to `*out_len`: the size of the
+// storage buffer the GPU bake fills, and the last part of `hf_bake_prepare`'s scratch
+// for `HF_METHOD_CC` (after the strip bounds), in the same layout.
+// `HF_ERR_INVALID_SIZE` for a size no field has, `HF_ERR_INVALID_ARGUMENT` for a cap
+// over 255. Thread safe.
+//
+// # Safety
+// `out_len` is NULL (an error) or valid for writing one `size_t`.
+hf_result hf_nbuffer_len(uint32_t width,
+                         uint32_t height,
+                         uint32_t cap,
+                         size_t *out_len);
+#endif
+
+#if defined(HF_HAVE_SAFETY)
+// Writes the length in bytes of `hf_nbuffer_bake_shader(lang)`, including its NUL
+// terminator, to `*out_len`. Errors as `hf_nbuffer_bake_shader`. Thread safe.
+//
+// # Safety
+// `out_len` is NULL (an error) or valid for writing one `size_t`.
+hf_result hf_nbuffer_bake_shader_len(uint32_t lang,
+                                     size_t *out_len);
+#endif
+
+#if defined(HF_HAVE_SAFETY)
+// Writes the compute shader that fills the N-buffers on the GPU in `lang` into `buf`
+// as a NUL-terminated string and its length without the NUL to `*out_written`
+// (`buf_len` at least `hf_nbuffer_bake_shader_len`). Its entry point (WGSL
+// `nbuffer_bake_pass`, GLSL `main`) writes one pass's elements into the storage buffer
+// `hf_nbuffer_out` (binding 15, `float`s, `hf_nbuffer_len` of them; each pass binds
+// the byte range of its `bind_offset` and `bind_size`) from the heights texture
+// `hf_heights` (binding 0 / texture unit 0, R32F W × H) or the levels below, reading
+// its `hf_nbuffer_pass` uniform (binding 16, a uniform block in GLSL); dispatch
+// `hf_nbuffer_bake_passes` in order, each finished before the next (in OpenGL
+// `glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT)` between them). The result equals
+// the N-buffers `hf_bake_prepare` writes for `HF_METHOD_CC` byte for byte.
+// `HF_SHADER_WGSL` or `HF_SHADER_GLSL` (a whole GLSL 4.30 compute shader, its
+// `#version` line included); another value is `HF_ERR_INVALID_ENUM`. Thread safe.
+//
+// # Safety
+// `buf` is NULL (an error) or valid for writing `buf_len` bytes; `out_written` NULL
+// (an error) or valid for writing one `size_t`.
+hf_result hf_nbuffer_bake_shader(uint32_t lang,
+                                 char *buf,
+                                 size_t buf_len,
+                                 size_t *out_written);
+#endif
+
+#if defined(HF_HAVE_SAFETY)
+// Writes the passes of the GPU N-buffer bake of a `width × height` field for the cone
+// reach `cap` to `out_passes` and their count to `*out_count`
+// (`HF_NBUFFER_MAX_PASSES` always suffice). `HF_ERR_INVALID_SIZE` for a size no field
+// has or N-buffers of 2³² floats or more (the shader's offsets are 32-bit),
+// `HF_ERR_INVALID_ARGUMENT` for a cap over 255, `HF_ERR_BUFFER_TOO_SMALL` when
+// `out_passes_len` is below the count. Nothing is written on an error. Thread safe.
+//
+// # Safety
+// `out_passes` is NULL (an error) or valid for writing `out_passes_len` passes;
+// `out_count` NULL (an error) or valid for writing one `uint32_t`.
+hf_result hf_nbuffer_bake_passes(uint32_t width,
+                                 uint32_t height,
+                                 uint32_t cap,
+                                 struct hf_nbuffer_pass *out_passes,
+                                 size_t out_passes_len,
+                                 uint32_t *out_count);
 #endif
 
 // Writes the general scene of `method` on `surface` to `*out`: every ray class,

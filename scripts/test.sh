@@ -104,6 +104,15 @@ echo "== OSMesa (llvmpipe): generated minimal shaders against the general ones a
 "${C_MAKE[@]}" render-generated-test MAPS="$C_MAPS" 2>&1 | tee -a target/c_tests.log
 echo "== GLFW under Xvfb: the window's screenshot against the OSMesa image"
 "${C_MAKE[@]}" glfw-test 2>&1 | tee -a target/c_tests.log
+echo "== OSMesa (llvmpipe): GPU bakes in GLSL compute (maximum mipmap whole and updated, N-buffers) against the CPU's, byte for byte, on every map"
+GPU_BAKE_MAPS="../data/dem_jacksboro_fault_403x344.png"
+for m in ../shared/data/*.png; do
+  if [ -f "$m" ]; then GPU_BAKE_MAPS="$GPU_BAKE_MAPS ../$m"; fi
+done
+"${C_MAKE[@]}" gpu-bake-test GPU_BAKE_MAPS="$GPU_BAKE_MAPS" 2>&1 | tee -a target/c_tests.log
+echo "== Dynamic terrain (OSMesa and GLFW under Xvfb): heights edited every frame, the pyramid refreshed on the GPU for the edit, every frame against the CPU"
+"${C_MAKE[@]}" dynamic-test MAPS="$C_MAPS" 2>&1 | tee -a target/c_tests.log
+"${C_MAKE[@]}" glfw-dynamic-test 2>&1 | tee -a target/c_tests.log
 echo "== Embree (watertight) as an oracle: hfcast's exact CC, maximum-mipmap, safety-distance and DDA marches, every hit that differs within rounding"
 # The synthetic fields at 256² too: fBm, and one-texel walls and needles (embree_bench.c).
 EMBREE_MAPS="$C_MAPS synthetic:fractal:256 synthetic:needles:256"

@@ -34,6 +34,8 @@ pub mod mapdesc;
 pub mod maps;
 #[cfg(feature = "maxmip")]
 pub mod maxmip;
+#[cfg(feature = "safety")]
+pub mod nbuffer;
 mod par;
 mod ptr;
 pub mod scene;

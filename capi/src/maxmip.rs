@@ -241,16 +241,7 @@ pub struct hf_maxmip_pass {
 
 /// The GPU bake's source in `lang`, or why not.
 fn bake_source(lang: u32) -> Result<String, hf_result> {
-    match lang {
-        crate::shader::HF_SHADER_WGSL => {
-            hfcast_shaders::file(hfcast_shaders::Lang::Wgsl, "bake_maxmip")
-                .map(String::from)
-                .ok_or(HF_ERR_NOT_BUILT)
-        }
-        // Not ported to GLSL compute yet.
-        crate::shader::HF_SHADER_GLSL => Err(HF_ERR_NOT_BUILT),
-        _ => Err(HF_ERR_INVALID_ENUM),
-    }
+    crate::shader::gpu_bake_source("bake_maxmip", lang)
 }
 
 /// Writes the length in bytes of `hf_maxmip_bake_shader(lang)`, including its NUL
@@ -267,14 +258,16 @@ pub unsafe extern "C" fn hf_maxmip_bake_shader_len(lang: u32, out_len: *mut usiz
 /// Writes the compute shader that bakes the maximum mipmap on the GPU in `lang` into
 /// `buf` as a NUL-terminated string and its length without the NUL to
 /// `*out_written` (`buf_len` at least `hf_maxmip_bake_shader_len`). Its entry point
-/// `maxmip_bake_pass` writes one level's texels (or those an edit touches) into the
-/// storage buffer `hf_pyramid_out` (binding 13, `hf_maxmip_levels`' layout, `float`s)
-/// from the heights texture `hf_heights` (binding 0, R32Float W × H) or the finer
-/// level, reading its `hf_maxmip_pass` uniform (binding 14); dispatch
-/// `hf_maxmip_bake_passes` in order, each finished before the next. The result equals
-/// `hf_bake` of `HF_METHOD_MAXMIP` (and `hf_maxmip_update` for an edit) byte for byte.
-/// `HF_SHADER_WGSL` only: `HF_SHADER_GLSL` is `HF_ERR_NOT_BUILT` (no GLSL compute port
-/// yet), another value `HF_ERR_INVALID_ENUM`. Thread safe.
+/// (WGSL `maxmip_bake_pass`, GLSL `main`) writes one level's texels (or those an edit
+/// touches) into the storage buffer `hf_pyramid_out` (binding 13, `hf_maxmip_levels`'
+/// layout, `float`s) from the heights texture `hf_heights` (binding 0 / texture unit 0,
+/// R32F W × H) or the finer level, reading its `hf_maxmip_pass` uniform (binding 14, a
+/// uniform block in GLSL); dispatch `hf_maxmip_bake_passes` in order, each finished
+/// before the next (in OpenGL `glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT)` between
+/// them). The result equals `hf_bake` of `HF_METHOD_MAXMIP` (and `hf_maxmip_update` for
+/// an edit) byte for byte. `HF_SHADER_WGSL` or `HF_SHADER_GLSL` (a whole GLSL 4.30
+/// compute shader, its `#version` line included); another value is
+/// `HF_ERR_INVALID_ENUM`. Thread safe.
 ///
 /// # Safety
 /// `buf` is NULL (an error) or valid for writing `buf_len` bytes; `out_written` NULL

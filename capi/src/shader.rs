@@ -38,6 +38,21 @@ unsafe fn generated(scene: *const hf_scene, lang: u32) -> Result<String, hf_resu
     })
 }
 
+/// The source of the GPU bake `stem` (`bake_maxmip`, `bake_nbuffer`) in `lang` (an
+/// `HF_SHADER_*`): WGSL, or a whole GLSL 4.30 compute shader (its `#version` line
+/// included).
+#[cfg(any(feature = "maxmip", feature = "safety"))]
+pub(crate) fn gpu_bake_source(stem: &str, lang: u32) -> Result<String, hf_result> {
+    let lang = match lang {
+        HF_SHADER_GLSL => Lang::Glsl,
+        HF_SHADER_WGSL => Lang::Wgsl,
+        _ => return Err(HF_ERR_INVALID_ENUM),
+    };
+    hfcast_shaders::file(lang, stem)
+        .map(String::from)
+        .ok_or(HF_ERR_NOT_BUILT)
+}
+
 /// Writes the length of `text()` plus one (its NUL terminator) to `*out_len`, checked
 /// first: the `*_len` query of `write_text`.
 ///

@@ -54,13 +54,9 @@ fn wgsl_files() -> Vec<(String, &'static str)> {
         .collect()
 }
 
-/// [`wgsl_files`] that have a GLSL port: all but the GPU bakes (WGSL compute shaders of
-/// their own, not ported yet).
+/// [`wgsl_files`] that have a GLSL port: all of them (the GPU bakes too).
 fn ported_wgsl_files() -> Vec<(String, &'static str)> {
     wgsl_files()
-        .into_iter()
-        .filter(|(name, _)| !hfcast_shaders::translate::is_gpu_bake(name.trim_end_matches(".wgsl")))
-        .collect()
 }
 
 /// The compiled-in GLSL file that `name` (`x.wgsl`) ports.
@@ -262,12 +258,21 @@ fn glsl_directive_lines_are_mirrored() {
 }
 
 /// The functions a file defines at top level: GLSL `type name(...) {` lines (not
-/// prototypes, which end in `);`), WGSL `fn name(` lines.
+/// prototypes, which end in `);`), WGSL `fn name(` lines; but the entry points of the
+/// GPU bakes (GLSL `main`, a WGSL `fn` after `@compute`).
 fn defined_functions(text: &str, wgsl: bool) -> Vec<String> {
-    let mut names: Vec<String> = text
-        .lines()
-        .filter(|l| !l.starts_with(' ') && !l.starts_with("//") && !l.trim_end().ends_with(");"))
-        .filter_map(|l| {
+    let lines: Vec<&str> = text.lines().collect();
+    let entry = |k: usize| k > 0 && lines[k - 1].starts_with("@compute");
+    let mut names: Vec<String> = lines
+        .iter()
+        .enumerate()
+        .filter(|&(k, l)| {
+            !l.starts_with(' ')
+                && !l.starts_with("//")
+                && !l.trim_end().ends_with(");")
+                && !entry(k)
+        })
+        .filter_map(|(_, l)| {
             let head = if wgsl {
                 l.strip_prefix("fn ")?
             } else {
@@ -278,8 +283,7 @@ fn defined_functions(text: &str, wgsl: bool) -> Vec<String> {
                 rest
             };
             let name = head.split_once('(')?.0;
-            name.chars()
-                .all(|c| c.is_ascii_alphanumeric() || c == '_')
+            (name != "main" && name.chars().all(|c| c.is_ascii_alphanumeric() || c == '_'))
                 .then(|| name.to_string())
         })
         .collect();
