@@ -32,16 +32,20 @@ int gpu_bakes_init(gpu_bakes *b, uint32_t w, uint32_t h) {
     memset(b, 0, sizeof *b);
     char *maxmip = bake_source(hf_maxmip_bake_shader_len, hf_maxmip_bake_shader);
     char *nbuffer = bake_source(hf_nbuffer_bake_shader_len, hf_nbuffer_bake_shader);
-    if (!maxmip || !nbuffer) {
+    char *safety = bake_source(hf_safety_bake_shader_len, hf_safety_bake_shader);
+    if (!maxmip || !nbuffer || !safety) {
         fprintf(stderr, "the library has no GLSL GPU bakes\n");
         free(maxmip);
         free(nbuffer);
+        free(safety);
         return -1;
     }
     b->maxmip = link_compute(maxmip);
     b->nbuffer = link_compute(nbuffer);
+    b->safety = link_compute(safety);
     free(maxmip);
     free(nbuffer);
+    free(safety);
     hf_bake_options o;
     if (hf_bake_options_default(HF_METHOD_MAXMIP, &o) != HF_OK) return -1;
     if (hf_map_len(HF_METHOD_MAXMIP, w, h, &o, &b->pyramid_len) != HF_OK) return -1;
@@ -58,6 +62,7 @@ int gpu_bakes_init(gpu_bakes *b, uint32_t w, uint32_t h) {
 void gpu_bakes_free(gpu_bakes *b) {
     glDeleteProgram(b->maxmip);
     glDeleteProgram(b->nbuffer);
+    glDeleteProgram(b->safety);
     glDeleteBuffers(1, &b->pyramid);
     glDeleteBuffers(1, &b->pass);
 }
@@ -128,7 +133,7 @@ void gpu_pyramid_read(const gpu_bakes *b, float *out) { read_buffer(b->pyramid, 
 
 int gpu_nbuffer_bake(gpu_bakes *b, uint32_t w, uint32_t h, GLuint tex_heights, uint32_t cap,
                      float *out, size_t len) {
-    hf_nbuffer_pass passes[HF_NBUFFER_MAX_PASSES];
+    hf_bake_pass passes[HF_NBUFFER_MAX_PASSES];
     uint32_t n = 0;
     size_t need = 0;
     if (hf_nbuffer_len(w, h, cap, &need) != HF_OK || need != len) return -1;
@@ -144,6 +149,29 @@ int gpu_nbuffer_bake(gpu_bakes *b, uint32_t w, uint32_t h, GLuint tex_heights, u
     }
     read_buffer(nb, out, len);
     glDeleteBuffers(1, &nb);
+    return glGetError() == GL_NO_ERROR ? 0 : -1;
+}
+
+int gpu_safety_bake(gpu_bakes *b, uint32_t w, uint32_t h, GLuint tex_heights,
+                    const hf_bake_options *options, unsigned char *out, size_t len) {
+    hf_bake_pass passes[2];
+    uint32_t n = 0;
+    if (hf_safety_bake_passes(w, h, options, passes, 2, &n) != HF_OK || n != 2) return -1;
+    size_t out_bytes = (size_t)passes[1].bind_size;
+    if (len > out_bytes) return -1;
+    GLuint scratch = make_buffer(GL_SHADER_STORAGE_BUFFER, (size_t)passes[0].bind_size, NULL);
+    GLuint map = make_buffer(GL_SHADER_STORAGE_BUFFER, out_bytes, NULL);
+    glActiveTexture(GL_TEXTURE0);
+    glBindTexture(GL_TEXTURE_2D, tex_heights);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 17, scratch);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 18, map);
+    for (uint32_t p = 0; p < n; p++)
+        dispatch(b, b->safety, 19, passes[p].uniform, sizeof passes[p].uniform, passes[p].workgroups);
+    /* The words' bytes are the map's in order on a little-endian machine. */
+    glBindBuffer(GL_SHADER_STORAGE_BUFFER, map);
+    glGetBufferSubData(GL_SHADER_STORAGE_BUFFER, 0, (GLsizeiptr)len, out);
+    glDeleteBuffers(1, &scratch);
+    glDeleteBuffers(1, &map);
     return glGetError() == GL_NO_ERROR ? 0 : -1;
 }
 

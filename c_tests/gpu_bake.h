@@ -1,6 +1,6 @@
 /* GPU bakes in OpenGL 4.3+ compute shaders, as a C program uses them: the shaders of
- * hf_maxmip_bake_shader and hf_nbuffer_bake_shader (GLSL), dispatched pass by pass
- * from hf_maxmip_bake_passes and hf_nbuffer_bake_passes; and the dynamic-terrain scene
+ * hf_maxmip_bake_shader, hf_nbuffer_bake_shader and hf_safety_bake_shader (GLSL),
+ * dispatched pass by pass from their *_bake_passes; and the dynamic-terrain scene
  * that edits the heights every frame and refreshes the pyramid on the GPU for the
  * edited rectangle only. Shared by both OpenGL renderers. */
 #ifndef HFCAST_GPU_BAKE_H
@@ -9,7 +9,7 @@
 #include "render_common.h"
 
 typedef struct gpu_bakes {
-    GLuint maxmip, nbuffer; /* the compute programs */
+    GLuint maxmip, nbuffer, safety; /* the compute programs */
     GLuint pyramid;         /* storage buffer of the pyramid (hf_pyramid_out) */
     size_t pyramid_len;     /* its floats */
     GLuint pass;            /* uniform buffer of one pass's uniform */
@@ -33,6 +33,13 @@ void gpu_pyramid_read(const gpu_bakes *b, float *out);
  * on the GPU and reads them back into `out` (`len` = hf_nbuffer_len floats). 0, or -1. */
 int gpu_nbuffer_bake(gpu_bakes *b, uint32_t w, uint32_t h, GLuint tex_heights, uint32_t cap,
                      float *out, size_t len);
+
+/* Bakes the safety distances for every ray of the heights in `tex_heights` (W x H) with
+ * `options` (HF_METHOD_SAFETY's, every ray and class) on the GPU, in doubles, and
+ * reads the map's bytes back into `out` (`len` = the map's texels: hf_map_len less
+ * HF_MAP_DESC_BYTES). 0, or -1. */
+int gpu_safety_bake(gpu_bakes *b, uint32_t w, uint32_t h, GLuint tex_heights,
+                    const hf_bake_options *options, unsigned char *out, size_t len);
 
 /* Frame `k` of the dynamic scene: a mound of radius r = max(2, min(W, H) / 16) and
  * height 0.6 r rises at a point that circles the field's centre (raised, not sunk:

@@ -2209,7 +2209,7 @@ static void test_gpu_nbuffer_bake(void) {
 
     size_t len = 0, written = 0;
     CHECK_OK(hf_nbuffer_len(37, 19, 64, &len));
-    hf_nbuffer_pass passes[HF_NBUFFER_MAX_PASSES];
+    hf_bake_pass passes[HF_NBUFFER_MAX_PASSES];
     uint32_t n = 0;
     CHECK_OK(hf_nbuffer_bake_passes(37, 19, 64, passes, HF_NBUFFER_MAX_PASSES, &n));
     CHECK(n > 4 && n <= HF_NBUFFER_MAX_PASSES);
@@ -2230,7 +2230,7 @@ static void test_gpu_nbuffer_bake(void) {
     CHECK_OK(hf_bake_scratch_len(HF_METHOD_CC, 37, 19, &o, &scratch_len));
     CHECK(scratch_len > len);
 
-    hf_nbuffer_pass keep[HF_NBUFFER_MAX_PASSES];
+    hf_bake_pass keep[HF_NBUFFER_MAX_PASSES];
     memset(keep, 0xAB, sizeof keep);
     n = 77;
     CHECK_BAD(hf_nbuffer_bake_passes(37, 19, 256, keep, HF_NBUFFER_MAX_PASSES, &n),
@@ -2255,6 +2255,67 @@ static void test_gpu_nbuffer_bake(void) {
     CHECK_BAD(hf_nbuffer_len(37, 19, 64, NULL), HF_ERR_NULL_POINTER, &written, 0);
 }
 
+/* The GPU safety-distance bake's shader and passes: two passes over the strip slots
+ * and the map's words; options as hf_bake checks them, every ray and class only; bad
+ * inputs write nothing. */
+static void test_gpu_safety_bake(void) {
+    const char *wgsl[] = {"fn safety_bake_pass(", "f64",
+                          "@binding(17) var<storage, read_write> hf_safety_scratch",
+                          "@binding(18) var<storage, read_write> hf_safety_out",
+                          "@binding(19) var<uniform> hf_safety_pass", NULL};
+    const char *glsl[] = {"#version 430 core", "void main()", "double",
+                          "layout(std430, binding = 17) buffer", "layout(std430, binding = 18) buffer",
+                          "layout(std140, binding = 19) uniform", NULL};
+    check_bake_source(hf_safety_bake_shader_len, hf_safety_bake_shader, HF_SHADER_WGSL, wgsl);
+    check_bake_source(hf_safety_bake_shader_len, hf_safety_bake_shader, HF_SHADER_GLSL, glsl);
+
+    hf_bake_pass passes[2];
+    uint32_t n = 0;
+    CHECK_OK(hf_safety_bake_passes(37, 19, NULL, passes, 2, &n));
+    CHECK(n == 2 && passes[0].uniform[0] == 0 && passes[1].uniform[0] == 1);
+    size_t scratch_len = 0, map_len = 0;
+    CHECK_OK(hf_bake_scratch_len(HF_METHOD_SAFETY, 37, 19, NULL, &scratch_len));
+    CHECK_OK(hf_map_len(HF_METHOD_SAFETY, 37, 19, NULL, &map_len));
+    /* The scratch whole, then the map's texels rounded up to words. */
+    CHECK(passes[0].bind_size == 4 * scratch_len);
+    CHECK(passes[1].bind_size == (map_len - HF_MAP_DESC_BYTES + 3) / 4 * 4);
+    for (int p = 0; p < 2; p++) {
+        uint64_t invocations = 64ull * passes[p].workgroups[0] * passes[p].workgroups[1];
+        CHECK(invocations >= passes[p].uniform[6]);
+    }
+    hf_bake_options o;
+    CHECK_OK(hf_bake_options_default(HF_METHOD_SAFETY, &o));
+    o.variant = HF_SAFETY_ISOTROPIC;
+    o.positive = 1;
+    o.cap = 9;
+    CHECK_OK(hf_safety_bake_passes(37, 19, &o, passes, 2, &n));
+    CHECK(passes[1].uniform[3] == 1 && passes[1].uniform[4] == 9 && passes[1].uniform[5] == 1);
+
+    hf_bake_pass keep[2];
+    memset(keep, 0xAB, sizeof keep);
+    n = 77;
+    o.exterior = 1; /* a ray set: bake it with hf_bake */
+    CHECK_BAD(hf_safety_bake_passes(37, 19, &o, keep, 2, &n), HF_ERR_INVALID_ARGUMENT, keep,
+              sizeof keep);
+    o.exterior = 0;
+    o.ray_classes = HF_RAYS_X_POS;
+    CHECK_BAD(hf_safety_bake_passes(37, 19, &o, keep, 2, &n), HF_ERR_INVALID_ARGUMENT, keep,
+              sizeof keep);
+    o.ray_classes = 0;
+    o.cap = 256;
+    CHECK_BAD(hf_safety_bake_passes(37, 19, &o, keep, 2, &n), HF_ERR_INVALID_ARGUMENT, keep,
+              sizeof keep);
+    o.cap = 9;
+    CHECK_BAD(hf_safety_bake_passes(37, 19, &o, keep, 1, &n), HF_ERR_BUFFER_TOO_SMALL, keep,
+              sizeof keep);
+    CHECK_BAD(hf_safety_bake_passes(1, 19, &o, keep, 2, &n), HF_ERR_INVALID_SIZE, keep,
+              sizeof keep);
+    CHECK_BAD(hf_safety_bake_passes(37, 19, &o, NULL, 2, &n), HF_ERR_NULL_POINTER, &n, sizeof n);
+    CHECK_BAD(hf_safety_bake_passes(37, 19, &o, keep, 2, NULL), HF_ERR_NULL_POINTER, keep,
+              sizeof keep);
+    CHECK(n == 77);
+}
+
 int main(void) {
     test_version_and_messages();
     test_field_constructors();
@@ -2274,6 +2335,7 @@ int main(void) {
     test_shader_source();
     test_gpu_bake();
     test_gpu_nbuffer_bake();
+    test_gpu_safety_bake();
     printf("c api: %d checks, %d bad inputs tried\n", checks, bad_inputs);
     printf("c-api: %d passed, %d failed\n", checks - failures, failures);
     return failures == 0 ? 0 : 1;

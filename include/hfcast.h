@@ -211,6 +211,12 @@ typedef uint32_t hf_surface;
 // The side, in pixels, of the square tiles `hf_trace_camera` traces pixels in.
 #define HF_CAMERA_TILE 8
 
+#if defined(HF_HAVE_SAFETY)
+// Most passes `hf_nbuffer_bake_passes` writes: per axis, the two level-0 passes and
+// one per level above (at most 10 levels).
+#define HF_NBUFFER_MAX_PASSES 22
+#endif
+
 // Bytes of the descriptor that follows the texels of every baked map: the map
 // functions' `_len` queries count it, so a buffer of their size holds both. Upload the
 // texels only (the first `len − HF_MAP_DESC_BYTES` bytes, `/ 4` floats for float
@@ -221,12 +227,6 @@ typedef uint32_t hf_surface;
 // restored from a KTX2 file without `hfcast.fingerprint` lacks it and matches no
 // field).
 #define HF_MAP_FINGERPRINT_KNOWN 1
-
-#if defined(HF_HAVE_SAFETY)
-// Most passes `hf_nbuffer_bake_passes` writes: per axis, the two level-0 passes and
-// one per level above (at most 10 levels).
-#define HF_NBUFFER_MAX_PASSES 22
-#endif
 
 // Ray-class bit of `hf_scene::ray_classes`: rays with dx ≥ |dy|.
 #define HF_RAYS_X_POS 1
@@ -636,6 +636,27 @@ typedef struct hf_transform {
   double height_offset;
 } hf_transform;
 
+#if defined(HF_HAVE_SAFETY)
+// One dispatch of a GPU bake of `hf_nbuffer_bake_passes` or `hf_safety_bake_passes`,
+// a compute pass of its shader.
+typedef struct hf_bake_pass {
+  // Workgroups along x and y, each 8 × 8 invocations.
+  uint32_t workgroups[2];
+  // Its 32-byte uniform (`hf_nbuffer_pass`, `NbufferPass`: kind (0 heights, 1
+  // doubling, 2 blocks), axis, rows, row length, first element written and first
+  // element read (counted from `bind_offset`), half window, sample columns;
+  // `hf_safety_pass`, `SafetyBakePass`: kind (0 strip bounds, 1 distances), width,
+  // height, isotropic, cap, least distance, items, invocations per grid row).
+  uint32_t uniform[8];
+  // The byte range of the buffer the pass writes that it binds (the N-buffers: at
+  // most two levels of one axis; the safety bake: all of the scratch, then all of
+  // the map): from `bind_offset` (a multiple of 256) …
+  uint64_t bind_offset;
+  // … `bind_size` bytes.
+  uint64_t bind_size;
+} hf_bake_pass;
+#endif
+
 // Which baked map a KTX 2 file holds, of which field, baked how: what the file's
 // metadata records (`hfcast.method`, `hfcast.field`, `hfcast.cap`,
 // `hfcast.ray_classes`, `hfcast.ray_set`, `hfcast.variant`).
@@ -715,24 +736,6 @@ typedef struct hf_maxmip_pass {
   // height, the texels written `lo` (x, y) and `hi` (x, y, exclusive), then 2 zeros.
   uint32_t uniform[12];
 } hf_maxmip_pass;
-#endif
-
-#if defined(HF_HAVE_SAFETY)
-// One dispatch of the GPU N-buffer bake (`hf_nbuffer_bake_passes`), a compute pass of
-// the shader of `hf_nbuffer_bake_shader`.
-typedef struct hf_nbuffer_pass {
-  // Workgroups along x (along a row of samples) and y (across rows), each 8 × 8.
-  uint32_t workgroups[2];
-  // Its uniform `hf_nbuffer_pass` (`NbufferPass`, 32 bytes): kind (0 heights, 1
-  // doubling, 2 blocks), axis, rows, row length, first element written and first
-  // element read (counted from `bind_offset`), half window, sample columns.
-  uint32_t uniform[8];
-  // The byte range of the N-buffer storage buffer the pass binds as
-  // `hf_nbuffer_out`: from `bind_offset` (a multiple of 256) …
-  uint64_t bind_offset;
-  // … `bind_size` bytes (at most two levels of one axis).
-  uint64_t bind_size;
-} hf_nbuffer_pass;
 #endif
 
 // What a scene uses; shader generation and bakes leave out everything else. Fill it
@@ -1180,6 +1183,135 @@ hf_result hf_field_set_transform(struct hf_field *field,
 hf_result hf_field_get_transform(const struct hf_field *field,
                                  struct hf_transform *out_transform);
 
+#if defined(HF_HAVE_SAFETY)
+// Writes the floats of the N-buffers of a `width × height` field for the cone reach
+// `cap` (the `hf_bake_options.cap` of `HF_METHOD_CC`) to `*out_len`: the size of the
+// storage buffer the GPU bake fills, and the last part of `hf_bake_prepare`'s scratch
+// for `HF_METHOD_CC` (after the strip bounds), in the same layout.
+// `HF_ERR_INVALID_SIZE` for a size no field has, `HF_ERR_INVALID_ARGUMENT` for a cap
+// over 255. Thread safe.
+//
+// # Safety
+// `out_len` is NULL (an error) or valid for writing one `size_t`.
+hf_result hf_nbuffer_len(uint32_t width,
+                         uint32_t height,
+                         uint32_t cap,
+                         size_t *out_len);
+#endif
+
+#if defined(HF_HAVE_SAFETY)
+// Writes the length in bytes of `hf_nbuffer_bake_shader(lang)`, including its NUL
+// terminator, to `*out_len`. Errors as `hf_nbuffer_bake_shader`. Thread safe.
+//
+// # Safety
+// `out_len` is NULL (an error) or valid for writing one `size_t`.
+hf_result hf_nbuffer_bake_shader_len(uint32_t lang,
+                                     size_t *out_len);
+#endif
+
+#if defined(HF_HAVE_SAFETY)
+// Writes the compute shader that fills the N-buffers on the GPU in `lang` into `buf`
+// as a NUL-terminated string and its length without the NUL to `*out_written`
+// (`buf_len` at least `hf_nbuffer_bake_shader_len`). Its entry point (WGSL
+// `nbuffer_bake_pass`, GLSL `main`) writes one pass's elements into the storage buffer
+// `hf_nbuffer_out` (binding 15, `float`s, `hf_nbuffer_len` of them; each pass binds
+// the byte range of its `bind_offset` and `bind_size`) from the heights texture
+// `hf_heights` (binding 0 / texture unit 0, R32F W × H) or the levels below, reading
+// its `hf_nbuffer_pass` uniform (binding 16, a uniform block in GLSL); dispatch
+// `hf_nbuffer_bake_passes` in order, each finished before the next (in OpenGL
+// `glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT)` between them). The result equals
+// the N-buffers `hf_bake_prepare` writes for `HF_METHOD_CC` byte for byte.
+// `HF_SHADER_WGSL` or `HF_SHADER_GLSL` (a whole GLSL 4.30 compute shader, its
+// `#version` line included); another value is `HF_ERR_INVALID_ENUM`. Thread safe.
+//
+// # Safety
+// `buf` is NULL (an error) or valid for writing `buf_len` bytes; `out_written` NULL
+// (an error) or valid for writing one `size_t`.
+hf_result hf_nbuffer_bake_shader(uint32_t lang,
+                                 char *buf,
+                                 size_t buf_len,
+                                 size_t *out_written);
+#endif
+
+#if defined(HF_HAVE_SAFETY)
+// Writes the passes of the GPU N-buffer bake of a `width × height` field for the cone
+// reach `cap` to `out_passes` and their count to `*out_count`
+// (`HF_NBUFFER_MAX_PASSES` always suffice). `HF_ERR_INVALID_SIZE` for a size no field
+// has or N-buffers of 2³² floats or more (the shader's offsets are 32-bit),
+// `HF_ERR_INVALID_ARGUMENT` for a cap over 255, `HF_ERR_BUFFER_TOO_SMALL` when
+// `out_passes_len` is below the count. Nothing is written on an error. Thread safe.
+//
+// # Safety
+// `out_passes` is NULL (an error) or valid for writing `out_passes_len` passes;
+// `out_count` NULL (an error) or valid for writing one `uint32_t`.
+hf_result hf_nbuffer_bake_passes(uint32_t width,
+                                 uint32_t height,
+                                 uint32_t cap,
+                                 struct hf_bake_pass *out_passes,
+                                 size_t out_passes_len,
+                                 uint32_t *out_count);
+#endif
+
+#if defined(HF_HAVE_SAFETY)
+// Writes the length in bytes of `hf_safety_bake_shader(lang)`, including its NUL
+// terminator, to `*out_len`. Errors as `hf_safety_bake_shader`. Thread safe.
+//
+// # Safety
+// `out_len` is NULL (an error) or valid for writing one `size_t`.
+hf_result hf_safety_bake_shader_len(uint32_t lang,
+                                    size_t *out_len);
+#endif
+
+#if defined(HF_HAVE_SAFETY)
+// Writes the compute shader that bakes the safety distances for every ray on the GPU
+// in `lang` into `buf` as a NUL-terminated string and its length without the NUL to
+// `*out_written` (`buf_len` at least `hf_safety_bake_shader_len`). It computes in
+// 64-bit floats, as the CPU bake: the device needs them (wgpu `SHADER_F64`, Vulkan
+// `shaderFloat64`; OpenGL 4.0 has doubles). Its entry point (WGSL `safety_bake_pass`,
+// GLSL `main`) reads the heights texture `hf_heights` (binding 0 / texture unit 0,
+// R32F W × H) and its `hf_safety_pass` uniform (binding 19, a uniform block in GLSL);
+// the first pass writes the strip bounds into the storage buffer `hf_safety_scratch`
+// (binding 17, `float`s, as many as `hf_bake_scratch_len` of `HF_METHOD_SAFETY`), the
+// second reads them and writes the map into `hf_safety_out` (binding 18, `uint`s: the
+// map's bytes four to a word, little-endian). Dispatch `hf_safety_bake_passes` in
+// order, the first finished before the second (`glMemoryBarrier` in OpenGL). The
+// bytes equal the texels of `hf_bake`'s map of `HF_METHOD_SAFETY` (without its
+// descriptor). `HF_SHADER_WGSL` or `HF_SHADER_GLSL` (a whole GLSL 4.30 compute
+// shader, its `#version` line included); another value is `HF_ERR_INVALID_ENUM`.
+// Thread safe.
+//
+// # Safety
+// `buf` is NULL (an error) or valid for writing `buf_len` bytes; `out_written` NULL
+// (an error) or valid for writing one `size_t`.
+hf_result hf_safety_bake_shader(uint32_t lang,
+                                char *buf,
+                                size_t buf_len,
+                                size_t *out_written);
+#endif
+
+#if defined(HF_HAVE_SAFETY)
+// Writes the two passes of the GPU safety-distance bake of a `width × height` field
+// with `options` (NULL: the defaults of `HF_METHOD_SAFETY`; checked as `hf_bake`
+// checks them) to `out_passes` (`out_passes_len` at least 2) and their count to
+// `*out_count`. The GPU bake serves every ray of every class: `ray_classes` must be 0
+// or `HF_RAYS_ALL`, `exterior` 0 and `max_view_angle_deg` 0, else
+// `HF_ERR_INVALID_ARGUMENT` (bake those maps with `hf_bake`). `variant`, `positive`
+// and `cap` are honoured. `HF_ERR_INVALID_SIZE` for a size no field has, or a map of
+// 2³² bytes or more; `HF_ERR_BUFFER_TOO_SMALL` for room for fewer than 2 passes.
+// Nothing is written on an error. Thread safe.
+//
+// # Safety
+// `options` is NULL or valid for reading one `hf_bake_options`; `out_passes` NULL (an
+// error) or valid for writing `out_passes_len` passes; `out_count` NULL (an error) or
+// valid for writing one `uint32_t`.
+hf_result hf_safety_bake_passes(uint32_t width,
+                                uint32_t height,
+                                const struct hf_bake_options *options,
+                                struct hf_bake_pass *out_passes,
+                                size_t out_passes_len,
+                                uint32_t *out_count);
+#endif
+
 // Writes the description of map `map` (`HF_KTX2_*`) of a `width × height` field
 // with the bakes' defaults to `*out_desc`: cap 255 (safety, radius), 64
 // (cylinder–cone) or 0 (maps without one), every ray class, tolerance 0. Thread safe.
@@ -1424,75 +1556,6 @@ hf_result hf_maxmip_bake_passes(uint32_t width,
                                 struct hf_maxmip_pass *out_passes,
                                 size_t out_passes_len,
                                 uint32_t *out_count);
-#endif
-
-#if defined(HF_HAVE_SAFETY)
-// Writes the floats of the N-buffers of a `width × height` field for the cone reach
-// `cap` (the `hf_bake_options.cap` of `HF_METHOD_CC`) to `*out_len`: the size of the
-// storage buffer the GPU bake fills, and the last part of `hf_bake_prepare`'s scratch
-// for `HF_METHOD_CC` (after the strip bounds), in the same layout.
-// `HF_ERR_INVALID_SIZE` for a size no field has, `HF_ERR_INVALID_ARGUMENT` for a cap
-// over 255. Thread safe.
-//
-// # Safety
-// `out_len` is NULL (an error) or valid for writing one `size_t`.
-hf_result hf_nbuffer_len(uint32_t width,
-                         uint32_t height,
-                         uint32_t cap,
-                         size_t *out_len);
-#endif
-
-#if defined(HF_HAVE_SAFETY)
-// Writes the length in bytes of `hf_nbuffer_bake_shader(lang)`, including its NUL
-// terminator, to `*out_len`. Errors as `hf_nbuffer_bake_shader`. Thread safe.
-//
-// # Safety
-// `out_len` is NULL (an error) or valid for writing one `size_t`.
-hf_result hf_nbuffer_bake_shader_len(uint32_t lang,
-                                     size_t *out_len);
-#endif
-
-#if defined(HF_HAVE_SAFETY)
-// Writes the compute shader that fills the N-buffers on the GPU in `lang` into `buf`
-// as a NUL-terminated string and its length without the NUL to `*out_written`
-// (`buf_len` at least `hf_nbuffer_bake_shader_len`). Its entry point (WGSL
-// `nbuffer_bake_pass`, GLSL `main`) writes one pass's elements into the storage buffer
-// `hf_nbuffer_out` (binding 15, `float`s, `hf_nbuffer_len` of them; each pass binds
-// the byte range of its `bind_offset` and `bind_size`) from the heights texture
-// `hf_heights` (binding 0 / texture unit 0, R32F W × H) or the levels below, reading
-// its `hf_nbuffer_pass` uniform (binding 16, a uniform block in GLSL); dispatch
-// `hf_nbuffer_bake_passes` in order, each finished before the next (in OpenGL
-// `glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT)` between them). The result equals
-// the N-buffers `hf_bake_prepare` writes for `HF_METHOD_CC` byte for byte.
-// `HF_SHADER_WGSL` or `HF_SHADER_GLSL` (a whole GLSL 4.30 compute shader, its
-// `#version` line included); another value is `HF_ERR_INVALID_ENUM`. Thread safe.
-//
-// # Safety
-// `buf` is NULL (an error) or valid for writing `buf_len` bytes; `out_written` NULL
-// (an error) or valid for writing one `size_t`.
-hf_result hf_nbuffer_bake_shader(uint32_t lang,
-                                 char *buf,
-                                 size_t buf_len,
-                                 size_t *out_written);
-#endif
-
-#if defined(HF_HAVE_SAFETY)
-// Writes the passes of the GPU N-buffer bake of a `width × height` field for the cone
-// reach `cap` to `out_passes` and their count to `*out_count`
-// (`HF_NBUFFER_MAX_PASSES` always suffice). `HF_ERR_INVALID_SIZE` for a size no field
-// has or N-buffers of 2³² floats or more (the shader's offsets are 32-bit),
-// `HF_ERR_INVALID_ARGUMENT` for a cap over 255, `HF_ERR_BUFFER_TOO_SMALL` when
-// `out_passes_len` is below the count. Nothing is written on an error. Thread safe.
-//
-// # Safety
-// `out_passes` is NULL (an error) or valid for writing `out_passes_len` passes;
-// `out_count` NULL (an error) or valid for writing one `uint32_t`.
-hf_result hf_nbuffer_bake_passes(uint32_t width,
-                                 uint32_t height,
-                                 uint32_t cap,
-                                 struct hf_nbuffer_pass *out_passes,
-                                 size_t out_passes_len,
-                                 uint32_t *out_count);
 #endif
 
 // Writes the general scene of `method` on `surface` to `*out`: every ray class,

@@ -65,7 +65,7 @@ pub struct hf_bake_options {
 
 impl hf_bake_options {
     /// The defaults of `kind`'s bake.
-    fn default_for(kind: MethodKind) -> hf_bake_options {
+    pub(crate) fn default_for(kind: MethodKind) -> hf_bake_options {
         hf_bake_options {
             variant: 0,
             positive: 0,
@@ -83,8 +83,8 @@ impl hf_bake_options {
 
 /// A checked bake: the core's spec and the thread count, or `None` for a method that
 /// bakes no map.
-struct Checked {
-    spec: Option<Spec>,
+pub(crate) struct Checked {
+    pub(crate) spec: Option<Spec>,
     threads: u32,
 }
 
@@ -103,7 +103,7 @@ fn binary(v: u32, code: hf_result, why: &str) -> Result<bool, hf_result> {
 ///
 /// # Safety
 /// `options` NULL or valid for reading one `hf_bake_options`.
-unsafe fn checked(
+pub(crate) unsafe fn checked(
     method: u32,
     width: u32,
     height: u32,

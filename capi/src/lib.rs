@@ -29,13 +29,13 @@ pub mod detail;
 mod extremes;
 mod features;
 pub mod field;
+#[cfg(feature = "safety")]
+pub mod gpu_bake;
 pub mod ktx2;
 pub mod mapdesc;
 pub mod maps;
 #[cfg(feature = "maxmip")]
 pub mod maxmip;
-#[cfg(feature = "safety")]
-pub mod nbuffer;
 mod par;
 mod ptr;
 pub mod scene;

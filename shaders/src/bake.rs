@@ -9,6 +9,13 @@
 //!   read-write storage buffer of `maxmip::pyramid_len` floats) and `hf_maxmip_pass`
 //!   ([`wgsl_layout::MAXMIP_PASS`](crate::wgsl_layout::MAXMIP_PASS),
 //!   [`MaxMipPass::uniform`]).
+//! - `bake_safety` (feature `safety`; the device needs 64-bit floats): `hf_heights`,
+//!   `hf_safety_scratch` ([`wgsl_layout::SAFETY_SCRATCH`](crate::wgsl_layout::SAFETY_SCRATCH),
+//!   `safety::scratch_len` floats), `hf_safety_out`
+//!   ([`wgsl_layout::SAFETY_OUT`](crate::wgsl_layout::SAFETY_OUT), the map's bytes
+//!   rounded up to whole words) and `hf_safety_pass`
+//!   ([`wgsl_layout::SAFETY_PASS`](crate::wgsl_layout::SAFETY_PASS)), all bound whole,
+//!   passes from [`safety_bake_passes`].
 //! - `bake_nbuffer` (feature `safety`): `hf_heights`, `hf_nbuffer_out`
 //!   ([`wgsl_layout::NBUFFER_OUT`](crate::wgsl_layout::NBUFFER_OUT), a read-write
 //!   storage buffer of `cc::nbuffer_len` floats, each pass binding the range
@@ -51,6 +58,63 @@ impl BakePass {
     pub fn uniform_bytes(&self) -> Vec<u8> {
         self.uniform.iter().flat_map(|w| w.to_le_bytes()).collect()
     }
+}
+
+/// The two passes of the GPU safety-distance bake of a `width × height` field for every
+/// ray (`safety::bake` with `AllRays`): the strip bounds into `hf_safety_scratch`, then
+/// the map (directional, or `isotropic`; distances at most `cap`, at least 1 when
+/// `positive`) into `hf_safety_out`, four bytes to a word. Each pass's `bind_offset`
+/// and `bind_size` are the whole buffer it writes. `None` for a size no field has, or a
+/// map or scratch of 2³² bytes or floats or more (the shader's indices are 32-bit).
+#[cfg(feature = "safety")]
+pub fn safety_bake_passes(
+    width: u32,
+    height: u32,
+    isotropic: bool,
+    cap: u8,
+    positive: bool,
+) -> Option<Vec<BakePass>> {
+    use hfcast::safety::{self, Variant};
+    let side = |n: u32| (2..=hfcast::field::MAX_SIDE).contains(&n);
+    if !side(width) || !side(height) {
+        return None;
+    }
+    let variant = if isotropic {
+        Variant::Isotropic
+    } else {
+        Variant::Directional
+    };
+    let bytes = u32::try_from(safety::map_len(width, height, variant)).ok()?;
+    let scratch = safety::scratch_len(width, height);
+    u32::try_from(scratch).ok()?;
+    let strip_slots = (scratch / 3) as u32;
+    let words = bytes.div_ceil(4);
+    let pass = |kind: u32, items: u32, written: u64| {
+        // A grid of 8 × 8 workgroups, at most 65535 along x.
+        let across = items.div_ceil(WORKGROUP).clamp(1, 65535);
+        let grid_width = across * WORKGROUP;
+        let rows = items.div_ceil(grid_width).div_ceil(WORKGROUP).max(1);
+        let head = [kind, width, height, u32::from(isotropic), u32::from(cap)];
+        BakePass {
+            uniform: [
+                head[0],
+                head[1],
+                head[2],
+                head[3],
+                head[4],
+                u32::from(positive),
+                items,
+                grid_width,
+            ],
+            workgroups: [across, rows],
+            bind_offset: 0,
+            bind_size: written,
+        }
+    };
+    Some(vec![
+        pass(0, strip_slots, 4 * scratch as u64),
+        pass(1, words, 4 * u64::from(words)),
+    ])
 }
 
 /// The passes that fill the N-buffers of a `width × height` field for the cone reach
@@ -201,6 +265,32 @@ mod tests {
                 format!("layout(local_size_x = {WORKGROUP}, local_size_y = {WORKGROUP}) in;");
             assert!(glsl.contains(&size), "{stem}.glsl lacks {size}");
         }
+    }
+
+    #[cfg(feature = "safety")]
+    #[test]
+    fn safety_passes_cover_the_slots_and_words() {
+        use hfcast::safety;
+        let p = safety_bake_passes(13, 6, false, 255, false).unwrap();
+        assert_eq!(p.len(), 2);
+        let slots = safety::scratch_len(13, 6) as u32 / 3;
+        assert_eq!(
+            p[0].uniform,
+            [0, 13, 6, 0, 255, 0, slots, 8 * slots.div_ceil(8)]
+        );
+        assert_eq!(p[1].uniform[6], 13 * 6);
+        for q in &p {
+            let invocations = 64 * q.workgroups[0] * q.workgroups[1];
+            assert!(invocations >= q.uniform[6] && q.uniform[7] == 8 * q.workgroups[0]);
+        }
+        let iso = safety_bake_passes(13, 6, true, 9, true).unwrap();
+        assert_eq!(iso[1].uniform[3..7], [1, 9, 1, (13 * 6u32).div_ceil(4)]);
+        // 2²⁴ × 2²⁴ is a field, but its map is over 2³² bytes.
+        assert_eq!(safety_bake_passes(1 << 24, 1 << 24, true, 9, true), None);
+        assert_eq!(safety_bake_passes(1, 6, true, 9, true), None);
+        // Wide grids: at most 65535 workgroups along x.
+        let big = safety_bake_passes(4096, 4096, false, 255, false).unwrap();
+        assert!(big[1].workgroups[0] <= 65535 && big[1].workgroups[1] > 1);
     }
 
     #[cfg(feature = "safety")]

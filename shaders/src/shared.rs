@@ -58,7 +58,7 @@ enum Line {
 
 /// WGSL resource bindings of group 0 ([`crate::wgsl_layout`]): `(binding, name, type,
 /// declared in)`.
-const WGSL_BINDINGS: [(u32, &str, &str, &str); 17] = [
+const WGSL_BINDINGS: [(u32, &str, &str, &str); 20] = [
     (
         b::HEIGHTS,
         "hf_heights",
@@ -145,6 +145,24 @@ const WGSL_BINDINGS: [(u32, &str, &str, &str); 17] = [
         "hf_nbuffer_pass",
         "uniform NbufferPass",
         "bake_nbuffer.wgsl",
+    ),
+    (
+        b::SAFETY_SCRATCH,
+        "hf_safety_scratch",
+        "storage array<f32>, read_write",
+        "bake_safety.wgsl",
+    ),
+    (
+        b::SAFETY_OUT,
+        "hf_safety_out",
+        "storage array<u32>, read_write",
+        "bake_safety.wgsl",
+    ),
+    (
+        b::SAFETY_PASS,
+        "hf_safety_pass",
+        "uniform SafetyBakePass",
+        "bake_safety.wgsl",
     ),
 ];
 

@@ -239,11 +239,22 @@ fn ty(t: &str) -> Result<String, String> {
 fn types(code: &str) -> String {
     let mut s = code.to_string();
     for n in ["2", "3", "4"] {
-        for (elem, prefix) in [("f32", ""), ("u32", "u"), ("i32", "i"), ("bool", "b")] {
+        for (elem, prefix) in [
+            ("f32", ""),
+            ("f64", "d"),
+            ("u32", "u"),
+            ("i32", "i"),
+            ("bool", "b"),
+        ] {
             s = s.replace(&format!("vec{n}<{elem}>"), &format!("{prefix}vec{n}"));
         }
     }
-    for (w, g) in [("f32", "float"), ("u32", "uint"), ("i32", "int")] {
+    for (w, g) in [
+        ("f32", "float"),
+        ("f64", "double"),
+        ("u32", "uint"),
+        ("i32", "int"),
+    ] {
         s = replace_word(&s, w, g);
     }
     s

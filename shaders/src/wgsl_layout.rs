@@ -50,5 +50,14 @@ pub const NBUFFER_OUT: u32 = 15;
 /// `hf_nbuffer_pass`: uniform `NbufferPass`, one step of the GPU N-buffer bake
 /// (bake_nbuffer.wgsl).
 pub const NBUFFER_PASS: u32 = 16;
+/// `hf_safety_scratch`: `array<f32>`, a read-write storage buffer, the strip bounds of
+/// the GPU safety-distance bake (`safety::scratch_len` floats) (bake_safety.wgsl).
+pub const SAFETY_SCRATCH: u32 = 17;
+/// `hf_safety_out`: `array<u32>`, a read-write storage buffer, the safety-distance map
+/// the GPU bake writes, four bytes to a word (bake_safety.wgsl).
+pub const SAFETY_OUT: u32 = 18;
+/// `hf_safety_pass`: uniform `SafetyBakePass`, one pass of the GPU safety-distance
+/// bake (bake_safety.wgsl).
+pub const SAFETY_PASS: u32 = 19;
 /// The last binding of group 0 kept for hfcast's own resources.
 pub const RESERVED_UP_TO: u32 = 31;

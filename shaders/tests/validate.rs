@@ -175,7 +175,7 @@ fn gpu_bakes_compile_as_glsl_compute_shaders() {
             String::from_utf8_lossy(&out.stdout)
         );
     }
-    assert_eq!(stems, ["bake_maxmip", "bake_nbuffer"]);
+    assert_eq!(stems, ["bake_maxmip", "bake_nbuffer", "bake_safety"]);
 }
 
 #[test]

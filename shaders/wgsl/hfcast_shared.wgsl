@@ -22,7 +22,10 @@
 //   14       hf_maxmip_pass  uniform MaxMipPass                     bake_maxmip.wgsl
 //   15       hf_nbuffer_out  storage array<f32>, read_write         bake_nbuffer.wgsl
 //   16       hf_nbuffer_pass uniform NbufferPass                    bake_nbuffer.wgsl
-// Bindings 17 to 31 of group 0 are reserved; a caller's own resources go in group 1
+//   17       hf_safety_scratch storage array<f32>, read_write         bake_safety.wgsl
+//   18       hf_safety_out   storage array<u32>, read_write         bake_safety.wgsl
+//   19       hf_safety_pass  uniform SafetyBakePass                 bake_safety.wgsl
+// Bindings 20 to 31 of group 0 are reserved; a caller's own resources go in group 1
 // or later. Textures are read with textureLoad only (never sampled). Scene-level
 // choices are override constants: hf_surface, hf_safety_variant,
 // hf_safety_classes, hf_cc_classes, hf_rays_exterior, hf_rays_max_view_angle.

@@ -6,7 +6,9 @@
 //!   crater over about 1 %, 10 % and 100 % of the field, and one sample at a corner),
 //!   each update dispatched over the texels that depend on the edit only
 //!   (`hfcast_shaders::bake::maxmip_update_passes`);
-//! - the N-buffers of the cylinder–cone bake, for a short and the longest cone reach.
+//! - the N-buffers of the cylinder–cone bake, for a short and the longest cone reach;
+//! - the safety distances for every ray, directional and isotropic (positive), in
+//!   64-bit floats (the device must have SHADER_F64: lavapipe has).
 //!
 //! Output buffers start as NaN bits, so an element no pass writes shows. Times are
 //! printed (lavapipe: software figures) beside the CPU's.
@@ -15,9 +17,12 @@ mod common;
 
 use common::{spiky_fractal, Gpu};
 use hfcast::maxmip;
+use hfcast::safety;
 use hfcast::safety::cc;
 use hfcast::HeightField;
-use hfcast_shaders::bake::{maxmip_bake_passes, maxmip_update_passes, nbuffer_bake_passes};
+use hfcast_shaders::bake::{
+    maxmip_bake_passes, maxmip_update_passes, nbuffer_bake_passes, safety_bake_passes,
+};
 use hfcast_shaders::{wgsl_layout as binding, Lang};
 use std::time::Instant;
 
@@ -396,6 +401,149 @@ fn gpu_nbuffers_are_the_cpu_ones_byte_for_byte() {
             );
             if let Some(d) = diff {
                 failures.push(format!("{} cap {cap}: {d}", f.name));
+            }
+            baked += 1;
+        }
+    }
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+    assert!(baked >= 20, "{baked} bakes");
+}
+
+/// The GPU safety-distance bake (two passes: strip bounds, then the map) into `out`
+/// (the map's words), with its scratch; timed.
+struct SafetyBake {
+    pipeline: wgpu::ComputePipeline,
+    layout: wgpu::BindGroupLayout,
+}
+
+impl SafetyBake {
+    fn new(gpu: &Gpu) -> SafetyBake {
+        let dev = &gpu.device;
+        let src = hfcast_shaders::file(Lang::Wgsl, "bake_safety").expect("bake_safety.wgsl");
+        let scope = dev.push_error_scope(wgpu::ErrorFilter::Validation);
+        let module = dev.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some("bake_safety"),
+            source: wgpu::ShaderSource::Wgsl(src.into()),
+        });
+        let pipeline = dev.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+            label: Some("bake_safety"),
+            layout: None,
+            module: &module,
+            entry_point: Some("safety_bake_pass"),
+            compilation_options: wgpu::PipelineCompilationOptions::default(),
+            cache: None,
+        });
+        if let Some(e) = pollster::block_on(scope.pop()) {
+            panic!("bake_safety: wgpu refused the shader or pipeline: {e}");
+        }
+        let layout = pipeline.get_bind_group_layout(0);
+        SafetyBake { pipeline, layout }
+    }
+
+    /// Bakes `f` with `passes` and returns the map's bytes (`len` of them) and the time.
+    fn run(
+        &self,
+        gpu: &Gpu,
+        f: &Field,
+        passes: &[hfcast_shaders::bake::BakePass],
+        len: usize,
+    ) -> (Vec<u8>, f64) {
+        let dev = &gpu.device;
+        let tex = gpu.heights_texture(f.w, f.h, &f.heights);
+        let scratch = gpu.storage(&vec![POISON; (passes[0].bind_size / 4) as usize]);
+        let words = (passes[1].bind_size / 4) as usize;
+        let out = gpu.storage(&vec![POISON; words]);
+        let t0 = Instant::now();
+        let mut enc = dev.create_command_encoder(&wgpu::CommandEncoderDescriptor::default());
+        for p in passes {
+            let uniform = gpu.uniform(&p.uniform_bytes());
+            let group = dev.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: None,
+                layout: &self.layout,
+                entries: &[
+                    wgpu::BindGroupEntry {
+                        binding: binding::HEIGHTS,
+                        resource: wgpu::BindingResource::TextureView(&tex),
+                    },
+                    wgpu::BindGroupEntry {
+                        binding: binding::SAFETY_SCRATCH,
+                        resource: scratch.as_entire_binding(),
+                    },
+                    wgpu::BindGroupEntry {
+                        binding: binding::SAFETY_OUT,
+                        resource: out.as_entire_binding(),
+                    },
+                    wgpu::BindGroupEntry {
+                        binding: binding::SAFETY_PASS,
+                        resource: uniform.as_entire_binding(),
+                    },
+                ],
+            });
+            let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor::default());
+            pass.set_pipeline(&self.pipeline);
+            pass.set_bind_group(0, &group, &[]);
+            pass.dispatch_workgroups(p.workgroups[0], p.workgroups[1], 1);
+        }
+        gpu.queue.submit([enc.finish()]);
+        dev.poll(wgpu::PollType::wait_indefinitely())
+            .expect("wait for the bake");
+        let ms = 1e3 * t0.elapsed().as_secs_f64();
+        let bytes: Vec<u8> = gpu
+            .read_u32(&out, words)
+            .iter()
+            .flat_map(|w| w.to_le_bytes())
+            .collect();
+        (bytes[..len].to_vec(), ms)
+    }
+}
+
+#[test]
+fn gpu_safety_distances_are_the_cpu_ones_byte_for_byte() {
+    let gpu = Gpu::new();
+    println!("{}", gpu.describe());
+    assert!(
+        gpu.device.features().contains(wgpu::Features::SHADER_F64),
+        "the safety-distance bake needs 64-bit floats (SHADER_F64): lavapipe has them"
+    );
+    let bake = SafetyBake::new(&gpu);
+    let mut failures = Vec::new();
+    let mut baked = 0;
+    let variants = [
+        ("directional", safety::Variant::Directional, false),
+        ("isotropic, positive", safety::Variant::Isotropic, true),
+    ];
+    for f in fields() {
+        let hf = HeightField::new(&f.heights, f.w, f.h, f.w as usize).expect("field");
+        for (name, variant, positive) in variants {
+            let opts = safety::Options {
+                variant,
+                positive,
+                cap: u8::MAX,
+            };
+            let t0 = Instant::now();
+            let mut scratch = vec![0f32; safety::scratch_len(f.w, f.h)];
+            let mut want = vec![0u8; safety::map_len(f.w, f.h, variant)];
+            safety::bake(&hf, &mut scratch, opts, &mut want).expect("cpu bake");
+            let cpu_ms = 1e3 * t0.elapsed().as_secs_f64();
+            let iso = variant == safety::Variant::Isotropic;
+            let passes = safety_bake_passes(f.w, f.h, iso, opts.cap, positive).expect("passes");
+            let (got, gpu_ms) = bake.run(&gpu, &f, &passes, want.len());
+            let diff = got.iter().zip(&want).position(|(a, b)| a != b);
+            println!(
+                "{:<40} {:>5} x {:<5} {name:<20} {:>9} bytes: cpu {cpu_ms:8.1} ms, gpu (software) {gpu_ms:8.1} ms  {}",
+                f.name,
+                f.w,
+                f.h,
+                want.len(),
+                diff.map_or("identical".to_string(), |k| format!(
+                    "DIFFERS at byte {k} of {}: gpu {}, cpu {}",
+                    want.len(),
+                    got[k],
+                    want[k]
+                ))
+            );
+            if let Some(k) = diff {
+                failures.push(format!("{} {name}: byte {k}", f.name));
             }
             baked += 1;
         }

@@ -13,14 +13,27 @@ use hfcast::scene::MethodKind;
 use hfcast_shaders::{file, parts, wgsl_layout, Lang};
 use naga::valid::{Capabilities, ValidationFlags, Validator};
 
-/// The capabilities the ports may use: none beyond the WebGPU baseline.
+/// The capabilities the marches may use: none beyond the WebGPU baseline.
 const CAPABILITIES: Capabilities = Capabilities::empty();
+
+/// The GPU bakes may also use 64-bit floats (the safety-distance bake: the core's exact
+/// predicates are `f64`).
+const BAKE_CAPABILITIES: Capabilities = Capabilities::FLOAT64;
 
 /// Parses and validates `src`; the error is naga's report with source excerpts.
 fn validate(label: &str, src: &str) -> Result<naga::Module, String> {
+    validate_with(label, src, CAPABILITIES)
+}
+
+/// [`validate`] with `capabilities`.
+fn validate_with(
+    label: &str,
+    src: &str,
+    capabilities: Capabilities,
+) -> Result<naga::Module, String> {
     let module = naga::front::wgsl::parse_str(src)
         .map_err(|e| format!("{label}: parse error\n{}", e.emit_to_string(src)))?;
-    Validator::new(ValidationFlags::all(), CAPABILITIES)
+    Validator::new(ValidationFlags::all(), capabilities)
         .validate(&module)
         .map_err(|e| format!("{label}: validation error\n{}", e.emit_to_string(src)))?;
     Ok(module)
@@ -134,7 +147,7 @@ fn every_file_validates_as_part_of_its_methods() {
     for (name, text) in wgsl_files() {
         // A GPU bake is a compute shader of its own.
         if hfcast_shaders::translate::is_gpu_bake(name.trim_end_matches(".wgsl")) {
-            if let Err(e) = validate(&name, text) {
+            if let Err(e) = validate_with(&name, text, BAKE_CAPABILITIES) {
                 panic!("{name} fails:\n{e}");
             }
             println!("{name:<28} validates alone (a GPU bake)");
@@ -215,6 +228,9 @@ fn overrides_and_bindings_are_one_line_and_fixed() {
                     "hf_maxmip_pass" => wgsl_layout::MAXMIP_PASS,
                     "hf_nbuffer_out" => wgsl_layout::NBUFFER_OUT,
                     "hf_nbuffer_pass" => wgsl_layout::NBUFFER_PASS,
+                    "hf_safety_scratch" => wgsl_layout::SAFETY_SCRATCH,
+                    "hf_safety_out" => wgsl_layout::SAFETY_OUT,
+                    "hf_safety_pass" => wgsl_layout::SAFETY_PASS,
                     other => panic!("{name}: {other} is not in hfcast_shaders::wgsl_layout"),
                 };
                 assert_eq!(b, fixed, "{name}: {id} is not at its wgsl_layout binding");

@@ -1043,6 +1043,8 @@ impl Gpu {
         let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
             label: Some("hfcast-shadertest"),
             required_limits: adapter.limits(),
+            // 64-bit floats where the adapter has them: the safety-distance bake.
+            required_features: adapter.features() & wgpu::Features::SHADER_F64,
             ..wgpu::DeviceDescriptor::default()
         }))
         .unwrap_or_else(|e| panic!("cannot open {}: {e}", info.name));
