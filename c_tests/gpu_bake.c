@@ -33,19 +33,23 @@ int gpu_bakes_init(gpu_bakes *b, uint32_t w, uint32_t h) {
     char *maxmip = bake_source(hf_maxmip_bake_shader_len, hf_maxmip_bake_shader);
     char *nbuffer = bake_source(hf_nbuffer_bake_shader_len, hf_nbuffer_bake_shader);
     char *safety = bake_source(hf_safety_bake_shader_len, hf_safety_bake_shader);
-    if (!maxmip || !nbuffer || !safety) {
+    char *cc = bake_source(hf_cc_bake_shader_len, hf_cc_bake_shader);
+    if (!maxmip || !nbuffer || !safety || !cc) {
         fprintf(stderr, "the library has no GLSL GPU bakes\n");
         free(maxmip);
         free(nbuffer);
         free(safety);
+        free(cc);
         return -1;
     }
     b->maxmip = link_compute(maxmip);
     b->nbuffer = link_compute(nbuffer);
     b->safety = link_compute(safety);
+    b->cc = link_compute(cc);
     free(maxmip);
     free(nbuffer);
     free(safety);
+    free(cc);
     hf_bake_options o;
     if (hf_bake_options_default(HF_METHOD_MAXMIP, &o) != HF_OK) return -1;
     if (hf_map_len(HF_METHOD_MAXMIP, w, h, &o, &b->pyramid_len) != HF_OK) return -1;
@@ -63,6 +67,7 @@ void gpu_bakes_free(gpu_bakes *b) {
     glDeleteProgram(b->maxmip);
     glDeleteProgram(b->nbuffer);
     glDeleteProgram(b->safety);
+    glDeleteProgram(b->cc);
     glDeleteBuffers(1, &b->pyramid);
     glDeleteBuffers(1, &b->pass);
 }
@@ -152,11 +157,10 @@ int gpu_nbuffer_bake(gpu_bakes *b, uint32_t w, uint32_t h, GLuint tex_heights, u
     return glGetError() == GL_NO_ERROR ? 0 : -1;
 }
 
-int gpu_safety_bake(gpu_bakes *b, uint32_t w, uint32_t h, GLuint tex_heights,
-                    const hf_bake_options *options, unsigned char *out, size_t len) {
-    hf_bake_pass passes[2];
-    uint32_t n = 0;
-    if (hf_safety_bake_passes(w, h, options, passes, 2, &n) != HF_OK || n != 2) return -1;
+/* Runs the two passes of the safety shader `program` (strip bounds, then the map)
+ * and reads `len` bytes of the map back into `out`. */
+static int run_safety_passes(gpu_bakes *b, GLuint program, const hf_bake_pass passes[2],
+                             GLuint tex_heights, unsigned char *out, size_t len) {
     size_t out_bytes = (size_t)passes[1].bind_size;
     if (len > out_bytes) return -1;
     GLuint scratch = make_buffer(GL_SHADER_STORAGE_BUFFER, (size_t)passes[0].bind_size, NULL);
@@ -165,14 +169,48 @@ int gpu_safety_bake(gpu_bakes *b, uint32_t w, uint32_t h, GLuint tex_heights,
     glBindTexture(GL_TEXTURE_2D, tex_heights);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 17, scratch);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 18, map);
-    for (uint32_t p = 0; p < n; p++)
-        dispatch(b, b->safety, 19, passes[p].uniform, sizeof passes[p].uniform, passes[p].workgroups);
+    for (int p = 0; p < 2; p++)
+        dispatch(b, program, 19, passes[p].uniform, sizeof passes[p].uniform, passes[p].workgroups);
     /* The words' bytes are the map's in order on a little-endian machine. */
     glBindBuffer(GL_SHADER_STORAGE_BUFFER, map);
     glGetBufferSubData(GL_SHADER_STORAGE_BUFFER, 0, (GLsizeiptr)len, out);
     glDeleteBuffers(1, &scratch);
     glDeleteBuffers(1, &map);
     return glGetError() == GL_NO_ERROR ? 0 : -1;
+}
+
+int gpu_safety_bake(gpu_bakes *b, uint32_t w, uint32_t h, GLuint tex_heights,
+                    const hf_bake_options *options, unsigned char *out, size_t len) {
+    hf_bake_pass passes[2];
+    uint32_t n = 0;
+    if (hf_safety_bake_passes(w, h, options, passes, 2, &n) != HF_OK || n != 2) return -1;
+    return run_safety_passes(b, b->safety, passes, tex_heights, out, len);
+}
+
+int gpu_cc_bake(gpu_bakes *b, uint32_t w, uint32_t h, GLuint tex_heights,
+                const hf_bake_options *options, unsigned char *out, size_t len) {
+    hf_bake_pass passes[2], fill[HF_NBUFFER_MAX_PASSES];
+    uint32_t n = 0, nfill = 0;
+    size_t nb_len = 0;
+    GLint block = 0;
+    if (hf_cc_bake_passes(w, h, options, passes, 2, &n) != HF_OK || n != 2) return -1;
+    if (hf_nbuffer_len(w, h, options->cap, &nb_len) != HF_OK) return -1;
+    glGetIntegerv(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &block);
+    if (sizeof(float) * nb_len > (size_t)(GLuint)block) return 1;
+    if (hf_nbuffer_bake_passes(w, h, options->cap, fill, HF_NBUFFER_MAX_PASSES, &nfill) != HF_OK)
+        return -1;
+    GLuint nb = make_buffer(GL_SHADER_STORAGE_BUFFER, sizeof(float) * nb_len, NULL);
+    glActiveTexture(GL_TEXTURE0);
+    glBindTexture(GL_TEXTURE_2D, tex_heights);
+    for (uint32_t p = 0; p < nfill; p++) {
+        glBindBufferRange(GL_SHADER_STORAGE_BUFFER, 15, nb, (GLintptr)fill[p].bind_offset,
+                          (GLsizeiptr)fill[p].bind_size);
+        dispatch(b, b->nbuffer, 16, fill[p].uniform, sizeof fill[p].uniform, fill[p].workgroups);
+    }
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 15, nb);
+    int rc = run_safety_passes(b, b->cc, passes, tex_heights, out, len);
+    glDeleteBuffers(1, &nb);
+    return rc;
 }
 
 int dynamic_edit(scene *s, GLuint tex_heights, int k, uint32_t rect[4], double *cpu_ms) {

@@ -1,6 +1,6 @@
 /* GPU bakes in OpenGL 4.3+ compute shaders, as a C program uses them: the shaders of
- * hf_maxmip_bake_shader, hf_nbuffer_bake_shader and hf_safety_bake_shader (GLSL),
- * dispatched pass by pass from their *_bake_passes; and the dynamic-terrain scene
+ * hf_maxmip_bake_shader, hf_nbuffer_bake_shader, hf_safety_bake_shader and
+ * hf_cc_bake_shader (GLSL), dispatched pass by pass from their *_bake_passes; and the dynamic-terrain scene
  * that edits the heights every frame and refreshes the pyramid on the GPU for the
  * edited rectangle only. Shared by both OpenGL renderers. */
 #ifndef HFCAST_GPU_BAKE_H
@@ -9,7 +9,7 @@
 #include "render_common.h"
 
 typedef struct gpu_bakes {
-    GLuint maxmip, nbuffer, safety; /* the compute programs */
+    GLuint maxmip, nbuffer, safety, cc; /* the compute programs */
     GLuint pyramid;         /* storage buffer of the pyramid (hf_pyramid_out) */
     size_t pyramid_len;     /* its floats */
     GLuint pass;            /* uniform buffer of one pass's uniform */
@@ -40,6 +40,14 @@ int gpu_nbuffer_bake(gpu_bakes *b, uint32_t w, uint32_t h, GLuint tex_heights, u
  * HF_MAP_DESC_BYTES). 0, or -1. */
 int gpu_safety_bake(gpu_bakes *b, uint32_t w, uint32_t h, GLuint tex_heights,
                     const hf_bake_options *options, unsigned char *out, size_t len);
+
+/* Bakes the cylinder-cone map with N-buffer slopes (`options`: HF_METHOD_CC's with
+ * HF_CC_SLOPE_NBUFFER, every ray and class) of the heights in `tex_heights` on the GPU:
+ * its N-buffers, then the map; reads the map's bytes back into `out` (`len` = the
+ * map's texels). 1 when the N-buffers exceed what one storage block may hold here
+ * (GL_MAX_SHADER_STORAGE_BLOCK_SIZE: nothing baked), 0, or -1. */
+int gpu_cc_bake(gpu_bakes *b, uint32_t w, uint32_t h, GLuint tex_heights,
+                const hf_bake_options *options, unsigned char *out, size_t len);
 
 /* Frame `k` of the dynamic scene: a mound of radius r = max(2, min(W, H) / 16) and
  * height 0.6 r rises at a point that circles the field's centre (raised, not sunk:

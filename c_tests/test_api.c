@@ -2130,7 +2130,7 @@ static void check_bake_source(hf_result (*len_fn)(uint32_t, size_t *),
     for (; *want; want++) CHECK(strstr(src, *want) != NULL);
     free(src);
     CHECK_BAD(len_fn(9, &len), HF_ERR_INVALID_ENUM, &len, sizeof len);
-    char buf[16];
+    char buf[16] = {0};
     CHECK_BAD(fn(lang, buf, sizeof buf, &written), HF_ERR_BUFFER_TOO_SMALL, buf, sizeof buf);
 }
 
@@ -2199,7 +2199,7 @@ static void test_gpu_bake(void) {
  * inputs write nothing. */
 static void test_gpu_nbuffer_bake(void) {
     const char *wgsl[] = {"fn nbuffer_bake_pass(",
-                          "@binding(15) var<storage, read_write> hf_nbuffer_out",
+                          "@binding(15) var<storage, read_write> hf_nbuffer",
                           "@binding(16) var<uniform> hf_nbuffer_pass", NULL};
     const char *glsl[] = {"#version 430 core", "void main()",
                           "layout(std430, binding = 15) buffer", "layout(std140, binding = 16) uniform",
@@ -2314,6 +2314,34 @@ static void test_gpu_safety_bake(void) {
     CHECK_BAD(hf_safety_bake_passes(37, 19, &o, keep, 2, NULL), HF_ERR_NULL_POINTER, keep,
               sizeof keep);
     CHECK(n == 77);
+
+    /* The cylinder-cone bake: the same shader with the entry cc_bake_pass, N-buffer
+     * slopes only. */
+    const char *cc_wgsl[] = {"fn cc_bake_pass(", "@binding(15) var<storage, read> hf_nbuffer", NULL};
+    const char *cc_glsl[] = {"#version 430 core\n#define HF_CC_BAKE 1\n", "readonly buffer", NULL};
+    check_bake_source(hf_cc_bake_shader_len, hf_cc_bake_shader, HF_SHADER_WGSL, cc_wgsl);
+    check_bake_source(hf_cc_bake_shader_len, hf_cc_bake_shader, HF_SHADER_GLSL, cc_glsl);
+    hf_bake_options cc;
+    CHECK_OK(hf_bake_options_default(HF_METHOD_CC, &cc));
+    /* The default slope is exact: not this bake's. */
+    CHECK_BAD(hf_cc_bake_passes(37, 19, &cc, keep, 2, &n), HF_ERR_INVALID_ARGUMENT, keep,
+              sizeof keep);
+    CHECK_BAD(hf_cc_bake_passes(37, 19, NULL, keep, 2, &n), HF_ERR_INVALID_ARGUMENT, keep,
+              sizeof keep);
+    cc.slope = HF_CC_SLOPE_NBUFFER;
+    cc.cap = 64;
+    CHECK_OK(hf_cc_bake_passes(37, 19, &cc, passes, 2, &n));
+    size_t cc_len = 0;
+    CHECK_OK(hf_map_len(HF_METHOD_CC, 37, 19, &cc, &cc_len));
+    CHECK(n == 2 && passes[1].uniform[0] == 2 && passes[1].uniform[4] == 64);
+    CHECK(passes[1].bind_size == cc_len - HF_MAP_DESC_BYTES);
+    cc.max_view_angle_deg = 60.0f;
+    CHECK_BAD(hf_cc_bake_passes(37, 19, &cc, keep, 2, &n), HF_ERR_INVALID_ARGUMENT, keep,
+              sizeof keep);
+    cc.max_view_angle_deg = 0.0f;
+    CHECK_BAD(hf_cc_bake_passes(37, 19, &cc, keep, 1, &n), HF_ERR_BUFFER_TOO_SMALL, keep,
+              sizeof keep);
+    CHECK_BAD(hf_cc_bake_shader_len(7, &cc_len), HF_ERR_INVALID_ENUM, &cc_len, sizeof cc_len);
 }
 
 int main(void) {

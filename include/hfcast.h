@@ -1214,7 +1214,7 @@ hf_result hf_nbuffer_bake_shader_len(uint32_t lang,
 // as a NUL-terminated string and its length without the NUL to `*out_written`
 // (`buf_len` at least `hf_nbuffer_bake_shader_len`). Its entry point (WGSL
 // `nbuffer_bake_pass`, GLSL `main`) writes one pass's elements into the storage buffer
-// `hf_nbuffer_out` (binding 15, `float`s, `hf_nbuffer_len` of them; each pass binds
+// `hf_nbuffer` (binding 15, `float`s, `hf_nbuffer_len` of them; each pass binds
 // the byte range of its `bind_offset` and `bind_size`) from the heights texture
 // `hf_heights` (binding 0 / texture unit 0, R32F W × H) or the levels below, reading
 // its `hf_nbuffer_pass` uniform (binding 16, a uniform block in GLSL); dispatch
@@ -1310,6 +1310,64 @@ hf_result hf_safety_bake_passes(uint32_t width,
                                 struct hf_bake_pass *out_passes,
                                 size_t out_passes_len,
                                 uint32_t *out_count);
+#endif
+
+#if defined(HF_HAVE_SAFETY)
+// Writes the length in bytes of `hf_cc_bake_shader(lang)`, including its NUL
+// terminator, to `*out_len`. Errors as `hf_cc_bake_shader`. Thread safe.
+//
+// # Safety
+// `out_len` is NULL (an error) or valid for writing one `size_t`.
+hf_result hf_cc_bake_shader_len(uint32_t lang,
+                                size_t *out_len);
+#endif
+
+#if defined(HF_HAVE_SAFETY)
+// Writes the compute shader that bakes the cylinder–cone shapes with N-buffer slopes
+// (`HF_CC_SLOPE_NBUFFER`) for every ray on the GPU in `lang` into `buf` as a
+// NUL-terminated string and its length without the NUL to `*out_written` (`buf_len`
+// at least `hf_cc_bake_shader_len`): the shader of `hf_safety_bake_shader` with the
+// entry point `cc_bake_pass` (WGSL), or with `HF_CC_BAKE` defined, which makes that
+// entry `main` (GLSL). 64-bit floats, as that bake. Its bindings are those of
+// `hf_safety_bake_shader`, plus the N-buffers `hf_nbuffer` (binding 15, read-only,
+// bound whole), filled first by the passes of `hf_nbuffer_bake_passes` for the same
+// cap. Dispatch `hf_cc_bake_passes` in order after those: the strip bounds, then the
+// map, `[r, s]` per texel and class, two to a word of `hf_safety_out`. The bytes
+// equal the texels of `hf_bake`'s map of `HF_METHOD_CC` with the N-buffer slope.
+// `HF_SHADER_WGSL` or `HF_SHADER_GLSL`; another value is `HF_ERR_INVALID_ENUM`.
+// Thread safe.
+//
+// # Safety
+// `buf` is NULL (an error) or valid for writing `buf_len` bytes; `out_written` NULL
+// (an error) or valid for writing one `size_t`.
+hf_result hf_cc_bake_shader(uint32_t lang,
+                            char *buf,
+                            size_t buf_len,
+                            size_t *out_written);
+#endif
+
+#if defined(HF_HAVE_SAFETY)
+// Writes the two passes of the GPU cylinder–cone bake of a `width × height` field
+// with `options` (NULL: the defaults of `HF_METHOD_CC`, whose slope is exact: an
+// error here; checked as `hf_bake` checks them) to `out_passes` (`out_passes_len` at
+// least 2) and their count to `*out_count`. The GPU bake computes N-buffer slopes for
+// every ray of every class: `slope` must be `HF_CC_SLOPE_NBUFFER`, `ray_classes` 0 or
+// `HF_RAYS_ALL`, `exterior` 0 and `max_view_angle_deg` 0, else
+// `HF_ERR_INVALID_ARGUMENT` (bake the others with `hf_bake`). `HF_ERR_INVALID_SIZE`
+// for a size no field has, or a map or N-buffers of 2³² bytes or floats or more;
+// `HF_ERR_BUFFER_TOO_SMALL` for room for fewer than 2 passes. Nothing is written on
+// an error. Thread safe.
+//
+// # Safety
+// `options` is NULL or valid for reading one `hf_bake_options`; `out_passes` NULL (an
+// error) or valid for writing `out_passes_len` passes; `out_count` NULL (an error) or
+// valid for writing one `uint32_t`.
+hf_result hf_cc_bake_passes(uint32_t width,
+                            uint32_t height,
+                            const struct hf_bake_options *options,
+                            struct hf_bake_pass *out_passes,
+                            size_t out_passes_len,
+                            uint32_t *out_count);
 #endif
 
 // Writes the description of map `map` (`HF_KTX2_*`) of a `width × height` field

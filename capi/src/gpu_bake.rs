@@ -1,6 +1,7 @@
-//! The GPU bakes of the safety-distance family (feature `safety`): the N-buffers of the
-//! cylinder–cone bake and the safety distances for every ray. Their compute shaders,
-//! passes and buffer sizes; the maximum mipmap's are in `maxmip`.
+//! The GPU bakes of the safety-distance family (feature `safety`): the N-buffers, the
+//! safety distances for every ray and the cylinder–cone shapes with N-buffer slopes.
+//! Their compute shaders, passes and buffer sizes; the maximum mipmap's are in
+//! `maxmip`.
 
 use crate::bake::hf_bake_options;
 use crate::detail::fail;
@@ -125,7 +126,7 @@ pub unsafe extern "C" fn hf_nbuffer_bake_shader_len(lang: u32, out_len: *mut usi
 /// as a NUL-terminated string and its length without the NUL to `*out_written`
 /// (`buf_len` at least `hf_nbuffer_bake_shader_len`). Its entry point (WGSL
 /// `nbuffer_bake_pass`, GLSL `main`) writes one pass's elements into the storage buffer
-/// `hf_nbuffer_out` (binding 15, `float`s, `hf_nbuffer_len` of them; each pass binds
+/// `hf_nbuffer` (binding 15, `float`s, `hf_nbuffer_len` of them; each pass binds
 /// the byte range of its `bind_offset` and `bind_size`) from the heights texture
 /// `hf_heights` (binding 0 / texture unit 0, R32F W × H) or the levels below, reading
 /// its `hf_nbuffer_pass` uniform (binding 16, a uniform block in GLSL); dispatch
@@ -280,6 +281,97 @@ pub unsafe extern "C" fn hf_safety_bake_passes(
 /// Most passes `hf_nbuffer_bake_passes` writes: per axis, the two level-0 passes and
 /// one per level above (at most 10 levels).
 pub const HF_NBUFFER_MAX_PASSES: u32 = 22;
+
+/// The cylinder–cone bake's source in `lang`.
+fn cc_source(lang: u32) -> Result<String, hf_result> {
+    let lang = match lang {
+        crate::shader::HF_SHADER_GLSL => hfcast_shaders::Lang::Glsl,
+        crate::shader::HF_SHADER_WGSL => hfcast_shaders::Lang::Wgsl,
+        _ => return Err(HF_ERR_INVALID_ENUM),
+    };
+    hfcast_shaders::bake::cc_bake_source(lang).ok_or(HF_ERR_NOT_BUILT)
+}
+
+/// Writes the length in bytes of `hf_cc_bake_shader(lang)`, including its NUL
+/// terminator, to `*out_len`. Errors as `hf_cc_bake_shader`. Thread safe.
+///
+/// # Safety
+/// `out_len` is NULL (an error) or valid for writing one `size_t`.
+#[no_mangle]
+pub unsafe extern "C" fn hf_cc_bake_shader_len(lang: u32, out_len: *mut usize) -> hf_result {
+    // SAFETY: the caller's promise.
+    unsafe { crate::shader::write_len(out_len, || cc_source(lang)) }
+}
+
+/// Writes the compute shader that bakes the cylinder–cone shapes with N-buffer slopes
+/// (`HF_CC_SLOPE_NBUFFER`) for every ray on the GPU in `lang` into `buf` as a
+/// NUL-terminated string and its length without the NUL to `*out_written` (`buf_len`
+/// at least `hf_cc_bake_shader_len`): the shader of `hf_safety_bake_shader` with the
+/// entry point `cc_bake_pass` (WGSL), or with `HF_CC_BAKE` defined, which makes that
+/// entry `main` (GLSL). 64-bit floats, as that bake. Its bindings are those of
+/// `hf_safety_bake_shader`, plus the N-buffers `hf_nbuffer` (binding 15, read-only,
+/// bound whole), filled first by the passes of `hf_nbuffer_bake_passes` for the same
+/// cap. Dispatch `hf_cc_bake_passes` in order after those: the strip bounds, then the
+/// map, `[r, s]` per texel and class, two to a word of `hf_safety_out`. The bytes
+/// equal the texels of `hf_bake`'s map of `HF_METHOD_CC` with the N-buffer slope.
+/// `HF_SHADER_WGSL` or `HF_SHADER_GLSL`; another value is `HF_ERR_INVALID_ENUM`.
+/// Thread safe.
+///
+/// # Safety
+/// `buf` is NULL (an error) or valid for writing `buf_len` bytes; `out_written` NULL
+/// (an error) or valid for writing one `size_t`.
+#[no_mangle]
+pub unsafe extern "C" fn hf_cc_bake_shader(
+    lang: u32,
+    buf: *mut c_char,
+    buf_len: usize,
+    out_written: *mut usize,
+) -> hf_result {
+    // SAFETY: the caller's promises.
+    unsafe { crate::shader::write_text(buf, buf_len, out_written, || cc_source(lang)) }
+}
+
+/// Writes the two passes of the GPU cylinder–cone bake of a `width × height` field
+/// with `options` (NULL: the defaults of `HF_METHOD_CC`, whose slope is exact: an
+/// error here; checked as `hf_bake` checks them) to `out_passes` (`out_passes_len` at
+/// least 2) and their count to `*out_count`. The GPU bake computes N-buffer slopes for
+/// every ray of every class: `slope` must be `HF_CC_SLOPE_NBUFFER`, `ray_classes` 0 or
+/// `HF_RAYS_ALL`, `exterior` 0 and `max_view_angle_deg` 0, else
+/// `HF_ERR_INVALID_ARGUMENT` (bake the others with `hf_bake`). `HF_ERR_INVALID_SIZE`
+/// for a size no field has, or a map or N-buffers of 2³² bytes or floats or more;
+/// `HF_ERR_BUFFER_TOO_SMALL` for room for fewer than 2 passes. Nothing is written on
+/// an error. Thread safe.
+///
+/// # Safety
+/// `options` is NULL or valid for reading one `hf_bake_options`; `out_passes` NULL (an
+/// error) or valid for writing `out_passes_len` passes; `out_count` NULL (an error) or
+/// valid for writing one `uint32_t`.
+#[no_mangle]
+pub unsafe extern "C" fn hf_cc_bake_passes(
+    width: u32,
+    height: u32,
+    options: *const hf_bake_options,
+    out_passes: *mut hf_bake_pass,
+    out_passes_len: usize,
+    out_count: *mut u32,
+) -> hf_result {
+    guard(|| {
+        let method = MethodKind::Cc as u32;
+        // SAFETY: the caller promises `options` is NULL or readable.
+        let checked = unsafe { crate::bake::checked(method, width, height, options) }?;
+        let spec = checked.spec.ok_or(HF_ERR_INVALID_ARGUMENT)?;
+        let d = spec.desc;
+        if !spec.nbuffer_slope || d.classes != RayClasses::ALL || !d.rays.is_all() {
+            let why = "options: the GPU cylinder-cone bake computes N-buffer slopes (slope HF_CC_SLOPE_NBUFFER) for every ray of every class (ray_classes 0, exterior 0, max_view_angle_deg 0)";
+            return Err(fail(HF_ERR_INVALID_ARGUMENT, why));
+        }
+        let passes = hfcast_shaders::bake::cc_bake_passes(width, height, d.cap)
+            .ok_or(HF_ERR_INVALID_SIZE)?;
+        let passes: Vec<hf_bake_pass> = passes.iter().map(hf_bake_pass::from).collect();
+        // SAFETY: the caller's promises, passed on.
+        unsafe { write_passes(&passes, out_passes, out_passes_len, out_count) }
+    })
+}
 
 #[cfg(test)]
 mod tests {

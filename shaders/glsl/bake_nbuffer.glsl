@@ -4,7 +4,7 @@
 // §6.3.2): mirror of core/src/safety/cc.rs `NbufferStep::run`. A compute shader, not
 // part of any march: one dispatch of `nbuffer_bake_pass` per step of
 // `cc::nbuffer_steps`, in order, each over its rows x row_len elements in workgroups
-// of 8 x 8 (x along the row, y across rows), into the storage buffer hf_nbuffer_out in
+// of 8 x 8 (x along the row, y across rows), into the storage buffer hf_nbuffer in
 // the core's layout (`cc::nbuffer_len` floats). A step writes elements
 // dst + r * row_len + y:
 // - kind 0 (heights): the sample at main index r, minor index y of its axis;
@@ -35,7 +35,7 @@ struct NbufferPass {
 };
 
 uniform sampler2D hf_heights;
-layout(std430, binding = 15) buffer HfNbufferOut { float hf_nbuffer_out[]; };
+layout(std430, binding = 15) buffer HfNbuffer { float hf_nbuffer[]; };
 layout(std140, binding = 16) uniform HfNbufferPass { NbufferPass hf_nbuffer_pass; };
 
 // The block's columns: 8 cell columns, 9 sample columns (cc.rs `BLOCK`).
@@ -58,16 +58,16 @@ void nbuffer_bake_element(uvec3 gid) {
         v = texelFetch(hf_heights, ivec2(at), 0).r;
     } else if (p.kind == 1u) {
         uint row = p.src + r * p.row_len;
-        v = nbuffer_mx(hf_nbuffer_out[row + y], hf_nbuffer_out[row + min(y + p.half_window, p.row_len - 1u)]);
+        v = nbuffer_mx(hf_nbuffer[row + y], hf_nbuffer[row + min(y + p.half_window, p.row_len - 1u)]);
     } else {
         uint first = NBUFFER_BLOCK * r;
         uint last = min(first + NBUFFER_BLOCK, p.columns - 1u);
-        v = hf_nbuffer_out[p.src + first * p.row_len + y];
+        v = hf_nbuffer[p.src + first * p.row_len + y];
         for (uint c = first + 1u; c <= last; c++) {
-            v = nbuffer_mx(v, hf_nbuffer_out[p.src + c * p.row_len + y]);
+            v = nbuffer_mx(v, hf_nbuffer[p.src + c * p.row_len + y]);
         }
     }
-    hf_nbuffer_out[p.dst + r * p.row_len + y] = v;
+    hf_nbuffer[p.dst + r * p.row_len + y] = v;
 }
 
 // The entry point: one invocation per element.

@@ -13,6 +13,15 @@
 //   word (little-endian: byte 4w + b is bits 8b..8b+7 of word w), every class of every
 //   texel: directional `((4j + class) W + i)`, isotropic `j W + i` (the least over the
 //   classes), at least `least` (1 for the paper's positive variant), at most `cap`.
+// The cylinder-cone map with N-buffer slopes (core/src/safety/cc.rs, `Slope::NBuffer`)
+// is the entry point `cc_bake_pass` of the same file (GLSL: `#define HF_CC_BAKE` after
+// the `#version` line): kind 0 as above, then
+// - kind 2 (cylinder-cones): per texel and class `[r, s]` (bytes `2((4j + class) W +
+//   i)` and the next) into hf_safety_out, r the safety distance (at most 255), s the
+//   code of the cone slope for the reach `cap`: the largest bound of the abscissas of
+//   the columns past the cylinder from the N-buffers in hf_nbuffer (filled before by
+//   bake_nbuffer for the same cap), and at r = 0 the exact slope of the limiting
+//   triangles of column 0; no cone (255) where r reaches `cap`.
 // Invocation (x, y) of the 8 x 8 workgroups handles item y * grid_width + x (a strip
 // slot, or an output word). Every test is the core's, operation for operation, so the
 // bytes equal the CPU bake's.
@@ -37,6 +46,7 @@ struct SafetyBakePass {
 };
 
 uniform sampler2D hf_heights;
+layout(std430, binding = 15) readonly buffer HfNbuffer { float hf_nbuffer[]; };
 layout(std430, binding = 17) buffer HfSafetyScratch { float hf_safety_scratch[]; };
 layout(std430, binding = 18) buffer HfSafetyOut { uint hf_safety_out[]; };
 layout(std140, binding = 19) uniform HfSafetyPass { SafetyBakePass hf_safety_pass; };
@@ -204,30 +214,52 @@ SbSigma sb_sigma_of(uint ax, uint m, uint n) {
     return SbSigma(nf, h, below, above, nf - 0.5lf - 0.0625lf, nf + 0.5lf + 0.0625lf);
 }
 
-// Whether a triangle of vertices (forward distance, minor coordinate) v0, v1, v2 whose
-// plane has height `base` at minor coordinate `at` on the centerline and minor slope
-// `slope` limits some ray from the segment (`AllRays::limiting`).
-bool sb_limiting(SbSigma s, dvec2 v0, dvec2 v1, dvec2 v2, double base, double at, double slope) {
+// One triangle in the frame of a class and a texel (`Tri`): its vertices (forward
+// distance, minor coordinate), its plane's height `base` on the centerline at minor
+// coordinate `at`, its minor and forward slopes.
+struct SbTri {
+    dvec2 v0;
+    dvec2 v1;
+    dvec2 v2;
+    double base;
+    double at;
+    double minor_slope;
+    double forward_slope;
+};
+
+// The plane's height on the centerline at minor coordinate y (`Tri::height_on_line`).
+double sb_on_line(SbTri t, double y) {
+    return t.base + t.minor_slope * (y - t.at);
+}
+
+// Whether triangle t limits some ray from the segment (`AllRays::limiting`).
+bool sb_limiting(SbSigma s, SbTri t) {
     // The core starts from ±infinity: min(+inf, a) is a.
-    double lo = sb_min(sb_min(v0.y - v0.x, v1.y - v1.x), v2.y - v2.x);
-    double hi = sb_max(sb_max(v0.y + v0.x, v1.y + v1.x), v2.y + v2.x);
+    double lo = sb_min(sb_min(t.v0.y - t.v0.x, t.v1.y - t.v1.x), t.v2.y - t.v2.x);
+    double hi = sb_max(sb_max(t.v0.y + t.v0.x, t.v1.y + t.v1.x), t.v2.y + t.v2.x);
     lo = sb_max(lo, s.lo);
     hi = sb_min(hi, s.hi);
     if (lo > hi) {
         return false;
     }
-    if (base + slope * (lo - at) > sb_sigma_height(s, lo)) {
+    if (sb_on_line(t, lo) > sb_sigma_height(s, lo)) {
         return true;
     }
-    if (base + slope * (hi - at) > sb_sigma_height(s, hi)) {
+    if (sb_on_line(t, hi) > sb_sigma_height(s, hi)) {
         return true;
     }
-    return lo < s.n && s.n < hi && base + slope * (s.n - at) > sb_sigma_height(s, s.n);
+    return lo < s.n && s.n < hi && sb_on_line(t, s.n) > sb_sigma_height(s, s.n);
 }
 
-// Whether either triangle of cell (cm, l) (main, minor indices of axis ax) limits, for
-// the texel of main index m and the class direction sg (`cell_limits`, `cell_tris`).
-bool sb_cell_limits(SbSigma s, uint ax, double sg, uint m, uint cm, uint l) {
+// The two triangles of a cell in a texel's frame (`cell_tris`).
+struct SbTris {
+    SbTri t0;
+    SbTri t1;
+};
+
+// The triangles of cell (cm, l) (main, minor indices of axis ax) for the texel of main
+// index m and the class direction sg (`cell_tris`).
+SbTris sb_cell_tris(uint ax, double sg, uint m, uint cm, uint l) {
     dvec4 c;
     if (ax == 0u) {
         c = sb_corners(cm, l);
@@ -266,9 +298,15 @@ bool sb_cell_limits(SbSigma s, uint ax, double sg, uint m, uint cm, uint l) {
     double base0 = planes.p0.x + main0 * (mf - cmf);
     double base1 = planes.p1.x + main1 * (mf - cmf);
     if (c.x + c.w <= c.y + c.z) {
-        return sb_limiting(s, p00, p10, p11, base0, lf, minor0) || sb_limiting(s, p00, p01, p11, base1, lf, minor1);
+        return SbTris(SbTri(p00, p10, p11, base0, lf, minor0, sg * main0), SbTri(p00, p01, p11, base1, lf, minor1, sg * main1));
     }
-    return sb_limiting(s, p00, p10, p01, base0, lf, minor0) || sb_limiting(s, p10, p01, p11, base1, lf, minor1);
+    return SbTris(SbTri(p00, p10, p01, base0, lf, minor0, sg * main0), SbTri(p10, p01, p11, base1, lf, minor1, sg * main1));
+}
+
+// Whether either triangle of cell (cm, l) limits (`cell_limits`).
+bool sb_cell_limits(SbSigma s, uint ax, double sg, uint m, uint cm, uint l) {
+    SbTris tris = sb_cell_tris(ax, sg, m, cm, l);
+    return sb_limiting(s, tris.t0) || sb_limiting(s, tris.t1);
 }
 
 // The safety distance of texel (i, j) for class `cls` (0 x+, 1 x-, 2 y+, 3 y-), at most
@@ -337,6 +375,255 @@ uint sb_map_byte(uint index) {
     return max(v, p.least);
 }
 
+// ---- cylinder-cones (N-buffer slopes) ----
+
+// floor(log2(v)) of v > 0.
+uint sb_log2(uint v) { return uint(findMSB(v)); }
+
+// The N-buffer levels of the reach `cap` (cc.rs `levels`).
+uint sb_levels(uint cap) {
+    return sb_log2(2u * cap + 6u) + 1u;
+}
+
+// Where axis ax's N-buffers start, and their elements per level (`nb_layout`).
+uint sb_nb_base(uint ax, uint levels) {
+    uint w = hf_safety_pass.width;
+    if (ax == 0u) {
+        return 0u;
+    }
+    return levels * (w + (w - 1u + 7u) / 8u) * hf_safety_pass.height;
+}
+uint sb_nb_level(uint ax) {
+    uint lm = sb_main_len(ax);
+    return (lm + (lm - 1u + 7u) / 8u) * sb_minor_len(ax);
+}
+
+// The highest sample over cross samples a..=b of the sample column whose level 0
+// starts at `at` (`range_max`), for levels up to `top`, `level` elements apart.
+double sb_range_max(uint at, uint a, uint b, uint level, uint top) {
+    uint len = b - a + 1u;
+    uint l = min(sb_log2(len), top);
+    uint w = 1u << l;
+    uint first = at + l * level + a;
+    uint last = first + len - w;
+    float m = ((hf_nbuffer[last] > hf_nbuffer[first]) ? (hf_nbuffer[last]) : (hf_nbuffer[first]));
+    for (uint y = first + w; y < last; y += w) {
+        m = ((hf_nbuffer[y] > m) ? (hf_nbuffer[y]) : (m));
+    }
+    return double(m);
+}
+
+// The slope of a code's t (`decode_t`).
+double sb_decode_t(int t) {
+    return double(t * abs(t)) / 2048.0lf;
+}
+
+// The slope code of s rounded up (`encode_slope`; 255 past S_MAX).
+uint sb_encode_slope(double s) {
+    // S_MAX = 126 * 126 / 2048.
+    if (s > 7.751953125lf) {
+        return 255u;
+    }
+    int t;
+    if (s >= 0.0lf) {
+        double x = sqrt(2048.0lf * s);
+        t = int(x);
+        if (double(t) < x) {
+            t = t + 1;
+        }
+    } else {
+        t = -int(sb_min(sqrt(-2048.0lf * s), 128.0lf));
+    }
+    if (t < 126 && sb_decode_t(t) < s) {
+        t = t + 1;
+    }
+    if (sb_decode_t(t) < s) {
+        return 255u;
+    }
+    return uint(t + 128);
+}
+
+// The smallest slope a code stands for that is >= s (`code_ceiling`; +inf past S_MAX,
+// returned as the flag `inf`).
+struct SbSlope {
+    double s;
+    bool inf;
+};
+
+SbSlope sb_code_ceiling(double s) {
+    uint code = sb_encode_slope(s);
+    if (code == 255u) {
+        return SbSlope(0.0lf, true);
+    }
+    return SbSlope(sb_decode_t(int(code) - 128), false);
+}
+
+// `raise`: s to code_ceiling(max(s, t)).
+SbSlope sb_raise(SbSlope s, double t) {
+    if (!s.inf && t > s.s) {
+        return sb_code_ceiling(t);
+    }
+    return s;
+}
+
+// The edge of the band a ray from the segment reaches that cuts cell c of column k,
+// as the half-plane a u + b y + d >= 0 it keeps (`band_edge`; xyz, w = 1 when there is
+// one).
+dvec4 sb_band_edge(SbSigma s, double k, double c) {
+    if (c + k < s.n) {
+        return dvec4(1.0lf, 1.0lf, -s.lo, 1.0lf);
+    }
+    if (c + 1.0lf > s.n + k) {
+        return dvec4(1.0lf, -1.0lf, s.hi, 1.0lf);
+    }
+    return dvec4(0.0lf, 0.0lf, 0.0lf, 0.0lf);
+}
+
+// `tri_slope`'s running state: the best slope (once one is taken: the core starts
+// from -inf), and whether a point on the centerline lies above z_c.
+struct SbTake {
+    double best;
+    bool taken;
+    bool above;
+};
+
+// `tri_slope`'s `take` of point p.
+SbTake sb_take(SbTake st, SbTri t, double zc, dvec2 p) {
+    double z = sb_on_line(t, p.y) + t.forward_slope * p.x;
+    double tol = 0.000000001lf * (1.0lf + abs(zc));
+    if (p.x <= 0.000000001lf) {
+        return SbTake(st.best, st.taken, st.above || z - zc > tol);
+    }
+    double slope = (z - zc) / p.x;
+    if (!st.taken || slope > st.best) {
+        return SbTake(slope, true, st.above);
+    }
+    return st;
+}
+
+// Vertex k of t.
+dvec2 sb_vertex(SbTri t, uint k) {
+    if (k == 0u) {
+        return t.v0;
+    }
+    if (k == 1u) {
+        return t.v1;
+    }
+    return t.v2;
+}
+
+// The largest (plane - zc) / u over the part of t a ray from the segment reaches (t
+// clipped to `edge`, when its w is 1: `tri_slope`), as a raise of `s`.
+SbSlope sb_tri_slope(SbTri t, double zc, dvec4 edge, SbSlope s) {
+    SbTake st = SbTake(0.0lf, false, false);
+    for (uint e = 0u; e < 3u; e++) {
+        dvec2 p = sb_vertex(t, e);
+        if (edge.w == 0.0lf) {
+            st = sb_take(st, t, zc, p);
+            continue;
+        }
+        dvec2 q = sb_vertex(t, (e + 1u) % 3u);
+        double fp = edge.x * p.x + edge.y * p.y + edge.z;
+        double fq = edge.x * q.x + edge.y * q.y + edge.z;
+        if (fp >= 0.0lf) {
+            st = sb_take(st, t, zc, p);
+        }
+        if ((fp >= 0.0lf) != (fq >= 0.0lf)) {
+            double f = fp / (fp - fq);
+            st = sb_take(st, t, zc, dvec2(p.x + f * (q.x - p.x), p.y + f * (q.y - p.y)));
+        }
+    }
+    if (st.above) {
+        return SbSlope(0.0lf, true);
+    }
+    if (!st.taken) {
+        return s;
+    }
+    return sb_raise(s, st.best);
+}
+
+// The cone slope code of texel (i, j) for class `cls` beyond the cylinder r
+// (`class_search` with `Slope::NBuffer`), for the reach `cap`.
+uint sb_cone_code(uint cls, uint i, uint j, uint r, uint cap) {
+    uint ax = cls / 2u;
+    bool forward = cls % 2u == 0u;
+    double sg = ((forward) ? (1.0lf) : (-1.0lf));
+    uint lm = sb_main_len(ax);
+    uint ln = sb_minor_len(ax);
+    uint m = i;
+    uint n = j;
+    if (ax == 1u) {
+        m = j;
+        n = i;
+    }
+    SbSigma sig = sb_sigma_of(ax, m, n);
+    double at_lo = sig.h + sig.below * (sig.lo - sig.n);
+    double at_hi = sig.h + sig.above * (sig.hi - sig.n);
+    double zc = sb_max(sb_max(at_lo, sig.h), at_hi);
+    uint levels = sb_levels(cap);
+    uint level = sb_nb_level(ax);
+    uint column0 = sb_nb_base(ax, levels) + m * ln;
+    SbSlope s = SbSlope(-8.0lf, false);
+    uint kend = min(cap, ((forward) ? (lm - 1u - m) : (m)));
+    uint k0 = max(r, 1u);
+    // The largest bound of the abscissas u in k0..=kend: the highest sample of the
+    // sample column u ahead over the band of column u, less z_c, over u.
+    if (k0 < kend) {
+        double top = -8.0lf;
+        for (uint u = k0; u <= kend; u++) {
+            uint a = ((n >= u + 2u) ? (n - (u + 2u)) : (0u));
+            uint b = min(n + u + 1u, ln - 2u) + 1u;
+            uint sample_column = ((forward) ? (m + u) : (m - u));
+            uint at = column0 - m * ln + sample_column * ln;
+            double bound = (sb_range_max(at, a, b, level, levels - 1u) - zc) / double(u);
+            top = ((bound > top) ? (bound) : (top));
+        }
+        s = sb_raise(s, top);
+    }
+    // Column 0, exactly, when the cylinder is empty: its bound (+inf when the near
+    // side reaches above z_c), then its limiting triangles.
+    if (r == 0u && kend > 0u) {
+        uint a = ((n >= 2u) ? (n - 2u) : (0u));
+        uint b = min(n + 1u, ln - 2u) + 1u;
+        uint far_column = ((forward) ? (m + 1u) : (m - 1u));
+        double top_near = sb_range_max(column0, a, b, level, levels - 1u) - zc;
+        double top_far = sb_range_max(column0 - m * ln + far_column * ln, a, b, level, levels - 1u) - zc;
+        if (top_near > 0.0lf || (!s.inf && top_far / 1.0lf > s.s)) {
+            uint cm = ((forward) ? (m) : (m - 1u));
+            for (uint c = a; c < b && !s.inf; c++) {
+                SbTris tris = sb_cell_tris(ax, sg, m, cm, c);
+                dvec4 edge = sb_band_edge(sig, 0.0lf, double(c));
+                if (sb_limiting(sig, tris.t0)) {
+                    s = sb_tri_slope(tris.t0, zc, edge, s);
+                }
+                if (!s.inf && sb_limiting(sig, tris.t1)) {
+                    s = sb_tri_slope(tris.t1, zc, edge, s);
+                }
+            }
+        }
+    }
+    if (s.inf) {
+        return 255u;
+    }
+    return sb_encode_slope(s.s);
+}
+
+// The two bytes [r, s] of entry `e` of the cylinder-cone map (texel-class
+// (4j + class) W + i).
+uint sb_cc_entry(uint e) {
+    SafetyBakePass p = hf_safety_pass;
+    uint i = e % p.width;
+    uint row = e / p.width;
+    uint cls = row % 4u;
+    uint j = row / 4u;
+    uint r = sb_texel_distance(cls, i, j, 255u);
+    uint code = 255u;
+    if (r < p.cap) {
+        code = sb_cone_code(cls, i, j, r, p.cap);
+    }
+    return r | (code << 8u);
+}
+
 // Item `gid` of the pass.
 void safety_bake_item(uvec3 gid) {
     SafetyBakePass p = hf_safety_pass;
@@ -363,8 +650,32 @@ void safety_bake_item(uvec3 gid) {
     hf_safety_out[item] = word;
 }
 
-// The entry point: one invocation per item.
+// Item `gid` of a pass of the cylinder-cone bake: strip slots (kind 0), then the map's
+// words, two entries each (kind 2).
+void cc_bake_item(uvec3 gid) {
+    SafetyBakePass p = hf_safety_pass;
+    uint item = gid.y * p.grid_width + gid.x;
+    if (gid.x >= p.grid_width || item >= p.items) {
+        return;
+    }
+    if (p.kind == 0u) {
+        sb_strip_slot(item);
+        return;
+    }
+    uint entries = 4u * p.width * p.height;
+    uint word = sb_cc_entry(2u * item);
+    if (2u * item + 1u < entries) {
+        word = word | (sb_cc_entry(2u * item + 1u) << 16u);
+    }
+    hf_safety_out[item] = word;
+}
+
+// The entry points: one invocation per item.
 layout(local_size_x = 8, local_size_y = 8) in;
 void main() {
+#ifdef HF_CC_BAKE
+    cc_bake_item(gl_GlobalInvocationID);
+#else
     safety_bake_item(gl_GlobalInvocationID);
+#endif
 }

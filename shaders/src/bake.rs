@@ -16,8 +16,8 @@
 //!   rounded up to whole words) and `hf_safety_pass`
 //!   ([`wgsl_layout::SAFETY_PASS`](crate::wgsl_layout::SAFETY_PASS)), all bound whole,
 //!   passes from [`safety_bake_passes`].
-//! - `bake_nbuffer` (feature `safety`): `hf_heights`, `hf_nbuffer_out`
-//!   ([`wgsl_layout::NBUFFER_OUT`](crate::wgsl_layout::NBUFFER_OUT), a read-write
+//! - `bake_nbuffer` (feature `safety`): `hf_heights`, `hf_nbuffer`
+//!   ([`wgsl_layout::NBUFFER`](crate::wgsl_layout::NBUFFER), a read-write
 //!   storage buffer of `cc::nbuffer_len` floats, each pass binding the range
 //!   [`BakePass::bind_offset`], [`BakePass::bind_size`] of it) and `hf_nbuffer_pass`
 //!   ([`wgsl_layout::NBUFFER_PASS`](crate::wgsl_layout::NBUFFER_PASS),
@@ -57,6 +57,59 @@ impl BakePass {
     /// The uniform's bytes.
     pub fn uniform_bytes(&self) -> Vec<u8> {
         self.uniform.iter().flat_map(|w| w.to_le_bytes()).collect()
+    }
+}
+
+/// The source of the GPU cylinder–cone bake (N-buffer slopes) in `lang`: `bake_safety`
+/// (WGSL: its entry point `cc_bake_pass`; GLSL: with `HF_CC_BAKE` defined after the
+/// `#version` line, which selects that entry as `main`).
+#[cfg(feature = "safety")]
+pub fn cc_bake_source(lang: crate::Lang) -> Option<String> {
+    let text = crate::file(lang, "bake_safety")?;
+    Some(match lang {
+        crate::Lang::Wgsl => text.to_string(),
+        crate::Lang::Glsl => {
+            let version = "#version 430 core\n";
+            text.replacen(version, &format!("{version}#define HF_CC_BAKE 1\n"), 1)
+        }
+    })
+}
+
+/// The two passes of the GPU cylinder–cone bake of a `width × height` field for every
+/// ray with N-buffer slopes and the cone reach `cap` (`cc::bake` with
+/// `Slope::NBuffer`): the strip bounds into `hf_safety_scratch`, then the map (`[r,
+/// s]` per texel and class, two entries to a word) into `hf_safety_out`, reading the
+/// N-buffers of [`nbuffer_bake_passes`] for the same `cap` from `hf_nbuffer`. `None`
+/// as [`safety_bake_passes`], or N-buffers of 2³² floats or more.
+#[cfg(feature = "safety")]
+pub fn cc_bake_passes(width: u32, height: u32, cap: u8) -> Option<Vec<BakePass>> {
+    nbuffer_bake_passes(width, height, cap)?;
+    let mut passes = safety_bake_passes(width, height, false, u8::MAX, false)?;
+    let bytes = u32::try_from(hfcast::safety::cc::map_len(width, height)).ok()?;
+    let words = bytes / 4;
+    passes[1] = grid_pass(
+        2,
+        words,
+        4 * u64::from(words),
+        [width, height, 0, u32::from(cap), 0],
+    );
+    Some(passes)
+}
+
+/// A pass of the safety shader over `items` items in a grid of 8 × 8 workgroups (at
+/// most 65535 along x), its uniform `[kind, head…, items, grid width]`, binding
+/// `written` bytes.
+#[cfg(feature = "safety")]
+fn grid_pass(kind: u32, items: u32, written: u64, head: [u32; 5]) -> BakePass {
+    let across = items.div_ceil(WORKGROUP).clamp(1, 65535);
+    let grid_width = across * WORKGROUP;
+    let rows = items.div_ceil(grid_width).div_ceil(WORKGROUP).max(1);
+    let [w, h, iso, cap, least] = head;
+    BakePass {
+        uniform: [kind, w, h, iso, cap, least, items, grid_width],
+        workgroups: [across, rows],
+        bind_offset: 0,
+        bind_size: written,
     }
 }
 
@@ -291,6 +344,27 @@ mod tests {
         // Wide grids: at most 65535 workgroups along x.
         let big = safety_bake_passes(4096, 4096, false, 255, false).unwrap();
         assert!(big[1].workgroups[0] <= 65535 && big[1].workgroups[1] > 1);
+    }
+
+    #[cfg(feature = "safety")]
+    #[test]
+    fn cc_passes_are_the_strips_then_two_entries_a_word() {
+        use hfcast::safety;
+        let p = cc_bake_passes(13, 6, 64).unwrap();
+        assert_eq!(
+            p[0],
+            safety_bake_passes(13, 6, false, 255, false).unwrap()[0]
+        );
+        assert_eq!(p[1].uniform[..7], [2, 13, 6, 0, 64, 0, 2 * 13 * 6]);
+        assert_eq!(p[1].bind_size as usize, safety::cc::map_len(13, 6));
+        let glsl = cc_bake_source(crate::Lang::Glsl).unwrap();
+        assert!(
+            glsl.starts_with("//") && glsl.contains("#version 430 core\n#define HF_CC_BAKE 1\n")
+        );
+        assert!(cc_bake_source(crate::Lang::Wgsl)
+            .unwrap()
+            .contains("fn cc_bake_pass("));
+        assert_eq!(cc_bake_passes(20000, 20000, 255), None);
     }
 
     #[cfg(feature = "safety")]

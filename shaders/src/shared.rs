@@ -135,10 +135,10 @@ const WGSL_BINDINGS: [(u32, &str, &str, &str); 20] = [
         "bake_maxmip.wgsl",
     ),
     (
-        b::NBUFFER_OUT,
-        "hf_nbuffer_out",
-        "storage array<f32>, read_write",
-        "bake_nbuffer.wgsl",
+        b::NBUFFER,
+        "hf_nbuffer",
+        "storage array<f32>",
+        "bake_nbuffer.wgsl, bake_safety.wgsl",
     ),
     (
         b::NBUFFER_PASS,

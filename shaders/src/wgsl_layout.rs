@@ -44,9 +44,10 @@ pub const PYRAMID_OUT: u32 = 13;
 /// `hf_maxmip_pass`: uniform `MaxMipPass`, one level's pass of the GPU bake
 /// (bake_maxmip.wgsl).
 pub const MAXMIP_PASS: u32 = 14;
-/// `hf_nbuffer_out`: `array<f32>`, a read-write storage buffer, the N-buffers the GPU
-/// bake writes in the core's layout (`cc::nbuffer_len` floats) (bake_nbuffer.wgsl).
-pub const NBUFFER_OUT: u32 = 15;
+/// `hf_nbuffer`: `array<f32>`, a storage buffer, the N-buffers in the core's layout
+/// (`cc::nbuffer_len` floats): written by the GPU N-buffer bake (read-write,
+/// bake_nbuffer.wgsl), read by the cylinder–cone bake (read-only, bake_safety.wgsl).
+pub const NBUFFER: u32 = 15;
 /// `hf_nbuffer_pass`: uniform `NbufferPass`, one step of the GPU N-buffer bake
 /// (bake_nbuffer.wgsl).
 pub const NBUFFER_PASS: u32 = 16;

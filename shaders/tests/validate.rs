@@ -176,6 +176,23 @@ fn gpu_bakes_compile_as_glsl_compute_shaders() {
         );
     }
     assert_eq!(stems, ["bake_maxmip", "bake_nbuffer", "bake_safety"]);
+    // The cylinder–cone bake: bake_safety with HF_CC_BAKE defined.
+    #[cfg(feature = "safety")]
+    {
+        let cc = hfcast_shaders::bake::cc_bake_source(Lang::Glsl).expect("the cc bake");
+        assert!(cc.contains("#define HF_CC_BAKE"));
+        let path = dir.join("bake_cc.comp");
+        std::fs::write(&path, cc).unwrap();
+        let out = Command::new("glslangValidator")
+            .arg(&path)
+            .output()
+            .unwrap();
+        assert!(
+            out.status.success(),
+            "bake_cc: {}",
+            String::from_utf8_lossy(&out.stdout)
+        );
+    }
 }
 
 #[test]

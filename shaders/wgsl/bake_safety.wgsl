@@ -11,6 +11,15 @@
 //   word (little-endian: byte 4w + b is bits 8b..8b+7 of word w), every class of every
 //   texel: directional `((4j + class) W + i)`, isotropic `j W + i` (the least over the
 //   classes), at least `least` (1 for the paper's positive variant), at most `cap`.
+// The cylinder-cone map with N-buffer slopes (core/src/safety/cc.rs, `Slope::NBuffer`)
+// is the entry point `cc_bake_pass` of the same file (GLSL: `#define HF_CC_BAKE` after
+// the `#version` line): kind 0 as above, then
+// - kind 2 (cylinder-cones): per texel and class `[r, s]` (bytes `2((4j + class) W +
+//   i)` and the next) into hf_safety_out, r the safety distance (at most 255), s the
+//   code of the cone slope for the reach `cap`: the largest bound of the abscissas of
+//   the columns past the cylinder from the N-buffers in hf_nbuffer (filled before by
+//   bake_nbuffer for the same cap), and at r = 0 the exact slope of the limiting
+//   triangles of column 0; no cone (255) where r reaches `cap`.
 // Invocation (x, y) of the 8 x 8 workgroups handles item y * grid_width + x (a strip
 // slot, or an output word). Every test is the core's, operation for operation, so the
 // bytes equal the CPU bake's.
@@ -38,11 +47,13 @@ struct SafetyBakePass {
 
 @group(0) @binding(0) var hf_heights: texture_2d<f32>;
 //#wgsl
+@group(0) @binding(15) var<storage, read> hf_nbuffer: array<f32>;
 @group(0) @binding(17) var<storage, read_write> hf_safety_scratch: array<f32>;
 @group(0) @binding(18) var<storage, read_write> hf_safety_out: array<u32>;
 @group(0) @binding(19) var<uniform> hf_safety_pass: SafetyBakePass;
 //#end
 //#glsl
+// layout(std430, binding = 15) readonly buffer HfNbuffer { float hf_nbuffer[]; };
 // layout(std430, binding = 17) buffer HfSafetyScratch { float hf_safety_scratch[]; };
 // layout(std430, binding = 18) buffer HfSafetyOut { uint hf_safety_out[]; };
 // layout(std140, binding = 19) uniform HfSafetyPass { SafetyBakePass hf_safety_pass; };
@@ -211,30 +222,52 @@ fn sb_sigma_of(ax: u32, m: u32, n: u32) -> SbSigma {
     return SbSigma(nf, h, below, above, nf - 0.5lf - 0.0625lf, nf + 0.5lf + 0.0625lf);
 }
 
-// Whether a triangle of vertices (forward distance, minor coordinate) v0, v1, v2 whose
-// plane has height `base` at minor coordinate `at` on the centerline and minor slope
-// `slope` limits some ray from the segment (`AllRays::limiting`).
-fn sb_limiting(s: SbSigma, v0: vec2<f64>, v1: vec2<f64>, v2: vec2<f64>, base: f64, at: f64, slope: f64) -> bool {
+// One triangle in the frame of a class and a texel (`Tri`): its vertices (forward
+// distance, minor coordinate), its plane's height `base` on the centerline at minor
+// coordinate `at`, its minor and forward slopes.
+struct SbTri {
+    v0: vec2<f64>,
+    v1: vec2<f64>,
+    v2: vec2<f64>,
+    base: f64,
+    at: f64,
+    minor_slope: f64,
+    forward_slope: f64,
+}
+
+// The plane's height on the centerline at minor coordinate y (`Tri::height_on_line`).
+fn sb_on_line(t: SbTri, y: f64) -> f64 {
+    return t.base + t.minor_slope * (y - t.at);
+}
+
+// Whether triangle t limits some ray from the segment (`AllRays::limiting`).
+fn sb_limiting(s: SbSigma, t: SbTri) -> bool {
     // The core starts from ±infinity: min(+inf, a) is a.
-    var lo: f64 = sb_min(sb_min(v0.y - v0.x, v1.y - v1.x), v2.y - v2.x);
-    var hi: f64 = sb_max(sb_max(v0.y + v0.x, v1.y + v1.x), v2.y + v2.x);
+    var lo: f64 = sb_min(sb_min(t.v0.y - t.v0.x, t.v1.y - t.v1.x), t.v2.y - t.v2.x);
+    var hi: f64 = sb_max(sb_max(t.v0.y + t.v0.x, t.v1.y + t.v1.x), t.v2.y + t.v2.x);
     lo = sb_max(lo, s.lo);
     hi = sb_min(hi, s.hi);
     if (lo > hi) {
         return false;
     }
-    if (base + slope * (lo - at) > sb_sigma_height(s, lo)) {
+    if (sb_on_line(t, lo) > sb_sigma_height(s, lo)) {
         return true;
     }
-    if (base + slope * (hi - at) > sb_sigma_height(s, hi)) {
+    if (sb_on_line(t, hi) > sb_sigma_height(s, hi)) {
         return true;
     }
-    return lo < s.n && s.n < hi && base + slope * (s.n - at) > sb_sigma_height(s, s.n);
+    return lo < s.n && s.n < hi && sb_on_line(t, s.n) > sb_sigma_height(s, s.n);
 }
 
-// Whether either triangle of cell (cm, l) (main, minor indices of axis ax) limits, for
-// the texel of main index m and the class direction sg (`cell_limits`, `cell_tris`).
-fn sb_cell_limits(s: SbSigma, ax: u32, sg: f64, m: u32, cm: u32, l: u32) -> bool {
+// The two triangles of a cell in a texel's frame (`cell_tris`).
+struct SbTris {
+    t0: SbTri,
+    t1: SbTri,
+}
+
+// The triangles of cell (cm, l) (main, minor indices of axis ax) for the texel of main
+// index m and the class direction sg (`cell_tris`).
+fn sb_cell_tris(ax: u32, sg: f64, m: u32, cm: u32, l: u32) -> SbTris {
     var c: vec4<f64>;
     if (ax == 0u) {
         c = sb_corners(cm, l);
@@ -273,9 +306,15 @@ fn sb_cell_limits(s: SbSigma, ax: u32, sg: f64, m: u32, cm: u32, l: u32) -> bool
     let base0: f64 = planes.p0.x + main0 * (mf - cmf);
     let base1: f64 = planes.p1.x + main1 * (mf - cmf);
     if (c.x + c.w <= c.y + c.z) {
-        return sb_limiting(s, p00, p10, p11, base0, lf, minor0) || sb_limiting(s, p00, p01, p11, base1, lf, minor1);
+        return SbTris(SbTri(p00, p10, p11, base0, lf, minor0, sg * main0), SbTri(p00, p01, p11, base1, lf, minor1, sg * main1));
     }
-    return sb_limiting(s, p00, p10, p01, base0, lf, minor0) || sb_limiting(s, p10, p01, p11, base1, lf, minor1);
+    return SbTris(SbTri(p00, p10, p01, base0, lf, minor0, sg * main0), SbTri(p10, p01, p11, base1, lf, minor1, sg * main1));
+}
+
+// Whether either triangle of cell (cm, l) limits (`cell_limits`).
+fn sb_cell_limits(s: SbSigma, ax: u32, sg: f64, m: u32, cm: u32, l: u32) -> bool {
+    let tris: SbTris = sb_cell_tris(ax, sg, m, cm, l);
+    return sb_limiting(s, tris.t0) || sb_limiting(s, tris.t1);
 }
 
 // The safety distance of texel (i, j) for class `cls` (0 x+, 1 x-, 2 y+, 3 y-), at most
@@ -344,6 +383,260 @@ fn sb_map_byte(index: u32) -> u32 {
     return max(v, p.least);
 }
 
+// ---- cylinder-cones (N-buffer slopes) ----
+
+// floor(log2(v)) of v > 0.
+//#wgsl
+fn sb_log2(v: u32) -> u32 { return firstLeadingBit(v); }
+//#end
+//#glsl
+// uint sb_log2(uint v) { return uint(findMSB(v)); }
+//#end
+
+// The N-buffer levels of the reach `cap` (cc.rs `levels`).
+fn sb_levels(cap: u32) -> u32 {
+    return sb_log2(2u * cap + 6u) + 1u;
+}
+
+// Where axis ax's N-buffers start, and their elements per level (`nb_layout`).
+fn sb_nb_base(ax: u32, levels: u32) -> u32 {
+    let w: u32 = hf_safety_pass.width;
+    if (ax == 0u) {
+        return 0u;
+    }
+    return levels * (w + (w - 1u + 7u) / 8u) * hf_safety_pass.height;
+}
+fn sb_nb_level(ax: u32) -> u32 {
+    let lm: u32 = sb_main_len(ax);
+    return (lm + (lm - 1u + 7u) / 8u) * sb_minor_len(ax);
+}
+
+// The highest sample over cross samples a..=b of the sample column whose level 0
+// starts at `at` (`range_max`), for levels up to `top`, `level` elements apart.
+fn sb_range_max(at: u32, a: u32, b: u32, level: u32, top: u32) -> f64 {
+    let len: u32 = b - a + 1u;
+    let l: u32 = min(sb_log2(len), top);
+    let w: u32 = 1u << l;
+    let first: u32 = at + l * level + a;
+    let last: u32 = first + len - w;
+    var m: f32 = select(hf_nbuffer[first], hf_nbuffer[last], hf_nbuffer[last] > hf_nbuffer[first]);
+    for (var y: u32 = first + w; y < last; y += w) {
+        m = select(m, hf_nbuffer[y], hf_nbuffer[y] > m);
+    }
+    return f64(m);
+}
+
+// The slope of a code's t (`decode_t`).
+fn sb_decode_t(t: i32) -> f64 {
+    return f64(t * abs(t)) / 2048.0lf;
+}
+
+// The slope code of s rounded up (`encode_slope`; 255 past S_MAX).
+fn sb_encode_slope(s: f64) -> u32 {
+    // S_MAX = 126 * 126 / 2048.
+    if (s > 7.751953125lf) {
+        return 255u;
+    }
+    var t: i32;
+    if (s >= 0.0lf) {
+        let x: f64 = sqrt(2048.0lf * s);
+        t = i32(x);
+        if (f64(t) < x) {
+            t = t + 1;
+        }
+    } else {
+        t = -i32(sb_min(sqrt(-2048.0lf * s), 128.0lf));
+    }
+    if (t < 126 && sb_decode_t(t) < s) {
+        t = t + 1;
+    }
+    if (sb_decode_t(t) < s) {
+        return 255u;
+    }
+    return u32(t + 128);
+}
+
+// The smallest slope a code stands for that is >= s (`code_ceiling`; +inf past S_MAX,
+// returned as the flag `inf`).
+struct SbSlope {
+    s: f64,
+    inf: bool,
+}
+
+fn sb_code_ceiling(s: f64) -> SbSlope {
+    let code: u32 = sb_encode_slope(s);
+    if (code == 255u) {
+        return SbSlope(0.0lf, true);
+    }
+    return SbSlope(sb_decode_t(i32(code) - 128), false);
+}
+
+// `raise`: s to code_ceiling(max(s, t)).
+fn sb_raise(s: SbSlope, t: f64) -> SbSlope {
+    if (!s.inf && t > s.s) {
+        return sb_code_ceiling(t);
+    }
+    return s;
+}
+
+// The edge of the band a ray from the segment reaches that cuts cell c of column k,
+// as the half-plane a u + b y + d >= 0 it keeps (`band_edge`; xyz, w = 1 when there is
+// one).
+fn sb_band_edge(s: SbSigma, k: f64, c: f64) -> vec4<f64> {
+    if (c + k < s.n) {
+        return vec4<f64>(1.0lf, 1.0lf, -s.lo, 1.0lf);
+    }
+    if (c + 1.0lf > s.n + k) {
+        return vec4<f64>(1.0lf, -1.0lf, s.hi, 1.0lf);
+    }
+    return vec4<f64>(0.0lf, 0.0lf, 0.0lf, 0.0lf);
+}
+
+// `tri_slope`'s running state: the best slope (once one is taken: the core starts
+// from -inf), and whether a point on the centerline lies above z_c.
+struct SbTake {
+    best: f64,
+    taken: bool,
+    above: bool,
+}
+
+// `tri_slope`'s `take` of point p.
+fn sb_take(st: SbTake, t: SbTri, zc: f64, p: vec2<f64>) -> SbTake {
+    let z: f64 = sb_on_line(t, p.y) + t.forward_slope * p.x;
+    let tol: f64 = 0.000000001lf * (1.0lf + abs(zc));
+    if (p.x <= 0.000000001lf) {
+        return SbTake(st.best, st.taken, st.above || z - zc > tol);
+    }
+    let slope: f64 = (z - zc) / p.x;
+    if (!st.taken || slope > st.best) {
+        return SbTake(slope, true, st.above);
+    }
+    return st;
+}
+
+// Vertex k of t.
+fn sb_vertex(t: SbTri, k: u32) -> vec2<f64> {
+    if (k == 0u) {
+        return t.v0;
+    }
+    if (k == 1u) {
+        return t.v1;
+    }
+    return t.v2;
+}
+
+// The largest (plane - zc) / u over the part of t a ray from the segment reaches (t
+// clipped to `edge`, when its w is 1: `tri_slope`), as a raise of `s`.
+fn sb_tri_slope(t: SbTri, zc: f64, edge: vec4<f64>, s: SbSlope) -> SbSlope {
+    var st: SbTake = SbTake(0.0lf, false, false);
+    for (var e: u32 = 0u; e < 3u; e++) {
+        let p: vec2<f64> = sb_vertex(t, e);
+        if (edge.w == 0.0lf) {
+            st = sb_take(st, t, zc, p);
+            continue;
+        }
+        let q: vec2<f64> = sb_vertex(t, (e + 1u) % 3u);
+        let fp: f64 = edge.x * p.x + edge.y * p.y + edge.z;
+        let fq: f64 = edge.x * q.x + edge.y * q.y + edge.z;
+        if (fp >= 0.0lf) {
+            st = sb_take(st, t, zc, p);
+        }
+        if ((fp >= 0.0lf) != (fq >= 0.0lf)) {
+            let f: f64 = fp / (fp - fq);
+            st = sb_take(st, t, zc, vec2<f64>(p.x + f * (q.x - p.x), p.y + f * (q.y - p.y)));
+        }
+    }
+    if (st.above) {
+        return SbSlope(0.0lf, true);
+    }
+    if (!st.taken) {
+        return s;
+    }
+    return sb_raise(s, st.best);
+}
+
+// The cone slope code of texel (i, j) for class `cls` beyond the cylinder r
+// (`class_search` with `Slope::NBuffer`), for the reach `cap`.
+fn sb_cone_code(cls: u32, i: u32, j: u32, r: u32, cap: u32) -> u32 {
+    let ax: u32 = cls / 2u;
+    let forward: bool = cls % 2u == 0u;
+    let sg: f64 = select(-1.0lf, 1.0lf, forward);
+    let lm: u32 = sb_main_len(ax);
+    let ln: u32 = sb_minor_len(ax);
+    var m: u32 = i;
+    var n: u32 = j;
+    if (ax == 1u) {
+        m = j;
+        n = i;
+    }
+    let sig: SbSigma = sb_sigma_of(ax, m, n);
+    let at_lo: f64 = sig.h + sig.below * (sig.lo - sig.n);
+    let at_hi: f64 = sig.h + sig.above * (sig.hi - sig.n);
+    let zc: f64 = sb_max(sb_max(at_lo, sig.h), at_hi);
+    let levels: u32 = sb_levels(cap);
+    let level: u32 = sb_nb_level(ax);
+    let column0: u32 = sb_nb_base(ax, levels) + m * ln;
+    var s: SbSlope = SbSlope(-8.0lf, false);
+    let kend: u32 = min(cap, select(m, lm - 1u - m, forward));
+    let k0: u32 = max(r, 1u);
+    // The largest bound of the abscissas u in k0..=kend: the highest sample of the
+    // sample column u ahead over the band of column u, less z_c, over u.
+    if (k0 < kend) {
+        var top: f64 = -8.0lf;
+        for (var u: u32 = k0; u <= kend; u++) {
+            let a: u32 = select(0u, n - (u + 2u), n >= u + 2u);
+            let b: u32 = min(n + u + 1u, ln - 2u) + 1u;
+            let sample_column: u32 = select(m - u, m + u, forward);
+            let at: u32 = column0 - m * ln + sample_column * ln;
+            let bound: f64 = (sb_range_max(at, a, b, level, levels - 1u) - zc) / f64(u);
+            top = select(top, bound, bound > top);
+        }
+        s = sb_raise(s, top);
+    }
+    // Column 0, exactly, when the cylinder is empty: its bound (+inf when the near
+    // side reaches above z_c), then its limiting triangles.
+    if (r == 0u && kend > 0u) {
+        let a: u32 = select(0u, n - 2u, n >= 2u);
+        let b: u32 = min(n + 1u, ln - 2u) + 1u;
+        let far_column: u32 = select(m - 1u, m + 1u, forward);
+        let top_near: f64 = sb_range_max(column0, a, b, level, levels - 1u) - zc;
+        let top_far: f64 = sb_range_max(column0 - m * ln + far_column * ln, a, b, level, levels - 1u) - zc;
+        if (top_near > 0.0lf || (!s.inf && top_far / 1.0lf > s.s)) {
+            let cm: u32 = select(m - 1u, m, forward);
+            for (var c: u32 = a; c < b && !s.inf; c++) {
+                let tris: SbTris = sb_cell_tris(ax, sg, m, cm, c);
+                let edge: vec4<f64> = sb_band_edge(sig, 0.0lf, f64(c));
+                if (sb_limiting(sig, tris.t0)) {
+                    s = sb_tri_slope(tris.t0, zc, edge, s);
+                }
+                if (!s.inf && sb_limiting(sig, tris.t1)) {
+                    s = sb_tri_slope(tris.t1, zc, edge, s);
+                }
+            }
+        }
+    }
+    if (s.inf) {
+        return 255u;
+    }
+    return sb_encode_slope(s.s);
+}
+
+// The two bytes [r, s] of entry `e` of the cylinder-cone map (texel-class
+// (4j + class) W + i).
+fn sb_cc_entry(e: u32) -> u32 {
+    let p: SafetyBakePass = hf_safety_pass;
+    let i: u32 = e % p.width;
+    let row: u32 = e / p.width;
+    let cls: u32 = row % 4u;
+    let j: u32 = row / 4u;
+    let r: u32 = sb_texel_distance(cls, i, j, 255u);
+    var code: u32 = 255u;
+    if (r < p.cap) {
+        code = sb_cone_code(cls, i, j, r, p.cap);
+    }
+    return r | (code << 8u);
+}
+
 // Item `gid` of the pass.
 fn safety_bake_item(gid: vec3<u32>) {
     let p: SafetyBakePass = hf_safety_pass;
@@ -370,16 +663,45 @@ fn safety_bake_item(gid: vec3<u32>) {
     hf_safety_out[item] = word;
 }
 
-// The entry point: one invocation per item.
+// Item `gid` of a pass of the cylinder-cone bake: strip slots (kind 0), then the map's
+// words, two entries each (kind 2).
+fn cc_bake_item(gid: vec3<u32>) {
+    let p: SafetyBakePass = hf_safety_pass;
+    let item: u32 = gid.y * p.grid_width + gid.x;
+    if (gid.x >= p.grid_width || item >= p.items) {
+        return;
+    }
+    if (p.kind == 0u) {
+        sb_strip_slot(item);
+        return;
+    }
+    let entries: u32 = 4u * p.width * p.height;
+    var word: u32 = sb_cc_entry(2u * item);
+    if (2u * item + 1u < entries) {
+        word = word | (sb_cc_entry(2u * item + 1u) << 16u);
+    }
+    hf_safety_out[item] = word;
+}
+
+// The entry points: one invocation per item.
 //#wgsl
 @compute @workgroup_size(8, 8)
 fn safety_bake_pass(@builtin(global_invocation_id) gid: vec3<u32>) {
     safety_bake_item(gid);
 }
+
+@compute @workgroup_size(8, 8)
+fn cc_bake_pass(@builtin(global_invocation_id) gid: vec3<u32>) {
+    cc_bake_item(gid);
+}
 //#end
 //#glsl
 // layout(local_size_x = 8, local_size_y = 8) in;
 // void main() {
+// #ifdef HF_CC_BAKE
+//     cc_bake_item(gl_GlobalInvocationID);
+// #else
 //     safety_bake_item(gl_GlobalInvocationID);
+// #endif
 // }
 //#end

@@ -20,7 +20,7 @@
 //   12       hf_world        uniform WorldParams                    world.wgsl
 //   13       hf_pyramid_out  storage array<f32>, read_write         bake_maxmip.wgsl
 //   14       hf_maxmip_pass  uniform MaxMipPass                     bake_maxmip.wgsl
-//   15       hf_nbuffer_out  storage array<f32>, read_write         bake_nbuffer.wgsl
+//   15       hf_nbuffer      storage array<f32>                     bake_nbuffer.wgsl, bake_safety.wgsl
 //   16       hf_nbuffer_pass uniform NbufferPass                    bake_nbuffer.wgsl
 //   17       hf_safety_scratch storage array<f32>, read_write         bake_safety.wgsl
 //   18       hf_safety_out   storage array<u32>, read_write         bake_safety.wgsl

@@ -7,8 +7,9 @@
 //!   each update dispatched over the texels that depend on the edit only
 //!   (`hfcast_shaders::bake::maxmip_update_passes`);
 //! - the N-buffers of the cylinder–cone bake, for a short and the longest cone reach;
-//! - the safety distances for every ray, directional and isotropic (positive), in
-//!   64-bit floats (the device must have SHADER_F64: lavapipe has).
+//! - the safety distances for every ray, directional and isotropic (positive), and the
+//!   cylinder–cone shapes with N-buffer slopes (on the GPU's own N-buffers), in 64-bit
+//!   floats (the device must have SHADER_F64: lavapipe has).
 //!
 //! Output buffers start as NaN bits, so an element no pass writes shows. Times are
 //! printed (lavapipe: software figures) beside the CPU's.
@@ -21,7 +22,8 @@ use hfcast::safety;
 use hfcast::safety::cc;
 use hfcast::HeightField;
 use hfcast_shaders::bake::{
-    maxmip_bake_passes, maxmip_update_passes, nbuffer_bake_passes, safety_bake_passes,
+    cc_bake_passes, maxmip_bake_passes, maxmip_update_passes, nbuffer_bake_passes,
+    safety_bake_passes,
 };
 use hfcast_shaders::{wgsl_layout as binding, Lang};
 use std::time::Instant;
@@ -119,7 +121,7 @@ impl Bake {
 
     /// The N-buffer bake.
     fn nbuffer(gpu: &Gpu) -> Bake {
-        let b = (binding::NBUFFER_OUT, binding::NBUFFER_PASS);
+        let b = (binding::NBUFFER, binding::NBUFFER_PASS);
         Bake::new(gpu, "bake_nbuffer", "nbuffer_bake_pass", b.0, b.1)
     }
 
@@ -409,15 +411,16 @@ fn gpu_nbuffers_are_the_cpu_ones_byte_for_byte() {
     assert!(baked >= 20, "{baked} bakes");
 }
 
-/// The GPU safety-distance bake (two passes: strip bounds, then the map) into `out`
-/// (the map's words), with its scratch; timed.
+/// The GPU safety-distance or cylinder–cone bake (two passes: strip bounds, then the
+/// map) into `out` (the map's words), with its scratch; timed.
 struct SafetyBake {
     pipeline: wgpu::ComputePipeline,
     layout: wgpu::BindGroupLayout,
 }
 
 impl SafetyBake {
-    fn new(gpu: &Gpu) -> SafetyBake {
+    /// The entry point `entry` of bake_safety.wgsl (`safety_bake_pass`, `cc_bake_pass`).
+    fn new(gpu: &Gpu, entry: &str) -> SafetyBake {
         let dev = &gpu.device;
         let src = hfcast_shaders::file(Lang::Wgsl, "bake_safety").expect("bake_safety.wgsl");
         let scope = dev.push_error_scope(wgpu::ErrorFilter::Validation);
@@ -429,7 +432,7 @@ impl SafetyBake {
             label: Some("bake_safety"),
             layout: None,
             module: &module,
-            entry_point: Some("safety_bake_pass"),
+            entry_point: Some(entry),
             compilation_options: wgpu::PipelineCompilationOptions::default(),
             cache: None,
         });
@@ -440,13 +443,15 @@ impl SafetyBake {
         SafetyBake { pipeline, layout }
     }
 
-    /// Bakes `f` with `passes` and returns the map's bytes (`len` of them) and the time.
+    /// Bakes `f` with `passes` (reading the N-buffers `nb`, for the cylinder–cone
+    /// bake) and returns the map's bytes (`len` of them) and the time.
     fn run(
         &self,
         gpu: &Gpu,
         f: &Field,
         passes: &[hfcast_shaders::bake::BakePass],
         len: usize,
+        nb: Option<&wgpu::Buffer>,
     ) -> (Vec<u8>, f64) {
         let dev = &gpu.device;
         let tex = gpu.heights_texture(f.w, f.h, &f.heights);
@@ -457,27 +462,34 @@ impl SafetyBake {
         let mut enc = dev.create_command_encoder(&wgpu::CommandEncoderDescriptor::default());
         for p in passes {
             let uniform = gpu.uniform(&p.uniform_bytes());
+            let mut entries = vec![
+                wgpu::BindGroupEntry {
+                    binding: binding::HEIGHTS,
+                    resource: wgpu::BindingResource::TextureView(&tex),
+                },
+                wgpu::BindGroupEntry {
+                    binding: binding::SAFETY_SCRATCH,
+                    resource: scratch.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: binding::SAFETY_OUT,
+                    resource: out.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: binding::SAFETY_PASS,
+                    resource: uniform.as_entire_binding(),
+                },
+            ];
+            if let Some(nb) = nb {
+                entries.push(wgpu::BindGroupEntry {
+                    binding: binding::NBUFFER,
+                    resource: nb.as_entire_binding(),
+                });
+            }
             let group = dev.create_bind_group(&wgpu::BindGroupDescriptor {
                 label: None,
                 layout: &self.layout,
-                entries: &[
-                    wgpu::BindGroupEntry {
-                        binding: binding::HEIGHTS,
-                        resource: wgpu::BindingResource::TextureView(&tex),
-                    },
-                    wgpu::BindGroupEntry {
-                        binding: binding::SAFETY_SCRATCH,
-                        resource: scratch.as_entire_binding(),
-                    },
-                    wgpu::BindGroupEntry {
-                        binding: binding::SAFETY_OUT,
-                        resource: out.as_entire_binding(),
-                    },
-                    wgpu::BindGroupEntry {
-                        binding: binding::SAFETY_PASS,
-                        resource: uniform.as_entire_binding(),
-                    },
-                ],
+                entries: &entries,
             });
             let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor::default());
             pass.set_pipeline(&self.pipeline);
@@ -505,7 +517,7 @@ fn gpu_safety_distances_are_the_cpu_ones_byte_for_byte() {
         gpu.device.features().contains(wgpu::Features::SHADER_F64),
         "the safety-distance bake needs 64-bit floats (SHADER_F64): lavapipe has them"
     );
-    let bake = SafetyBake::new(&gpu);
+    let bake = SafetyBake::new(&gpu, "safety_bake_pass");
     let mut failures = Vec::new();
     let mut baked = 0;
     let variants = [
@@ -527,7 +539,7 @@ fn gpu_safety_distances_are_the_cpu_ones_byte_for_byte() {
             let cpu_ms = 1e3 * t0.elapsed().as_secs_f64();
             let iso = variant == safety::Variant::Isotropic;
             let passes = safety_bake_passes(f.w, f.h, iso, opts.cap, positive).expect("passes");
-            let (got, gpu_ms) = bake.run(&gpu, &f, &passes, want.len());
+            let (got, gpu_ms) = bake.run(&gpu, &f, &passes, want.len(), None);
             let diff = got.iter().zip(&want).position(|(a, b)| a != b);
             println!(
                 "{:<40} {:>5} x {:<5} {name:<20} {:>9} bytes: cpu {cpu_ms:8.1} ms, gpu (software) {gpu_ms:8.1} ms  {}",
@@ -550,4 +562,91 @@ fn gpu_safety_distances_are_the_cpu_ones_byte_for_byte() {
     }
     assert!(failures.is_empty(), "{}", failures.join("\n"));
     assert!(baked >= 20, "{baked} bakes");
+}
+
+#[test]
+fn gpu_cylinder_cones_with_nbuffer_slopes_are_the_cpu_ones_byte_for_byte() {
+    let gpu = Gpu::new();
+    println!("{}", gpu.describe());
+    assert!(
+        gpu.device.features().contains(wgpu::Features::SHADER_F64),
+        "the cylinder-cone bake needs 64-bit floats (SHADER_F64): lavapipe has them"
+    );
+    let nbuffers = Bake::nbuffer(&gpu);
+    let bake = SafetyBake::new(&gpu, "cc_bake_pass");
+    let limit = gpu.device.limits().max_storage_buffer_binding_size;
+    let mut failures = Vec::new();
+    let mut baked = 0;
+    for f in fields() {
+        // The cc pass binds the N-buffers whole: a field whose N-buffers exceed the
+        // device's binding limit (the world DEM on lavapipe's 128 MiB) is baked on its
+        // largest top-left crop of half sides that fits.
+        let fits = |f: &Field| 4 * cc::nbuffer_len(f.w, f.h, 64) as u64 <= limit;
+        let mut f = f;
+        while !fits(&f) {
+            let (w, h) = (f.w / 2, f.h / 2);
+            let heights = (0..h)
+                .flat_map(|j| f.heights[(j * f.w) as usize..][..w as usize].to_vec())
+                .collect();
+            f = Field {
+                name: format!("{} (crop {w} x {h})", f.name),
+                w,
+                h,
+                heights,
+            };
+        }
+        let hf = HeightField::new(&f.heights, f.w, f.h, f.w as usize).expect("field");
+        for cap in [6u8, 64] {
+            let n = cc::nbuffer_len(f.w, f.h, cap);
+            let opts = cc::CcOptions {
+                slope: cc::Slope::NBuffer,
+                cap,
+            };
+            let t0 = Instant::now();
+            let mut scratch = vec![0f32; safety::scratch_len(f.w, f.h)];
+            let mut nb_cpu = vec![0f32; n];
+            let mut want = vec![0u8; cc::map_len(f.w, f.h)];
+            cc::bake(&hf, &mut scratch, &mut nb_cpu, opts, &mut want).expect("cpu bake");
+            let cpu_ms = 1e3 * t0.elapsed().as_secs_f64();
+            let t0 = Instant::now();
+            let nb = gpu.storage(&vec![POISON; n]);
+            let tex = gpu.heights_texture(f.w, f.h, &f.heights);
+            let fill: Vec<Dispatch> = nbuffer_bake_passes(f.w, f.h, cap)
+                .expect("n-buffer passes")
+                .iter()
+                .map(|p| {
+                    (
+                        p.uniform_bytes(),
+                        p.workgroups,
+                        Some((p.bind_offset, p.bind_size)),
+                    )
+                })
+                .collect();
+            nbuffers.run(&gpu, &tex, &nb, &fill);
+            let passes = cc_bake_passes(f.w, f.h, cap).expect("passes");
+            let (got, _) = bake.run(&gpu, &f, &passes, want.len(), Some(&nb));
+            let gpu_ms = 1e3 * t0.elapsed().as_secs_f64();
+            let diff = got.iter().zip(&want).position(|(a, b)| a != b);
+            println!(
+                "{:<40} {:>5} x {:<5} cap {cap:>3} {:>9} bytes: cpu {cpu_ms:8.1} ms, gpu (software) {gpu_ms:8.1} ms  {}",
+                f.name,
+                f.w,
+                f.h,
+                want.len(),
+                diff.map_or("identical".to_string(), |k| format!(
+                    "DIFFERS at byte {k} (texel-class {}, {}): gpu {}, cpu {}",
+                    k / 2,
+                    if k % 2 == 0 { "r" } else { "s" },
+                    got[k],
+                    want[k]
+                ))
+            );
+            if let Some(k) = diff {
+                failures.push(format!("{} cap {cap}: byte {k}", f.name));
+            }
+            baked += 1;
+        }
+    }
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+    assert!(baked >= 24, "{baked} bakes");
 }

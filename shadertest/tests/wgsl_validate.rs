@@ -226,7 +226,7 @@ fn overrides_and_bindings_are_one_line_and_fixed() {
                     "hf_world" => wgsl_layout::WORLD,
                     "hf_pyramid_out" => wgsl_layout::PYRAMID_OUT,
                     "hf_maxmip_pass" => wgsl_layout::MAXMIP_PASS,
-                    "hf_nbuffer_out" => wgsl_layout::NBUFFER_OUT,
+                    "hf_nbuffer" => wgsl_layout::NBUFFER,
                     "hf_nbuffer_pass" => wgsl_layout::NBUFFER_PASS,
                     "hf_safety_scratch" => wgsl_layout::SAFETY_SCRATCH,
                     "hf_safety_out" => wgsl_layout::SAFETY_OUT,
