@@ -7,6 +7,7 @@ use crate::bake::hf_bake_options;
 use crate::detail::fail;
 use crate::hf_result::{self, *};
 use crate::{guard, ptr};
+use hfcore::bake::Spec;
 use hfcore::ktx2::MapKind;
 use hfcore::scene::{MethodKind, RayClasses};
 use std::ffi::c_char;
@@ -64,6 +65,37 @@ unsafe fn write_passes(
     // SAFETY: the caller promises `count` is writable.
     unsafe { count.set(passes.len() as u32) };
     Ok(())
+}
+
+/// The passes of the GPU bake of `method`'s map of a `width × height` field with
+/// `options` (checked as `hf_bake` checks them) into `out` (passes, their room, the
+/// count): `serves` says whether the GPU bake computes that map (else
+/// `HF_ERR_INVALID_ARGUMENT` with the detail `why`), `passes` makes them (`None`: the
+/// size is too large for the shader).
+///
+/// # Safety
+/// `options` is NULL or valid for reading one `hf_bake_options`; the outputs as
+/// `write_passes` takes them.
+unsafe fn map_passes(
+    method: MethodKind,
+    (width, height): (u32, u32),
+    options: *const hf_bake_options,
+    (serves, why): (impl Fn(&Spec) -> bool, &str),
+    passes: impl Fn(&Spec) -> Option<Vec<hfcast_shaders::bake::BakePass>>,
+    (out, out_len, count): (*mut hf_bake_pass, usize, *mut u32),
+) -> hf_result {
+    guard(|| {
+        // SAFETY: the caller promises `options` is NULL or readable.
+        let checked = unsafe { crate::bake::checked(method as u32, width, height, options) }?;
+        let spec = checked.spec.ok_or(HF_ERR_INVALID_ARGUMENT)?;
+        if !serves(&spec) {
+            return Err(fail(HF_ERR_INVALID_ARGUMENT, why));
+        }
+        let passes = passes(&spec).ok_or(HF_ERR_INVALID_SIZE)?;
+        let passes: Vec<hf_bake_pass> = passes.iter().map(hf_bake_pass::from).collect();
+        // SAFETY: the caller's promises, passed on.
+        unsafe { write_passes(&passes, out, out_len, count) }
+    })
 }
 
 /// The cone reach as the core takes it.
@@ -253,29 +285,30 @@ pub unsafe extern "C" fn hf_safety_bake_passes(
     out_passes_len: usize,
     out_count: *mut u32,
 ) -> hf_result {
-    guard(|| {
-        // SAFETY: the caller promises `options` is NULL or readable.
-        let method = MethodKind::Safety as u32;
-        let checked = unsafe { crate::bake::checked(method, width, height, options) }?;
-        let spec = checked.spec.ok_or(HF_ERR_INVALID_ARGUMENT)?;
-        let d = spec.desc;
-        if d.classes != RayClasses::ALL || !d.rays.is_all() {
-            let why = "options: the GPU safety bake serves every ray of every class (ray_classes 0, exterior 0, max_view_angle_deg 0)";
-            return Err(fail(HF_ERR_INVALID_ARGUMENT, why));
-        }
-        let isotropic = d.map == MapKind::SafetyIsotropic;
-        let passes = hfcast_shaders::bake::safety_bake_passes(
+    let serves = |spec: &Spec| spec.desc.classes == RayClasses::ALL && spec.desc.rays.is_all();
+    let passes = |spec: &Spec| {
+        let isotropic = spec.desc.map == MapKind::SafetyIsotropic;
+        hfcast_shaders::bake::safety_bake_passes(
             width,
             height,
             isotropic,
-            d.cap,
+            spec.desc.cap,
             spec.positive,
         )
-        .ok_or(HF_ERR_INVALID_SIZE)?;
-        let passes: Vec<hf_bake_pass> = passes.iter().map(hf_bake_pass::from).collect();
-        // SAFETY: the caller's promises, passed on.
-        unsafe { write_passes(&passes, out_passes, out_passes_len, out_count) }
-    })
+    };
+    let why = "options: the GPU safety bake serves every ray of every class (ray_classes 0, exterior 0, max_view_angle_deg 0)";
+    let out = (out_passes, out_passes_len, out_count);
+    // SAFETY: the caller's promises, passed on.
+    unsafe {
+        map_passes(
+            MethodKind::Safety,
+            (width, height),
+            options,
+            (serves, why),
+            passes,
+            out,
+        )
+    }
 }
 
 /// Most passes `hf_nbuffer_bake_passes` writes: per axis, the two level-0 passes and
@@ -355,22 +388,23 @@ pub unsafe extern "C" fn hf_cc_bake_passes(
     out_passes_len: usize,
     out_count: *mut u32,
 ) -> hf_result {
-    guard(|| {
-        let method = MethodKind::Cc as u32;
-        // SAFETY: the caller promises `options` is NULL or readable.
-        let checked = unsafe { crate::bake::checked(method, width, height, options) }?;
-        let spec = checked.spec.ok_or(HF_ERR_INVALID_ARGUMENT)?;
-        let d = spec.desc;
-        if !spec.nbuffer_slope || d.classes != RayClasses::ALL || !d.rays.is_all() {
-            let why = "options: the GPU cylinder-cone bake computes N-buffer slopes (slope HF_CC_SLOPE_NBUFFER) for every ray of every class (ray_classes 0, exterior 0, max_view_angle_deg 0)";
-            return Err(fail(HF_ERR_INVALID_ARGUMENT, why));
-        }
-        let passes = hfcast_shaders::bake::cc_bake_passes(width, height, d.cap)
-            .ok_or(HF_ERR_INVALID_SIZE)?;
-        let passes: Vec<hf_bake_pass> = passes.iter().map(hf_bake_pass::from).collect();
-        // SAFETY: the caller's promises, passed on.
-        unsafe { write_passes(&passes, out_passes, out_passes_len, out_count) }
-    })
+    let serves = |spec: &Spec| {
+        spec.nbuffer_slope && spec.desc.classes == RayClasses::ALL && spec.desc.rays.is_all()
+    };
+    let passes = |spec: &Spec| hfcast_shaders::bake::cc_bake_passes(width, height, spec.desc.cap);
+    let why = "options: the GPU cylinder-cone bake computes N-buffer slopes (slope HF_CC_SLOPE_NBUFFER) for every ray of every class (ray_classes 0, exterior 0, max_view_angle_deg 0)";
+    let out = (out_passes, out_passes_len, out_count);
+    // SAFETY: the caller's promises, passed on.
+    unsafe {
+        map_passes(
+            MethodKind::Cc,
+            (width, height),
+            options,
+            (serves, why),
+            passes,
+            out,
+        )
+    }
 }
 
 #[cfg(test)]

@@ -309,14 +309,26 @@ bool sb_cell_limits(SbSigma s, uint ax, double sg, uint m, uint cm, uint l) {
     return sb_limiting(s, tris.t0) || sb_limiting(s, tris.t1);
 }
 
-// The safety distance of texel (i, j) for class `cls` (0 x+, 1 x-, 2 y+, 3 y-), at most
-// `cap` (`texel_distance` for `AllRays`).
-uint sb_texel_distance(uint cls, uint i, uint j, uint cap) {
+// A texel and class in the class's frame: main axis, direction, samples along and
+// across the main axis, the texel's main and minor indices, the surface over its
+// segment and that surface's heights at the segment's ends (`Sigma::end_heights`).
+struct SbTexel {
+    uint ax;
+    bool forward;
+    double sg;
+    uint lm;
+    uint ln;
+    uint m;
+    uint n;
+    SbSigma sigma;
+    double at_lo;
+    double at_hi;
+};
+
+// Texel (i, j) for class `cls` (0 x+, 1 x-, 2 y+, 3 y-).
+SbTexel sb_texel(uint cls, uint i, uint j) {
     uint ax = cls / 2u;
     bool forward = cls % 2u == 0u;
-    double sg = ((forward) ? (1.0lf) : (-1.0lf));
-    uint lm = sb_main_len(ax);
-    uint ln = sb_minor_len(ax);
     uint m = i;
     uint n = j;
     if (ax == 1u) {
@@ -326,21 +338,28 @@ uint sb_texel_distance(uint cls, uint i, uint j, uint cap) {
     SbSigma s = sb_sigma_of(ax, m, n);
     double at_lo = s.h + s.below * (s.lo - s.n);
     double at_hi = s.h + s.above * (s.hi - s.n);
+    return SbTexel(ax, forward, ((forward) ? (1.0lf) : (-1.0lf)), sb_main_len(ax), sb_minor_len(ax), m, n, s, at_lo, at_hi);
+}
+
+// The safety distance of texel (i, j) for class `cls`, at most `cap`
+// (`texel_distance` for `AllRays`).
+uint sb_texel_distance(uint cls, uint i, uint j, uint cap) {
+    SbTexel t = sb_texel(cls, i, j);
     // The ray set lowers no plane (e = 0): `floor + (e - e * 2^-20)`.
-    double lowest = sb_min(sb_min(at_lo, s.h), at_hi) + 0.0lf;
-    uint per_line = sb_strips(ax);
+    double lowest = sb_min(sb_min(t.at_lo, t.sigma.h), t.at_hi) + 0.0lf;
+    uint per_line = sb_strips(t.ax);
     uint base = 0u;
-    if (ax == 1u) {
+    if (t.ax == 1u) {
         base = 3u * (hf_safety_pass.width - 1u) * sb_strips(0u);
     }
-    uint chan = ((forward) ? (1u) : (2u));
-    uint ahead = ((forward) ? (lm - 1u - m) : (m));
+    uint chan = ((t.forward) ? (1u) : (2u));
+    uint ahead = ((t.forward) ? (t.lm - 1u - t.m) : (t.m));
     uint columns = min(cap, ahead);
     for (uint k = 0u; k < columns; k++) {
-        uint column = ((forward) ? (m + k) : (m - 1u - k));
+        uint column = ((t.forward) ? (t.m + k) : (t.m - 1u - k));
         // The band: cells l0..l1 (`band_cells`).
-        uint l0 = ((n >= k + 2u) ? (n - (k + 2u)) : (0u));
-        uint l1 = min(n + k + 1u, ln - 2u) + 1u;
+        uint l0 = ((t.n >= k + 2u) ? (t.n - (k + 2u)) : (0u));
+        uint l1 = min(t.n + k + 1u, t.ln - 2u) + 1u;
         for (uint b = l0 / SB_STRIP; b < (l1 + SB_STRIP - 1u) / SB_STRIP; b++) {
             // A strip is skipped when no plane in it rises above the lowest point.
             uint at = base + 3u * (column * per_line + b);
@@ -351,7 +370,7 @@ uint sb_texel_distance(uint cls, uint i, uint j, uint cap) {
                 continue;
             }
             for (uint l = max(l0, b * SB_STRIP); l < min(l1, b * SB_STRIP + SB_STRIP); l++) {
-                if (sb_cell_limits(s, ax, sg, m, column, l)) {
+                if (sb_cell_limits(t.sigma, t.ax, t.sg, t.m, column, l)) {
                     return k;
                 }
             }
@@ -545,37 +564,25 @@ SbSlope sb_tri_slope(SbTri t, double zc, dvec4 edge, SbSlope s) {
 // The cone slope code of texel (i, j) for class `cls` beyond the cylinder r
 // (`class_search` with `Slope::NBuffer`), for the reach `cap`.
 uint sb_cone_code(uint cls, uint i, uint j, uint r, uint cap) {
-    uint ax = cls / 2u;
-    bool forward = cls % 2u == 0u;
-    double sg = ((forward) ? (1.0lf) : (-1.0lf));
-    uint lm = sb_main_len(ax);
-    uint ln = sb_minor_len(ax);
-    uint m = i;
-    uint n = j;
-    if (ax == 1u) {
-        m = j;
-        n = i;
-    }
-    SbSigma sig = sb_sigma_of(ax, m, n);
-    double at_lo = sig.h + sig.below * (sig.lo - sig.n);
-    double at_hi = sig.h + sig.above * (sig.hi - sig.n);
-    double zc = sb_max(sb_max(at_lo, sig.h), at_hi);
+    SbTexel t = sb_texel(cls, i, j);
+    SbSigma sig = t.sigma;
+    double zc = sb_max(sb_max(t.at_lo, sig.h), t.at_hi);
     uint levels = sb_levels(cap);
-    uint level = sb_nb_level(ax);
-    uint column0 = sb_nb_base(ax, levels) + m * ln;
+    uint level = sb_nb_level(t.ax);
+    // Sample column c's level 0 starts at axis + c ln.
+    uint axis = sb_nb_base(t.ax, levels);
     SbSlope s = SbSlope(-8.0lf, false);
-    uint kend = min(cap, ((forward) ? (lm - 1u - m) : (m)));
+    uint kend = min(cap, ((t.forward) ? (t.lm - 1u - t.m) : (t.m)));
     uint k0 = max(r, 1u);
     // The largest bound of the abscissas u in k0..=kend: the highest sample of the
     // sample column u ahead over the band of column u, less z_c, over u.
     if (k0 < kend) {
         double top = -8.0lf;
         for (uint u = k0; u <= kend; u++) {
-            uint a = ((n >= u + 2u) ? (n - (u + 2u)) : (0u));
-            uint b = min(n + u + 1u, ln - 2u) + 1u;
-            uint sample_column = ((forward) ? (m + u) : (m - u));
-            uint at = column0 - m * ln + sample_column * ln;
-            double bound = (sb_range_max(at, a, b, level, levels - 1u) - zc) / double(u);
+            uint a = ((t.n >= u + 2u) ? (t.n - (u + 2u)) : (0u));
+            uint b = min(t.n + u + 1u, t.ln - 2u) + 1u;
+            uint sample_column = ((t.forward) ? (t.m + u) : (t.m - u));
+            double bound = (sb_range_max(axis + sample_column * t.ln, a, b, level, levels - 1u) - zc) / double(u);
             top = ((bound > top) ? (bound) : (top));
         }
         s = sb_raise(s, top);
@@ -583,15 +590,15 @@ uint sb_cone_code(uint cls, uint i, uint j, uint r, uint cap) {
     // Column 0, exactly, when the cylinder is empty: its bound (+inf when the near
     // side reaches above z_c), then its limiting triangles.
     if (r == 0u && kend > 0u) {
-        uint a = ((n >= 2u) ? (n - 2u) : (0u));
-        uint b = min(n + 1u, ln - 2u) + 1u;
-        uint far_column = ((forward) ? (m + 1u) : (m - 1u));
-        double top_near = sb_range_max(column0, a, b, level, levels - 1u) - zc;
-        double top_far = sb_range_max(column0 - m * ln + far_column * ln, a, b, level, levels - 1u) - zc;
+        uint a = ((t.n >= 2u) ? (t.n - 2u) : (0u));
+        uint b = min(t.n + 1u, t.ln - 2u) + 1u;
+        uint far_column = ((t.forward) ? (t.m + 1u) : (t.m - 1u));
+        double top_near = sb_range_max(axis + t.m * t.ln, a, b, level, levels - 1u) - zc;
+        double top_far = sb_range_max(axis + far_column * t.ln, a, b, level, levels - 1u) - zc;
         if (top_near > 0.0lf || (!s.inf && top_far / 1.0lf > s.s)) {
-            uint cm = ((forward) ? (m) : (m - 1u));
+            uint cm = ((t.forward) ? (t.m) : (t.m - 1u));
             for (uint c = a; c < b && !s.inf; c++) {
-                SbTris tris = sb_cell_tris(ax, sg, m, cm, c);
+                SbTris tris = sb_cell_tris(t.ax, t.sg, t.m, cm, c);
                 dvec4 edge = sb_band_edge(sig, 0.0lf, double(c));
                 if (sb_limiting(sig, tris.t0)) {
                     s = sb_tri_slope(tris.t0, zc, edge, s);

@@ -317,14 +317,26 @@ fn sb_cell_limits(s: SbSigma, ax: u32, sg: f64, m: u32, cm: u32, l: u32) -> bool
     return sb_limiting(s, tris.t0) || sb_limiting(s, tris.t1);
 }
 
-// The safety distance of texel (i, j) for class `cls` (0 x+, 1 x-, 2 y+, 3 y-), at most
-// `cap` (`texel_distance` for `AllRays`).
-fn sb_texel_distance(cls: u32, i: u32, j: u32, cap: u32) -> u32 {
+// A texel and class in the class's frame: main axis, direction, samples along and
+// across the main axis, the texel's main and minor indices, the surface over its
+// segment and that surface's heights at the segment's ends (`Sigma::end_heights`).
+struct SbTexel {
+    ax: u32,
+    forward: bool,
+    sg: f64,
+    lm: u32,
+    ln: u32,
+    m: u32,
+    n: u32,
+    sigma: SbSigma,
+    at_lo: f64,
+    at_hi: f64,
+}
+
+// Texel (i, j) for class `cls` (0 x+, 1 x-, 2 y+, 3 y-).
+fn sb_texel(cls: u32, i: u32, j: u32) -> SbTexel {
     let ax: u32 = cls / 2u;
     let forward: bool = cls % 2u == 0u;
-    let sg: f64 = select(-1.0lf, 1.0lf, forward);
-    let lm: u32 = sb_main_len(ax);
-    let ln: u32 = sb_minor_len(ax);
     var m: u32 = i;
     var n: u32 = j;
     if (ax == 1u) {
@@ -334,21 +346,28 @@ fn sb_texel_distance(cls: u32, i: u32, j: u32, cap: u32) -> u32 {
     let s: SbSigma = sb_sigma_of(ax, m, n);
     let at_lo: f64 = s.h + s.below * (s.lo - s.n);
     let at_hi: f64 = s.h + s.above * (s.hi - s.n);
+    return SbTexel(ax, forward, select(-1.0lf, 1.0lf, forward), sb_main_len(ax), sb_minor_len(ax), m, n, s, at_lo, at_hi);
+}
+
+// The safety distance of texel (i, j) for class `cls`, at most `cap`
+// (`texel_distance` for `AllRays`).
+fn sb_texel_distance(cls: u32, i: u32, j: u32, cap: u32) -> u32 {
+    let t: SbTexel = sb_texel(cls, i, j);
     // The ray set lowers no plane (e = 0): `floor + (e - e * 2^-20)`.
-    let lowest: f64 = sb_min(sb_min(at_lo, s.h), at_hi) + 0.0lf;
-    let per_line: u32 = sb_strips(ax);
+    let lowest: f64 = sb_min(sb_min(t.at_lo, t.sigma.h), t.at_hi) + 0.0lf;
+    let per_line: u32 = sb_strips(t.ax);
     var base: u32 = 0u;
-    if (ax == 1u) {
+    if (t.ax == 1u) {
         base = 3u * (hf_safety_pass.width - 1u) * sb_strips(0u);
     }
-    let chan: u32 = select(2u, 1u, forward);
-    let ahead: u32 = select(m, lm - 1u - m, forward);
+    let chan: u32 = select(2u, 1u, t.forward);
+    let ahead: u32 = select(t.m, t.lm - 1u - t.m, t.forward);
     let columns: u32 = min(cap, ahead);
     for (var k: u32 = 0u; k < columns; k++) {
-        let column: u32 = select(m - 1u - k, m + k, forward);
+        let column: u32 = select(t.m - 1u - k, t.m + k, t.forward);
         // The band: cells l0..l1 (`band_cells`).
-        let l0: u32 = select(0u, n - (k + 2u), n >= k + 2u);
-        let l1: u32 = min(n + k + 1u, ln - 2u) + 1u;
+        let l0: u32 = select(0u, t.n - (k + 2u), t.n >= k + 2u);
+        let l1: u32 = min(t.n + k + 1u, t.ln - 2u) + 1u;
         for (var b: u32 = l0 / SB_STRIP; b < (l1 + SB_STRIP - 1u) / SB_STRIP; b++) {
             // A strip is skipped when no plane in it rises above the lowest point.
             let at: u32 = base + 3u * (column * per_line + b);
@@ -359,7 +378,7 @@ fn sb_texel_distance(cls: u32, i: u32, j: u32, cap: u32) -> u32 {
                 continue;
             }
             for (var l: u32 = max(l0, b * SB_STRIP); l < min(l1, b * SB_STRIP + SB_STRIP); l++) {
-                if (sb_cell_limits(s, ax, sg, m, column, l)) {
+                if (sb_cell_limits(t.sigma, t.ax, t.sg, t.m, column, l)) {
                     return k;
                 }
             }
@@ -558,37 +577,25 @@ fn sb_tri_slope(t: SbTri, zc: f64, edge: vec4<f64>, s: SbSlope) -> SbSlope {
 // The cone slope code of texel (i, j) for class `cls` beyond the cylinder r
 // (`class_search` with `Slope::NBuffer`), for the reach `cap`.
 fn sb_cone_code(cls: u32, i: u32, j: u32, r: u32, cap: u32) -> u32 {
-    let ax: u32 = cls / 2u;
-    let forward: bool = cls % 2u == 0u;
-    let sg: f64 = select(-1.0lf, 1.0lf, forward);
-    let lm: u32 = sb_main_len(ax);
-    let ln: u32 = sb_minor_len(ax);
-    var m: u32 = i;
-    var n: u32 = j;
-    if (ax == 1u) {
-        m = j;
-        n = i;
-    }
-    let sig: SbSigma = sb_sigma_of(ax, m, n);
-    let at_lo: f64 = sig.h + sig.below * (sig.lo - sig.n);
-    let at_hi: f64 = sig.h + sig.above * (sig.hi - sig.n);
-    let zc: f64 = sb_max(sb_max(at_lo, sig.h), at_hi);
+    let t: SbTexel = sb_texel(cls, i, j);
+    let sig: SbSigma = t.sigma;
+    let zc: f64 = sb_max(sb_max(t.at_lo, sig.h), t.at_hi);
     let levels: u32 = sb_levels(cap);
-    let level: u32 = sb_nb_level(ax);
-    let column0: u32 = sb_nb_base(ax, levels) + m * ln;
+    let level: u32 = sb_nb_level(t.ax);
+    // Sample column c's level 0 starts at axis + c ln.
+    let axis: u32 = sb_nb_base(t.ax, levels);
     var s: SbSlope = SbSlope(-8.0lf, false);
-    let kend: u32 = min(cap, select(m, lm - 1u - m, forward));
+    let kend: u32 = min(cap, select(t.m, t.lm - 1u - t.m, t.forward));
     let k0: u32 = max(r, 1u);
     // The largest bound of the abscissas u in k0..=kend: the highest sample of the
     // sample column u ahead over the band of column u, less z_c, over u.
     if (k0 < kend) {
         var top: f64 = -8.0lf;
         for (var u: u32 = k0; u <= kend; u++) {
-            let a: u32 = select(0u, n - (u + 2u), n >= u + 2u);
-            let b: u32 = min(n + u + 1u, ln - 2u) + 1u;
-            let sample_column: u32 = select(m - u, m + u, forward);
-            let at: u32 = column0 - m * ln + sample_column * ln;
-            let bound: f64 = (sb_range_max(at, a, b, level, levels - 1u) - zc) / f64(u);
+            let a: u32 = select(0u, t.n - (u + 2u), t.n >= u + 2u);
+            let b: u32 = min(t.n + u + 1u, t.ln - 2u) + 1u;
+            let sample_column: u32 = select(t.m - u, t.m + u, t.forward);
+            let bound: f64 = (sb_range_max(axis + sample_column * t.ln, a, b, level, levels - 1u) - zc) / f64(u);
             top = select(top, bound, bound > top);
         }
         s = sb_raise(s, top);
@@ -596,15 +603,15 @@ fn sb_cone_code(cls: u32, i: u32, j: u32, r: u32, cap: u32) -> u32 {
     // Column 0, exactly, when the cylinder is empty: its bound (+inf when the near
     // side reaches above z_c), then its limiting triangles.
     if (r == 0u && kend > 0u) {
-        let a: u32 = select(0u, n - 2u, n >= 2u);
-        let b: u32 = min(n + 1u, ln - 2u) + 1u;
-        let far_column: u32 = select(m - 1u, m + 1u, forward);
-        let top_near: f64 = sb_range_max(column0, a, b, level, levels - 1u) - zc;
-        let top_far: f64 = sb_range_max(column0 - m * ln + far_column * ln, a, b, level, levels - 1u) - zc;
+        let a: u32 = select(0u, t.n - 2u, t.n >= 2u);
+        let b: u32 = min(t.n + 1u, t.ln - 2u) + 1u;
+        let far_column: u32 = select(t.m - 1u, t.m + 1u, t.forward);
+        let top_near: f64 = sb_range_max(axis + t.m * t.ln, a, b, level, levels - 1u) - zc;
+        let top_far: f64 = sb_range_max(axis + far_column * t.ln, a, b, level, levels - 1u) - zc;
         if (top_near > 0.0lf || (!s.inf && top_far / 1.0lf > s.s)) {
-            let cm: u32 = select(m - 1u, m, forward);
+            let cm: u32 = select(t.m - 1u, t.m, t.forward);
             for (var c: u32 = a; c < b && !s.inf; c++) {
-                let tris: SbTris = sb_cell_tris(ax, sg, m, cm, c);
+                let tris: SbTris = sb_cell_tris(t.ax, t.sg, t.m, cm, c);
                 let edge: vec4<f64> = sb_band_edge(sig, 0.0lf, f64(c));
                 if (sb_limiting(sig, tris.t0)) {
                     s = sb_tri_slope(tris.t0, zc, edge, s);

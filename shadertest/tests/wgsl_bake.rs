@@ -3,7 +3,8 @@
 //! `../shared/data`, the bundled map and synthetic fields (one of odd sizes with
 //! negative heights and signed zeros):
 //! - the maximum mipmap, baked whole, then refreshed after edits of sub-rectangles (a
-//!   crater over about 1 %, 10 % and 100 % of the field, and one sample at a corner),
+//!   crater over about 1 %, 10 % and 100 % of the field, and one sample at a corner;
+//!   also on a 4096² fractal),
 //!   each update dispatched over the texels that depend on the edit only
 //!   (`hfcast_shaders::bake::maxmip_update_passes`);
 //! - the N-buffers of the cylinder–cone bake, for a short and the longest cone reach;
@@ -288,7 +289,14 @@ fn gpu_maximum_mipmap_is_the_cpu_one_byte_for_byte() {
     println!("{}", gpu.describe());
     let bake = Bake::maxmip(&gpu);
     let mut failures = Vec::new();
-    for f in fields() {
+    // And a 4096² field: the update costs of the issue (1 %, 10 %, 100 % of it).
+    let big = Field {
+        name: "spiky fractal 4096 x 4096".into(),
+        w: 4096,
+        h: 4096,
+        heights: spiky_fractal(9, 4096, 4096, 40.0),
+    };
+    for f in fields().into_iter().chain([big]) {
         let hf = HeightField::new(&f.heights, f.w, f.h, f.w as usize).expect("field");
         let n = maxmip::pyramid_len(f.w, f.h);
         let t0 = Instant::now();
