@@ -631,15 +631,30 @@ uint sb_cc_entry(uint e) {
     return r | (code << 8u);
 }
 
-// Item `gid` of the pass.
-void safety_bake_item(uvec3 gid) {
+// No item left for an invocation (`sb_word_item`).
+const uint SB_DONE = 0xffffffffu;
+
+// The item of invocation `gid`: a strip slot is baked here (kind 0); an output word's
+// index is returned; SB_DONE when nothing is left to do.
+uint sb_word_item(uvec3 gid) {
     SafetyBakePass p = hf_safety_pass;
     uint item = gid.y * p.grid_width + gid.x;
     if (gid.x >= p.grid_width || item >= p.items) {
-        return;
+        return SB_DONE;
     }
     if (p.kind == 0u) {
         sb_strip_slot(item);
+        return SB_DONE;
+    }
+    return item;
+}
+
+// Item `gid` of a pass of the safety bake: strip slots (kind 0), then the map's words,
+// four bytes each (kind 1).
+void safety_bake_item(uvec3 gid) {
+    SafetyBakePass p = hf_safety_pass;
+    uint item = sb_word_item(gid);
+    if (item == SB_DONE) {
         return;
     }
     // Output word `item`: bytes 4 item .. 4 item + 3 of the map.
@@ -661,12 +676,8 @@ void safety_bake_item(uvec3 gid) {
 // words, two entries each (kind 2).
 void cc_bake_item(uvec3 gid) {
     SafetyBakePass p = hf_safety_pass;
-    uint item = gid.y * p.grid_width + gid.x;
-    if (gid.x >= p.grid_width || item >= p.items) {
-        return;
-    }
-    if (p.kind == 0u) {
-        sb_strip_slot(item);
+    uint item = sb_word_item(gid);
+    if (item == SB_DONE) {
         return;
     }
     uint entries = 4u * p.width * p.height;

@@ -644,15 +644,30 @@ fn sb_cc_entry(e: u32) -> u32 {
     return r | (code << 8u);
 }
 
-// Item `gid` of the pass.
-fn safety_bake_item(gid: vec3<u32>) {
+// No item left for an invocation (`sb_word_item`).
+const SB_DONE: u32 = 0xffffffffu;
+
+// The item of invocation `gid`: a strip slot is baked here (kind 0); an output word's
+// index is returned; SB_DONE when nothing is left to do.
+fn sb_word_item(gid: vec3<u32>) -> u32 {
     let p: SafetyBakePass = hf_safety_pass;
     let item: u32 = gid.y * p.grid_width + gid.x;
     if (gid.x >= p.grid_width || item >= p.items) {
-        return;
+        return SB_DONE;
     }
     if (p.kind == 0u) {
         sb_strip_slot(item);
+        return SB_DONE;
+    }
+    return item;
+}
+
+// Item `gid` of a pass of the safety bake: strip slots (kind 0), then the map's words,
+// four bytes each (kind 1).
+fn safety_bake_item(gid: vec3<u32>) {
+    let p: SafetyBakePass = hf_safety_pass;
+    let item: u32 = sb_word_item(gid);
+    if (item == SB_DONE) {
         return;
     }
     // Output word `item`: bytes 4 item .. 4 item + 3 of the map.
@@ -674,12 +689,8 @@ fn safety_bake_item(gid: vec3<u32>) {
 // words, two entries each (kind 2).
 fn cc_bake_item(gid: vec3<u32>) {
     let p: SafetyBakePass = hf_safety_pass;
-    let item: u32 = gid.y * p.grid_width + gid.x;
-    if (gid.x >= p.grid_width || item >= p.items) {
-        return;
-    }
-    if (p.kind == 0u) {
-        sb_strip_slot(item);
+    let item: u32 = sb_word_item(gid);
+    if (item == SB_DONE) {
         return;
     }
     let entries: u32 = 4u * p.width * p.height;

@@ -334,7 +334,9 @@ fn gpu_maximum_mipmap_is_the_cpu_one_byte_for_byte() {
             let rect = crater(&f, &mut heights, cx, cy, r);
             let hf = HeightField::new(&heights, f.w, f.h, f.w as usize).expect("field");
             let [x0, y0, x1, y1] = rect;
+            let t0 = Instant::now();
             maxmip::update_rect(&hf, &mut want, x0, y0, x1, y1).expect("cpu update");
+            let cpu_ms = 1e3 * t0.elapsed().as_secs_f64();
             let tex = gpu.heights_texture(f.w, f.h, &heights);
             let update = maxmip_update_passes(f.w, f.h, rect).expect("update passes");
             let texels: u32 = update
@@ -344,7 +346,7 @@ fn gpu_maximum_mipmap_is_the_cpu_one_byte_for_byte() {
             let passes = dispatches(&update);
             let (gpu_ms, diff) = bake.run_and_compare(&gpu, &tex, &pyramid, &passes, &want);
             println!(
-                "    update of {} x {} samples: {texels} texels rewritten ({:.1} % of the pyramid), gpu (software) {gpu_ms:.1} ms  {}",
+                "    update of {} x {} samples: {texels} texels rewritten ({:.1} % of the pyramid), cpu {cpu_ms:.2} ms, gpu (software) {gpu_ms:.1} ms  {}",
                 x1 - x0,
                 y1 - y0,
                 100.0 * f64::from(texels) / n as f64,
