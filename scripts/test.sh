@@ -104,7 +104,7 @@ echo "== OSMesa (llvmpipe): generated minimal shaders against the general ones a
 "${C_MAKE[@]}" render-generated-test MAPS="$C_MAPS" 2>&1 | tee -a target/c_tests.log
 echo "== GLFW under Xvfb: the window's screenshot against the OSMesa image"
 "${C_MAKE[@]}" glfw-test 2>&1 | tee -a target/c_tests.log
-echo "== OSMesa (llvmpipe): GPU bakes in GLSL compute (maximum mipmap whole and updated, N-buffers) against the CPU's, byte for byte, on every map"
+echo "== OSMesa (llvmpipe): GPU bakes in GLSL compute (maximum mipmap whole and updated, N-buffers, safety distances, cylinder-cones with N-buffer slopes) against the CPU's, byte for byte, on every map"
 GPU_BAKE_MAPS="../data/dem_jacksboro_fault_403x344.png"
 for m in ../shared/data/*.png; do
   if [ -f "$m" ]; then GPU_BAKE_MAPS="$GPU_BAKE_MAPS ../$m"; fi
