@@ -1825,7 +1825,7 @@ static void test_trace_options(void) {
     static const char *const methods[10] = {"exact", "linear-binary", "linear-secant", "maxmip",
                                             "safety", "cone", "relaxed", "qdm", "cc", "radius"};
     static const char *const surfaces[5] = {"triangles", "bilinear", "height-planes",
-                                            "linear-planes", "view-linear"};
+                                            "corner-planes", "view-linear"};
     hf_result (*const name_of[2])(uint32_t, char *, size_t, size_t *) = {hf_method_name,
                                                                         hf_surface_name};
     const char *const *names[2] = {methods, surfaces};

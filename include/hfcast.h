@@ -130,7 +130,7 @@ enum hf_surface
   // base sample and its forward differences. No paper defines it (Qu et al.'s linear
   // approximation planes are the view-linear surface); not continuous across cells,
   // steps are vertical walls.
-  HF_SURFACE_LINEAR_PLANES = 3,
+  HF_SURFACE_CORNER_PLANES = 3,
   // Baboud et al. §7, and Qu et al.'s linear approximation planes (eq. 1): linear
   // along the ray between its centerline crossings, where it equals the edge
   // interpolation of the samples. View dependent; shaded with the bilinear normal.
@@ -836,7 +836,7 @@ hf_result hf_method_name(uint32_t method,
                          size_t *out_written);
 
 // Writes the short lower-case name of `surface` (an `hf_surface`: `triangles`,
-// `bilinear`, `height-planes`, `linear-planes`, `view-linear`) as `hf_method_name`
+// `bilinear`, `height-planes`, `corner-planes`, `view-linear`) as `hf_method_name`
 // does. Thread safe.
 //
 // # Safety
@@ -1772,7 +1772,7 @@ hf_result hf_trace_options_default(struct hf_trace_options *out_options);
 // cell test):
 // - exact: the first hit in `[t_min, t_max]` on `options->surface`, watertight in
 //   `float`; four fetches per cell visited.
-// - maxmip (Tevs et al. 2008): exact, the hit of exact (the linear-planes surface is
+// - maxmip (Tevs et al. 2008): exact, the hit of exact (the corner-planes surface is
 //   traced by the exact traversal); one fetch per pyramid texel.
 // - safety, cc, radius (Baboud et al. 2011; Baboud & Décoret 2006): exact, the hit of
 //   exact on the triangle surface, or with `HF_SURFACE_VIEW_LINEAR` on the

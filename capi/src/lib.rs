@@ -319,7 +319,7 @@ pub unsafe extern "C" fn hf_method_name(
 }
 
 /// Writes the short lower-case name of `surface` (an `hf_surface`: `triangles`,
-/// `bilinear`, `height-planes`, `linear-planes`, `view-linear`) as `hf_method_name`
+/// `bilinear`, `height-planes`, `corner-planes`, `view-linear`) as `hf_method_name`
 /// does. Thread safe.
 ///
 /// # Safety

@@ -325,7 +325,7 @@ pub(crate) unsafe fn marcher<'a>(
 /// cell test):
 /// - exact: the first hit in `[t_min, t_max]` on `options->surface`, watertight in
 ///   `float`; four fetches per cell visited.
-/// - maxmip (Tevs et al. 2008): exact, the hit of exact (the linear-planes surface is
+/// - maxmip (Tevs et al. 2008): exact, the hit of exact (the corner-planes surface is
 ///   traced by the exact traversal); one fetch per pyramid texel.
 /// - safety, cc, radius (Baboud et al. 2011; Baboud & Décoret 2006): exact, the hit of
 ///   exact on the triangle surface, or with `HF_SURFACE_VIEW_LINEAR` on the

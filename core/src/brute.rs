@@ -78,7 +78,7 @@ pub fn first_hit(hf: &HeightField, surface: Surface, q: &Query<f64>) -> Option<(
                 (g0, g1)
             };
             match surface {
-                Surface::Triangles | Surface::LinearPlanes => {
+                Surface::Triangles | Surface::CornerPlanes => {
                     let planes = if surface == Surface::Triangles {
                         triangle_planes(c)
                     } else {

@@ -13,7 +13,7 @@
 //!   the range multiplied by it: exact (no bit of the direction changes but the
 //!   exponent).
 //! - **Rebase.** When the origin lies more than [`FAR`] field extents outside the
-//!   field's box (the box of every surface, widened as for linear planes), the ray is
+//!   field's box (the box of every surface, widened as for corner planes), the ray is
 //!   clipped to that box in `f64`: a miss there is the answer (no march runs), and
 //!   otherwise the origin moves along the ray to one grid unit before its entry, so
 //!   the march sees coordinates of the field's size.
@@ -163,7 +163,7 @@ fn localize(
         let Ok(q) = Query::<f64>::from_arrays(origin, d, t0, t1) else {
             return miss;
         };
-        match dda::clip_surface(hf, Surface::LinearPlanes, &q) {
+        match dda::clip_surface(hf, Surface::CornerPlanes, &q) {
             None => return miss,
             // One grid unit before the entry.
             Some(span) => span.t0 - 1.0 / largest(d),

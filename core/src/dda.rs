@@ -38,7 +38,7 @@ pub struct Span<R: Real> {
 }
 
 /// Clips a query to the field's bounding box, `z` spanning the sample range (which
-/// bounds every surface but linear planes: see [`clip_surface`]); `None` when the ray
+/// bounds every surface but corner planes: see [`clip_surface`]); `None` when the ray
 /// misses it.
 #[inline]
 pub fn clip<R: Real>(hf: &HeightField, q: &Query<R>) -> Option<Span<R>> {
@@ -46,7 +46,7 @@ pub fn clip<R: Real>(hf: &HeightField, q: &Query<R>) -> Option<Span<R>> {
 }
 
 /// Clips a query to the box that holds `surface` over the field: the sample range in
-/// `z`, widened for linear planes, whose plane reaches `h10 + h01 − h00` at a cell's far
+/// `z`, widened for corner planes, whose plane reaches `h10 + h01 − h00` at a cell's far
 /// corner and so may leave the sample range by up to its width; `None` when the ray
 /// misses it. Inlined at every march's entry (the C API, which instantiates every
 /// march, otherwise kept it a call).
@@ -54,7 +54,7 @@ pub fn clip<R: Real>(hf: &HeightField, q: &Query<R>) -> Option<Span<R>> {
 pub fn clip_surface<R: Real>(hf: &HeightField, surface: Surface, q: &Query<R>) -> Option<Span<R>> {
     let (o, d) = (q.origin(), q.dir());
     let (mut zmin, mut zmax) = (R::from_f32(hf.min_height()), R::from_f32(hf.max_height()));
-    if surface == Surface::LinearPlanes {
+    if surface == Surface::CornerPlanes {
         let range = zmax - zmin;
         (zmin, zmax) = (zmin - range, zmax + range);
     }

@@ -454,7 +454,7 @@ fn lod_level<R: Real>(per_t: Option<R>, t: R) -> u32 {
 /// rays that start under the surface ([`Flags::ORIGIN_INSIDE`]) or enter through a side
 /// wall ([`Flags::SIDE`]); `clearance` is a lower bound of the DDA's (a skipped node
 /// reports the ray's height above its maximum). Supports every surface bounded by its
-/// cell's highest corner; [`Surface::LinearPlanes`] is not, and is traced by the DDA.
+/// cell's highest corner; [`Surface::CornerPlanes`] is not, and is traced by the DDA.
 ///
 /// Cost: one fetch per pyramid texel read, four per exact cell test.
 pub fn trace<R: Real>(
@@ -544,10 +544,10 @@ impl<'m, 'a> March<'m, 'a> {
     }
 
     /// The walk of `q` at its first node, or its whole answer (before the finish) when
-    /// it needs no march: a miss of the box, or the DDA on linear planes.
+    /// it needs no march: a miss of the box, or the DDA on corner planes.
     fn begin<R: Real>(&self, q: &Query<R>) -> Result<Walk<R>, Trace<R>> {
         let (hf, surface, cells) = (self.hf, self.surface, self.cells);
-        if surface == Surface::LinearPlanes {
+        if surface == Surface::CornerPlanes {
             return Err(dda::trace(hf, surface, q));
         }
         let Some(span) = clip(hf, q) else {

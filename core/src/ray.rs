@@ -159,7 +159,7 @@ impl Flags {
     /// The ray enters the footprint through a side wall below the surface; the hit is on
     /// that wall (the field is a solid: everything below the surface is inside).
     pub const SIDE: Flags = Flags(2);
-    /// The hit is on a vertical step of a discontinuous surface (height or linear planes).
+    /// The hit is on a vertical step of a discontinuous surface (height or corner planes).
     pub const WALL: Flags = Flags(4);
     /// An approximate or iterative method ran out of its step budget; the answer is
     /// its best guess, not a converged one.

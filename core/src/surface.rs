@@ -24,7 +24,7 @@ named_enum! {
         /// base sample and its forward differences. No paper defines it (Qu et al.'s linear
         /// approximation planes are the view-linear surface); not continuous across cells,
         /// steps are vertical walls.
-        LinearPlanes = 3 => "linear-planes" (false),
+        CornerPlanes = 3 => "corner-planes" (false),
         /// Baboud et al. §7, and Qu et al.'s linear approximation planes (eq. 1): linear
         /// along the ray between its centerline crossings, where it equals the edge
         /// interpolation of the samples. View dependent; shaded with the bilinear normal.
@@ -112,7 +112,7 @@ impl Surface {
             }
             Surface::Bilinear | Surface::ViewLinear => bilinear(c, u, v),
             Surface::HeightPlanes => c[nearest_corner(u, v)],
-            Surface::LinearPlanes => plane(linear_plane(c), u, v),
+            Surface::CornerPlanes => plane(corner_plane(c), u, v),
         }
     }
 
@@ -134,8 +134,8 @@ impl Surface {
                 (c[1] - c[0] + e * v, c[2] - c[0] + e * u)
             }
             Surface::HeightPlanes => (R::ZERO, R::ZERO),
-            Surface::LinearPlanes => {
-                let p = linear_plane(c);
+            Surface::CornerPlanes => {
+                let p = corner_plane(c);
                 (p[1], p[2])
             }
         }
@@ -203,8 +203,8 @@ impl Surface {
                     clearance: ca,
                 }
             }
-            Surface::LinearPlanes => {
-                let p = linear_plane(c);
+            Surface::CornerPlanes => {
+                let p = corner_plane(c);
                 let la = a[2] - plane(p, a[0], a[1]);
                 let lb = b[2] - plane(p, b[0], b[1]);
                 let n = normal_from_gradient(p[1], p[2]);
@@ -267,9 +267,9 @@ pub fn triangle_planes<R: Real>(c: [R; 4]) -> [[R; 3]; 2] {
     }
 }
 
-/// The linear-planes surface: the plane through h00, h10 and h01.
+/// The corner-planes surface: the plane through h00, h10 and h01.
 #[inline]
-fn linear_plane<R: Real>(c: [R; 4]) -> [R; 3] {
+fn corner_plane<R: Real>(c: [R; 4]) -> [R; 3] {
     [c[0], c[1] - c[0], c[2] - c[0]]
 }
 

@@ -5,7 +5,7 @@
 //! agree within 1e-4 texel (growing with the coordinates beyond 32, see `tight`;
 //! docs/DESIGN.md's "wrong" is 1e-3).
 //!
-//! On the discontinuous surfaces (height planes, linear planes) a ray passing within
+//! On the discontinuous surfaces (height planes, corner planes) a ray passing within
 //! 1e-4 texel of a point where two walls touch along a vertical edge (a "pinch": quarter
 //! corners, grid points) is ambiguous too: which side it passes is decided by rounding
 //! of its horizontal position, which the clearance (a vertical distance) cannot see.

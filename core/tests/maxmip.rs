@@ -357,7 +357,7 @@ fn march_matches_oracle() {
 #[test]
 fn other_surfaces_match_dda() {
     // Height planes and view-linear are bounded by the corners too: maxmip = DDA exactly.
-    // Linear planes are not, and go to the DDA.
+    // Corner planes are not, and go to the DDA.
     let mut rng = Rng::new(99);
     let (field, pyr) = fractal_pyramid(&mut rng, 37, 29, 6.0);
     let hf = field.hf();
@@ -365,7 +365,7 @@ fn other_surfaces_match_dda() {
     for surface in [
         Surface::HeightPlanes,
         Surface::ViewLinear,
-        Surface::LinearPlanes,
+        Surface::CornerPlanes,
     ] {
         let mut differ = 0;
         for spec in kind_blocks(&mut rng, &field, surface, &RayKind::ALL, 100) {

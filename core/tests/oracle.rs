@@ -17,7 +17,7 @@
 //! Contract readings this test documents (the code implements them; docs/DESIGN.md does not
 //! spell them out):
 //!
-//! - The discontinuous surfaces (height planes, linear planes) are the graph of a
+//! - The discontinuous surfaces (height planes, corner planes) are the graph of a
 //!   height *function* with the tie rule "a point on a boundary belongs to the larger
 //!   index" (stated for height planes; the traversal applies it to linear-plane cells
 //!   too). A ray that runs exactly along a wall line (vertical, or axis-parallel) is

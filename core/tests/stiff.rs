@@ -283,7 +283,7 @@ fn field_8193_by_16() {
 
     // Flat at 0 up to x = 8190, then a ramp to 10 at x = 8191 and a plateau, the same
     // in every row: a horizontal ray at height z hits x = 8190 + z / 10 (triangles,
-    // bilinear, view-linear and linear planes agree; height planes hit the wall at
+    // bilinear, view-linear and corner planes agree; height planes hit the wall at
     // x = 8190.5).
     let ramp = Field::from_fn(8193, 16, 8193, |i, _| if i <= 8190 { 0.0 } else { 10.0 });
     let hf = ramp.hf();

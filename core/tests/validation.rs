@@ -311,7 +311,7 @@ fn extreme_valid_queries_trace_cleanly() {
                     p[0] >= -1e-3 && p[0] <= 8.001 && p[1] >= -1e-3 && p[1] <= 6.001,
                     "{q:?} {p:?}"
                 );
-                // Linear planes may rise one range above the highest sample.
+                // Corner planes may rise one range above the highest sample.
                 assert!(p[2] <= hi + (hi - lo) + slack, "{q:?} {p:?}");
             }
         }

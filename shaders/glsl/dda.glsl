@@ -50,8 +50,8 @@ bool dda_clip_surface(uint surface, Query q, inout Span span) {
     }
     float zmin = field_min_height();
     float zmax = field_max_height();
-//#if linear_planes
-    if (surface == HF_SURFACE_LINEAR_PLANES) {
+//#if corner_planes
+    if (surface == HF_SURFACE_CORNER_PLANES) {
         float range = zmax - zmin;
         float lo = zmin - range;
         float hi = zmax + range;

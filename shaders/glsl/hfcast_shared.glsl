@@ -7,7 +7,7 @@
 const uint HF_SURFACE_TRIANGLES = 0u;
 const uint HF_SURFACE_BILINEAR = 1u;
 const uint HF_SURFACE_HEIGHT_PLANES = 2u;
-const uint HF_SURFACE_LINEAR_PLANES = 3u;
+const uint HF_SURFACE_CORNER_PLANES = 3u;
 const uint HF_SURFACE_VIEW_LINEAR = 4u;
 
 // Hit and trace flags (hfcast::Flags, HF_FLAG_*).

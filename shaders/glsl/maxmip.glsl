@@ -83,13 +83,13 @@ vec3 maxmip_entry_wall(ivec2 on, ivec2 step) {
     return vec3(0.0, 0.0, 1.0);
 }
 
-// `trace`: the first hit on `surface`, the one of dda_trace; linear planes are traced
+// `trace`: the first hit on `surface`, the one of dda_trace; corner planes are traced
 // by dda_trace.
 Trace maxmip_trace(uint surface, Query q) {
 //#if any_surface
-    if (surface == HF_SURFACE_LINEAR_PLANES) {
+    if (surface == HF_SURFACE_CORNER_PLANES) {
 //#endif
-//#if linear_planes
+//#if corner_planes
         return dda_trace(surface, q);
 //#endif
 //#if any_surface

@@ -85,7 +85,7 @@ float surface_cell_height(uint surface, vec4 c, float u, float v) {
 //#if any_surface
     }
 //#endif
-//#if linear_planes
+//#if corner_planes
     return surface_plane(surface_linear_plane(c), u, v);
 //#endif
 }
@@ -118,7 +118,7 @@ vec2 surface_cell_gradient(uint surface, vec4 c, float u, float v) {
 //#if any_surface
     }
 //#endif
-//#if linear_planes
+//#if corner_planes
     vec3 p = surface_linear_plane(c);
     return vec2(p[1], p[2]);
 //#endif
@@ -388,9 +388,9 @@ SegmentHit surface_segment_hit(uint surface, vec4 c, vec3 a, vec3 b, float ca, f
         return segment_none(real_min(ca, cb));
 //#endif
 //#if any_surface
-    } else if (surface == HF_SURFACE_LINEAR_PLANES) {
+    } else if (surface == HF_SURFACE_CORNER_PLANES) {
 //#endif
-//#if linear_planes
+//#if corner_planes
         vec3 p = surface_linear_plane(c);
         float la = a[2] - surface_plane(p, a[0], a[1]);
         float lb = b[2] - surface_plane(p, b[0], b[1]);

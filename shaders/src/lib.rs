@@ -108,7 +108,7 @@ pub const FLAGS: [(&str, &str); 14] = [
     ("triangles", "the surface is the triangle surface"),
     ("bilinear", "the surface is bilinear"),
     ("height_planes", "the surface is height planes"),
-    ("linear_planes", "the surface is linear planes"),
+    ("corner_planes", "the surface is corner planes"),
     ("view_linear", "the surface is view-linear"),
     (
         "any_surface",
@@ -233,7 +233,7 @@ fn surface_flag(surface: Surface) -> &'static str {
         Surface::Triangles => "triangles",
         Surface::Bilinear => "bilinear",
         Surface::HeightPlanes => "height_planes",
-        Surface::LinearPlanes => "linear_planes",
+        Surface::CornerPlanes => "corner_planes",
         Surface::ViewLinear => "view_linear",
     }
 }

@@ -329,7 +329,7 @@ fn a_minimal_shader_leaves_out_what_its_scene_does_not_use() {
         for absent in [
             "surface_bilinear",
             "HF_SURFACE_BILINEAR",
-            "HF_SURFACE_LINEAR_PLANES",
+            "HF_SURFACE_CORNER_PLANES",
             "surface_height_planes_segment",
             "surface_is_continuous",
             uniform.as_str(),
@@ -453,7 +453,7 @@ fn unsupported_scenes_are_errors() {
     ));
     for (m, s) in [
         (MethodKind::Safety, Surface::HeightPlanes),
-        (MethodKind::Radius, Surface::LinearPlanes),
+        (MethodKind::Radius, Surface::CornerPlanes),
         (MethodKind::Cone, Surface::ViewLinear),
         (MethodKind::Qdm, Surface::ViewLinear),
         (MethodKind::Relaxed, Surface::ViewLinear),

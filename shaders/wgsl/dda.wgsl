@@ -48,8 +48,8 @@ fn dda_clip_surface(surface: u32, q: Query, span: ptr<function, Span>) -> bool {
     }
     var zmin: f32 = field_min_height();
     var zmax: f32 = field_max_height();
-//#if linear_planes
-    if (surface == HF_SURFACE_LINEAR_PLANES) {
+//#if corner_planes
+    if (surface == HF_SURFACE_CORNER_PLANES) {
         let range: f32 = zmax - zmin;
         let lo: f32 = zmin - range;
         let hi: f32 = zmax + range;

@@ -34,7 +34,7 @@
 const HF_SURFACE_TRIANGLES: u32 = 0u;
 const HF_SURFACE_BILINEAR: u32 = 1u;
 const HF_SURFACE_HEIGHT_PLANES: u32 = 2u;
-const HF_SURFACE_LINEAR_PLANES: u32 = 3u;
+const HF_SURFACE_CORNER_PLANES: u32 = 3u;
 const HF_SURFACE_VIEW_LINEAR: u32 = 4u;
 
 // Hit and trace flags (hfcast::Flags, HF_FLAG_*).

@@ -102,13 +102,13 @@ fn maxmip_entry_wall(on: vec2<i32>, step: vec2<i32>) -> vec3<f32> {
     return vec3<f32>(0.0, 0.0, 1.0);
 }
 
-// `trace`: the first hit on `surface`, the one of dda_trace; linear planes are traced
+// `trace`: the first hit on `surface`, the one of dda_trace; corner planes are traced
 // by dda_trace.
 fn maxmip_trace(surface: u32, q: Query) -> Trace {
 //#if any_surface
-    if (surface == HF_SURFACE_LINEAR_PLANES) {
+    if (surface == HF_SURFACE_CORNER_PLANES) {
 //#endif
-//#if linear_planes
+//#if corner_planes
         return dda_trace(surface, q);
 //#endif
 //#if any_surface

@@ -83,7 +83,7 @@ fn surface_cell_height(surface: u32, c: vec4<f32>, u: f32, v: f32) -> f32 {
 //#if any_surface
     }
 //#endif
-//#if linear_planes
+//#if corner_planes
     return surface_plane(surface_linear_plane(c), u, v);
 //#endif
 }
@@ -116,7 +116,7 @@ fn surface_cell_gradient(surface: u32, c: vec4<f32>, u: f32, v: f32) -> vec2<f32
 //#if any_surface
     }
 //#endif
-//#if linear_planes
+//#if corner_planes
     let p: vec3<f32> = surface_linear_plane(c);
     return vec2<f32>(p[1], p[2]);
 //#endif
@@ -388,9 +388,9 @@ fn surface_segment_hit(surface: u32, c: vec4<f32>, a: vec3<f32>, b: vec3<f32>, c
         return segment_none(real_min(ca, cb));
 //#endif
 //#if any_surface
-    } else if (surface == HF_SURFACE_LINEAR_PLANES) {
+    } else if (surface == HF_SURFACE_CORNER_PLANES) {
 //#endif
-//#if linear_planes
+//#if corner_planes
         let p: vec3<f32> = surface_linear_plane(c);
         let la: f32 = a[2] - surface_plane(p, a[0], a[1]);
         let lb: f32 = b[2] - surface_plane(p, b[0], b[1]);

@@ -251,9 +251,9 @@ pub fn flags_resolved(
         .all(|m| m.as_ref().is_some_and(|m| flags(m) == flags(oracle)))
 }
 
-/// For the discontinuous surfaces (height planes, linear planes): `true` when the ray
+/// For the discontinuous surfaces (height planes, corner planes): `true` when the ray
 /// passes within `tol` texel (horizontally) of a point where walls meet — quarter
-/// corners at half-integer x and y for height planes, grid points for linear planes —
+/// corners at half-integer x and y for height planes, grid points for corner planes —
 /// below the top of the pieces meeting there. There two walls touch along a vertical
 /// edge, and which side of it the ray passes by is decided by rounding: an ambiguous
 /// ray that the clearance (a vertical distance) cannot flag. Vertical rays are exempt:
@@ -262,7 +262,7 @@ pub fn flags_resolved(
 pub fn near_pinch(field: &Field, surface: Surface, q: &Query<f64>, tol: f64) -> bool {
     let off = match surface {
         Surface::HeightPlanes => 0.5,
-        Surface::LinearPlanes => 0.0,
+        Surface::CornerPlanes => 0.0,
         _ => return false,
     };
     let hf = field.hf();
@@ -735,11 +735,11 @@ pub fn footprint_entry(q: &Query<f64>, xm: f64, ym: f64) -> Option<f64> {
 /// Where the tie rule of a discontinuous surface matters, for a ray the DDA and the
 /// closed-solid brute force disagree on: the traced span starts exactly on a wall
 /// (at `t_min` or where the ray enters the footprint), or the ray passes exactly
-/// through a point where walls meet (linear planes: grid points; height planes: quarter
+/// through a point where walls meet (corner planes: grid points; height planes: quarter
 /// corners at half-integer x and y), touching the cells beside its path at one point.
 pub fn tie_point(surface: Surface, q: &Query<f64>, xm: f64, ym: f64) -> bool {
     let off = match surface {
-        Surface::LinearPlanes => 0.0,
+        Surface::CornerPlanes => 0.0,
         Surface::HeightPlanes => 0.5,
         _ => return false,
     };
@@ -942,7 +942,7 @@ pub fn judge<R: Real>(field: &Field, surface: Surface, q: &Query<R>) -> (Outcome
             bad.push("SIDE");
         }
         if f.contains(Flags::WALL)
-            && !matches!(surface, Surface::HeightPlanes | Surface::LinearPlanes)
+            && !matches!(surface, Surface::HeightPlanes | Surface::CornerPlanes)
         {
             bad.push("WALL");
         }
