@@ -136,13 +136,15 @@ static void read_buffer(GLuint buffer, float *out, size_t floats) {
 
 void gpu_pyramid_read(const gpu_bakes *b, float *out) { read_buffer(b->pyramid, out, b->pyramid_len); }
 
-int gpu_nbuffer_bake(gpu_bakes *b, uint32_t w, uint32_t h, GLuint tex_heights, uint32_t cap,
-                     float *out, size_t len) {
+/* A new storage buffer of the N-buffers (`len` = hf_nbuffer_len floats) of the heights
+ * in `tex_heights` for the cone reach `cap`, filled on the GPU; 0 on an error. */
+static GLuint fill_nbuffers(gpu_bakes *b, uint32_t w, uint32_t h, GLuint tex_heights,
+                            uint32_t cap, size_t len) {
     hf_bake_pass passes[HF_NBUFFER_MAX_PASSES];
     uint32_t n = 0;
     size_t need = 0;
-    if (hf_nbuffer_len(w, h, cap, &need) != HF_OK || need != len) return -1;
-    if (hf_nbuffer_bake_passes(w, h, cap, passes, HF_NBUFFER_MAX_PASSES, &n) != HF_OK) return -1;
+    if (hf_nbuffer_len(w, h, cap, &need) != HF_OK || need != len) return 0;
+    if (hf_nbuffer_bake_passes(w, h, cap, passes, HF_NBUFFER_MAX_PASSES, &n) != HF_OK) return 0;
     GLuint nb = make_buffer(GL_SHADER_STORAGE_BUFFER, sizeof(float) * len, NULL);
     glActiveTexture(GL_TEXTURE0);
     glBindTexture(GL_TEXTURE_2D, tex_heights);
@@ -152,6 +154,13 @@ int gpu_nbuffer_bake(gpu_bakes *b, uint32_t w, uint32_t h, GLuint tex_heights, u
         dispatch(b, b->nbuffer, 16, passes[p].uniform, sizeof passes[p].uniform,
                  passes[p].workgroups);
     }
+    return nb;
+}
+
+int gpu_nbuffer_bake(gpu_bakes *b, uint32_t w, uint32_t h, GLuint tex_heights, uint32_t cap,
+                     float *out, size_t len) {
+    GLuint nb = fill_nbuffers(b, w, h, tex_heights, cap, len);
+    if (!nb) return -1;
     read_buffer(nb, out, len);
     glDeleteBuffers(1, &nb);
     return glGetError() == GL_NO_ERROR ? 0 : -1;
@@ -189,24 +198,16 @@ int gpu_safety_bake(gpu_bakes *b, uint32_t w, uint32_t h, GLuint tex_heights,
 
 int gpu_cc_bake(gpu_bakes *b, uint32_t w, uint32_t h, GLuint tex_heights,
                 const hf_bake_options *options, unsigned char *out, size_t len) {
-    hf_bake_pass passes[2], fill[HF_NBUFFER_MAX_PASSES];
-    uint32_t n = 0, nfill = 0;
+    hf_bake_pass passes[2];
+    uint32_t n = 0;
     size_t nb_len = 0;
     GLint block = 0;
     if (hf_cc_bake_passes(w, h, options, passes, 2, &n) != HF_OK || n != 2) return -1;
     if (hf_nbuffer_len(w, h, options->cap, &nb_len) != HF_OK) return -1;
     glGetIntegerv(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &block);
     if (sizeof(float) * nb_len > (size_t)(GLuint)block) return 1;
-    if (hf_nbuffer_bake_passes(w, h, options->cap, fill, HF_NBUFFER_MAX_PASSES, &nfill) != HF_OK)
-        return -1;
-    GLuint nb = make_buffer(GL_SHADER_STORAGE_BUFFER, sizeof(float) * nb_len, NULL);
-    glActiveTexture(GL_TEXTURE0);
-    glBindTexture(GL_TEXTURE_2D, tex_heights);
-    for (uint32_t p = 0; p < nfill; p++) {
-        glBindBufferRange(GL_SHADER_STORAGE_BUFFER, 15, nb, (GLintptr)fill[p].bind_offset,
-                          (GLsizeiptr)fill[p].bind_size);
-        dispatch(b, b->nbuffer, 16, fill[p].uniform, sizeof fill[p].uniform, fill[p].workgroups);
-    }
+    GLuint nb = fill_nbuffers(b, w, h, tex_heights, options->cap, nb_len);
+    if (!nb) return -1;
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 15, nb);
     int rc = run_safety_passes(b, b->cc, passes, tex_heights, out, len);
     glDeleteBuffers(1, &nb);
