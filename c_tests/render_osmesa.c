@@ -489,11 +489,11 @@ static void parity_map(map_job *j, int w, int h, void *ctx) {
     tally *t = (tally *)ctx;
     frame f;
     frame_alloc(&f, w, h);
-    method_cfg cfgs[11 + SEARCH_TO_CC_CFGS];
+    method_cfg cfgs[2 * HF_SURFACE_COUNT + 1 + SEARCH_TO_CC_CFGS];
     int ncfg = 0;
-    for (uint32_t sf = 0; sf <= HF_SURFACE_VIEW_LINEAR; sf++)
+    for (uint32_t sf = 0; sf < HF_SURFACE_COUNT; sf++)
         cfgs[ncfg++] = cfg_of(HF_METHOD_EXACT, sf);
-    for (uint32_t sf = 0; sf <= HF_SURFACE_VIEW_LINEAR; sf++)
+    for (uint32_t sf = 0; sf < HF_SURFACE_COUNT; sf++)
         cfgs[ncfg++] = cfg_of(HF_METHOD_MAXMIP, sf);
     ncfg = search_to_cc_cfgs(cfgs, ncfg, 1);
     if (j->relaxed) cfgs[ncfg++] = cfg_of(HF_METHOD_RELAXED, HF_SURFACE_TRIANGLES);
@@ -646,9 +646,9 @@ typedef struct gen_case {
 } gen_case;
 
 static int generated_cases(gen_case *out) {
-    method_cfg cfgs[10 + SEARCH_TO_CC_CFGS];
+    method_cfg cfgs[2 * HF_SURFACE_COUNT + SEARCH_TO_CC_CFGS];
     int n = 0;
-    for (uint32_t sf = 0; sf <= HF_SURFACE_VIEW_LINEAR; sf++) {
+    for (uint32_t sf = 0; sf < HF_SURFACE_COUNT; sf++) {
         cfgs[n++] = cfg_of(HF_METHOD_EXACT, sf);
         cfgs[n++] = cfg_of(HF_METHOD_MAXMIP, sf);
     }

@@ -131,13 +131,13 @@ static void check_bad_traces(const hf_field *f, uint32_t method, const void *map
               HF_ERR_NULL_POINTER, hits, 512);
     CHECK_BAD(hf_trace_batch(f, method, map, len, o, rays, some, NULL, some),
               HF_ERR_NULL_POINTER, nothing, 0);
-    /* Unknown surfaces (5 and 9) are bad enums. */
+    /* Unknown surfaces (HF_SURFACE_COUNT and 4 past it) are bad enums. */
     hf_trace_options s;
     if (o)
         s = *o;
     else
         CHECK_OK(hf_trace_options_default(&s));
-    for (s.surface = 5; s.surface <= 9; s.surface += 4) {
+    for (s.surface = HF_SURFACE_COUNT; s.surface <= HF_SURFACE_COUNT + 4; s.surface += 4) {
         CHECK_BAD(hf_trace(f, method, map, len, &s, &rays[0], &h), HF_ERR_INVALID_ENUM, &h,
                   sizeof h);
         CHECK_BAD(hf_trace_batch(f, method, map, len, &s, rays, some, hits, some),
@@ -620,7 +620,7 @@ static void test_known_hits(void) {
     CHECK(h.fetches == 4 && h.t == 4.0f && h.point[2] == 1.0f);
 
     /* Every surface of this field is the plane z = x + y except height planes. */
-    for (uint32_t s = HF_SURFACE_TRIANGLES; s <= HF_SURFACE_VIEW_LINEAR; s++) {
+    for (uint32_t s = HF_SURFACE_TRIANGLES; s < HF_SURFACE_COUNT; s++) {
         o = on(s);
         CHECK_OK(hf_trace(f, HF_METHOD_EXACT, NULL, 0, &o, &r, &h));
         CHECK(h.hit == 1);
@@ -695,7 +695,7 @@ static void test_bad_queries(void) {
             CHECK_BAD(hf_trace(f, four[m].method, four[m].map, four[m].len, &o, &bad[k], &h),
                       bad_code, &h, sizeof h);
     /* NULL pointers, unknown enums, zero steps of every method. */
-    const uint32_t bad_surfaces[3] = {5, 6, 0xFFFFFFFFu};
+    const uint32_t bad_surfaces[3] = {HF_SURFACE_COUNT, HF_SURFACE_COUNT + 1, 0xFFFFFFFFu};
     for (int m = 0; m < 4; m++) {
         uint32_t me = four[m].method;
         const void *map = four[m].map;
@@ -790,7 +790,7 @@ static void test_methods_agree(void) {
     hf_hit *exact = (hf_hit *)malloc(sizeof(hf_hit) * N);
     hf_hit *other = (hf_hit *)malloc(sizeof(hf_hit) * N);
     int hits = 0, lb_close = 0, lb_hits = 0, sec_hits = 0;
-    for (uint32_t s = HF_SURFACE_TRIANGLES; s <= HF_SURFACE_VIEW_LINEAR; s++) {
+    for (uint32_t s = HF_SURFACE_TRIANGLES; s < HF_SURFACE_COUNT; s++) {
         hf_trace_options o = on(s);
         CHECK_OK(hf_trace_batch(f, HF_METHOD_EXACT, NULL, 0, &o, rays, N, exact, N));
         /* The batch answers as the single-ray call. */
@@ -827,9 +827,9 @@ static void test_methods_agree(void) {
     CHECK(hits > N); /* most rays hit */
     CHECK(lb_close > hits * 9 / 10);
     CHECK(lb_hits > hits * 9 / 10 && sec_hits > hits * 9 / 10);
-    printf("methods: %d rays x 5 surfaces, %d exact hits, maxmip identical, linear-binary "
+    printf("methods: %d rays x %d surfaces, %d exact hits, maxmip identical, linear-binary "
            "within 1e-2 on %d\n",
-           N, hits, lb_close);
+           N, HF_SURFACE_COUNT, hits, lb_close);
     free(exact);
     free(other);
     free(rays);
@@ -1756,14 +1756,14 @@ static void test_trace_options(void) {
         CHECK_BAD(hf_trace_batch(f, me, map, len, &bad_simd, rays, R, b, R), HF_ERR_INVALID_ENUM,
                   b, sizeof b);
         /* The surfaces it does not trace are refused, unknown ones are bad enums. */
-        for (uint32_t s = HF_SURFACE_TRIANGLES; s <= HF_SURFACE_VIEW_LINEAR + 1; s++) {
+        for (uint32_t s = HF_SURFACE_TRIANGLES; s <= HF_SURFACE_COUNT; s++) {
             hf_trace_options o = on(s);
-            if (s <= HF_SURFACE_VIEW_LINEAR && traces_surface(me, s)) {
+            if (s < HF_SURFACE_COUNT && traces_surface(me, s)) {
                 CHECK_OK(hf_trace_batch(f, me, map, len, &o, rays, R, a, R));
                 continue;
             }
             hf_result want =
-                s > HF_SURFACE_VIEW_LINEAR ? HF_ERR_INVALID_ENUM : HF_ERR_INVALID_ARGUMENT;
+                s >= HF_SURFACE_COUNT ? HF_ERR_INVALID_ENUM : HF_ERR_INVALID_ARGUMENT;
             CHECK_BAD(hf_trace(f, me, map, len, &o, &rays[0], &h), want, &h, sizeof h);
             CHECK_BAD(hf_trace_batch(f, me, map, len, &o, rays, R, b, R), want, b, sizeof b);
         }
@@ -1824,12 +1824,12 @@ static void test_trace_options(void) {
     /* Names of every method and surface; short buffers, unknown values, NULLs. */
     static const char *const methods[10] = {"exact", "linear-binary", "linear-secant", "maxmip",
                                             "safety", "cone", "relaxed", "qdm", "cc", "radius"};
-    static const char *const surfaces[5] = {"triangles", "bilinear", "height-planes",
-                                            "corner-planes", "view-linear"};
+    static const char *const surfaces[6] = {"triangles",   "bilinear",    "height-planes",
+                                            "corner-planes", "view-linear", "qu-triangles"};
     hf_result (*const name_of[2])(uint32_t, char *, size_t, size_t *) = {hf_method_name,
                                                                         hf_surface_name};
     const char *const *names[2] = {methods, surfaces};
-    const uint32_t counts[2] = {10, 5};
+    const uint32_t counts[2] = {10, 6};
     for (int t = 0; t < 2; t++) {
         char buf[32];
         size_t written = 777;

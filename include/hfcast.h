@@ -135,6 +135,11 @@ enum hf_surface
   // along the ray between its centerline crossings, where it equals the edge
   // interpolation of the samples. View dependent; shaded with the bilinear normal.
   HF_SURFACE_VIEW_LINEAR = 4,
+  // Qu et al. 2003 §3.2: two triangles per cell split along the fixed diagonal from
+  // (i, j) to (i+1, j+1) in every cell, tested with their division-free inside test.
+  // Continuous, but not convex over a cell (a valley can run along the diagonal), so a
+  // segment clear at both ends can still meet it.
+  HF_SURFACE_QU_TRIANGLES = 5,
 };
 #ifndef __cplusplus
 #if __STDC_VERSION__ >= 202311L
@@ -180,6 +185,9 @@ typedef uint32_t hf_surface;
 // Map kind (`hf_ktx2_desc::map`): the safety-radius map (`hf_bake` of
 // `HF_METHOD_RADIUS`), `R8_UINT` (docs/DESIGN.md, "Texture layouts").
 #define HF_KTX2_RADIUS 8
+
+// How many surfaces there are: the `hf_surface` values are 0 to `HF_SURFACE_COUNT − 1`.
+#define HF_SURFACE_COUNT 6
 
 // Hit flag: the ray starts under the surface; the hit is at `t_min`.
 #define HF_FLAG_ORIGIN_INSIDE 1
@@ -836,7 +844,8 @@ hf_result hf_method_name(uint32_t method,
                          size_t *out_written);
 
 // Writes the short lower-case name of `surface` (an `hf_surface`: `triangles`,
-// `bilinear`, `height-planes`, `corner-planes`, `view-linear`) as `hf_method_name`
+// `bilinear`, `height-planes`, `corner-planes`, `view-linear`, `qu-triangles`) as
+// `hf_method_name`
 // does. Thread safe.
 //
 // # Safety

@@ -234,6 +234,10 @@ pub(crate) fn check_size(width: u32, height: u32) -> Result<(), hf_result> {
     Ok(())
 }
 
+/// How many surfaces there are: the `hf_surface` values are 0 to `HF_SURFACE_COUNT − 1`.
+pub const HF_SURFACE_COUNT: u32 = 6;
+const _: () = assert!(HF_SURFACE_COUNT as usize == hfcore::Surface::ALL.len());
+
 /// Checks a surface passed as `uint32_t`.
 pub(crate) fn surface_of(v: u32) -> Result<hfcore::Surface, hf_result> {
     hfcore::Surface::ALL
@@ -319,7 +323,8 @@ pub unsafe extern "C" fn hf_method_name(
 }
 
 /// Writes the short lower-case name of `surface` (an `hf_surface`: `triangles`,
-/// `bilinear`, `height-planes`, `corner-planes`, `view-linear`) as `hf_method_name`
+/// `bilinear`, `height-planes`, `corner-planes`, `view-linear`, `qu-triangles`) as
+/// `hf_method_name`
 /// does. Thread safe.
 ///
 /// # Safety

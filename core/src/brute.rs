@@ -1,8 +1,9 @@
 //! Brute force over every cell, in `f64`: the oracle of the oracle, for small fields.
 //!
 //! Written independently of the traversal: no grid walk, no local coordinates, no
-//! shared crossings. The solid under the triangle, linear-plane and height-plane
-//! surfaces is a union of convex pieces (a cell's or quarter's column cut by one plane);
+//! shared crossings. The solid under the triangle, corner-plane, height-plane and Qu
+//! triangle surfaces is a union of convex pieces (a cell's, quarter's or half-cell's
+//! column cut by one plane);
 //! the first hit is the smallest entry parameter over all pieces. Bilinear cells solve
 //! their quadratic in the global ray parameter. The view-linear surface, being defined
 //! by the ray's own crossings, is checked by listing every crossing and sorting them.
@@ -10,7 +11,7 @@
 use crate::dda::clip;
 use crate::field::HeightField;
 use crate::ray::Query;
-use crate::surface::{smallest_root_in_unit, triangle_planes, Surface};
+use crate::surface::{fixed_diagonal_planes, smallest_root_in_unit, triangle_planes, Surface};
 
 /// `[lo, hi]` of `t` with `lo_x ≤ o + t·d ≤ hi_x`, intersected with `range`.
 ///
@@ -100,6 +101,20 @@ pub fn first_hit(hf: &HeightField, surface: Surface, q: &Query<f64>) -> Option<(
                         let r = slab(o[0], d[0], qx, qx + 0.5, k & 1 == 1, cell_range)
                             .and_then(|r| slab(o[1], d[1], qy, qy + 0.5, k >> 1 == 1, r))
                             .and_then(|r| below(o[2] - h, d[2], r));
+                        if let Some((t, _)) = r {
+                            offer(t, [i, j]);
+                        }
+                    }
+                }
+                Surface::QuTriangles => {
+                    // The triangle (00, 10, 11) holds u − v ≥ 0, (00, 01, 11) u − v ≤ 0.
+                    let g0 = (o[0] - x0) - (o[1] - y0);
+                    let g1 = d[0] - d[1];
+                    for (k, p) in fixed_diagonal_planes(c).into_iter().enumerate() {
+                        let side = if k == 0 { -1.0 } else { 1.0 };
+                        let (h0, h1) = plane_clearance(p);
+                        let r =
+                            below(side * g0, side * g1, cell_range).and_then(|r| below(h0, h1, r));
                         if let Some((t, _)) = r {
                             offer(t, [i, j]);
                         }

@@ -11,7 +11,9 @@
 use crate::field::HeightField;
 use crate::math::Real;
 use crate::ray::{Flags, Hit, Query, Trace};
-use crate::surface::{corners, plane, triangle_planes, Surface};
+use crate::surface::{
+    bilinear, bilinear_search_segment, corners, plane, triangle_planes, SegmentHit, Surface,
+};
 
 /// How the traced part of a ray begins.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -274,12 +276,14 @@ pub(crate) fn segment_point<R: Real>(
 /// its crossings (`f32` coordinates of ~1000 texels round to ~6e-5, which a slope of
 /// 51 turns into 3e-3 of height), at the cost of one division per step, once per ray.
 /// Every exact march ends here, so marches that reach the same `R` hit (the DDA and the
-/// maximum mipmap) still agree bit for bit. Kept as found: hits where the span begins (origin inside, side
-/// entries), walls (their `t` is a quotient `(X − o) / d` already), approximate hits
-/// (a budget ran out), the view-linear surface (its height along the ray is not a
-/// function of the point), and a refinement that would leave the cell or `[t_min,
-/// t_max]` (a near-touch the `R` march resolved differently from `f64`: an ambiguous
-/// ray by docs/DESIGN.md's rule).
+/// maximum mipmap) still agree bit for bit. The view-linear surface, whose height along
+/// the ray is not a function of the point, is refined by its own definition instead:
+/// the clearance is linear between the ends of the walk's segment in the cell, taken in
+/// `f64`. Kept as found: hits where the span begins (origin inside, side entries),
+/// walls (their `t` is a quotient `(X − o) / d` already), approximate hits (a budget
+/// ran out), and a refinement that would leave the cell or `[t_min, t_max]` (a
+/// near-touch the `R` march resolved differently from `f64`: an ambiguous ray by
+/// docs/DESIGN.md's rule).
 #[inline(always)]
 pub(crate) fn finish<R: Real>(
     hf: &HeightField,
@@ -292,14 +296,11 @@ pub(crate) fn finish<R: Real>(
     let Some(hit) = trace.hit.as_mut() else {
         return trace;
     };
-    if R::EPSILON.to_f64() <= f64::EPSILON
-        || (hit.flags.0 | trace.flags.0) & KEPT != 0
-        || surface == Surface::ViewLinear
-    {
+    if R::EPSILON.to_f64() <= f64::EPSILON || (hit.flags.0 | trace.flags.0) & KEPT != 0 {
         return trace;
     }
     let c = corners(hf, hit.cell[0], hit.cell[1]);
-    if let Some((t, point)) = refine(surface, q, (hit.cell, c), hit.t) {
+    if let Some((t, point)) = refine(hf, surface, q, (hit.cell, c), hit.t) {
         (hit.t, hit.point) = (t, R::v3(point));
     }
     trace
@@ -314,6 +315,7 @@ pub(crate) fn finish<R: Real>(
 /// of line: once per ray, off every march's loop.
 #[inline(never)]
 fn refine<R: Real>(
+    hf: &HeightField,
     surface: Surface,
     q: &Query<R>,
     (cell, c): ([u32; 2], [R; 4]),
@@ -352,6 +354,27 @@ fn refine<R: Real>(
                 _ => t1,
             }
         }
+        Surface::ViewLinear => {
+            // The walk's segment in the cell: the cell's crossings, clipped to the span
+            // (the ray's own definition of the surface), its clearances in `f64`.
+            let span = clip_surface(hf, surface, &q.cast::<f64>())?;
+            let (mut ta, mut tb) = (span.t0, span.t1);
+            for k in 0..2 {
+                if d[k] != 0.0 {
+                    let (t0, t1) = (-o[k] / d[k], (1.0 - o[k]) / d[k]);
+                    (ta, tb) = (ta.max(t0.min(t1)), tb.min(t0.max(t1)));
+                }
+            }
+            let clearance = |t: f64| {
+                let p = at(t);
+                p[2] - bilinear(c, p[0].clamp(0.0, 1.0), p[1].clamp(0.0, 1.0))
+            };
+            let (ca, cb) = (clearance(ta), clearance(tb));
+            if !(ca > 0.0 && cb <= 0.0) {
+                return None;
+            }
+            ta + (tb - ta) * (ca / (ca - cb))
+        }
         _ => {
             let tangent = |t: f64| {
                 let p = at(t);
@@ -359,8 +382,10 @@ fn refine<R: Real>(
                 step(t, f, surface.cell_gradient(c, p[0], p[1]))
             };
             let t1 = tangent(t)?;
+            // The bilinear patch is curved; a step on Qu's triangles may land in the
+            // cell's other triangle.
             match surface {
-                Surface::Bilinear => tangent(t1)?,
+                Surface::Bilinear | Surface::QuTriangles => tangent(t1)?,
                 _ => t1,
             }
         }
@@ -378,11 +403,32 @@ fn refine<R: Real>(
 ///
 /// Cost: four fetches (the corners) per cell visited.
 pub fn trace<R: Real>(hf: &HeightField, surface: Surface, q: &Query<R>) -> Trace<R> {
-    finish(hf, surface, q, walk(hf, surface, q))
+    let test = |c, a, b, ca, cb, wall| surface.segment_hit(c, a, b, ca, cb, wall);
+    finish(hf, surface, q, walk(hf, surface, q, test))
 }
 
-/// [`trace`] before the robust finish.
-fn walk<R: Real>(hf: &HeightField, surface: Surface, q: &Query<R>) -> Trace<R> {
+/// Qu et al.'s bilinear method (§3.3), **approximate**: the cells of [`trace`] on the
+/// bilinear surface, each tested by sampling and bisection
+/// ([`bilinear_search_segment`]: `linear` samples, then `bisect` bisections) instead of
+/// solving its quadratic. No robust finish: the hit is the search's.
+pub fn trace_bilinear_search<R: Real>(
+    hf: &HeightField,
+    q: &Query<R>,
+    (linear, bisect): (u32, u32),
+) -> Trace<R> {
+    let test = |c, a, b, ca, cb, _| bilinear_search_segment(c, a, b, ca, cb, (linear, bisect));
+    walk(hf, Surface::Bilinear, q, test)
+}
+
+/// [`trace`] before the robust finish, with the cell test `test` (the arguments of
+/// [`Surface::segment_hit`]).
+#[inline(always)]
+fn walk<R: Real>(
+    hf: &HeightField,
+    surface: Surface,
+    q: &Query<R>,
+    test: impl Fn([R; 4], [R; 3], [R; 3], R, R, [R; 3]) -> SegmentHit<R>,
+) -> Trace<R> {
     let Some(span) = clip_surface(hf, surface, q) else {
         return Trace::MISS;
     };
@@ -420,7 +466,7 @@ fn walk<R: Real>(hf: &HeightField, surface: Surface, q: &Query<R>) -> Trace<R> {
         // Clearance at the exit point; on a centerline, from that edge's two samples only.
         let on = [0, 1].map(|k| cross[k].then_some(step[k] > 0));
         let (b, cb) = local_clearance(surface, c, cell, q.at(tb), on);
-        let seg = surface.segment_hit(c, a, b, ca, cb, wall);
+        let seg = test(c, a, b, ca, cb, wall);
         clearance = clearance.min(seg.clearance);
         if let Some(found) = seg.hit {
             return Trace::hit(

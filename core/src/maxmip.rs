@@ -30,7 +30,7 @@ use crate::dda::{
 use crate::field::{HeightField, MAX_SIDE};
 use crate::math::Real;
 use crate::ray::{Flags, Hit, Query, Trace};
-use crate::surface::{bilinear, corners, SegmentHit, Surface};
+use crate::surface::{bilinear_search_segment, corners, Surface};
 use core::ops::Range;
 
 mod lanes;
@@ -385,51 +385,6 @@ fn sync_axis<R: Real>(i: u32, step: i64, lo: u32, hi: u32, o: R, d: R, t: R) -> 
     }
 }
 
-/// The bilinear cell test by search, approximate: `linear` equal steps from `a` to `b`,
-/// then `bisect` bisections of the first step that ends under the surface.
-fn iterative_bilinear<R: Real>(
-    c: [R; 4],
-    a: [R; 3],
-    b: [R; 3],
-    ca: R,
-    cb: R,
-    (linear, bisect): (u32, u32),
-) -> SegmentHit<R> {
-    let at = |s: R| {
-        let p = [0, 1, 2].map(|k| a[k] + (b[k] - a[k]) * s);
-        p[2] - bilinear(c, p[0], p[1])
-    };
-    let n = linear.max(1);
-    let (mut lo, mut clearance) = (R::ZERO, ca);
-    for k in 1..=n {
-        let s = R::from_u32(k) / R::from_u32(n);
-        let cs = if k == n { cb } else { at(s) };
-        if cs <= R::ZERO {
-            let mut hi = s;
-            for _ in 0..bisect {
-                let mid = R::HALF * (lo + hi);
-                if at(mid) <= R::ZERO {
-                    hi = mid;
-                } else {
-                    lo = mid;
-                }
-            }
-            let (u, v) = (a[0] + (b[0] - a[0]) * hi, a[1] + (b[1] - a[1]) * hi);
-            let normal = Surface::Bilinear.cell_normal(c, u, v);
-            return SegmentHit {
-                hit: Some((hi, normal, Flags::default())),
-                clearance,
-            };
-        }
-        clearance = clearance.min(cs);
-        lo = s;
-    }
-    SegmentHit {
-        hit: None,
-        clearance,
-    }
-}
-
 /// Level of detail at parameter `t`: the level the march stops descending at.
 #[inline]
 fn lod_level<R: Real>(per_t: Option<R>, t: R) -> u32 {
@@ -686,7 +641,7 @@ impl<'m, 'a> March<'m, 'a> {
         let (b, cb) = local_clearance(surface, c, cell, node.pb, [exit(0), exit(1)]);
         let wall = entry_wall(w.on, step);
         let seg = match self.iterative {
-            Some(steps) => iterative_bilinear(c, a, b, ca, cb, steps),
+            Some(steps) => bilinear_search_segment(c, a, b, ca, cb, steps),
             None => surface.segment_hit(c, a, b, ca, cb, wall),
         };
         w.clearance = w.clearance.min(seg.clearance);

@@ -1,4 +1,4 @@
-//! The five surface reconstructions of docs/DESIGN.md and their exact ray–cell tests.
+//! The six surface reconstructions of docs/DESIGN.md and their exact ray–cell tests.
 //!
 //! Everything here works in one cell's local coordinates: `u = x − i`, `v = y − j` in
 //! `[0, 1]`, with the corners `c = [h00, h10, h01, h11]` (h10 at u = 1, h01 at v = 1).
@@ -29,6 +29,11 @@ named_enum! {
         /// along the ray between its centerline crossings, where it equals the edge
         /// interpolation of the samples. View dependent; shaded with the bilinear normal.
         ViewLinear = 4 => "view-linear" (true),
+        /// Qu et al. 2003 §3.2: two triangles per cell split along the fixed diagonal
+        /// from (i, j) to (i+1, j+1) in every cell, tested with their division-free
+        /// inside test. Continuous, but not convex over a cell (a valley can run along
+        /// the diagonal), so a segment clear at both ends can still meet it.
+        QuTriangles = 5 => "qu-triangles" (true),
     }
     /// `true` when the surface is continuous, so its height on a cell edge is the linear
     /// interpolation of the edge's two samples, shared by both neighbouring cells.
@@ -113,6 +118,7 @@ impl Surface {
             Surface::Bilinear | Surface::ViewLinear => bilinear(c, u, v),
             Surface::HeightPlanes => c[nearest_corner(u, v)],
             Surface::CornerPlanes => plane(corner_plane(c), u, v),
+            Surface::QuTriangles => plane(fixed_diagonal_planes(c)[usize::from(u < v)], u, v),
         }
     }
 
@@ -136,6 +142,10 @@ impl Surface {
             Surface::HeightPlanes => (R::ZERO, R::ZERO),
             Surface::CornerPlanes => {
                 let p = corner_plane(c);
+                (p[1], p[2])
+            }
+            Surface::QuTriangles => {
+                let p = fixed_diagonal_planes(c)[usize::from(u < v)];
                 (p[1], p[2])
             }
         }
@@ -218,6 +228,7 @@ impl Surface {
                 SegmentHit { hit, clearance }
             }
             Surface::HeightPlanes => height_planes_segment(c, a, b, entry_wall),
+            Surface::QuTriangles => qu_triangles_segment(c, a, b, ca, cb),
         }
     }
 }
@@ -257,7 +268,7 @@ pub fn triangle_planes<R: Real>(c: [R; 4]) -> [[R; 3]; 2] {
     let [h00, h10, h01, h11] = c;
     if h00 + h11 <= h10 + h01 {
         // Diagonal 00–11: triangles (00, 10, 11) and (00, 01, 11).
-        [[h00, h10 - h00, h11 - h10], [h00, h11 - h01, h01 - h00]]
+        fixed_diagonal_planes(c)
     } else {
         // Diagonal 10–01: triangles (00, 10, 01) and (10, 01, 11).
         [
@@ -265,6 +276,14 @@ pub fn triangle_planes<R: Real>(c: [R; 4]) -> [[R; 3]; 2] {
             [h10 + h01 - h11, h11 - h01, h11 - h10],
         ]
     }
+}
+
+/// The two planes of the fixed split along the diagonal 00–11 ([`Surface::QuTriangles`]):
+/// the triangle (00, 10, 11) where `u ≥ v`, then (00, 01, 11) where `u < v`.
+#[inline]
+pub fn fixed_diagonal_planes<R: Real>(c: [R; 4]) -> [[R; 3]; 2] {
+    let [h00, h10, h01, h11] = c;
+    [[h00, h10 - h00, h11 - h10], [h00, h11 - h01, h01 - h00]]
 }
 
 /// The corner-planes surface: the plane through h00, h10 and h01.
@@ -313,6 +332,62 @@ fn triangles_segment<R: Real>(c: [R; 4], a: [R; 3], b: [R; 3], ca: R) -> Segment
     SegmentHit {
         hit: Some((s, normal_from_gradient(p[1], p[2]), Flags::default())),
         clearance: ca,
+    }
+}
+
+/// Qu et al.'s triangle test (§3.2) on the fixed diagonal `u = v`. The segment starts in
+/// the triangle on `a`'s side of the diagonal (`u ≥ v` when `a` is on it and `b` is
+/// not below it). If it stays there the clearance is linear, from `ca` to `cb`. If it
+/// crosses, at `s_d = g_a / (g_a − g_b)` with `g = u − v`, the contact lies in the first
+/// triangle iff its plane's clearance `l_b` at `b` satisfies `ca·|g_b| + l_b·|g_a| ≤ 0`:
+/// their division-free comparison of the plane's root `ca / (ca − l_b)` with `s_d`
+/// (products of offsets from the diagonal and heights over the plane; the left side is
+/// `|g_a| + |g_b|` times the clearance where the segment crosses the diagonal). Past it,
+/// the second triangle's clearance runs linearly from that crossing clearance to `cb`.
+/// Only a hit (and the clearance of a crossing segment, reported as the smallest
+/// clearance seen) takes a division.
+fn qu_triangles_segment<R: Real>(c: [R; 4], a: [R; 3], b: [R; 3], ca: R, cb: R) -> SegmentHit<R> {
+    let planes = fixed_diagonal_planes(c);
+    let normal = |k: usize| normal_from_gradient(planes[k][1], planes[k][2]);
+    let (ga, gb) = (a[0] - a[1], b[0] - b[1]);
+    let first = usize::from(ga < R::ZERO || (ga == R::ZERO && gb < R::ZERO));
+    let crosses = if first == 0 {
+        gb < R::ZERO
+    } else {
+        gb > R::ZERO
+    };
+    if !crosses {
+        let hit = (cb <= R::ZERO).then(|| (ca / (ca - cb), normal(first), Flags::default()));
+        let clearance = if hit.is_some() { ca } else { ca.min(cb) };
+        return SegmentHit { hit, clearance };
+    }
+    let (wa, wb) = (ga.abs(), gb.abs());
+    let lb = b[2] - plane(planes[first], b[0], b[1]);
+    let crossing = ca * wb + lb * wa;
+    if crossing <= R::ZERO {
+        return SegmentHit {
+            hit: Some((ca / (ca - lb), normal(first), Flags::default())),
+            clearance: ca,
+        };
+    }
+    let cd = crossing / (wa + wb);
+    let clearance = ca.min(cd);
+    if cb > R::ZERO {
+        return SegmentHit {
+            hit: None,
+            clearance: clearance.min(cb),
+        };
+    }
+    let sd = wa / (wa + wb);
+    // `cd` is 0 only when the product underflowed: the contact is then the crossing.
+    let s = if cd > R::ZERO {
+        sd + (R::ONE - sd) * (cd / (cd - cb))
+    } else {
+        sd
+    };
+    SegmentHit {
+        hit: Some((s.min(R::ONE), normal(1 - first), Flags::default())),
+        clearance,
     }
 }
 
@@ -406,6 +481,54 @@ fn bisect<R: Real>(qa: R, qb: R, qc: R) -> R {
         }
     }
     hi
+}
+
+/// The bilinear cell test by search, approximate: `linear` equal steps from `a` to `b`
+/// (sampling), then `bisect` bisections of the first step that ends under the surface.
+/// Qu et al.'s bilinear method (§3.3), and Tevs et al.'s iterative test. It misses a
+/// dip under a saddle between two samples, and places a hit to `1 / (linear · 2^bisect)`
+/// of the segment.
+pub fn bilinear_search_segment<R: Real>(
+    c: [R; 4],
+    a: [R; 3],
+    b: [R; 3],
+    ca: R,
+    cb: R,
+    (linear, bisect): (u32, u32),
+) -> SegmentHit<R> {
+    let at = |s: R| {
+        let p = [0, 1, 2].map(|k| a[k] + (b[k] - a[k]) * s);
+        p[2] - bilinear(c, p[0], p[1])
+    };
+    let n = linear.max(1);
+    let (mut lo, mut clearance) = (R::ZERO, ca);
+    for k in 1..=n {
+        let s = R::from_u32(k) / R::from_u32(n);
+        let cs = if k == n { cb } else { at(s) };
+        if cs <= R::ZERO {
+            let mut hi = s;
+            for _ in 0..bisect {
+                let mid = R::HALF * (lo + hi);
+                if at(mid) <= R::ZERO {
+                    hi = mid;
+                } else {
+                    lo = mid;
+                }
+            }
+            let (u, v) = (a[0] + (b[0] - a[0]) * hi, a[1] + (b[1] - a[1]) * hi);
+            let normal = Surface::Bilinear.cell_normal(c, u, v);
+            return SegmentHit {
+                hit: Some((hi, normal, Flags::default())),
+                clearance,
+            };
+        }
+        clearance = clearance.min(cs);
+        lo = s;
+    }
+    SegmentHit {
+        hit: None,
+        clearance,
+    }
 }
 
 /// Height planes: the cell holds four constant quarters; the segment is split where it

@@ -150,7 +150,7 @@ ivec2 dda_entry_on(uint surface, Span span) {
         return ivec2(-1);
     }
 //#endif
-//#if triangles|bilinear|view_linear
+//#if triangles|bilinear|view_linear|qu_triangles
     if (span.entry == HF_ENTRY_SIDE) {
         vec3 n = span.entry_normal;
         return ivec2(((n[0] != 0.0) ? (int(n[0] > 0.0)) : (-1)), ((n[1] != 0.0) ? (int(n[1] > 0.0)) : (-1)));

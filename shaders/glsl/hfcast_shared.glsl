@@ -9,6 +9,7 @@ const uint HF_SURFACE_BILINEAR = 1u;
 const uint HF_SURFACE_HEIGHT_PLANES = 2u;
 const uint HF_SURFACE_CORNER_PLANES = 3u;
 const uint HF_SURFACE_VIEW_LINEAR = 4u;
+const uint HF_SURFACE_QU_TRIANGLES = 5u;
 
 // Hit and trace flags (hfcast::Flags, HF_FLAG_*).
 const uint HF_FLAG_ORIGIN_INSIDE = 1u;

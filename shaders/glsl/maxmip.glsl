@@ -95,7 +95,7 @@ Trace maxmip_trace(uint surface, Query q) {
 //#if any_surface
     }
 //#endif
-//#if triangles|bilinear|height_planes|view_linear
+//#if triangles|bilinear|height_planes|view_linear|qu_triangles
     Span span;
     if (!dda_clip(q, span)) {
         return trace_miss(0u, real_infinity());

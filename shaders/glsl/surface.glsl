@@ -1,6 +1,6 @@
 // Generated from shaders/wgsl/surface.wgsl by shaders/src/translate.rs: do not edit.
 // Regenerate with: HFCAST_BLESS=1 cargo test -p hfcast-shaders --test validate
-// Mirror of core/src/surface.rs: the five surface reconstructions and their exact
+// Mirror of core/src/surface.rs: the six surface reconstructions and their exact
 // segment tests, in one cell's local coordinates (u = x - i, v = y - j in [0, 1]) with
 // the corners c = [h00, h10, h01, h11] (vec4). A segment runs from local point a
 // (s = 0) to b (s = 1), each [u, v, z].
@@ -23,7 +23,7 @@ SegmentHit segment_some(float s, vec3 normal, uint flags, float clearance) {
 // `Surface::is_continuous`.
 bool surface_is_continuous(uint surface) {
     return surface == HF_SURFACE_TRIANGLES || surface == HF_SURFACE_BILINEAR ||
-           surface == HF_SURFACE_VIEW_LINEAR;
+           surface == HF_SURFACE_VIEW_LINEAR || surface == HF_SURFACE_QU_TRIANGLES;
 }
 
 // `plane`: `p[0] + p[1] u + p[2] v`.
@@ -49,6 +49,15 @@ void surface_triangle_planes(vec4 c, inout vec3 p, inout vec3 q) {
         p = vec3(h00, h10 - h00, h01 - h00);
         q = vec3(h10 + h01 - h11, h11 - h01, h11 - h10);
     }
+}
+
+// `fixed_diagonal_planes`: Qu's split along the diagonal 00-11, the triangle
+// (00, 10, 11) where u >= v (index 0), then (00, 01, 11) where u < v (index 1).
+vec3 surface_fixed_diagonal_plane(vec4 c, uint k) {
+    if (k == 0u) {
+        return vec3(c[0], c[1] - c[0], c[3] - c[1]);
+    }
+    return vec3(c[0], c[3] - c[2], c[2] - c[0]);
 }
 
 // `linear_plane`: the plane through h00, h10 and h01.
@@ -83,6 +92,12 @@ float surface_cell_height(uint surface, vec4 c, float u, float v) {
         return c[surface_nearest_corner(u, v)];
 //#endif
 //#if any_surface
+    } else if (surface == HF_SURFACE_QU_TRIANGLES) {
+//#endif
+//#if qu_triangles
+        return surface_plane(surface_fixed_diagonal_plane(c, uint(u < v)), u, v);
+//#endif
+//#if any_surface
     }
 //#endif
 //#if corner_planes
@@ -114,6 +129,13 @@ vec2 surface_cell_gradient(uint surface, vec4 c, float u, float v) {
 //#endif
 //#if height_planes
         return vec2(0.0, 0.0);
+//#endif
+//#if any_surface
+    } else if (surface == HF_SURFACE_QU_TRIANGLES) {
+//#endif
+//#if qu_triangles
+        vec3 p = surface_fixed_diagonal_plane(c, uint(u < v));
+        return vec2(p[1], p[2]);
 //#endif
 //#if any_surface
     }
@@ -199,6 +221,44 @@ SegmentHit surface_triangles_segment(vec4 c, vec3 a, vec3 b, float ca, float cb)
         best_p = top;
     }
     return segment_some(best_s, math_normal_from_gradient(best_p[1], best_p[2]), 0u, ca);
+}
+
+// `qu_triangles_segment`: Qu et al.'s division-free test on the fixed diagonal u = v.
+// The segment starts in the triangle on a's side; if it crosses the diagonal, the
+// contact is in that triangle iff ca |g_b| + l_b |g_a| <= 0 (g = u - v, l_b that
+// triangle's plane clearance at b); past the crossing the clearance runs linearly to cb.
+SegmentHit surface_qu_triangles_segment(vec4 c, vec3 a, vec3 b, float ca, float cb) {
+    float ga = a[0] - a[1];
+    float gb = b[0] - b[1];
+    uint first = uint(ga < 0.0 || (ga == 0.0 && gb < 0.0));
+    bool crosses = ((first == 0u) ? (gb < 0.0) : (gb > 0.0));
+    vec3 p = surface_fixed_diagonal_plane(c, first);
+    if (!crosses) {
+        if (cb <= 0.0) {
+            return segment_some(ca / (ca - cb), math_normal_from_gradient(p[1], p[2]), 0u, ca);
+        }
+        return segment_none(real_min(ca, cb));
+    }
+    float wa = abs(ga);
+    float wb = abs(gb);
+    float lb = b[2] - surface_plane(p, b[0], b[1]);
+    float crossing = ca * wb + lb * wa;
+    if (crossing <= 0.0) {
+        return segment_some(ca / (ca - lb), math_normal_from_gradient(p[1], p[2]), 0u, ca);
+    }
+    float cd = crossing / (wa + wb);
+    float clearance = real_min(ca, cd);
+    if (cb > 0.0) {
+        return segment_none(real_min(clearance, cb));
+    }
+    float sd = wa / (wa + wb);
+    // `cd` is 0 only when the product underflowed: the contact is then the crossing.
+    float s = sd;
+    if (cd > 0.0) {
+        s = sd + (1.0 - sd) * (cd / (cd - cb));
+    }
+    vec3 q = surface_fixed_diagonal_plane(c, 1u - first);
+    return segment_some(real_min(s, 1.0), math_normal_from_gradient(q[1], q[2]), 0u, clearance);
 }
 
 // `stable_roots`: the roots of `A x^2 + B x + C` without cancellation (q / A and C / q
@@ -386,6 +446,12 @@ SegmentHit surface_segment_hit(uint surface, vec4 c, vec3 a, vec3 b, float ca, f
             return segment_some(s, surface_cell_normal(surface, c, u, v), 0u, ca);
         }
         return segment_none(real_min(ca, cb));
+//#endif
+//#if any_surface
+    } else if (surface == HF_SURFACE_QU_TRIANGLES) {
+//#endif
+//#if qu_triangles
+        return surface_qu_triangles_segment(c, a, b, ca, cb);
 //#endif
 //#if any_surface
     } else if (surface == HF_SURFACE_CORNER_PLANES) {

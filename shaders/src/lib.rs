@@ -104,12 +104,16 @@ pub fn file(lang: Lang, stem: &str) -> Option<&'static str> {
 
 /// The specialisation flags of the markers, with what each says. A generated shader
 /// sets those of its scene; the general shaders set them all.
-pub const FLAGS: [(&str, &str); 14] = [
+pub const FLAGS: [(&str, &str); 15] = [
     ("triangles", "the surface is the triangle surface"),
     ("bilinear", "the surface is bilinear"),
     ("height_planes", "the surface is height planes"),
     ("corner_planes", "the surface is corner planes"),
     ("view_linear", "the surface is view-linear"),
+    (
+        "qu_triangles",
+        "the surface is Qu et al.'s fixed-diagonal triangles",
+    ),
     (
         "any_surface",
         "the surface is the runtime uniform hf_surface (general shaders): the tests that dispatch on it",
@@ -235,6 +239,7 @@ fn surface_flag(surface: Surface) -> &'static str {
         Surface::HeightPlanes => "height_planes",
         Surface::CornerPlanes => "corner_planes",
         Surface::ViewLinear => "view_linear",
+        Surface::QuTriangles => "qu_triangles",
     }
 }
 

@@ -331,6 +331,7 @@ fn a_minimal_shader_leaves_out_what_its_scene_does_not_use() {
             "HF_SURFACE_BILINEAR",
             "HF_SURFACE_CORNER_PLANES",
             "surface_height_planes_segment",
+            "surface_qu_triangles_segment",
             "surface_is_continuous",
             uniform.as_str(),
             "d[2] > 0.0",

@@ -149,7 +149,7 @@ fn dda_entry_on(surface: u32, span: Span) -> vec2<i32> {
         return vec2<i32>(-1);
     }
 //#endif
-//#if triangles|bilinear|view_linear
+//#if triangles|bilinear|view_linear|qu_triangles
     if (span.entry == HF_ENTRY_SIDE) {
         let n: vec3<f32> = span.entry_normal;
         return vec2<i32>(select(-1, i32(n[0] > 0.0), n[0] != 0.0),

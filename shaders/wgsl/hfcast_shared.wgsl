@@ -36,6 +36,7 @@ const HF_SURFACE_BILINEAR: u32 = 1u;
 const HF_SURFACE_HEIGHT_PLANES: u32 = 2u;
 const HF_SURFACE_CORNER_PLANES: u32 = 3u;
 const HF_SURFACE_VIEW_LINEAR: u32 = 4u;
+const HF_SURFACE_QU_TRIANGLES: u32 = 5u;
 
 // Hit and trace flags (hfcast::Flags, HF_FLAG_*).
 const HF_FLAG_ORIGIN_INSIDE: u32 = 1u;

@@ -114,7 +114,7 @@ fn maxmip_trace(surface: u32, q: Query) -> Trace {
 //#if any_surface
     }
 //#endif
-//#if triangles|bilinear|height_planes|view_linear
+//#if triangles|bilinear|height_planes|view_linear|qu_triangles
     var span: Span;
     if (!dda_clip(q, &span)) {
         return trace_miss(0u, real_infinity());

@@ -1,4 +1,4 @@
-// Mirror of core/src/surface.rs: the five surface reconstructions and their exact
+// Mirror of core/src/surface.rs: the six surface reconstructions and their exact
 // segment tests, in one cell's local coordinates (u = x - i, v = y - j in [0, 1]) with
 // the corners c = [h00, h10, h01, h11] (vec4). A segment runs from local point a
 // (s = 0) to b (s = 1), each [u, v, z].
@@ -21,7 +21,7 @@ fn segment_some(s: f32, normal: vec3<f32>, flags: u32, clearance: f32) -> Segmen
 // `Surface::is_continuous`.
 fn surface_is_continuous(surface: u32) -> bool {
     return surface == HF_SURFACE_TRIANGLES || surface == HF_SURFACE_BILINEAR ||
-           surface == HF_SURFACE_VIEW_LINEAR;
+           surface == HF_SURFACE_VIEW_LINEAR || surface == HF_SURFACE_QU_TRIANGLES;
 }
 
 // `plane`: `p[0] + p[1] u + p[2] v`.
@@ -47,6 +47,15 @@ fn surface_triangle_planes(c: vec4<f32>, p: ptr<function, vec3<f32>>, q: ptr<fun
         *p = vec3<f32>(h00, h10 - h00, h01 - h00);
         *q = vec3<f32>(h10 + h01 - h11, h11 - h01, h11 - h10);
     }
+}
+
+// `fixed_diagonal_planes`: Qu's split along the diagonal 00-11, the triangle
+// (00, 10, 11) where u >= v (index 0), then (00, 01, 11) where u < v (index 1).
+fn surface_fixed_diagonal_plane(c: vec4<f32>, k: u32) -> vec3<f32> {
+    if (k == 0u) {
+        return vec3<f32>(c[0], c[1] - c[0], c[3] - c[1]);
+    }
+    return vec3<f32>(c[0], c[3] - c[2], c[2] - c[0]);
 }
 
 // `linear_plane`: the plane through h00, h10 and h01.
@@ -81,6 +90,12 @@ fn surface_cell_height(surface: u32, c: vec4<f32>, u: f32, v: f32) -> f32 {
         return c[surface_nearest_corner(u, v)];
 //#endif
 //#if any_surface
+    } else if (surface == HF_SURFACE_QU_TRIANGLES) {
+//#endif
+//#if qu_triangles
+        return surface_plane(surface_fixed_diagonal_plane(c, u32(u < v)), u, v);
+//#endif
+//#if any_surface
     }
 //#endif
 //#if corner_planes
@@ -112,6 +127,13 @@ fn surface_cell_gradient(surface: u32, c: vec4<f32>, u: f32, v: f32) -> vec2<f32
 //#endif
 //#if height_planes
         return vec2<f32>(0.0, 0.0);
+//#endif
+//#if any_surface
+    } else if (surface == HF_SURFACE_QU_TRIANGLES) {
+//#endif
+//#if qu_triangles
+        let p: vec3<f32> = surface_fixed_diagonal_plane(c, u32(u < v));
+        return vec2<f32>(p[1], p[2]);
 //#endif
 //#if any_surface
     }
@@ -198,6 +220,44 @@ fn surface_triangles_segment(c: vec4<f32>, a: vec3<f32>, b: vec3<f32>, ca: f32, 
         best_p = top;
     }
     return segment_some(best_s, math_normal_from_gradient(best_p[1], best_p[2]), 0u, ca);
+}
+
+// `qu_triangles_segment`: Qu et al.'s division-free test on the fixed diagonal u = v.
+// The segment starts in the triangle on a's side; if it crosses the diagonal, the
+// contact is in that triangle iff ca |g_b| + l_b |g_a| <= 0 (g = u - v, l_b that
+// triangle's plane clearance at b); past the crossing the clearance runs linearly to cb.
+fn surface_qu_triangles_segment(c: vec4<f32>, a: vec3<f32>, b: vec3<f32>, ca: f32, cb: f32) -> SegmentHit {
+    let ga: f32 = a[0] - a[1];
+    let gb: f32 = b[0] - b[1];
+    let first: u32 = u32(ga < 0.0 || (ga == 0.0 && gb < 0.0));
+    let crosses: bool = select(gb > 0.0, gb < 0.0, first == 0u);
+    let p: vec3<f32> = surface_fixed_diagonal_plane(c, first);
+    if (!crosses) {
+        if (cb <= 0.0) {
+            return segment_some(ca / (ca - cb), math_normal_from_gradient(p[1], p[2]), 0u, ca);
+        }
+        return segment_none(real_min(ca, cb));
+    }
+    let wa: f32 = abs(ga);
+    let wb: f32 = abs(gb);
+    let lb: f32 = b[2] - surface_plane(p, b[0], b[1]);
+    let crossing: f32 = ca * wb + lb * wa;
+    if (crossing <= 0.0) {
+        return segment_some(ca / (ca - lb), math_normal_from_gradient(p[1], p[2]), 0u, ca);
+    }
+    let cd: f32 = crossing / (wa + wb);
+    let clearance: f32 = real_min(ca, cd);
+    if (cb > 0.0) {
+        return segment_none(real_min(clearance, cb));
+    }
+    let sd: f32 = wa / (wa + wb);
+    // `cd` is 0 only when the product underflowed: the contact is then the crossing.
+    var s: f32 = sd;
+    if (cd > 0.0) {
+        s = sd + (1.0 - sd) * (cd / (cd - cb));
+    }
+    let q: vec3<f32> = surface_fixed_diagonal_plane(c, 1u - first);
+    return segment_some(real_min(s, 1.0), math_normal_from_gradient(q[1], q[2]), 0u, clearance);
 }
 
 // `stable_roots`: the roots of `A x^2 + B x + C` without cancellation (q / A and C / q
@@ -386,6 +446,12 @@ fn surface_segment_hit(surface: u32, c: vec4<f32>, a: vec3<f32>, b: vec3<f32>, c
             return segment_some(s, surface_cell_normal(surface, c, u, v), 0u, ca);
         }
         return segment_none(real_min(ca, cb));
+//#endif
+//#if any_surface
+    } else if (surface == HF_SURFACE_QU_TRIANGLES) {
+//#endif
+//#if qu_triangles
+        return surface_qu_triangles_segment(c, a, b, ca, cb);
 //#endif
 //#if any_surface
     } else if (surface == HF_SURFACE_CORNER_PLANES) {

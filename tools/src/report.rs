@@ -120,12 +120,28 @@ pub fn build_scenes(opts: &ReportOptions) -> Result<(Vec<Scene>, Vec<String>), S
     for kind in [Synthetic::Fractal, Synthetic::Checkerboard] {
         list.push(kind.scene(n, hfcast::Surface::Bilinear));
     }
-    if let Some(first) = list.first().filter(|s| !s.name.starts_with("synthetic")) {
-        let mut s = first.clone();
-        s.surface = hfcast::Surface::Bilinear;
-        s.name = format!("{}-bilinear", s.name);
-        s.about = format!("{}, bilinear surface", s.about);
-        list.push(s);
+    // Qu et al.'s fixed-diagonal triangles, beside the triangle scenes of the same
+    // fields (the cost of their division-free test).
+    list.push(Synthetic::Fractal.scene(n, hfcast::Surface::QuTriangles));
+    if let Some(first) = list
+        .first()
+        .filter(|s| !s.name.starts_with("synthetic"))
+        .cloned()
+    {
+        for (surface, suffix, what) in [
+            (hfcast::Surface::Bilinear, "bilinear", "bilinear surface"),
+            (
+                hfcast::Surface::QuTriangles,
+                "qu-triangles",
+                "Qu's fixed-diagonal triangles",
+            ),
+        ] {
+            let mut s = first.clone();
+            s.surface = surface;
+            s.name = format!("{}-{suffix}", s.name);
+            s.about = format!("{}, {what}", s.about);
+            list.push(s);
+        }
     }
     list.retain(|s| kept(opts, &s.name));
     Ok((list, skipped))

@@ -932,11 +932,19 @@ pub fn judge<R: Real>(field: &Field, surface: Surface, q: &Query<R>) -> (Outcome
         }
         let side_hit =
             !in_fp && footprint_entry(&q64, xm, ym).is_some_and(|te| (tb - te).abs() * dlen <= tol);
+        // A hit just past the entry (within `tol`) of a ray that enters above the
+        // surface is not a side hit: it came down through the top.
+        let enters_above = || {
+            footprint_entry(&q64, xm, ym).is_some_and(|te| {
+                let p = q64.at(te);
+                p[2] > surface.height_at(&hf, p[0], p[1])
+            })
+        };
         let side_ok = if f.contains(Flags::SIDE) {
             // The normal of a side hit is the outward side normal.
             side_hit && n[2] == 0.0 && n[0].abs() + n[1].abs() == 1.0
         } else {
-            !side_hit
+            !side_hit || enters_above()
         };
         if !side_ok {
             bad.push("SIDE");

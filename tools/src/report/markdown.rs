@@ -481,7 +481,9 @@ fn definitions(opts: &ReportOptions, sweep: &Sweep, w: u32, h: u32) -> String {
         s,
         "**Settings**: exact DDA in `f32` and `f64`; maximum mipmaps (exact: one-level and \
          highest ascent; approximate: level of detail at {:?} pixels × {:.2e} rad per pixel, \
-         and on the bilinear surface iterative cell tests (linear:bisect) {:?}); safety \
+         and on the bilinear surface iterative cell tests (linear:bisect) {:?}); on the \
+         bilinear surface Qu et al.'s bilinear method (the exact traversal's cells, each \
+         searched by the same linear:bisect steps; approximate); safety \
          distances (triangles only; four classes and isotropic exact, \"positive\" \
          approximate); cylinder–cone safety shapes (triangles only, cap 64; exact and \
          N-buffer slopes, both exact marches) on fields of at most {} samples; the exact \

@@ -254,6 +254,9 @@ pub enum Family {
     Qdm,
     /// Relaxed cone stepping then binary search: approximate.
     Relaxed,
+    /// Qu et al.'s bilinear method: the exact traversal's cells, each searched by
+    /// sampling then bisection (approximate).
+    QuBilinear,
     /// Linear then binary search (baseline).
     LinearBinary,
     /// Linear search then a secant step, parallax-occlusion style (baseline).
@@ -278,6 +281,7 @@ impl Family {
             Family::Cone => ("cone step", (140, 86, 75)),
             Family::Qdm => ("QDM", (227, 119, 194)),
             Family::Relaxed => ("relaxed cone, approx.", (188, 189, 34)),
+            Family::QuBilinear => ("Qu bilinear search, approx.", (255, 187, 120)),
             Family::LinearBinary => ("linear + binary", (214, 39, 40)),
             Family::Secant => ("linear + secant", (255, 127, 14)),
             Family::Parry => ("parry3d (peer)", (148, 103, 189)),
@@ -551,6 +555,23 @@ pub fn settings(sweep: &Sweep) -> Vec<Setting> {
             false,
             BILINEAR,
             maxmip_setting(opts, false),
+        ));
+        v.push(setting(
+            Family::QuBilinear,
+            format!("qu bilinear {linear}:{bisect}"),
+            false,
+            BILINEAR,
+            baker(move |hf, _| {
+                let hf = *hf;
+                Box::new(Batch(
+                    move |rays: &[Query<f32>], out: &mut [Out]| {
+                        each(rays, out, |q| {
+                            Out::of(&dda::trace_bilinear_search(&hf, q, (linear, bisect)))
+                        })
+                    },
+                    0,
+                ))
+            }),
         ));
     }
     let safety: [(_, _, fn(&mut Spec)); 6] = [
