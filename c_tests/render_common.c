@@ -226,7 +226,7 @@ void scene_free(scene *s) {
 }
 
 camera default_camera(void) {
-    camera c = {0.6f, 0.6f, 1.25f, 0.7f};
+    camera c = {0.6f, 0.6f, 1.25f, 0.7f, 0.0f};
     return c;
 }
 
@@ -243,7 +243,20 @@ static void normalize3(float v[3]) {
     v[2] /= l;
 }
 
+void camera_window(const camera *c, int w, int h, float half[2]) {
+    float th = tanf(0.5f * c->fov);
+    half[0] = th * (float)w / (float)h;
+    half[1] = th;
+}
+
 void make_rays(const scene *s, const camera *c, int w, int h, hf_ray *rays) {
+    float half[2];
+    camera_window(c, w, h, half);
+    make_rays_window(s, c, w, h, half, rays);
+}
+
+void make_rays_window(const scene *s, const camera *c, int w, int h, const float half[2],
+                      hf_ray *rays) {
     float size = scene_size(s);
     float target[3] = {0.5f * (float)(s->w - 1), 0.5f * (float)(s->h - 1),
                        0.5f * (s->info.min_height + s->info.max_height)};
@@ -264,11 +277,17 @@ void make_rays(const scene *s, const camera *c, int w, int h, hf_ray *rays) {
         up[1] = -up[1];
         up[2] = -up[2];
     }
-    float th = tanf(0.5f * c->fov), aspect = (float)w / (float)h;
+    /* Roll turns the view plane's axes (an exact identity at roll 0). */
+    float cr = cosf(c->roll), sr = sinf(c->roll);
+    for (int k = 0; k < 3 && c->roll != 0.0f; k++) {
+        float rk = right[k], uk = up[k];
+        right[k] = cr * rk + sr * uk;
+        up[k] = cr * uk - sr * rk;
+    }
     for (int y = 0; y < h; y++) {
         for (int x = 0; x < w; x++) {
-            float sx = ((2.0f * ((float)x + 0.5f) / (float)w) - 1.0f) * th * aspect;
-            float sy = ((2.0f * ((float)y + 0.5f) / (float)h) - 1.0f) * th;
+            float sx = ((2.0f * ((float)x + 0.5f) / (float)w) - 1.0f) * half[0];
+            float sy = ((2.0f * ((float)y + 0.5f) / (float)h) - 1.0f) * half[1];
             hf_ray *r = &rays[(size_t)y * w + x];
             for (int k = 0; k < 3; k++) {
                 r->origin[k] = eye[k];

@@ -71,6 +71,7 @@ typedef struct camera {
     float azimuth, elevation; /* radians */
     float distance;           /* in units of max(W, H) */
     float fov;                /* vertical, radians */
+    float roll;               /* about the view axis, radians, counter-clockwise on screen */
 } camera;
 
 typedef struct gpu {
@@ -116,6 +117,12 @@ float scene_depth_far(const scene *s, const camera *c);
 
 /* Rays of a w x h image, rays[y * w + x] for pixel (x, y) with y = 0 the bottom row. */
 void make_rays(const scene *s, const camera *c, int w, int h, hf_ray *rays);
+/* make_rays with the image's window on the view plane (at unit distance) given: it
+ * spans [-half[0], half[0]] x [-half[1], half[1]] before the camera's roll turns it. */
+void make_rays_window(const scene *s, const camera *c, int w, int h, const float half[2],
+                      hf_ray *rays);
+/* The window make_rays gives a w x h image of `c`: tan(fov / 2) times (aspect, 1). */
+void camera_window(const camera *c, int w, int h, float half[2]);
 
 /* Traces `n` rays on the CPU through the C API with `cfg`. */
 hf_result cpu_trace(const scene *s, method_cfg cfg, const hf_ray *rays, size_t n, hf_hit *hits);

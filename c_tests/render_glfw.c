@@ -15,6 +15,7 @@
 #define _POSIX_C_SOURCE 200112L
 #include "render_common.h"
 #include "gpu_bake.h"
+#include "roll.h"
 
 #define GLFW_INCLUDE_NONE
 #include <GLFW/glfw3.h>
@@ -71,10 +72,30 @@ static void on_key(GLFWwindow *win, int key, int scancode, int action, int mods)
         do cfg.method = (cfg.method + 1) % NUM_METHODS;
         while (cfg.method == HF_METHOD_RELAXED);
         break;
-    case GLFW_KEY_S: cfg.surface = (cfg.surface + 1) % 5; break;
+    case GLFW_KEY_S: cfg.surface = (cfg.surface + 1) % HF_SURFACE_COUNT; break;
+    case GLFW_KEY_R: cam.roll += 0.0872665f; break; /* 5 degrees */
     default: return;
     }
     dirty = 1;
+}
+
+/* The window's roll against the rolled rays (roll_measure, roll_ok): prints the result
+ * and returns 1 when it fails. */
+static int roll_check(roll_view *rv, gpu *g, const scene *s, const camera *c, float degrees) {
+    frame direct, mapped;
+    frame_alloc(&direct, g->w, g->h);
+    frame_alloc(&mapped, g->w, g->h);
+    roll_result res = roll_measure(rv, g, s, cfg, c, 3, &direct, &mapped);
+    int ok = roll_ok(&res, (int)degrees);
+    printf("glfw-roll %g degrees: rolled rays %.1f ms; unrolled %d pixels + mapping %.1f ms; "
+           "%d of %d pixels hit/miss differ (unturned: %d), %d colours differ by > 8/255, mean "
+           "colour error %.2f/255\n",
+           degrees, res.direct_ms, res.unrolled_pixels, res.mapped_ms, res.hit_differ,
+           res.pixels, res.unturned, res.color_differ, res.color_mean);
+    printf("glfw-roll: %d passed, %d failed\n", ok, !ok);
+    frame_free(&direct);
+    frame_free(&mapped);
+    return !ok;
 }
 
 static int compare_images(const unsigned char *rgba, int w, int h, const char *ref_path) {
@@ -112,11 +133,16 @@ static int compare_images(const unsigned char *rgba, int w, int h, const char *r
 }
 
 int main(int argc, char **argv) {
-    int frames = 0, w = 800, h = 600, dynamic = 0;
+    int frames = 0, w = 800, h = 600, dynamic = 0, rolled = 0;
+    float roll_deg = 0.0f;
     const char *shot = NULL, *ref = NULL, *map = NULL;
     for (int i = 1; i < argc; i++) {
         if (strcmp(argv[i], "--frames") == 0 && i + 1 < argc) frames = atoi(argv[++i]);
         else if (strcmp(argv[i], "--dynamic") == 0) dynamic = 1;
+        else if (strcmp(argv[i], "--roll") == 0 && i + 1 < argc) {
+            rolled = 1;
+            roll_deg = (float)atof(argv[++i]);
+        }
         else if (strcmp(argv[i], "--screenshot") == 0 && i + 1 < argc) shot = argv[++i];
         else if (strcmp(argv[i], "--compare") == 0 && i + 1 < argc) ref = argv[++i];
         else map = argv[i];
@@ -124,8 +150,10 @@ int main(int argc, char **argv) {
     if (!map) {
         fprintf(stderr,
                 "usage: %s [--frames N --screenshot OUT.png --compare REF.png] MAP.png\n"
-                "       %s --dynamic [--frames N] MAP.png\n",
-                argv[0], argv[0]);
+                "       %s --dynamic [--frames N] MAP.png\n"
+                "       %s --roll DEGREES [--frames N] MAP.png (Qu et al.'s roll: the\n"
+                "         unrolled view texture-mapped; R rolls by 5 degrees)\n",
+                argv[0], argv[0], argv[0]);
         return 2;
     }
     if (frames > 0) {
@@ -161,6 +189,12 @@ int main(int argc, char **argv) {
     gpu g;
     if (gpu_init(&g, &s, fw, fh) != 0) return 2;
     cam = default_camera();
+    cam.roll = roll_deg * 3.14159265f / 180.0f;
+    roll_view rv;
+    if (rolled && roll_init(&rv, &s, &g) != 0) return 2;
+    hf_ray *unrolled_rays = rolled ? (hf_ray *)malloc(sizeof(hf_ray) * (size_t)rv.side * rv.side)
+                                   : NULL;
+    int roll_failed = 0;
     gpu_bakes bakes;
     frame checked;
     int dyn_passed = 0, dyn_failed = 0;
@@ -185,7 +219,10 @@ int main(int argc, char **argv) {
             int ok = dynamic_frame(&s, &g, &bakes, frame, rays, fw, fh, frames > 0, &checked);
             ok ? dyn_passed++ : dyn_failed++;
         }
-        gpu_render(&g, &s, cfg, scene_depth_far(&s, &cam));
+        if (rolled)
+            roll_render_mapped(&rv, &g, &s, cfg, &cam, unrolled_rays);
+        else
+            gpu_render(&g, &s, cfg, scene_depth_far(&s, &cam));
         glBindFramebuffer(GL_READ_FRAMEBUFFER, g.fbo);
         glReadBuffer(GL_COLOR_ATTACHMENT2);
         glBindFramebuffer(GL_DRAW_FRAMEBUFFER, 0);
@@ -198,6 +235,7 @@ int main(int argc, char **argv) {
             glReadPixels(0, 0, fw, fh, GL_RGBA, GL_UNSIGNED_BYTE, pixels);
             if (shot && write_png_rgba(shot, pixels, fw, fh) != 0) rc = 1;
             if (ref) rc |= compare_images(pixels, fw, fh, ref);
+            if (rolled) roll_failed = roll_check(&rv, &g, &s, &cam, roll_deg);
             glfwSetWindowShouldClose(win, 1);
         }
         glfwSwapBuffers(win);
@@ -215,6 +253,11 @@ int main(int argc, char **argv) {
     if (glGetError() != GL_NO_ERROR) {
         fprintf(stderr, "GL error\n");
         rc = 1;
+    }
+    if (rolled) {
+        rc |= roll_failed;
+        free(unrolled_rays);
+        roll_free(&rv);
     }
     if (dynamic) {
         if (frames > 0) {
