@@ -33,7 +33,7 @@ int main(void) {
         {HF_METHOD_EXACT, 1},  {HF_METHOD_LINEAR_BINARY, 0}, {HF_METHOD_LINEAR_SECANT, 0},
         {HF_METHOD_MAXMIP, 0}, {HF_METHOD_SAFETY, 0},        {HF_METHOD_CONE, 1},
         {HF_METHOD_RELAXED, 0}, {HF_METHOD_QDM, 0},          {HF_METHOD_CC, 0},
-        {HF_METHOD_RADIUS, 0},
+        {HF_METHOD_RADIUS, 0}, {HF_METHOD_MULTIRES, 1},
     };
     for (size_t k = 0; k < sizeof build / sizeof build[0]; k++) {
         uint32_t has = 7;
@@ -47,7 +47,7 @@ int main(void) {
         CHECK(r == (build[k].has ? HF_OK : HF_ERR_NOT_BUILT));
     }
     uint32_t has = 0;
-    CHECK(hf_build_has_method(10, &has) == HF_ERR_INVALID_ENUM);
+    CHECK(hf_build_has_method(HF_METHOD_COUNT, &has) == HF_ERR_INVALID_ENUM);
 
     /* A field of bumps. */
     float heights[W * H];

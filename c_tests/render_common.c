@@ -305,11 +305,11 @@ hf_result cpu_trace(const scene *s, method_cfg cfg, const hf_ray *rays, size_t n
     const int iso = cfg.variant == HF_SAFETY_ISOTROPIC;
     const void *map[NUM_METHODS] = {NULL, NULL, NULL, s->pyramid,
                                     iso ? s->safety_iso : s->safety,
-                                    s->cone, s->relaxed, s->qdm, s->cc, s->radius};
+                                    s->cone, s->relaxed, s->qdm, s->cc, s->radius, NULL};
     const size_t len[NUM_METHODS] = {0, 0, 0, s->pyramid_len,
                                      iso ? s->safety_iso_len : s->safety_len,
                                      s->cone_len, s->relaxed_len, s->qdm_len, s->cc_len,
-                                     s->radius_len};
+                                     s->radius_len, 0};
     if (cfg.method >= NUM_METHODS) return HF_ERR_INVALID_ENUM;
     hf_trace_options o;
     hf_result r = hf_trace_options_default(&o);
@@ -628,6 +628,8 @@ void gpu_render_program(gpu *g, GLuint p, const scene *s, method_cfg cfg, float 
     if (loc >= 0) glUniform1ui(loc, cfg.linear);
     loc = glGetUniformLocation(p, "hf_cone_steps");
     if (loc >= 0) glUniform1ui(loc, cfg.linear);
+    loc = glGetUniformLocation(p, "hf_multires_range");
+    if (loc >= 0) glUniform1ui(loc, cfg.linear);
     loc = glGetUniformLocation(p, "hf_radius_clamp");
     if (loc >= 0) glUniform1ui(loc, cfg.zero == HF_RADIUS_CLAMP ? 1u : 0u);
     if (cfg.method == HF_METHOD_CC) {
@@ -783,7 +785,7 @@ parity compare(const scene *s, method_cfg cfg, const hf_ray *rays, const frame *
 
 int method_exact(uint32_t method) {
     return method != HF_METHOD_LINEAR_BINARY && method != HF_METHOD_LINEAR_SECANT &&
-           method != HF_METHOD_RELAXED;
+           method != HF_METHOD_RELAXED && method != HF_METHOD_MULTIRES;
 }
 
 /* Whether a parity count passes. Exact methods: at least 99.99 % of pixels within 1e-3

@@ -16,7 +16,7 @@
 
 #include "hfcast.h"
 
-#define NUM_METHODS 10 /* HF_METHOD_EXACT .. HF_METHOD_RADIUS */
+#define NUM_METHODS HF_METHOD_COUNT
 #define CC_CAP 64     /* the cylinder-cone bake's (and march's) cap */
 
 /* One method configuration: an hf_method, an hf_surface, the step counts (`linear`:
@@ -176,7 +176,7 @@ typedef struct parity {
  * shadow rays from the CPU's hits); lists every differing pixel when `list` is set. */
 parity compare(const scene *s, method_cfg cfg, const hf_ray *rays, const frame *f,
                float depth_far, int w, int h, int list, const char *label);
-/* Whether `method` is exact (all but linear + binary, linear + secant, relaxed). */
+/* Whether `method` is exact (all but linear + binary, linear + secant, relaxed, multires). */
 int method_exact(uint32_t method);
 /* Whether a parity count passes (99.99 % of pixels for exact methods, 99.9 % else). */
 int parity_ok(const parity *p, uint32_t method);

@@ -68,21 +68,24 @@ static void gl_stop(void) {
 
 /* The configuration of `method` on `surface` the tests and benchmarks use: 64 search
  * steps and 8 bisections (linear + binary), 64 steps (secant), an iteration budget of
- * 512 (cones, QDM), 64 cone steps and 8 bisections (relaxed); directional safety map;
- * zero radii walked. */
+ * 512 (cones, QDM), 64 cone steps and 8 bisections (relaxed), a one-texel distance
+ * of 64 grid units (multires: coarse levels beyond 128); directional safety map; zero
+ * radii walked. */
 static method_cfg cfg_of(uint32_t method, uint32_t surface) {
-    static const uint32_t steps[NUM_METHODS][2] = {{0, 0},   {64, 8}, {64, 0},  {0, 0}, {0, 0},
-                                                   {512, 0}, {64, 8}, {512, 0}, {0, 0}, {0, 0}};
+    static const uint32_t steps[NUM_METHODS][2] = {{0, 0},   {64, 8}, {64, 0},  {0, 0},
+                                                   {0, 0},   {512, 0}, {64, 8}, {512, 0},
+                                                   {0, 0},   {0, 0},  {64, 0}};
     method_cfg c = {method, surface, steps[method][0], steps[method][1],
                     HF_SAFETY_DIRECTIONAL, HF_RADIUS_WALK};
     return c;
 }
 
-/* Most configurations search_to_cc_cfgs adds: 11, and 2 variants. */
-enum { SEARCH_TO_CC_CFGS = 13 };
+/* Most configurations search_to_cc_cfgs adds: 13, and 2 variants. */
+enum { SEARCH_TO_CC_CFGS = 15 };
 
 /* Appends to `out[n..]` the parity configurations that follow exact traversal and
  * maximum mipmaps: linear + binary search on triangles and bilinear, linear + secant,
+ * multires on triangles and bilinear,
  * safety (then its isotropic layout when `variants`), cones, QDM, cylinder-cones and
  * safety radii (then zero radii clamped when `variants`) on triangles, then safety,
  * cylinder-cones and radii on the view-linear surface. Returns the new count. */
@@ -91,6 +94,8 @@ static int search_to_cc_cfgs(method_cfg *out, int n, int variants) {
         {HF_METHOD_LINEAR_BINARY, HF_SURFACE_TRIANGLES},
         {HF_METHOD_LINEAR_BINARY, HF_SURFACE_BILINEAR},
         {HF_METHOD_LINEAR_SECANT, HF_SURFACE_TRIANGLES},
+        {HF_METHOD_MULTIRES, HF_SURFACE_TRIANGLES},
+        {HF_METHOD_MULTIRES, HF_SURFACE_BILINEAR},
         {HF_METHOD_SAFETY, HF_SURFACE_TRIANGLES},
         {HF_METHOD_CONE, HF_SURFACE_TRIANGLES},
         {HF_METHOD_QDM, HF_SURFACE_TRIANGLES},

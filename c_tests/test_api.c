@@ -171,6 +171,11 @@ static size_t elem_bytes(uint32_t method) {
 }
 
 /* The default bake options of `method`. */
+/* 1 for the methods that read no map: exact, the searches, multires. */
+static int without_map(uint32_t method) {
+    return method <= HF_METHOD_LINEAR_SECANT || method == HF_METHOD_MULTIRES;
+}
+
 static hf_bake_options bake_defaults(uint32_t method) {
     hf_bake_options o;
     memset(&o, 0xAB, sizeof o);
@@ -1713,8 +1718,8 @@ static void test_trace_options(void) {
 
     /* Every method's map of this field (NULL and 0 for the three without one): the
      * default options, the cylinder-cones with a cap of 32. */
-    method_map all[10];
-    for (uint32_t m = 0; m < 10; m++) {
+    method_map all[HF_METHOD_COUNT];
+    for (uint32_t m = 0; m < HF_METHOD_COUNT; m++) {
         hf_bake_options bo = bake_defaults(m);
         if (m == HF_METHOD_CC) bo.cap = 32;
         all[m].method = m;
@@ -1728,7 +1733,7 @@ static void test_trace_options(void) {
         rays[k] = ray(-2.0f + (W + 4) * frand(), -2.0f + (H + 4) * frand(), 6.0f + 4.0f * frand(),
                       frand() - 0.5f, frand() - 0.5f, -0.1f - frand());
     hf_hit a[R], b[R], h;
-    for (int m = 0; m < 10; m++) {
+    for (int m = 0; m < (int)HF_METHOD_COUNT; m++) {
         uint32_t me = all[m].method;
         const void *map = all[m].map;
         size_t len = all[m].len;
@@ -1782,7 +1787,7 @@ static void test_trace_options(void) {
     variants[1].threads = 3;
     variants[2].threads = 0;
     variants[3].simd = HF_SIMD_OFF;
-    for (int m = 0; m < 10; m++) {
+    for (int m = 0; m < (int)HF_METHOD_COUNT; m++) {
         CHECK_OK(hf_trace_batch(f, all[m].method, all[m].map, all[m].len, NULL, many, BIG,
                                 one_thread, BIG));
         for (int v = 0; v < 4; v++) {
@@ -1804,7 +1809,8 @@ static void test_trace_options(void) {
     free(many);
     /* A method without a map takes NULL and 0: a length is refused, with or without a
      * pointer. */
-    for (uint32_t me = HF_METHOD_EXACT; me <= HF_METHOD_LINEAR_SECANT; me++) {
+    for (uint32_t me = HF_METHOD_EXACT; me < HF_METHOD_COUNT; me++) {
+        if (!without_map(me)) continue;
         CHECK_BAD(hf_trace(f, me, NULL, 1, NULL, &rays[0], &h), HF_ERR_INVALID_ARGUMENT, &h,
                   sizeof h);
         CHECK_BAD(hf_trace(f, me, pyr, plen, NULL, &rays[0], &h), HF_ERR_INVALID_ARGUMENT, &h,
@@ -1813,7 +1819,7 @@ static void test_trace_options(void) {
                   sizeof b);
     }
     /* Unknown methods. */
-    const uint32_t bad_methods[3] = {HF_METHOD_RADIUS + 1, 99, 0xFFFFFFFFu};
+    const uint32_t bad_methods[3] = {HF_METHOD_COUNT, 99, 0xFFFFFFFFu};
     for (int k = 0; k < 3; k++) {
         CHECK_BAD(hf_trace(f, bad_methods[k], NULL, 0, NULL, &rays[0], &h), HF_ERR_INVALID_ENUM,
                   &h, sizeof h);
@@ -1822,14 +1828,15 @@ static void test_trace_options(void) {
     }
 
     /* Names of every method and surface; short buffers, unknown values, NULLs. */
-    static const char *const methods[10] = {"exact", "linear-binary", "linear-secant", "maxmip",
-                                            "safety", "cone", "relaxed", "qdm", "cc", "radius"};
-    static const char *const surfaces[6] = {"triangles",   "bilinear",    "height-planes",
-                                            "corner-planes", "view-linear", "qu-triangles"};
+    static const char *const methods[HF_METHOD_COUNT] = {
+        "exact", "linear-binary", "linear-secant", "maxmip", "safety",  "cone",
+        "relaxed", "qdm",         "cc",            "radius", "multires"};
+    static const char *const surfaces[HF_SURFACE_COUNT] = {
+        "triangles", "bilinear", "height-planes", "corner-planes", "view-linear", "qu-triangles"};
     hf_result (*const name_of[2])(uint32_t, char *, size_t, size_t *) = {hf_method_name,
                                                                         hf_surface_name};
     const char *const *names[2] = {methods, surfaces};
-    const uint32_t counts[2] = {10, 6};
+    const uint32_t counts[2] = {HF_METHOD_COUNT, HF_SURFACE_COUNT};
     for (int t = 0; t < 2; t++) {
         char buf[32];
         size_t written = 777;
@@ -1853,8 +1860,8 @@ static void test_trace_options(void) {
                   sizeof written);
         CHECK_BAD(name_of[t](0, buf, sizeof buf, NULL), HF_ERR_NULL_POINTER, buf, sizeof buf);
     }
-    check_camera(f, all, 10, W, H);
-    for (int m = 0; m < 10; m++) free((void *)all[m].map);
+    check_camera(f, all, HF_METHOD_COUNT, W, H);
+    for (int m = 0; m < (int)HF_METHOD_COUNT; m++) free((void *)all[m].map);
     hf_field_destroy(f);
 }
 
@@ -1872,9 +1879,9 @@ static void test_bake_defaults(void) {
     CHECK_OK(hf_field_create_f32(heights, W * H, W, H, W, &f));
     /* Per method: the default cap (255 safety distances and radii, 64 cylinder-cones) and
      * the rows of the row bake (cone and QDM rows are cell rows: H - 1). */
-    const uint32_t caps[10] = {0, 0, 0, 0, 255, 0, 0, 0, 64, 255};
-    const uint32_t rows[10] = {0, 0, 0, 1, H, H - 1, H, H - 1, H, H};
-    for (uint32_t m = HF_METHOD_EXACT; m <= HF_METHOD_RADIUS; m++) {
+    const uint32_t caps[HF_METHOD_COUNT] = {0, 0, 0, 0, 255, 0, 0, 0, 64, 255, 0};
+    const uint32_t rows[HF_METHOD_COUNT] = {0, 0, 0, 1, H, H - 1, H, H - 1, H, H, 0};
+    for (uint32_t m = HF_METHOD_EXACT; m < HF_METHOD_COUNT; m++) {
         const hf_bake_options d = bake_defaults(m);
         int zero = 1;
         for (int k = 0; k < 7; k++) zero &= d.reserved[k] == 0;
@@ -1890,7 +1897,7 @@ static void test_bake_defaults(void) {
         unsigned char *a = (unsigned char *)bake_map(m, f, NULL, &len);
         unsigned char *b = (unsigned char *)bake_map(m, f, &d, &dlen);
         size_t bytes = len * elem_bytes(m);
-        CHECK(len == dlen && (len == 0) == (m <= HF_METHOD_LINEAR_SECANT));
+        CHECK(len == dlen && (len == 0) == without_map(m));
         CHECK(len == 0 || memcmp(a, b, bytes) == 0);
         /* Prepare and row bake with NULL options: the same map. */
         float *scratch = (float *)calloc(slen + 1, sizeof(float));
@@ -1904,7 +1911,8 @@ static void test_bake_defaults(void) {
     }
     /* The methods without a map: no scratch, nothing to prepare; a map is refused. */
     unsigned char byte = 0x5A;
-    for (uint32_t m = HF_METHOD_EXACT; m <= HF_METHOD_LINEAR_SECANT; m++) {
+    for (uint32_t m = HF_METHOD_EXACT; m < HF_METHOD_COUNT; m++) {
+        if (!without_map(m)) continue;
         CHECK(ask(hf_bake_scratch_len, m, W, H, NULL) == 0);
         CHECK_OK(hf_bake_prepare(m, f, NULL, NULL, 0));
         CHECK_BAD(hf_bake(m, f, NULL, &byte, 1), HF_ERR_INVALID_ARGUMENT, &byte, 1);
@@ -1914,7 +1922,7 @@ static void test_bake_defaults(void) {
         CHECK_BAD(hf_bake(m, NULL, NULL, NULL, 0), HF_ERR_NULL_POINTER, nothing, 0);
     }
     /* Unknown methods, a NULL output. */
-    const uint32_t bad_methods[3] = {HF_METHOD_RADIUS + 1, 99, 0xFFFFFFFFu};
+    const uint32_t bad_methods[3] = {HF_METHOD_COUNT, 99, 0xFFFFFFFFu};
     const size_query queries[2] = {hf_map_len, hf_bake_scratch_len};
     for (int k = 0; k < 3; k++) {
         const uint32_t m = bad_methods[k];
@@ -2017,13 +2025,13 @@ static void test_concurrent_rows(void) {
 
 /* The full build has every method; bake plans follow the scene. */
 static void test_build_and_plan(void) {
-    for (uint32_t m = 0; m <= HF_METHOD_RADIUS; m++) {
+    for (uint32_t m = 0; m < HF_METHOD_COUNT; m++) {
         uint32_t has = 7;
         CHECK_OK(hf_build_has_method(m, &has));
         CHECK(has == 1);
     }
     uint32_t has = 7;
-    CHECK_BAD(hf_build_has_method(HF_METHOD_RADIUS + 1, &has), HF_ERR_INVALID_ENUM, &has,
+    CHECK_BAD(hf_build_has_method(HF_METHOD_COUNT, &has), HF_ERR_INVALID_ENUM, &has,
               sizeof has);
     CHECK_BAD(hf_build_has_method(0, NULL), HF_ERR_NULL_POINTER, nothing, 0);
 
@@ -2091,7 +2099,7 @@ static void test_build_and_plan(void) {
 }
 
 static void test_shader_source(void) {
-    for (uint32_t m = HF_METHOD_EXACT; m <= HF_METHOD_RADIUS; m++) {
+    for (uint32_t m = HF_METHOD_EXACT; m < HF_METHOD_COUNT; m++) {
         size_t len = 0, written = 0;
         CHECK_OK(hf_shader_source_len(m, &len));
         CHECK(len > 100);
@@ -2107,7 +2115,7 @@ static void test_shader_source(void) {
     size_t len = 5, written = 5;
     char buf[8];
     memset(buf, 'x', sizeof buf);
-    CHECK_BAD(hf_shader_source_len(HF_METHOD_RADIUS + 1, &len), HF_ERR_INVALID_ENUM, &len,
+    CHECK_BAD(hf_shader_source_len(HF_METHOD_COUNT, &len), HF_ERR_INVALID_ENUM, &len,
               sizeof len);
     CHECK_BAD(hf_shader_source_len(0, NULL), HF_ERR_NULL_POINTER, nothing, 0);
     CHECK_BAD(hf_shader_source(77, buf, sizeof buf, &written), HF_ERR_INVALID_ENUM, &written,

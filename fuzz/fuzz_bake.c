@@ -194,7 +194,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
     static float heights[FZ_MAX_SIDE * FZ_MAX_SIDE];
     uint32_t w, h;
     hf_field *f = fz_field(&in, FZ_MAX_SIDE, &w, &h, heights);
-    uint32_t method = opt(&in, HF_METHOD_RADIUS + 1);
+    uint32_t method = opt(&in, HF_METHOD_COUNT);
     hf_bake_options given;
     read_options(&in, &given);
     int null_options = fz_u8(&in) >= 224;

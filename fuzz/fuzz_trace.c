@@ -5,7 +5,7 @@
  * (hf_trace_batch); each answer is checked against the exact method's on the same
  * rays: maximum mipmaps bit for bit, safety distances (both layouts, and a map of some
  * classes only), cylinder–cone, radius with the walk, cone and QDM within their budget
- * up to rounding on grazing rays (fz_compare); the search and relaxed methods only for
+ * up to rounding on grazing rays (fz_compare); the search, relaxed and multires methods only for
  * their codes; a surface a method does not trace is refused. A batch that fails writes
  * nothing; a single call (hf_trace) answers as the batch.
  * Then the maps' descriptors (check_descriptors): a flipped descriptor byte is
@@ -25,15 +25,16 @@ enum {
     M_RELAXED,
     M_LINEAR_BINARY, /* the first method without a map */
     M_LINEAR_SECANT,
+    M_MULTIRES,
     M_COUNT
 };
 static const char *const names[M_COUNT] = {
     "maxmip", "safety directional", "safety isotropic", "safety classes", "cc",
-    "radius", "cone", "qdm", "relaxed", "linear-binary", "linear-secant"};
+    "radius", "cone", "qdm", "relaxed", "linear-binary", "linear-secant", "multires"};
 static const uint32_t api[M_COUNT] = {
     HF_METHOD_MAXMIP, HF_METHOD_SAFETY, HF_METHOD_SAFETY,  HF_METHOD_SAFETY,
     HF_METHOD_CC,     HF_METHOD_RADIUS, HF_METHOD_CONE,    HF_METHOD_QDM,
-    HF_METHOD_RELAXED, HF_METHOD_LINEAR_BINARY, HF_METHOD_LINEAR_SECANT};
+    HF_METHOD_RELAXED, HF_METHOD_LINEAR_BINARY, HF_METHOD_LINEAR_SECANT, HF_METHOD_MULTIRES};
 
 /* One baked map: `len` elements of `elem` bytes (floats or bytes), descriptor included. */
 typedef struct baked {
@@ -104,11 +105,12 @@ static hf_result trace(int m, const hf_field *f, const maps *mp, uint32_t s, uin
 
 /* Which surfaces a method traces (others: an error, never a wrong answer). */
 static int takes_surface(int m, uint32_t s) {
-    if (s > HF_SURFACE_VIEW_LINEAR) return 0;
+    if (s >= HF_SURFACE_COUNT) return 0;
     switch (m) {
     case M_MAXMIP:
     case M_LINEAR_BINARY:
-    case M_LINEAR_SECANT: return 1;
+    case M_LINEAR_SECANT:
+    case M_MULTIRES: return 1;
     case M_CONE:
     case M_QDM:
     case M_RELAXED: return s == HF_SURFACE_TRIANGLES;
@@ -181,7 +183,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
     memset(&mp, 0, sizeof mp);
     bake_all(f, w, h, &in, &mp);
     uint8_t sb = fz_u8(&in);
-    uint32_t s = sb < 250 ? sb % 5 : sb; /* now and then an unknown surface */
+    uint32_t s = sb < 250 ? sb % HF_SURFACE_COUNT : sb; /* now and then an unknown surface */
     uint32_t iter = fz_u8(&in) < 240 ? 1000 : fz_u8(&in); /* cone/QDM budget, steps */
     size_t n = fz_u8(&in) % (FZ_MAX_RAYS + 1);
     hf_ray rays[FZ_MAX_RAYS];
@@ -201,7 +203,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
                            "exact batch");
     if (re != HF_OK && !fz_all_poison(exact, bytes))
         FZ_FAIL("the exact batch failed with %u but wrote hits", (unsigned)re);
-    if (re == HF_OK && n > 0 && s <= HF_SURFACE_VIEW_LINEAR) {
+    if (re == HF_OK && n > 0 && s < HF_SURFACE_COUNT) {
         /* A single exact call answers as the batch; any ray of the batch was valid. */
         for (size_t k = 0; k < n; k++) {
             hf_hit one;
@@ -211,7 +213,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
                 FZ_FAIL("the exact single call differs from its batch on ray %zu", k);
         }
     }
-    if (re != HF_OK && n > 0 && s <= HF_SURFACE_VIEW_LINEAR && !any_raw)
+    if (re != HF_OK && n > 0 && s < HF_SURFACE_COUNT && !any_raw)
         FZ_FAIL("the exact batch refused %zu valid rays with %u", n, (unsigned)re);
 
     int traced[M_COUNT] = {0};

@@ -102,6 +102,10 @@ enum hf_method
   // Safety radius (Baboud & Décoret 2006); exact on the triangle surface with zero
   // radii walked (`HF_RADIUS_WALK`), needs the baked radius map.
   HF_METHOD_RADIUS = 9,
+  // Multiresolution traversal (Qu et al. 2003, after Cohen-Or et al. 1996): the exact
+  // walk on coarser grids (every 2^ℓ-th sample) where a pixel's footprint is wider
+  // than their cells; approximate, no bake.
+  HF_METHOD_MULTIRES = 10,
 };
 #ifndef __cplusplus
 #if __STDC_VERSION__ >= 202311L
@@ -185,6 +189,9 @@ typedef uint32_t hf_surface;
 // Map kind (`hf_ktx2_desc::map`): the safety-radius map (`hf_bake` of
 // `HF_METHOD_RADIUS`), `R8_UINT` (docs/DESIGN.md, "Texture layouts").
 #define HF_KTX2_RADIUS 8
+
+// How many methods there are: the `hf_method` values are 0 to `HF_METHOD_COUNT − 1`.
+#define HF_METHOD_COUNT 11
 
 // How many surfaces there are: the `hf_surface` values are 0 to `HF_SURFACE_COUNT − 1`.
 #define HF_SURFACE_COUNT 6
@@ -565,7 +572,8 @@ typedef struct hf_trace_options {
   // from them is `HF_ERR_MAP_MISMATCH`.
   uint32_t ray_classes;
   // The step budget, at least 1: linear steps (linear-binary, linear-secant),
-  // iterations (cone, qdm), cone steps (relaxed). Default 64.
+  // iterations (cone, qdm), cone steps (relaxed); for multires the one-texel distance
+  // in grid units (1 / the pixel angle; the CLI's default is 512). Default 64.
   uint32_t steps;
   // Bisection steps (linear-binary, relaxed); default 8.
   uint32_t binary_steps;
@@ -1693,7 +1701,8 @@ hf_result hf_shader_source_len(uint32_t method,
 // textures' layouts: docs/DESIGN.md, "Texture layouts"): `hf_heights`, `hf_size` =
 // (W, H), `hf_height_range` = (min, max) from `hf_field_get_info`; `hf_surface` (every
 // method but the cone family, which traces the triangle surface); `hf_linear_steps`,
-// `hf_binary_steps` (search methods); cone and QDM: `hf_max_iter`, `hf_cone_map` or
+// `hf_binary_steps` (search methods); multires: `hf_multires_range` (its one-texel
+// distance, `hf_trace_options::steps`); cone and QDM: `hf_max_iter`, `hf_cone_map` or
 // `hf_qdm_map`; relaxed: `hf_cone_steps`, `hf_binary_steps`, `hf_relaxed_map`;
 // maxmip: `hf_pyramid`, `hf_levels`, `hf_level_dims[]`, `hf_level_offset[]` (from
 // `hf_maxmip_levels`); safety: `hf_safety_map`, `hf_safety_variant`,
@@ -1793,6 +1802,12 @@ hf_result hf_trace_options_default(struct hf_trace_options *out_options);
 // - linear-binary, linear-secant, relaxed: approximate (features thinner than a step
 //   are missed), `options->steps` linear or cone steps then `binary_steps`
 //   bisections (linear-secant: one secant step).
+// - multires (Qu et al. 2003, after Cohen-Or et al.): approximate, the exact walk on
+//   coarser grids (every 2^l-th sample) where a pixel's footprint is wider than their
+//   cells; `options->steps` is the one-texel distance `R` (grid units along the ray at
+//   which a pixel covers one texel: 1 / the pixel angle): level `floor(log2(dist /
+//   R))` at distance `dist`, full resolution under `2R`. Four fetches per cell of any
+//   level.
 //
 // Thread safe (reads the field and the map only).
 //

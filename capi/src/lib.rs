@@ -234,6 +234,10 @@ pub(crate) fn check_size(width: u32, height: u32) -> Result<(), hf_result> {
     Ok(())
 }
 
+/// How many methods there are: the `hf_method` values are 0 to `HF_METHOD_COUNT − 1`.
+pub const HF_METHOD_COUNT: u32 = 11;
+const _: () = assert!(HF_METHOD_COUNT as usize == hfcore::scene::MethodKind::ALL.len());
+
 /// How many surfaces there are: the `hf_surface` values are 0 to `HF_SURFACE_COUNT − 1`.
 pub const HF_SURFACE_COUNT: u32 = 6;
 const _: () = assert!(HF_SURFACE_COUNT as usize == hfcore::Surface::ALL.len());
@@ -460,7 +464,7 @@ mod tests {
             assert_eq!(*s as u32, i as u32);
             assert_eq!(surface_of(i as u32), Ok(*s));
         }
-        assert_eq!(surface_of(5), Err(HF_ERR_INVALID_ENUM));
+        assert_eq!(surface_of(HF_SURFACE_COUNT), Err(HF_ERR_INVALID_ENUM));
         use hfcore::Flags;
         assert_eq!(HF_FLAG_ORIGIN_INSIDE, Flags::ORIGIN_INSIDE.0);
         assert_eq!(HF_FLAG_SIDE, Flags::SIDE.0);
@@ -489,7 +493,7 @@ mod tests {
         assert_eq!(built(MethodKind::Cc), cfg!(feature = "safety"));
         let mut out = 0;
         // SAFETY: a valid out pointer; the method is unknown.
-        let r = unsafe { hf_build_has_method(10, &mut out) };
+        let r = unsafe { hf_build_has_method(HF_METHOD_COUNT, &mut out) };
         assert_eq!(r, HF_ERR_INVALID_ENUM);
         // SAFETY: NULL is reported.
         let r = unsafe { hf_build_has_method(0, std::ptr::null_mut()) };

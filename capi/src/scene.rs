@@ -330,7 +330,10 @@ mod tests {
             assert_eq!(scene_of(&bad), Err(HF_ERR_INVALID_ARGUMENT));
         }
         assert_eq!(
-            scene_of(&hf_scene { method: 10, ..s }),
+            scene_of(&hf_scene {
+                method: crate::HF_METHOD_COUNT,
+                ..s
+            }),
             Err(HF_ERR_INVALID_ENUM)
         );
         assert_eq!(

@@ -113,7 +113,8 @@ pub unsafe extern "C" fn hf_shader_source_len(method: u32, out_len: *mut usize) 
 /// textures' layouts: docs/DESIGN.md, "Texture layouts"): `hf_heights`, `hf_size` =
 /// (W, H), `hf_height_range` = (min, max) from `hf_field_get_info`; `hf_surface` (every
 /// method but the cone family, which traces the triangle surface); `hf_linear_steps`,
-/// `hf_binary_steps` (search methods); cone and QDM: `hf_max_iter`, `hf_cone_map` or
+/// `hf_binary_steps` (search methods); multires: `hf_multires_range` (its one-texel
+/// distance, `hf_trace_options::steps`); cone and QDM: `hf_max_iter`, `hf_cone_map` or
 /// `hf_qdm_map`; relaxed: `hf_cone_steps`, `hf_binary_steps`, `hf_relaxed_map`;
 /// maxmip: `hf_pyramid`, `hf_levels`, `hf_level_dims[]`, `hf_level_offset[]` (from
 /// `hf_maxmip_levels`); safety: `hf_safety_map`, `hf_safety_variant`,

@@ -153,7 +153,8 @@ pub struct hf_trace_options {
     /// from them is `HF_ERR_MAP_MISMATCH`.
     pub ray_classes: u32,
     /// The step budget, at least 1: linear steps (linear-binary, linear-secant),
-    /// iterations (cone, qdm), cone steps (relaxed). Default 64.
+    /// iterations (cone, qdm), cone steps (relaxed); for multires the one-texel distance
+    /// in grid units (1 / the pixel angle; the CLI's default is 512). Default 64.
     pub steps: u32,
     /// Bisection steps (linear-binary, relaxed); default 8.
     pub binary_steps: u32,
@@ -337,6 +338,12 @@ pub(crate) unsafe fn marcher<'a>(
 /// - linear-binary, linear-secant, relaxed: approximate (features thinner than a step
 ///   are missed), `options->steps` linear or cone steps then `binary_steps`
 ///   bisections (linear-secant: one secant step).
+/// - multires (Qu et al. 2003, after Cohen-Or et al.): approximate, the exact walk on
+///   coarser grids (every 2^l-th sample) where a pixel's footprint is wider than their
+///   cells; `options->steps` is the one-texel distance `R` (grid units along the ray at
+///   which a pixel covers one texel: 1 / the pixel angle): level `floor(log2(dist /
+///   R))` at distance `dist`, full resolution under `2R`. Four fetches per cell of any
+///   level.
 ///
 /// Thread safe (reads the field and the map only).
 ///

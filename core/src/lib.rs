@@ -132,6 +132,7 @@ pub mod march;
 pub mod math;
 #[cfg(feature = "maxmip")]
 pub mod maxmip;
+pub mod multires;
 #[cfg(feature = "qdm")]
 pub mod qdm;
 #[cfg(feature = "safety")]
@@ -173,6 +174,9 @@ pub enum Method {
     /// ([`search::linear`], [`search::Refine::Secant`]); approximate.
     #[cfg(feature = "search")]
     LinearSecant(u32),
+    /// The multiresolution walk ([`multires::trace`]) with its one-texel distance;
+    /// approximate.
+    Multires(u32),
 }
 
 impl Method {
@@ -195,6 +199,7 @@ impl Method {
             ),
             #[cfg(feature = "search")]
             Method::LinearSecant(n) => search::linear(hf, surface, q, n, search::Refine::Secant),
+            Method::Multires(range) => multires::trace(hf, surface, q, range),
         }
     }
 }

@@ -75,6 +75,8 @@ pub enum Marcher<'a> {
     /// Quadratic displacement steps ([`crate::qdm::trace`]): the iteration budget.
     #[cfg(feature = "qdm")]
     Qdm(crate::qdm::QdmMap<'a>, u32),
+    /// The multiresolution walk ([`crate::multires::trace`]): the one-texel distance.
+    Multires(Surface, u32),
     /// Never built: holds the lifetime in a build without baked methods.
     #[doc(hidden)]
     Unbuilt(core::convert::Infallible, core::marker::PhantomData<&'a ()>),
@@ -117,6 +119,7 @@ impl<'a> Marcher<'a> {
         let surface = crate::safety::MarchSurface::of(o.surface).unwrap_or_default();
         Ok(match kind {
             MethodKind::Exact => Marcher::Exact(o.surface),
+            MethodKind::Multires => Marcher::Multires(o.surface, o.steps),
             #[cfg(feature = "search")]
             MethodKind::LinearBinary => {
                 let steps = crate::search::SearchSteps {
@@ -181,6 +184,7 @@ impl<'a> Marcher<'a> {
     pub fn kind(&self) -> MethodKind {
         match self {
             Marcher::Exact(_) => MethodKind::Exact,
+            Marcher::Multires(..) => MethodKind::Multires,
             #[cfg(feature = "search")]
             Marcher::LinearBinary(..) => MethodKind::LinearBinary,
             #[cfg(feature = "search")]
@@ -233,6 +237,7 @@ impl<'a> Marcher<'a> {
     pub fn trace<R: Real>(&self, hf: &HeightField, q: &Query<R>) -> Trace<R> {
         match *self {
             Marcher::Exact(surface) => dda::trace(hf, surface, q),
+            Marcher::Multires(surface, range) => crate::multires::trace(hf, surface, q, range),
             #[cfg(feature = "search")]
             Marcher::LinearBinary(surface, steps) => crate::search::linear(
                 hf,

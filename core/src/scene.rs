@@ -92,6 +92,15 @@ named_enum! {
             MapKind::Radius,
             &["safety", "radius", "method_radius"],
         )),
+        /// Multiresolution traversal (Qu et al. 2003, after Cohen-Or et al. 1996): the
+        /// exact walk on coarser grids (every 2^ℓ-th sample) where a pixel's footprint is
+        /// wider than their cells; approximate, no bake.
+        Multires = 10 => "multires" (&MethodInfo {
+            accuracy: Accuracy::Approximate,
+            steps: &[StepParam { name: "one-texel distance", default: 512 }],
+            shader: &["multires", "method_multires"],
+            ..MethodInfo::base(MethodKind::Multires, ALWAYS)
+        }),
     }
     /// The method's row of the registry: everything the C API, the shaders, the
     /// report and the tools derive from a method's identity.

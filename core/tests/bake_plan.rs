@@ -31,7 +31,10 @@ fn every_method_bakes_what_its_march_reads() {
             .filter(|&p| plan.need(p) == Need::Scratch)
             .collect();
         let (want_kept, want_scratch): (&[P], &[P]) = match m {
-            MethodKind::Exact | MethodKind::LinearBinary | MethodKind::LinearSecant => (&[], &[]),
+            MethodKind::Exact
+            | MethodKind::LinearBinary
+            | MethodKind::LinearSecant
+            | MethodKind::Multires => (&[], &[]),
             MethodKind::MaxMip => (&[P::Pyramid], &[]),
             MethodKind::Cone => (&[P::ConeMap], &[P::Pyramid]),
             MethodKind::Relaxed => (&[P::RelaxedMap], &[P::Pyramid]),

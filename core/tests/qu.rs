@@ -6,7 +6,7 @@
 mod common;
 
 use common::*;
-use hfcast::{brute, dda, Query, Surface};
+use hfcast::{brute, dda, judge, multires, Query, Surface};
 
 /// One cell with a ridge along the diagonal 00–11 (h00 = h11 = 1, h10 = h01 = 0). Qu's
 /// fixed diagonal keeps the ridge; the triangle surface splits along the lower diagonal
@@ -162,4 +162,118 @@ fn qu_bilinear_search_error_falls_with_its_steps() {
     );
     assert!(wrong_of.windows(2).all(|w| w[1] <= w[0]), "{wrong_of:?}");
     assert!(wrong_of[3] * 200 < rays.len(), "{wrong_of:?}");
+}
+
+/// With a one-texel distance beyond every ray the multiresolution walk is the exact
+/// walk on level 0: the same cells (fetches) and the same hits up to rounding, on every
+/// surface and ray kind.
+#[test]
+fn multires_with_a_far_one_texel_distance_is_the_exact_walk() {
+    let mut rng = Rng::new(0x0054);
+    let field = fractal_field(&mut rng, 40, 33, 41, 8.0);
+    let hf = field.hf();
+    let (mut compared, mut ambiguous) = (0, 0);
+    for surface in Surface::ALL {
+        for kind in RayKind::ALL {
+            for _ in 0..60 {
+                let q = random_ray(&mut rng, &field, surface, kind).q32();
+                let exact = dda::trace(&hf, surface, &q);
+                let multi = multires::trace(&hf, surface, &q, u32::MAX);
+                let q64 = q.cast::<f64>();
+                let oracle = dda::trace(&hf, surface, &q64);
+                let same = match (exact.hit, multi.hit) {
+                    (None, None) => true,
+                    (Some(x), Some(y)) => dist(p64::<f32>(x.point), p64::<f32>(y.point)) < WRONG,
+                    _ => false,
+                };
+                if !same || exact.fetches != multi.fetches {
+                    assert!(
+                        judge::ambiguous(&hf, surface, &q64, &oracle)
+                            || near_pinch(&field, surface, &q64, PINCH),
+                        "{surface:?} {q:?}: exact {exact:?}, multires {multi:?}"
+                    );
+                    ambiguous += 1;
+                }
+                compared += 1;
+            }
+        }
+    }
+    println!("multires on level 0: {compared} rays, {ambiguous} ambiguous ones differ");
+    assert!(ambiguous * 50 < compared);
+}
+
+/// The multiresolution walk on a 1024² fractal seen from a low camera (5° and 20°
+/// above the horizon, 160 × 120, 40° field of view), the one-texel distance the
+/// reciprocal of the pixel angle: its error against the exact walk in pixel footprints
+/// (the pixel angle times the hit's distance), its hit/miss flips and its fetches. The
+/// error is measured, not bounded; the test checks that coarse levels are used (fewer
+/// fetches), that the median error of hits is under a footprint while some rays flip
+/// (it is approximate), and that a finer one-texel distance (four times) errs less.
+#[test]
+fn multires_error_is_measured_per_pixel_footprint() {
+    let mut rng = Rng::new(0x0055);
+    let field = fractal_field(&mut rng, 1024, 1024, 1024, 60.0);
+    let hf = field.hf();
+    let (w, h, fov) = (160u32, 120u32, 40.0f64);
+    let angle = fov.to_radians() / f64::from(h);
+    let range = (1.0 / angle).round() as u32;
+    let (mut out, mut checks) = (String::new(), Vec::new());
+    for elevation in [5.0f64, 20.0] {
+        let el = elevation.to_radians();
+        let eye = [-60.0, 512.0, 70.0 + 300.0 * el.tan()];
+        let forward = [el.cos(), 0.0, -el.sin()];
+        let cam = hfcast::camera::Pinhole::new(eye, forward, [0.0, 0.0, 1.0], fov, w, h).unwrap();
+        let mut medians = Vec::new();
+        for r in [range, 4 * range] {
+            let (mut errs, mut flips, mut hits) = (Vec::new(), 0usize, 0usize);
+            let (mut fetch_exact, mut fetch_multi) = (0u64, 0u64);
+            for py in 0..h {
+                for px in 0..w {
+                    let q = cam.ray(px, py, f32::INFINITY).unwrap();
+                    let e = dda::trace(&hf, Surface::Triangles, &q);
+                    let m = multires::trace(&hf, Surface::Triangles, &q, r);
+                    fetch_exact += u64::from(e.fetches);
+                    fetch_multi += u64::from(m.fetches);
+                    match (e.hit, m.hit) {
+                        (Some(a), Some(b)) => {
+                            hits += 1;
+                            let p = p64::<f32>(a.point);
+                            let footprint = angle * dist(p, eye);
+                            errs.push(dist(p, p64::<f32>(b.point)) / footprint);
+                        }
+                        (None, None) => {}
+                        _ => flips += 1,
+                    }
+                }
+            }
+            errs.sort_by(f64::total_cmp);
+            let q = |f: f64| errs[((errs.len() - 1) as f64 * f) as usize];
+            out.push_str(&format!(
+                "multires {elevation}° one-texel distance {r}: {hits} hits, error in footprints \
+                 median {:.2} p90 {:.2} max {:.1}; {flips} hit/miss flips of {}; fetches {:.2}x \
+                 the exact walk's\n",
+                q(0.5),
+                q(0.9),
+                q(1.0),
+                w * h,
+                fetch_multi as f64 / fetch_exact as f64
+            ));
+            medians.push((
+                q(0.5),
+                q(0.9),
+                flips,
+                fetch_multi as f64 / fetch_exact as f64,
+            ));
+        }
+        checks.push(medians);
+    }
+    println!("{out}");
+    for m in checks {
+        assert!(m[0].3 < 0.9, "coarse levels are used: {m:?}");
+        assert!(m[0].0 < 1.0 && m[0].2 > 0, "{m:?}");
+        assert!(
+            m[1].1 <= m[0].1 && m[1].2 <= m[0].2,
+            "finer errs less: {m:?}"
+        );
+    }
 }

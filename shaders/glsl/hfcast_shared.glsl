@@ -43,6 +43,7 @@ const uint HF_METHOD_RELAXED = 6u;
 const uint HF_METHOD_QDM = 7u;
 const uint HF_METHOD_CC = 8u;
 const uint HF_METHOD_RADIUS = 9u;
+const uint HF_METHOD_MULTIRES = 10u;
 
 // Safety-distance map layouts (hf_safety_variant, hfcast::safety::Variant).
 const uint HF_SAFETY_DIRECTIONAL = 0u;

@@ -70,6 +70,7 @@ const HF_METHOD_RELAXED: u32 = 6u;
 const HF_METHOD_QDM: u32 = 7u;
 const HF_METHOD_CC: u32 = 8u;
 const HF_METHOD_RADIUS: u32 = 9u;
+const HF_METHOD_MULTIRES: u32 = 10u;
 
 // Safety-distance map layouts (hf_safety_variant, hfcast::safety::Variant).
 const HF_SAFETY_DIRECTIONAL: u32 = 0u;

@@ -129,6 +129,10 @@ fn wgsl_marches_match_the_rust_core_ray_by_ray() {
         let kernel = Kernel::new(&gpu, &case);
         let compile_s = t0.elapsed().as_secs_f64();
         let mut tally = Tally::default();
+        // Multires: rays whose CPU march used a coarse level (fetches unlike the exact
+        // walk's), so that the parity covers the level switches.
+        let multires = case.method == hfcast::scene::MethodKind::Multires;
+        let mut coarse = 0u64;
         for ((scene, sg), rays) in scenes.iter().zip(&uploaded).zip(&rays) {
             let relaxed = case.method == hfcast::scene::MethodKind::Relaxed;
             if (relaxed && scene.relaxed.is_none()) || (case.int_heights && scene.samples.is_none())
@@ -148,6 +152,10 @@ fn wgsl_marches_match_the_rust_core_ray_by_ray() {
                     continue;
                 }
                 tally.add(&scene.name, r, cpu, g);
+                if multires {
+                    coarse +=
+                        u64::from(hfcast::dda::trace(&hf, case.surface, r).fetches != cpu.fetches);
+                }
                 tally.unheld += u64::from(case.classes & (1 << r.class() as u8) == 0);
             }
         }
@@ -182,6 +190,12 @@ fn wgsl_marches_match_the_rust_core_ray_by_ray() {
         );
         for o in &tally.other {
             let _ = writeln!(report, "    agrees, but not bit for bit: {o}");
+        }
+        if multires {
+            let _ = writeln!(report, "    rays that reached a coarse level: {coarse}");
+            if coarse == 0 {
+                let _ = writeln!(failures, "{}: no ray reached a coarse level", case.label());
+            }
         }
         if !tally.n.passes() {
             let _ = writeln!(

@@ -332,7 +332,7 @@ mod tests {
         assert_eq!(
             method_names(),
             "exact | linear-binary[:N:M] | secant[:N] | maxmip | safety | cone[:N] | \
-             relaxed[:N:M] | qdm[:N] | cc | radius"
+             relaxed[:N:M] | qdm[:N] | cc | radius | multires[:N]"
         );
     }
 

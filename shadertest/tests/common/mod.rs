@@ -241,6 +241,15 @@ impl Case {
                 false,
             ),
             Case::new(MethodKind::LinearSecant, tri, [64, 0, 0, 0], false),
+            // hf_params.range: a one-texel distance of 64 grid units, so that the
+            // scenes' rays reach coarse levels.
+            Case::new(MethodKind::Multires, tri, [64, 0, 0, 0], false),
+            Case::new(
+                MethodKind::Multires,
+                Surface::Bilinear,
+                [64, 0, 0, 0],
+                false,
+            ),
             Case::new(MethodKind::MaxMip, tri, [0; 4], true),
             Case::new(MethodKind::MaxMip, Surface::Bilinear, [0; 4], true),
             Case::new(MethodKind::Safety, tri, [0; 4], true),
@@ -323,6 +332,7 @@ impl Case {
             MethodKind::Exact
             | MethodKind::LinearBinary
             | MethodKind::LinearSecant
+            | MethodKind::Multires
             | MethodKind::MaxMip => {
                 format!("{m} {}", self.surface.name())
             }
@@ -447,6 +457,7 @@ impl Case {
                 },
             ),
             MethodKind::LinearSecant => Marcher::LinearSecant(self.surface, p[0]),
+            MethodKind::Multires => Marcher::Multires(self.surface, p[0]),
             MethodKind::MaxMip => Marcher::MaxMip(mip, self.surface, maxmip::Options::default()),
             MethodKind::Safety => Marcher::Safety(safety_map, march_surface()),
             MethodKind::Cc => Marcher::Cc(cc_map, march_surface()),
@@ -487,7 +498,9 @@ impl Case {
         use binding::*;
         match self.method {
             MethodKind::Exact => &[HEIGHTS, FIELD],
-            MethodKind::LinearBinary | MethodKind::LinearSecant => &[HEIGHTS, FIELD, PARAMS],
+            MethodKind::LinearBinary | MethodKind::LinearSecant | MethodKind::Multires => {
+                &[HEIGHTS, FIELD, PARAMS]
+            }
             MethodKind::MaxMip => &[HEIGHTS, FIELD, PYRAMID, MAXMIP],
             MethodKind::Safety => &[HEIGHTS, FIELD, SAFETY_MAP],
             MethodKind::Cone => &[HEIGHTS, FIELD, PARAMS, CONE_MAP],

@@ -481,7 +481,10 @@ fn definitions(opts: &ReportOptions, sweep: &Sweep, w: u32, h: u32) -> String {
         s,
         "**Settings**: exact DDA in `f32` and `f64`; maximum mipmaps (exact: one-level and \
          highest ascent; approximate: level of detail at {:?} pixels × {:.2e} rad per pixel, \
-         and on the bilinear surface iterative cell tests (linear:bisect) {:?}); on the \
+         and on the bilinear surface iterative cell tests (linear:bisect) {:?}); Qu et \
+         al.'s multiresolution walk at the same pixel footprints (\"multires Npx\": the \
+         exact walk on the grid of every 2^l-th sample where l = ⌊log₂⌋ of the pixel \
+         footprint over N; approximate); on the \
          bilinear surface Qu et al.'s bilinear method (the exact traversal's cells, each \
          searched by the same linear:bisect steps; approximate); safety \
          distances (triangles only; four classes and isotropic exact, \"positive\" \

@@ -257,6 +257,9 @@ pub enum Family {
     /// Qu et al.'s bilinear method: the exact traversal's cells, each searched by
     /// sampling then bisection (approximate).
     QuBilinear,
+    /// Qu et al.'s multiresolution traversal: coarser grids where a pixel's footprint
+    /// is wider than their cells (approximate).
+    Multires,
     /// Linear then binary search (baseline).
     LinearBinary,
     /// Linear search then a secant step, parallax-occlusion style (baseline).
@@ -282,6 +285,7 @@ impl Family {
             Family::Qdm => ("QDM", (227, 119, 194)),
             Family::Relaxed => ("relaxed cone, approx.", (188, 189, 34)),
             Family::QuBilinear => ("Qu bilinear search, approx.", (255, 187, 120)),
+            Family::Multires => ("multires, approx.", (196, 156, 148)),
             Family::LinearBinary => ("linear + binary", (214, 39, 40)),
             Family::Secant => ("linear + secant", (255, 127, 14)),
             Family::Parry => ("parry3d (peer)", (148, 103, 189)),
@@ -542,6 +546,18 @@ pub fn settings(sweep: &Sweep) -> Vec<Setting> {
             false,
             ALL_SURFACES,
             maxmip_setting(opts, false),
+        ));
+    }
+    // The multiresolution walk at the same footprints as the maximum mipmap's level of
+    // detail: coarse levels where a cell is narrower than `px` pixels.
+    for &px in &sweep.lod_pixels {
+        let range = (1.0 / (px * sweep.pixel_angle)).round().max(1.0) as u32;
+        v.push(setting(
+            Family::Multires,
+            format!("multires {px}px"),
+            false,
+            ALL_SURFACES,
+            core_method(Method::Multires(range)),
         ));
     }
     for &(linear, bisect) in &sweep.iterative {
