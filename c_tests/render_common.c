@@ -255,23 +255,27 @@ void make_rays(const scene *s, const camera *c, int w, int h, hf_ray *rays) {
     make_rays_window(s, c, w, h, half, rays);
 }
 
-void make_rays_window(const scene *s, const camera *c, int w, int h, const float half[2],
-                      hf_ray *rays) {
+void camera_frame(const scene *s, const camera *c, float eye[3], float fwd[3], float right[3],
+                  float up[3]) {
     float size = scene_size(s);
     float target[3] = {0.5f * (float)(s->w - 1), 0.5f * (float)(s->h - 1),
                        0.5f * (s->info.min_height + s->info.max_height)};
     float dist = c->distance * size;
     float ce = cosf(c->elevation);
-    float eye[3] = {target[0] + dist * ce * cosf(c->azimuth), target[1] + dist * ce * sinf(c->azimuth),
-                    target[2] + dist * sinf(c->elevation)};
-    float fwd[3] = {target[0] - eye[0], target[1] - eye[1], target[2] - eye[2]};
+    eye[0] = target[0] + dist * ce * cosf(c->azimuth);
+    eye[1] = target[1] + dist * ce * sinf(c->azimuth);
+    eye[2] = target[2] + dist * sinf(c->elevation);
+    for (int k = 0; k < 3; k++) fwd[k] = target[k] - eye[k];
     normalize3(fwd);
     /* Grid space is x east, y south, z up (left-handed): right = up x fwd keeps the
      * image unmirrored. */
-    float right[3] = {-fwd[1], fwd[0], 0.0f};
+    right[0] = -fwd[1];
+    right[1] = fwd[0];
+    right[2] = 0.0f;
     normalize3(right);
-    float up[3] = {right[1] * fwd[2] - right[2] * fwd[1], right[2] * fwd[0] - right[0] * fwd[2],
-                   right[0] * fwd[1] - right[1] * fwd[0]};
+    up[0] = right[1] * fwd[2] - right[2] * fwd[1];
+    up[1] = right[2] * fwd[0] - right[0] * fwd[2];
+    up[2] = right[0] * fwd[1] - right[1] * fwd[0];
     if (up[2] < 0) {
         up[0] = -up[0];
         up[1] = -up[1];
@@ -284,6 +288,12 @@ void make_rays_window(const scene *s, const camera *c, int w, int h, const float
         right[k] = cr * rk + sr * uk;
         up[k] = cr * uk - sr * rk;
     }
+}
+
+void make_rays_window(const scene *s, const camera *c, int w, int h, const float half[2],
+                      hf_ray *rays) {
+    float eye[3], fwd[3], right[3], up[3];
+    camera_frame(s, c, eye, fwd, right, up);
     for (int y = 0; y < h; y++) {
         for (int x = 0; x < w; x++) {
             float sx = ((2.0f * ((float)x + 0.5f) / (float)w) - 1.0f) * half[0];
@@ -452,8 +462,10 @@ static GLuint link_program(uint32_t method) {
     return p;
 }
 
-GLuint link_fragment(const char *fs_src) {
-    GLuint vs = compile(GL_VERTEX_SHADER, VERTEX_SOURCE);
+GLuint link_fragment(const char *fs_src) { return link_shaders(VERTEX_SOURCE, fs_src); }
+
+GLuint link_shaders(const char *vs_src, const char *fs_src) {
+    GLuint vs = compile(GL_VERTEX_SHADER, vs_src);
     GLuint fs = compile(GL_FRAGMENT_SHADER, fs_src);
     GLuint p = glCreateProgram();
     glAttachShader(p, vs);

@@ -121,6 +121,10 @@ void make_rays(const scene *s, const camera *c, int w, int h, hf_ray *rays);
  * spans [-half[0], half[0]] x [-half[1], half[1]] before the camera's roll turns it. */
 void make_rays_window(const scene *s, const camera *c, int w, int h, const float half[2],
                       hf_ray *rays);
+/* The camera's eye and unit view axes (forward, right, up; its roll applied), as
+ * make_rays aims the rays: pixel (x, y)'s ray is fwd + sx right + sy up. */
+void camera_frame(const scene *s, const camera *c, float eye[3], float fwd[3], float right[3],
+                  float up[3]);
 /* The window make_rays gives a w x h image of `c`: tan(fov / 2) times (aspect, 1). */
 void camera_window(const camera *c, int w, int h, float half[2]);
 
@@ -136,6 +140,8 @@ extern const char *VERTEX_SOURCE;
 char *generated_fragment_source(const hf_scene *sc);
 /* A program of the full-screen vertex shader and the fragment shader `fs_src`. */
 GLuint link_fragment(const char *fs_src);
+/* A program of the vertex shader `vs_src` and the fragment shader `fs_src`. */
+GLuint link_shaders(const char *vs_src, const char *fs_src);
 /* A compute program of `src` (a whole GLSL compute shader). */
 GLuint link_compute(const char *src);
 /* A w x h 2D texture, nearest, clamped, of `data` (NULL: unset). */

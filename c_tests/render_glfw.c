@@ -16,6 +16,7 @@
 #include "render_common.h"
 #include "gpu_bake.h"
 #include "roll.h"
+#include "hybrid.h"
 
 #define GLFW_INCLUDE_NONE
 #include <GLFW/glfw3.h>
@@ -98,6 +99,24 @@ static int roll_check(roll_view *rv, gpu *g, const scene *s, const camera *c, fl
     return !ok;
 }
 
+/* The window's hybrid frame (in g) against the CPU (hybrid_compare, hybrid_ok): prints
+ * the result and returns 1 when it fails. */
+static int hybrid_window_check(gpu *g, const scene *s, const hf_ray *rays) {
+    frame f;
+    frame_alloc(&f, g->w, g->h);
+    gpu_read(g, &f);
+    size_t n = (size_t)g->w * g->h;
+    hybrid_check c = hybrid_compare(s, rays, &f, n);
+    int ok = hybrid_ok(&c, n);
+    printf("glfw-hybrid: %zu pixels, %d cpu hits, %d differ from the cpu ray cast of the "
+           "view-linear surface (%d hit/miss), max err %.2e; %d differ from the same passes "
+           "on the cpu\n",
+           n, c.hits, c.differ, c.hit_differ, c.max_err, c.same_differ);
+    printf("glfw-hybrid: %d passed, %d failed\n", ok, !ok);
+    frame_free(&f);
+    return !ok;
+}
+
 static int compare_images(const unsigned char *rgba, int w, int h, const char *ref_path) {
     unsigned char *ref = NULL;
     int rw = 0, rh = 0;
@@ -133,12 +152,13 @@ static int compare_images(const unsigned char *rgba, int w, int h, const char *r
 }
 
 int main(int argc, char **argv) {
-    int frames = 0, w = 800, h = 600, dynamic = 0, rolled = 0;
+    int frames = 0, w = 800, h = 600, dynamic = 0, rolled = 0, hybrid_mode = 0;
     float roll_deg = 0.0f;
     const char *shot = NULL, *ref = NULL, *map = NULL;
     for (int i = 1; i < argc; i++) {
         if (strcmp(argv[i], "--frames") == 0 && i + 1 < argc) frames = atoi(argv[++i]);
         else if (strcmp(argv[i], "--dynamic") == 0) dynamic = 1;
+        else if (strcmp(argv[i], "--hybrid") == 0) hybrid_mode = 1;
         else if (strcmp(argv[i], "--roll") == 0 && i + 1 < argc) {
             rolled = 1;
             roll_deg = (float)atof(argv[++i]);
@@ -152,8 +172,10 @@ int main(int argc, char **argv) {
                 "usage: %s [--frames N --screenshot OUT.png --compare REF.png] MAP.png\n"
                 "       %s --dynamic [--frames N] MAP.png\n"
                 "       %s --roll DEGREES [--frames N] MAP.png (Qu et al.'s roll: the\n"
-                "         unrolled view texture-mapped; R rolls by 5 degrees)\n",
-                argv[0], argv[0], argv[0]);
+                "         unrolled view texture-mapped; R rolls by 5 degrees)\n"
+                "       %s --hybrid [--frames N] MAP.png (Qu et al.'s hybrid rasterization\n"
+                "         of the view-linear surface)\n",
+                argv[0], argv[0], argv[0], argv[0]);
         return 2;
     }
     if (frames > 0) {
@@ -194,7 +216,9 @@ int main(int argc, char **argv) {
     if (rolled && roll_init(&rv, &s, &g) != 0) return 2;
     hf_ray *unrolled_rays = rolled ? (hf_ray *)malloc(sizeof(hf_ray) * (size_t)rv.side * rv.side)
                                    : NULL;
-    int roll_failed = 0;
+    int roll_failed = 0, hybrid_failed = 0;
+    hybrid hy;
+    if (hybrid_mode && hybrid_init(&hy, &s, &g) != 0) return 2;
     gpu_bakes bakes;
     frame checked;
     int dyn_passed = 0, dyn_failed = 0;
@@ -221,6 +245,8 @@ int main(int argc, char **argv) {
         }
         if (rolled)
             roll_render_mapped(&rv, &g, &s, cfg, &cam, unrolled_rays);
+        else if (hybrid_mode)
+            hybrid_render(&hy, &g, &s, &cam);
         else
             gpu_render(&g, &s, cfg, scene_depth_far(&s, &cam));
         glBindFramebuffer(GL_READ_FRAMEBUFFER, g.fbo);
@@ -236,6 +262,7 @@ int main(int argc, char **argv) {
             if (shot && write_png_rgba(shot, pixels, fw, fh) != 0) rc = 1;
             if (ref) rc |= compare_images(pixels, fw, fh, ref);
             if (rolled) roll_failed = roll_check(&rv, &g, &s, &cam, roll_deg);
+            if (hybrid_mode) hybrid_failed = hybrid_window_check(&g, &s, rays);
             glfwSetWindowShouldClose(win, 1);
         }
         glfwSwapBuffers(win);
@@ -253,6 +280,10 @@ int main(int argc, char **argv) {
     if (glGetError() != GL_NO_ERROR) {
         fprintf(stderr, "GL error\n");
         rc = 1;
+    }
+    if (hybrid_mode) {
+        rc |= hybrid_failed;
+        hybrid_free(&hy);
     }
     if (rolled) {
         rc |= roll_failed;

@@ -20,6 +20,7 @@
 #include "render_common.h"
 #include "gpu_bake.h"
 #include "roll.h"
+#include "hybrid.h"
 
 #include <GL/osmesa.h>
 #include <math.h>
@@ -1185,6 +1186,76 @@ static int run_roll(int nmaps, char **maps) {
     return stop ? stop : tests_result("roll", &rc.t);
 }
 
+/* ---- Qu et al.'s hybrid rasterization renderer ------------------------------------ */
+
+typedef struct hybrid_ctx {
+    tally t;
+} hybrid_ctx;
+
+/* Median of three. */
+static double mid3(double a, double b, double c) {
+    return a > b ? (b > c ? b : (a > c ? c : a)) : (a > c ? a : (b > c ? c : b));
+}
+
+/* The hybrid renderer on one map (the default camera, the view-linear surface): its
+ * frame against the CPU ray cast of the view-linear surface (hf_trace: at least 99.99 %
+ * of the pixels agree, hit or miss and the point within 1e-3) and against the same two
+ * passes on the CPU; its passes' times and fragments against the ray-cast shaders'
+ * frames on the same surface (software GPU). */
+static void hybrid_map(map_job *j, int w, int h, void *ctx) {
+    hybrid_ctx *hc = (hybrid_ctx *)ctx;
+    hybrid hy;
+    if (hybrid_init(&hy, &j->s, &j->g) != 0) {
+        fprintf(stderr, "hybrid_init failed\n");
+        hc->t.failed++;
+        return;
+    }
+    camera cam = default_camera();
+    hybrid_render(&hy, &j->g, &j->s, &cam); /* warm-up: shader compile */
+    hybrid_stats runs[3];
+    for (int k = 0; k < 3; k++) runs[k] = hybrid_render(&hy, &j->g, &j->s, &cam);
+    frame f;
+    frame_alloc(&f, w, h);
+    gpu_read(&j->g, &f);
+    size_t n = (size_t)w * h;
+    hybrid_check c = hybrid_compare(&j->s, j->rays, &f, n);
+    method_cfg vl = cfg_of(HF_METHOD_EXACT, HF_SURFACE_VIEW_LINEAR);
+    method_cfg mm = cfg_of(HF_METHOD_MAXMIP, HF_SURFACE_VIEW_LINEAR);
+    double rc[3], mx[3];
+    render_ms(j, vl, 0, 0);
+    render_ms(j, mm, 0, 0);
+    for (int k = 0; k < 3; k++) {
+        rc[k] = render_ms(j, vl, 0, 0);
+        mx[k] = render_ms(j, mm, 0, 0);
+    }
+    double raycast = mid3(rc[0], rc[1], rc[2]), maxmip = mid3(mx[0], mx[1], mx[2]);
+    double p1 = mid3(runs[0].pass1_ms, runs[1].pass1_ms, runs[2].pass1_ms);
+    double p2 = mid3(runs[0].pass2_ms, runs[1].pass2_ms, runs[2].pass2_ms);
+    int ok = hybrid_ok(&c, n);
+    printf("hybrid %-36s %zu pixels, %d cpu hits: %d differ from the cpu ray cast of the "
+           "view-linear surface (%d hit/miss), max err %.2e; %d differ from the same passes "
+           "on the cpu (%.0f ms); pass 1 %u fragments (%.1f per pixel), %u on or under, %.1f "
+           "ms; pass 2 %zu fragments, %.1f ms; frame %.1f ms against the ray-cast shader's "
+           "%.1f ms (exact) and %.1f ms (maxmip), software  %s\n",
+           j->s.name, n, c.hits, c.differ, c.hit_differ, c.max_err, c.same_differ, c.cpu_ms,
+           runs[2].fragments, (double)runs[2].fragments / (double)n, runs[2].kept, p1, n, p2,
+           p1 + p2, raycast, maxmip, ok ? "ok" : "FAILED");
+    if (ok)
+        hc->t.passed++;
+    else
+        hc->t.failed++;
+    frame_free(&f);
+    hybrid_free(&hy);
+}
+
+static int run_hybrid(int nmaps, char **maps) {
+    if (tests_start() != 0) return 2;
+    hybrid_ctx hc = {{0, 0, 0, NULL}};
+    int loaded = for_each_map(TEST_W, TEST_H, nmaps, maps, 0, "", hybrid_map, &hc);
+    int stop = tests_stop(loaded);
+    return stop ? stop : tests_result("hybrid", &hc.t);
+}
+
 int main(int argc, char **argv) {
     if (argc >= 4 && strcmp(argv[1], "test") == 0) return run_tests(argv[2], argc - 3, argv + 3);
     if (argc >= 6 && strcmp(argv[1], "bench") == 0)
@@ -1195,6 +1266,7 @@ int main(int argc, char **argv) {
         return run_dynamic(atoi(argv[2]), argc - 3, argv + 3);
     if (argc >= 3 && strcmp(argv[1], "generated") == 0) return run_generated(argc - 2, argv + 2);
     if (argc >= 3 && strcmp(argv[1], "roll") == 0) return run_roll(argc - 2, argv + 2);
+    if (argc >= 3 && strcmp(argv[1], "hybrid") == 0) return run_hybrid(argc - 2, argv + 2);
     if (argc >= 6 && strcmp(argv[1], "bench-generated") == 0)
         return run_bench_generated(atoi(argv[2]), atoi(argv[3]), atoi(argv[4]), argc - 5,
                                    argv + 5);
@@ -1206,7 +1278,8 @@ int main(int argc, char **argv) {
             "       %s bench-generated W H FRAMES MAP.png...\n"
             "       %s gpu-bake MAP.png...\n"
             "       %s dynamic FRAMES MAP.png...\n"
-            "       %s roll MAP.png...\n",
-            argv[0], argv[0], argv[0], argv[0], argv[0], argv[0], argv[0], argv[0]);
+            "       %s roll MAP.png...\n"
+            "       %s hybrid MAP.png...\n",
+            argv[0], argv[0], argv[0], argv[0], argv[0], argv[0], argv[0], argv[0], argv[0]);
     return 2;
 }

@@ -2352,12 +2352,61 @@ static void test_gpu_safety_bake(void) {
     CHECK_BAD(hf_cc_bake_shader_len(7, &cc_len), HF_ERR_INVALID_ENUM, &cc_len, sizeof cc_len);
 }
 
+/* hf_hybrid_trace_batch: the hybrid renderer's passes on the CPU answer as the exact
+ * method on the view-linear surface, on random rays (vertical and axis-parallel ones,
+ * origins under the surface included), in grid and world units; bad inputs are refused
+ * and write nothing. */
+static void test_hybrid(void) {
+    enum { W = 29, H = 21, N = 1500 };
+    float heights[W * H];
+    for (int k = 0; k < W * H; k++) heights[k] = 6.0f * frand();
+    hf_field *f = NULL;
+    CHECK_OK(hf_field_create_f32(heights, W * H, W, H, W, &f));
+    hf_ray *rays = (hf_ray *)malloc(sizeof(hf_ray) * N);
+    for (int k = 0; k < N; k++) {
+        rays[k] = ray(-4.0f + (W + 8) * frand(), -4.0f + (H + 8) * frand(), 9.0f * frand(),
+                      frand() - 0.5f, frand() - 0.5f, frand() - 0.7f);
+        if (k % 10 == 0) rays[k].dir[1] = 0.0f;
+        if (k % 13 == 0) rays[k].dir[0] = rays[k].dir[1] = 0.0f;
+    }
+    hf_hit *exact = (hf_hit *)malloc(sizeof(hf_hit) * N);
+    hf_hit *hy = (hf_hit *)malloc(sizeof(hf_hit) * N);
+    hf_trace_options o = on(HF_SURFACE_VIEW_LINEAR);
+    CHECK_OK(hf_trace_batch(f, HF_METHOD_EXACT, NULL, 0, &o, rays, N, exact, N));
+    CHECK_OK(hf_hybrid_trace_batch(f, rays, N, hy, N));
+    int same = agreeing(exact, hy, N), hits = 0;
+    for (int k = 0; k < N; k++) hits += exact[k].hit;
+    CHECK(same >= N - 2 && hits > N / 4);
+    /* Bad inputs: NULLs, a short output, a bad ray (first reported), overlap. */
+    hf_hit h[4];
+    memset(h, 0x5A, sizeof h);
+    CHECK_BAD(hf_hybrid_trace_batch(NULL, rays, 4, h, 4), HF_ERR_NULL_POINTER, h, sizeof h);
+    CHECK_BAD(hf_hybrid_trace_batch(f, NULL, 4, h, 4), HF_ERR_NULL_POINTER, h, sizeof h);
+    CHECK_BAD(hf_hybrid_trace_batch(f, rays, 4, NULL, 4), HF_ERR_NULL_POINTER, nothing, 0);
+    CHECK_BAD(hf_hybrid_trace_batch(f, rays, 4, h, 3), HF_ERR_BUFFER_TOO_SMALL, h, sizeof h);
+    hf_ray bad[4] = {rays[0], rays[1], rays[2], rays[3]};
+    bad[2].dir[0] = NAN;
+    CHECK_BAD(hf_hybrid_trace_batch(f, bad, 4, h, 4), HF_ERR_INVALID_RAY, h, sizeof h);
+    size_t at = 0;
+    CHECK(hf_last_error_index(&at) == HF_OK && at == 2);
+    CHECK_BAD(hf_hybrid_trace_batch(f, bad, 4, (hf_hit *)(void *)bad, 4),
+              HF_ERR_INVALID_ARGUMENT, bad, sizeof bad);
+    printf("hybrid on the cpu: %d of %d rays as the exact method on the view-linear surface, "
+           "%d hits\n",
+           same, N, hits);
+    free(rays);
+    free(exact);
+    free(hy);
+    hf_field_destroy(f);
+}
+
 int main(void) {
     test_version_and_messages();
     test_field_constructors();
     test_known_hits();
     test_bad_queries();
     test_methods_agree();
+    test_hybrid();
     test_world_units();
     test_bake_and_update();
     test_safety();

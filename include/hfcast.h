@@ -1845,6 +1845,23 @@ hf_result hf_trace_batch(const struct hf_field *field,
                          struct hf_hit *out_hits,
                          size_t out_hits_len);
 
+// Qu et al.'s hybrid rasterization renderer on the CPU (`hfcast::hybrid`, Qu et al.
+// 2003 §4): its two passes for `rays_len` rays on the view-linear surface,
+// `out_hits[k]` answering `rays[k]` as `hf_trace` of `HF_METHOD_EXACT` on
+// `HF_SURFACE_VIEW_LINEAR` does (in world units when the field has a transform). The
+// reference a GPU implementation of the renderer is checked against, ray by ray (the
+// OSMesa and GLFW tests do). Pass 1 tests every cell boundary of the field per ray (W +
+// H), as a rasterizer covers them, so it is slow by design. Checks and errors as
+// `hf_trace_batch`. Thread safe.
+//
+// # Safety
+// As `hf_trace_batch`.
+hf_result hf_hybrid_trace_batch(const struct hf_field *field,
+                                const struct hf_ray *rays,
+                                size_t rays_len,
+                                struct hf_hit *out_hits,
+                                size_t out_hits_len);
+
 // A shadow ray from `hit` (the answer `hf_trace` gave for `primary` on `surface`, an
 // `hf_surface` value, of `field`; in world units when the field has a transform)
 // towards a light in direction `to_light`, written to `*out_ray`: its origin is the

@@ -477,6 +477,54 @@ pub unsafe extern "C" fn hf_trace_batch(
     })
 }
 
+/// Qu et al.'s hybrid rasterization renderer on the CPU (`hfcast::hybrid`, Qu et al.
+/// 2003 §4): its two passes for `rays_len` rays on the view-linear surface,
+/// `out_hits[k]` answering `rays[k]` as `hf_trace` of `HF_METHOD_EXACT` on
+/// `HF_SURFACE_VIEW_LINEAR` does (in world units when the field has a transform). The
+/// reference a GPU implementation of the renderer is checked against, ray by ray (the
+/// OSMesa and GLFW tests do). Pass 1 tests every cell boundary of the field per ray (W +
+/// H), as a rasterizer covers them, so it is slow by design. Checks and errors as
+/// `hf_trace_batch`. Thread safe.
+///
+/// # Safety
+/// As `hf_trace_batch`.
+#[no_mangle]
+pub unsafe extern "C" fn hf_hybrid_trace_batch(
+    field: *const hf_field,
+    rays: *const hf_ray,
+    rays_len: usize,
+    out_hits: *mut hf_hit,
+    out_hits_len: usize,
+) -> hf_result {
+    guard(|| {
+        // SAFETY: the caller promises a live handle.
+        let f = unsafe { ptr::get(field) }.named("field")?;
+        // SAFETY: as hf_trace_batch.
+        let (rays, hits) = unsafe {
+            ptr::slice_and_out(
+                (rays, rays_len, "rays"),
+                (out_hits, out_hits_len, "out_hits"),
+            )
+        }?;
+        if hits.len() < rays.len() {
+            return Err(crate::detail::fail(
+                HF_ERR_BUFFER_TOO_SMALL,
+                format_args!("out_hits: {} hits for {} rays", hits.len(), rays.len()),
+            ));
+        }
+        let hf = f.view();
+        let locals = rays
+            .iter()
+            .enumerate()
+            .map(|(k, r)| query(hf, r, Some(k)))
+            .collect::<Result<Vec<_>, _>>()?;
+        for (local, h) in locals.iter().zip(hits.iter_mut()) {
+            *h = answer(hf, local.trace(|q| hfcore::hybrid::trace(hf, q)));
+        }
+        Ok(())
+    })
+}
+
 /// A shadow ray from `hit` (the answer `hf_trace` gave for `primary` on `surface`, an
 /// `hf_surface` value, of `field`; in world units when the field has a transform)
 /// towards a light in direction `to_light`, written to `*out_ray`: its origin is the

@@ -125,6 +125,7 @@ pub mod condition;
 pub mod cone;
 pub mod dda;
 pub mod field;
+pub mod hybrid;
 pub mod judge;
 pub mod ktx2;
 pub mod mapdesc;

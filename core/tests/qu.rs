@@ -6,7 +6,7 @@
 mod common;
 
 use common::*;
-use hfcast::{brute, dda, judge, multires, Query, Surface};
+use hfcast::{brute, dda, hybrid, judge, multires, Query, Surface};
 
 /// One cell with a ridge along the diagonal 00–11 (h00 = h11 = 1, h10 = h01 = 0). Qu's
 /// fixed diagonal keeps the ridge; the triangle surface splits along the lower diagonal
@@ -276,4 +276,47 @@ fn multires_error_is_measured_per_pixel_footprint() {
             "finer errs less: {m:?}"
         );
     }
+}
+
+/// The hybrid renderer's two passes on the CPU answer as the exact walk on the
+/// view-linear surface (both finished in f64): against brute force on every ray kind,
+/// grazing rays included, zero wrong rays.
+#[test]
+fn hybrid_passes_are_the_view_linear_surface() {
+    let mut rng = Rng::new(0x0056);
+    let mut all = Judged::new("hybrid, all fields");
+    let mut out = String::new();
+    let fields = [
+        ("fractal 33x29", fractal_field(&mut rng, 33, 29, 35, 8.0)),
+        ("needles", needles_field(9)),
+        ("walls", random_walls_field(&mut rng)),
+    ];
+    let mut same = 0;
+    for (name, field) in &fields {
+        let hf = field.hf();
+        let mut j = Judged::new(format!("hybrid {name}"));
+        for spec in rays_with_grazing(field, Surface::ViewLinear, &mut rng, 120) {
+            let q = spec.q32();
+            let (hy, walk) = (
+                hybrid::trace(&hf, &q),
+                dda::trace(&hf, Surface::ViewLinear, &q),
+            );
+            let agree = match (hy.hit, walk.hit) {
+                (None, None) => true,
+                (Some(a), Some(b)) => dist(p64::<f32>(a.point), p64::<f32>(b.point)) < WRONG,
+                _ => false,
+            };
+            same += usize::from(agree);
+            j.add_trace(field, Surface::ViewLinear, &q, &hy);
+        }
+        j.report(&mut out);
+        all.absorb(&j);
+    }
+    all.report(&mut out);
+    println!(
+        "{out}hybrid = exact walk on {same} of {} rays",
+        all.tally.tried
+    );
+    assert_eq!(all.tally.wrong, 0);
+    assert!(all.tally.ambiguous * 7 < all.tally.tried);
 }

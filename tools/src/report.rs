@@ -135,6 +135,11 @@ pub fn build_scenes(opts: &ReportOptions) -> Result<(Vec<Scene>, Vec<String>), S
                 "qu-triangles",
                 "Qu's fixed-diagonal triangles",
             ),
+            (
+                hfcast::Surface::ViewLinear,
+                "view-linear",
+                "view-linear surface",
+            ),
         ] {
             let mut s = first.clone();
             s.surface = surface;

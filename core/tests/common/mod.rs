@@ -801,6 +801,16 @@ pub enum Outcome {
 /// the `f64` traversal), or near a wall pinch. Returns the outcome and whether brute
 /// force hits.
 pub fn judge<R: Real>(field: &Field, surface: Surface, q: &Query<R>) -> (Outcome, bool) {
+    judge_march(field, surface, q, dda::trace(&field.hf(), surface, q))
+}
+
+/// [`judge`] of `tr`, another march's trace of `q` on `surface`.
+pub fn judge_march<R: Real>(
+    field: &Field,
+    surface: Surface,
+    q: &Query<R>,
+    tr: Trace<R>,
+) -> (Outcome, bool) {
     let is64 = R::EPSILON.to_f64() < 1e-10;
     let hf = field.hf();
     let q64 = q.cast::<f64>();
@@ -874,7 +884,6 @@ pub fn judge<R: Real>(field: &Field, surface: Surface, q: &Query<R>) -> (Outcome
             };
         }
     }
-    let tr = dda::trace(&hf, surface, q);
     let tol = if is64 { tol64 } else { WRONG };
     let (h, tb) = match (tr.hit, bf) {
         (None, None) => return (Outcome::Right(None), false),
@@ -986,7 +995,17 @@ impl Judged {
     }
     /// Judges one query and counts the outcome.
     pub fn add<R: Real>(&mut self, field: &Field, surface: Surface, q: &Query<R>) {
-        let (outcome, brute_hits) = judge(field, surface, q);
+        self.add_trace(field, surface, q, &dda::trace(&field.hf(), surface, q));
+    }
+    /// Judges another march's trace `tr` of `q` and counts the outcome.
+    pub fn add_trace<R: Real>(
+        &mut self,
+        field: &Field,
+        surface: Surface,
+        q: &Query<R>,
+        tr: &Trace<R>,
+    ) {
+        let (outcome, brute_hits) = judge_march(field, surface, q, *tr);
         let t = &mut self.tally;
         t.tried += 1;
         if brute_hits {

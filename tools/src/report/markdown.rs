@@ -484,7 +484,9 @@ fn definitions(opts: &ReportOptions, sweep: &Sweep, w: u32, h: u32) -> String {
          and on the bilinear surface iterative cell tests (linear:bisect) {:?}); Qu et \
          al.'s multiresolution walk at the same pixel footprints (\"multires Npx\": the \
          exact walk on the grid of every 2^l-th sample where l = ⌊log₂⌋ of the pixel \
-         footprint over N; approximate); on the \
+         footprint over N; approximate); on the view-linear surface the two passes of Qu \
+         et al.'s hybrid rasterization renderer on the CPU (\"qu hybrid passes\": every \
+         cell boundary per ray, then the interpolation; exact); on the \
          bilinear surface Qu et al.'s bilinear method (the exact traversal's cells, each \
          searched by the same linear:bisect steps; approximate); safety \
          distances (triangles only; four classes and isotropic exact, \"positive\" \

@@ -260,6 +260,9 @@ pub enum Family {
     /// Qu et al.'s multiresolution traversal: coarser grids where a pixel's footprint
     /// is wider than their cells (approximate).
     Multires,
+    /// Qu et al.'s hybrid rasterization renderer's two passes on the CPU (every cell
+    /// boundary per ray), view-linear surface, exact.
+    Hybrid,
     /// Linear then binary search (baseline).
     LinearBinary,
     /// Linear search then a secant step, parallax-occlusion style (baseline).
@@ -286,6 +289,7 @@ impl Family {
             Family::Relaxed => ("relaxed cone, approx.", (188, 189, 34)),
             Family::QuBilinear => ("Qu bilinear search, approx.", (255, 187, 120)),
             Family::Multires => ("multires, approx.", (196, 156, 148)),
+            Family::Hybrid => ("Qu hybrid passes (CPU)", (247, 182, 210)),
             Family::LinearBinary => ("linear + binary", (214, 39, 40)),
             Family::Secant => ("linear + secant", (255, 127, 14)),
             Family::Parry => ("parry3d (peer)", (148, 103, 189)),
@@ -345,6 +349,8 @@ const ALL_SURFACES: &[Surface] = &Surface::ALL;
 const TRIANGLES: &[Surface] = &[Surface::Triangles];
 /// The bilinear surface only.
 const BILINEAR: &[Surface] = &[Surface::Bilinear];
+/// The view-linear surface only.
+const VIEW_LINEAR: &[Surface] = &[Surface::ViewLinear];
 
 /// Boxes a bake function (pins down its higher-ranked signature).
 pub fn baker<F>(f: F) -> Baker
@@ -548,6 +554,21 @@ pub fn settings(sweep: &Sweep) -> Vec<Setting> {
             maxmip_setting(opts, false),
         ));
     }
+    v.push(setting(
+        Family::Hybrid,
+        "qu hybrid passes",
+        true,
+        VIEW_LINEAR,
+        baker(|hf, _| {
+            let hf = *hf;
+            Box::new(Batch(
+                move |rays: &[Query<f32>], out: &mut [Out]| {
+                    each(rays, out, |q| Out::of(&hfcast::hybrid::trace(&hf, q)))
+                },
+                0,
+            ))
+        }),
+    ));
     // The multiresolution walk at the same footprints as the maximum mipmap's level of
     // detail: coarse levels where a cell is narrower than `px` pixels.
     for &px in &sweep.lod_pixels {
