@@ -298,6 +298,14 @@ static int tests_stop(int loaded) {
     return 0;
 }
 
+/* Counts one check in `t`. */
+static void tally_add(tally *t, int ok) {
+    if (ok)
+        t->passed++;
+    else
+        t->failed++;
+}
+
 /* The last line of a test run, "NAME: N passed, M failed", and its exit status. */
 static int tests_result(const char *name, const tally *t) {
     printf("%s: %d passed, %d failed\n", name, t->passed, t->failed);
@@ -1135,18 +1143,14 @@ static int run_dynamic(int frames, int nmaps, char **maps) {
 
 /* ---- camera roll (Qu et al.): rolled rays against the unrolled view texture-mapped ---- */
 
-typedef struct roll_ctx {
-    tally t;
-} roll_ctx;
-
 /* The default camera at rolls 0, 10, 30, 45 and 90 degrees on one map (maximum mipmap,
  * triangles): the rolled rays' frame against the CPU, and the mapped frame against it
  * (roll_ok says what must hold). */
 static void roll_map(map_job *j, int w, int h, void *ctx) {
-    roll_ctx *rc = (roll_ctx *)ctx;
+    tally *t = (tally *)ctx;
     roll_view r;
     if (roll_init(&r, &j->s, &j->g) != 0) {
-        rc->t.failed++;
+        t->failed++;
         return;
     }
     method_cfg c = cfg_of(HF_METHOD_MAXMIP, HF_SURFACE_TRIANGLES);
@@ -1168,29 +1172,15 @@ static void roll_map(map_job *j, int w, int h, void *ctx) {
                "mean colour error %.2f/255 (unturned: %d hit/miss differ)  %s\n",
                label, res.pixels, p.differ, res.direct_ms, res.unrolled_pixels, res.mapped_ms,
                res.hit_differ, res.color_differ, res.color_mean, res.unturned, ok ? "ok" : "FAILED");
-        if (ok)
-            rc->t.passed++;
-        else
-            rc->t.failed++;
+        tally_add(t, ok);
     }
     frame_free(&direct);
     frame_free(&mapped);
     roll_free(&r);
 }
 
-static int run_roll(int nmaps, char **maps) {
-    if (tests_start() != 0) return 2;
-    roll_ctx rc = {{0, 0, 0, NULL}};
-    int loaded = for_each_map(TEST_W, TEST_H, nmaps, maps, 0, "", roll_map, &rc);
-    int stop = tests_stop(loaded);
-    return stop ? stop : tests_result("roll", &rc.t);
-}
 
 /* ---- Qu et al.'s hybrid rasterization renderer ------------------------------------ */
-
-typedef struct hybrid_ctx {
-    tally t;
-} hybrid_ctx;
 
 /* Median of three. */
 static double mid3(double a, double b, double c) {
@@ -1203,11 +1193,11 @@ static double mid3(double a, double b, double c) {
  * passes on the CPU; its passes' times and fragments against the ray-cast shaders'
  * frames on the same surface (software GPU). */
 static void hybrid_map(map_job *j, int w, int h, void *ctx) {
-    hybrid_ctx *hc = (hybrid_ctx *)ctx;
+    tally *t = (tally *)ctx;
     hybrid hy;
     if (hybrid_init(&hy, &j->s, &j->g) != 0) {
         fprintf(stderr, "hybrid_init failed\n");
-        hc->t.failed++;
+        t->failed++;
         return;
     }
     camera cam = default_camera();
@@ -1240,20 +1230,19 @@ static void hybrid_map(map_job *j, int w, int h, void *ctx) {
            j->s.name, n, c.hits, c.differ, c.hit_differ, c.max_err, c.same_differ, c.cpu_ms,
            runs[2].fragments, (double)runs[2].fragments / (double)n, runs[2].kept, p1, n, p2,
            p1 + p2, raycast, maxmip, ok ? "ok" : "FAILED");
-    if (ok)
-        hc->t.passed++;
-    else
-        hc->t.failed++;
+    tally_add(t, ok);
     frame_free(&f);
     hybrid_free(&hy);
 }
 
-static int run_hybrid(int nmaps, char **maps) {
+/* Runs `fn` (its context a tally) on every map of `maps` with the test renderer; the
+ * last line says "`name`: N passed, M failed". */
+static int run_tallied(const char *name, map_fn fn, int nmaps, char **maps) {
     if (tests_start() != 0) return 2;
-    hybrid_ctx hc = {{0, 0, 0, NULL}};
-    int loaded = for_each_map(TEST_W, TEST_H, nmaps, maps, 0, "", hybrid_map, &hc);
+    tally t = {0, 0, 0, NULL};
+    int loaded = for_each_map(TEST_W, TEST_H, nmaps, maps, 0, "", fn, &t);
     int stop = tests_stop(loaded);
-    return stop ? stop : tests_result("hybrid", &hc.t);
+    return stop ? stop : tests_result(name, &t);
 }
 
 int main(int argc, char **argv) {
@@ -1265,8 +1254,10 @@ int main(int argc, char **argv) {
     if (argc >= 4 && strcmp(argv[1], "dynamic") == 0)
         return run_dynamic(atoi(argv[2]), argc - 3, argv + 3);
     if (argc >= 3 && strcmp(argv[1], "generated") == 0) return run_generated(argc - 2, argv + 2);
-    if (argc >= 3 && strcmp(argv[1], "roll") == 0) return run_roll(argc - 2, argv + 2);
-    if (argc >= 3 && strcmp(argv[1], "hybrid") == 0) return run_hybrid(argc - 2, argv + 2);
+    if (argc >= 3 && strcmp(argv[1], "roll") == 0)
+        return run_tallied("roll", roll_map, argc - 2, argv + 2);
+    if (argc >= 3 && strcmp(argv[1], "hybrid") == 0)
+        return run_tallied("hybrid", hybrid_map, argc - 2, argv + 2);
     if (argc >= 6 && strcmp(argv[1], "bench-generated") == 0)
         return run_bench_generated(atoi(argv[2]), atoi(argv[3]), atoi(argv[4]), argc - 5,
                                    argv + 5);

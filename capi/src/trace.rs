@@ -409,6 +409,36 @@ pub(crate) fn trace_locals(
     }
 }
 
+/// A batch's rays and hits (the hits cut to the rays' count): NULLs, overlap and a short
+/// output are errors.
+///
+/// # Safety
+/// `rays` valid for reading `rays_len` rays and `out_hits` for writing `out_hits_len`
+/// hits, or NULL (an error).
+unsafe fn batch_io<'a>(
+    rays: *const hf_ray,
+    rays_len: usize,
+    out_hits: *mut hf_hit,
+    out_hits_len: usize,
+) -> Result<(&'a [hf_ray], &'a mut [hf_hit]), hf_result> {
+    // SAFETY: the caller promises `rays_len` valid rays and `out_hits` writable for its
+    // length; the two are checked disjoint before the slices exist.
+    let (rays, hits) = unsafe {
+        ptr::slice_and_out(
+            (rays, rays_len, "rays"),
+            (out_hits, out_hits_len, "out_hits"),
+        )
+    }?;
+    if hits.len() < rays.len() {
+        return Err(crate::detail::fail(
+            HF_ERR_BUFFER_TOO_SMALL,
+            format_args!("out_hits: {} hits for {} rays", hits.len(), rays.len()),
+        ));
+    }
+    let n = rays.len();
+    Ok((rays, &mut hits[..n]))
+}
+
 /// Rays a thread of `hf_trace_batch` takes at a time (the bands of `par::bake_bands`).
 const RAY_BAND: u32 = 256;
 
@@ -439,27 +469,14 @@ pub unsafe extern "C" fn hf_trace_batch(
     guard(|| {
         // SAFETY: the caller promises a live handle.
         let f = unsafe { ptr::get(field) }.named("field")?;
-        // SAFETY: the caller promises `rays_len` valid rays and `out_hits` writable for
-        // its length; the two are checked disjoint before the slices exist.
-        let (rays, hits) = unsafe {
-            ptr::slice_and_out(
-                (rays, rays_len, "rays"),
-                (out_hits, out_hits_len, "out_hits"),
-            )
-        }?;
-        if hits.len() < rays.len() {
-            return Err(crate::detail::fail(
-                HF_ERR_BUFFER_TOO_SMALL,
-                format_args!("out_hits: {} hits for {} rays", hits.len(), rays.len()),
-            ));
-        }
+        // SAFETY: the caller's promises, passed on.
+        let (rays, hits) = unsafe { batch_io(rays, rays_len, out_hits, out_hits_len) }?;
         // SAFETY: the caller's promises, passed on.
         let (m, o) = unsafe { marcher(f, method, map, map_len, options) }?;
         let hf = f.view();
         for (k, r) in rays.iter().enumerate() {
             check(hf, r, Some(k))?;
         }
-        let hits = &mut hits[..rays.len()];
         // Bands of rays taken in turn by the threads; `u32` counts them.
         let n = u32::try_from(rays.len()).unwrap_or(u32::MAX);
         let threads = if n == u32::MAX { 1 } else { o.threads };
@@ -499,19 +516,8 @@ pub unsafe extern "C" fn hf_hybrid_trace_batch(
     guard(|| {
         // SAFETY: the caller promises a live handle.
         let f = unsafe { ptr::get(field) }.named("field")?;
-        // SAFETY: as hf_trace_batch.
-        let (rays, hits) = unsafe {
-            ptr::slice_and_out(
-                (rays, rays_len, "rays"),
-                (out_hits, out_hits_len, "out_hits"),
-            )
-        }?;
-        if hits.len() < rays.len() {
-            return Err(crate::detail::fail(
-                HF_ERR_BUFFER_TOO_SMALL,
-                format_args!("out_hits: {} hits for {} rays", hits.len(), rays.len()),
-            ));
-        }
+        // SAFETY: the caller's promises, passed on.
+        let (rays, hits) = unsafe { batch_io(rays, rays_len, out_hits, out_hits_len) }?;
         let hf = f.view();
         let locals = rays
             .iter()

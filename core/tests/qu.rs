@@ -82,6 +82,17 @@ fn qu_triangles_equal_triangles_where_the_lower_diagonal_is_00_11() {
     assert!(hits * 3 > compared);
 }
 
+/// The fields of the exactness tests here: fBm, one-texel needles, a checkerboard of
+/// cliffs, random walls.
+fn exactness_fields(rng: &mut Rng) -> [(&'static str, Field); 4] {
+    [
+        ("fractal 33x29", fractal_field(rng, 33, 29, 35, 8.0)),
+        ("needles", needles_field(7)),
+        ("checkerboard", checkerboard_field(0.0, 5.0)),
+        ("walls", random_walls_field(rng)),
+    ]
+}
+
 /// Every random ray kind, grazing rays included, on real-like and spiky fields: the
 /// fixed-diagonal surface has zero wrong rays against brute force in f64 and f32 (the
 /// oracle suite covers it too, as it covers every surface; this case draws rays for
@@ -91,13 +102,7 @@ fn qu_triangles_are_exact_against_brute_force() {
     let mut rng = Rng::new(0x0052);
     let mut all = Judged::new("qu-triangles, all fields");
     let mut out = String::new();
-    let fields = [
-        ("fractal 33x29", fractal_field(&mut rng, 33, 29, 35, 8.0)),
-        ("needles", needles_field(7)),
-        ("checkerboard", checkerboard_field(0.0, 5.0)),
-        ("walls", random_walls_field(&mut rng)),
-    ];
-    for (name, field) in &fields {
+    for (name, field) in &exactness_fields(&mut rng) {
         let mut j = Judged::new(format!("qu-triangles {name}"));
         for spec in rays_with_grazing(field, Surface::QuTriangles, &mut rng, 150) {
             j.add(field, Surface::QuTriangles, &spec.q64());
@@ -286,13 +291,8 @@ fn hybrid_passes_are_the_view_linear_surface() {
     let mut rng = Rng::new(0x0056);
     let mut all = Judged::new("hybrid, all fields");
     let mut out = String::new();
-    let fields = [
-        ("fractal 33x29", fractal_field(&mut rng, 33, 29, 35, 8.0)),
-        ("needles", needles_field(9)),
-        ("walls", random_walls_field(&mut rng)),
-    ];
     let mut same = 0;
-    for (name, field) in &fields {
+    for (name, field) in &exactness_fields(&mut rng) {
         let hf = field.hf();
         let mut j = Judged::new(format!("hybrid {name}"));
         for spec in rays_with_grazing(field, Surface::ViewLinear, &mut rng, 120) {

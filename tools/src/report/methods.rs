@@ -446,17 +446,24 @@ impl Sweep {
     }
 }
 
-/// A bake-free [`Method`] of the core.
-fn core_method(m: Method) -> Baker {
+/// A bake-free march `f`, ray after ray: `f(field, surface, query)`, in `f32` or `f64`.
+fn per_ray<R: Real>(
+    f: impl Fn(&HeightField, Surface, &Query<f32>) -> Trace<R> + Copy + Sync + 'static,
+) -> Baker {
     baker(move |hf, surface| {
         let hf = *hf;
         Box::new(Batch(
             move |rays: &[Query<f32>], out: &mut [Out]| {
-                each(rays, out, |q| Out::of(&m.trace(&hf, surface, q)))
+                each(rays, out, |q| Out::of(&f(&hf, surface, q)))
             },
             0,
         ))
     })
+}
+
+/// A bake-free [`Method`] of the core.
+fn core_method(m: Method) -> Baker {
+    per_ray(move |hf, surface, q| m.trace(hf, surface, q))
 }
 
 /// The maximum mipmap with `opts`, in SIMD lanes where the CPU has them unless `scalar`.
@@ -508,17 +515,7 @@ pub fn settings(sweep: &Sweep) -> Vec<Setting> {
                 "dda f64 (the oracle)",
                 true,
                 ALL_SURFACES,
-                baker(|hf, surface| {
-                    let hf = *hf;
-                    Box::new(Batch(
-                        move |rays: &[Query<f32>], out: &mut [Out]| {
-                            each(rays, out, |q| {
-                                Out::of(&dda::trace(&hf, surface, &q.cast::<f64>()))
-                            })
-                        },
-                        0,
-                    ))
-                }),
+                per_ray(|hf, surface, q| dda::trace(hf, surface, &q.cast::<f64>())),
             )
         },
     ];
@@ -559,15 +556,7 @@ pub fn settings(sweep: &Sweep) -> Vec<Setting> {
         "qu hybrid passes",
         true,
         VIEW_LINEAR,
-        baker(|hf, _| {
-            let hf = *hf;
-            Box::new(Batch(
-                move |rays: &[Query<f32>], out: &mut [Out]| {
-                    each(rays, out, |q| Out::of(&hfcast::hybrid::trace(&hf, q)))
-                },
-                0,
-            ))
-        }),
+        per_ray(|hf, _, q| hfcast::hybrid::trace(hf, q)),
     ));
     // The multiresolution walk at the same footprints as the maximum mipmap's level of
     // detail: coarse levels where a cell is narrower than `px` pixels.
@@ -598,17 +587,7 @@ pub fn settings(sweep: &Sweep) -> Vec<Setting> {
             format!("qu bilinear {linear}:{bisect}"),
             false,
             BILINEAR,
-            baker(move |hf, _| {
-                let hf = *hf;
-                Box::new(Batch(
-                    move |rays: &[Query<f32>], out: &mut [Out]| {
-                        each(rays, out, |q| {
-                            Out::of(&dda::trace_bilinear_search(&hf, q, (linear, bisect)))
-                        })
-                    },
-                    0,
-                ))
-            }),
+            per_ray(move |hf, _, q| dda::trace_bilinear_search(hf, q, (linear, bisect))),
         ));
     }
     let safety: [(_, _, fn(&mut Spec)); 6] = [
