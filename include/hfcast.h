@@ -141,8 +141,8 @@ enum hf_surface
   HF_SURFACE_VIEW_LINEAR = 4,
   // Qu et al. 2003 §3.2: two triangles per cell split along the fixed diagonal from
   // (i, j) to (i+1, j+1) in every cell, tested with their division-free inside test.
-  // Continuous, but not convex over a cell (a valley can run along the diagonal), so a
-  // segment clear at both ends can still meet it.
+  // Continuous, but its height is not convex over a cell (a ridge can run along the
+  // diagonal), so a segment clear at both ends can still meet it.
   HF_SURFACE_QU_TRIANGLES = 5,
 };
 #ifndef __cplusplus

@@ -31,8 +31,8 @@ named_enum! {
         ViewLinear = 4 => "view-linear" (true),
         /// Qu et al. 2003 §3.2: two triangles per cell split along the fixed diagonal
         /// from (i, j) to (i+1, j+1) in every cell, tested with their division-free
-        /// inside test. Continuous, but not convex over a cell (a valley can run along
-        /// the diagonal), so a segment clear at both ends can still meet it.
+        /// inside test. Continuous, but its height is not convex over a cell (a ridge can
+        /// run along the diagonal), so a segment clear at both ends can still meet it.
         QuTriangles = 5 => "qu-triangles" (true),
     }
     /// `true` when the surface is continuous, so its height on a cell edge is the linear
