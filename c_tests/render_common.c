@@ -345,8 +345,10 @@ const char *VERTEX_SOURCE =
     "}\n";
 
 /* The renderer's main: one primary ray per pixel (read from the ray textures), then a
- * shadow ray towards the light from just above the hit, both with the method's
- * hf_trace; writes the hit, the normal and shadow, a shaded colour, and the depth. */
+ * shadow ray towards the light from just above the hit (walked back from the light's
+ * side, query_walked_back, when shadow_from_light: an exterior ray), both with the
+ * method's hf_trace; writes the hit, the normal and shadow, a shaded colour, and the
+ * depth. */
 static const char *FRAGMENT_MAIN =
     "// ---- renderer main (c_tests/render_common.c)\n"
     "uniform sampler2D hf_ray_origin; // RGBA32F: origin.xyz, t_min\n"
@@ -354,6 +356,7 @@ static const char *FRAGMENT_MAIN =
     "uniform vec3 light_dir;          // unit, towards the light\n"
     "uniform float depth_far;         // gl_FragDepth = t / depth_far\n"
     "uniform float shadow_offset;     // shadow rays start at point + normal * offset\n"
+    "uniform uint shadow_from_light;  // 1: traced from the light's side, to that start\n"
     "layout(location = 0) out vec4 out_point;  // hit point, t (-1 on a miss)\n"
     "layout(location = 1) out vec4 out_normal; // normal, 1 when shadowed\n"
     "layout(location = 2) out vec4 out_color;  // shaded\n"
@@ -374,6 +377,7 @@ static const char *FRAGMENT_MAIN =
     "        vec3 so = vec3(p.x + n.x * shadow_offset, p.y + n.y * shadow_offset,\n"
     "                       p.z + n.z * shadow_offset);\n"
     "        q = Query(so, light_dir, 0.0, real_infinity());\n"
+    "        if (shadow_from_light != 0u) q = query_walked_back(q);\n"
     "    }\n"
     "    if (!first.has_hit) {\n"
     "        out_point = vec4(0.0, 0.0, 0.0, -1.0);\n"
@@ -661,6 +665,8 @@ void gpu_render_program(gpu *g, GLuint p, const scene *s, method_cfg cfg, float 
     glUniform3fv(glGetUniformLocation(p, "light_dir"), 1, LIGHT_DIR);
     glUniform1f(glGetUniformLocation(p, "depth_far"), depth_far);
     glUniform1f(glGetUniformLocation(p, "shadow_offset"), SHADOW_OFFSET);
+    /* Over maps of exterior rays the shadow rays come from the light's side, in the set. */
+    glUniform1ui(glGetUniformLocation(p, "shadow_from_light"), s->exterior);
     glBindVertexArray(g->vao);
     glDrawArrays(GL_TRIANGLES, 0, 3);
 }
@@ -723,7 +729,8 @@ parity compare(const scene *s, method_cfg cfg, const hf_ray *rays, const frame *
         fprintf(stderr, "cpu_trace failed (%u)\n", (unsigned)r);
         exit(2);
     }
-    /* Shadow rays from the CPU's own hits, with the shader's formula. */
+    /* Shadow rays from the CPU's own hits, with the shader's formula (walked back from
+     * the light's side over maps of exterior rays, as the shader does). */
     hf_ray *shadow_rays = (hf_ray *)malloc(sizeof(hf_ray) * n);
     hf_hit *shadow = (hf_hit *)malloc(sizeof(hf_hit) * n);
     size_t ns = 0;
@@ -738,6 +745,10 @@ parity compare(const scene *s, method_cfg cfg, const hf_ray *rays, const frame *
         }
         sr->t_min = 0.0f;
         sr->t_max = INFINITY;
+        if (s->exterior && (r = hf_ray_walked_back(s->field, sr, sr)) != HF_OK) {
+            fprintf(stderr, "hf_ray_walked_back failed (%u)\n", (unsigned)r);
+            exit(2);
+        }
         shadow_of[k] = ns++;
     }
     if (ns > 0 && (r = cpu_trace(s, cfg, shadow_rays, ns, shadow)) != HF_OK) {

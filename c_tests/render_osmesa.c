@@ -145,14 +145,17 @@ typedef struct map_set {
 } map_set;
 
 /* Each class subset for every ray, then every class for exterior rays within 60
- * degrees of the downward vertical (shadertest's RAY_SET). The default camera is
- * outside the box and looks 14 to 54 degrees below the horizon: its steeper rays are
- * in the set, the flatter ones not; the shadow rays start on the surface, outside it.
- * A ray outside the set walks cell by cell. */
+ * degrees of the downward vertical (shadertest's RAY_SET), then for exterior rays. The
+ * default camera is outside the box and looks 14 to 54 degrees below the horizon: its
+ * steeper rays are within 60 degrees, the flatter ones not. Over exterior maps the
+ * shadow rays are traced from the light's side (query_walked_back, hf_ray_walked_back):
+ * exterior, 61 degrees from the vertical (outside the first set, in the second). A
+ * ray outside the set walks cell by cell. */
 static const map_set MAP_SETS[] = {
     {HF_RAYS_X_POS | HF_RAYS_Y_NEG, 0, 0.0f},
     {HF_RAYS_X_NEG, 0, 0.0f},
     {HF_RAYS_ALL, 1, 60.0f},
+    {HF_RAYS_ALL, 1, 0.0f},
 };
 #define NUM_MAP_SETS (sizeof MAP_SETS / sizeof MAP_SETS[0])
 
@@ -363,10 +366,13 @@ static void use_maps(map_job *j, int w, int h, map_set m) {
     }
     char holding[64];
     classes_suffix(holding, sizeof holding, &j->s);
+    const float from_light[3] = {-LIGHT_DIR[0], -LIGHT_DIR[1], -LIGHT_DIR[2]};
+    const float *shadow_dir = m.exterior ? from_light : LIGHT_DIR;
     printf("maps of %s%s: %zu primary rays of classes held, %zu of classes not held, %zu in "
-           "the ray set; shadow rays (x+) %s\n",
-           j->s.name, holding, held, n - held, in_set,
-           ray_class_bit(LIGHT_DIR) & m.classes ? "held" : "not held");
+           "the ray set; shadow rays (%s, from the %s) of a class %s\n",
+           j->s.name, holding, held, n - held, in_set, m.exterior ? "x-" : "x+",
+           m.exterior ? "light" : "surface",
+           ray_class_bit(shadow_dir) & m.classes ? "held" : "not held");
 }
 
 /* The rays of `a` and `b` that differ: hit or miss, or hit points more than 1e-3 apart. */
@@ -586,7 +592,7 @@ static int run_bench(int w, int h, int frames, int nmaps, char **maps) {
 /* ---- generated shaders --------------------------------------------------------------- */
 
 /* The scene description of a renderer configuration: the general scene of its method
- * and surface (the renderer traces shadow rays, so upward rays stay), with 16-bit
+ * and surface (any view angle, so upward rays stay; shadows from the light), with 16-bit
  * heights when `u16`, its ray classes those the maps hold (`classes`: the generated
  * shader's hf_safety_classes / hf_cc_classes constants). */
 static hf_scene scene_of_cfg(method_cfg c, int u16, uint32_t classes) {
@@ -597,6 +603,9 @@ static hf_scene scene_of_cfg(method_cfg c, int u16, uint32_t classes) {
         exit(2);
     }
     sc.depth_output = 1;
+    /* Shadow rays from the light's side keep query_walked_back (the renderer calls it
+     * over maps of exterior rays); nothing else changes (the view angle stays 180). */
+    sc.shadows = HF_SHADOWS_FROM_LIGHT;
     sc.height_format = u16 ? HF_HEIGHTS_U16 : HF_HEIGHTS_F32;
     sc.ray_classes = classes;
     return sc;

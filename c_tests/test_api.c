@@ -966,13 +966,16 @@ static void test_world_units(void) {
     hf_field_destroy(tf);
 
     /* Shadow rays: from the hit point itself many start inside the solid; from
-     * hf_shadow_ray none does, with and without a transform. */
+     * hf_shadow_ray none does, with and without a transform. hf_shadow_ray_from_light
+     * walks the same points from the light's side: direction -light, t in [t_min, 0]
+     * with its start outside the box, in shadow iff hf_shadow_ray's ray is (but for a
+     * few touching rays, which f32 may settle either way). */
     const float light[3] = {0.3f, -0.4f, 0.6f};
     hf_field *fields[2] = {grid, world};
     hf_hit *answers[2] = {gh, wh};
     hf_ray *primaries[2] = {g, w};
     for (int f = 0; f < 2; f++) {
-        int lit = 0, naive_inside = 0, lifted_inside = 0;
+        int lit = 0, naive_inside = 0, lifted_inside = 0, shadowed = 0, disagree = 0;
         for (int k = 0; k < N; k++) {
             const hf_hit *h = &answers[f][k];
             if (!h->hit || (h->flags & HF_FLAG_ORIGIN_INSIDE)) continue;
@@ -986,12 +989,32 @@ static void test_world_units(void) {
                                    &sr));
             CHECK_OK(hf_trace(fields[f], HF_METHOD_EXACT, NULL, 0, NULL, &sr, &s));
             lifted_inside += s.hit && (s.flags & HF_FLAG_ORIGIN_INSIDE);
+            hf_ray lr;
+            hf_hit ls;
+            CHECK_OK(hf_shadow_ray_from_light(fields[f], HF_SURFACE_TRIANGLES, &primaries[f][k],
+                                              h, &light, &lr));
+            /* A ray that never meets the box (lifted over it, rising) comes back as
+             * it is: it starts outside already. */
+            int same = memcmp(&lr, &sr, sizeof lr) == 0;
+            CHECK(memcmp(lr.origin, sr.origin, sizeof lr.origin) == 0 &&
+                  (same || (lr.t_max == 0.0f && lr.t_min < 0.0f)));
+            for (int c = 0; c < 3; c++) CHECK(lr.dir[c] == (same ? light[c] : -light[c]));
+            if (f == 0) {
+                float o[3];
+                for (int c = 0; c < 3; c++) o[c] = lr.origin[c] + lr.t_min * lr.dir[c];
+                CHECK(o[0] < 0 || o[0] > W - 1 || o[1] < 0 || o[1] > H - 1 || o[2] > 8.0f);
+            }
+            CHECK_OK(hf_trace(fields[f], HF_METHOD_EXACT, NULL, 0, NULL, &lr, &ls));
+            CHECK(!(ls.flags & HF_FLAG_ORIGIN_INSIDE));
+            shadowed += s.hit != 0;
+            disagree += (s.hit != 0) != (ls.hit != 0);
         }
         CHECK(lit > N / 2 && naive_inside > lit / 20);
         CHECK(lifted_inside == 0);
+        CHECK(shadowed > lit / 50 && disagree * 200 <= lit);
         printf("shadow rays (%s): %d hits, %d start inside from the hit point, %d from "
-               "hf_shadow_ray\n",
-               f ? "world" : "grid", lit, naive_inside, lifted_inside);
+               "hf_shadow_ray; %d in shadow, %d differ from the light's side\n",
+               f ? "world" : "grid", lit, naive_inside, lifted_inside, shadowed, disagree);
     }
     hf_ray sr;
     memset(&sr, 0x5a, sizeof sr);
@@ -1005,6 +1028,12 @@ static void test_world_units(void) {
               HF_ERR_NULL_POINTER, &sr, sizeof sr);
     CHECK_BAD(hf_shadow_ray(grid, HF_SURFACE_TRIANGLES, &g[0], &gh[0], &light, NULL),
               HF_ERR_NULL_POINTER, nothing, 0);
+    CHECK_BAD(hf_shadow_ray_from_light(grid, HF_SURFACE_TRIANGLES, &g[0], &miss, &light, &sr),
+              HF_ERR_INVALID_ARGUMENT, &sr, sizeof sr);
+    CHECK_BAD(hf_shadow_ray_from_light(grid, 99, &g[0], &gh[0], &light, &sr),
+              HF_ERR_INVALID_ENUM, &sr, sizeof sr);
+    CHECK_BAD(hf_shadow_ray_from_light(grid, HF_SURFACE_TRIANGLES, &g[0], &gh[0], NULL, &sr),
+              HF_ERR_NULL_POINTER, &sr, sizeof sr);
     free(pyr);
     free(g);
     free(w);
@@ -1615,9 +1644,10 @@ static int traces_surface(uint32_t method, uint32_t surface) {
 
 /* hf_trace_camera: its hits are hf_trace_batch's on hf_camera_ray's rays, bit for bit,
  * for each of `n` methods `all` of field `f` (W x H), at 1 and 2 threads; its shadow
- * pass is hf_shadow_ray then hf_trace per pixel; bad cameras and buffers are refused. */
+ * pass is hf_shadow_ray then hf_trace per pixel (hf_shadow_ray_from_light when the maps
+ * are baked for `exterior` rays); bad cameras and buffers are refused. */
 static void check_camera(const hf_field *f, const method_map *all, int n, uint32_t w,
-                         uint32_t h) {
+                         uint32_t h, int exterior) {
     enum { CW = 19, CH = 13, NP = CW * CH };
     hf_camera cam = {{-3.0f, -4.0f, 12.0f}, {0.5f * w + 3.0f, 0.5f * h + 4.0f, -10.0f},
                      {0.0f, 0.0f, 1.0f}, 50.0f, CW, CH, INFINITY};
@@ -1650,7 +1680,8 @@ static void check_camera(const hf_field *f, const method_map *all, int n, uint32
             hits += m == 0;
             hf_ray sr;
             hf_hit one;
-            CHECK_OK(hf_shadow_ray(f, HF_SURFACE_TRIANGLES, &rays[k], &cam_hits[k], &light, &sr));
+            CHECK_OK((exterior ? hf_shadow_ray_from_light : hf_shadow_ray)(
+                f, HF_SURFACE_TRIANGLES, &rays[k], &cam_hits[k], &light, &sr));
             CHECK_OK(hf_trace(f, all[m].method, all[m].map, all[m].len, NULL, &sr, &one));
             same &= memcmp(&one, &shadows[k], sizeof one) == 0;
         }
@@ -1860,7 +1891,17 @@ static void test_trace_options(void) {
                   sizeof written);
         CHECK_BAD(name_of[t](0, buf, sizeof buf, NULL), HF_ERR_NULL_POINTER, buf, sizeof buf);
     }
-    check_camera(f, all, HF_METHOD_COUNT, W, H);
+    check_camera(f, all, HF_METHOD_COUNT, W, H, 0);
+    /* Maps of exterior rays: the shadow pass traces from the light's side. */
+    method_map exterior[2] = {{HF_METHOD_SAFETY, NULL, 0}, {HF_METHOD_CC, NULL, 0}};
+    for (int m = 0; m < 2; m++) {
+        hf_bake_options ext;
+        CHECK_OK(hf_bake_options_default(exterior[m].method, &ext));
+        ext.exterior = 1;
+        exterior[m].map = bake_map(exterior[m].method, f, &ext, &exterior[m].len);
+    }
+    check_camera(f, exterior, 2, W, H, 1);
+    for (int m = 0; m < 2; m++) free((void *)exterior[m].map);
     for (int m = 0; m < (int)HF_METHOD_COUNT; m++) free((void *)all[m].map);
     hf_field_destroy(f);
 }
@@ -2062,14 +2103,21 @@ static void test_build_and_plan(void) {
     CHECK_OK(hf_scene_bake_plan(&scene, &plan));
     CHECK(plan.cc_map == HF_NEED_KEEP && plan.nbuffer == HF_NEED_SCRATCH &&
           plan.safety_map == HF_NEED_SKIP && plan.ray_classes == HF_RAYS_ALL);
-    /* The plan's ray set: every ray for the general scene (it traces shadows), the
-     * scene's set without shadows, and the angle only below 180 degrees. */
+    /* The plan's ray set: every ray for the general scene (it traces shadows from the
+     * surface), the scene's set without shadows or with shadows from the light, and
+     * the angle only below 180 degrees; an unknown shadow kind is refused. */
+    CHECK(scene.shadows == HF_SHADOWS_FROM_SURFACE);
     CHECK(plan.exterior == 0 && plan.max_view_angle_deg == 0.0f);
     scene.outside_only = 1;
     scene.max_view_angle_deg = 60.0f;
     CHECK_OK(hf_scene_bake_plan(&scene, &plan));
     CHECK(plan.exterior == 0 && plan.max_view_angle_deg == 0.0f);
-    scene.shadows = 0;
+    scene.shadows = HF_SHADOWS_FROM_LIGHT;
+    CHECK_OK(hf_scene_bake_plan(&scene, &plan));
+    CHECK(plan.exterior == 1 && plan.max_view_angle_deg == 60.0f);
+    scene.shadows = 3;
+    CHECK(hf_scene_bake_plan(&scene, &plan) == HF_ERR_INVALID_ARGUMENT);
+    scene.shadows = HF_SHADOWS_NONE;
     CHECK_OK(hf_scene_bake_plan(&scene, &plan));
     CHECK(plan.exterior == 1 && plan.max_view_angle_deg == 60.0f);
     scene.max_view_angle_deg = 180.0f;

@@ -431,6 +431,29 @@ typedef uint32_t hf_height_format;
 #endif // __STDC_VERSION__ >= 202311L
 #endif // __cplusplus
 
+// Which shadow rays a scene traces (`hf_scene::shadows`). Passed as `uint32_t`.
+enum hf_shadows
+#if defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+  : uint32_t
+#endif // defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+ {
+  // No shadow rays.
+  HF_SHADOWS_NONE = 0,
+  // From each lit point up towards the light (`hf_shadow_ray`): they start inside
+  // the field's box and rise, so the safety shapes are baked for every ray.
+  HF_SHADOWS_FROM_SURFACE = 1,
+  // From the light's side down to each lit point (`hf_shadow_ray_from_light`):
+  // exterior rays, so a scene of outside viewpoints keeps its exterior maps.
+  HF_SHADOWS_FROM_LIGHT = 2,
+};
+#ifndef __cplusplus
+#if __STDC_VERSION__ >= 202311L
+typedef enum hf_shadows hf_shadows;
+#else
+typedef uint32_t hf_shadows;
+#endif // __STDC_VERSION__ >= 202311L
+#endif // __cplusplus
+
 // How a scene needs one baked product (the fields of `hf_bake_plan`). Passed as
 // `uint32_t`.
 enum hf_need
@@ -768,7 +791,7 @@ typedef struct hf_scene {
   // The largest angle between a primary ray and the downward vertical, in degrees,
   // in (0, 180]: 90 = horizontal at most, 180 = any direction.
   float max_view_angle_deg;
-  // 1 when shadow rays (upward, towards a light) are traced, else 0.
+  // Which shadow rays are traced (`hf_shadows`).
   uint32_t shadows;
   // 1 for level-of-detail marching (maximum mipmaps only; approximate), else 0.
   uint32_t lod;
@@ -814,10 +837,11 @@ typedef struct hf_bake_plan {
   uint32_t radius_map;
   // The ray set the safety-distance and cylinder–cone bakes are for (pass it as
   // `hf_bake_options::exterior`): 1 for exterior rays only when the scene's rays all
-  // start outside the box and it traces no shadows, else 0.
+  // start outside the box and it traces no shadows from the surface, else 0.
   uint32_t exterior;
   // Likewise `hf_bake_options::max_view_angle_deg`: the scene's largest view angle
-  // when below 180° and it traces no shadows, else 0 (any direction).
+  // when below 180° and it traces no shadows from the surface, else 0 (any
+  // direction).
   float max_view_angle_deg;
 } hf_bake_plan;
 
@@ -1032,7 +1056,9 @@ hf_result hf_trace_camera(const struct hf_field *field,
 // towards `to_light` (a direction in the field's world units), traced with `method`
 // over its `map` in the same tile order into `out_shadows[y * width + x]` (hit 1: the
 // point is in shadow); a pixel whose primary ray missed gets a miss without a trace.
-// The answers equal `hf_shadow_ray` then `hf_trace` per pixel, bit for bit.
+// Over a map baked for exterior rays the ray is `hf_shadow_ray_from_light`'s instead
+// (the same points from the light's side, in the map's set: the map's steps serve
+// it). The answers equal that ray's `hf_trace` per pixel, bit for bit.
 // Everything is checked first; an error writes nothing. Thread safe.
 //
 // # Safety
@@ -1634,8 +1660,8 @@ hf_result hf_maxmip_bake_passes(uint32_t width,
 #endif
 
 // Writes the general scene of `method` on `surface` to `*out`: every ray class,
-// viewpoints anywhere, any direction, shadows, no LOD, depth output, `F32` heights.
-// Thread safe.
+// viewpoints anywhere, any direction, shadows from the surface, no LOD, depth output,
+// `F32` heights. Thread safe.
 //
 // # Safety
 // `out` is NULL (an error) or valid for writing one `hf_scene`.
@@ -1882,6 +1908,41 @@ hf_result hf_shadow_ray(const struct hf_field *field,
                         const struct hf_hit *hit,
                         const float (*to_light)[3],
                         struct hf_ray *out_ray);
+
+// The shadow ray of `hf_shadow_ray` traced from the light's side, written to
+// `*out_ray`: the same points walked the other way, from a grid unit outside the
+// field's box down along `-to_light` to the same lifted start (origin that start,
+// direction `-to_light`, `t` in `[-T, 0]`). It meets the surface iff the ray of
+// `hf_shadow_ray` does, and it starts outside the box: a map baked for exterior rays
+// (`hf_bake_options::exterior`) takes its long steps along it, where the ray of
+// `hf_shadow_ray` walks cell by cell (`HF_SHADOWS_FROM_LIGHT`). Its hit, when in
+// shadow, is the one nearest the light. Errors as `hf_shadow_ray`. Thread safe.
+//
+// # Safety
+// As `hf_shadow_ray`.
+hf_result hf_shadow_ray_from_light(const struct hf_field *field,
+                                   uint32_t surface,
+                                   const struct hf_ray *primary,
+                                   const struct hf_hit *hit,
+                                   const float (*to_light)[3],
+                                   struct hf_ray *out_ray);
+
+// The ray `ray` of `field` (grid space, or world units when the field has a transform)
+// walked the other way, written to `*out_ray`: the origin kept, the direction
+// negated, `t` from a grid unit beyond where the ray leaves the field's box back to
+// `-t_min`. The same points, now entering from outside the box: how a shadow ray
+// towards a light becomes the light's ray to its point (`hf_shadow_ray_from_light`
+// is `hf_shadow_ray` then this). A ray that misses the box comes back as it is; one
+// that ends inside it is reversed over its own range. `HF_ERR_INVALID_RAY` for a ray
+// `hf_trace` refuses. Thread safe.
+//
+// # Safety
+// `field` is NULL (an error) or a live handle; `ray` NULL (an error) or valid for
+// reading; `out_ray` NULL (an error) or valid for writing one `hf_ray` (it may be
+// `ray`).
+hf_result hf_ray_walked_back(const struct hf_field *field,
+                             const struct hf_ray *ray,
+                             struct hf_ray *out_ray);
 
 #ifdef __cplusplus
 }  // extern "C"

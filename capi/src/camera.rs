@@ -9,6 +9,8 @@ use crate::trace::{
 };
 use crate::{guard, hf_field, ptr, surface_of};
 use hfcore::camera::{Pinhole, TILE};
+use hfcore::scene::Shadows;
+use hfcore::Marcher;
 use std::ffi::c_void;
 
 /// The side, in pixels, of the square tiles `hf_trace_camera` traces pixels in.
@@ -101,10 +103,10 @@ pub unsafe extern "C" fn hf_camera_ray(
     })
 }
 
-/// The ray a camera pass traces for pixel (x, y) of the camera (with its `t_max`), or
-/// `None` for a pixel answered as a miss without a trace.
+/// The ray a camera pass traces for pixel (x, y) of the camera (with its `t_max`) with
+/// the pass's marcher, or `None` for a pixel answered as a miss without a trace.
 type PixelRay<'a> =
-    dyn Fn(&Pinhole, f32, u32, u32) -> Result<Option<hf_ray>, hf_result> + Sync + 'a;
+    dyn Fn(&Pinhole, &Marcher, f32, u32, u32) -> Result<Option<hf_ray>, hf_result> + Sync + 'a;
 
 /// What both camera passes trace: their exports' first arguments (`field`, `method`,
 /// `map`, `map_len`, `options`, `camera`), as they take them.
@@ -161,7 +163,7 @@ unsafe fn trace_pixels(
         let (w, h) = (c.width, c.height);
         let corners = [(0, 0), (w - 1, 0), (0, h - 1), (w - 1, h - 1)];
         let check_at = |(x, y): (u32, u32)| -> Result<(), hf_result> {
-            match ray(&p, c.t_max, x, y)? {
+            match ray(&p, &m, c.t_max, x, y)? {
                 Some(r) => check(hf, &r, Some(y as usize * w as usize + x as usize)),
                 None => Ok(()),
             }
@@ -194,7 +196,7 @@ unsafe fn trace_pixels(
                     for y in ys.clone() {
                         for x in xs.clone() {
                             let k = y as usize * width + x as usize;
-                            queries.push(match ray(&p, c.t_max, x, y)? {
+                            queries.push(match ray(&p, &m, c.t_max, x, y)? {
                                 Some(r) => Some(query(hf, &r, Some(k))?),
                                 None => None,
                             });
@@ -237,7 +239,8 @@ pub unsafe extern "C" fn hf_trace_camera(
     out_hits_len: usize,
 ) -> hf_result {
     let pass = (field, method, map, map_len, options, camera);
-    let primary = |p: &Pinhole, t_max: f32, x: u32, y: u32| pixel_ray(p, t_max, x, y).map(Some);
+    let primary =
+        |p: &Pinhole, _: &Marcher, t_max: f32, x: u32, y: u32| pixel_ray(p, t_max, x, y).map(Some);
     // SAFETY: the caller's promises, passed on.
     unsafe { trace_pixels(pass, out_hits, out_hits_len, &primary, false) }
 }
@@ -248,7 +251,9 @@ pub unsafe extern "C" fn hf_trace_camera(
 /// towards `to_light` (a direction in the field's world units), traced with `method`
 /// over its `map` in the same tile order into `out_shadows[y * width + x]` (hit 1: the
 /// point is in shadow); a pixel whose primary ray missed gets a miss without a trace.
-/// The answers equal `hf_shadow_ray` then `hf_trace` per pixel, bit for bit.
+/// Over a map baked for exterior rays the ray is `hf_shadow_ray_from_light`'s instead
+/// (the same points from the light's side, in the map's set: the map's steps serve
+/// it). The answers equal that ray's `hf_trace` per pixel, bit for bit.
 /// Everything is checked first; an error writes nothing. Thread safe.
 ///
 /// # Safety
@@ -307,13 +312,17 @@ pub unsafe extern "C" fn hf_trace_camera_shadows(
         return code;
     };
     let hf = f.view();
-    let shadow = |p: &Pinhole, t_max: f32, x: u32, y: u32| -> Result<Option<hf_ray>, hf_result> {
+    let shadow = |p: &Pinhole, m: &Marcher, t_max: f32, x: u32, y: u32| {
         let h = &primary[y as usize * p.width as usize + x as usize];
         if h.hit == 0 {
             return Ok(None);
         }
         let r = pixel_ray(p, t_max, x, y)?;
-        shadow_ray_of(hf, surface, &r, h, l).map(Some)
+        let from = match m.rays().exterior {
+            true => Shadows::FromLight,
+            false => Shadows::FromSurface,
+        };
+        shadow_ray_of(hf, surface, &r, h, l, from).map(Some)
     };
     let pass = (field, method, map, map_len, options, camera);
     // SAFETY: the caller's promises, passed on.

@@ -3,7 +3,7 @@
 use crate::detail::fail;
 use crate::hf_result::{self, *};
 use crate::{guard, method_of, ptr, surface_of};
-use hfcore::scene::{BakePlan, HeightFormat, Need, RayClasses, Scene};
+use hfcore::scene::{BakePlan, HeightFormat, Need, RayClasses, Scene, Shadows};
 use std::ffi::c_char;
 
 /// Ray-class bit of `hf_scene::ray_classes`: rays with dx ≥ |dy|.
@@ -29,6 +29,20 @@ pub enum hf_height_format {
     HF_HEIGHTS_U8 = 2,
 }
 
+/// Which shadow rays a scene traces (`hf_scene::shadows`). Passed as `uint32_t`.
+#[repr(u32)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum hf_shadows {
+    /// No shadow rays.
+    HF_SHADOWS_NONE = 0,
+    /// From each lit point up towards the light (`hf_shadow_ray`): they start inside
+    /// the field's box and rise, so the safety shapes are baked for every ray.
+    HF_SHADOWS_FROM_SURFACE = 1,
+    /// From the light's side down to each lit point (`hf_shadow_ray_from_light`):
+    /// exterior rays, so a scene of outside viewpoints keeps its exterior maps.
+    HF_SHADOWS_FROM_LIGHT = 2,
+}
+
 /// What a scene uses; shader generation and bakes leave out everything else. Fill it
 /// with `hf_scene_general`, then narrow it.
 #[repr(C)]
@@ -45,7 +59,7 @@ pub struct hf_scene {
     /// The largest angle between a primary ray and the downward vertical, in degrees,
     /// in (0, 180]: 90 = horizontal at most, 180 = any direction.
     pub max_view_angle_deg: f32,
-    /// 1 when shadow rays (upward, towards a light) are traced, else 0.
+    /// Which shadow rays are traced (`hf_shadows`).
     pub shadows: u32,
     /// 1 for level-of-detail marching (maximum mipmaps only; approximate), else 0.
     pub lod: u32,
@@ -83,7 +97,7 @@ pub(crate) fn scene_of(s: &hf_scene) -> Result<Scene, hf_result> {
         ray_classes: RayClasses(u8::try_from(s.ray_classes).unwrap_or(u8::MAX)),
         outside_only: flag(s.outside_only)?,
         max_view_angle_deg: s.max_view_angle_deg,
-        shadows: flag(s.shadows)?,
+        shadows: Shadows::from_u32(s.shadows).ok_or(HF_ERR_INVALID_ARGUMENT)?,
         lod: flag(s.lod)?,
         depth_output: flag(s.depth_output)?,
         heights,
@@ -102,7 +116,7 @@ pub(crate) fn c_scene(s: &Scene) -> hf_scene {
         ray_classes: u32::from(s.ray_classes.0),
         outside_only: u32::from(s.outside_only),
         max_view_angle_deg: s.max_view_angle_deg,
-        shadows: u32::from(s.shadows),
+        shadows: s.shadows as u32,
         lod: u32::from(s.lod),
         depth_output: u32::from(s.depth_output),
         height_format: s.heights as u32,
@@ -110,8 +124,8 @@ pub(crate) fn c_scene(s: &Scene) -> hf_scene {
 }
 
 /// Writes the general scene of `method` on `surface` to `*out`: every ray class,
-/// viewpoints anywhere, any direction, shadows, no LOD, depth output, `F32` heights.
-/// Thread safe.
+/// viewpoints anywhere, any direction, shadows from the surface, no LOD, depth output,
+/// `F32` heights. Thread safe.
 ///
 /// # Safety
 /// `out` is NULL (an error) or valid for writing one `hf_scene`.
@@ -196,10 +210,11 @@ pub struct hf_bake_plan {
     pub radius_map: u32,
     /// The ray set the safety-distance and cylinder–cone bakes are for (pass it as
     /// `hf_bake_options::exterior`): 1 for exterior rays only when the scene's rays all
-    /// start outside the box and it traces no shadows, else 0.
+    /// start outside the box and it traces no shadows from the surface, else 0.
     pub exterior: u32,
     /// Likewise `hf_bake_options::max_view_angle_deg`: the scene's largest view angle
-    /// when below 180° and it traces no shadows, else 0 (any direction).
+    /// when below 180° and it traces no shadows from the surface, else 0 (any
+    /// direction).
     pub max_view_angle_deg: f32,
 }
 
@@ -325,7 +340,7 @@ mod tests {
                 max_view_angle_deg: 0.0,
                 ..s
             },
-            hf_scene { shadows: 2, ..s },
+            hf_scene { shadows: 3, ..s },
         ] {
             assert_eq!(scene_of(&bad), Err(HF_ERR_INVALID_ARGUMENT));
         }

@@ -241,7 +241,7 @@ mod tests {
         assert_eq!(unsafe { hf_scene_general(0, 0, scene.as_mut_ptr()) }, HF_OK);
         // SAFETY: written on HF_OK.
         let mut scene = unsafe { scene.assume_init() };
-        scene.shadows = 0;
+        scene.shadows = crate::scene::hf_shadows::HF_SHADOWS_NONE as u32;
         scene.max_view_angle_deg = 60.0;
         let mut len = 0usize;
         // SAFETY: valid pointers.

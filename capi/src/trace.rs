@@ -6,8 +6,8 @@ use crate::ptr::Named;
 use crate::{guard, hf_field, ptr, surface_of};
 use hfcore::condition::{condition, condition_query, Local};
 use hfcore::march::MarchOptions;
-use hfcore::scene::MethodKind;
 use hfcore::scene::RayClasses;
+use hfcore::scene::{MethodKind, Shadows};
 use hfcore::{Flags, HeightField, Hit, Marcher, Query, Surface, Trace};
 use std::ffi::c_void;
 
@@ -554,6 +554,100 @@ pub unsafe extern "C" fn hf_shadow_ray(
     to_light: *const [f32; 3],
     out_ray: *mut hf_ray,
 ) -> hf_result {
+    // SAFETY: the caller's promises, passed on.
+    unsafe {
+        shadow_ray_call(
+            field,
+            surface,
+            primary,
+            hit,
+            to_light,
+            out_ray,
+            Shadows::FromSurface,
+        )
+    }
+}
+
+/// The shadow ray of `hf_shadow_ray` traced from the light's side, written to
+/// `*out_ray`: the same points walked the other way, from a grid unit outside the
+/// field's box down along `-to_light` to the same lifted start (origin that start,
+/// direction `-to_light`, `t` in `[-T, 0]`). It meets the surface iff the ray of
+/// `hf_shadow_ray` does, and it starts outside the box: a map baked for exterior rays
+/// (`hf_bake_options::exterior`) takes its long steps along it, where the ray of
+/// `hf_shadow_ray` walks cell by cell (`HF_SHADOWS_FROM_LIGHT`). Its hit, when in
+/// shadow, is the one nearest the light. Errors as `hf_shadow_ray`. Thread safe.
+///
+/// # Safety
+/// As `hf_shadow_ray`.
+#[no_mangle]
+pub unsafe extern "C" fn hf_shadow_ray_from_light(
+    field: *const hf_field,
+    surface: u32,
+    primary: *const hf_ray,
+    hit: *const hf_hit,
+    to_light: *const [f32; 3],
+    out_ray: *mut hf_ray,
+) -> hf_result {
+    // SAFETY: the caller's promises, passed on.
+    unsafe {
+        shadow_ray_call(
+            field,
+            surface,
+            primary,
+            hit,
+            to_light,
+            out_ray,
+            Shadows::FromLight,
+        )
+    }
+}
+
+/// The ray `ray` of `field` (grid space, or world units when the field has a transform)
+/// walked the other way, written to `*out_ray`: the origin kept, the direction
+/// negated, `t` from a grid unit beyond where the ray leaves the field's box back to
+/// `-t_min`. The same points, now entering from outside the box: how a shadow ray
+/// towards a light becomes the light's ray to its point (`hf_shadow_ray_from_light`
+/// is `hf_shadow_ray` then this). A ray that misses the box comes back as it is; one
+/// that ends inside it is reversed over its own range. `HF_ERR_INVALID_RAY` for a ray
+/// `hf_trace` refuses. Thread safe.
+///
+/// # Safety
+/// `field` is NULL (an error) or a live handle; `ray` NULL (an error) or valid for
+/// reading; `out_ray` NULL (an error) or valid for writing one `hf_ray` (it may be
+/// `ray`).
+#[no_mangle]
+pub unsafe extern "C" fn hf_ray_walked_back(
+    field: *const hf_field,
+    ray: *const hf_ray,
+    out_ray: *mut hf_ray,
+) -> hf_result {
+    guard(|| {
+        // SAFETY: the caller promises a live handle and a readable ray (copied first).
+        let (f, r) = unsafe { (ptr::get(field)?, *ptr::get(ray)?) };
+        let out = ptr::out(out_ray)?;
+        let hf = f.view();
+        let q = Query::from_arrays(r.origin, r.dir, r.t_min, r.t_max)
+            .and_then(|q| hf.transform().walked_back(hf, &q))
+            .map_err(|e| crate::detail::fail(HF_ERR_INVALID_RAY, e))?;
+        // SAFETY: the caller promises `out_ray` is writable.
+        unsafe { out.set(hf_ray::from(q)) };
+        Ok(())
+    })
+}
+
+/// `hf_shadow_ray` (`from` [`Shadows::FromSurface`]) or `hf_shadow_ray_from_light`.
+///
+/// # Safety
+/// As `hf_shadow_ray`.
+unsafe fn shadow_ray_call(
+    field: *const hf_field,
+    surface: u32,
+    primary: *const hf_ray,
+    hit: *const hf_hit,
+    to_light: *const [f32; 3],
+    out_ray: *mut hf_ray,
+    from: Shadows,
+) -> hf_result {
     guard(|| {
         // SAFETY: the caller promises a live handle and readable inputs.
         let (f, p, h, l) = unsafe {
@@ -565,31 +659,36 @@ pub unsafe extern "C" fn hf_shadow_ray(
             )
         };
         let out = ptr::out(out_ray)?;
-        let ray = shadow_ray_of(f.view(), surface_of(surface)?, p, h, *l)?;
+        let ray = shadow_ray_of(f.view(), surface_of(surface)?, p, h, *l, from)?;
         // SAFETY: the caller promises `out_ray` is writable.
         unsafe { out.set(ray) };
         Ok(())
     })
 }
 
-/// The shadow ray of `hf_shadow_ray`: from `hit` (the answer to `primary` on
-/// `surface`) towards `to_light`, lifted off the surface; `HF_ERR_INVALID_ARGUMENT`
-/// for a miss or a hit that is not finite. Also the camera's shadow pass.
+/// The shadow ray of `hf_shadow_ray` (`from` [`Shadows::FromSurface`]) or of
+/// `hf_shadow_ray_from_light` ([`Shadows::FromLight`]): from `hit` (the answer to
+/// `primary` on `surface`) towards `to_light`, lifted off the surface;
+/// `HF_ERR_INVALID_ARGUMENT` for a miss or a hit that is not finite. Also the camera's
+/// shadow pass.
 pub(crate) fn shadow_ray_of(
     hf: &HeightField,
     surface: Surface,
     primary: &hf_ray,
     hit: &hf_hit,
     to_light: [f32; 3],
+    from: Shadows,
 ) -> Result<hf_ray, hf_result> {
     if hit.hit == 0 || !hit.point.iter().chain(&hit.normal).all(|v| v.is_finite()) {
         return Err(HF_ERR_INVALID_ARGUMENT);
     }
     let p = primary;
     let primary = Query::from_arrays(p.origin, p.dir, p.t_min, p.t_max)?;
-    let q = hf
-        .transform()
-        .shadow_query(hf, surface, &primary, &hit.to_hit(), to_light)?;
+    let (xf, h) = (hf.transform(), hit.to_hit());
+    let q = match from {
+        Shadows::FromLight => xf.shadow_query_from_light(hf, surface, &primary, &h, to_light),
+        _ => xf.shadow_query(hf, surface, &primary, &h, to_light),
+    }?;
     Ok(hf_ray::from(q))
 }
 

@@ -207,6 +207,20 @@ impl<'a> Marcher<'a> {
         }
     }
 
+    /// The rays its map is baked for ([`Rays::ALL`](crate::rayset::Rays::ALL) for a
+    /// method without a ray set): callers that can choose how a ray runs (shadow rays,
+    /// [`Hit::shadow_query_from_light`](crate::Hit::shadow_query_from_light)) keep it
+    /// in the set.
+    pub fn rays(&self) -> crate::rayset::Rays {
+        match self {
+            #[cfg(feature = "safety")]
+            Marcher::Safety(map, _) => map.rays(),
+            #[cfg(feature = "safety")]
+            Marcher::Cc(map, _) => map.rays(),
+            _ => crate::rayset::Rays::ALL,
+        }
+    }
+
     /// [`Marcher::trace`] of every query of `queries` into `out` (same lengths), the
     /// answers bit for bit the same: with `simd`, the methods with a laned march
     /// ([`crate::maxmip::trace_lanes`]) march several rays at once; the others, and

@@ -147,6 +147,67 @@ impl<R: Real> Query<R> {
             t_max: S::from_f64(self.t_max.to_f64()),
         }
     }
+
+    /// The same points walked the other way: the origin kept, the direction negated,
+    /// `t` from where the ray leaves the closed box every surface of `hf` lies in (a
+    /// grid unit beyond it; the samples' height range widened by itself above and
+    /// below, as the corner planes need) back to `−t_min`. A shadow ray from a surface point towards a light
+    /// becomes the light's ray to that point ([`Hit::shadow_query_from_light`]): it
+    /// starts outside the box, so an exterior map's set holds it
+    /// ([`Rays::holds`](crate::rayset::Rays::holds)), and it meets the surface iff the
+    /// original does (its first hit is the one nearest the light). The origin is not
+    /// moved, so the end the original started at is computed without rounding. A ray
+    /// that ends (`t_max`) inside the box is reversed over its own range; one that
+    /// misses the box is returned as it is.
+    pub fn walked_back(&self, hf: &HeightField) -> Query<R> {
+        match self.walked_back_range(hf) {
+            Some((t_min, t_max)) => Query {
+                origin: self.origin,
+                dir: self.dir.map(|v| -v),
+                t_min,
+                t_max,
+            },
+            None => *self,
+        }
+    }
+
+    /// The `t` range of [`Query::walked_back`], `None` when the ray misses the box (it
+    /// is returned as it is).
+    pub fn walked_back_range(&self, hf: &HeightField) -> Option<(R, R)> {
+        let (o, d) = (self.origin.map(R::to_f64), self.dir.map(R::to_f64));
+        // The box every surface lies in (the corner planes overshoot the samples by
+        // up to their range: `dda::clip_surface`).
+        let (zmin, zmax) = (f64::from(hf.min_height()), f64::from(hf.max_height()));
+        let range = zmax - zmin;
+        let lo = [0.0, 0.0, zmin - range];
+        let hi = [
+            f64::from(hf.width() - 1),
+            f64::from(hf.height() - 1),
+            zmax + range,
+        ];
+        // Where the line is in the box: [near, far] (slabs, closed).
+        let (mut near, mut far) = (f64::NEG_INFINITY, f64::INFINITY);
+        for k in 0..3 {
+            if d[k] != 0.0 {
+                let (a, b) = ((lo[k] - o[k]) / d[k], (hi[k] - o[k]) / d[k]);
+                near = near.max(a.min(b));
+                far = far.min(a.max(b));
+            } else if o[k] < lo[k] || o[k] > hi[k] {
+                far = f64::NEG_INFINITY;
+            }
+        }
+        let (t0, t1) = (self.t_min.to_f64(), self.t_max.to_f64());
+        if far < near.max(t0) {
+            return None;
+        }
+        let length = libm::sqrt(d.iter().map(|v| v * v).sum::<f64>());
+        let end = if far < t1 {
+            R::from_f64(far + 1.0 / length).min(self.t_max)
+        } else {
+            self.t_max
+        };
+        Some((-end, -self.t_min))
+    }
 }
 
 /// Bit flags describing a hit or a trace.
@@ -227,6 +288,23 @@ impl<R: Real> Hit<R> {
             o[2] = o[2].max(surface.height_at(hf, o[0], o[1]) + lift);
         }
         Query::from_arrays(o, to_light, R::ZERO, R::INFINITY)
+    }
+
+    /// [`Hit::shadow_query`] traced from the light's side ([`Query::walked_back`]):
+    /// from outside the field's box, along `−to_light`, to the same lifted start. It
+    /// meets the surface iff the shadow query does, and it is an exterior ray, so the
+    /// safety shapes baked for exterior rays take their long steps along it
+    /// ([`Shadows::FromLight`](crate::scene::Shadows::FromLight)).
+    pub fn shadow_query_from_light(
+        &self,
+        hf: &HeightField,
+        surface: Surface,
+        to_light: [R; 3],
+        magnitude: R,
+    ) -> Result<Query<R>, RayError> {
+        Ok(self
+            .shadow_query(hf, surface, to_light, magnitude)?
+            .walked_back(hf))
     }
 }
 

@@ -312,6 +312,38 @@ pub enum HeightFormat {
     U8 = 2,
 }
 
+/// Which shadow rays a scene traces: none, or towards a directional light from each
+/// lit point, started at one end or the other of the same segment.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+#[repr(u32)]
+pub enum Shadows {
+    /// No shadow rays.
+    None = 0,
+    /// From the lit point up towards the light ([`Hit::shadow_query`](crate::Hit::shadow_query)):
+    /// they start inside the field's box and rise, so no narrower ray set holds them.
+    FromSurface = 1,
+    /// From the light's side down to the lit point
+    /// ([`Hit::shadow_query_from_light`](crate::Hit::shadow_query_from_light)): they
+    /// start outside the box and descend along the light's direction, so they are
+    /// exterior rays, within the scene's view angle when the light is.
+    FromLight = 2,
+}
+
+impl Shadows {
+    /// Every value, in order.
+    pub const ALL: [Shadows; 3] = [Shadows::None, Shadows::FromSurface, Shadows::FromLight];
+
+    /// Whether shadow rays are traced.
+    pub fn traced(self) -> bool {
+        self != Shadows::None
+    }
+
+    /// The value numbered `v` (its discriminant, as the C API passes it).
+    pub fn from_u32(v: u32) -> Option<Shadows> {
+        Shadows::ALL.into_iter().find(|&s| s as u32 == v)
+    }
+}
+
 /// What a scene uses. Everything it does not name may be left out.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Scene {
@@ -326,8 +358,8 @@ pub struct Scene {
     /// The largest angle between a primary ray and the downward vertical, in degrees:
     /// 90 = horizontal rays at most, 180 = any direction.
     pub max_view_angle_deg: f32,
-    /// Whether shadow rays (upward, towards a light) are traced.
-    pub shadows: bool,
+    /// Which shadow rays are traced, if any.
+    pub shadows: Shadows,
     /// Whether level-of-detail marching is used (maximum mipmaps only; approximate).
     pub lod: bool,
     /// Whether the shader writes the hit depth.
@@ -370,7 +402,8 @@ impl Scene {
     }
 
     /// The general scene of `method` on `surface`: every ray class, viewpoints
-    /// anywhere, any direction, shadows, no LOD, depth output, `F32` heights.
+    /// anywhere, any direction, shadows from the surface, no LOD, depth output, `F32`
+    /// heights.
     pub fn general(method: MethodKind, surface: Surface) -> Scene {
         Scene {
             surface,
@@ -378,7 +411,7 @@ impl Scene {
             ray_classes: RayClasses::ALL,
             outside_only: false,
             max_view_angle_deg: 180.0,
-            shadows: true,
+            shadows: Shadows::FromSurface,
             lod: false,
             depth_output: true,
             heights: HeightFormat::F32,
@@ -507,9 +540,11 @@ pub struct BakePlan {
     /// The rays the safety-distance and cylinder–cone maps are baked for
     /// ([`Rays`](crate::rayset::Rays); [`Rays::ALL`](crate::rayset::Rays::ALL) for
     /// the other methods): exterior when the scene's origins stay outside the box,
-    /// its view angle when below 180°, but every ray once it traces shadows (shadow
-    /// rays start on the surface, inside the box, and rise). A ray outside the set
-    /// still gets its exact answer (the march's guard), only without the map's steps.
+    /// its view angle when below 180°, but every ray once it traces
+    /// [`Shadows::FromSurface`] (they start inside the box and rise). Shadow rays
+    /// traced [`Shadows::FromLight`] keep the scene's set: they are exterior, and
+    /// within its view angle when the light is. A ray outside the set still gets its
+    /// exact answer (the march's guard), only without the map's steps.
     pub rays: crate::rayset::Rays,
 }
 
@@ -575,7 +610,8 @@ impl Scene {
     /// What to bake for this scene, and what not: only the data its method reads,
     /// safety-shape channels only for the ray classes that occur, and the safety
     /// shapes for the scene's ray set (`outside_only`, `max_view_angle_deg`; every
-    /// ray when the scene traces shadows, which start on the surface and rise).
+    /// ray when the scene traces shadows from the surface, which start inside the box
+    /// and rise).
     pub fn bake_plan(&self) -> BakePlan {
         use Need::{Keep, Scratch, Skip};
         use Product as P;
@@ -589,7 +625,7 @@ impl Scene {
             max_view_angle_deg: self.max_view_angle_deg,
         };
         let scene_rays = match scene_rays.validate() {
-            Ok(r) if !self.shadows => r,
+            Ok(r) if self.shadows != Shadows::FromSurface => r,
             _ => crate::rayset::Rays::ALL,
         };
         // The method's own map is kept; the bakes' inputs are scratch.

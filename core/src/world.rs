@@ -216,6 +216,35 @@ impl WorldTransform {
         Query::from_arrays(origin, to_light, R::ZERO, R::INFINITY)
     }
 
+    /// [`Hit::shadow_query_from_light`] in world units: [`WorldTransform::shadow_query`]
+    /// walked back from the light's side ([`WorldTransform::walked_back`]).
+    pub fn shadow_query_from_light<R: Real>(
+        &self,
+        hf: &HeightField,
+        surface: Surface,
+        primary: &Query<R>,
+        hit: &Hit<R>,
+        to_light: [R; 3],
+    ) -> Result<Query<R>, RayError> {
+        let q = self.shadow_query(hf, surface, primary, hit, to_light)?;
+        self.walked_back(hf, &q)
+    }
+
+    /// [`Query::walked_back`] of a world ray: `t` is the same in both spaces, so the
+    /// range comes from the grid ray and the origin stays the world one.
+    pub fn walked_back<R: Real>(
+        &self,
+        hf: &HeightField,
+        world: &Query<R>,
+    ) -> Result<Query<R>, RayError> {
+        let (o, d) = (world.origin(), world.dir());
+        let grid = self.query_to_grid(o, d, world.t_min(), world.t_max())?;
+        match grid.walked_back_range(hf) {
+            Some((t_min, t_max)) => Query::from_arrays(o, d.map(|v| -v), t_min, t_max),
+            None => Ok(*world),
+        }
+    }
+
     /// Traces a world ray: converts it to grid space, runs `trace` (any march) and
     /// converts the answer back.
     pub fn trace<R: Real>(

@@ -444,3 +444,100 @@ fn witness_checks(
     let exits = common::breakpoints(q, hit, t1).into_iter().any(above) || above(t1);
     exits.then(|| above(t1))
 }
+
+/// Shadow rays of camera hits traced from the light's side
+/// (`Hit::shadow_query_from_light`, what `Shadows::FromLight` scenes trace): each starts
+/// outside the box, so the exterior set holds it; each meets the surface iff the shadow
+/// ray from the lit point does (where neither is ambiguous); through the exterior maps
+/// each is right against the oracle, and the maps' steps serve them: fewer fetches than
+/// the same rays walked cell by cell (the same bytes read as a map of a set that holds
+/// none of them: the guard's walk). (The rays from the lit points cost fewer still on
+/// these fields: a shadowed one stops at its first hit, near the point.)
+#[test]
+fn shadow_rays_from_the_light() {
+    let mut rng = Rng::new(0x5a0);
+    let (mut compared, mut disagree, mut wrong) = (0u64, 0u64, 0u64);
+    // Per map (SD, CC): fetches of the rays from the light, through the map and walked.
+    let mut fetches = [[0u64; 2]; 2];
+    for (name, field) in fields() {
+        let hf = field.hf();
+        let exact = Marcher::Exact(TRI);
+        let mut down: Vec<Query<f32>> = Vec::new();
+        for spec in set_rays(&field, &mut rng, 300) {
+            let q = spec.q32();
+            let Some(hit) = exact.trace(&hf, &q).hit else {
+                continue;
+            };
+            let m = q.origin().iter().fold(0f32, |m, v| m.max(v.abs()));
+            for (az, el) in [(0.3f32, 0.15f32), (2.0, 0.5), (4.0, 1.1)] {
+                let light = [az.cos() * el.cos(), az.sin() * el.cos(), el.sin()];
+                let up = hit.shadow_query(&hf, TRI, light, m).unwrap();
+                let from_light = hit.shadow_query_from_light(&hf, TRI, light, m).unwrap();
+                assert!(
+                    Rays::EXTERIOR.holds(&hf, &from_light),
+                    "{name}: {from_light:?} does not start outside the box"
+                );
+                let (a, b) = (exact.trace(&hf, &up), exact.trace(&hf, &from_light));
+                let clear = |t: &Trace<f32>, q| judge_trace(&field, TRI, t, q, field.z_scale());
+                if clear(&a, &up) == Some(true) && clear(&b, &from_light) == Some(true) {
+                    compared += 1;
+                    disagree += u64::from(a.hit.is_some() != b.hit.is_some());
+                }
+                down.push(from_light);
+            }
+        }
+        let (sd, cc) = (
+            bake_sd(&field, Rays::EXTERIOR, Variant::Directional),
+            bake_cc(&field, Rays::EXTERIOR, Slope::Exact),
+        );
+        // A set no ray here is in (none is within a thousandth of a degree of the
+        // vertical): the guard walks every ray.
+        let none = Rays {
+            exterior: true,
+            max_view_angle_deg: 1e-3,
+        };
+        let maps = [Rays::EXTERIOR, none].map(|set| {
+            [
+                Marcher::Safety(
+                    SafetyMap::new(&hf, &sd, Variant::Directional)
+                        .unwrap()
+                        .with_rays(set),
+                    MarchSurface::Triangles,
+                ),
+                Marcher::Cc(
+                    CcMap::new(&hf, &cc, CcOptions::default().cap)
+                        .unwrap()
+                        .with_rays(set),
+                    MarchSurface::Triangles,
+                ),
+            ]
+        });
+        for ((m, walked), f) in maps[0].iter().zip(&maps[1]).zip(&mut fetches) {
+            let mut t = Tally::new(format!("{name} {:?} from the light", m.kind()));
+            for q in &down {
+                judge_one(&field, m, q, &mut t);
+                judge_one(&field, m, &q.cast::<f64>(), &mut t);
+                f[0] += u64::from(m.trace(&hf, q).fetches);
+                f[1] += u64::from(walked.trace(&hf, q).fetches);
+            }
+            wrong += t.wrong;
+            let mut out = String::new();
+            t.report(&mut out);
+            print!("{out}");
+        }
+    }
+    println!(
+        "{compared} pairs compared, {disagree} disagree; fetches of the rays from the \
+         light, through the map / walked: SD {:?}, CC {:?}",
+        fetches[0], fetches[1]
+    );
+    assert!(compared > 3000, "too few shadow rays compared: {compared}");
+    assert_eq!(disagree, 0, "from the light and from the surface disagree");
+    assert_eq!(wrong, 0, "wrong shadow rays from the light");
+    for [map, walked] in fetches {
+        assert!(
+            map < walked,
+            "the maps' steps do not serve the light's rays"
+        );
+    }
+}

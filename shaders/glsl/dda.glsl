@@ -81,6 +81,43 @@ bool dda_clip_surface(uint surface, Query q, inout Span span) {
     return t0 <= t1 && real_is_finite(t0) && real_is_finite(t1);
 }
 
+// One slab of `query_walked_back`: where `o + t d` is within [lo, hi], as (near, far)
+// (far < near when never).
+vec2 dda_slab(float o, float d, float lo, float hi) {
+    if (d != 0.0) {
+        float a = (lo - o) / d;
+        float b = (hi - o) / d;
+        return vec2(min(a, b), max(a, b));
+    }
+    float inf = real_infinity();
+    return ((o < lo || o > hi) ? (vec2(inf, -inf)) : (vec2(-inf, inf)));
+}
+
+// `Query::walked_back` (core/src/ray.rs), in f32: the same points walked from a grid
+// unit beyond where the ray leaves the box every surface lies in back to its start
+// (origin kept, direction negated, t in [-end, -t_min]); a ray that misses the box as
+// it is. How a shadow ray towards a light becomes the light's ray, an exterior one.
+// The range may differ from the core's f64 one by rounding: its start is outside the
+// box either way, and the march clips to the box.
+Query query_walked_back(Query q) {
+    float zmin = field_min_height();
+    float zmax = field_max_height();
+    float range = zmax - zmin;
+    vec2 x = dda_slab(q.origin.x, q.dir.x, 0.0, float(field_width() - 1u));
+    vec2 y = dda_slab(q.origin.y, q.dir.y, 0.0, float(field_height() - 1u));
+    vec2 z = dda_slab(q.origin.z, q.dir.z, zmin - range, zmax + range);
+    float near = max(max(x.x, y.x), z.x);
+    float far = min(min(x.y, y.y), z.y);
+    if (far < max(near, q.t_min)) {
+        return q;
+    }
+    float end = q.t_max;
+    if (far < q.t_max) {
+        end = min(far + 1.0 / length(q.dir), q.t_max);
+    }
+    return Query(q.origin, -q.dir, -end, -q.t_min);
+}
+
 // `clip`: the box of the triangle surface (the sample range in z).
 bool dda_clip(Query q, inout Span span) { return dda_clip_surface(HF_SURFACE_TRIANGLES, q, span); }
 

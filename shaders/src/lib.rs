@@ -54,7 +54,7 @@ pub use shared::{
     MAX_LEVELS, PYRAMID_TEX_WIDTH, SAFETY_SEG_PAD,
 };
 
-use hfcast::scene::{HeightFormat, MethodKind, RayClasses, Scene, SceneError};
+use hfcast::scene::{HeightFormat, MethodKind, RayClasses, Scene, SceneError, Shadows};
 use hfcast::Surface;
 use shake::{Item, Kind, Seg};
 use std::collections::{BTreeMap, BTreeSet};
@@ -299,7 +299,7 @@ pub fn scene_flags(scene: &Scene, opts: &Options) -> Result<Vec<&'static str>, G
         SafetyVariant::Directional => "directional",
         SafetyVariant::Isotropic => "isotropic",
     });
-    if scene.shadows || angle > 90.0 {
+    if scene.shadows == Shadows::FromSurface || angle > 90.0 {
         flags.push("upward");
     }
     flags.push(match scene.heights {
@@ -402,7 +402,9 @@ pub fn generate(scene: &Scene, lang: Lang) -> Result<String, GenError> {
 /// those maps are baked for, `hf_rays_exterior` and `hf_rays_max_view_angle` (the bake
 /// plan's `rays`), become constants;
 /// then only the top-level items reachable from the entry points
-/// `Trace hf_trace(Query q)` and `Trace hf_trace_world(Query world)` stay. A header
+/// `Trace hf_trace(Query q)` and `Trace hf_trace_world(Query world)` stay (and
+/// `Query query_walked_back(Query q)`, `Query::walked_back`, when the scene traces
+/// [`Shadows::FromLight`]: the light's ray to a point from its shadow ray). A header
 /// comment names the scene and lists the inputs (uniforms, textures, bindings) left for
 /// the caller to set.
 pub fn generate_with(scene: &Scene, lang: Lang, opts: &Options) -> Result<String, GenError> {
@@ -439,7 +441,12 @@ pub fn generate_with(scene: &Scene, lang: Lang, opts: &Options) -> Result<String
             }
         }
     }
-    let keep = shake::reachable(&segs, &["hf_trace", "hf_trace_world"]);
+    // A scene tracing shadows from the light keeps the function that makes its rays.
+    let mut roots = vec!["hf_trace", "hf_trace_world"];
+    if scene.shadows == Shadows::FromLight {
+        roots.push("query_walked_back");
+    }
+    let keep = shake::reachable(&segs, &roots);
     let mut inputs = Vec::new();
     let body = shake::emit(
         &segs,
@@ -472,7 +479,11 @@ pub fn generate_with(scene: &Scene, lang: Lang, opts: &Options) -> Result<String
             "viewpoints anywhere"
         },
         scene.max_view_angle_deg,
-        if scene.shadows { "shadows" } else { "no shadows" },
+        match scene.shadows {
+            Shadows::None => "no shadows",
+            Shadows::FromSurface => "shadows from the surface",
+            Shadows::FromLight => "shadows from the light",
+        },
         if scene.depth_output {
             "depth output"
         } else {

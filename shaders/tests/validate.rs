@@ -2,7 +2,7 @@
 //! installs glslang-tools; the test fails without it), WGSL with naga
 //! (`ValidationFlags::all()`); and properties of the generated text.
 
-use hfcast::scene::{HeightFormat, MethodKind, RayClasses, Scene};
+use hfcast::scene::{HeightFormat, MethodKind, RayClasses, Scene, Shadows};
 use hfcast::Surface;
 use hfcast_shaders::{
     all_methods, general, generate, generate_with, parts, supports, GenError, Lang, Options,
@@ -23,7 +23,7 @@ fn scenes() -> Vec<(Scene, Options)> {
             if !supports(method, surface) {
                 continue;
             }
-            for shadows in [true, false] {
+            for shadows in Shadows::ALL {
                 for angle in [180.0, 80.0] {
                     for heights in [HeightFormat::F32, HeightFormat::U16, HeightFormat::U8] {
                         for variant in [SafetyVariant::Directional, SafetyVariant::Isotropic] {
@@ -34,13 +34,13 @@ fn scenes() -> Vec<(Scene, Options)> {
                                 shadows,
                                 max_view_angle_deg: angle,
                                 heights,
-                                outside_only: !shadows,
-                                ray_classes: if shadows {
+                                outside_only: shadows != Shadows::FromSurface,
+                                ray_classes: if shadows.traced() {
                                     RayClasses::ALL
                                 } else {
                                     RayClasses(0b0101)
                                 },
-                                depth_output: shadows,
+                                depth_output: shadows.traced(),
                                 ..Scene::general(method, surface)
                             };
                             out.push((
@@ -66,14 +66,10 @@ fn shaders(lang: Lang) -> BTreeMap<String, String> {
     let mut generated = 0;
     for (scene, opts) in scenes() {
         let label = format!(
-            "{}_{}_{}_{}_{:?}_{:?}",
+            "{}_{}_{:?}_{}_{:?}_{:?}",
             scene.method.name(),
             scene.surface.name(),
-            if scene.shadows {
-                "shadows"
-            } else {
-                "noshadows"
-            },
+            scene.shadows,
             scene.max_view_angle_deg,
             scene.heights,
             opts.safety_variant
@@ -316,7 +312,7 @@ fn lines(s: &str) -> usize {
 #[test]
 fn a_minimal_shader_leaves_out_what_its_scene_does_not_use() {
     let scene = Scene {
-        shadows: false,
+        shadows: Shadows::None,
         max_view_angle_deg: 80.0,
         ..Scene::general(MethodKind::Exact, Surface::Triangles)
     };

@@ -79,6 +79,43 @@ fn dda_clip_surface(surface: u32, q: Query, span: ptr<function, Span>) -> bool {
     return t0 <= t1 && real_is_finite(t0) && real_is_finite(t1);
 }
 
+// One slab of `query_walked_back`: where `o + t d` is within [lo, hi], as (near, far)
+// (far < near when never).
+fn dda_slab(o: f32, d: f32, lo: f32, hi: f32) -> vec2<f32> {
+    if (d != 0.0) {
+        let a: f32 = (lo - o) / d;
+        let b: f32 = (hi - o) / d;
+        return vec2<f32>(min(a, b), max(a, b));
+    }
+    let inf: f32 = real_infinity();
+    return select(vec2<f32>(-inf, inf), vec2<f32>(inf, -inf), o < lo || o > hi);
+}
+
+// `Query::walked_back` (core/src/ray.rs), in f32: the same points walked from a grid
+// unit beyond where the ray leaves the box every surface lies in back to its start
+// (origin kept, direction negated, t in [-end, -t_min]); a ray that misses the box as
+// it is. How a shadow ray towards a light becomes the light's ray, an exterior one.
+// The range may differ from the core's f64 one by rounding: its start is outside the
+// box either way, and the march clips to the box.
+fn query_walked_back(q: Query) -> Query {
+    let zmin: f32 = field_min_height();
+    let zmax: f32 = field_max_height();
+    let range: f32 = zmax - zmin;
+    let x: vec2<f32> = dda_slab(q.origin.x, q.dir.x, 0.0, f32(field_width() - 1u));
+    let y: vec2<f32> = dda_slab(q.origin.y, q.dir.y, 0.0, f32(field_height() - 1u));
+    let z: vec2<f32> = dda_slab(q.origin.z, q.dir.z, zmin - range, zmax + range);
+    let near: f32 = max(max(x.x, y.x), z.x);
+    let far: f32 = min(min(x.y, y.y), z.y);
+    if (far < max(near, q.t_min)) {
+        return q;
+    }
+    var end: f32 = q.t_max;
+    if (far < q.t_max) {
+        end = min(far + 1.0 / length(q.dir), q.t_max);
+    }
+    return Query(q.origin, -q.dir, -end, -q.t_min);
+}
+
 // `clip`: the box of the triangle surface (the sample range in z).
 fn dda_clip(q: Query, span: ptr<function, Span>) -> bool { return dda_clip_surface(HF_SURFACE_TRIANGLES, q, span); }
 

@@ -132,7 +132,8 @@ pub fn scene_rays(
         .filter_map(|q| Some((exact.trace(hf, opts.surface, q).hit?, q)))
         .filter_map(|(hit, q)| {
             let m = render::origin_magnitude(q);
-            render::shadow_ray(hf, opts.surface, &hit, &light, m).map(|(s, _)| s)
+            render::shadow_ray(hf, opts.surface, &hit, &light, m, opts.rays.exterior)
+                .map(|(s, _)| s)
         })
         .collect();
     (primary, shadow)

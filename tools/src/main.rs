@@ -27,6 +27,9 @@ commands:
            advise's choice, measured on the scene)
            --surface S --elevation DEG --azimuth DEG --light-elevation DEG
            --light-azimuth DEG --width N --height N --threads N
+           --rays all|exterior|angle:A|exterior,angle:A (all): the ray set the safety
+           and cylinder-cone maps are baked for; exterior traces the shadow rays from
+           the light's side, as exterior rays
            --out PATH (default out/render.png) --no-heatmaps
            --exaggerate F (heights x F in the picture; 1: a map with real units in
            its real proportions, whatever --depth, which sets the grid's relief)
@@ -65,7 +68,8 @@ commands:
            relaxed | qdm | cc; default exact) --surface S (triangles) --lang glsl|wgsl
            (glsl) --rays x+,x-,y+,y- (all) --max-view-angle DEG (180) --heights
            f32|u16|u8 (f32) --safety-variant directional|isotropic (directional)
-           --no-shadows --outside-only --no-depth --lod --all-methods (every method
+           --no-shadows --shadows-from-light (traced down from the light's side, as
+           exterior rays) --outside-only --no-depth --lod --all-methods (every method
            in one shader, hf_method chosen at run time) --out FILE (default stdout)
   bake     bake one method's map and write it as a KTX 2 file (hfcast::ktx2)
            --method heights|maxmip|safety|cc|cone|relaxed|qdm|radius --map PATH
@@ -249,6 +253,10 @@ fn render_options(args: &mut Args, method: MethodSpec) -> Result<RenderOptions, 
         height: args.get("height", d.height)?,
         threads: args.get("threads", d.threads)?,
         progress: std::io::stderr().is_terminal(),
+        rays: match args.opt("rays") {
+            None => Rays::ALL,
+            Some(r) => r.parse().map_err(|e| format!("--rays: {e}"))?,
+        },
     };
     if opts.width == 0 || opts.height == 0 {
         return Err("--width and --height must be positive".into());

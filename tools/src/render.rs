@@ -14,6 +14,7 @@ use crate::maps::Error;
 use crate::trace::Tracer;
 use crate::{par_chunks, MethodSpec};
 use hfcast::camera::Pinhole;
+use hfcast::rayset::Rays;
 use hfcast::scene::MethodKind;
 use hfcast::scene::{BakePlan, RayClasses};
 use hfcast::{HeightField, Hit, Query, Surface, Trace, WorldTransform};
@@ -186,6 +187,10 @@ pub struct RenderOptions {
     pub threads: usize,
     /// Print a percentage of rows done on stderr.
     pub progress: bool,
+    /// The rays the safety-distance and cylinder–cone maps are baked for. For an
+    /// exterior set the shadow rays are traced from the light's side
+    /// ([`Hit::shadow_query_from_light`]), so that they are in it.
+    pub rays: Rays,
 }
 
 impl Default for RenderOptions {
@@ -201,6 +206,7 @@ impl Default for RenderOptions {
             height: 768,
             threads: crate::default_threads(),
             progress: false,
+            rays: Rays::ALL,
         }
     }
 }
@@ -227,6 +233,8 @@ pub struct RenderStats {
     pub shadow: u64,
     /// Texture fetches of all rays.
     pub fetches: u64,
+    /// Texture fetches of the shadow rays.
+    pub shadow_fetches: u64,
     /// Wall time of the whole render (the bake included).
     pub wall: Duration,
     /// Wall time of the method's bake (one thread).
@@ -243,7 +251,8 @@ impl RenderStats {
         let rate = |n: u64| n as f64 / rays / 1e6;
         format!(
             "{:.3} s wall (bake {:.3} s, {} bytes); primary {} rays ({:.2} Mrays/s, {} hits), \
-             shadow {} rays ({:.2} Mrays/s), total {:.2} Mrays/s; {:.1} fetches/ray",
+             shadow {} rays ({:.2} Mrays/s), total {:.2} Mrays/s; {:.1} fetches/ray \
+             ({:.1} primary, {:.1} shadow)",
             s,
             self.bake.as_secs_f64(),
             self.baked_bytes,
@@ -254,6 +263,8 @@ impl RenderStats {
             rate(self.shadow),
             rate(self.primary + self.shadow),
             self.fetches as f64 / (self.primary + self.shadow).max(1) as f64,
+            (self.fetches - self.shadow_fetches) as f64 / self.primary.max(1) as f64,
+            self.shadow_fetches as f64 / self.shadow.max(1) as f64,
         )
     }
 }
@@ -325,14 +336,17 @@ pub fn light_dir(hf: &HeightField, opts: &RenderOptions) -> Light {
 /// The shadow ray (grid space) the render traces from a primary grid-space hit on
 /// `surface` of `hf` towards `light`, with the Lambert factor of the hit (world
 /// normal · world light); `None` when the hit faces away from the light (no shadow
-/// ray). It starts off the surface by [`Hit::shadow_query`]'s documented lift;
-/// `magnitude` is the primary ray's largest |origin| coordinate.
+/// ray). It starts off the surface by [`Hit::shadow_query`]'s documented lift, or,
+/// `from_light`, walks the same points from the light's side
+/// ([`Hit::shadow_query_from_light`]); `magnitude` is the primary ray's largest
+/// |origin| coordinate.
 pub fn shadow_ray(
     hf: &HeightField,
     surface: Surface,
     hit: &Hit<f32>,
     light: &Light,
     magnitude: f32,
+    from_light: bool,
 ) -> Option<(Query<f32>, f64)> {
     let n = hf
         .transform()
@@ -341,8 +355,11 @@ pub fn shadow_ray(
     if lambert <= 0.0 {
         return None;
     }
-    let q = hit.shadow_query(hf, surface, light.grid, magnitude).ok()?;
-    Some((q, lambert))
+    let q = match from_light {
+        true => hit.shadow_query_from_light(hf, surface, light.grid, magnitude),
+        false => hit.shadow_query(hf, surface, light.grid, magnitude),
+    };
+    Some((q.ok()?, lambert))
 }
 
 /// The traces of the queries of `queries` that are there, as one batch
@@ -364,12 +381,13 @@ pub fn origin_magnitude(q: &Query<f32>) -> f32 {
 }
 
 /// The horizontal ray classes of a render's rays (in grid space): its primary rays'
-/// and its light's (every shadow ray has the light's direction). The classes its bake
-/// computes.
+/// and its light's (every shadow ray has the light's direction, or its opposite when
+/// traced from the light). The classes its bake computes.
 pub fn ray_classes(hf: &HeightField, opts: &RenderOptions) -> RayClasses {
     let (cam, _) = render_camera(hf, opts);
     let light = light_dir(hf, opts).grid;
-    let shadow = RayClasses::NONE.with(hfcast::RayClass::of(light[0], light[1]));
+    let sign = if opts.rays.exterior { -1.0 } else { 1.0 };
+    let shadow = RayClasses::NONE.with(hfcast::RayClass::of(sign * light[0], sign * light[1]));
     (0..opts.height)
         .flat_map(|py| (0..opts.width).map(move |px| (px, py)))
         .filter_map(|(px, py)| cam.grid_ray(px, py))
@@ -399,12 +417,14 @@ struct Pixel {
     rgb: [u8; 3],
     depth: Option<f32>,
     fetches: u32,
+    /// The shadow ray's share of `fetches`.
+    shadow_fetches: u32,
     /// Primary hit, shadow ray traced.
     counts: [bool; 2],
 }
 
-/// Renders the field with `opts.method` (baked first, one thread, for the render's
-/// [`ray_classes`]): Lambert shading with a directional light, a shadow ray from
+/// Renders the field with `opts.method` (baked first, on `opts.threads`, for the
+/// render's [`ray_classes`] and `opts.rays`): Lambert shading with a directional light, a shadow ray from
 /// every lit hit, a sky gradient for misses. Rows are shared out to the threads in
 /// bands. Fails when the method does not trace the surface.
 ///
@@ -413,7 +433,15 @@ struct Pixel {
 /// sample, by clipping primary rays to the half-space above the base.
 pub fn render(hf: &HeightField, opts: &RenderOptions) -> Result<Frame, String> {
     let start = Instant::now();
-    let tracer = Tracer::bake(*hf, opts.method, opts.surface, ray_classes(hf, opts))?;
+    let classes = ray_classes(hf, opts);
+    let tracer = Tracer::bake_for(
+        *hf,
+        opts.method,
+        opts.surface,
+        classes,
+        opts.rays,
+        opts.threads,
+    )?;
     let (zmin, zmax) = (f64::from(hf.min_height()), f64::from(hf.max_height()));
     let (cam, base) = render_camera(hf, opts);
     let light = light_dir(hf, opts);
@@ -448,6 +476,7 @@ pub fn render(hf: &HeightField, opts: &RenderOptions) -> Result<Frame, String> {
         if let Some((st, lambert)) = shadow {
             px.counts[1] = true;
             px.fetches += st.fetches;
+            px.shadow_fetches = st.fetches;
             if st.hit.is_none() {
                 lit = lambert;
             }
@@ -473,7 +502,14 @@ pub fn render(hf: &HeightField, opts: &RenderOptions) -> Result<Frame, String> {
             .map(|(tr, q)| {
                 let hit = tr.as_ref()?.hit?;
                 let magnitude = q.as_ref().map_or(0.0, origin_magnitude);
-                shadow_ray(hf, opts.surface, &hit, &light, magnitude)
+                shadow_ray(
+                    hf,
+                    opts.surface,
+                    &hit,
+                    &light,
+                    magnitude,
+                    opts.rays.exterior,
+                )
             })
             .collect();
         let shadow_queries: Vec<Option<Query<f32>>> =
@@ -501,6 +537,7 @@ pub fn render(hf: &HeightField, opts: &RenderOptions) -> Result<Frame, String> {
         hits: count(0),
         shadow: count(1),
         fetches: pixels.iter().map(|p| u64::from(p.fetches)).sum(),
+        shadow_fetches: pixels.iter().map(|p| u64::from(p.shadow_fetches)).sum(),
         wall: start.elapsed(),
         bake: tracer.bake_time(),
         baked_bytes: tracer.bytes(),

@@ -1,14 +1,15 @@
 //! `hfcast shader`: the shader generated for a scene described on the command line.
 
 use crate::Args;
-use hfcast::scene::{HeightFormat, MethodKind, RayClasses, Scene};
+use hfcast::scene::{HeightFormat, MethodKind, RayClasses, Scene, Shadows};
 use hfcast::Surface;
 use hfcast_shaders::{all_methods, generate_with, Lang, Options, SafetyVariant};
 use std::path::PathBuf;
 
 /// The boolean options of the subcommand.
-pub const FLAGS: [&str; 5] = [
+pub const FLAGS: [&str; 6] = [
     "no-shadows",
+    "shadows-from-light",
     "outside-only",
     "no-depth",
     "lod",
@@ -54,11 +55,22 @@ pub fn cmd_shader(mut args: Args) -> Result<bool, String> {
         Some("isotropic") => SafetyVariant::Isotropic,
         Some(other) => return Err(format!("--safety-variant: unknown layout {other:?}")),
     };
+    let shadows = match (
+        args.get("no-shadows", false)?,
+        args.get("shadows-from-light", false)?,
+    ) {
+        (true, true) => {
+            return Err("--no-shadows and --shadows-from-light exclude each other".into())
+        }
+        (true, false) => Shadows::None,
+        (false, true) => Shadows::FromLight,
+        (false, false) => Shadows::FromSurface,
+    };
     let scene = Scene {
         ray_classes,
         outside_only: args.get("outside-only", false)?,
         max_view_angle_deg: args.get("max-view-angle", 180.0)?,
-        shadows: !args.get("no-shadows", false)?,
+        shadows,
         lod: args.get("lod", false)?,
         depth_output: !args.get("no-depth", false)?,
         heights,

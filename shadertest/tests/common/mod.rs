@@ -375,7 +375,7 @@ impl Case {
             // no shadow rays (they start on the surface).
             scene.outside_only = self.rays.exterior;
             scene.max_view_angle_deg = self.rays.max_view_angle_deg;
-            scene.shadows = false;
+            scene.shadows = hfcast::scene::Shadows::None;
         }
         let src = if self.generated {
             generated_source(&scene, self.variant)
@@ -948,7 +948,8 @@ pub fn camera_rays(scene: &Scene, elevation: f64, azimuth: f64, n: u32) -> Vec<R
 
 /// The rays of each of `scenes` (scene `k` with seed `seed + k`): `n × n` camera rays
 /// from 45° and 5° above the horizon, two azimuths each ([`camera_rays`]), then
-/// `random` random rays ([`random_rays`]).
+/// `random` random rays ([`random_rays`]), then the light's rays to the first camera's
+/// hits ([`light_rays`]).
 pub fn scene_rays(scenes: &[Scene], seed: u64, n: u32, random: usize) -> Vec<Vec<Ray>> {
     let rays_of = |(k, scene): (usize, &Scene)| {
         let mut rays = Vec::new();
@@ -956,9 +957,27 @@ pub fn scene_rays(scenes: &[Scene], seed: u64, n: u32, random: usize) -> Vec<Vec
             rays.extend(camera_rays(scene, el, az, n));
         }
         rays.extend(random_rays(scene, seed + k as u64, random));
+        rays.extend(light_rays(scene, &camera_rays(scene, 45.0, 34.0, n)));
         rays
     };
     scenes.iter().enumerate().map(rays_of).collect()
+}
+
+/// The shadow rays of the exact hits of `primary` traced from the light's side
+/// (`Hit::shadow_query_from_light`, a light 58° above the horizon): rays from outside
+/// the box over a negative `t` range ending at the lifted point, in an exterior set.
+pub fn light_rays(scene: &Scene, primary: &[Ray]) -> Vec<Ray> {
+    let hf = scene.hf();
+    let light = [0.5, -0.3, 0.8];
+    primary
+        .iter()
+        .filter_map(|q| {
+            let hit = hfcast::dda::trace(&hf, Surface::Triangles, q).hit?;
+            let m = q.origin().iter().fold(0f32, |m, v| m.max(v.abs()));
+            hit.shadow_query_from_light(&hf, Surface::Triangles, light, m)
+                .ok()
+        })
+        .collect()
 }
 
 /// `n` random rays in and around the field's box: origins above, inside (some under
