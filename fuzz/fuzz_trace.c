@@ -211,6 +211,15 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
                     HF_OK ||
                 memcmp(&one, &exact[k], sizeof one) != 0)
                 FZ_FAIL("the exact single call differs from its batch on ray %zu", k);
+            /* Walked back (hf_ray_walked_back): a valid ray, the same one or reversed. */
+            hf_ray back;
+            if (fz_code(hf_ray_walked_back(f, &rays[k], &back), "walked back") != HF_OK ||
+                fz_code(hf_trace(f, HF_METHOD_EXACT, NULL, 0, &on, &back, &one), "back") != HF_OK)
+                FZ_FAIL("ray %zu walked back was refused", k);
+            int same = memcmp(&back, &rays[k], sizeof back) == 0;
+            for (int c = 0; c < 3 && !same; c++)
+                if (back.dir[c] != -rays[k].dir[c] || back.origin[c] != rays[k].origin[c])
+                    FZ_FAIL("ray %zu walked back is not the same line reversed", k);
         }
     }
     if (re != HF_OK && n > 0 && s < HF_SURFACE_COUNT && !any_raw)
