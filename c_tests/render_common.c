@@ -140,54 +140,66 @@ static void *bake_map(const scene *s, uint32_t method, const hf_bake_options *o,
     return map;
 }
 
-/* Bakes the directional and isotropic safety maps and the cylinder-cone map of the ray
- * classes s->classes for the ray set s->exterior, s->max_view_angle_deg (all cores):
- * W x nH texels for n classes, isotropic W x H. */
-static void bake_class_maps(scene *s) {
+/* Bakes the maps of the ray classes s->classes for the ray set s->exterior,
+ * s->max_view_angle_deg (all cores): the directional and isotropic safety maps when
+ * `safety` (W x nH texels for n classes, isotropic W x H), the cylinder-cone map when
+ * `cc`; a map not baked is zeros of its size. */
+static void bake_class_maps(scene *s, int safety, int cc) {
     hf_bake_options o = bake_defaults(HF_METHOD_SAFETY); /* exact, cap 255 */
     o.ray_classes = s->classes;
     o.exterior = s->exterior;
     o.max_view_angle_deg = s->max_view_angle_deg;
-    s->safety = bake_map(s, HF_METHOD_SAFETY, &o, 1, &s->safety_len, &s->safety_bake_ms);
+    s->safety = bake_map(s, HF_METHOD_SAFETY, &o, safety, &s->safety_len, &s->safety_bake_ms);
     o.variant = HF_SAFETY_ISOTROPIC;
-    s->safety_iso = bake_map(s, HF_METHOD_SAFETY, &o, 1, &s->safety_iso_len, NULL);
-    hf_bake_options cc = bake_defaults(HF_METHOD_CC); /* exact slope */
-    cc.cap = CC_CAP;
-    cc.ray_classes = s->classes;
-    cc.exterior = s->exterior;
-    cc.max_view_angle_deg = s->max_view_angle_deg;
-    s->cc = bake_map(s, HF_METHOD_CC, &cc, 1, &s->cc_len, &s->cc_bake_ms);
+    s->safety_iso = bake_map(s, HF_METHOD_SAFETY, &o, safety, &s->safety_iso_len, NULL);
+    hf_bake_options c = bake_defaults(HF_METHOD_CC); /* exact slope */
+    c.cap = CC_CAP;
+    c.ray_classes = s->classes;
+    c.exterior = s->exterior;
+    c.max_view_angle_deg = s->max_view_angle_deg;
+    s->cc = bake_map(s, HF_METHOD_CC, &c, cc, &s->cc_len, &s->cc_bake_ms);
 }
 
 void scene_set_maps(scene *s, uint32_t classes, uint32_t exterior, float max_view_angle_deg) {
+    scene_set_maps_of(s, classes, exterior, max_view_angle_deg, 1, 1);
+}
+
+void scene_set_maps_of(scene *s, uint32_t classes, uint32_t exterior, float max_view_angle_deg,
+                       int safety, int cc) {
     free(s->safety);
     free(s->safety_iso);
     free(s->cc);
     s->classes = classes;
     s->exterior = exterior;
     s->max_view_angle_deg = max_view_angle_deg;
-    bake_class_maps(s);
+    bake_class_maps(s, safety, cc);
 }
 
-int scene_load_heights(scene *s, const char *png_path) {
+int scene_load_heights(scene *s, const char *png_path) { return scene_load_crop(s, png_path, 0); }
+
+int scene_load_crop(scene *s, const char *png_path, uint32_t side) {
     memset(s, 0, sizeof *s);
-    uint16_t *samples = read_png_gray16(png_path, &s->w, &s->h);
+    uint32_t fw, fh;
+    uint16_t *samples = read_png_gray16(png_path, &fw, &fh);
     if (!samples) return -1;
-    uint32_t stride = s->w;
+    uint32_t stride = fw;
+    s->w = side && side < fw ? side : fw;
+    s->h = side && side < fh ? side : fh;
+    const uint16_t *first = samples + (size_t)((fh - s->h) / 2) * stride + (fw - s->w) / 2;
     const char *base = strrchr(png_path, '/');
     base = base ? base + 1 : png_path;
     snprintf(s->name, sizeof s->name, "%s", base);
     char *dot = strrchr(s->name, '.');
     if (dot) *dot = 0;
-    /* The tools' default relief depth: 0.1 x max(W, H) grid units. */
-    s->depth = 0.1f * (float)(s->w > s->h ? s->w : s->h);
+    /* The tools' default relief depth: 0.1 x max(W, H) grid units, of the whole map. */
+    s->depth = 0.1f * (float)(fw > fh ? fw : fh);
     size_t n = (size_t)s->w * s->h;
     size_t avail = (size_t)stride * (s->h - 1) + s->w;
-    hf_result r = hf_field_create_u16(samples, avail, s->w, s->h, stride, s->depth, &s->field);
+    hf_result r = hf_field_create_u16(first, avail, s->w, s->h, stride, s->depth, &s->field);
     if (r != HF_OK) die_hf("hf_field_create_u16", r);
     s->samples16 = (uint16_t *)malloc(sizeof(uint16_t) * n);
     for (uint32_t j = 0; j < s->h; j++)
-        memcpy(s->samples16 + (size_t)j * s->w, samples + (size_t)j * stride, sizeof(uint16_t) * s->w);
+        memcpy(s->samples16 + (size_t)j * s->w, first + (size_t)j * stride, sizeof(uint16_t) * s->w);
     free(samples);
     if ((r = hf_field_get_info(s->field, &s->info)) != HF_OK) die_hf("hf_field_get_info", r);
     s->heights = (float *)malloc(sizeof(float) * n);
@@ -201,7 +213,7 @@ int scene_load_heights(scene *s, const char *png_path) {
 int scene_load_ex(scene *s, const char *png_path, int relaxed) {
     if (scene_load_heights(s, png_path) != 0) return -1;
     s->classes = HF_RAYS_ALL;
-    bake_class_maps(s);
+    bake_class_maps(s, 1, 1);
     /* The defaults: radii of tolerance 0 and cap 255. */
     s->radius = bake_map(s, HF_METHOD_RADIUS, NULL, 1, &s->radius_len, &s->radius_bake_ms);
     s->cone = bake_map(s, HF_METHOD_CONE, NULL, 1, &s->cone_len, &s->cone_bake_ms);
@@ -357,6 +369,7 @@ static const char *FRAGMENT_MAIN =
     "uniform float depth_far;         // gl_FragDepth = t / depth_far\n"
     "uniform float shadow_offset;     // shadow rays start at point + normal * offset\n"
     "uniform uint shadow_from_light;  // 1: traced from the light's side, to that start\n"
+    "uniform uint primary_only;       // 1: no shadow rays (frame times of primary rays)\n"
     "layout(location = 0) out vec4 out_point;  // hit point, t (-1 on a miss)\n"
     "layout(location = 1) out vec4 out_normal; // normal, 1 when shadowed\n"
     "layout(location = 2) out vec4 out_color;  // shaded\n"
@@ -372,7 +385,7 @@ static const char *FRAGMENT_MAIN =
     "        Trace tr = hf_trace(q);\n"
     "        if (pass == 1) { shadowed = tr.has_hit; break; }\n"
     "        first = tr;\n"
-    "        if (!tr.has_hit) break;\n"
+    "        if (!tr.has_hit || primary_only != 0u) break;\n"
     "        vec3 p = tr.hit.point, n = tr.hit.normal;\n"
     "        vec3 so = vec3(p.x + n.x * shadow_offset, p.y + n.y * shadow_offset,\n"
     "                       p.z + n.z * shadow_offset);\n"
@@ -667,6 +680,7 @@ void gpu_render_program(gpu *g, GLuint p, const scene *s, method_cfg cfg, float 
     glUniform1f(glGetUniformLocation(p, "shadow_offset"), SHADOW_OFFSET);
     /* Over maps of exterior rays the shadow rays come from the light's side, in the set. */
     glUniform1ui(glGetUniformLocation(p, "shadow_from_light"), s->exterior);
+    glUniform1ui(glGetUniformLocation(p, "primary_only"), g->primary_only ? 1u : 0u);
     glBindVertexArray(g->vao);
     glDrawArrays(GL_TRIANGLES, 0, 3);
 }

@@ -82,6 +82,7 @@ typedef struct gpu {
     GLuint tex_cone, tex_relaxed, tex_qdm, tex_cc, tex_radius;
     GLuint tex_heights16; /* R16UI samples, for generated shaders of HF_HEIGHTS_U16 scenes */
     GLuint fbo, tex_point, tex_normal, tex_color, rb_depth;
+    int primary_only; /* 1: frames trace no shadow rays (0 after gpu_init) */
 } gpu;
 
 /* Output of one pass, read back (row 0 = bottom row, as GL). */
@@ -102,6 +103,9 @@ const char *surface_name(uint32_t surface);
 int scene_load(scene *s, const char *png_path);
 /* The field, heights and maximum mipmap of the map only (no other map baked). */
 int scene_load_heights(scene *s, const char *png_path);
+/* scene_load_heights of the centre side x side samples (the whole map when side is 0 or
+ * larger), the relief depth that of the whole map. */
+int scene_load_crop(scene *s, const char *png_path, uint32_t side);
 /* scene_load, and when `relaxed` the relaxed cone map too (seconds on a test map). */
 int scene_load_ex(scene *s, const char *png_path, int relaxed);
 void scene_free(scene *s);
@@ -111,6 +115,10 @@ void scene_free(scene *s);
  * HF_METHOD_SAFETY and HF_METHOD_CC writes for those options, which cpu_trace and
  * gpu_render then use with that mask and set (after gpu_upload_class_maps). */
 void scene_set_maps(scene *s, uint32_t classes, uint32_t exterior, float max_view_angle_deg);
+/* scene_set_maps baking the safety maps only when `safety`, the cylinder-cone map only
+ * when `cc` (the other maps zeros of their size). */
+void scene_set_maps_of(scene *s, uint32_t classes, uint32_t exterior, float max_view_angle_deg,
+                       int safety, int cc);
 /* The fixed view of the tests: both renderers' images of it are compared. */
 camera default_camera(void);
 float scene_depth_far(const scene *s, const camera *c);

@@ -15,6 +15,8 @@
  *   render_osmesa dynamic FRAMES MAP.png...     dynamic terrain: a mound moves every
  *                                               frame, the pyramid refreshed on the GPU
  *                                               for the edit only; CPU parity per frame
+ *   render_osmesa table1 W H MAP.png SIDE...    frame times of Table 1's safety-shape
+ *                                               settings on centre crops (Markdown)
  */
 #define _POSIX_C_SOURCE 200112L
 #include "render_common.h"
@@ -1254,6 +1256,98 @@ static int run_tallied(const char *name, map_fn fn, int nmaps, char **maps) {
     return stop ? stop : tests_result(name, &t);
 }
 
+/* ---- Table 1 frame times (scripts/table1.sh) ---------------------------------------- */
+
+/* The settings of Table 1 (tools/src/table1.rs): name, method, exterior rays only. */
+typedef struct table1_row {
+    const char *name;
+    uint32_t method, exterior;
+} table1_row;
+
+static const table1_row TABLE1_ROWS[5] = {
+    {"exact traversal (DDA)", HF_METHOD_EXACT, 0}, {"cyl_all", HF_METHOD_SAFETY, 0},
+    {"cyl_ext", HF_METHOD_SAFETY, 1},             {"cyl_all+cone_all", HF_METHOD_CC, 0},
+    {"cyl_ext+cone_ext", HF_METHOD_CC, 1},
+};
+
+/* One side of run_table1: the centre crop of `map`, each setting without and with
+ * phi_max = -45 degrees (rays within 45 degrees of the vertical), on cameras at 45 and
+ * 70 degrees of elevation (vertical field of view 40 degrees): primary rays only, the
+ * median of 5 frames after a warm-up. */
+static int table1_side(int w, int h, const char *map, uint32_t side) {
+    map_job j;
+    if (scene_load_crop(&j.s, map, side) != 0) return -1;
+    if (gpu_init(&j.g, &j.s, w, h) != 0) return -1;
+    j.g.primary_only = 1;
+    const float elevations[2] = {45.0f, 70.0f};
+    hf_ray *rays[2];
+    float far[2];
+    size_t n = (size_t)w * h;
+    for (int e = 0; e < 2; e++) {
+        camera cam = default_camera();
+        cam.elevation = elevations[e] * 0.017453292f;
+        cam.fov = 40.0f * 0.017453292f;
+        rays[e] = (hf_ray *)malloc(sizeof(hf_ray) * n);
+        make_rays(&j.s, &cam, w, h, rays[e]);
+        far[e] = scene_depth_far(&j.s, &cam);
+    }
+    for (int r = 0; r < 5; r++) {
+        table1_row row = TABLE1_ROWS[r];
+        for (int phi = 0; phi < (row.method == HF_METHOD_EXACT ? 1 : 2); phi++) {
+            double bake_ms = -1.0;
+            if (row.method != HF_METHOD_EXACT) {
+                int sd = row.method == HF_METHOD_SAFETY;
+                scene_set_maps_of(&j.s, HF_RAYS_ALL, row.exterior, phi ? 45.0f : 0.0f, sd, !sd);
+                gpu_upload_class_maps(&j.g, &j.s);
+                bake_ms = sd ? j.s.safety_bake_ms : j.s.cc_bake_ms;
+            }
+            method_cfg c = cfg_of(row.method, HF_SURFACE_TRIANGLES);
+            for (int e = 0; e < 2; e++) {
+                gpu_upload_rays(&j.g, rays[e]);
+                j.depth_far = far[e];
+                render_ms(&j, c, 0, 0); /* warm-up: compile, caches */
+                double ms[5];
+                for (int f = 0; f < 5; f++) ms[f] = render_ms(&j, c, 0, 0);
+                size_t in_set = 0;
+                for (size_t k = 0; k < n; k++) in_set += ray_in_set(&j.s, &rays[e][k]);
+                char bake[32] = "–", set[32] = "–";
+                if (bake_ms >= 0.0) {
+                    snprintf(bake, sizeof bake, "%.2f", bake_ms / 1e3);
+                    snprintf(set, sizeof set, "%.0f %%", 100.0 * (double)in_set / (double)n);
+                }
+                double med = median(ms, 5);
+                printf("| %u × %u | %s | %s | %s | %.0f° | %s | %.1f | %.2f |\n", j.s.w, j.s.h,
+                       row.name, phi ? "−45°" : "–", bake, elevations[e], set, med,
+                       (double)n / (med * 1e3));
+                fflush(stdout);
+            }
+        }
+    }
+    for (int e = 0; e < 2; e++) free(rays[e]);
+    gpu_free(&j.g);
+    scene_free(&j.s);
+    return 0;
+}
+
+/* `table1 W H MAP SIDE...`: the OSMesa frame times of Table 1's settings on centre
+ * crops of MAP (scripts/table1.sh puts them under `hfcast table1`'s CPU table), as a
+ * Markdown table: bake seconds (the C API, all cores), the camera's rays in the map's
+ * set, the median frame time of W x H primary rays (llvmpipe: software) and its rays
+ * per second. */
+static int run_table1(int w, int h, const char *map, int nsides, char **sides) {
+    if (gl_start(w, h) != 0) return 2;
+    printf("OSMesa frame times: %d × %d primary rays (no shadow rays), %s (software), "
+           "median of 5 frames after a warm-up; bakes through the C API on all cores.\n\n",
+           w, h, (const char *)glGetString(GL_RENDERER));
+    printf("| side | setting | φmax | bake s | camera | in set | frame ms | Mrays/s |\n"
+           "|---:|---|---|---:|---:|---:|---:|---:|\n");
+    int rc = 0;
+    for (int k = 0; k < nsides && rc == 0; k++)
+        if (table1_side(w, h, map, (uint32_t)atoi(sides[k])) != 0) rc = 2;
+    gl_stop();
+    return rc;
+}
+
 int main(int argc, char **argv) {
     if (argc >= 4 && strcmp(argv[1], "test") == 0) return run_tests(argv[2], argc - 3, argv + 3);
     if (argc >= 6 && strcmp(argv[1], "bench") == 0)
@@ -1267,6 +1361,8 @@ int main(int argc, char **argv) {
         return run_tallied("roll", roll_map, argc - 2, argv + 2);
     if (argc >= 3 && strcmp(argv[1], "hybrid") == 0)
         return run_tallied("hybrid", hybrid_map, argc - 2, argv + 2);
+    if (argc >= 6 && strcmp(argv[1], "table1") == 0)
+        return run_table1(atoi(argv[2]), atoi(argv[3]), argv[4], argc - 5, argv + 5);
     if (argc >= 6 && strcmp(argv[1], "bench-generated") == 0)
         return run_bench_generated(atoi(argv[2]), atoi(argv[3]), atoi(argv[4]), argc - 5,
                                    argv + 5);
@@ -1279,7 +1375,9 @@ int main(int argc, char **argv) {
             "       %s gpu-bake MAP.png...\n"
             "       %s dynamic FRAMES MAP.png...\n"
             "       %s roll MAP.png...\n"
-            "       %s hybrid MAP.png...\n",
-            argv[0], argv[0], argv[0], argv[0], argv[0], argv[0], argv[0], argv[0], argv[0]);
+            "       %s hybrid MAP.png...\n"
+            "       %s table1 W H MAP.png SIDE...\n",
+            argv[0], argv[0], argv[0], argv[0], argv[0], argv[0], argv[0], argv[0], argv[0],
+            argv[0]);
     return 2;
 }

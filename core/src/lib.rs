@@ -134,6 +134,7 @@ pub mod math;
 #[cfg(feature = "maxmip")]
 pub mod maxmip;
 pub mod multires;
+pub mod projective;
 #[cfg(feature = "qdm")]
 pub mod qdm;
 #[cfg(feature = "safety")]

@@ -496,7 +496,11 @@ fn cmd_table1(mut args: Args) -> Result<bool, String> {
         .collect();
     let text = format!(
         "# Table 1 of Baboud, Eisemann, Seidel (2011), side by side\n\n\
-         Made by `{}` (`tools/src/table1.rs`).\n\n{table}",
+         Made by `{}` (`tools/src/table1.rs`), the whole file by `bash scripts/table1.sh`.\n\n\
+         The paper's own bakes at 1024² (as issue 20 quotes its Table 1): cyl_ext 1,197 s, \
+         cyl_ext+cone_ext 24,111 s. Its other columns (frame rates on its GPU) are not \
+         reproduced: no copy of the paper's table is reachable from this machine.\n\n\
+         ## CPU: bakes, fetches and ns per ray\n\n{table}",
         command.join(" ")
     );
     std::fs::write(&out, &text).map_err(|e| format!("{}: {e}", out.display()))?;

@@ -122,6 +122,7 @@ pub fn write_all(
     let summary = summary(all, results);
     md.push_str(&summary);
     md.push_str(&definitions(opts, sweep, w, h));
+    md.push_str(&table1_section(&opts.out));
     let mut csv = String::from(CSV_HEADER);
     let _ = writeln!(md, "## Scenes\n");
     for why in skipped_maps {
@@ -264,6 +265,30 @@ pub fn write_all(
     let out_csv = opts.out.join("results.csv");
     std::fs::write(&out_csv, csv).map_err(|e| format!("{}: {e}", out_csv.display()))?;
     Ok(summary)
+}
+
+/// The section of Table 1 (Baboud, Eisemann, Seidel 2011): `table1.md` of the output
+/// folder, its headings one level down (`bash scripts/table1.sh` writes it: its bakes
+/// at 1024² take minutes, so the report reads it rather than makes it); a pointer to
+/// the script when there is none.
+fn table1_section(out: &std::path::Path) -> String {
+    match std::fs::read_to_string(out.join("table1.md")) {
+        Ok(text) => {
+            let lines: Vec<String> = text
+                .lines()
+                .map(|l| match l.starts_with('#') {
+                    true => format!("#{l}"),
+                    false => l.to_string(),
+                })
+                .collect();
+            lines.join("\n") + "\n\n"
+        }
+        Err(_) => "## Table 1 of Baboud, Eisemann, Seidel (2011), side by side\n\n\
+                   Not in this folder: `bash scripts/table1.sh` writes `table1.md` \
+                   (bakes at 1024², about ten minutes on 2 cores); the next report \
+                   includes it.\n\n"
+            .into(),
+    }
 }
 
 /// The summary section: per scene the fastest exact method and the baselines it beats.
