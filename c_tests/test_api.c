@@ -857,6 +857,96 @@ static hf_ray world_ray(const hf_transform *t, hf_ray g) {
     return w;
 }
 
+/* hf_projective_trace_batch: with the identity matrix it traces as hf_trace_batch (the
+ * normal renormalised in double), for the exact method and the maximum mipmap; through
+ * a reverse-perspective frustum (projection centre under the field, as
+ * core/tests/projective.rs) both methods agree, and every top hit's world point maps
+ * onto the surface; a NULL, NaN or singular matrix and a bad ray are refused, nothing
+ * written. */
+static void test_projective(void) {
+    enum { W = 41, H = 29, N = 1500 };
+    float *heights = (float *)malloc(sizeof(float) * W * H);
+    for (int k = 0; k < W * H; k++) heights[k] = 8.0f * frand();
+    hf_field *f = NULL;
+    CHECK_OK(hf_field_create_f32(heights, W * H, W, H, W, &f));
+    size_t plen = 0;
+    float *pyr = (float *)bake_map(HF_METHOD_MAXMIP, f, NULL, &plen);
+    hf_ray *rays = (hf_ray *)malloc(sizeof(hf_ray) * N);
+    for (int k = 0; k < N; k++) {
+        float dz = -0.2f - frand();
+        rays[k] = ray(-10.0f + (W + 20) * frand(), -10.0f + (H + 20) * frand(), 12.0f + 20 * frand(),
+                      frand() - 0.5f, frand() - 0.5f, dz);
+    }
+    hf_hit *a = (hf_hit *)malloc(sizeof(hf_hit) * N), *b = (hf_hit *)malloc(sizeof(hf_hit) * N);
+    const double identity[16] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
+    const double fc = 3.0 * (W + H), cx = 0.5 * W, cy = 0.4 * H;
+    const double persp[16] = {1, 0, cx / fc, 0, 0, 1, cy / fc, 0, 0, 0, 1, 0, 0, 0, 1 / fc, 1};
+    const uint32_t methods[2] = {HF_METHOD_EXACT, HF_METHOD_MAXMIP};
+    const void *maps[2] = {NULL, pyr};
+    size_t lens[2] = {0, plen};
+    int same = 1, hits = 0, on_surface = 0, agree = 1;
+    for (int m = 0; m < 2; m++) {
+        CHECK_OK(hf_trace_batch(f, methods[m], maps[m], lens[m], NULL, rays, N, a, N));
+        CHECK_OK(hf_projective_trace_batch(f, identity, methods[m], maps[m], lens[m], NULL, rays,
+                                           N, b, N));
+        for (int k = 0; k < N; k++) {
+            same &= a[k].hit == b[k].hit;
+            if (!a[k].hit || !b[k].hit) continue;
+            same &= a[k].t == b[k].t && a[k].flags == b[k].flags &&
+                    memcmp(a[k].point, b[k].point, sizeof a[k].point) == 0 &&
+                    memcmp(a[k].cell, b[k].cell, sizeof a[k].cell) == 0;
+            for (int c = 0; c < 3; c++) same &= fabsf(a[k].normal[c] - b[k].normal[c]) < 1e-6f;
+        }
+    }
+    CHECK(same);
+    for (int m = 0; m < 2; m++) {
+        CHECK_OK(hf_projective_trace_batch(f, persp, methods[m], maps[m], lens[m], NULL, rays, N,
+                                           m ? b : a, N));
+    }
+    for (int k = 0; k < N; k++) {
+        agree &= a[k].hit == b[k].hit && (!a[k].hit || fabsf(a[k].t - b[k].t) <= 1e-4f);
+        if (!a[k].hit || (a[k].flags & (HF_FLAG_ORIGIN_INSIDE | HF_FLAG_SIDE))) continue;
+        hits++;
+        /* The world point's grid image, and the surface height there. */
+        double p[4] = {a[k].point[0], a[k].point[1], a[k].point[2], 1.0}, g[4];
+        for (int r = 0; r < 4; r++)
+            g[r] = persp[4 * r] * p[0] + persp[4 * r + 1] * p[1] + persp[4 * r + 2] * p[2] +
+                   persp[4 * r + 3] * p[3];
+        hf_ray down = ray((float)(g[0] / g[3]), (float)(g[1] / g[3]), 100.0f, 0, 0, -1);
+        hf_hit s;
+        CHECK_OK(hf_trace(f, HF_METHOD_EXACT, NULL, 0, NULL, &down, &s));
+        on_surface += s.hit && fabs(s.point[2] - g[2] / g[3]) <= 1e-3;
+    }
+    CHECK(agree && hits > N / 4 && on_surface == hits);
+    printf("projective: identity as hf_trace_batch %s; perspective: %d hits, %d on the surface, "
+           "exact and maxmip %s\n",
+           same ? "yes" : "NO", hits, on_surface, agree ? "agree" : "DIFFER");
+    /* Bad matrices and rays: refused, nothing written. */
+    double nan_m[16], flat[16];
+    memcpy(nan_m, persp, sizeof nan_m);
+    nan_m[6] = NAN;
+    memcpy(flat, persp, sizeof flat);
+    for (int c = 0; c < 4; c++) flat[8 + c] = 0.0;
+    memset(b, 0x5a, sizeof(hf_hit) * N);
+    CHECK_BAD(hf_projective_trace_batch(f, NULL, HF_METHOD_EXACT, NULL, 0, NULL, rays, N, b, N),
+              HF_ERR_NULL_POINTER, b, sizeof(hf_hit) * 8);
+    CHECK_BAD(hf_projective_trace_batch(f, nan_m, HF_METHOD_EXACT, NULL, 0, NULL, rays, N, b, N),
+              HF_ERR_INVALID_ARGUMENT, b, sizeof(hf_hit) * 8);
+    CHECK_BAD(hf_projective_trace_batch(f, flat, HF_METHOD_EXACT, NULL, 0, NULL, rays, N, b, N),
+              HF_ERR_INVALID_ARGUMENT, b, sizeof(hf_hit) * 8);
+    rays[N - 1].origin[1] = NAN;
+    CHECK_BAD(hf_projective_trace_batch(f, persp, HF_METHOD_EXACT, NULL, 0, NULL, rays, N, b, N),
+              HF_ERR_INVALID_RAY, b, sizeof(hf_hit) * 8);
+    CHECK_BAD(hf_projective_trace_batch(f, persp, HF_METHOD_EXACT, NULL, 0, NULL, rays, N, b, N - 1),
+              HF_ERR_BUFFER_TOO_SMALL, b, sizeof(hf_hit) * 8);
+    free(rays);
+    free(a);
+    free(b);
+    free(pyr);
+    free(heights);
+    hf_field_destroy(f);
+}
+
 static void test_world_units(void) {
     enum { W = 41, H = 29, N = 3000 };
     float *heights = (float *)malloc(sizeof(float) * W * H);
@@ -2456,6 +2546,7 @@ int main(void) {
     test_methods_agree();
     test_hybrid();
     test_world_units();
+    test_projective();
     test_bake_and_update();
     test_safety();
     test_radius();

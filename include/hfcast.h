@@ -1871,6 +1871,32 @@ hf_result hf_trace_batch(const struct hf_field *field,
                          struct hf_hit *out_hits,
                          size_t out_hits_len);
 
+// `hf_trace_batch` on a projective height field (Baboud & Décoret §4: a frustum, e.g.
+// reverse perspective): `matrix` is 16 doubles, row-major, the invertible map from
+// the caller's world points `[x, y, z, 1]` to homogeneous grid points of `field` (its
+// own transform is not applied). Each world ray is mapped to the grid line of the
+// part of it in front of the centre of projection (`w > 0`), traced there by `method`
+// over `map` as `hf_trace_batch` traces, and its hit mapped back: `t` on the world
+// ray, the point by the inverse map, the normal by the transpose, all in double
+// (docs/DESIGN.md, "Projective height fields"); a ray with no part in front is a
+// miss. `HF_ERR_INVALID_ARGUMENT` for a matrix with a NaN or infinite entry or a
+// singular one (no frustum); other checks and errors as `hf_trace_batch` (every ray
+// is checked, and mapped, before any is traced; an error writes nothing). Thread
+// safe.
+//
+// # Safety
+// As `hf_trace_batch`; `matrix` NULL (an error) or valid for reading 16 doubles.
+hf_result hf_projective_trace_batch(const struct hf_field *field,
+                                    const double *matrix,
+                                    uint32_t method,
+                                    const void *map,
+                                    size_t map_len,
+                                    const struct hf_trace_options *options,
+                                    const struct hf_ray *rays,
+                                    size_t rays_len,
+                                    struct hf_hit *out_hits,
+                                    size_t out_hits_len);
+
 // Qu et al.'s hybrid rasterization renderer on the CPU (`hfcast::hybrid`, Qu et al.
 // 2003 §4): its two passes for `rays_len` rays on the view-linear surface,
 // `out_hits[k]` answering `rays[k]` as `hf_trace` of `HF_METHOD_EXACT` on

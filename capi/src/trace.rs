@@ -6,6 +6,7 @@ use crate::ptr::Named;
 use crate::{guard, hf_field, ptr, surface_of};
 use hfcore::condition::{condition, condition_query, Local};
 use hfcore::march::MarchOptions;
+use hfcore::projective::{Mat4, Projective};
 use hfcore::scene::RayClasses;
 use hfcore::scene::{MethodKind, Shadows};
 use hfcore::{Flags, HeightField, Hit, Marcher, Query, Surface, Trace};
@@ -490,6 +491,74 @@ pub unsafe extern "C" fn hf_trace_batch(
                 .collect::<Result<Vec<_>, _>>()?;
             trace_locals(&m, &o, hf, &locals, out);
             Ok(())
+        })
+    })
+}
+
+/// `hf_trace_batch` on a projective height field (Baboud & Décoret §4: a frustum, e.g.
+/// reverse perspective): `matrix` is 16 doubles, row-major, the invertible map from
+/// the caller's world points `[x, y, z, 1]` to homogeneous grid points of `field` (its
+/// own transform is not applied). Each world ray is mapped to the grid line of the
+/// part of it in front of the centre of projection (`w > 0`), traced there by `method`
+/// over `map` as `hf_trace_batch` traces, and its hit mapped back: `t` on the world
+/// ray, the point by the inverse map, the normal by the transpose, all in double
+/// (docs/DESIGN.md, "Projective height fields"); a ray with no part in front is a
+/// miss. `HF_ERR_INVALID_ARGUMENT` for a matrix with a NaN or infinite entry or a
+/// singular one (no frustum); other checks and errors as `hf_trace_batch` (every ray
+/// is checked, and mapped, before any is traced; an error writes nothing). Thread
+/// safe.
+///
+/// # Safety
+/// As `hf_trace_batch`; `matrix` NULL (an error) or valid for reading 16 doubles.
+#[no_mangle]
+#[allow(clippy::too_many_arguments)]
+pub unsafe extern "C" fn hf_projective_trace_batch(
+    field: *const hf_field,
+    matrix: *const f64,
+    method: u32,
+    map: *const c_void,
+    map_len: usize,
+    options: *const hf_trace_options,
+    rays: *const hf_ray,
+    rays_len: usize,
+    out_hits: *mut hf_hit,
+    out_hits_len: usize,
+) -> hf_result {
+    guard(|| {
+        // SAFETY: the caller promises a live handle and 16 readable doubles.
+        let (f, m) = unsafe {
+            (
+                ptr::get(field).named("field")?,
+                ptr::slice(matrix, 16).named("matrix")?,
+            )
+        };
+        let rows: Mat4 = core::array::from_fn(|r| core::array::from_fn(|c| m[4 * r + c]));
+        let proj = Projective::new(rows).map_err(|e| fail_at(HF_ERR_INVALID_ARGUMENT, None, e))?;
+        // SAFETY: the caller's promises, passed on.
+        let (rays, hits) = unsafe { batch_io(rays, rays_len, out_hits, out_hits_len) }?;
+        // SAFETY: the caller's promises, passed on.
+        let (marcher, o) = unsafe { marcher(f, method, map, map_len, options) }?;
+        let hf = f.view();
+        let mapped = rays
+            .iter()
+            .enumerate()
+            .map(|(k, r)| {
+                let q = Query::from_arrays(r.origin, r.dir, r.t_min, r.t_max)
+                    .map_err(|e| ray_error(e, Some(k)))?;
+                proj.map(hf, &q).map_err(|e| ray_error(e, Some(k)))
+            })
+            .collect::<Result<Vec<_>, hf_result>>()?;
+        let n = u32::try_from(rays.len()).unwrap_or(u32::MAX);
+        let threads = if n == u32::MAX { 1 } else { o.threads };
+        crate::par::bake_bands(n, 1, RAY_BAND, threads, hits, |band, out| {
+            let first = band.start as usize;
+            for (m, h) in mapped[first..first + out.len()].iter().zip(out.iter_mut()) {
+                *h = hf_hit::from(match m {
+                    Some(m) => proj.trace_to_world(m, marcher.trace(hf, &m.grid)),
+                    None => Trace::MISS,
+                });
+            }
+            Ok::<(), hf_result>(())
         })
     })
 }

@@ -241,11 +241,16 @@ impl Projective {
         let Some(mapped) = self.map(hf, world)? else {
             return Ok(Trace::MISS);
         };
-        let mut tr = march(&mapped.grid);
+        Ok(self.trace_to_world(&mapped, march(&mapped.grid)))
+    }
+
+    /// The trace `tr` of `mapped`'s grid query with its hit mapped back to the world
+    /// ray ([`Projective::trace`] after its march).
+    pub fn trace_to_world<R: Real>(&self, mapped: &Mapped<R>, mut tr: Trace<R>) -> Trace<R> {
         if let Some(h) = tr.hit {
-            tr.hit = Some(self.hit_to_world(&mapped, &h));
+            tr.hit = Some(self.hit_to_world(mapped, &h));
         }
-        Ok(tr)
+        tr
     }
 
     /// The world form of the grid hit `h` of `mapped`.
