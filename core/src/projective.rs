@@ -121,6 +121,11 @@ impl Projective {
         &self.m
     }
 
+    /// The inverse matrix (homogeneous grid to world).
+    pub fn inverse(&self) -> &Mat4 {
+        &self.inv
+    }
+
     /// The homogeneous grid point of the world point `p` (`M·[p, 1]`).
     pub fn to_grid_h(&self, p: [f64; 3]) -> [f64; 4] {
         mul(&self.m, [p[0], p[1], p[2], 1.0])

@@ -17,10 +17,11 @@
 //!   the size comparison at the other end.
 //! - [`wgsl_layout`]: the fixed `@group(0)` binding numbers of the WGSL resources.
 //!
-//! Every shader has two entry points: `hf_trace` (a ray in grid space, the marches'
-//! frame) and `hf_trace_world` (`world.glsl` / `world.wgsl`, last in every shader: a ray
-//! in world units converted by the field's transform, `hfcast::world::WorldTransform`,
-//! the hit converted back). The world file is always included, not only for scenes that
+//! Every shader has three entry points: `hf_trace` (a ray in grid space, the marches'
+//! frame), `hf_trace_world` (`world.glsl` / `world.wgsl`, after the marches: a ray in
+//! world units converted by the field's transform, `hfcast::world::WorldTransform`, the
+//! hit converted back) and `hf_trace_projective` (`projective.wgsl`, last: a world ray
+//! through a projective map given by rows, `hfcast::projective`). The world file is always included, not only for scenes that
 //! ask: it is small, a scene has no notion of a transform, and it costs a caller of
 //! `hf_trace` nothing (shader compilers drop the unused function, an unused GLSL uniform
 //! is inactive, and a WGSL binding is needed only by an entry point that uses it).
@@ -196,19 +197,26 @@ impl std::error::Error for GenError {}
 
 /// The files (stems, in dependency order) of `method`'s general shader: the shared
 /// constants, the core modules every march uses, the method's own files (the registry's,
-/// `MethodInfo::shader`, the last defining `hf_trace`), and [`WORLD`] defining
-/// `hf_trace_world` on it.
+/// `MethodInfo::shader`, the last defining `hf_trace`), then [`WORLD`] defining
+/// `hf_trace_world` and [`PROJECTIVE`] defining `hf_trace_projective` on it.
 pub fn parts(method: MethodKind) -> Vec<&'static str> {
     let own = method.info().shader;
-    BASE.iter().chain(own).copied().chain([WORLD]).collect()
+    BASE.iter().chain(own).copied().chain(LAST).collect()
 }
 
 /// The files every march shares, in dependency order.
 const BASE: [&str; 6] = ["hfcast_shared", "math", "ray", "field", "surface", "dda"];
 
-/// The file of world units (`world.glsl`, `world.wgsl`: `hf_trace_world`), last in
-/// every shader since it calls `hf_trace`.
+/// The file of world units (`world.glsl`, `world.wgsl`: `hf_trace_world`), after the
+/// marches in every shader since it calls `hf_trace`.
 pub const WORLD: &str = "world";
+
+/// The file of projective height fields (`projective.wgsl`, its GLSL generated:
+/// `hf_trace_projective`), last in every shader: it calls `hf_trace` too.
+pub const PROJECTIVE: &str = "projective";
+
+/// The files after the marches, in order: their entry points call `hf_trace`.
+const LAST: [&str; 2] = [WORLD, PROJECTIVE];
 
 /// The file of `method` defining `hf_trace`: its last part before [`WORLD`].
 fn method_file(method: MethodKind) -> &'static str {
@@ -442,7 +450,7 @@ pub fn generate_with(scene: &Scene, lang: Lang, opts: &Options) -> Result<String
         }
     }
     // A scene tracing shadows from the light keeps the function that makes its rays.
-    let mut roots = vec!["hf_trace", "hf_trace_world"];
+    let mut roots = vec!["hf_trace", "hf_trace_world", "hf_trace_projective"];
     if scene.shadows == Shadows::FromLight {
         roots.push("query_walked_back");
     }
@@ -516,7 +524,8 @@ fn suffix(method: MethodKind) -> String {
 /// `safety_march`, …), so that the cone and safety marches appear once per method that
 /// uses them; everything else appears once. `Trace hf_trace(Query q)` dispatches on
 /// the runtime `hf_method` (a GLSL uniform, a WGSL override), every marker flag set;
-/// [`WORLD`]'s `hf_trace_world` follows the dispatch, on the dispatching `hf_trace`.
+/// [`WORLD`]'s `hf_trace_world` and [`PROJECTIVE`]'s `hf_trace_projective` follow the
+/// dispatch, on the dispatching `hf_trace`.
 pub fn all_methods(lang: Lang) -> Result<String, GenError> {
     let file_order = file_order();
     let files = load(lang, &file_order, &|_| true)?;
@@ -561,7 +570,9 @@ pub fn all_methods(lang: Lang) -> Result<String, GenError> {
             .collect();
         // `HF_METHOD_<M>`: the dispatch's test.
         let id = format!("HF_METHOD_{}", suffix(m).to_uppercase());
-        let keep = shake::reachable(&visible, &["hf_trace", &id]);
+        // `query_walked_back` too: the shadow rays' entry, and `dda_slab` for the
+        // projective file appended after the dispatch.
+        let keep = shake::reachable(&visible, &["hf_trace", &id, "query_walked_back"]);
         let method_file = index(method_file(m)).unwrap_or_default();
         let is_fn = |it: &&Item| matches!(it.kind, Kind::Function | Kind::Prototype);
         // The method file's functions and conflicting names, then every function
@@ -649,8 +660,9 @@ pub fn all_methods(lang: Lang) -> Result<String, GenError> {
         body.push_str(&format!("}}\n\n{head}: {ty};\n"));
     }
     body.push_str(&dispatch(lang));
-    // `hf_trace_world` on the dispatch (the method files' `hf_trace`s do not reach it).
-    for (stem, text) in load(lang, &[WORLD], &|_| true)? {
+    // `hf_trace_world` and `hf_trace_projective` on the dispatch (the method files'
+    // `hf_trace`s do not reach them).
+    for (stem, text) in load(lang, &LAST, &|_| true)? {
         body.push('\n');
         body.push_str(&separator(stem, lang));
         body.push_str(&text);
@@ -662,7 +674,8 @@ pub fn all_methods(lang: Lang) -> Result<String, GenError> {
     ))
 }
 
-/// The order of the files in a composed shader ([`WORLD`] follows them): the files
+/// The order of the files in a composed shader ([`WORLD`] and [`PROJECTIVE`] follow
+/// them): the files
 /// every march shares, the methods' own modules (each once, in registry order, a
 /// method's in its dependency order), then the methods' files defining `hf_trace`.
 fn file_order() -> Vec<&'static str> {

@@ -6,6 +6,7 @@
 
 use hfcast::cone::{self, ConeMap};
 use hfcast::maxmip::{self, Layout, MaxMip};
+use hfcast::projective::Projective;
 use hfcast::qdm::{self, QdmMap};
 use hfcast::radius::{self, RadiusMap, Zero};
 use hfcast::rayset::Rays;
@@ -178,6 +179,10 @@ pub struct Case {
     /// uniform; the CPU side `WorldTransform::trace`) instead of grid rays with
     /// `hf_trace`.
     pub world: Option<WorldTransform>,
+    /// Traces world rays with `hf_trace_projective` through this projective map (the
+    /// shader gets it and its inverse as constants by rows; the CPU side
+    /// `Projective::trace`) instead of grid rays with `hf_trace`.
+    pub projective: Option<Projective>,
 }
 
 impl Case {
@@ -194,6 +199,7 @@ impl Case {
             classes: 15,
             rays: Rays::ALL,
             world: None,
+            projective: None,
         }
     }
 
@@ -382,9 +388,31 @@ impl Case {
         } else {
             general_source(self.method)
         };
-        match self.world {
-            Some(_) => src + &WRAPPER.replace("hf_trace(Query", "hf_trace_world(Query"),
-            None => src + WRAPPER,
+        match (self.world, self.projective) {
+            (Some(_), _) => src + &WRAPPER.replace("hf_trace(Query", "hf_trace_world(Query"),
+            (None, Some(p)) => {
+                let rows = |m: &hfcast::projective::Mat4| {
+                    let row = |r: &[f64; 4]| {
+                        let v: Vec<String> = r.iter().map(|x| format!("{:?}", *x as f32)).collect();
+                        format!("vec4<f32>({})", v.join(", "))
+                    };
+                    format!(
+                        "Mat4Rows({})",
+                        m.iter().map(row).collect::<Vec<_>>().join(", ")
+                    )
+                };
+                let consts = format!(
+                    "\nconst TEST_M: Mat4Rows = {};\nconst TEST_M_INV: Mat4Rows = {};\n",
+                    rows(p.matrix()),
+                    rows(p.inverse())
+                );
+                src + &consts
+                    + &WRAPPER.replace(
+                        "hf_trace(Query",
+                        "hf_trace_projective(TEST_M, TEST_M_INV, Query",
+                    )
+            }
+            (None, None) => src + WRAPPER,
         }
     }
 
@@ -474,12 +502,19 @@ impl Case {
             }
         };
         let trace = |q: &Query<f32>| marcher.trace(&hf, q);
-        match self.world {
-            Some(world) => rays
+        match (self.world, self.projective) {
+            (Some(world), _) => rays
                 .iter()
                 .map(|r| world.trace(r, trace).expect("a world ray in grid space"))
                 .collect(),
-            None => rays.iter().map(trace).collect(),
+            (None, Some(p)) => rays
+                .iter()
+                .map(|r| {
+                    p.trace(&hf, r, trace)
+                        .expect("a world ray on the projective field")
+                })
+                .collect(),
+            (None, None) => rays.iter().map(trace).collect(),
         }
     }
 
