@@ -322,28 +322,47 @@ void make_rays_window(const scene *s, const camera *c, int w, int h, const float
     }
 }
 
-hf_result cpu_trace(const scene *s, method_cfg cfg, const hf_ray *rays, size_t n, hf_hit *hits) {
-    /* Each method's map (the safety map of cfg's layout); none for exact and the searches. */
+/* The map cpu_trace traces cfg's method over (the safety map of cfg's layout; none for
+ * exact and the searches) and its options; HF_ERR_INVALID_ENUM for an unknown method. */
+static hf_result trace_setup(const scene *s, method_cfg cfg, const void **map, size_t *len,
+                             hf_trace_options *o) {
     const int iso = cfg.variant == HF_SAFETY_ISOTROPIC;
-    const void *map[NUM_METHODS] = {NULL, NULL, NULL, s->pyramid,
-                                    iso ? s->safety_iso : s->safety,
-                                    s->cone, s->relaxed, s->qdm, s->cc, s->radius, NULL};
-    const size_t len[NUM_METHODS] = {0, 0, 0, s->pyramid_len,
-                                     iso ? s->safety_iso_len : s->safety_len,
-                                     s->cone_len, s->relaxed_len, s->qdm_len, s->cc_len,
-                                     s->radius_len, 0};
+    const void *maps[NUM_METHODS] = {NULL, NULL, NULL, s->pyramid,
+                                     iso ? s->safety_iso : s->safety,
+                                     s->cone, s->relaxed, s->qdm, s->cc, s->radius, NULL};
+    const size_t lens[NUM_METHODS] = {0, 0, 0, s->pyramid_len,
+                                      iso ? s->safety_iso_len : s->safety_len,
+                                      s->cone_len, s->relaxed_len, s->qdm_len, s->cc_len,
+                                      s->radius_len, 0};
     if (cfg.method >= NUM_METHODS) return HF_ERR_INVALID_ENUM;
-    hf_trace_options o;
-    hf_result r = hf_trace_options_default(&o);
+    hf_result r = hf_trace_options_default(o);
     if (r != HF_OK) return r;
-    o.surface = cfg.surface;
-    o.steps = cfg.linear;
-    o.binary_steps = cfg.binary;
-    o.radius_zero = cfg.zero;
+    o->surface = cfg.surface;
+    o->steps = cfg.linear;
+    o->binary_steps = cfg.binary;
+    o->radius_zero = cfg.zero;
     /* The maps' ray classes, as the shaders' hf_safety_classes and hf_cc_classes. */
-    if (cfg.method == HF_METHOD_SAFETY || cfg.method == HF_METHOD_CC) o.ray_classes = s->classes;
-    return hf_trace_batch(s->field, cfg.method, map[cfg.method], len[cfg.method], &o, rays, n,
-                          hits, n);
+    if (cfg.method == HF_METHOD_SAFETY || cfg.method == HF_METHOD_CC) o->ray_classes = s->classes;
+    *map = maps[cfg.method];
+    *len = lens[cfg.method];
+    return HF_OK;
+}
+
+hf_result cpu_trace(const scene *s, method_cfg cfg, const hf_ray *rays, size_t n, hf_hit *hits) {
+    return cpu_trace_projective(s, cfg, NULL, rays, n, hits);
+}
+
+hf_result cpu_trace_projective(const scene *s, method_cfg cfg, const double *matrix,
+                               const hf_ray *rays, size_t n, hf_hit *hits) {
+    const void *map = NULL;
+    size_t len = 0;
+    hf_trace_options o;
+    hf_result r = trace_setup(s, cfg, &map, &len, &o);
+    if (r != HF_OK) return r;
+    if (matrix)
+        return hf_projective_trace_batch(s->field, matrix, cfg.method, map, len, &o, rays, n,
+                                         hits, n);
+    return hf_trace_batch(s->field, cfg.method, map, len, &o, rays, n, hits, n);
 }
 
 /* ---- shaders ---------------------------------------------------------------------- */

@@ -138,6 +138,10 @@ void camera_window(const camera *c, int w, int h, float half[2]);
 
 /* Traces `n` rays on the CPU through the C API with `cfg`. */
 hf_result cpu_trace(const scene *s, method_cfg cfg, const hf_ray *rays, size_t n, hf_hit *hits);
+/* cpu_trace on the projective field of the row-major 4x4 `matrix`
+ * (hf_projective_trace_batch); NULL: cpu_trace. */
+hf_result cpu_trace_projective(const scene *s, method_cfg cfg, const double *matrix,
+                               const hf_ray *rays, size_t n, hf_hit *hits);
 
 /* The fragment shader of `method`: #version, hf_shader_source, the renderer's main. */
 char *fragment_source(uint32_t method);

@@ -505,9 +505,156 @@ static void parity_world(map_job *j, int w, int h, frame *f, tally *t) {
     free(rays);
 }
 
+/* ---- projective fields (projective.glsl) -------------------------------------------- */
+
+/* `a · b`, 4 x 4 row-major. */
+static void mat4_mul(const double *a, const double *b, double *out) {
+    for (int r = 0; r < 4; r++)
+        for (int c = 0; c < 4; c++) {
+            double v = 0.0;
+            for (int k = 0; k < 4; k++) v += a[4 * r + k] * b[4 * k + c];
+            out[4 * r + c] = v;
+        }
+}
+
+/* `m · [v, 1]` divided by its w. */
+static void mat4_point(const double *m, const double *v, double *out) {
+    double h[4];
+    for (int r = 0; r < 4; r++)
+        h[r] = m[4 * r] * v[0] + m[4 * r + 1] * v[1] + m[4 * r + 2] * v[2] + m[4 * r + 3];
+    for (int k = 0; k < 3; k++) out[k] = h[k] / h[3];
+}
+
+/* The reverse-perspective frustum of core/tests/projective.rs for a w x h field, world
+ * to homogeneous grid, and its inverse (both row-major): P · A with P the perspective
+ * (centre f under (cx, cy)) and A a shear and scale, inverted in closed form. */
+static void projective_frustum(uint32_t w, uint32_t h, double m[16], double inv[16]) {
+    const double xm = (double)w - 1.0, ym = (double)h - 1.0, f = 3.0 * (xm + ym);
+    const double a = 0.5 * xm / f, b = 0.4 * ym / f;
+    const double p[16] = {1, 0, a, 0, 0, 1, b, 0, 0, 0, 1, 0, 0, 0, 1 / f, 1};
+    const double p_inv[16] = {1, 0, -a, 0, 0, 1, -b, 0, 0, 0, 1, 0, 0, 0, -1 / f, 1};
+    const double s[16] = {1.5, 0.2, 0, 0, 0, 0.8, 0, 0, 0, 0, 1.2, 0, 0, 0, 0, 1};
+    const double s_inv[16] = {1 / 1.5, -0.2 / (1.5 * 0.8), 0, 0, 0, 1 / 0.8, 0, 0,
+                              0,       0,                  1 / 1.2, 0, 0, 0, 0, 1};
+    mat4_mul(p, s, m);
+    mat4_mul(s_inv, p_inv, inv);
+}
+
+/* The program of `method` whose main traces with hf_trace_projective, the map and its
+ * inverse by rows from the uniforms proj_m0..3 and proj_i0..3. */
+static GLuint link_projective_program(uint32_t method) {
+    char *src = fragment_source(method);
+    const char *call = "Trace tr = hf_trace(q);";
+    const char *proj = "Trace tr = hf_trace_projective(Mat4Rows(proj_m0, proj_m1, proj_m2, "
+                       "proj_m3), Mat4Rows(proj_i0, proj_i1, proj_i2, proj_i3), q);";
+    const char *decl = "uniform vec4 proj_m0, proj_m1, proj_m2, proj_m3;\n"
+                       "uniform vec4 proj_i0, proj_i1, proj_i2, proj_i3;\n";
+    char *at = strstr(src, call), *main_at = strstr(src, "void main() {");
+    if (!at || !main_at || main_at > at) {
+        fprintf(stderr, "no \"%s\" in the renderer's main\n", call);
+        exit(2);
+    }
+    size_t cap = strlen(src) + strlen(proj) + strlen(decl) + 1;
+    char *out = (char *)malloc(cap);
+    size_t head = (size_t)(main_at - src);
+    memcpy(out, src, head);
+    out[head] = 0;
+    strcat(out, decl);
+    strncat(out, main_at, (size_t)(at - main_at));
+    strcat(out, proj);
+    strcat(out, at + strlen(call));
+    free(src);
+    GLuint p = link_fragment(out);
+    free(out);
+    return p;
+}
+
+/* Projective fields on one map, for exact traversal, maximum mipmaps and cylinder-cones
+ * on triangles: the renderer's main calling hf_trace_projective through the
+ * reverse-perspective frustum (projective_frustum), primary rays only, on world rays
+ * whose grid lines are the camera's rays, against hf_projective_trace_batch: hit or
+ * miss the same and hit points within 1e-4 of the ray's magnitude (the shader maps in
+ * float, the library in double) on at least 99.99 % of the pixels. */
+static void parity_projective(map_job *j, int w, int h, frame *f, tally *t) {
+    static const uint32_t methods[] = {HF_METHOD_EXACT, HF_METHOD_MAXMIP, HF_METHOD_CC};
+    size_t n = (size_t)w * h;
+    double m[16], inv[16];
+    projective_frustum(j->s.w, j->s.h, m, inv);
+    hf_ray *rays = (hf_ray *)malloc(sizeof(hf_ray) * n);
+    for (size_t k = 0; k < n; k++) {
+        const hf_ray *g = &j->rays[k];
+        double o[3] = {g->origin[0], g->origin[1], g->origin[2]}, p[3], ow[3], pw[3];
+        for (int c = 0; c < 3; c++) p[c] = o[c] + g->dir[c];
+        mat4_point(inv, o, ow);
+        mat4_point(inv, p, pw);
+        double len = 0.0;
+        for (int c = 0; c < 3; c++) len += (pw[c] - ow[c]) * (pw[c] - ow[c]);
+        len = sqrt(len);
+        rays[k] = *g;
+        for (int c = 0; c < 3; c++) {
+            rays[k].origin[c] = (float)ow[c];
+            rays[k].dir[c] = (float)((pw[c] - ow[c]) / len);
+        }
+        rays[k].t_min = 0.0f;
+        rays[k].t_max = INFINITY;
+    }
+    hf_hit *hits = (hf_hit *)malloc(sizeof(hf_hit) * n);
+    gpu_upload_rays(&j->g, rays);
+    j->g.primary_only = 1;
+    for (size_t k = 0; k < sizeof methods / sizeof methods[0]; k++) {
+        method_cfg c = cfg_of(methods[k], HF_SURFACE_TRIANGLES);
+        GLuint prog = link_projective_program(c.method);
+        glUseProgram(prog);
+        const char *names[2] = {"proj_m", "proj_i"};
+        const double *mats[2] = {m, inv};
+        for (int q = 0; q < 2; q++)
+            for (int r = 0; r < 4; r++) {
+                char name[16];
+                snprintf(name, sizeof name, "%s%d", names[q], r);
+                const double *row = mats[q] + 4 * r;
+                glUniform4f(glGetUniformLocation(prog, name), (float)row[0], (float)row[1],
+                            (float)row[2], (float)row[3]);
+            }
+        render_ms(j, c, prog, 0); /* the first frame: its time is the shader's compile */
+        gpu_read(&j->g, f);
+        int differ = 0, gpu_hits = 0;
+        double max_rel = 0.0;
+        hf_result r = cpu_trace_projective(&j->s, c, m, rays, n, hits);
+        for (size_t q = 0; q < n && r == HF_OK; q++) {
+            const float *gp = f->point + 4 * q;
+            int ghit = gp[3] >= 0.0f, chit = hits[q].hit != 0;
+            gpu_hits += ghit;
+            if (ghit != chit) {
+                differ++;
+                continue;
+            }
+            if (!chit) continue;
+            double mag = 1.0;
+            for (int a = 0; a < 3; a++) {
+                double v = fabs((double)rays[q].origin[a]);
+                if (v > mag) mag = v;
+            }
+            double rel = dist3(gp, hits[q].point) / mag;
+            if (rel > max_rel) max_rel = rel;
+            if (!(rel <= 1e-4)) differ++;
+        }
+        char label[256];
+        case_label(label, sizeof label, j, c, "");
+        int ok = r == HF_OK && gpu_hits > (int)(n / 10) && (double)differ <= 1e-4 * (double)n;
+        printf("projective %-36s %zu pixels, %d gpu hits, %d differ, max rel err %.1e  %s\n",
+               label, n, gpu_hits, differ, max_rel, ok ? "ok" : "FAILED");
+        glDeleteProgram(prog);
+        if (ok) t->passed++; else t->failed++;
+    }
+    j->g.primary_only = 0;
+    gpu_upload_rays(&j->g, j->rays);
+    free(hits);
+    free(rays);
+}
+
 /* Every configuration on one map (relaxed cones too when the job has their map)
- * against the CPU, then the world-unit and the class-subset cases; the images of the
- * exact methods on triangles (safety: directional) go to the outdir. */
+ * against the CPU, then the world-unit, projective and class-subset cases; the images
+ * of the exact methods on triangles (safety: directional) go to the outdir. */
 static void parity_map(map_job *j, int w, int h, void *ctx) {
     tally *t = (tally *)ctx;
     frame f;
@@ -535,6 +682,7 @@ static void parity_map(map_job *j, int w, int h, void *ctx) {
         }
     }
     parity_world(j, w, h, &f, t);
+    parity_projective(j, w, h, &f, t);
     parity_subsets(j, w, h, &f, t);
     frame_free(&f);
 }
