@@ -199,7 +199,8 @@ int scene_load_crop(scene *s, const char *png_path, uint32_t side) {
     if (r != HF_OK) die_hf("hf_field_create_u16", r);
     s->samples16 = (uint16_t *)malloc(sizeof(uint16_t) * n);
     for (uint32_t j = 0; j < s->h; j++)
-        memcpy(s->samples16 + (size_t)j * s->w, first + (size_t)j * stride, sizeof(uint16_t) * s->w);
+        memcpy(s->samples16 + (size_t)j * s->w, first + (size_t)j * stride,
+               sizeof(uint16_t) * s->w);
     free(samples);
     if ((r = hf_field_get_info(s->field, &s->info)) != HF_OK) die_hf("hf_field_get_info", r);
     s->heights = (float *)malloc(sizeof(float) * n);

@@ -874,8 +874,8 @@ static void test_projective(void) {
     hf_ray *rays = (hf_ray *)malloc(sizeof(hf_ray) * N);
     for (int k = 0; k < N; k++) {
         float dz = -0.2f - frand();
-        rays[k] = ray(-10.0f + (W + 20) * frand(), -10.0f + (H + 20) * frand(), 12.0f + 20 * frand(),
-                      frand() - 0.5f, frand() - 0.5f, dz);
+        float ox = -10.0f + (W + 20) * frand(), oy = -10.0f + (H + 20) * frand();
+        rays[k] = ray(ox, oy, 12.0f + 20 * frand(), frand() - 0.5f, frand() - 0.5f, dz);
     }
     hf_hit *a = (hf_hit *)malloc(sizeof(hf_hit) * N), *b = (hf_hit *)malloc(sizeof(hf_hit) * N);
     const double identity[16] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
@@ -937,8 +937,9 @@ static void test_projective(void) {
     rays[N - 1].origin[1] = NAN;
     CHECK_BAD(hf_projective_trace_batch(f, persp, HF_METHOD_EXACT, NULL, 0, NULL, rays, N, b, N),
               HF_ERR_INVALID_RAY, b, sizeof(hf_hit) * 8);
-    CHECK_BAD(hf_projective_trace_batch(f, persp, HF_METHOD_EXACT, NULL, 0, NULL, rays, N, b, N - 1),
-              HF_ERR_BUFFER_TOO_SMALL, b, sizeof(hf_hit) * 8);
+    CHECK_BAD(
+        hf_projective_trace_batch(f, persp, HF_METHOD_EXACT, NULL, 0, NULL, rays, N, b, N - 1),
+        HF_ERR_BUFFER_TOO_SMALL, b, sizeof(hf_hit) * 8);
     free(rays);
     free(a);
     free(b);

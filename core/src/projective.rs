@@ -6,9 +6,10 @@
 //! **Grid lines.** [`Projective`] maps a world point `X` to the homogeneous grid point
 //! `G = M·[X, 1]`, the grid point `G.xyz / G.w`. A world ray `o + t·d` becomes
 //! `G(t) = A + t·B` (`A = M·[o, 1]`, `B = M·[d, 0]`), and its grid points
-//! `g(t) = g_b + σ(t)·e` lie on one line: from a base point `t_b` where `w_b = w(t_b) > 0`,
-//! `e = (B.xyz·w_b − A_b.xyz·B.w) / w_b²` and `σ(t) = (t − t_b)·w_b / (w_b + (t − t_b)·B.w)`,
-//! increasing wherever `w(t) = A.w + t·B.w` stays positive. So every march runs
+//! `g(t) = g_b + σ(t)·e` lie on one line: from a base point `t_b` where
+//! `w_b = w(t_b) > 0`, `e = (B.xyz·w_b − A_b.xyz·B.w) / w_b²` and
+//! `σ(t) = (t − t_b)·w_b / (w_b + (t − t_b)·B.w)`, increasing wherever
+//! `w(t) = A.w + t·B.w` stays positive. So every march runs
 //! unchanged on the grid line, and a hit at `σ` is the world hit at
 //! `t = t_b + σ·w_b / (w_b − σ·B.w)`.
 //!

@@ -151,9 +151,10 @@ impl<R: Real> Query<R> {
     /// The same points walked the other way: the origin kept, the direction negated,
     /// `t` from where the ray leaves the closed box every surface of `hf` lies in (a
     /// grid unit beyond it; the samples' height range widened by itself above and
-    /// below, as the corner planes need) back to `−t_min`. A shadow ray from a surface point towards a light
-    /// becomes the light's ray to that point ([`Hit::shadow_query_from_light`]): it
-    /// starts outside the box, so an exterior map's set holds it
+    /// below, as the corner planes need) back to `−t_min`. A shadow ray from a surface
+    /// point towards a light becomes the light's ray to that point
+    /// ([`Hit::shadow_query_from_light`]): it starts outside the box, so an exterior
+    /// map's set holds it
     /// ([`Rays::holds`](crate::rayset::Rays::holds)), and it meets the surface iff the
     /// original does (its first hit is the one nearest the light). The origin is not
     /// moved, so the end the original started at is computed without rounding. A ray

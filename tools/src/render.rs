@@ -424,9 +424,10 @@ struct Pixel {
 }
 
 /// Renders the field with `opts.method` (baked first, on `opts.threads`, for the
-/// render's [`ray_classes`] and `opts.rays`): Lambert shading with a directional light, a shadow ray from
-/// every lit hit, a sky gradient for misses. Rows are shared out to the threads in
-/// bands. Fails when the method does not trace the surface.
+/// render's [`ray_classes`] and `opts.rays`): Lambert shading with a directional
+/// light, a shadow ray from every lit hit (from the light's side for an exterior
+/// set), a sky gradient for misses. Rows are shared out to the threads in bands.
+/// Fails when the method does not trace the surface.
 ///
 /// The core treats everything under the surface as solid, down to −∞; the picture
 /// shows it as a slab whose base lies 15 % of the relief (at least 1) under the lowest
