@@ -200,25 +200,9 @@ impl Projective {
             // The range starts at w = 0, where the line starts at infinity: from where
             // it enters the box every surface lies in, widened by a grid unit (so the
             // march still sees the entry), or a miss when it never does.
-            let (zmin, zmax) = (f64::from(hf.min_height()), f64::from(hf.max_height()));
-            let range = zmax - zmin;
-            let lo = [-1.0, -1.0, zmin - range - 1.0];
-            let hi = [
-                f64::from(hf.width()),
-                f64::from(hf.height()),
-                zmax + range + 1.0,
-            ];
-            let mut far = f64::INFINITY;
-            s0 = f64::NEG_INFINITY;
-            for k in 0..3 {
-                if e[k] != 0.0 {
-                    let (p, q) = ((lo[k] - g_b[k]) / e[k], (hi[k] - g_b[k]) / e[k]);
-                    s0 = s0.max(p.min(q));
-                    far = far.min(p.max(q));
-                } else if g_b[k] < lo[k] || g_b[k] > hi[k] {
-                    return Ok(None);
-                }
-            }
+            let (lo, hi) = crate::ray::surface_box(hf, 1.0);
+            let far;
+            (s0, far) = crate::ray::slabs(g_b, e, lo, hi);
             if !(s0.is_finite() && s0 <= far.min(s1)) {
                 return Ok(None);
             }

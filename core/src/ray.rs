@@ -176,27 +176,8 @@ impl<R: Real> Query<R> {
     /// is returned as it is).
     pub fn walked_back_range(&self, hf: &HeightField) -> Option<(R, R)> {
         let (o, d) = (self.origin.map(R::to_f64), self.dir.map(R::to_f64));
-        // The box every surface lies in (the corner planes overshoot the samples by
-        // up to their range: `dda::clip_surface`).
-        let (zmin, zmax) = (f64::from(hf.min_height()), f64::from(hf.max_height()));
-        let range = zmax - zmin;
-        let lo = [0.0, 0.0, zmin - range];
-        let hi = [
-            f64::from(hf.width() - 1),
-            f64::from(hf.height() - 1),
-            zmax + range,
-        ];
-        // Where the line is in the box: [near, far] (slabs, closed).
-        let (mut near, mut far) = (f64::NEG_INFINITY, f64::INFINITY);
-        for k in 0..3 {
-            if d[k] != 0.0 {
-                let (a, b) = ((lo[k] - o[k]) / d[k], (hi[k] - o[k]) / d[k]);
-                near = near.max(a.min(b));
-                far = far.min(a.max(b));
-            } else if o[k] < lo[k] || o[k] > hi[k] {
-                far = f64::NEG_INFINITY;
-            }
-        }
+        let (lo, hi) = surface_box(hf, 0.0);
+        let (near, far) = slabs(o, d, lo, hi);
         let (t0, t1) = (self.t_min.to_f64(), self.t_max.to_f64());
         if far < near.max(t0) {
             return None;
@@ -209,6 +190,37 @@ impl<R: Real> Query<R> {
         };
         Some((-end, -self.t_min))
     }
+}
+
+/// The closed box every surface of `hf` lies in, grown by `margin` on every side: the
+/// footprint, and the samples' height range widened by itself above and below (the
+/// corner planes overshoot the samples by up to their range: `dda::clip_surface`).
+pub(crate) fn surface_box(hf: &HeightField, margin: f64) -> ([f64; 3], [f64; 3]) {
+    let (zmin, zmax) = (f64::from(hf.min_height()), f64::from(hf.max_height()));
+    let range = zmax - zmin;
+    let lo = [-margin, -margin, zmin - range - margin];
+    let hi = [
+        f64::from(hf.width() - 1) + margin,
+        f64::from(hf.height() - 1) + margin,
+        zmax + range + margin,
+    ];
+    (lo, hi)
+}
+
+/// Where the line `o + t·d` is in the closed box `[lo, hi]`, as `(near, far)` (slabs;
+/// `far < near` when never, `far = −∞` for a line parallel to a slab outside it).
+pub(crate) fn slabs(o: [f64; 3], d: [f64; 3], lo: [f64; 3], hi: [f64; 3]) -> (f64, f64) {
+    let (mut near, mut far) = (f64::NEG_INFINITY, f64::INFINITY);
+    for k in 0..3 {
+        if d[k] != 0.0 {
+            let (a, b) = ((lo[k] - o[k]) / d[k], (hi[k] - o[k]) / d[k]);
+            near = near.max(a.min(b));
+            far = far.min(a.max(b));
+        } else if o[k] < lo[k] || o[k] > hi[k] {
+            far = f64::NEG_INFINITY;
+        }
+    }
+    (near, far)
 }
 
 /// Bit flags describing a hit or a trace.
