@@ -126,6 +126,7 @@ pub mod cone;
 pub mod dda;
 pub mod field;
 pub mod hybrid;
+pub mod impostor;
 pub mod judge;
 pub mod ktx2;
 pub mod mapdesc;

@@ -271,7 +271,7 @@ impl Projective {
 }
 
 /// `m·v`.
-fn mul(m: &Mat4, v: [f64; 4]) -> [f64; 4] {
+pub(crate) fn mul(m: &Mat4, v: [f64; 4]) -> [f64; 4] {
     m.map(|row| row[0] * v[0] + row[1] * v[1] + row[2] * v[2] + row[3] * v[3])
 }
 
