@@ -329,6 +329,24 @@ impl Layout {
         Ok(layout)
     }
 
+    /// A layout from its parts, as [`Layout::center`], [`Layout::half`],
+    /// [`Layout::frustum`] and [`Layout::face_unit`] give them (a layout kept or passed
+    /// through C): the cube and frustum checked as [`Layout::new`] does, each unit map
+    /// as [`Projective::new`] does.
+    pub fn from_parts(
+        center: [f64; 3],
+        half: f64,
+        frustum: Frustum,
+        units: [Mat4; 6],
+    ) -> Result<Layout, ImpostorError> {
+        let mut layout = Layout::new(center, half, frustum)?;
+        for unit in &units {
+            Projective::new(*unit).map_err(ImpostorError::Map)?;
+        }
+        layout.unit = units;
+        Ok(layout)
+    }
+
     /// The cube's centre.
     pub fn center(&self) -> [f64; 3] {
         self.center

@@ -99,6 +99,16 @@ fn bad_meshes_and_layouts_are_refused() {
         ImpostorError::NotFinite
     );
     assert_eq!(l.face_map(0, 1).unwrap_err(), ImpostorError::BadSide);
+    // A layout from its parts: the same layout back; a bad unit map refused.
+    let units = core::array::from_fn(|k| l.face_unit(k));
+    let back = Layout::from_parts(l.center(), l.half(), l.frustum(), units).unwrap();
+    assert_eq!(back, l);
+    let mut singular = units;
+    singular[3][2] = [0.0; 4];
+    assert!(matches!(
+        Layout::from_parts(l.center(), l.half(), l.frustum(), singular),
+        Err(ImpostorError::Map(_))
+    ));
     let map = l.face_map(0, 8).unwrap();
     let mut short = vec![0.0; 63];
     assert_eq!(
@@ -318,7 +328,7 @@ fn camera_rays(layout: &Layout, px: u32) -> Vec<([f64; 3], [f64; 3])> {
     ];
     let mut out = Vec::new();
     for v in views {
-        let l = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2] as f64).sqrt();
+        let l = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
         let back = v.map(|x| x / l);
         let o = [0, 1, 2].map(|k| c[k] + 3.0 * s * back[k]);
         // A right and an up vector orthogonal to the view direction.
