@@ -318,7 +318,7 @@ fn bunny() -> (Vec<[f32; 3]>, Vec<[u32; 3]>) {
 /// looking at it from around the object, the cube filling the frame.
 fn camera_rays(layout: &Layout, px: u32) -> Vec<([f64; 3], [f64; 3])> {
     let (c, s) = (layout.center(), layout.half());
-    let views = [
+    let views: [[f64; 3]; 6] = [
         [1.0, 0.3, 0.2],
         [-0.4, 1.0, 0.5],
         [-1.0, -0.6, 0.1],
