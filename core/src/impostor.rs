@@ -596,6 +596,40 @@ impl<'a> Impostor<'a> {
         [g[0] / g[3] / last, g[1] / g[3] / last]
     }
 
+    /// The face whose textures show the world point `p` of the object best, `n` its
+    /// unit normal: of the faces whose field's surface passes within a grid unit of
+    /// `p` (the faces that see it), the one whose projector line at `p` runs most
+    /// nearly along `n`; `hit_face` (the face of the hit) when no other face sees it.
+    /// Colour and normal textures read from it do not smear where the hit's own field
+    /// sees the surface edge-on.
+    pub fn texture_face(&self, p: [f64; 3], n: [f64; 3], hit_face: usize) -> usize {
+        let mut best = (f64::NEG_INFINITY, hit_face);
+        for (face, (hf, map)) in self.fields.iter().zip(&self.maps).enumerate() {
+            let g = map.to_grid_h(p);
+            let [x, y, z] = [g[0] / g[3], g[1] / g[3], g[2] / g[3]];
+            let last = f64::from(hf.width() - 1);
+            if !(g[3] > 0.0 && (0.0..=last).contains(&x) && (0.0..=last).contains(&y)) {
+                continue;
+            }
+            let surface = crate::Surface::Triangles.height_at(hf, x, y);
+            if (z - surface).abs() > 1.0 && face != hit_face {
+                continue;
+            }
+            let (a, b) = (map.to_world([x, y, z]), map.to_world([x, y, z + 1.0]));
+            let d = [b[0] - a[0], b[1] - a[1], b[2] - a[2]];
+            let len = libm::sqrt(dot(d, d));
+            let along = if len > 0.0 {
+                dot(d, n).abs() / len
+            } else {
+                0.0
+            };
+            if along > best.0 {
+                best = (along, face);
+            }
+        }
+        best.1
+    }
+
     /// The first point of `world` in the object inside the cube as `combine` makes it
     /// of the six fields, each traced by `march` on its grid query (see the module).
     pub fn trace<R: Real>(

@@ -14,6 +14,7 @@ use std::sync::Mutex;
 
 pub mod advise;
 pub mod bench;
+pub mod impostor;
 pub mod maps;
 pub mod render;
 pub mod report;

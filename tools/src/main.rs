@@ -78,6 +78,14 @@ commands:
            directional|isotropic --tolerance E (radius, 0) --threads N (all cores)
            --rays all|exterior|angle:A|exterior,angle:A (all; safety, cc)
 
+  impostor six reverse-perspective height fields of a triangle mesh (an object's
+           impostor): impostor capture MESH (.obj, .ply, or tower: a procedural one)
+           --out DIR --side N (128) --colour-side N (256: colour and normal textures)
+           --frustum reverse-perspective|orthographic --apex HALF_SIDES (2);
+           impostor render DIR --out PNG --width N --height N (512) --elevation DEG
+           --azimuth DEG (30) --distance HALF_SIDES (4) --fov DEG (40) --combine
+           intersection|facing-field (intersection: the six solids' intersection)
+
 angles: compass degrees (azimuth 0 = north = image top of the map, 90 = east)
 maps: grayscale PNG, heights = png/65535 * depth; depth defaults to 0.1 * max(W, H);
       its JSON sidecar gives metres and spacing (world units); GeoTIFF DEM (.tif):
@@ -87,6 +95,7 @@ maps: grayscale PNG, heights = png/65535 * depth; depth defaults to 0.1 * max(W,
       data/dem_jacksboro_fault_403x344.png";
 
 mod bake;
+mod impostor_cli;
 mod shader;
 
 /// Options that take no value (`--quick` is `--quick=true`).
@@ -550,6 +559,7 @@ fn main() -> ExitCode {
         "table1" => run(cmd_table1),
         "shader" => run(shader::cmd_shader),
         "bake" => run(bake::cmd_bake),
+        "impostor" => run(impostor_cli::cmd_impostor),
         "help" | "--help" | "-h" => {
             let (top, rest) = USAGE.split_at(USAGE.find("angles: ").unwrap_or(USAGE.len()));
             println!("{top}{}{rest}", hfcast_tools::methods_help());

@@ -1,0 +1,586 @@
+//! Six-field impostors of a triangle mesh (issue 22; `hfcast::impostor`): read an OBJ
+//! (`tobj`) or PLY (`ply-rs-bw`) mesh, capture its six fields with colour and normal
+//! textures at their own side, write and read a capture directory, and render it on
+//! the CPU.
+//!
+//! A capture directory holds `impostor.json` (side, colour side, frustum, the cube and
+//! each face's unit map by rows, as `hf_impostor_layout`), and per face `F` of `px nx
+//! py ny pz nz` (the faces of `hfcast::impostor::FACES`): `heights-F.f32` (`side²`
+//! little-endian `f32`, rows of grid y, the padded capture), `colour-F.png` and
+//! `normal-F.png` (`colour_side²` RGB; a normal `n` is stored as `(n + 1) / 2`).
+
+use crate::render::Image;
+use hfcast::impostor::{
+    pad_silhouettes, procedural_tower, rasterize, Combine, Frustum, Impostor, Layout, Mesh,
+    NO_TRIANGLE,
+};
+use hfcast::projective::Mat4;
+use hfcast::{dda, HeightField, Query, Surface};
+use std::path::Path;
+
+/// The file-name tags of the six faces, in `FACES` order.
+pub const FACE_TAGS: [&str; 6] = ["px", "nx", "py", "ny", "pz", "nz"];
+
+/// The mesh name that [`load_mesh`] reads as `hfcast::impostor::procedural_tower(64)`.
+pub const TOWER: &str = "tower";
+
+/// A triangle mesh read from a file: positions, triangles and, when the file has them,
+/// vertex colours (`[0, 1]` RGB).
+pub struct MeshData {
+    /// Vertex positions.
+    pub positions: Vec<[f32; 3]>,
+    /// Vertex indices, three per triangle.
+    pub triangles: Vec<[u32; 3]>,
+    /// Per-vertex colours, if the file has them.
+    pub colours: Option<Vec<[f32; 3]>>,
+}
+
+impl MeshData {
+    /// The checked mesh (NaN positions, no triangles and bad indices are errors).
+    pub fn mesh(&self) -> Result<Mesh<'_>, String> {
+        Mesh::new(&self.positions, &self.triangles).map_err(|e| format!("mesh: {e}"))
+    }
+}
+
+/// Reads `path` by its extension (`.obj` or `.ply`, polygons triangulated), or the
+/// procedural tower when `path` is [`TOWER`].
+pub fn load_mesh(path: &Path) -> Result<MeshData, String> {
+    if path.as_os_str() == TOWER {
+        let (positions, triangles) = procedural_tower(64);
+        return Ok(MeshData {
+            positions,
+            triangles,
+            colours: None,
+        });
+    }
+    let ext = path.extension().and_then(|e| e.to_str()).unwrap_or("");
+    let err = |e: &dyn std::fmt::Display| format!("{}: {e}", path.display());
+    match ext.to_ascii_lowercase().as_str() {
+        "obj" => load_obj(path).map_err(|e| err(&e)),
+        "ply" => load_ply(path).map_err(|e| err(&e)),
+        _ => Err(err(&"not a mesh (want .obj or .ply)")),
+    }
+}
+
+/// An OBJ file's models, joined.
+fn load_obj(path: &Path) -> Result<MeshData, String> {
+    let opts = tobj::LoadOptions {
+        triangulate: true,
+        single_index: true,
+        ..Default::default()
+    };
+    let (models, _) = tobj::load_obj(path, &opts).map_err(|e| e.to_string())?;
+    let mut out = MeshData {
+        positions: Vec::new(),
+        triangles: Vec::new(),
+        colours: Some(Vec::new()),
+    };
+    for m in models {
+        let base = out.positions.len() as u32;
+        let mesh = m.mesh;
+        let n = mesh.positions.len() / 3;
+        out.positions
+            .extend(mesh.positions.chunks_exact(3).map(|p| [p[0], p[1], p[2]]));
+        match (&mut out.colours, mesh.vertex_color.len() == 3 * n) {
+            (Some(c), true) => c.extend(
+                mesh.vertex_color
+                    .chunks_exact(3)
+                    .map(|p| [p[0], p[1], p[2]]),
+            ),
+            (c, _) => *c = None,
+        }
+        out.triangles.extend(
+            mesh.indices
+                .chunks_exact(3)
+                .map(|t| [t[0] + base, t[1] + base, t[2] + base]),
+        );
+    }
+    Ok(out)
+}
+
+/// A PLY file's `vertex` (`x y z`, optional `red green blue`) and `face`
+/// (`vertex_indices` or `vertex_index`, polygons fanned) elements.
+fn load_ply(path: &Path) -> Result<MeshData, String> {
+    use ply_rs_bw::parser::Parser;
+    use ply_rs_bw::ply::{DefaultElement, Property};
+    let mut file = std::fs::File::open(path).map_err(|e| e.to_string())?;
+    let ply = Parser::<DefaultElement>::new()
+        .read_ply(&mut file)
+        .map_err(|e| e.to_string())?;
+    let scalar = |p: Option<&Property>| -> Option<f64> {
+        Some(match p? {
+            Property::Float(v) => f64::from(*v),
+            Property::Double(v) => *v,
+            Property::UChar(v) => f64::from(*v) / 255.0,
+            Property::UShort(v) => f64::from(*v) / 65535.0,
+            Property::Char(v) => f64::from(*v),
+            Property::Short(v) => f64::from(*v),
+            Property::Int(v) => f64::from(*v),
+            Property::UInt(v) => f64::from(*v),
+            _ => return None,
+        })
+    };
+    let empty = Vec::new();
+    let vertices = ply.payload.get("vertex").unwrap_or(&empty);
+    let mut positions = Vec::with_capacity(vertices.len());
+    let mut colours = Some(Vec::with_capacity(vertices.len()));
+    for v in vertices {
+        let p = ["x", "y", "z"].map(|k| scalar(v.get(k)));
+        let [Some(x), Some(y), Some(z)] = p else {
+            return Err("a vertex without a numeric x, y and z".into());
+        };
+        positions.push([x as f32, y as f32, z as f32]);
+        let c = ["red", "green", "blue"].map(|k| scalar(v.get(k)));
+        match (&mut colours, c) {
+            (Some(list), [Some(r), Some(g), Some(b)]) => list.push([r as f32, g as f32, b as f32]),
+            (c, _) => *c = None,
+        }
+    }
+    let mut triangles = Vec::new();
+    for f in ply.payload.get("face").unwrap_or(&empty) {
+        let list = f.get("vertex_indices").or_else(|| f.get("vertex_index"));
+        let idx: Vec<i64> = match list {
+            Some(Property::ListInt(l)) => l.iter().map(|&i| i64::from(i)).collect(),
+            Some(Property::ListUInt(l)) => l.iter().map(|&i| i64::from(i)).collect(),
+            Some(Property::ListShort(l)) => l.iter().map(|&i| i64::from(i)).collect(),
+            Some(Property::ListUShort(l)) => l.iter().map(|&i| i64::from(i)).collect(),
+            Some(Property::ListChar(l)) => l.iter().map(|&i| i64::from(i)).collect(),
+            Some(Property::ListUChar(l)) => l.iter().map(|&i| i64::from(i)).collect(),
+            _ => return Err("a face without a vertex index list".into()),
+        };
+        let bad = || "a face index is negative or too large".to_string();
+        let idx: Vec<u32> = idx
+            .into_iter()
+            .map(|i| u32::try_from(i).map_err(|_| bad()))
+            .collect::<Result<_, _>>()?;
+        for k in 2..idx.len() {
+            triangles.push([idx[0], idx[k - 1], idx[k]]);
+        }
+    }
+    Ok(MeshData {
+        positions,
+        triangles,
+        colours,
+    })
+}
+
+/// A capture: the layout, the six padded height fields, and colour and normal
+/// textures at their own side.
+pub struct Capture {
+    /// The cube and the faces' maps.
+    pub layout: Layout,
+    /// The fields' side.
+    pub side: u32,
+    /// The textures' side.
+    pub colour_side: u32,
+    /// Six `side²` fields, in `FACES` order.
+    pub heights: Vec<Vec<f32>>,
+    /// Six `colour_side²` RGB textures.
+    pub colour: Vec<Vec<[u8; 3]>>,
+    /// Six `colour_side²` unit normals (world space).
+    pub normal: Vec<Vec<[f32; 3]>>,
+}
+
+/// Captures `data` with `frustum`: fields of `side` (padded, `pad_silhouettes`), and
+/// textures of `colour_side` whose texel is the mesh's colour and normal where the
+/// texel's projector line first meets it (vertex colours when the mesh has them, else
+/// a checkerboard of eight cells across the cube, so that colour detail shows apart
+/// from the fields' side).
+pub fn capture(
+    data: &MeshData,
+    frustum: Frustum,
+    side: u32,
+    colour_side: u32,
+) -> Result<Capture, String> {
+    let mesh = data.mesh()?;
+    let layout = Layout::around(&mesh, frustum).map_err(|e| e.to_string())?;
+    let mut out = Capture {
+        layout,
+        side,
+        colour_side,
+        heights: Vec::new(),
+        colour: Vec::new(),
+        normal: Vec::new(),
+    };
+    for face in 0..6 {
+        let map = layout.face_map(face, side).map_err(|e| e.to_string())?;
+        let mut h = vec![0.0; (side * side) as usize];
+        rasterize(&mesh, &map, side, &mut h, None).map_err(|e| e.to_string())?;
+        pad_silhouettes(&mut h, side).map_err(|e| e.to_string())?;
+        out.heights.push(h);
+        let map = layout
+            .face_map(face, colour_side)
+            .map_err(|e| e.to_string())?;
+        let n = (colour_side * colour_side) as usize;
+        let (mut h, mut tri) = (vec![0.0; n], vec![0u32; n]);
+        rasterize(&mesh, &map, colour_side, &mut h, Some(&mut tri)).map_err(|e| e.to_string())?;
+        let (mut colour, mut normal) = (vec![[0u8; 3]; n], vec![[0f32; 3]; n]);
+        for at in 0..n {
+            if tri[at] == NO_TRIANGLE {
+                continue;
+            }
+            let (i, j) = (at as u32 % colour_side, at as u32 / colour_side);
+            let p = map.to_world([f64::from(i), f64::from(j), f64::from(h[at])]);
+            let line = map.to_world([f64::from(i), f64::from(j), f64::from(colour_side)]);
+            let towards = [0, 1, 2].map(|k| line[k] - p[k]);
+            let (c, nrm) = surface_at(data, &mesh, &layout, tri[at] as usize, p, towards);
+            colour[at] = c.map(|v| (v.clamp(0.0, 1.0) * 255.0).round() as u8);
+            normal[at] = nrm;
+        }
+        // Texels next to the object take a neighbour's colour and normal, as the
+        // fields' silhouettes are padded.
+        let filled: Vec<bool> = tri.iter().map(|&t| t != NO_TRIANGLE).collect();
+        let cs = colour_side as usize;
+        for at in (0..n).filter(|&at| !filled[at]) {
+            let (i, j) = (at % cs, at / cs);
+            let near = (j.saturating_sub(1)..(j + 2).min(cs))
+                .flat_map(|jj| (i.saturating_sub(1)..(i + 2).min(cs)).map(move |ii| jj * cs + ii))
+                .find(|&b| filled[b]);
+            if let Some(b) = near {
+                (colour[at], normal[at]) = (colour[b], normal[b]);
+            }
+        }
+        out.colour.push(colour);
+        out.normal.push(normal);
+    }
+    Ok(out)
+}
+
+/// The colour and unit normal (turned to face `towards`) of triangle `k` at `p`.
+fn surface_at(
+    data: &MeshData,
+    mesh: &Mesh,
+    layout: &Layout,
+    k: usize,
+    p: [f64; 3],
+    towards: [f64; 3],
+) -> ([f32; 3], [f32; 3]) {
+    let [a, b, c] = mesh.triangle(k);
+    let sub = |x: [f64; 3], y: [f64; 3]| [0, 1, 2].map(|i| x[i] - y[i]);
+    let cross = |x: [f64; 3], y: [f64; 3]| {
+        [
+            x[1] * y[2] - x[2] * y[1],
+            x[2] * y[0] - x[0] * y[2],
+            x[0] * y[1] - x[1] * y[0],
+        ]
+    };
+    let dot = |x: [f64; 3], y: [f64; 3]| x[0] * y[0] + x[1] * y[1] + x[2] * y[2];
+    let n = cross(sub(b, a), sub(c, a));
+    let area = dot(n, n);
+    let len = area.sqrt().max(f64::MIN_POSITIVE);
+    let sign = if dot(n, towards) < 0.0 { -1.0 } else { 1.0 };
+    let normal = n.map(|v| (sign * v / len) as f32);
+    let colour = match &data.colours {
+        Some(cols) if area > 0.0 => {
+            // Barycentric weights of p in the triangle.
+            let wa = dot(cross(sub(b, p), sub(c, p)), n) / area;
+            let wb = dot(cross(sub(c, p), sub(a, p)), n) / area;
+            let wc = 1.0 - wa - wb;
+            let [ia, ib, ic] = data.triangles[k].map(|i| cols[i as usize]);
+            [0, 1, 2].map(|i| {
+                (wa * f64::from(ia[i]) + wb * f64::from(ib[i]) + wc * f64::from(ic[i])) as f32
+            })
+        }
+        _ => {
+            let (c0, s) = (layout.center(), layout.half());
+            let cell = |i: usize| ((p[i] - c0[i] + s) / (s / 4.0)).floor() as i64;
+            if (cell(0) + cell(1) + cell(2)).rem_euclid(2) == 0 {
+                [0.85, 0.72, 0.52]
+            } else {
+                [0.45, 0.55, 0.75]
+            }
+        }
+    };
+    (colour, normal)
+}
+
+impl Capture {
+    /// The impostor over the six fields.
+    pub fn impostor(&self) -> Result<Impostor<'_>, String> {
+        let fields: Result<Vec<HeightField>, _> = self
+            .heights
+            .iter()
+            .map(|h| HeightField::new(h, self.side, self.side, self.side as usize))
+            .collect();
+        let fields: [HeightField; 6] = fields
+            .map_err(|e| e.to_string())?
+            .try_into()
+            .map_err(|_| "a capture has six fields".to_string())?;
+        Impostor::new(self.layout, fields).map_err(|e| e.to_string())
+    }
+
+    /// Writes the capture directory (see the module).
+    pub fn write(&self, dir: &Path) -> Result<(), String> {
+        let err = |e: &dyn std::fmt::Display| format!("{}: {e}", dir.display());
+        std::fs::create_dir_all(dir).map_err(|e| err(&e))?;
+        let (frustum, apex) = match self.layout.frustum() {
+            Frustum::Orthographic => ("orthographic", 0.0),
+            Frustum::ReversePerspective { apex } => ("reverse-perspective", apex),
+        };
+        let units: Vec<Vec<f64>> = (0..6)
+            .map(|k| self.layout.face_unit(k).iter().flatten().copied().collect())
+            .collect();
+        let json = serde_json::json!({
+            "format": "hfcast impostor 1",
+            "side": self.side,
+            "colour_side": self.colour_side,
+            "frustum": frustum,
+            "apex": apex,
+            "center": self.layout.center(),
+            "half": self.layout.half(),
+            "units": units,
+            "faces": FACE_TAGS,
+        });
+        let text = serde_json::to_string_pretty(&json).map_err(|e| err(&e))?;
+        std::fs::write(dir.join("impostor.json"), text).map_err(|e| err(&e))?;
+        for (k, tag) in FACE_TAGS.iter().enumerate() {
+            let bytes: Vec<u8> = self.heights[k]
+                .iter()
+                .flat_map(|v| v.to_le_bytes())
+                .collect();
+            std::fs::write(dir.join(format!("heights-{tag}.f32")), bytes).map_err(|e| err(&e))?;
+            let image = |rgb: Vec<u8>| Image {
+                width: self.colour_side,
+                height: self.colour_side,
+                rgb,
+            };
+            let colour = image(self.colour[k].iter().flatten().copied().collect());
+            crate::render::write_png(dir.join(format!("colour-{tag}.png")), &colour)
+                .map_err(|e| e.to_string())?;
+            let normal = image(
+                self.normal[k]
+                    .iter()
+                    .flatten()
+                    .map(|v| ((v + 1.0) * 127.5).round() as u8)
+                    .collect(),
+            );
+            crate::render::write_png(dir.join(format!("normal-{tag}.png")), &normal)
+                .map_err(|e| e.to_string())?;
+        }
+        Ok(())
+    }
+
+    /// Reads a capture directory [`Capture::write`] wrote; a missing, short or
+    /// inconsistent file is an error that names it.
+    pub fn read(dir: &Path) -> Result<Capture, String> {
+        let path = dir.join("impostor.json");
+        let err = |p: &Path, e: &dyn std::fmt::Display| format!("{}: {e}", p.display());
+        let text = std::fs::read_to_string(&path).map_err(|e| err(&path, &e))?;
+        let json: serde_json::Value = serde_json::from_str(&text).map_err(|e| err(&path, &e))?;
+        let num = |k: &str| {
+            json[k]
+                .as_f64()
+                .ok_or(err(&path, &format!("no number {k:?}")))
+        };
+        let side = num("side")? as u32;
+        let colour_side = num("colour_side")? as u32;
+        let frustum = match json["frustum"].as_str() {
+            Some("orthographic") => Frustum::Orthographic,
+            Some("reverse-perspective") => Frustum::ReversePerspective { apex: num("apex")? },
+            _ => {
+                return Err(err(
+                    &path,
+                    &"frustum: want orthographic or reverse-perspective",
+                ))
+            }
+        };
+        let floats = |v: &serde_json::Value, n: usize| -> Option<Vec<f64>> {
+            let list: Vec<f64> = v.as_array()?.iter().filter_map(|x| x.as_f64()).collect();
+            (list.len() == n).then_some(list)
+        };
+        let c = floats(&json["center"], 3).ok_or(err(&path, &"center: want 3 numbers"))?;
+        let mut units: [Mat4; 6] = [[[0.0; 4]; 4]; 6];
+        for (k, unit) in units.iter_mut().enumerate() {
+            let m =
+                floats(&json["units"][k], 16).ok_or(err(&path, &"units: want 6 x 16 numbers"))?;
+            *unit = std::array::from_fn(|r| std::array::from_fn(|c| m[4 * r + c]));
+        }
+        let layout = Layout::from_parts([c[0], c[1], c[2]], num("half")?, frustum, units)
+            .map_err(|e| err(&path, &e))?;
+        let mut out = Capture {
+            layout,
+            side,
+            colour_side,
+            heights: Vec::new(),
+            colour: Vec::new(),
+            normal: Vec::new(),
+        };
+        for tag in FACE_TAGS {
+            let p = dir.join(format!("heights-{tag}.f32"));
+            let bytes = std::fs::read(&p).map_err(|e| err(&p, &e))?;
+            if bytes.len() != 4 * (side as usize).pow(2) {
+                return Err(err(&p, &format!("want {side} x {side} f32 samples")));
+            }
+            out.heights.push(
+                bytes
+                    .chunks_exact(4)
+                    .map(|b| f32::from_le_bytes([b[0], b[1], b[2], b[3]]))
+                    .collect(),
+            );
+            let rgb = |name: &str| -> Result<Vec<[u8; 3]>, String> {
+                let p = dir.join(format!("{name}-{tag}.png"));
+                let (w, h, data) = read_rgb(&p).map_err(|e| err(&p, &e))?;
+                if (w, h) != (colour_side, colour_side) {
+                    return Err(err(
+                        &p,
+                        &format!("want {colour_side} x {colour_side} pixels"),
+                    ));
+                }
+                Ok(data.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect())
+            };
+            out.colour.push(rgb("colour")?);
+            out.normal.push(
+                rgb("normal")?
+                    .into_iter()
+                    .map(|c| c.map(|v| f32::from(v) / 127.5 - 1.0))
+                    .collect(),
+            );
+        }
+        out.impostor()?;
+        Ok(out)
+    }
+}
+
+/// An 8-bit RGB PNG's width, height and bytes.
+fn read_rgb(path: &Path) -> Result<(u32, u32, Vec<u8>), String> {
+    let file = std::fs::File::open(path).map_err(|e| e.to_string())?;
+    let mut reader = png::Decoder::new(std::io::BufReader::new(file))
+        .read_info()
+        .map_err(|e| e.to_string())?;
+    let mut buf = vec![0; reader.output_buffer_size().ok_or("image too large")?];
+    let info = reader.next_frame(&mut buf).map_err(|e| e.to_string())?;
+    if info.color_type != png::ColorType::Rgb || info.bit_depth != png::BitDepth::Eight {
+        return Err("want an 8-bit RGB PNG".into());
+    }
+    buf.truncate(info.buffer_size());
+    Ok((info.width, info.height, buf))
+}
+
+/// A camera orbiting the cube's centre: compass azimuth and elevation (degrees), at
+/// `distance` half sides, with a vertical field of view of `fov_deg`.
+#[derive(Clone, Copy, Debug)]
+pub struct Orbit {
+    /// Degrees above the horizon (+z up).
+    pub elevation: f64,
+    /// Compass degrees (0 = +y, 90 = +x).
+    pub azimuth: f64,
+    /// Distance from the centre in half sides.
+    pub distance: f64,
+    /// Vertical field of view in degrees.
+    pub fov_deg: f64,
+}
+
+impl Orbit {
+    /// The eye, and the world ray through the centre of pixel `(x, y)` of a `w × h`
+    /// image (its direction; row 0 at the top).
+    pub fn ray(&self, layout: &Layout, w: u32, h: u32, x: u32, y: u32) -> ([f64; 3], [f64; 3]) {
+        let (el, az) = (self.elevation.to_radians(), self.azimuth.to_radians());
+        let back = [el.cos() * az.sin(), el.cos() * az.cos(), el.sin()];
+        let c = layout.center();
+        let eye = [0, 1, 2].map(|k| c[k] + self.distance * layout.half() * back[k]);
+        let right = [az.cos(), -az.sin(), 0.0];
+        let up = [
+            back[1] * right[2] - back[2] * right[1],
+            back[2] * right[0] - back[0] * right[2],
+            back[0] * right[1] - back[1] * right[0],
+        ];
+        let t = (0.5 * self.fov_deg.to_radians()).tan();
+        let sx =
+            (2.0 * (f64::from(x) + 0.5) / f64::from(w) - 1.0) * t * f64::from(w) / f64::from(h);
+        let sy = (1.0 - 2.0 * (f64::from(y) + 0.5) / f64::from(h)) * t;
+        (eye, [0, 1, 2].map(|k| sx * right[k] + sy * up[k] - back[k]))
+    }
+}
+
+impl Default for Orbit {
+    /// 30° up, azimuth 30°, four half sides away, 40° field of view (the cube fills
+    /// about two thirds of the frame).
+    fn default() -> Orbit {
+        Orbit {
+            elevation: 30.0,
+            azimuth: 30.0,
+            distance: 4.0,
+            fov_deg: 40.0,
+        }
+    }
+}
+
+/// A CPU render of a capture: the shaded image and each pixel's hit distance along its
+/// unit ray (`∞` for a miss).
+pub struct Rendered {
+    /// The shaded image (background grey).
+    pub image: Image,
+    /// Distance to the hit per pixel, row-major.
+    pub depth: Vec<f64>,
+    /// Field traces made.
+    pub traces: u64,
+}
+
+/// Renders `cap` from `orbit` with `combine`, the exact traversal on every field:
+/// colour texel × (ambient 0.25 + 0.75 × Lambert) with the normal texel (both nearest,
+/// from the face that sees the hit best, `Impostor::texture_face`), light from over
+/// the camera's left shoulder.
+pub fn render(
+    cap: &Capture,
+    combine: Combine,
+    orbit: Orbit,
+    w: u32,
+    h: u32,
+) -> Result<Rendered, String> {
+    let imp = cap.impostor()?;
+    let light = {
+        let v = orbit.ray(&cap.layout, 1, 1, 0, 0).1;
+        let l = [-v[0] - 0.5 * v[1], -v[1] + 0.5 * v[0], -v[2] + 0.8];
+        let n = (l[0] * l[0] + l[1] * l[1] + l[2] * l[2]).sqrt();
+        l.map(|x| x / n)
+    };
+    let mut out = Rendered {
+        image: Image {
+            width: w,
+            height: h,
+            rgb: vec![0; (w * h * 3) as usize],
+        },
+        depth: vec![f64::INFINITY; (w * h) as usize],
+        traces: 0,
+    };
+    for y in 0..h {
+        for x in 0..w {
+            let at = (y * w + x) as usize;
+            let (eye, dir) = orbit.ray(&cap.layout, w, h, x, y);
+            let q = Query::<f32>::from_arrays(
+                eye.map(|v| v as f32),
+                dir.map(|v| v as f32),
+                0.0,
+                f32::INFINITY,
+            )
+            .map_err(|e| e.to_string())?;
+            let r = imp
+                .trace(combine, &q, |hf, g| dda::trace(hf, Surface::Triangles, g))
+                .map_err(|e| e.to_string())?;
+            out.traces += u64::from(r.traces);
+            let rgb = match (r.trace.hit, r.face) {
+                (Some(hit), Some(face)) => {
+                    let len = (dir[0] * dir[0] + dir[1] * dir[1] + dir[2] * dir[2]).sqrt();
+                    out.depth[at] = f64::from(hit.t) * len;
+                    let p = [hit.point.x, hit.point.y, hit.point.z].map(f64::from);
+                    let n = [hit.normal.x, hit.normal.y, hit.normal.z].map(f64::from);
+                    let face = imp.texture_face(p, n, face);
+                    let [u, v] = imp.texcoord(face, p);
+                    let last = f64::from(cap.colour_side - 1);
+                    let texel = |c: f64| (c * last).round().clamp(0.0, last) as usize;
+                    let t = texel(v) * cap.colour_side as usize + texel(u);
+                    let n = cap.normal[face][t];
+                    let lambert = (0..3)
+                        .map(|k| f64::from(n[k]) * light[k])
+                        .sum::<f64>()
+                        .max(0.0);
+                    cap.colour[face][t]
+                        .map(|c| (f64::from(c) * (0.25 + 0.75 * lambert)).round() as u8)
+                }
+                _ => [40, 40, 48],
+            };
+            out.image.rgb[3 * at..3 * at + 3].copy_from_slice(&rgb);
+        }
+    }
+    Ok(out)
+}
