@@ -514,6 +514,8 @@ pub struct Rendered {
     pub depth: Vec<f64>,
     /// Field traces made.
     pub traces: u64,
+    /// The colour texel each hit pixel shows (unlit), row-major.
+    pub albedo: Vec<[u8; 3]>,
 }
 
 /// Renders `cap` from `orbit` with `combine`, the exact traversal on every field:
@@ -542,6 +544,7 @@ pub fn render(
         },
         depth: vec![f64::INFINITY; (w * h) as usize],
         traces: 0,
+        albedo: vec![[0; 3]; (w * h) as usize],
     };
     for y in 0..h {
         for x in 0..w {
@@ -569,6 +572,7 @@ pub fn render(
                     let last = f64::from(cap.colour_side - 1);
                     let texel = |c: f64| (c * last).round().clamp(0.0, last) as usize;
                     let t = texel(v) * cap.colour_side as usize + texel(u);
+                    out.albedo[at] = cap.colour[face][t];
                     let n = cap.normal[face][t];
                     let lambert = (0..3)
                         .map(|k| f64::from(n[k]) * light[k])
@@ -583,4 +587,58 @@ pub fn render(
         }
     }
     Ok(out)
+}
+
+/// A render's colours against the mesh's own: of the pixels both hit, those whose
+/// colour texel differs from the mesh's colour at its first hit (any channel by more
+/// than 8 of 255), and the mean absolute difference per channel.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ColourError {
+    /// Pixels both the impostor and the mesh hit.
+    pub both: usize,
+    /// Of those, the pixels whose colours differ.
+    pub wrong: usize,
+    /// Mean absolute difference per channel (of 255).
+    pub mean_abs: f64,
+}
+
+/// [`ColourError`] of `r` (a render of `cap`, a capture of `data`, from `orbit`).
+pub fn colour_error(
+    data: &MeshData,
+    cap: &Capture,
+    r: &Rendered,
+    orbit: Orbit,
+) -> Result<ColourError, String> {
+    let mesh = data.mesh()?;
+    let (w, h) = (r.image.width, r.image.height);
+    let mut e = ColourError {
+        both: 0,
+        wrong: 0,
+        mean_abs: 0.0,
+    };
+    for y in 0..h {
+        for x in 0..w {
+            let at = (y * w + x) as usize;
+            if !r.depth[at].is_finite() {
+                continue;
+            }
+            let (eye, dir) = orbit.ray(&cap.layout, w, h, x, y);
+            let Some((t, k)) = mesh.first_hit(eye, dir, 0.0, f64::INFINITY) else {
+                continue;
+            };
+            let p = [0, 1, 2].map(|i| eye[i] + t * dir[i]);
+            let back = dir.map(|v| -v);
+            let truth = surface_at(data, &mesh, &cap.layout, k as usize, p, back)
+                .0
+                .map(|v| (v.clamp(0.0, 1.0) * 255.0).round() as u8);
+            let d: Vec<f64> = (0..3)
+                .map(|i| (f64::from(truth[i]) - f64::from(r.albedo[at][i])).abs())
+                .collect();
+            e.both += 1;
+            e.wrong += usize::from(d.iter().any(|&v| v > 8.0));
+            e.mean_abs += d.iter().sum::<f64>() / 3.0;
+        }
+    }
+    e.mean_abs /= e.both.max(1) as f64;
+    Ok(e)
 }

@@ -3,7 +3,7 @@
 
 use crate::Args;
 use hfcast::impostor::{Combine, Frustum};
-use hfcast_tools::impostor::{capture, load_mesh, render, Capture, Orbit};
+use hfcast_tools::impostor::{capture, colour_error, load_mesh, render, Capture, Orbit};
 use std::path::PathBuf;
 
 /// Runs `hfcast impostor SUBCOMMAND`.
@@ -16,7 +16,13 @@ pub fn cmd_impostor(mut args: Args) -> Result<bool, String> {
     match sub.as_str() {
         "capture" => cmd_capture(args),
         "render" => cmd_render(args),
-        _ => Err("impostor: want `capture MESH --out DIR` or `render DIR --out PNG`".into()),
+        "export" => cmd_export(args),
+        "colours" => cmd_colours(args),
+        _ => Err(
+            "impostor: want `capture MESH --out DIR`, `render DIR --out PNG` or `export MESH \
+             --out FILE.obj`"
+                .into(),
+        ),
     }
 }
 
@@ -103,5 +109,77 @@ fn cmd_render(mut args: Args) -> Result<bool, String> {
     );
     hfcast_tools::render::write_png(&out, &r.image).map_err(|e| e.to_string())?;
     println!("wrote {}", out.display());
+    Ok(true)
+}
+
+fn cmd_export(mut args: Args) -> Result<bool, String> {
+    let out = PathBuf::from(
+        args.opt("out")
+            .ok_or("impostor export: --out FILE.obj is required")?,
+    );
+    args.finish()?;
+    let path = one_path(&args, "mesh (.obj, .ply, or tower)")?;
+    let data = load_mesh(&path)?;
+    data.mesh()?;
+    let mut text = format!(
+        "# {} as OBJ, written by hfcast impostor export\n",
+        path.display()
+    );
+    for p in &data.positions {
+        text += &format!("v {} {} {}\n", p[0], p[1], p[2]);
+    }
+    for t in &data.triangles {
+        text += &format!("f {} {} {}\n", t[0] + 1, t[1] + 1, t[2] + 1);
+    }
+    std::fs::write(&out, text).map_err(|e| format!("{}: {e}", out.display()))?;
+    println!("wrote {}", out.display());
+    Ok(true)
+}
+
+/// A comma-separated list of sides, each 2 to 8192.
+fn sides(args: &mut Args, name: &str, default: &str) -> Result<Vec<u32>, String> {
+    args.list(
+        name,
+        default,
+        |s: &u32| (2..=8192).contains(s),
+        "sides of 2 to 8192",
+    )
+}
+
+fn cmd_colours(mut args: Args) -> Result<bool, String> {
+    let depth_sides = sides(&mut args, "depth-sides", "32,64,128,256")?;
+    let colour_sides = sides(&mut args, "colour-sides", "32,64,128,256,512")?;
+    let size = args.get("size", 192u32)?.max(1);
+    args.finish()?;
+    let path = one_path(&args, "mesh (.obj, .ply, or tower)")?;
+    let data = load_mesh(&path)?;
+    let orbit = Orbit::default();
+    println!(
+        "Colour texels against the mesh's colour at its first hit, {size} × {size} pixels, \
+         orbit {}° up, azimuth {}°, reverse perspective, intersection of the six fields \
+         (`hfcast impostor colours`): pixels of another colour (any channel off by more \
+         than 8 of 255) among those both hit, and the mean difference per channel.\n",
+        orbit.elevation, orbit.azimuth
+    );
+    let head: Vec<String> = colour_sides
+        .iter()
+        .map(|c| format!("colour {c}²"))
+        .collect();
+    println!("| depth side | {} |", head.join(" | "));
+    println!("|---:|{}", "---:|".repeat(colour_sides.len()));
+    for &d in &depth_sides {
+        let mut row = format!("| {d}² |");
+        for &c in &colour_sides {
+            let cap = capture(&data, hfcast::impostor::Frustum::DEFAULT_REVERSE, d, c)?;
+            let r = render(&cap, Combine::Intersection, orbit, size, size)?;
+            let e = colour_error(&data, &cap, &r, orbit)?;
+            row += &format!(
+                " {:.2} % ({:.1}) |",
+                100.0 * e.wrong as f64 / e.both.max(1) as f64,
+                e.mean_abs
+            );
+        }
+        println!("{row}");
+    }
     Ok(true)
 }

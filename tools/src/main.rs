@@ -84,7 +84,8 @@ commands:
            --frustum reverse-perspective|orthographic --apex HALF_SIDES (2);
            impostor render DIR --out PNG --width N --height N (512) --elevation DEG
            --azimuth DEG (30) --distance HALF_SIDES (4) --fov DEG (40) --combine
-           intersection|facing-field (intersection: the six solids' intersection)
+           intersection|facing-field (intersection: the six solids' intersection); impostor export
+           MESH --out FILE.obj (the mesh as OBJ: a PLY, or the procedural tower)
 
 angles: compass degrees (azimuth 0 = north = image top of the map, 90 = east)
 maps: grayscale PNG, heights = png/65535 * depth; depth defaults to 0.1 * max(W, H);

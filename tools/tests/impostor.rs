@@ -179,6 +179,28 @@ fn the_command_line_captures_and_renders() {
     ]);
     assert!(ok && text.contains("pixels hit"), "{text}");
     assert!(png.exists());
+    let obj = dir.join("tower.obj");
+    let (ok, text) = run(&[
+        "impostor",
+        "export",
+        "tower",
+        "--out",
+        obj.to_str().unwrap(),
+    ]);
+    assert!(ok, "{text}");
+    let back = load_mesh(&obj).unwrap();
+    let tower = load_mesh(Path::new(TOWER)).unwrap();
+    // The same triangles (the reader may renumber the vertices).
+    let corners = |m: &hfcast_tools::impostor::MeshData| -> Vec<[[f32; 3]; 3]> {
+        m.triangles
+            .iter()
+            .map(|t| t.map(|i| m.positions[i as usize]))
+            .collect()
+    };
+    assert!(
+        corners(&back) == corners(&tower),
+        "the exported tower differs"
+    );
     let empty = dir.join("empty");
     std::fs::create_dir_all(&empty).unwrap();
     let (ok, text) = run(&["impostor", "render", empty.to_str().unwrap()]);
