@@ -153,6 +153,30 @@ typedef uint32_t hf_surface;
 #endif // __STDC_VERSION__ >= 202311L
 #endif // __cplusplus
 
+// How `hf_impostor_trace_batch` makes the object of the six fields (the core's
+// `impostor::Combine`). Passed as `uint32_t`.
+enum hf_impostor_combine
+#if defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+  : uint32_t
+#endif // defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+ {
+  // The first point in every field's solid (their intersection; a visual hull of six
+  // height fields): each field carves what it sees, so every face helps on every ray.
+  // About eight field traces per ray. The default.
+  HF_IMPOSTOR_INTERSECTION = 0,
+  // One field per ray: the face the ray looks at most directly (the largest `−d·n`),
+  // traced alone over the cube, as Baboud & Décoret draw each face with its own field.
+  // One trace per ray; only a reverse perspective shows it the object's sides.
+  HF_IMPOSTOR_FACING_FIELD = 1,
+};
+#ifndef __cplusplus
+#if __STDC_VERSION__ >= 202311L
+typedef enum hf_impostor_combine hf_impostor_combine;
+#else
+typedef uint32_t hf_impostor_combine;
+#endif // __STDC_VERSION__ >= 202311L
+#endif // __cplusplus
+
 // Map kind (`hf_ktx2_desc::map`): the height field itself (`f32` samples), `R32_SFLOAT`
 // (docs/DESIGN.md, "Texture layouts").
 #define HF_KTX2_HEIGHTS 0
@@ -232,6 +256,14 @@ typedef uint32_t hf_surface;
 #define HF_NBUFFER_MAX_PASSES 22
 #endif
 
+// The height `hf_impostor_capture` stores where a sample's projector line misses the
+// mesh: one grid unit under the opposite face, so that nothing there is solid.
+#define HF_IMPOSTOR_EMPTY -1.0
+
+// The triangle `hf_impostor_capture` stores where a sample's projector line misses
+// the mesh, and the face `hf_impostor_trace_batch` reports for a miss.
+#define HF_IMPOSTOR_NONE UINT32_MAX
+
 // Bytes of the descriptor that follows the texels of every baked map: the map
 // functions' `_len` queries count it, so a buffer of their size holds both. Upload the
 // texels only (the first `len − HF_MAP_DESC_BYTES` bytes, `/ 4` floats for float
@@ -277,13 +309,15 @@ enum hf_result
   HF_ERR_NULL_POINTER = 1,
   // A pointer argument is not aligned for its element type.
   HF_ERR_MISALIGNED_POINTER = 2,
-  // A size is zero where it must not be, out of range (a width or height below 2 or
-  // above 2^24, a row stride below the width), or overflows `size_t`.
+  // A size is zero where it must not be (a mesh without triangles), out of range (a
+  // width, height or impostor side below 2 or above 2^24, a row stride below the
+  // width), or overflows `size_t`.
   HF_ERR_INVALID_SIZE = 3,
   // An input buffer holds fewer elements than the other arguments require, or an
   // output buffer is too small for the result (query the size first).
   HF_ERR_BUFFER_TOO_SMALL = 4,
-  // A height or a depth scale is NaN or infinite.
+  // A height, a depth scale, a vertex position or an impostor layout's centre or half
+  // side is NaN or infinite.
   HF_ERR_NOT_FINITE = 5,
   // A ray is invalid: NaN or infinite origin or direction, zero direction, `t_min`
   // not finite, `t_max` NaN or −∞, or `t_min > t_max`.
@@ -293,7 +327,8 @@ enum hf_result
   // A rectangle is empty, reversed or reaches outside the field.
   HF_ERR_INVALID_RECT = 8,
   // Another argument is out of range (a pyramid level or row range, a step count
-  // of zero).
+  // of zero, a vertex index past the vertices, a mesh without extent, an impostor
+  // face over 5 or apex not over 1, a singular matrix).
   HF_ERR_INVALID_ARGUMENT = 9,
   // Memory could not be allocated.
   HF_ERR_OUT_OF_MEMORY = 10,
@@ -473,6 +508,28 @@ enum hf_need
 typedef enum hf_need hf_need;
 #else
 typedef uint32_t hf_need;
+#endif // __STDC_VERSION__ >= 202311L
+#endif // __cplusplus
+
+// How each face's field projects the object (`hf_impostor_layout::frustum`). Passed
+// as `uint32_t`.
+enum hf_impostor_frustum
+#if defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+  : uint32_t
+#endif // defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+ {
+  // Projector lines along the face's normal.
+  HF_IMPOSTOR_ORTHOGRAPHIC = 0,
+  // Reverse perspective (Baboud & Décoret §4): projector lines from a centre `apex`
+  // half sides behind the cube's centre, on the side away from the face, fanning out
+  // towards the face, so that a field holds the object's sides as well as its top.
+  HF_IMPOSTOR_REVERSE_PERSPECTIVE = 1,
+};
+#ifndef __cplusplus
+#if __STDC_VERSION__ >= 202311L
+typedef enum hf_impostor_frustum hf_impostor_frustum;
+#else
+typedef uint32_t hf_impostor_frustum;
 #endif // __STDC_VERSION__ >= 202311L
 #endif // __cplusplus
 
@@ -695,6 +752,28 @@ typedef struct hf_bake_pass {
   uint64_t bind_size;
 } hf_bake_pass;
 #endif
+
+// The bounding cube of an impostor and its six faces' maps, filled by
+// `hf_impostor_layout_around` (or by the caller, for a cube of its own). Faces are
+// numbered 0 to 5 with outward normals +x, −x, +y, −y, +z, −z; each face's grid x and
+// y run along +y and +z (face 0), +z and +y (1), +z and +x (2), +x and +z (3), +x and
+// +y (4), +y and +x (5); its heights rise towards the face.
+typedef struct hf_impostor_layout {
+  // The cube's centre (world units).
+  double center[3];
+  // The cube's half side (world units), finite and > 0.
+  double half;
+  // The frustum of every face, an `hf_impostor_frustum`.
+  uint32_t frustum;
+  // For `HF_IMPOSTOR_REVERSE_PERSPECTIVE`, the distance of the centre of projection
+  // from the cube's centre in half sides: finite and > 1, or 0 for the default (2).
+  // Ignored for `HF_IMPOSTOR_ORTHOGRAPHIC`.
+  double apex;
+  // Each face's map from world points `[x, y, z, 1]` to its unit cube (homogeneous;
+  // row-major 4×4): grid x and y in [0, 1] across the face's footprint, z rising to
+  // 1 towards the face. Each must be finite and invertible.
+  double units[6][16];
+} hf_impostor_layout;
 
 // Which baked map a KTX 2 file holds, of which field, baked how: what the file's
 // metadata records (`hfcast.method`, `hfcast.field`, `hfcast.cap`,
@@ -1412,6 +1491,125 @@ hf_result hf_cc_bake_passes(uint32_t width,
                             size_t out_passes_len,
                             uint32_t *out_count);
 #endif
+
+// Writes the number of samples of one face's field of `side × side` to `*out_len`:
+// `side²`, the length of `hf_impostor_capture`'s buffers (`hf_impostor_trace_batch`
+// reads six). `HF_ERR_INVALID_SIZE` for a side under 2 or over `HF_MAX_SIDE`. Thread
+// safe.
+//
+// # Safety
+// `out_len` is NULL (an error) or valid for writing one `size_t`.
+hf_result hf_impostor_field_len(uint32_t side,
+                                size_t *out_len);
+
+// Writes the layout of the mesh (`vertex_count` positions of three floats,
+// `triangle_count` triangles of three vertex indices) to `*out_layout`: the cube around
+// its vertices (half side 1 % over half the largest extent) and each face's footprint
+// and height range fitted to the mesh as that face projects it, with `frustum` (an
+// `hf_impostor_frustum`; `apex` as `hf_impostor_layout::apex`, 0 for the default).
+// `HF_ERR_NOT_FINITE` for a NaN or infinite position, `HF_ERR_INVALID_SIZE` for no
+// triangles, `HF_ERR_INVALID_ARGUMENT` for a vertex index past `vertex_count`, a mesh
+// whose vertices are all one point, or a reverse perspective's apex NaN, infinite or
+// at most 1 (but not 0), `HF_ERR_INVALID_ENUM` for an unknown frustum. Thread safe.
+//
+// # Safety
+// `positions` (3 × `vertex_count` floats) and `triangles` (3 × `triangle_count`
+// indices) are NULL (an error) or valid for reading; `out_layout` NULL (an error) or
+// valid for writing one `hf_impostor_layout`.
+hf_result hf_impostor_layout_around(const float *positions,
+                                    size_t vertex_count,
+                                    const uint32_t *triangles,
+                                    size_t triangle_count,
+                                    uint32_t frustum,
+                                    double apex,
+                                    struct hf_impostor_layout *out_layout);
+
+// Writes face `face`'s map to the grid of a `side × side` field (16 doubles,
+// row-major) to `out_matrix`: world points `[x, y, z, 1]` to homogeneous grid points
+// whose heights span `side − 1` grid units, as `hf_projective_trace_batch` and the
+// shaders' `hf_trace_projective` take it. `HF_ERR_INVALID_ARGUMENT` for a face over 5
+// or a layout `hf_impostor_layout_around` would not give (a singular map, an apex not >
+// 1, a half side not > 0), `HF_ERR_NOT_FINITE` for a NaN or infinite centre or half
+// side, `HF_ERR_INVALID_ENUM` for an unknown frustum, `HF_ERR_INVALID_SIZE` for a side
+// under 2 or over `HF_MAX_SIDE`. Thread safe.
+//
+// # Safety
+// `layout` is NULL (an error) or valid for reading; `out_matrix` NULL (an error) or
+// valid for writing 16 doubles.
+hf_result hf_impostor_face_map(const struct hf_impostor_layout *layout,
+                               uint32_t face,
+                               uint32_t side,
+                               double *out_matrix);
+
+// Captures face `face`'s field of the mesh (as `hf_impostor_layout_around` takes it)
+// on `layout` at `side × side` into `heights` (`side²` floats, row-major): each
+// sample holds the grid height of the mesh's point nearest the face on its projector
+// line (exact rasterization in double), `HF_IMPOSTOR_EMPTY` where the line misses the
+// mesh; and, when `triangle_ids` is not NULL, that point's triangle
+// (`HF_IMPOSTOR_NONE` where none) into it, for colour and normal textures. With
+// `pad_silhouettes` 1 the empty samples next to the object are then raised to its
+// height (the highest of their eight neighbours), so that no cell across a
+// silhouette ramps down into it: what `hf_impostor_trace_batch` wants. Buffers
+// shorter than `side²` are `HF_ERR_BUFFER_TOO_SMALL` (`hf_impostor_field_len`), an
+// output sharing a byte with another buffer `HF_ERR_INVALID_ARGUMENT`, as are a face
+// over 5 and `pad_silhouettes` not 0 or 1; mesh and layout errors as
+// `hf_impostor_layout_around` and `hf_impostor_face_map`. Thread safe (for distinct
+// output buffers).
+//
+// # Safety
+// As `hf_impostor_layout_around` for the mesh; `layout` NULL (an error) or valid for
+// reading; `heights` NULL (an error) or valid for writing `heights_len` floats;
+// `triangle_ids` NULL or valid for writing `triangle_ids_len` indices.
+hf_result hf_impostor_capture(const float *positions,
+                              size_t vertex_count,
+                              const uint32_t *triangles,
+                              size_t triangle_count,
+                              const struct hf_impostor_layout *layout,
+                              uint32_t face,
+                              uint32_t side,
+                              uint32_t pad_silhouettes,
+                              float *heights,
+                              size_t heights_len,
+                              uint32_t *triangle_ids,
+                              size_t triangle_ids_len);
+
+// Traces `rays_len` world rays into the impostor of the six fields `heights` (six
+// `side × side` fields, face 0 to face 5, each as `hf_impostor_capture` fills it) on
+// `layout`: `out_hits[k]` answers `rays[k]` with the first point of the object in the
+// cube, each field traced by the exact DDA on `surface` (an `hf_surface`) in `float`,
+// and `out_faces[k]` (when `out_faces` is not NULL) is the face whose field the hit is
+// on (`HF_IMPOSTOR_NONE` for a miss). `combine` (an `hf_impostor_combine`) makes the
+// object: `HF_IMPOSTOR_INTERSECTION` the first point inside all six solids (each field
+// carves what it sees; its hit's normal and face are those of the field that set `t`
+// last; after 64 passes unsettled it stops there, flagged
+// `HF_FLAG_BUDGET_EXHAUSTED`), `HF_IMPOSTOR_FACING_FIELD` the hit of the one field the
+// ray faces most directly (the face whose outward normal is most against `dir`; the
+// first axis of largest `|dir|`). The hit's `t`, `point` and `normal` are the world
+// ray's; `cell` is in the face's field; `fetches` counts every field's traces;
+// `clearance` is not meaningful. On the calling thread. Errors as `hf_trace_batch`
+// (every ray checked before any is traced; an error writes nothing), plus
+// `HF_ERR_BUFFER_TOO_SMALL` for `heights_len` under `6 · side²`, `HF_ERR_NOT_FINITE`
+// for a NaN or infinite height (`hf_last_error_index` gives it), layout errors as
+// `hf_impostor_face_map`, `HF_ERR_INVALID_ENUM` for an unknown surface or combine.
+// Thread safe.
+//
+// # Safety
+// `layout` is NULL (an error) or valid for reading; `heights` NULL (an error) or
+// valid for reading `heights_len` floats; `rays` NULL (an error) or valid for
+// reading `rays_len` rays; `out_hits` NULL (an error) or valid for writing
+// `out_hits_len` hits; `out_faces` NULL or valid for writing `out_faces_len` faces.
+hf_result hf_impostor_trace_batch(const struct hf_impostor_layout *layout,
+                                  const float *heights,
+                                  size_t heights_len,
+                                  uint32_t side,
+                                  uint32_t surface,
+                                  uint32_t combine,
+                                  const struct hf_ray *rays,
+                                  size_t rays_len,
+                                  struct hf_hit *out_hits,
+                                  size_t out_hits_len,
+                                  uint32_t *out_faces,
+                                  size_t out_faces_len);
 
 // Writes the description of map `map` (`HF_KTX2_*`) of a `width × height` field
 // with the bakes' defaults to `*out_desc`: cap 255 (safety, radius), 64

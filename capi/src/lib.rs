@@ -31,6 +31,7 @@ mod features;
 pub mod field;
 #[cfg(feature = "safety")]
 pub mod gpu_bake;
+pub mod impostor;
 pub mod ktx2;
 pub mod mapdesc;
 pub mod maps;
@@ -59,13 +60,15 @@ pub enum hf_result {
     HF_ERR_NULL_POINTER = 1,
     /// A pointer argument is not aligned for its element type.
     HF_ERR_MISALIGNED_POINTER = 2,
-    /// A size is zero where it must not be, out of range (a width or height below 2 or
-    /// above 2^24, a row stride below the width), or overflows `size_t`.
+    /// A size is zero where it must not be (a mesh without triangles), out of range (a
+    /// width, height or impostor side below 2 or above 2^24, a row stride below the
+    /// width), or overflows `size_t`.
     HF_ERR_INVALID_SIZE = 3,
     /// An input buffer holds fewer elements than the other arguments require, or an
     /// output buffer is too small for the result (query the size first).
     HF_ERR_BUFFER_TOO_SMALL = 4,
-    /// A height or a depth scale is NaN or infinite.
+    /// A height, a depth scale, a vertex position or an impostor layout's centre or half
+    /// side is NaN or infinite.
     HF_ERR_NOT_FINITE = 5,
     /// A ray is invalid: NaN or infinite origin or direction, zero direction, `t_min`
     /// not finite, `t_max` NaN or −∞, or `t_min > t_max`.
@@ -75,7 +78,8 @@ pub enum hf_result {
     /// A rectangle is empty, reversed or reaches outside the field.
     HF_ERR_INVALID_RECT = 8,
     /// Another argument is out of range (a pyramid level or row range, a step count
-    /// of zero).
+    /// of zero, a vertex index past the vertices, a mesh without extent, an impostor
+    /// face over 5 or apex not over 1, a singular matrix).
     HF_ERR_INVALID_ARGUMENT = 9,
     /// Memory could not be allocated.
     HF_ERR_OUT_OF_MEMORY = 10,
@@ -132,7 +136,9 @@ impl hf_result {
             HF_ERR_MISALIGNED_POINTER => "a pointer argument is misaligned for its type",
             HF_ERR_INVALID_SIZE => "a size is zero, out of range or overflows",
             HF_ERR_BUFFER_TOO_SMALL => "a buffer is too small",
-            HF_ERR_NOT_FINITE => "a height or depth scale is NaN or infinite",
+            HF_ERR_NOT_FINITE => {
+                "a height, depth scale, position or layout value is NaN or infinite"
+            }
             HF_ERR_INVALID_RAY => {
                 "invalid ray: NaN or infinite origin or direction, zero direction, or bad t range"
             }

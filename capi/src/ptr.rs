@@ -40,6 +40,40 @@ fn bytes<T>(p: *const T, len: usize) -> Range<usize> {
     start..start.saturating_add(len * size_of::<T>())
 }
 
+/// A buffer argument checked as [`slice`] checks it, before any slice of it exists:
+/// its bytes and its name, for [`apart`].
+pub struct Span<'n> {
+    bytes: Range<usize>,
+    name: &'n str,
+}
+
+/// Checks `len` elements at `p` (the argument `name`) as [`slice`] does; its span.
+pub fn span<T>(p: *const T, len: usize, name: &str) -> Result<Span<'_>, hf_result> {
+    check(p, len).named(name)?;
+    Ok(Span {
+        bytes: bytes(p, len),
+        name,
+    })
+}
+
+/// `HF_ERR_INVALID_ARGUMENT` ("`out` overlaps `other`") when an output (`None`: a NULL
+/// optional one) shares a byte with an input or an earlier output: checked before any
+/// mutable slice of them exists.
+pub fn apart(ins: &[&Span], outs: &[Option<&Span>]) -> Result<(), hf_result> {
+    let outs: Vec<&Span> = outs.iter().flatten().copied().collect();
+    for (k, o) in outs.iter().enumerate() {
+        for other in ins.iter().chain(&outs[..k]) {
+            if o.bytes.start < other.bytes.end && other.bytes.start < o.bytes.end {
+                return Err(fail(
+                    HF_ERR_INVALID_ARGUMENT,
+                    format_args!("{} overlaps {}", o.name, other.name),
+                ));
+            }
+        }
+    }
+    Ok(())
+}
+
 /// A shared slice of `len` elements at `p` (the argument `name`) and a mutable slice
 /// of `out_len` elements at `out` (`out_name`), each checked as by [`slice`], then for
 /// overlap: bytes in common are `HF_ERR_INVALID_ARGUMENT` ("`out_name` overlaps
@@ -51,15 +85,8 @@ pub unsafe fn slice_and_out<'a, T, U>(
     (p, len, name): (*const T, usize, &str),
     (out, out_len, out_name): (*mut U, usize, &str),
 ) -> Result<(&'a [T], &'a mut [U]), hf_result> {
-    check(p, len).named(name)?;
-    check(out, out_len).named(out_name)?;
-    let (a, b) = (bytes(p, len), bytes(out, out_len));
-    if a.start < b.end && b.start < a.end {
-        return Err(fail(
-            HF_ERR_INVALID_ARGUMENT,
-            format_args!("{out_name} overlaps {name}"),
-        ));
-    }
+    let (a, b) = (span(p, len, name)?, span(out, out_len, out_name)?);
+    apart(&[&a], &[Some(&b)])?;
     // SAFETY: both checked as in `slice` and `slice_mut`, and disjoint (checked), so
     // the mutable slice is exclusive by the caller's promise.
     Ok(unsafe {

@@ -125,7 +125,7 @@ pub(crate) fn check(hf: &HeightField, r: &hf_ray, index: Option<usize>) -> Resul
 
 /// The error of an invalid ray: its detail names it `ray`, or `rays[index]` (and
 /// records `index`) in a batch.
-fn ray_error(e: hfcore::RayError, index: Option<usize>) -> hf_result {
+pub(crate) fn ray_error(e: hfcore::RayError, index: Option<usize>) -> hf_result {
     match index {
         Some(k) => fail_at(HF_ERR_INVALID_RAY, index, format_args!("rays[{k}]: {e}")),
         None => fail_at(HF_ERR_INVALID_RAY, None, format_args!("ray: {e}")),

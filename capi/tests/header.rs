@@ -1,8 +1,8 @@
 //! The drift checks of what the C API generates: `include/hfcast.h` (cbindgen, pinned
-//! 0.29.4, plus the declarations that mirror the core's registry: the `hf_method` and
-//! `hf_surface` enums and the `HF_KTX2_*` map kinds) and `src/features.rs` (which of
-//! the registry's method features this build has). Each fails when the committed file
-//! differs; `HFCAST_BLESS=1` writes them. Also checks the headers of smaller builds
+//! 0.29.4, plus the declarations that mirror the core's registry: the `hf_method`,
+//! `hf_surface` and `hf_impostor_combine` enums and the `HF_KTX2_*` map kinds) and
+//! `src/features.rs` (which of the registry's method features this build has). Each
+//! fails when the committed file differs; `HFCAST_BLESS=1` writes them. Also checks the headers of smaller builds
 //! (`examples/header.rs`).
 
 use std::path::PathBuf;
@@ -11,6 +11,7 @@ use std::path::PathBuf;
 #[allow(dead_code)]
 mod header_example;
 
+use hfcore::impostor::Combine;
 use hfcore::ktx2::MapKind;
 use hfcore::scene::{MethodKind, FEATURES};
 use hfcore::Surface;
@@ -132,9 +133,9 @@ fn c_enum(doc: &str, name: &str, variants: &[(&str, String, u32)]) -> String {
     )
 }
 
-/// The header's declarations that mirror the core's registry: the `hf_method` and
-/// `hf_surface` enums (`MethodKind`, `Surface`: their numbers, names and doc comments)
-/// and the `HF_KTX2_*` map kinds (`MapKind`).
+/// The header's declarations that mirror the core's registry: the `hf_method`,
+/// `hf_surface` and `hf_impostor_combine` enums (`MethodKind`, `Surface`, `Combine`:
+/// their numbers, names and doc comments) and the `HF_KTX2_*` map kinds (`MapKind`).
 fn registry_declarations() -> String {
     let methods: Vec<_> = MethodKind::ALL
         .iter()
@@ -154,6 +155,16 @@ fn registry_declarations() -> String {
          `uint32_t`.",
         "hf_surface",
         &surfaces,
+    );
+    let combines: Vec<_> = Combine::ALL
+        .iter()
+        .map(|c| (c.doc(), c_name("HF_IMPOSTOR_", c.name()), *c as u32))
+        .collect();
+    s += &c_enum(
+        "How `hf_impostor_trace_batch` makes the object of the six fields (the core's \
+         `impostor::Combine`). Passed as `uint32_t`.",
+        "hf_impostor_combine",
+        &combines,
     );
     for m in MapKind::ALL {
         let baked_by = MethodKind::ALL
