@@ -948,6 +948,334 @@ static void test_projective(void) {
     hf_field_destroy(f);
 }
 
+/* ---- six-field impostors ----------------------------------------------------------- */
+
+/* An axis-aligned box [lo, hi] as a mesh: each of its faces (in the impostor's face
+ * order +x, -x, +y, -y, +z, -z) a 3 x 3 grid of vertices, 8 triangles. */
+enum { BOX_VERTS = 54, BOX_TRIS = 48 };
+static void box_mesh(const double lo[3], const double hi[3], float *pos, uint32_t *tri) {
+    for (int k = 0; k < 6; k++) {
+        int a = k / 2, u = (a + 1) % 3, v = (a + 2) % 3;
+        for (int j = 0; j < 3; j++)
+            for (int i = 0; i < 3; i++) {
+                float *p = pos + 3 * (9 * k + 3 * j + i);
+                p[a] = (float)(k % 2 == 0 ? hi[a] : lo[a]);
+                p[u] = (float)(lo[u] + 0.5 * i * (hi[u] - lo[u]));
+                p[v] = (float)(lo[v] + 0.5 * j * (hi[v] - lo[v]));
+            }
+        for (int j = 0; j < 2; j++)
+            for (int i = 0; i < 2; i++) {
+                uint32_t c = (uint32_t)(9 * k + 3 * j + i), *t = tri + 3 * (8 * k + 4 * j + 2 * i);
+                t[0] = c, t[1] = c + 1, t[2] = c + 4;
+                t[3] = c, t[4] = c + 4, t[5] = c + 3;
+            }
+    }
+}
+
+/* The ray o + t d (t >= 0) against the box [lo, hi] by slabs, in double: 1 and the
+ * entry t and axis when it meets the box, else 0. */
+static int box_hit(const double lo[3], const double hi[3], const hf_ray *r, double *t_in,
+                   int *axis) {
+    double t0 = 0.0, t1 = INFINITY;
+    *axis = -1;
+    for (int a = 0; a < 3; a++) {
+        double o = r->origin[a], d = r->dir[a];
+        if (d == 0.0) {
+            if (o < lo[a] || o > hi[a]) return 0;
+            continue;
+        }
+        double ta = (lo[a] - o) / d, tb = (hi[a] - o) / d;
+        if (ta > tb) {
+            double s = ta;
+            ta = tb;
+            tb = s;
+        }
+        if (ta > t0) t0 = ta, *axis = a;
+        if (tb < t1) t1 = tb;
+    }
+    *t_in = t0;
+    return t0 <= t1;
+}
+
+/* The face hf_impostor_trace_batch's facing field traces for `d`: the first axis of
+ * largest |d|, 2 * axis + (d positive). */
+static uint32_t facing_face(const float d[3]) {
+    int a = 0;
+    for (int k = 1; k < 3; k++)
+        if (fabsf(d[k]) > fabsf(d[a])) a = k;
+    return (uint32_t)(2 * a + (d[a] > 0.0f));
+}
+
+/* The six fields of the box mesh on `l` at `side`, padded, face after face. */
+static int capture_box(const float *pos, const uint32_t *tri, const hf_impostor_layout *l,
+                       uint32_t side, float *heights, uint32_t *ids) {
+    size_t n = (size_t)side * side;
+    int ok = 1;
+    for (uint32_t k = 0; k < 6; k++)
+        ok &= hf_impostor_capture(pos, BOX_VERTS, tri, BOX_TRIS, l, k, side, 1, heights + k * n,
+                                  n, ids ? ids + k * n : NULL, n) == HF_OK;
+    return ok;
+}
+
+/* Six-field impostors of an axis-aligned box (48 triangles) at side 64, against the
+ * analytic ray-box intersection in double: with orthographic faces the box's fields are
+ * flat at the top (every sample 63, its triangle on that face), and every ray whose
+ * entry point is not within two texels of an edge (nor passes within two texels of the
+ * box) hits where the box does (within 1e-4), for the intersection and, on the rays
+ * that meet the box, the facing field (which traces one face per ray, the one the ray
+ * faces); with reverse perspective, whose fields cut the box's edges, within a quarter
+ * texel away from them. Bad meshes, layouts, faces, sides, buffers and rays are
+ * refused, nothing written. */
+static void test_impostor(void) {
+    enum { SIDE = 64, N = 400 };
+    const size_t n = (size_t)SIDE * SIDE;
+    const double lo[3] = {-1.0, -0.5, 0.2}, hi[3] = {1.5, 0.8, 1.4};
+    float pos[3 * BOX_VERTS];
+    uint32_t tri[3 * BOX_TRIS];
+    box_mesh(lo, hi, pos, tri);
+    size_t len = 0;
+    CHECK_OK(hf_impostor_field_len(SIDE, &len));
+    CHECK(len == n);
+    hf_impostor_layout ortho, rev;
+    CHECK_OK(hf_impostor_layout_around(pos, BOX_VERTS, tri, BOX_TRIS, HF_IMPOSTOR_ORTHOGRAPHIC,
+                                       NAN, &ortho));
+    CHECK_OK(hf_impostor_layout_around(pos, BOX_VERTS, tri, BOX_TRIS,
+                                       HF_IMPOSTOR_REVERSE_PERSPECTIVE, 0.0, &rev));
+    CHECK(ortho.frustum == HF_IMPOSTOR_ORTHOGRAPHIC &&
+          rev.frustum == HF_IMPOSTOR_REVERSE_PERSPECTIVE && rev.apex == 2.0);
+    CHECK(fabs(ortho.half - 0.505 * 2.5) < 1e-6 && fabs(ortho.center[2] - 0.8) < 1e-6);
+    /* The +z face's grid map: the top's centre at the grid's centre, height 63. */
+    double m[16], top[4] = {0.25, 0.15, 1.4, 1.0}, g[4];
+    CHECK_OK(hf_impostor_face_map(&ortho, 4, SIDE, m));
+    for (int r = 0; r < 4; r++)
+        g[r] = m[4 * r] * top[0] + m[4 * r + 1] * top[1] + m[4 * r + 2] * top[2] + m[4 * r + 3];
+    CHECK(fabs(g[0] / g[3] - 31.5) < 1e-4 && fabs(g[1] / g[3] - 31.5) < 1e-4 &&
+          fabs(g[2] / g[3] - 63.0) < 1e-4);
+
+    float *heights = (float *)malloc(sizeof(float) * 6 * n);
+    uint32_t *ids = (uint32_t *)malloc(sizeof(uint32_t) * 6 * n);
+    CHECK(capture_box(pos, tri, &ortho, SIDE, heights, ids));
+    /* Samples on the footprint's rim may round outside the face (then padded, with no
+     * triangle). */
+    int flat = 1;
+    for (size_t s = 0; s < 6 * n; s++) {
+        size_t i = s % SIDE, j = s / SIDE % SIDE;
+        int on_rim = i == 0 || j == 0 || i == SIDE - 1 || j == SIDE - 1;
+        flat &= fabsf(heights[s] - 63.0f) < 1e-3f &&
+                (ids[s] == HF_IMPOSTOR_NONE ? on_rim : ids[s] / 8 == s / n);
+    }
+    CHECK(flat);
+
+    hf_ray *rays = (hf_ray *)malloc(sizeof(hf_ray) * N);
+    for (int k = 0; k < N; k++) {
+        double u[3], l2 = 0.0;
+        do {
+            l2 = 0.0;
+            for (int a = 0; a < 3; a++) u[a] = 2.0 * frand() - 1.0, l2 += u[a] * u[a];
+        } while (l2 < 0.01 || l2 > 1.0);
+        float o[3], d[3];
+        for (int a = 0; a < 3; a++) {
+            double c = 0.5 * (lo[a] + hi[a]), h = 0.5 * (hi[a] - lo[a]);
+            o[a] = (float)(c + 4.0 * u[a] / sqrt(l2));
+            d[a] = (float)(c + 1.3 * h * (2.0 * frand() - 1.0)) - o[a];
+        }
+        rays[k] = ray(o[0], o[1], o[2], d[0], d[1], d[2]);
+    }
+    hf_hit *hits = (hf_hit *)malloc(sizeof(hf_hit) * N);
+    uint32_t faces[N];
+    const char *names[3] = {"orthographic intersection", "orthographic facing-field",
+                            "reverse-perspective intersection"};
+    for (int run = 0; run < 3; run++) {
+        const hf_impostor_layout *l = run < 2 ? &ortho : &rev;
+        uint32_t combine = run == 1 ? HF_IMPOSTOR_FACING_FIELD : HF_IMPOSTOR_INTERSECTION;
+        if (run == 2) CHECK(capture_box(pos, tri, &rev, SIDE, heights, NULL));
+        CHECK_OK(hf_impostor_trace_batch(l, heights, 6 * n, SIDE, HF_SURFACE_TRIANGLES, combine,
+                                         rays, N, hits, N, faces, N));
+        /* Rays compared, skipped, as the box, hitting it; every hit on one face (the facing
+         * one for the facing field). */
+        int compared = 0, skipped = 0, agree = 0, n_hits = 0, one_face = 1;
+        /* Within two texels, in the orthographic fields' texels; a reverse perspective with apex 2
+         * draws each face on a third of its field's side (its texels three times as wide),
+         * and its fields cut the corners of the box's edges (the cells across the crease
+         * where a face meets a side), so its points are held to a quarter texel and its
+         * normals to 0.99. */
+        const double margin = run == 2 ? 6.0 : 2.0, tol = run == 2 ? 1e-2 : 1e-4;
+        const float cosine = run == 2 ? 0.99f : 0.999f;
+        double worst = 0.0;
+        for (int k = 0; k < N; k++) {
+            const hf_ray *r = &rays[k];
+            one_face &= hits[k].hit ? faces[k] < 6 : faces[k] == HF_IMPOSTOR_NONE;
+            if (combine == HF_IMPOSTOR_FACING_FIELD && hits[k].hit)
+                one_face &= faces[k] == facing_face(r->dir);
+            double t = 0.0, band[3], wlo[3], whi[3];
+            int axis = -1, near_edge = 0;
+            for (int a = 0; a < 3; a++) {
+                band[a] = margin * (hi[a] - lo[a]) / (SIDE - 1);
+                wlo[a] = lo[a] - band[a], whi[a] = hi[a] + band[a];
+            }
+            int want = box_hit(lo, hi, r, &t, &axis);
+            if (want) {
+                for (int a = 0; a < 3; a++) {
+                    double p = r->origin[a] + t * r->dir[a];
+                    near_edge |= a != axis && (p - lo[a] < band[a] || hi[a] - p < band[a]);
+                }
+            } else {
+                double tw;
+                int aw;
+                near_edge = box_hit(wlo, whi, r, &tw, &aw);
+            }
+            /* The facing field's solid runs on under the box (a field's solid is all
+             * under its surface): a ray that misses the box may meet it there. */
+            if (near_edge || (combine == HF_IMPOSTOR_FACING_FIELD && !want)) {
+                skipped++;
+                continue;
+            }
+            compared++;
+            n_hits += want;
+            if ((uint32_t)want != hits[k].hit) continue;
+            /* The point's error, and the point at the hit's t (world units). */
+            double err = 0.0, err_t = 0.0;
+            for (int a = 0; want && a < 3; a++) {
+                double p = r->origin[a] + t * r->dir[a];
+                double e = fabs(hits[k].point[a] - p), et = fabs((hits[k].t - t) * r->dir[a]);
+                err = e > err ? e : err;
+                err_t = et > err_t ? et : err_t;
+            }
+            /* The normal of the face entered: against the ray along its axis. */
+            int normal_ok = !want || hits[k].normal[axis] * (r->dir[axis] < 0 ? 1 : -1) > cosine;
+            worst = err > worst ? err : worst;
+            agree += err < tol && err_t < tol && normal_ok;
+        }
+        printf("impostor: box of %d triangles, six %dx%d fields, %s: %d of %d rays as the "
+               "analytic box (%d hits; %d near an edge or, facing field, under the box "
+               "skipped), max point error %.2e\n",
+               BOX_TRIS, SIDE, SIDE, names[run], agree, compared, n_hits, skipped, worst);
+        CHECK(one_face && n_hits > compared / 4 && compared > N / 2);
+        CHECK(agree == compared);
+    }
+
+    /* Bad meshes and layouts: refused, nothing written. */
+    hf_impostor_layout out;
+    memset(&out, 0x5a, sizeof out);
+    float bad_pos[3 * BOX_VERTS];
+    uint32_t bad_tri[3 * BOX_TRIS];
+    memcpy(bad_pos, pos, sizeof pos);
+    memcpy(bad_tri, tri, sizeof tri);
+    bad_pos[40] = NAN;
+    CHECK_BAD(hf_impostor_layout_around(bad_pos, BOX_VERTS, tri, BOX_TRIS, 0, 0.0, &out),
+              HF_ERR_NOT_FINITE, &out, sizeof out);
+    CHECK_BAD(hf_impostor_layout_around(pos, BOX_VERTS, tri, 0, 0, 0.0, &out),
+              HF_ERR_INVALID_SIZE, &out, sizeof out);
+    bad_tri[100] = BOX_VERTS;
+    CHECK_BAD(hf_impostor_layout_around(pos, BOX_VERTS, bad_tri, BOX_TRIS, 0, 0.0, &out),
+              HF_ERR_INVALID_ARGUMENT, &out, sizeof out);
+    const double apexes[4] = {0.5, 1.0, NAN, -INFINITY};
+    for (int k = 0; k < 4; k++)
+        CHECK_BAD(hf_impostor_layout_around(pos, BOX_VERTS, tri, BOX_TRIS, 1, apexes[k], &out),
+                  HF_ERR_INVALID_ARGUMENT, &out, sizeof out);
+    const float point[9] = {1, 2, 3, 1, 2, 3, 1, 2, 3};
+    const uint32_t one[3] = {0, 1, 2};
+    CHECK_BAD(hf_impostor_layout_around(point, 3, one, 1, 0, 0.0, &out),
+              HF_ERR_INVALID_ARGUMENT, &out, sizeof out);
+    CHECK_BAD(hf_impostor_layout_around(pos, BOX_VERTS, tri, BOX_TRIS, 2, 0.0, &out),
+              HF_ERR_INVALID_ENUM, &out, sizeof out);
+    CHECK_BAD(hf_impostor_layout_around(NULL, BOX_VERTS, tri, BOX_TRIS, 0, 0.0, &out),
+              HF_ERR_NULL_POINTER, &out, sizeof out);
+    CHECK_BAD(hf_impostor_layout_around(pos, BOX_VERTS, NULL, BOX_TRIS, 0, 0.0, &out),
+              HF_ERR_NULL_POINTER, &out, sizeof out);
+    CHECK_BAD(hf_impostor_layout_around(pos, BOX_VERTS, tri, BOX_TRIS, 0, 0.0, NULL),
+              HF_ERR_NULL_POINTER, nothing, 0);
+    CHECK_BAD(hf_impostor_layout_around(pos, SIZE_MAX, tri, BOX_TRIS, 0, 0.0, &out),
+              HF_ERR_INVALID_SIZE, &out, sizeof out);
+    hf_impostor_layout nan_l = ortho, singular = ortho, enum_l = ortho;
+    nan_l.center[1] = NAN;
+    for (int c = 0; c < 4; c++) singular.units[3][8 + c] = 0.0;
+    enum_l.frustum = 7;
+    CHECK_BAD(hf_impostor_face_map(&nan_l, 0, SIDE, m), HF_ERR_NOT_FINITE, m, sizeof m);
+    CHECK_BAD(hf_impostor_face_map(&singular, 0, SIDE, m), HF_ERR_INVALID_ARGUMENT, m, sizeof m);
+    CHECK_BAD(hf_impostor_face_map(&enum_l, 0, SIDE, m), HF_ERR_INVALID_ENUM, m, sizeof m);
+    CHECK_BAD(hf_impostor_face_map(&ortho, 6, SIDE, m), HF_ERR_INVALID_ARGUMENT, m, sizeof m);
+    CHECK_BAD(hf_impostor_face_map(&ortho, 0, 1, m), HF_ERR_INVALID_SIZE, m, sizeof m);
+    CHECK_BAD(hf_impostor_face_map(NULL, 0, SIDE, m), HF_ERR_NULL_POINTER, m, sizeof m);
+    CHECK_BAD(hf_impostor_face_map(&ortho, 0, SIDE, NULL), HF_ERR_NULL_POINTER, nothing, 0);
+    CHECK_BAD(hf_impostor_field_len(1, &len), HF_ERR_INVALID_SIZE, &len, sizeof len);
+    CHECK_BAD(hf_impostor_field_len(HF_MAX_SIDE + 1, &len), HF_ERR_INVALID_SIZE, &len, sizeof len);
+    CHECK_BAD(hf_impostor_field_len(SIDE, NULL), HF_ERR_NULL_POINTER, nothing, 0);
+
+    /* Bad captures: faces, sides, buffers, flags; nothing written. */
+#define CAPTURE(l, face, side, pad, h, hl, t, tl) \
+    hf_impostor_capture(pos, BOX_VERTS, tri, BOX_TRIS, l, face, side, pad, h, hl, t, tl)
+    CHECK_BAD(CAPTURE(&ortho, 6, SIDE, 1, heights, n, ids, n), HF_ERR_INVALID_ARGUMENT, heights,
+              256);
+    CHECK_BAD(CAPTURE(&ortho, 0, 1, 1, heights, n, ids, n), HF_ERR_INVALID_SIZE, heights, 256);
+    CHECK_BAD(CAPTURE(&ortho, 0, 0, 1, heights, n, ids, n), HF_ERR_INVALID_SIZE, heights, 256);
+    CHECK_BAD(CAPTURE(&ortho, 0, HF_MAX_SIDE + 1, 1, heights, n, ids, n), HF_ERR_INVALID_SIZE,
+              heights, 256);
+    CHECK_BAD(CAPTURE(&ortho, 0, HF_MAX_SIDE, 1, heights, n, ids, n), HF_ERR_BUFFER_TOO_SMALL,
+              heights, 256);
+    CHECK_BAD(CAPTURE(&ortho, 0, SIDE, 1, heights, n - 1, ids, n), HF_ERR_BUFFER_TOO_SMALL,
+              heights, 256);
+    CHECK_BAD(CAPTURE(&ortho, 0, SIDE, 1, heights, n, ids, n - 1), HF_ERR_BUFFER_TOO_SMALL,
+              heights, 256);
+    CHECK_BAD(CAPTURE(&ortho, 0, SIDE, 2, heights, n, ids, n), HF_ERR_INVALID_ARGUMENT, heights,
+              256);
+    CHECK_BAD(CAPTURE(&ortho, 0, SIDE, 1, NULL, n, ids, n), HF_ERR_NULL_POINTER, ids, 256);
+    CHECK_BAD(CAPTURE(NULL, 0, SIDE, 1, heights, n, ids, n), HF_ERR_NULL_POINTER, heights, 256);
+    CHECK_BAD(CAPTURE(&nan_l, 0, SIDE, 1, heights, n, ids, n), HF_ERR_NOT_FINITE, heights, 256);
+    CHECK_BAD(CAPTURE(&ortho, 0, SIDE, 1, heights, n, (uint32_t *)(void *)(heights + 8), n),
+              HF_ERR_INVALID_ARGUMENT, heights, 256);
+    CHECK_BAD(hf_impostor_capture(pos, BOX_VERTS, tri, BOX_TRIS, &ortho, 0, 4, 1, (float *)pos, 16,
+                                  NULL, 0),
+              HF_ERR_INVALID_ARGUMENT, pos, sizeof pos);
+#undef CAPTURE
+
+    /* Bad traces: nothing written. */
+    CHECK(capture_box(pos, tri, &ortho, SIDE, heights, NULL));
+    memset(hits, 0x5a, sizeof(hf_hit) * N);
+#define TRACE(l, h, hl, side, surface, combine, r, rl, out, ol, f, fl) \
+    hf_impostor_trace_batch(l, h, hl, side, surface, combine, r, rl, out, ol, f, fl)
+    CHECK_BAD(TRACE(&ortho, heights, 6 * n, SIDE, 0, 2, rays, N, hits, N, faces, N),
+              HF_ERR_INVALID_ENUM, hits, 256);
+    CHECK_BAD(TRACE(&ortho, heights, 6 * n, SIDE, 99, 0, rays, N, hits, N, faces, N),
+              HF_ERR_INVALID_ENUM, hits, 256);
+    CHECK_BAD(TRACE(&ortho, heights, 6 * n, 1, 0, 0, rays, N, hits, N, faces, N),
+              HF_ERR_INVALID_SIZE, hits, 256);
+    CHECK_BAD(TRACE(&ortho, heights, 6 * n - 1, SIDE, 0, 0, rays, N, hits, N, faces, N),
+              HF_ERR_BUFFER_TOO_SMALL, hits, 256);
+    CHECK_BAD(TRACE(&ortho, heights, 6 * n, SIDE, 0, 0, rays, N, hits, N - 1, faces, N),
+              HF_ERR_BUFFER_TOO_SMALL, hits, 256);
+    CHECK_BAD(TRACE(&ortho, heights, 6 * n, SIDE, 0, 0, rays, N, hits, N, faces, N - 1),
+              HF_ERR_BUFFER_TOO_SMALL, hits, 256);
+    CHECK_BAD(TRACE(&singular, heights, 6 * n, SIDE, 0, 0, rays, N, hits, N, faces, N),
+              HF_ERR_INVALID_ARGUMENT, hits, 256);
+    CHECK_BAD(TRACE(NULL, heights, 6 * n, SIDE, 0, 0, rays, N, hits, N, faces, N),
+              HF_ERR_NULL_POINTER, hits, 256);
+    CHECK_BAD(TRACE(&ortho, heights, 6 * n, SIDE, 0, 0, rays, N, (hf_hit *)(void *)rays, N,
+                    faces, N),
+              HF_ERR_INVALID_ARGUMENT, rays, 256);
+    CHECK_BAD(TRACE(&ortho, heights, 6 * n, SIDE, 0, 0, rays, N, hits, N,
+                    (uint32_t *)(void *)(hits + 3), N),
+              HF_ERR_INVALID_ARGUMENT, hits, 256);
+    heights[3 * n + 17] = NAN;
+    size_t at = 0;
+    CHECK_BAD(TRACE(&ortho, heights, 6 * n, SIDE, 0, 0, rays, N, hits, N, faces, N),
+              HF_ERR_NOT_FINITE, hits, 256);
+    CHECK(hf_last_error_index(&at) == HF_OK && at == 3 * n + 17);
+    heights[3 * n + 17] = 63.0f;
+    rays[N - 1].dir[0] = NAN;
+    CHECK_BAD(TRACE(&ortho, heights, 6 * n, SIDE, 0, 0, rays, N, hits, N, faces, N),
+              HF_ERR_INVALID_RAY, hits, 256);
+    CHECK(hf_last_error_index(&at) == HF_OK && at == N - 1);
+    /* An empty batch and a batch without faces. */
+    CHECK_OK(TRACE(&ortho, heights, 6 * n, SIDE, 0, 0, rays, 0, hits, 0, NULL, 0));
+    CHECK_OK(TRACE(&ortho, heights, 6 * n, SIDE, 0, 0, rays, N - 1, hits, N, NULL, 0));
+#undef TRACE
+    free(rays);
+    free(hits);
+    free(ids);
+    free(heights);
+}
+
 static void test_world_units(void) {
     enum { W = 41, H = 29, N = 3000 };
     float *heights = (float *)malloc(sizeof(float) * W * H);
@@ -2548,6 +2876,7 @@ int main(void) {
     test_hybrid();
     test_world_units();
     test_projective();
+    test_impostor();
     test_bake_and_update();
     test_safety();
     test_radius();
