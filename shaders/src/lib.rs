@@ -16,6 +16,9 @@
 //! - [`all_methods`]: every method in one shader with a runtime `hf_method` switch,
 //!   the size comparison at the other end.
 //! - [`wgsl_layout`]: the fixed `@group(0)` binding numbers of the WGSL resources.
+//! - [`impostor`]: the library of six-field impostors (`hfcast::impostor`) for a scene
+//!   of the exact method: `hf_trace_impostor` on six projective fields stacked in one
+//!   texture, and the fragment's depth when the scene asks for it.
 //!
 //! Every shader has three entry points: `hf_trace` (a ray in grid space, the marches'
 //! frame), `hf_trace_world` (`world.glsl` / `world.wgsl`, after the marches: a ray in
@@ -104,8 +107,9 @@ pub fn file(lang: Lang, stem: &str) -> Option<&'static str> {
 }
 
 /// The specialisation flags of the markers, with what each says. A generated shader
-/// sets those of its scene; the general shaders set them all.
-pub const FLAGS: [(&str, &str); 15] = [
+/// sets those of its scene and `one_field`, an [`impostor`] shader its own; the general
+/// shaders set them all.
+pub const FLAGS: [(&str, &str); 17] = [
     ("triangles", "the surface is the triangle surface"),
     ("bilinear", "the surface is bilinear"),
     ("height_planes", "the surface is height planes"),
@@ -141,6 +145,14 @@ pub const FLAGS: [(&str, &str); 15] = [
     (
         "lod",
         "level-of-detail marching (maximum mipmaps; no port yet)",
+    ),
+    (
+        "one_field",
+        "the shader reads one height field: every shader but an impostor's, which reads six stacked (hf_field_slot)",
+    ),
+    (
+        "depth_output",
+        "an impostor shader has hf_impostor_depth, the hit's depth for the fragment",
     ),
 ];
 
@@ -217,6 +229,15 @@ pub const PROJECTIVE: &str = "projective";
 
 /// The files after the marches, in order: their entry points call `hf_trace`.
 const LAST: [&str; 2] = [WORLD, PROJECTIVE];
+
+/// The file of six-field impostors (`impostor.wgsl`, its GLSL generated:
+/// `hf_trace_impostor`, on [`PROJECTIVE`]'s `hf_trace_projective`), in the shaders of
+/// [`impostor`] only.
+pub const IMPOSTOR: &str = "impostor";
+
+/// The flag every shader but an impostor's sets: it reads one height field (an
+/// impostor's reads six stacked in one texture, `field`'s `hf_field_slot`).
+const ONE_FIELD: &str = "one_field";
 
 /// The file of `method` defining `hf_trace`: its last part before [`WORLD`].
 fn method_file(method: MethodKind) -> &'static str {
@@ -403,7 +424,7 @@ pub fn generate(scene: &Scene, lang: Lang) -> Result<String, GenError> {
 }
 
 /// The shader of `scene` in `lang`: only the code the scene uses. The markers are
-/// evaluated for the scene's flags ([`scene_flags`]); `hf_surface`,
+/// evaluated for the scene's flags ([`scene_flags`]) and `one_field`; `hf_surface`,
 /// `hf_safety_variant` and the class sets of the safety-distance and cylinder–cone
 /// maps, `hf_safety_classes` and `hf_cc_classes` (the scene's `ray_classes`, the
 /// classes its bake plan bakes and its maps hold: [`map_classes`]), and the ray set
@@ -423,51 +444,13 @@ pub fn generate_with(scene: &Scene, lang: Lang, opts: &Options) -> Result<String
         let at = stems.iter().position(|s| *s == "field").unwrap_or(0);
         stems.insert(at, FIELD_INT);
     }
-    let files = load(lang, &stems, &|f| flags.contains(&f))?;
-    let mut segs = parse_all(lang, &files)?;
-    let surface_const = format!("HF_SURFACE_{}", surface_flag(scene.surface).to_uppercase());
-    let variant_const = match opts.safety_variant {
-        SafetyVariant::Directional => "HF_SAFETY_DIRECTIONAL",
-        SafetyVariant::Isotropic => "HF_SAFETY_ISOTROPIC",
-    };
-    let classes_const = format!("{}u", map_classes(scene));
-    // The ray set the scene's safety-shape map is baked for (its bake plan's).
-    let rays = scene.bake_plan().rays;
-    let exterior_const = if rays.exterior { "1u" } else { "0u" };
-    let angle_const = format!("{:?}", rays.max_view_angle_deg);
-    for seg in segs.iter_mut().flatten() {
-        if let Seg::Item(it) = seg {
-            match (it.kind, it.name.as_str()) {
-                (Kind::Input, "hf_surface") => make_const(lang, it, &surface_const)?,
-                (Kind::Input, "hf_safety_variant") => make_const(lang, it, variant_const)?,
-                (Kind::Input, "hf_safety_classes" | "hf_cc_classes") => {
-                    make_const(lang, it, &classes_const)?
-                }
-                (Kind::Input, "hf_rays_exterior") => make_const(lang, it, exterior_const)?,
-                (Kind::Input, "hf_rays_max_view_angle") => make_const(lang, it, &angle_const)?,
-                _ => {}
-            }
-        }
-    }
     // A scene tracing shadows from the light keeps the function that makes its rays.
     let mut roots = vec!["hf_trace", "hf_trace_world", "hf_trace_projective"];
     if scene.shadows == Shadows::FromLight {
         roots.push("query_walked_back");
     }
-    let keep = shake::reachable(&segs, &roots);
-    let mut inputs = Vec::new();
-    let body = shake::emit(
-        &segs,
-        |f, k, it| {
-            keep.contains(&(f, k)).then(|| {
-                if it.kind == Kind::Input {
-                    inputs.push(it.name.clone());
-                }
-                it.text.clone()
-            })
-        },
-        |f| separator(files[f].0, lang),
-    );
+    let set = |f: &str| f == ONE_FIELD || flags.contains(&f);
+    let (body, inputs) = compose(scene, lang, opts, &stems, &set, &roots)?;
     let classes: Vec<&str> = ["x+", "x-", "y+", "y-"]
         .into_iter()
         .enumerate()
@@ -510,6 +493,129 @@ pub fn generate_with(scene: &Scene, lang: Lang, opts: &Options) -> Result<String
          world) (world units). Inputs to set: {}.\n",
         inputs.join(", ")
     ));
+    Ok(head + &body)
+}
+
+/// The files `stems` of `lang` with the markers evaluated for the flags `set` holds,
+/// `scene`'s choices made constants (see [`generate_with`]), and only the items
+/// reachable from `roots` kept: the text, and the inputs left for the caller to set.
+fn compose(
+    scene: &Scene,
+    lang: Lang,
+    opts: &Options,
+    stems: &[&'static str],
+    set: &dyn Fn(&str) -> bool,
+    roots: &[&str],
+) -> Result<(String, Vec<String>), GenError> {
+    let files = load(lang, stems, set)?;
+    let mut segs = parse_all(lang, &files)?;
+    let surface_const = format!("HF_SURFACE_{}", surface_flag(scene.surface).to_uppercase());
+    let variant_const = match opts.safety_variant {
+        SafetyVariant::Directional => "HF_SAFETY_DIRECTIONAL",
+        SafetyVariant::Isotropic => "HF_SAFETY_ISOTROPIC",
+    };
+    let classes_const = format!("{}u", map_classes(scene));
+    // The ray set the scene's safety-shape map is baked for (its bake plan's).
+    let rays = scene.bake_plan().rays;
+    let exterior_const = if rays.exterior { "1u" } else { "0u" };
+    let angle_const = format!("{:?}", rays.max_view_angle_deg);
+    for seg in segs.iter_mut().flatten() {
+        if let Seg::Item(it) = seg {
+            match (it.kind, it.name.as_str()) {
+                (Kind::Input, "hf_surface") => make_const(lang, it, &surface_const)?,
+                (Kind::Input, "hf_safety_variant") => make_const(lang, it, variant_const)?,
+                (Kind::Input, "hf_safety_classes" | "hf_cc_classes") => {
+                    make_const(lang, it, &classes_const)?
+                }
+                (Kind::Input, "hf_rays_exterior") => make_const(lang, it, exterior_const)?,
+                (Kind::Input, "hf_rays_max_view_angle") => make_const(lang, it, &angle_const)?,
+                _ => {}
+            }
+        }
+    }
+    let keep = shake::reachable(&segs, roots);
+    let mut inputs = Vec::new();
+    let body = shake::emit(
+        &segs,
+        |f, k, it| {
+            keep.contains(&(f, k)).then(|| {
+                if it.kind == Kind::Input {
+                    inputs.push(it.name.clone());
+                }
+                it.text.clone()
+            })
+        },
+        |f| separator(files[f].0, lang),
+    );
+    Ok((body, inputs))
+}
+
+/// The impostor shader of `scene` in `lang`: the library a caller's shader calls to
+/// trace six-field impostors (`hfcast::impostor`; the header of `impostor.wgsl` says
+/// what the host sets), `hf_trace_impostor` (`Impostor::trace` with the exact march on
+/// the scene's surface, a constant) and, when the scene has `depth_output`,
+/// `hf_impostor_depth` (the hit's depth for the fragment, under the uniform
+/// `hf_view_proj`), and the constants `HF_IMPOSTOR_INTERSECTION`,
+/// `HF_IMPOSTOR_FACING_FIELD` (`combine`) and `HF_IMPOSTOR_NO_FACE`. The files of the exact method's shader and [`IMPOSTOR`], the
+/// markers evaluated for the scene's flags with `upward` (a face's grid rays go every
+/// way) and `depth_output` as the scene says, but not `one_field` (the six fields are
+/// stacked in one texture), then only the items those entry points reach. A header
+/// comment names the scene, the entry points and the inputs left for the caller to set.
+///
+/// Errors: a method other than [`MethodKind::Exact`], heights other than
+/// [`HeightFormat::F32`] ([`GenError::Scene`]), and what [`scene_flags`] refuses.
+pub fn impostor(scene: &Scene, lang: Lang) -> Result<String, GenError> {
+    if scene.method != MethodKind::Exact {
+        return Err(GenError::Scene(
+            "an impostor shader traces its fields with the exact method only",
+        ));
+    }
+    if scene.heights != HeightFormat::F32 {
+        return Err(GenError::Scene("an impostor's fields are 32-bit heights"));
+    }
+    let opts = Options::default();
+    scene_flags(scene, &opts)?;
+    let mut flags = vec![surface_flag(scene.surface), "upward", "heights_f32"];
+    // The entry points and the constants a caller names.
+    let mut roots = vec![
+        "hf_trace_impostor",
+        "HF_IMPOSTOR_INTERSECTION",
+        "HF_IMPOSTOR_FACING_FIELD",
+        "HF_IMPOSTOR_NO_FACE",
+    ];
+    if scene.depth_output {
+        flags.push("depth_output");
+        roots.push("hf_impostor_depth");
+    }
+    let mut stems = parts(MethodKind::Exact);
+    stems.push(IMPOSTOR);
+    let set = |f: &str| flags.contains(&f);
+    let (body, inputs) = compose(scene, lang, &opts, &stems, &set, &roots)?;
+    let entries = match lang {
+        Lang::Glsl => [
+            "ImpostorTrace hf_trace_impostor(Query world, uint combine)",
+            "float hf_impostor_depth(vec3 p)",
+        ],
+        Lang::Wgsl => [
+            "fn hf_trace_impostor(world: Query, combine: u32) -> ImpostorTrace",
+            "fn hf_impostor_depth(p: vec3<f32>) -> f32",
+        ],
+    };
+    let head = format!(
+        "// hfcast impostor shader generated by hfcast-shaders (shaders/src/lib.rs): six-field\n\
+         // impostors traced by the exact method on the surface {}, {}.\n\
+         // Flags: {}.\n\
+         // Entry points: {}. Inputs to set: {}.\n",
+        scene.surface.name(),
+        if scene.depth_output {
+            "depth output"
+        } else {
+            "no depth output"
+        },
+        flags.join(" "),
+        entries[..1 + usize::from(scene.depth_output)].join(", "),
+        inputs.join(", ")
+    );
     Ok(head + &body)
 }
 

@@ -30,6 +30,9 @@ pub(crate) enum Kind {
     Const,
     /// A uniform, texture binding or override: what the caller must provide.
     Input,
+    /// A module-scope variable of the shader's own (WGSL `var<private>`, a GLSL global
+    /// that is not a uniform).
+    Global,
 }
 
 /// A piece of a file.
@@ -137,7 +140,10 @@ fn declared(text: &str) -> Result<(String, Kind), String> {
     let kind = match first {
         "struct" | "alias" => Kind::Struct,
         "const" => Kind::Const,
+        "var" if head.trim_start().starts_with("var<private>") => Kind::Global,
         "uniform" | "override" | "var" => Kind::Input,
+        // `type name;` or `type name = value;`: a GLSL global.
+        _ if words.len() == 2 && matches!(head.as_bytes()[stop], b';' | b'=') => Kind::Global,
         _ if head.as_bytes()[stop] == b'(' => {
             let after = head[stop..].trim_end();
             if after.ends_with(';') && !after.contains('{') {
@@ -326,6 +332,8 @@ float real_min(float a, float b) { return b < a ? b : a; }
 @group(0) @binding(1) var<uniform> hf_field: FieldParams;
 override hf_surface: u32 = 0u;
 const HF_X: u32 = 0u;
+var<private> hf_slot: u32 = 0u;
+uint hf_slot_glsl = 0u;
 fn f(a: vec3<f32>) -> f32 {
     return a.x + g(a);
 }
@@ -347,13 +355,15 @@ fn f(a: vec3<f32>) -> f32 {
             ("hf_field", Kind::Input),
             ("hf_surface", Kind::Input),
             ("HF_X", Kind::Const),
+            ("hf_slot", Kind::Global),
+            ("hf_slot_glsl", Kind::Global),
             ("f", Kind::Function),
         ];
         assert_eq!(named.len(), want.len());
         for ((n, k), (wn, wk)) in named.iter().zip(want) {
             assert_eq!((n.as_str(), *k), (wn, wk));
         }
-        let Seg::Item(f) = &segs[8] else { panic!() };
+        let Seg::Item(f) = &segs[10] else { panic!() };
         assert!(f.refs.contains("g") && !f.refs.contains("x"));
     }
 

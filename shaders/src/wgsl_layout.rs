@@ -60,5 +60,15 @@ pub const SAFETY_OUT: u32 = 18;
 /// `hf_safety_pass`: uniform `SafetyBakePass`, one pass of the GPU safety-distance
 /// bake (bake_safety.wgsl).
 pub const SAFETY_PASS: u32 = 19;
+/// `hf_field_ranges`: uniform `array<vec4<f32>, 6>`, the height range (xy: min, max)
+/// of each of an impostor's six fields (field.wgsl, impostor shaders only: not in the
+/// table of `hfcast_shared.wgsl`, which every other shader holds).
+pub const FIELD_RANGES: u32 = 20;
+/// `hf_impostor`: uniform `ImpostorParams`, an impostor's six face maps, their inverses
+/// and its cube (impostor.wgsl).
+pub const IMPOSTOR: u32 = 21;
+/// `hf_view_proj`: uniform `Mat4Rows`, the world-to-clip matrix of an impostor
+/// shader's depth output (impostor.wgsl, scenes with `depth_output`).
+pub const VIEW_PROJ: u32 = 22;
 /// The last binding of group 0 kept for hfcast's own resources.
 pub const RESERVED_UP_TO: u32 = 31;

@@ -5,8 +5,8 @@
 use hfcast::scene::{HeightFormat, MethodKind, RayClasses, Scene, Shadows};
 use hfcast::Surface;
 use hfcast_shaders::{
-    all_methods, general, generate, generate_with, parts, supports, GenError, Lang, Options,
-    SafetyVariant,
+    all_methods, general, generate, generate_with, impostor, parts, supports, GenError, Lang,
+    Options, SafetyVariant,
 };
 use std::collections::BTreeMap;
 use std::path::PathBuf;
@@ -555,5 +555,193 @@ fn glsl_ports_are_generated_from_the_wgsl() {
             &format!("glsl/{stem}.glsl is not the translation of wgsl/{stem}.wgsl"),
             "HFCAST_BLESS=1 cargo test -p hfcast-shaders --test validate",
         );
+    }
+}
+
+/// The impostor scene of `surface`: the exact method, with or without depth output.
+fn impostor_scene(surface: Surface, depth_output: bool) -> Scene {
+    Scene {
+        depth_output,
+        ..Scene::general(MethodKind::Exact, surface)
+    }
+}
+
+/// Compiles `src` with glslangValidator as `file`; the error is its output.
+fn glslang(dir: &std::path::Path, file: &str, src: &str) -> Result<(), String> {
+    let path = dir.join(file);
+    std::fs::write(&path, src).unwrap();
+    let out = Command::new("glslangValidator")
+        .arg(&path)
+        .output()
+        .expect("glslangValidator must be installed (apt-get install glslang-tools)");
+    if out.status.success() {
+        Ok(())
+    } else {
+        Err(format!("{file}: {}", String::from_utf8_lossy(&out.stdout)))
+    }
+}
+
+/// Parses and validates the WGSL `src` with naga (every flag, every capability).
+fn naga_validates(label: &str, src: &str) -> Result<(), String> {
+    let module = naga::front::wgsl::parse_str(src)
+        .map_err(|e| format!("{label}: {}", e.emit_to_string(src)))?;
+    naga::valid::Validator::new(
+        naga::valid::ValidationFlags::all(),
+        naga::valid::Capabilities::all(),
+    )
+    .validate(&module)
+    .map_err(|e| format!("{label}: {}", e.emit_to_string(src)))?;
+    Ok(())
+}
+
+/// Every impostor shader (each surface, depth output on and off) is used from a plain
+/// fragment shader's main as the OpenGL renderer does: GLSL 3.30 and 4.30 with
+/// glslang, WGSL (a `@fragment` entry point, `frag_depth` with depth output) with naga.
+#[test]
+fn impostor_shaders_compile_in_a_fragment_shader() {
+    let dir = tmp_dir("impostor");
+    let mut failed = Vec::new();
+    let mut count = 0;
+    for surface in Surface::ALL {
+        for depth in [false, true] {
+            let label = format!(
+                "impostor_{}_{}",
+                surface.name(),
+                if depth { "depth" } else { "nodepth" }
+            );
+            let glsl = impostor(&impostor_scene(surface, depth), Lang::Glsl).unwrap();
+            let depth_line = if depth {
+                "gl_FragDepth = hf_impostor_depth(a.trace.hit.point);\n    "
+            } else {
+                ""
+            };
+            for version in ["330 core", "430 core"] {
+                let src = format!(
+                    "#version {version}\n{glsl}\nuniform vec3 eye;\nout vec4 hf_out;\nvoid main() {{\n    \
+                     Query world = Query(eye, vec3(gl_FragCoord.xy, -100.0) - eye, 0.0, 1e30);\n    \
+                     ImpostorTrace a = hf_trace_impostor(world, HF_IMPOSTOR_INTERSECTION);\n    \
+                     ImpostorTrace b = hf_trace_impostor(world, HF_IMPOSTOR_FACING_FIELD);\n    \
+                     if (!a.trace.has_hit) {{\n        discard;\n    }}\n    {depth_line}\
+                     hf_out = vec4(a.trace.hit.normal, float(a.face + b.face + a.traces));\n}}\n"
+                );
+                let file = format!("{label}_{}.frag", &version[..3]);
+                failed.extend(glslang(&dir, &file, &src).err());
+                count += 1;
+            }
+            let wgsl = impostor(&impostor_scene(surface, depth), Lang::Wgsl).unwrap();
+            let (out, ret) = if depth {
+                (
+                    "ImpostorOut",
+                    "return ImpostorOut(vec4<f32>(a.trace.hit.normal, f32(a.face)), \
+                     hf_impostor_depth(a.trace.hit.point));",
+                )
+            } else {
+                (
+                    "@location(0) vec4<f32>",
+                    "return vec4<f32>(a.trace.hit.normal, f32(a.face + b.face + a.traces));",
+                )
+            };
+            let src = format!(
+                "{wgsl}\nstruct ImpostorOut {{\n    @location(0) color: vec4<f32>,\n    \
+                 @builtin(frag_depth) depth: f32,\n}}\n\n\
+                 @fragment\nfn hf_main(@builtin(position) pos: vec4<f32>) -> {out} {{\n    \
+                 let eye: vec3<f32> = vec3<f32>(0.3, 0.2, 4.0);\n    \
+                 let world: Query = Query(eye, vec3<f32>(pos.xy, -100.0) - eye, 0.0, 1e30);\n    \
+                 let a: ImpostorTrace = hf_trace_impostor(world, HF_IMPOSTOR_INTERSECTION);\n    \
+                 let b: ImpostorTrace = hf_trace_impostor(world, HF_IMPOSTOR_FACING_FIELD);\n    \
+                 {ret}\n}}\n"
+            );
+            failed.extend(naga_validates(&label, &src).err());
+            count += 1;
+        }
+    }
+    assert!(failed.is_empty(), "{}", failed.join("\n"));
+    eprintln!("{count} impostor shaders compile (glslang, naga)");
+}
+
+/// An impostor shader keeps what its scene uses: with depth output the depth helper
+/// and its matrix, without it neither; the six fields' slot and ranges, the maps, the
+/// exact march on the scene's surface as a constant; not the world entry, the
+/// one-field ranges nor another surface. The header lists the inputs. Other methods and
+/// integer heights are refused.
+#[test]
+fn impostor_shaders_keep_what_their_scene_uses() {
+    for lang in Lang::ALL {
+        let with = impostor(&impostor_scene(Surface::Triangles, true), lang).unwrap();
+        let without = impostor(&impostor_scene(Surface::Triangles, false), lang).unwrap();
+        assert_ne!(with, without);
+        for text in [&with, &without] {
+            assert!(!text.contains("//#"), "{text}");
+            let code = code(text);
+            for present in [
+                "hf_trace_impostor",
+                "hf_field_slot",
+                "hf_field_ranges",
+                "hf_trace_projective",
+                "surface_triangles_segment",
+            ] {
+                assert!(code.contains(present), "{present} not in\n{text}");
+            }
+            for absent in [
+                "hf_trace_world",
+                "hf_height_range",
+                "surface_bilinear_segment",
+                "query_walked_back",
+                u32_decl(lang, true, "hf_surface", None).as_str(),
+            ] {
+                assert!(!code.contains(absent), "{absent} in\n{text}");
+            }
+            assert!(code.contains(&u32_decl(
+                lang,
+                false,
+                "hf_surface",
+                Some("HF_SURFACE_TRIANGLES")
+            )));
+        }
+        for name in ["hf_impostor_depth", "hf_view_proj"] {
+            assert!(
+                code(&with).contains(name) && !code(&without).contains(name),
+                "{name}"
+            );
+        }
+        let inputs = |text: &str| {
+            let head = text.lines().find(|l| l.contains("Inputs to set")).unwrap();
+            head.split("Inputs to set: ").nth(1).unwrap().to_string()
+        };
+        let want = match lang {
+            Lang::Glsl => {
+                "hf_heights, hf_size, hf_field_ranges, hf_impostor_maps, \
+                           hf_impostor_inverses, hf_impostor_cube"
+            }
+            Lang::Wgsl => "hf_heights, hf_field, hf_field_ranges, hf_impostor",
+        };
+        assert_eq!(inputs(&without), format!("{want}."));
+        assert_eq!(inputs(&with), format!("{want}, hf_view_proj."));
+        for bad in [
+            Scene::general(MethodKind::MaxMip, Surface::Triangles),
+            Scene {
+                heights: HeightFormat::U16,
+                ..impostor_scene(Surface::Triangles, false)
+            },
+        ] {
+            assert!(matches!(impostor(&bad, lang), Err(GenError::Scene(_))));
+        }
+    }
+}
+
+/// The impostor file's constants are the core's: the combinations, the pass cap and
+/// the face of a miss (one past the last face).
+#[test]
+fn impostor_constants_are_the_cores() {
+    use hfcast::impostor::{Combine, FACES, MAX_ROUNDS};
+    let text = hfcast_shaders::file(Lang::Wgsl, hfcast_shaders::IMPOSTOR).unwrap();
+    for (name, value) in [
+        ("HF_IMPOSTOR_INTERSECTION", Combine::Intersection as u32),
+        ("HF_IMPOSTOR_FACING_FIELD", Combine::FacingField as u32),
+        ("HF_IMPOSTOR_MAX_ROUNDS", MAX_ROUNDS),
+        ("HF_IMPOSTOR_NO_FACE", FACES.len() as u32),
+    ] {
+        let decl = format!("const {name}: u32 = {value}u;");
+        assert!(text.contains(&decl), "impostor.wgsl lacks {decl}");
     }
 }

@@ -153,6 +153,21 @@ fn every_file_validates_as_part_of_its_methods() {
             println!("{name:<28} validates alone (a GPU bake)");
             continue;
         }
+        // impostor.wgsl takes part in the impostor shaders (the exact method's files).
+        if name == "impostor.wgsl" {
+            for depth_output in [false, true] {
+                let scene = hfcast::scene::Scene {
+                    depth_output,
+                    ..hfcast::scene::Scene::general(MethodKind::Exact, hfcast::Surface::Triangles)
+                };
+                let src = hfcast_shaders::impostor(&scene, Lang::Wgsl).expect("impostor");
+                if let Err(e) = validate(&name, &src) {
+                    panic!("{name} fails as part of an impostor shader:\n{e}");
+                }
+            }
+            println!("{name:<28} validates in the impostor shaders");
+            continue;
+        }
         // field_int.wgsl takes part in every method's 16-bit-heights source.
         let int = name == "field_int.wgsl";
         let methods: Vec<MethodKind> = MethodKind::ALL
@@ -231,6 +246,9 @@ fn overrides_and_bindings_are_one_line_and_fixed() {
                     "hf_safety_scratch" => wgsl_layout::SAFETY_SCRATCH,
                     "hf_safety_out" => wgsl_layout::SAFETY_OUT,
                     "hf_safety_pass" => wgsl_layout::SAFETY_PASS,
+                    "hf_field_ranges" => wgsl_layout::FIELD_RANGES,
+                    "hf_impostor" => wgsl_layout::IMPOSTOR,
+                    "hf_view_proj" => wgsl_layout::VIEW_PROJ,
                     other => panic!("{name}: {other} is not in hfcast_shaders::wgsl_layout"),
                 };
                 assert_eq!(b, fixed, "{name}: {id} is not at its wgsl_layout binding");
