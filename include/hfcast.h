@@ -260,6 +260,11 @@ typedef uint32_t hf_impostor_combine;
 // mesh: one grid unit under the opposite face, so that nothing there is solid.
 #define HF_IMPOSTOR_EMPTY -1.0
 
+// The grid height under which no field's solid reaches (half a grid unit under the
+// object's far end along the face's normal): each field's region is its footprint
+// times heights from this to `side − 1`, the frustum to draw for it unclipped.
+#define HF_IMPOSTOR_FLOOR -0.5
+
 // The triangle `hf_impostor_capture` stores where a sample's projector line misses
 // the mesh, and the face `hf_impostor_trace_batch` reports for a miss.
 #define HF_IMPOSTOR_NONE UINT32_MAX
@@ -1991,6 +1996,44 @@ hf_result hf_shader_generate(const struct hf_scene *scene,
                              char *buf,
                              size_t buf_len,
                              size_t *out_written);
+
+// Writes the length in bytes of `hf_shader_generate_impostor(scene, lang)`, including
+// its NUL terminator, to `*out_len`. Errors as `hf_shader_generate_impostor`. Thread
+// safe.
+//
+// # Safety
+// `scene` is NULL (an error) or valid for reading one `hf_scene`; `out_len` NULL (an
+// error) or valid for writing one `size_t`.
+hf_result hf_shader_generate_impostor_len(const struct hf_scene *scene,
+                                          uint32_t lang,
+                                          size_t *out_len);
+
+// Writes the six-field impostor shader of `*scene` in `lang` into `buf` as
+// `hf_shader_generate` does (a NUL-terminated string; its length without the NUL to
+// `*out_written`; `buf_len` at least `hf_shader_generate_impostor_len`):
+// `ImpostorTrace hf_trace_impostor(Query world, uint combine)` (GLSL; WGSL the same),
+// the first point of a world ray in the impostor of six fields traced by the exact
+// march on the scene's surface, as `hf_impostor_trace_batch` traces it, and, only when
+// the scene has `depth_output`, `float hf_impostor_depth(vec3 p)`, the depth to write
+// for a hit at world point `p` under the uniform `hf_view_proj` (rows of the world to
+// clip matrix). The inputs (GLSL): `hf_heights` (R32F, the six `side × side` fields
+// stacked, face k's rows from `k·side`), `hf_size` = (side, side),
+// `hf_field_ranges[6]` (each field's min and max), `hf_impostor_maps[24]` and
+// `hf_impostor_inverses[24]` (row r of face k's `hf_impostor_face_map` and of its
+// inverse at 4k + r), `hf_impostor_cube` (centre, half side); the shader's header
+// comment lists them. Errors as `hf_shader_generate`, and `HF_ERR_INVALID_ARGUMENT`
+// for a scene whose method is not `HF_METHOD_EXACT` or whose heights are not
+// `HF_HEIGHTS_F32`. Thread safe.
+//
+// # Safety
+// `scene` is NULL (an error) or valid for reading one `hf_scene`; `buf` NULL (an error)
+// or valid for writing `buf_len` bytes; `out_written` NULL (an error) or valid for
+// writing one `size_t`.
+hf_result hf_shader_generate_impostor(const struct hf_scene *scene,
+                                      uint32_t lang,
+                                      char *buf,
+                                      size_t buf_len,
+                                      size_t *out_written);
 
 // Writes the default trace options to `*out_options` (what NULL options mean).
 // Thread safe.

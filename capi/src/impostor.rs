@@ -15,6 +15,11 @@ use hfcore::{dda, FieldError, HeightField, Query};
 /// mesh: one grid unit under the opposite face, so that nothing there is solid.
 pub const HF_IMPOSTOR_EMPTY: f32 = -1.0;
 
+/// The grid height under which no field's solid reaches (half a grid unit under the
+/// object's far end along the face's normal): each field's region is its footprint
+/// times heights from this to `side − 1`, the frustum to draw for it unclipped.
+pub const HF_IMPOSTOR_FLOOR: f32 = -0.5;
+
 /// The triangle `hf_impostor_capture` stores where a sample's projector line misses
 /// the mesh, and the face `hf_impostor_trace_batch` reports for a miss.
 pub const HF_IMPOSTOR_NONE: u32 = u32::MAX;
@@ -454,11 +459,12 @@ pub unsafe extern "C" fn hf_impostor_trace_batch(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use hfcore::impostor::{EMPTY, FACES, NO_TRIANGLE};
+    use hfcore::impostor::{EMPTY, FACES, FLOOR, NO_TRIANGLE};
 
     #[test]
     fn constants_and_faces_match_the_core() {
         assert_eq!(HF_IMPOSTOR_EMPTY, EMPTY);
+        assert_eq!(HF_IMPOSTOR_FLOOR, FLOOR);
         assert_eq!(HF_IMPOSTOR_NONE, NO_TRIANGLE);
         // The faces' normals and grid axes as hf_impostor_layout's comment lists them.
         let axes = [

@@ -24,6 +24,29 @@ pub fn source(kind: MethodKind) -> String {
 /// `scene` is NULL (an error) or valid for reading one `hf_scene`.
 unsafe fn generated(scene: *const hf_scene, lang: u32) -> Result<String, hf_result> {
     // SAFETY: the caller's promise.
+    unsafe { generated_by(scene, lang, generate) }
+}
+
+/// The impostor shader of `*scene` in language `lang` (`hfcast_shaders::impostor`).
+///
+/// # Safety
+/// `scene` is NULL (an error) or valid for reading one `hf_scene`.
+unsafe fn generated_impostor(scene: *const hf_scene, lang: u32) -> Result<String, hf_result> {
+    // SAFETY: the caller's promise.
+    unsafe { generated_by(scene, lang, hfcast_shaders::impostor) }
+}
+
+/// What the generator `gen` makes of `*scene` in language `lang`, its errors as C
+/// error codes.
+///
+/// # Safety
+/// `scene` is NULL (an error) or valid for reading one `hf_scene`.
+unsafe fn generated_by(
+    scene: *const hf_scene,
+    lang: u32,
+    gen: fn(&hfcore::scene::Scene, Lang) -> Result<String, GenError>,
+) -> Result<String, hf_result> {
+    // SAFETY: the caller's promise.
     let s = unsafe { ptr::get(scene) }?;
     let scene = scene_of(s)?;
     built_method_of(s.method)?;
@@ -32,7 +55,7 @@ unsafe fn generated(scene: *const hf_scene, lang: u32) -> Result<String, hf_resu
         HF_SHADER_WGSL => Lang::Wgsl,
         _ => return Err(HF_ERR_INVALID_ENUM),
     };
-    generate(&scene, lang).map_err(|e| match e {
+    gen(&scene, lang).map_err(|e| match e {
         GenError::SurfaceNotSupported { .. } | GenError::Scene(_) => HF_ERR_INVALID_ARGUMENT,
         GenError::MissingFile { .. } | GenError::Source(_) => HF_ERR_NOT_BUILT,
     })
@@ -202,6 +225,60 @@ pub unsafe extern "C" fn hf_shader_generate(
     unsafe { write_text(buf, buf_len, out_written, || generated(scene, lang)) }
 }
 
+/// Writes the length in bytes of `hf_shader_generate_impostor(scene, lang)`, including
+/// its NUL terminator, to `*out_len`. Errors as `hf_shader_generate_impostor`. Thread
+/// safe.
+///
+/// # Safety
+/// `scene` is NULL (an error) or valid for reading one `hf_scene`; `out_len` NULL (an
+/// error) or valid for writing one `size_t`.
+#[no_mangle]
+pub unsafe extern "C" fn hf_shader_generate_impostor_len(
+    scene: *const hf_scene,
+    lang: u32,
+    out_len: *mut usize,
+) -> hf_result {
+    // SAFETY: the caller's promises.
+    unsafe { write_len(out_len, || generated_impostor(scene, lang)) }
+}
+
+/// Writes the six-field impostor shader of `*scene` in `lang` into `buf` as
+/// `hf_shader_generate` does (a NUL-terminated string; its length without the NUL to
+/// `*out_written`; `buf_len` at least `hf_shader_generate_impostor_len`):
+/// `ImpostorTrace hf_trace_impostor(Query world, uint combine)` (GLSL; WGSL the same),
+/// the first point of a world ray in the impostor of six fields traced by the exact
+/// march on the scene's surface, as `hf_impostor_trace_batch` traces it, and, only when
+/// the scene has `depth_output`, `float hf_impostor_depth(vec3 p)`, the depth to write
+/// for a hit at world point `p` under the uniform `hf_view_proj` (rows of the world to
+/// clip matrix). The inputs (GLSL): `hf_heights` (R32F, the six `side × side` fields
+/// stacked, face k's rows from `k·side`), `hf_size` = (side, side),
+/// `hf_field_ranges[6]` (each field's min and max), `hf_impostor_maps[24]` and
+/// `hf_impostor_inverses[24]` (row r of face k's `hf_impostor_face_map` and of its
+/// inverse at 4k + r), `hf_impostor_cube` (centre, half side); the shader's header
+/// comment lists them. Errors as `hf_shader_generate`, and `HF_ERR_INVALID_ARGUMENT`
+/// for a scene whose method is not `HF_METHOD_EXACT` or whose heights are not
+/// `HF_HEIGHTS_F32`. Thread safe.
+///
+/// # Safety
+/// `scene` is NULL (an error) or valid for reading one `hf_scene`; `buf` NULL (an error)
+/// or valid for writing `buf_len` bytes; `out_written` NULL (an error) or valid for
+/// writing one `size_t`.
+#[no_mangle]
+pub unsafe extern "C" fn hf_shader_generate_impostor(
+    scene: *const hf_scene,
+    lang: u32,
+    buf: *mut c_char,
+    buf_len: usize,
+    out_written: *mut usize,
+) -> hf_result {
+    // SAFETY: the caller's promises.
+    unsafe {
+        write_text(buf, buf_len, out_written, || {
+            generated_impostor(scene, lang)
+        })
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -292,5 +369,48 @@ mod tests {
             unsafe { hf_shader_generate_len(std::ptr::null(), HF_SHADER_GLSL, &mut len) },
             HF_ERR_NULL_POINTER
         );
+    }
+
+    #[test]
+    fn the_impostor_shader_depends_on_depth_output_and_wants_the_exact_method() {
+        let mut scene = std::mem::MaybeUninit::<hf_scene>::uninit();
+        // SAFETY: `scene` is writable.
+        assert_eq!(unsafe { hf_scene_general(0, 0, scene.as_mut_ptr()) }, HF_OK);
+        // SAFETY: written on HF_OK.
+        let scene = unsafe { scene.assume_init() };
+        let text = |scene: &hf_scene| {
+            let mut len = 0usize;
+            // SAFETY: valid pointers.
+            let r = unsafe { hf_shader_generate_impostor_len(scene, HF_SHADER_GLSL, &mut len) };
+            if r != HF_OK {
+                return Err(r);
+            }
+            let mut buf = vec![0 as c_char; len];
+            let mut written = 0usize;
+            // SAFETY: `buf` holds `len` bytes.
+            let r = unsafe {
+                hf_shader_generate_impostor(
+                    scene,
+                    HF_SHADER_GLSL,
+                    buf.as_mut_ptr(),
+                    len,
+                    &mut written,
+                )
+            };
+            assert_eq!((r, written + 1), (HF_OK, len));
+            let bytes: Vec<u8> = buf[..written].iter().map(|&c| c as u8).collect();
+            Ok(String::from_utf8(bytes).unwrap())
+        };
+        let with = text(&scene).unwrap();
+        let without = text(&hf_scene {
+            depth_output: 0,
+            ..scene
+        })
+        .unwrap();
+        let depth = "float hf_impostor_depth(vec3 p)";
+        assert!(with.contains("hf_trace_impostor(Query world, uint combine)"));
+        assert!(with.contains(depth) && !without.contains(depth));
+        let maxmip = hf_scene { method: 3, ..scene };
+        assert_eq!(text(&maxmip).unwrap_err(), HF_ERR_INVALID_ARGUMENT);
     }
 }

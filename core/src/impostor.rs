@@ -20,7 +20,8 @@
 //! the triangle index.
 //!
 //! **The object** ([`Combine`]). By default it is the intersection of the six solids
-//! (each field's solid is what lies under its surface). [`Impostor::trace`] finds a
+//! (each field's solid is what lies under its surface and over its footprint, down to
+//! the grid height [`FLOOR`]). [`Impostor::trace`] finds a
 //! ray's first point in it inside the cube: from the cube's entry `t`, each field in
 //! turn is traced from `t`; a field whose solid does not hold `t` moves `t` to where
 //! the ray enters that solid (no point in between is in it), a miss of any field is a
@@ -47,6 +48,12 @@ use crate::HeightField;
 /// The height [`rasterize`] stores where a sample's projector line misses the mesh:
 /// one grid unit under the opposite face, so that no solid is there inside the cube.
 pub const EMPTY: f32 = -1.0;
+
+/// The grid height under which no field's solid reaches: half a grid unit under the
+/// lowest captured height of a fitted layout (0, the object's far end along the
+/// face's normal), above [`EMPTY`]. It bounds each solid to its frustum, so that one
+/// field alone ([`Combine::FacingField`]) does not reach past the object's far side.
+pub const FLOOR: f32 = -0.5;
 
 /// The triangle index [`rasterize`] stores where a sample's projector line misses.
 pub const NO_TRIANGLE: u32 = u32::MAX;
@@ -630,6 +637,38 @@ impl<'a> Impostor<'a> {
         best.1
     }
 
+    /// Field `face`'s trace of the world ray `q` (its first point in the field's
+    /// solid), the solid bounded below at grid height [`FLOOR`]: the grid ray's range
+    /// is cut to where it is at or above the floor, so a ray that comes up through the
+    /// floor under the surface hits there.
+    fn field_trace<R: Real>(
+        &self,
+        face: usize,
+        q: &Query<R>,
+        march: &mut impl FnMut(&HeightField, &Query<R>) -> Trace<R>,
+    ) -> Result<Trace<R>, RayError> {
+        let (hf, map) = (&self.fields[face], &self.maps[face]);
+        let Some(mapped) = map.map(hf, q)? else {
+            return Ok(Trace::MISS);
+        };
+        let g = &mapped.grid;
+        let (oz, dz) = (g.origin()[2].to_f64(), g.dir()[2].to_f64());
+        let (mut s0, mut s1) = (g.t_min().to_f64(), g.t_max().to_f64());
+        let at_floor = (f64::from(FLOOR) - oz) / dz;
+        if dz > 0.0 {
+            s0 = s0.max(at_floor);
+        } else if dz < 0.0 {
+            s1 = s1.min(at_floor);
+        } else if oz < f64::from(FLOOR) {
+            return Ok(Trace::MISS);
+        }
+        if s0 > s1 || s0.is_nan() {
+            return Ok(Trace::MISS);
+        }
+        let grid = Query::from_arrays(g.origin(), g.dir(), R::from_f64(s0), R::from_f64(s1))?;
+        Ok(map.trace_to_world(&mapped, march(hf, &grid)))
+    }
+
     /// The first point of `world` in the object inside the cube as `combine` makes it
     /// of the six fields, each traced by `march` on its grid query (see the module).
     pub fn trace<R: Real>(
@@ -650,7 +689,7 @@ impl<'a> Impostor<'a> {
         if combine == Combine::FacingField {
             let k = facing_face(world.dir().map(R::to_f64));
             let q = Query::from_arrays(world.origin(), world.dir(), t, t_end)?;
-            out.trace = self.maps[k].trace(&self.fields[k], &q, |g| march(&self.fields[k], g))?;
+            out.trace = self.field_trace(k, &q, &mut march)?;
             out.traces = 1;
             out.face = out.trace.hit.map(|_| k);
             return Ok(out);
@@ -666,7 +705,7 @@ impl<'a> Impostor<'a> {
             }
             out.traces += 1;
             let q = Query::from_arrays(world.origin(), world.dir(), t, t_end)?;
-            let tr = self.maps[k].trace(&self.fields[k], &q, |g| march(&self.fields[k], g))?;
+            let tr = self.field_trace(k, &q, &mut march)?;
             fetches = fetches.saturating_add(tr.fetches);
             let Some(h) = tr.hit else {
                 out.trace.fetches = fetches;

@@ -8,7 +8,7 @@
 
 use hfcast::impostor::{
     pad_silhouettes, procedural_tower, rasterize, Combine, Frustum, Impostor, ImpostorError,
-    Layout, Mesh, EMPTY, FACES, NO_TRIANGLE,
+    Layout, Mesh, EMPTY, FACES, FLOOR, NO_TRIANGLE,
 };
 use hfcast::rng::SplitMix as Rng;
 use hfcast::{dda, HeightField, Query, Surface};
@@ -215,7 +215,8 @@ fn capture_is_the_first_hit_along_each_projector_line() {
     assert!(hits > checked / 4 && hits < checked);
 }
 
-/// Is the world point `p` in face `k`'s solid (under its surface, over its footprint),
+/// Is the world point `p` in face `k`'s solid (under its surface, over its footprint,
+/// above [`FLOOR`]),
 /// with `slack` grid units of tolerance (positive: lenient)?
 fn in_solid(imp: &Impostor, k: usize, p: [f64; 3], slack: f64) -> bool {
     let g = imp.map(k).to_grid_h(p);
@@ -225,7 +226,8 @@ fn in_solid(imp: &Impostor, k: usize, p: [f64; 3], slack: f64) -> bool {
     if !(-slack..=last + slack).contains(&x) || !(-slack..=last + slack).contains(&y) {
         return false;
     }
-    z <= TRI.height_at(hf, x.clamp(0.0, last), y.clamp(0.0, last)) + slack
+    z >= f64::from(FLOOR) - slack
+        && z <= TRI.height_at(hf, x.clamp(0.0, last), y.clamp(0.0, last)) + slack
 }
 
 /// The trace's hit is in all six solids, and every sampled point before it is outside

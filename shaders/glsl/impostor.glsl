@@ -81,10 +81,32 @@ uint impostor_facing_face(vec3 d) {
     return 2u * a + ((d[a] > 0.0) ? (1u) : (0u));
 }
 
-// Field k's trace of the world ray over [t, t_end].
+// The grid height under which no field's solid reaches (`FLOOR`).
+const float HF_IMPOSTOR_FLOOR = -0.5;
+
+// Field k's trace of the world ray over [t, t_end] (`Impostor::field_trace`): the grid
+// ray's range cut to where it is at or above HF_IMPOSTOR_FLOOR.
 Trace impostor_field_trace(uint k, Query world, float t, float t_end) {
     hf_field_slot = k;
-    return hf_trace_projective(impostor_map(k), impostor_inverse(k), Query(world.origin, world.dir, t, t_end));
+    Trace miss = trace_miss(0u, real_infinity());
+    ProjectiveRay pr = projective_map(impostor_map(k), Query(world.origin, world.dir, t, t_end));
+    if (!pr.ok) {
+        return miss;
+    }
+    float oz = pr.grid.origin.z;
+    float dz = pr.grid.dir.z;
+    float at_floor = (HF_IMPOSTOR_FLOOR - oz) / dz;
+    if (dz > 0.0) {
+        pr.grid.t_min = real_max(pr.grid.t_min, at_floor);
+    } else if (dz < 0.0) {
+        pr.grid.t_max = real_min(pr.grid.t_max, at_floor);
+    } else if (oz < HF_IMPOSTOR_FLOOR) {
+        return miss;
+    }
+    if (!(pr.grid.t_min <= pr.grid.t_max)) {
+        return miss;
+    }
+    return projective_to_world(impostor_map(k), impostor_inverse(k), pr, hf_trace(pr.grid));
 }
 
 // `Impostor::trace` with the exact march.

@@ -106,13 +106,10 @@ ProjectiveRay projective_map(Mat4Rows m, Query world) {
     return ProjectiveRay(Query(g_b, e, s0, s1), t_b, w_b, b.w, true);
 }
 
-// `Projective::trace` with the method's march.
-Trace hf_trace_projective(Mat4Rows m, Mat4Rows m_inv, Query world) {
-    ProjectiveRay pr = projective_map(m, world);
-    if (!pr.ok) {
-        return trace_miss(0u, real_infinity());
-    }
-    Trace tr = hf_trace(pr.grid);
+// `Projective::trace_to_world`: the trace `grid_trace` of `pr`'s grid query with its
+// hit mapped back to the world ray.
+Trace projective_to_world(Mat4Rows m, Mat4Rows m_inv, ProjectiveRay pr, Trace grid_trace) {
+    Trace tr = grid_trace;
     if (tr.has_hit) {
         float s = tr.hit.t;
         tr.hit.t = pr.t_b + s * pr.w_b / (pr.w_b - s * pr.b_w);
@@ -124,4 +121,13 @@ Trace hf_trace_projective(Mat4Rows m, Mat4Rows m_inv, Query world) {
         tr.hit.normal = normalize(wn.xyz);
     }
     return tr;
+}
+
+// `Projective::trace` with the method's march.
+Trace hf_trace_projective(Mat4Rows m, Mat4Rows m_inv, Query world) {
+    ProjectiveRay pr = projective_map(m, world);
+    if (!pr.ok) {
+        return trace_miss(0u, real_infinity());
+    }
+    return projective_to_world(m, m_inv, pr, hf_trace(pr.grid));
 }

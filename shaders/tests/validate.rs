@@ -677,7 +677,7 @@ fn impostor_shaders_keep_what_their_scene_uses() {
                 "hf_trace_impostor",
                 "hf_field_slot",
                 "hf_field_ranges",
-                "hf_trace_projective",
+                "projective_to_world",
                 "surface_triangles_segment",
             ] {
                 assert!(code.contains(present), "{present} not in\n{text}");
@@ -729,8 +729,8 @@ fn impostor_shaders_keep_what_their_scene_uses() {
     }
 }
 
-/// The impostor file's constants are the core's: the combinations, the pass cap and
-/// the face of a miss (one past the last face).
+/// The impostor file's constants are the core's: the combinations, the pass cap, the
+/// face of a miss (one past the last face) and the solids' floor.
 #[test]
 fn impostor_constants_are_the_cores() {
     use hfcast::impostor::{Combine, FACES, MAX_ROUNDS};
@@ -744,4 +744,6 @@ fn impostor_constants_are_the_cores() {
         let decl = format!("const {name}: u32 = {value}u;");
         assert!(text.contains(&decl), "impostor.wgsl lacks {decl}");
     }
+    let floor = format!("const HF_IMPOSTOR_FLOOR: f32 = {:?};", hfcast::impostor::FLOOR);
+    assert!(text.contains(&floor), "impostor.wgsl lacks {floor}");
 }

@@ -94,10 +94,32 @@ fn impostor_facing_face(d: vec3<f32>) -> u32 {
     return 2u * a + select(0u, 1u, d[a] > 0.0);
 }
 
-// Field k's trace of the world ray over [t, t_end].
+// The grid height under which no field's solid reaches (`FLOOR`).
+const HF_IMPOSTOR_FLOOR: f32 = -0.5;
+
+// Field k's trace of the world ray over [t, t_end] (`Impostor::field_trace`): the grid
+// ray's range cut to where it is at or above HF_IMPOSTOR_FLOOR.
 fn impostor_field_trace(k: u32, world: Query, t: f32, t_end: f32) -> Trace {
     hf_field_slot = k;
-    return hf_trace_projective(impostor_map(k), impostor_inverse(k), Query(world.origin, world.dir, t, t_end));
+    let miss: Trace = trace_miss(0u, real_infinity());
+    var pr: ProjectiveRay = projective_map(impostor_map(k), Query(world.origin, world.dir, t, t_end));
+    if (!pr.ok) {
+        return miss;
+    }
+    let oz: f32 = pr.grid.origin.z;
+    let dz: f32 = pr.grid.dir.z;
+    let at_floor: f32 = (HF_IMPOSTOR_FLOOR - oz) / dz;
+    if (dz > 0.0) {
+        pr.grid.t_min = real_max(pr.grid.t_min, at_floor);
+    } else if (dz < 0.0) {
+        pr.grid.t_max = real_min(pr.grid.t_max, at_floor);
+    } else if (oz < HF_IMPOSTOR_FLOOR) {
+        return miss;
+    }
+    if (!(pr.grid.t_min <= pr.grid.t_max)) {
+        return miss;
+    }
+    return projective_to_world(impostor_map(k), impostor_inverse(k), pr, hf_trace(pr.grid));
 }
 
 // `Impostor::trace` with the exact march.

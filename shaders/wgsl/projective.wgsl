@@ -104,13 +104,10 @@ fn projective_map(m: Mat4Rows, world: Query) -> ProjectiveRay {
     return ProjectiveRay(Query(g_b, e, s0, s1), t_b, w_b, b.w, true);
 }
 
-// `Projective::trace` with the method's march.
-fn hf_trace_projective(m: Mat4Rows, m_inv: Mat4Rows, world: Query) -> Trace {
-    let pr: ProjectiveRay = projective_map(m, world);
-    if (!pr.ok) {
-        return trace_miss(0u, real_infinity());
-    }
-    var tr: Trace = hf_trace(pr.grid);
+// `Projective::trace_to_world`: the trace `grid_trace` of `pr`'s grid query with its
+// hit mapped back to the world ray.
+fn projective_to_world(m: Mat4Rows, m_inv: Mat4Rows, pr: ProjectiveRay, grid_trace: Trace) -> Trace {
+    var tr: Trace = grid_trace;
     if (tr.has_hit) {
         let s: f32 = tr.hit.t;
         tr.hit.t = pr.t_b + s * pr.w_b / (pr.w_b - s * pr.b_w);
@@ -122,4 +119,13 @@ fn hf_trace_projective(m: Mat4Rows, m_inv: Mat4Rows, world: Query) -> Trace {
         tr.hit.normal = normalize(wn.xyz);
     }
     return tr;
+}
+
+// `Projective::trace` with the method's march.
+fn hf_trace_projective(m: Mat4Rows, m_inv: Mat4Rows, world: Query) -> Trace {
+    let pr: ProjectiveRay = projective_map(m, world);
+    if (!pr.ok) {
+        return trace_miss(0u, real_infinity());
+    }
+    return projective_to_world(m, m_inv, pr, hf_trace(pr.grid));
 }
