@@ -17,12 +17,18 @@
  *                                               for the edit only; CPU parity per frame
  *   render_osmesa table1 W H MAP.png SIDE...    frame times of Table 1's safety-shape
  *                                               settings on centre crops (Markdown)
+ *   render_osmesa impostor MESH.obj...          six-field impostors (impostor.h): CPU
+ *                                               parity, clipped vs unclipped proxies,
+ *                                               depth output, frusta vs the mesh
+ *   render_osmesa impostor-report W H MESH.obj...
+ *                                               docs/report/impostors.md's tables
  */
 #define _POSIX_C_SOURCE 200112L
 #include "render_common.h"
 #include "gpu_bake.h"
 #include "roll.h"
 #include "hybrid.h"
+#include "impostor.h"
 
 #include <GL/osmesa.h>
 #include <math.h>
@@ -1404,6 +1410,235 @@ static int run_tallied(const char *name, map_fn fn, int nmaps, char **maps) {
     return stop ? stop : tests_result(name, &t);
 }
 
+/* ---- six-field impostors (impostor.h) ---------------------------------------------- */
+
+/* The views of the impostor runs: compass azimuth and elevation, degrees. */
+static const double IMP_VIEWS[3][2] = {{30, 25}, {200, -20}, {110, 65}};
+#define IMP_DIST 3.2 /* half sides from the centre */
+#define IMP_FOV 40.0
+
+/* The frame of the ground truth, the mesh rasterized from `v`, into `mesh_info`. */
+static void imp_mesh_frame(imp_gl *g, const imp_view *v, float *point, float *mesh_info) {
+    imp_gl_draw_mesh(g, v, 1);
+    imp_gl_read(g, point, mesh_info);
+}
+
+/* One capture on the test's views: each combination's frame against the CPU
+ * (imp_check_ok), the unclipped frusta's frame identical to the clipped one's with
+ * more fragments; adds each view's error against the mesh to err[combine]. */
+static void imp_capture_case(imp_gl *g, const imp_mesh *m, const char *name, uint32_t frustum,
+                             uint32_t side, tally *t, imp_error err[2]) {
+    imp_fields f;
+    if (imp_fields_capture(&f, m, frustum, side) != 0) {
+        t->failed++;
+        return;
+    }
+    imp_gl_set_fields(g, &f);
+    size_t n = (size_t)g->w * g->h;
+    hf_ray *rays = (hf_ray *)malloc(n * sizeof *rays);
+    float *pt = (float *)malloc(n * 16), *info = (float *)malloc(n * 16);
+    float *pt2 = (float *)malloc(n * 16), *info2 = (float *)malloc(n * 16);
+    float *mesh = (float *)malloc(n * 16);
+    const char *fname = frustum == HF_IMPOSTOR_ORTHOGRAPHIC ? "orthographic" : "reverse";
+    for (int v = 0; v < 3; v++) {
+        imp_view view = imp_orbit(&f.layout, IMP_VIEWS[v][0], IMP_VIEWS[v][1], IMP_DIST,
+                                  IMP_FOV, g->w, g->h);
+        imp_rays(&view, g->w, g->h, rays);
+        imp_gl_set_rays(g, rays);
+        imp_mesh_frame(g, &view, pt2, mesh);
+        for (uint32_t c = 0; c < 2; c++) {
+            imp_stats clipped = imp_gl_draw(g, &f, &view, c, 0, 1, 1);
+            imp_gl_read(g, pt, info);
+            imp_check k = imp_check_cpu(&f, c, rays, n, pt, info);
+            imp_stats unclipped = imp_gl_draw(g, &f, &view, c, 0, 0, 1);
+            imp_gl_read(g, pt2, info2);
+            int same = memcmp(pt, pt2, n * 16) == 0;
+            imp_error e = imp_against_mesh(info, mesh, n, f.layout.half);
+            err[c].mesh_pixels += e.mesh_pixels;
+            err[c].differ += e.differ;
+            err[c].depth_mean += e.depth_mean / 3.0;
+            int ok = imp_check_ok(&k) && same && unclipped.fragments > clipped.fragments;
+            printf("impostor %-10s %-12s %ux%u view %d %-12s %d pixels, %d cpu hits, %d differ "
+                   "(%d hit/miss, %d on another face), max err %.1e half sides; unclipped "
+                   "frame %s, fragments %u clipped vs %u unclipped; %d of %d mesh pixels "
+                   "covered differently  %s\n",
+                   name, fname, side, side, v, c ? "facing-field" : "intersection", k.pixels,
+                   k.hits, k.differ, k.hit_differ, k.face_differ, k.max_err,
+                   same ? "identical" : "DIFFERS", clipped.fragments, unclipped.fragments,
+                   e.differ, e.mesh_pixels, ok ? "ok" : "FAILED");
+            tally_add(t, ok);
+        }
+    }
+    free(rays);
+    free(pt);
+    free(info);
+    free(pt2);
+    free(info2);
+    free(mesh);
+    imp_fields_free(&f);
+}
+
+/* The depth output (§4.4): a plane through the object, drawn first, then the
+ * impostor; pixels where the plane and the object are in the other order than in the
+ * ground truth (plane and mesh rasterized). With exact depth far fewer. */
+static void imp_depth_case(imp_gl *g, const imp_mesh *m, const char *name, tally *t) {
+    imp_fields f;
+    if (imp_fields_capture(&f, m, HF_IMPOSTOR_REVERSE_PERSPECTIVE, 128) != 0) {
+        t->failed++;
+        return;
+    }
+    imp_gl_set_fields(g, &f);
+    size_t n = (size_t)g->w * g->h;
+    hf_ray *rays = (hf_ray *)malloc(n * sizeof *rays);
+    float *pt = (float *)malloc(n * 16), *truth = (float *)malloc(n * 16);
+    float *info = (float *)malloc(n * 16);
+    imp_view view = imp_orbit(&f.layout, IMP_VIEWS[0][0], IMP_VIEWS[0][1], IMP_DIST, IMP_FOV,
+                              g->w, g->h);
+    imp_rays(&view, g->w, g->h, rays);
+    imp_gl_set_rays(g, rays);
+    double z = f.layout.center[2];
+    imp_gl_draw_mesh(g, &view, 1);
+    imp_gl_draw_plane(g, &view, m, z);
+    imp_gl_read(g, pt, truth);
+    int wrong[2];
+    for (int depth = 0; depth < 2; depth++) {
+        imp_gl_draw(g, &f, &view, HF_IMPOSTOR_INTERSECTION, depth, 1, 1);
+        imp_gl_draw_plane(g, &view, m, z);
+        imp_gl_read(g, pt, info);
+        wrong[depth] = 0;
+        for (size_t i = 0; i < n; i++)
+            if (info[4 * i + 3] != truth[4 * i + 3]) wrong[depth]++;
+    }
+    int ok = wrong[1] * 4 < wrong[0];
+    printf("impostor %-10s depth output: a plane through the object, %d pixels in the wrong "
+           "order with the proxy's depth, %d with the hit's  %s\n",
+           name, wrong[0], wrong[1], ok ? "ok" : "FAILED");
+    tally_add(t, ok);
+    free(rays);
+    free(pt);
+    free(truth);
+    free(info);
+    imp_fields_free(&f);
+}
+
+/* `impostor MESH.obj...`: the impostor tests (the cases above) on each mesh at side
+ * 64, and, with one field per ray, the reverse perspective covering the mesh's
+ * silhouette better than the orthographic fields. */
+static int run_impostor_test(int nmeshes, char **meshes) {
+    if (tests_start() != 0) return 2;
+    imp_gl g;
+    if (imp_gl_init(&g, TEST_W, TEST_H) != 0) return 2;
+    tally t = {0, 0, 0, NULL};
+    for (int k = 0; k < nmeshes; k++) {
+        imp_mesh m;
+        if (imp_mesh_load_obj(&m, meshes[k]) != 0) {
+            t.failed++;
+            continue;
+        }
+        const char *name = strrchr(meshes[k], '/') ? strrchr(meshes[k], '/') + 1 : meshes[k];
+        imp_gl_set_mesh(&g, &m);
+        imp_error err[2][2];
+        memset(err, 0, sizeof err);
+        imp_capture_case(&g, &m, name, HF_IMPOSTOR_ORTHOGRAPHIC, 64, &t, err[0]);
+        imp_capture_case(&g, &m, name, HF_IMPOSTOR_REVERSE_PERSPECTIVE, 64, &t, err[1]);
+        int ok = err[1][1].differ < err[0][1].differ;
+        printf("impostor %-10s one field per ray: %d silhouette pixels wrong (reverse "
+               "perspective) against %d (orthographic), of %d  %s\n",
+               name, err[1][1].differ, err[0][1].differ, err[0][1].mesh_pixels,
+               ok ? "ok" : "FAILED");
+        tally_add(&t, ok);
+        imp_depth_case(&g, &m, name, &t);
+        imp_mesh_free(&m);
+    }
+    imp_gl_free(&g);
+    gl_stop();
+    return tests_result("impostor", &t);
+}
+
+/* `impostor-report W H MESH.obj...`: docs/report/impostors.md's tables (scripts/
+ * impostors.sh) as Markdown rows, per mesh, frustum, side (32 to 512) and
+ * combination, over the three views: silhouette pixels wrong (of the mesh's),
+ * mean forward-distance error (half sides), the median frame time of the clipped
+ * proxy and of the unclipped frusta (3 frames each after a warm-up) with their
+ * fragments, and the capture time. */
+static int run_impostor_report(int w, int h, int nmeshes, char **meshes) {
+    if (gl_start(w, h) != 0) return 2;
+    imp_gl g;
+    if (imp_gl_init(&g, w, h) != 0) return 2;
+    printf("Renderer: %s (software). %d × %d pixels, 3 views, the exact traversal on "
+           "every field.\n\n",
+           (const char *)glGetString(GL_RENDERER), w, h);
+    printf("| mesh | frustum | side | combination | silhouette px wrong | depth error "
+           "(half sides) | clipped ms | clipped fragments | unclipped ms | unclipped "
+           "fragments | mesh ms | capture ms |\n"
+           "|---|---|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|\n");
+    size_t n = (size_t)w * h;
+    hf_ray *rays = (hf_ray *)malloc(n * sizeof *rays);
+    float *pt = (float *)malloc(n * 16), *info = (float *)malloc(n * 16);
+    float *mesh_info[3];
+    for (int v = 0; v < 3; v++) mesh_info[v] = (float *)malloc(n * 16);
+    static const uint32_t sides[5] = {32, 64, 128, 256, 512};
+    for (int k = 0; k < nmeshes; k++) {
+        imp_mesh m;
+        if (imp_mesh_load_obj(&m, meshes[k]) != 0) return 2;
+        const char *name = strrchr(meshes[k], '/') ? strrchr(meshes[k], '/') + 1 : meshes[k];
+        imp_gl_set_mesh(&g, &m);
+        for (uint32_t fr = 0; fr < 2; fr++)
+            for (int s = 0; s < 5; s++) {
+                imp_fields f;
+                if (imp_fields_capture(&f, &m, fr, sides[s]) != 0) return 2;
+                imp_gl_set_fields(&g, &f);
+                imp_view views[3];
+                double mesh_ms[3];
+                for (int v = 0; v < 3; v++) {
+                    views[v] = imp_orbit(&f.layout, IMP_VIEWS[v][0], IMP_VIEWS[v][1],
+                                         IMP_DIST, IMP_FOV, w, h);
+                    mesh_ms[v] = imp_gl_draw_mesh(&g, &views[v], 1).ms;
+                    imp_gl_read(&g, pt, mesh_info[v]);
+                }
+                for (uint32_t c = 0; c < 2; c++) {
+                    imp_error sum = {0, 0, 0.0, 0.0};
+                    double ms[2][9];
+                    unsigned frags[2] = {0, 0};
+                    for (int v = 0; v < 3; v++) {
+                        imp_rays(&views[v], w, h, rays);
+                        imp_gl_set_rays(&g, rays);
+                        imp_gl_draw(&g, &f, &views[v], c, 0, 1, 1); /* warm-up */
+                        for (int clip = 0; clip < 2; clip++)
+                            for (int r = 0; r < 3; r++) {
+                                imp_stats st = imp_gl_draw(&g, &f, &views[v], c, 0, 1 - clip, 1);
+                                ms[clip][3 * v + r] = st.ms;
+                                if (r == 0) frags[clip] += st.fragments;
+                            }
+                        imp_gl_draw(&g, &f, &views[v], c, 0, 1, 1);
+                        imp_gl_read(&g, pt, info);
+                        imp_error e = imp_against_mesh(info, mesh_info[v], n, f.layout.half);
+                        sum.mesh_pixels += e.mesh_pixels;
+                        sum.differ += e.differ;
+                        sum.depth_mean += e.depth_mean / 3.0;
+                    }
+                    printf("| %s | %s | %u² | %s | %d of %d (%.2f %%) | %.4f | %.1f | %u | %.1f | "
+                           "%u | %.1f | %.1f |\n",
+                           name, fr ? "reverse perspective" : "orthographic", sides[s],
+                           c ? "facing field" : "intersection", sum.differ, sum.mesh_pixels,
+                           100.0 * sum.differ / (sum.mesh_pixels ? sum.mesh_pixels : 1),
+                           sum.depth_mean, median(ms[0], 9), frags[0], median(ms[1], 9),
+                           frags[1], median(mesh_ms, 3), f.capture_ms);
+                    fflush(stdout);
+                }
+                imp_fields_free(&f);
+            }
+        imp_mesh_free(&m);
+    }
+    for (int v = 0; v < 3; v++) free(mesh_info[v]);
+    free(rays);
+    free(pt);
+    free(info);
+    imp_gl_free(&g);
+    gl_stop();
+    return 0;
+}
+
 /* ---- Table 1 frame times (scripts/table1.sh) ---------------------------------------- */
 
 /* The settings of Table 1 (tools/src/table1.rs): name, method, exterior rays only. */
@@ -1509,6 +1744,10 @@ int main(int argc, char **argv) {
         return run_tallied("roll", roll_map, argc - 2, argv + 2);
     if (argc >= 3 && strcmp(argv[1], "hybrid") == 0)
         return run_tallied("hybrid", hybrid_map, argc - 2, argv + 2);
+    if (argc >= 3 && strcmp(argv[1], "impostor") == 0)
+        return run_impostor_test(argc - 2, argv + 2);
+    if (argc >= 5 && strcmp(argv[1], "impostor-report") == 0)
+        return run_impostor_report(atoi(argv[2]), atoi(argv[3]), argc - 4, argv + 4);
     if (argc >= 6 && strcmp(argv[1], "table1") == 0)
         return run_table1(atoi(argv[2]), atoi(argv[3]), argv[4], argc - 5, argv + 5);
     if (argc >= 6 && strcmp(argv[1], "bench-generated") == 0)
@@ -1524,8 +1763,10 @@ int main(int argc, char **argv) {
             "       %s dynamic FRAMES MAP.png...\n"
             "       %s roll MAP.png...\n"
             "       %s hybrid MAP.png...\n"
-            "       %s table1 W H MAP.png SIDE...\n",
+            "       %s table1 W H MAP.png SIDE...\n"
+            "       %s impostor MESH.obj...\n"
+            "       %s impostor-report W H MESH.obj...\n",
             argv[0], argv[0], argv[0], argv[0], argv[0], argv[0], argv[0], argv[0], argv[0],
-            argv[0]);
+            argv[0], argv[0], argv[0]);
     return 2;
 }
