@@ -119,6 +119,9 @@ echo "== Camera roll (Qu et al.; OSMesa and GLFW under Xvfb): the unrolled view 
 echo "== Hybrid rasterization (Qu et al. §4; OSMesa and GLFW under Xvfb): both passes against the CPU ray cast of the view-linear surface and the same passes on the CPU; fragments and frame times"
 "${C_MAKE[@]}" hybrid-test MAPS="$C_MAPS" 2>&1 | tee -a target/c_tests.log
 "${C_MAKE[@]}" glfw-hybrid-test 2>&1 | tee -a target/c_tests.log
+echo "== Six-field impostors (Baboud & Décoret §4; OSMesa and GLFW under Xvfb): the bunny and the procedural tower through the generated GLSL against hf_impostor_trace_batch, clipped against unclipped proxies, depth output, reverse perspective against orthographic"
+"${C_MAKE[@]}" impostor-test 2>&1 | tee -a target/c_tests.log
+"${C_MAKE[@]}" glfw-impostor-test 2>&1 | tee -a target/c_tests.log
 echo "== Embree (watertight) as an oracle: hfcast's exact CC, maximum-mipmap, safety-distance and DDA marches, every hit that differs within rounding"
 # The synthetic fields at 256² too: fBm, and one-texel walls and needles (embree_bench.c).
 EMBREE_MAPS="$C_MAPS synthetic:fractal:256 synthetic:needles:256"
