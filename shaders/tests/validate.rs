@@ -744,6 +744,9 @@ fn impostor_constants_are_the_cores() {
         let decl = format!("const {name}: u32 = {value}u;");
         assert!(text.contains(&decl), "impostor.wgsl lacks {decl}");
     }
-    let floor = format!("const HF_IMPOSTOR_FLOOR: f32 = {:?};", hfcast::impostor::FLOOR);
+    let floor = format!(
+        "const HF_IMPOSTOR_FLOOR: f32 = {:?};",
+        hfcast::impostor::FLOOR
+    );
     assert!(text.contains(&floor), "impostor.wgsl lacks {floor}");
 }

@@ -41,11 +41,20 @@ fn cmd_capture(mut args: Args) -> Result<bool, String> {
     );
     let side = args.get("side", 128u32)?;
     let colour_side = args.get("colour-side", 256u32)?;
+    // Orthographic by default: the more accurate faces for the default combination,
+    // the intersection (docs/DESIGN.md, "Six-field impostors").
+    let apex: Option<f64> = match args.opt("apex") {
+        Some(a) => Some(a.parse().map_err(|_| format!("--apex: bad value {a:?}"))?),
+        None => None,
+    };
     let frustum = match args.opt("frustum").as_deref() {
-        None | Some("reverse-perspective") => Frustum::ReversePerspective {
-            apex: args.get("apex", 2.0f64)?,
+        Some("reverse-perspective") => Frustum::ReversePerspective {
+            apex: apex.unwrap_or(2.0),
         },
-        Some("orthographic") => Frustum::Orthographic,
+        None | Some("orthographic") if apex.is_some() => {
+            return Err("--apex is for --frustum reverse-perspective".into())
+        }
+        None | Some("orthographic") => Frustum::Orthographic,
         Some(f) => {
             return Err(format!(
                 "--frustum: {f:?} (orthographic | reverse-perspective)"

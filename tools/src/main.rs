@@ -81,7 +81,8 @@ commands:
   impostor six reverse-perspective height fields of a triangle mesh (an object's
            impostor): impostor capture MESH (.obj, .ply, or tower: a procedural one)
            --out DIR --side N (128) --colour-side N (256: colour and normal textures)
-           --frustum reverse-perspective|orthographic --apex HALF_SIDES (2);
+           --frustum orthographic|reverse-perspective (orthographic: the more
+           accurate for the intersection) --apex HALF_SIDES (2, reverse perspective);
            impostor render DIR --out PNG --width N --height N (512) --elevation DEG
            --azimuth DEG (30) --distance HALF_SIDES (4) --fov DEG (40) --combine
            intersection|facing-field (intersection: the six solids' intersection); impostor export
