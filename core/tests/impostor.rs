@@ -6,6 +6,7 @@
 //! itself the reverse-perspective fields outline and place the object better than the
 //! orthographic ones at the same side.
 
+use hfcast::camera::Pinhole;
 use hfcast::impostor::{
     pad_silhouettes, procedural_tower, rasterize, Combine, Frustum, Impostor, ImpostorError,
     Layout, Mesh, EMPTY, FACES, FLOOR, NO_TRIANGLE,
@@ -317,10 +318,10 @@ fn bunny() -> (Vec<[f32; 3]>, Vec<[u32; 3]>) {
 }
 
 /// Rays of six pinhole cameras (`px × px` each) three half sides from the centre,
-/// looking at it from around the object, the cube filling the frame.
+/// looking at it from around the object, the cube filling the frame (the views of
+/// `hfcast_tools::impostor::six_views`).
 fn camera_rays(layout: &Layout, px: u32) -> Vec<([f64; 3], [f64; 3])> {
-    let (c, s) = (layout.center(), layout.half());
-    let views: [[f64; 3]; 6] = [
+    let backs: [[f64; 3]; 6] = [
         [1.0, 0.3, 0.2],
         [-0.4, 1.0, 0.5],
         [-1.0, -0.6, 0.1],
@@ -328,41 +329,26 @@ fn camera_rays(layout: &Layout, px: u32) -> Vec<([f64; 3], [f64; 3])> {
         [0.3, 0.4, 1.0],
         [-0.2, 0.1, -1.0],
     ];
+    let c = layout.center();
     let mut out = Vec::new();
-    for v in views {
-        let l = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
-        let back = v.map(|x| x / l);
-        let o = [0, 1, 2].map(|k| c[k] + 3.0 * s * back[k]);
-        // A right and an up vector orthogonal to the view direction.
-        let up0 = if back[2].abs() < 0.9 {
+    for b in backs {
+        let l = (b[0] * b[0] + b[1] * b[1] + b[2] * b[2]).sqrt();
+        let eye = [0, 1, 2].map(|k| c[k] + 3.0 * layout.half() * b[k] / l);
+        let up = if b[2].abs() < 0.9 * l {
             [0.0, 0.0, 1.0]
         } else {
             [1.0, 0.0, 0.0]
         };
-        let right = normalize(cross(up0, back));
-        let up = cross(back, right);
+        let fov = 2.0 * 0.6f64.atan().to_degrees();
+        let cam = Pinhole::new(eye, b.map(|v| -v), up, fov, px, px).unwrap();
         for j in 0..px {
             for i in 0..px {
-                let x = (2.0 * (f64::from(i) + 0.5) / f64::from(px) - 1.0) * 0.6;
-                let y = (2.0 * (f64::from(j) + 0.5) / f64::from(px) - 1.0) * 0.6;
-                out.push((o, [0, 1, 2].map(|k| x * right[k] + y * up[k] - back[k])));
+                let q = cam.ray(i, j, f32::INFINITY).unwrap();
+                out.push((q.origin().map(f64::from), q.dir().map(f64::from)));
             }
         }
     }
     out
-}
-
-fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [
-        a[1] * b[2] - a[2] * b[1],
-        a[2] * b[0] - a[0] * b[2],
-        a[0] * b[1] - a[1] * b[0],
-    ]
-}
-
-fn normalize(a: [f64; 3]) -> [f64; 3] {
-    let l = (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt();
-    a.map(|x| x / l)
 }
 
 /// Silhouette pixels that differ from the mesh's (hit against miss) and the mean

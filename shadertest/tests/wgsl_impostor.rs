@@ -7,8 +7,7 @@
 //! captured as six fields of 64² (`Layout::around`, `rasterize`, `pad_silhouettes`)
 //! with orthographic and reverse-perspective (`Frustum::DEFAULT_REVERSE`) faces, the
 //! six fields stacked in one R32Float texture; world rays of six pinhole cameras of
-//! 24² pixels three half sides around the object (as `core/tests/impostor.rs` makes
-//! them), traced with both combinations by `hf_trace_impostor` and on the CPU by
+//! 24² pixels three half sides around the object (`hfcast_tools::impostor::six_views`), traced with both combinations by `hf_trace_impostor` and on the CPU by
 //! `Impostor::trace` around the f32 DDA. The shader maps in f32 where the core maps in
 //! f64 (impostor.wgsl's header), so a ray agrees when hit/miss is the same and, for a
 //! hit, t (as a distance) and the world point are within [`REL_TOL`] of the cube's half
@@ -32,6 +31,7 @@ use hfcast::projective::Mat4;
 use hfcast::scene::{MethodKind, Scene};
 use hfcast::{dda, HeightField, Query, Surface};
 use hfcast_shaders::{wgsl_layout as binding, Lang};
+use hfcast_tools::impostor::{load_mesh, six_views};
 use std::fmt::Write as _;
 
 /// Largest difference of an agreeing hit's t (times the direction's length) and of its
@@ -88,24 +88,14 @@ fn test_main(@builtin(global_invocation_id) gid: vec3<u32>) {
 }
 "#;
 
-/// The Stanford bunny of `data/` (`v` and `f` lines, as `core/tests/impostor.rs` reads
-/// it).
+/// The Stanford bunny of `data/`, read as the CLI reads it.
 fn bunny() -> (Vec<[f32; 3]>, Vec<[u32; 3]>) {
     let path = concat!(
         env!("CARGO_MANIFEST_DIR"),
         "/../data/mesh_stanford_bunny.obj"
     );
-    let text = std::fs::read_to_string(path).unwrap_or_else(|e| panic!("{path}: {e}"));
-    let (mut pos, mut tri) = (Vec::new(), Vec::new());
-    for line in text.lines() {
-        let mut w = line.split_whitespace();
-        match w.next() {
-            Some("v") => pos.push([0; 3].map(|_| w.next().unwrap().parse::<f32>().unwrap())),
-            Some("f") => tri.push([0; 3].map(|_| w.next().unwrap().parse::<u32>().unwrap() - 1)),
-            _ => {}
-        }
-    }
-    (pos, tri)
+    let m = load_mesh(std::path::Path::new(path)).unwrap_or_else(|e| panic!("{e}"));
+    (m.positions, m.triangles)
 }
 
 /// The six padded fields of `mesh` on `layout`, stacked: face k's rows follow the
@@ -122,57 +112,17 @@ fn capture(mesh: &Mesh, layout: &Layout) -> Vec<f32> {
 }
 
 /// Rays of six pinhole cameras (`PIXELS²` each) three half sides from the centre,
-/// looking at it from around the object (`core/tests/impostor.rs`'s `camera_rays`).
+/// looking at it from around the object (`hfcast_tools::impostor::six_views`).
 fn camera_rays(layout: &Layout) -> Vec<Query<f32>> {
-    let (c, s) = (layout.center(), layout.half());
-    let views: [[f64; 3]; 6] = [
-        [1.0, 0.3, 0.2],
-        [-0.4, 1.0, 0.5],
-        [-1.0, -0.6, 0.1],
-        [0.2, -1.0, -0.7],
-        [0.3, 0.4, 1.0],
-        [-0.2, 0.1, -1.0],
-    ];
     let mut out = Vec::new();
-    for v in views {
-        let back = normalize(v);
-        let o = [0, 1, 2].map(|k| c[k] + 3.0 * s * back[k]);
-        let up0 = if back[2].abs() < 0.9 {
-            [0.0, 0.0, 1.0]
-        } else {
-            [1.0, 0.0, 0.0]
-        };
-        let right = normalize(cross(up0, back));
-        let up = cross(back, right);
+    for cam in six_views(layout, PIXELS) {
         for j in 0..PIXELS {
             for i in 0..PIXELS {
-                let x = (2.0 * (f64::from(i) + 0.5) / f64::from(PIXELS) - 1.0) * 0.6;
-                let y = (2.0 * (f64::from(j) + 0.5) / f64::from(PIXELS) - 1.0) * 0.6;
-                let d = [0, 1, 2].map(|k| x * right[k] + y * up[k] - back[k]);
-                let q = Query::from_arrays(
-                    o.map(|v| v as f32),
-                    d.map(|v| v as f32),
-                    0.0,
-                    f32::INFINITY,
-                );
-                out.push(q.expect("a camera ray"));
+                out.push(cam.ray(i, j, f32::INFINITY).expect("a camera ray"));
             }
         }
     }
     out
-}
-
-fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [
-        a[1] * b[2] - a[2] * b[1],
-        a[2] * b[0] - a[0] * b[2],
-        a[0] * b[1] - a[1] * b[0],
-    ]
-}
-
-fn normalize(a: [f64; 3]) -> [f64; 3] {
-    let l = (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt();
-    a.map(|x| x / l)
 }
 
 fn f32_bytes(v: &[f32]) -> Vec<u8> {

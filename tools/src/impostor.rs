@@ -10,6 +10,7 @@
 //! `normal-F.png` (`colour_side²` RGB; a normal `n` is stored as `(n + 1) / 2`).
 
 use crate::render::Image;
+use hfcast::camera::Pinhole;
 use hfcast::impostor::{
     pad_silhouettes, procedural_tower, rasterize, Combine, Frustum, Impostor, Layout, Mesh,
     NO_TRIANGLE,
@@ -471,25 +472,49 @@ pub struct Orbit {
 }
 
 impl Orbit {
-    /// The eye, and the world ray through the centre of pixel `(x, y)` of a `w × h`
-    /// image (its direction; row 0 at the top).
-    pub fn ray(&self, layout: &Layout, w: u32, h: u32, x: u32, y: u32) -> ([f64; 3], [f64; 3]) {
+    /// The camera of a `w × h` image looking at the centre of `layout`'s cube, +z up.
+    pub fn pinhole(&self, layout: &Layout, w: u32, h: u32) -> Result<Pinhole, String> {
         let (el, az) = (self.elevation.to_radians(), self.azimuth.to_radians());
         let back = [el.cos() * az.sin(), el.cos() * az.cos(), el.sin()];
         let c = layout.center();
         let eye = [0, 1, 2].map(|k| c[k] + self.distance * layout.half() * back[k]);
-        let right = [az.cos(), -az.sin(), 0.0];
-        let up = [
-            back[1] * right[2] - back[2] * right[1],
-            back[2] * right[0] - back[0] * right[2],
-            back[0] * right[1] - back[1] * right[0],
-        ];
-        let t = (0.5 * self.fov_deg.to_radians()).tan();
-        let sx =
-            (2.0 * (f64::from(x) + 0.5) / f64::from(w) - 1.0) * t * f64::from(w) / f64::from(h);
-        let sy = (1.0 - 2.0 * (f64::from(y) + 0.5) / f64::from(h)) * t;
-        (eye, [0, 1, 2].map(|k| sx * right[k] + sy * up[k] - back[k]))
+        let forward = back.map(|v| -v);
+        Pinhole::new(eye, forward, [0.0, 0.0, 1.0], self.fov_deg, w, h).map_err(|e| e.to_string())
     }
+}
+
+/// Six cameras of `px × px` pixels three half sides from the centre of `layout`'s
+/// cube, looking at it from around the object (from +x, +y, −x, −y, +z and −z, each
+/// off the axis), the cube filling the frame: the views the impostor tests share.
+pub fn six_views(layout: &Layout, px: u32) -> Vec<Pinhole> {
+    let backs: [[f64; 3]; 6] = [
+        [1.0, 0.3, 0.2],
+        [-0.4, 1.0, 0.5],
+        [-1.0, -0.6, 0.1],
+        [0.2, -1.0, -0.7],
+        [0.3, 0.4, 1.0],
+        [-0.2, 0.1, -1.0],
+    ];
+    let c = layout.center();
+    backs
+        .iter()
+        .map(|b| {
+            let l = (b[0] * b[0] + b[1] * b[1] + b[2] * b[2]).sqrt();
+            let eye = [0, 1, 2].map(|k| c[k] + 3.0 * layout.half() * b[k] / l);
+            let up = if b[2].abs() < 0.9 * l {
+                [0.0, 0.0, 1.0]
+            } else {
+                [1.0, 0.0, 0.0]
+            };
+            let fov = 2.0 * 0.6f64.atan().to_degrees();
+            Pinhole::new(eye, b.map(|v| -v), up, fov, px, px).expect("a camera around the cube")
+        })
+        .collect()
+}
+
+/// The origin and direction of `q` in `f64` (a camera's ray, for the mesh's own hit).
+pub fn world_ray(q: &Query<f32>) -> ([f64; 3], [f64; 3]) {
+    (q.origin().map(f64::from), q.dir().map(f64::from))
 }
 
 impl Default for Orbit {
@@ -530,8 +555,9 @@ pub fn render(
     h: u32,
 ) -> Result<Rendered, String> {
     let imp = cap.impostor()?;
+    let cam = orbit.pinhole(&cap.layout, w, h)?;
     let light = {
-        let v = orbit.ray(&cap.layout, 1, 1, 0, 0).1;
+        let v = cam.forward;
         let l = [-v[0] - 0.5 * v[1], -v[1] + 0.5 * v[0], -v[2] + 0.8];
         let n = (l[0] * l[0] + l[1] * l[1] + l[2] * l[2]).sqrt();
         l.map(|x| x / n)
@@ -549,14 +575,8 @@ pub fn render(
     for y in 0..h {
         for x in 0..w {
             let at = (y * w + x) as usize;
-            let (eye, dir) = orbit.ray(&cap.layout, w, h, x, y);
-            let q = Query::<f32>::from_arrays(
-                eye.map(|v| v as f32),
-                dir.map(|v| v as f32),
-                0.0,
-                f32::INFINITY,
-            )
-            .map_err(|e| e.to_string())?;
+            let q = cam.ray(x, y, f32::INFINITY).map_err(|e| e.to_string())?;
+            let dir = world_ray(&q).1;
             let r = imp
                 .trace(combine, &q, |hf, g| dda::trace(hf, Surface::Triangles, g))
                 .map_err(|e| e.to_string())?;
@@ -611,6 +631,7 @@ pub fn colour_error(
 ) -> Result<ColourError, String> {
     let mesh = data.mesh()?;
     let (w, h) = (r.image.width, r.image.height);
+    let cam = orbit.pinhole(&cap.layout, w, h)?;
     let mut e = ColourError {
         both: 0,
         wrong: 0,
@@ -622,7 +643,8 @@ pub fn colour_error(
             if !r.depth[at].is_finite() {
                 continue;
             }
-            let (eye, dir) = orbit.ray(&cap.layout, w, h, x, y);
+            let q = cam.ray(x, y, f32::INFINITY).map_err(|e| e.to_string())?;
+            let (eye, dir) = world_ray(&q);
             let Some((t, k)) = mesh.first_hit(eye, dir, 0.0, f64::INFINITY) else {
                 continue;
             };

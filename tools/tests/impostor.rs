@@ -3,7 +3,7 @@
 //! with the mesh itself (Möller–Trumbore) on nearly every pixel.
 
 use hfcast::impostor::{Combine, Frustum, Mesh};
-use hfcast_tools::impostor::{capture, load_mesh, render, Capture, Orbit, TOWER};
+use hfcast_tools::impostor::{capture, load_mesh, render, world_ray, Capture, Orbit, TOWER};
 use std::path::{Path, PathBuf};
 
 fn bunny_path() -> PathBuf {
@@ -114,9 +114,10 @@ fn the_render_matches_the_mesh() {
     let (w, h) = (96, 96);
     let r = render(&cap, Combine::Intersection, orbit, w, h).unwrap();
     let (mut wrong, mut both, mut err) = (0, 0, 0.0);
+    let cam = orbit.pinhole(&cap.layout, w, h).unwrap();
     for y in 0..h {
         for x in 0..w {
-            let (eye, dir) = orbit.ray(&cap.layout, w, h, x, y);
+            let (eye, dir) = world_ray(&cam.ray(x, y, f32::INFINITY).unwrap());
             let len = dir.iter().map(|v| v * v).sum::<f64>().sqrt();
             let truth = mesh
                 .first_hit(eye, dir, 0.0, f64::INFINITY)
