@@ -22,7 +22,7 @@
 
 mod common;
 
-use common::{describe, Gpu, GpuHit, MIN_AGREE};
+use common::{describe, f32_bytes, u32_bytes, Gpu, GpuHit, MIN_AGREE};
 use hfcast::impostor::{
     pad_silhouettes, procedural_tower, rasterize, Combine, Frustum, Impostor, ImpostorTrace,
     Layout, Mesh,
@@ -123,14 +123,6 @@ fn camera_rays(layout: &Layout) -> Vec<Query<f32>> {
         }
     }
     out
-}
-
-fn f32_bytes(v: &[f32]) -> Vec<u8> {
-    v.iter().flat_map(|x| x.to_le_bytes()).collect()
-}
-
-fn u32_bytes(v: &[u32]) -> Vec<u8> {
-    v.iter().flat_map(|x| x.to_le_bytes()).collect()
 }
 
 /// The rows of `m` in f32.
@@ -277,54 +269,9 @@ impl Kernel {
                 },
             ],
         });
-        let ray_words: Vec<u32> = rays
+        gpu.dispatch_rays(&self.pipeline, &self.layout1, &group0, rays)
             .iter()
-            .flat_map(|r| {
-                let (o, d) = (r.origin(), r.dir());
-                [o[0], o[1], o[2], r.t_min(), d[0], d[1], d[2], r.t_max()].map(f32::to_bits)
-            })
-            .collect();
-        let ray_buf = gpu.storage(&ray_words);
-        let out = gpu.storage(&vec![0; 16 * rays.len()]);
-        let group1 = dev.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: None,
-            layout: &self.layout1,
-            entries: &[
-                wgpu::BindGroupEntry {
-                    binding: 0,
-                    resource: ray_buf.as_entire_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 1,
-                    resource: out.as_entire_binding(),
-                },
-            ],
-        });
-        let mut enc = dev.create_command_encoder(&wgpu::CommandEncoderDescriptor::default());
-        {
-            let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor::default());
-            pass.set_pipeline(&self.pipeline);
-            pass.set_bind_group(0, &group0, &[]);
-            pass.set_bind_group(1, &group1, &[]);
-            pass.dispatch_workgroups((rays.len() as u32).div_ceil(64), 1, 1);
-        }
-        gpu.queue.submit([enc.finish()]);
-        gpu.read_u32(&out, 16 * rays.len())
-            .chunks_exact(16)
-            .map(|w| {
-                let f = |k: usize| f32::from_bits(w[k]);
-                let hit = GpuHit {
-                    hit: w[0] != 0,
-                    flags: w[1],
-                    fetches: w[2],
-                    t: f(7),
-                    point: [f(4), f(5), f(6)],
-                    normal: [f(8), f(9), f(10)],
-                    clearance: f(11),
-                    cell: [w[12], w[13]],
-                };
-                (hit, w[3], w[14])
-            })
+            .map(|w| (GpuHit::from_words(w), w[3], w[14]))
             .collect()
     }
 }

@@ -1196,6 +1196,60 @@ impl Gpu {
             .collect()
     }
 
+    /// Runs `pipeline` on `rays`, 64 to a workgroup: group 0 is `group0`, group 1 (of
+    /// `layout1`) the rays at binding 0 (each origin, t_min, direction, t_max as eight
+    /// floats) and the output at binding 1, sixteen words a ray (as [`GpuHit::from_words`]
+    /// reads them), read back.
+    pub fn dispatch_rays(
+        &self,
+        pipeline: &wgpu::ComputePipeline,
+        layout1: &wgpu::BindGroupLayout,
+        group0: &wgpu::BindGroup,
+        rays: &[Query<f32>],
+    ) -> Vec<[u32; 16]> {
+        let ray_words: Vec<u32> = rays
+            .iter()
+            .flat_map(|r| {
+                let (o, d) = (r.origin(), r.dir());
+                [o[0], o[1], o[2], r.t_min(), d[0], d[1], d[2], r.t_max()].map(f32::to_bits)
+            })
+            .collect();
+        let ray_buf = self.storage(&ray_words);
+        let out = self.storage(&vec![0; 16 * rays.len()]);
+        let group1 = self.device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: None,
+            layout: layout1,
+            entries: &[
+                wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: ray_buf.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 1,
+                    resource: out.as_entire_binding(),
+                },
+            ],
+        });
+        let mut enc = self
+            .device
+            .create_command_encoder(&wgpu::CommandEncoderDescriptor::default());
+        {
+            let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor::default());
+            pass.set_pipeline(pipeline);
+            pass.set_bind_group(0, group0, &[]);
+            pass.set_bind_group(1, &group1, &[]);
+            pass.dispatch_workgroups((rays.len() as u32).div_ceil(64), 1, 1);
+        }
+        self.submit_and_read(enc, &out, 64 * rays.len() as u64)
+            .chunks_exact(64)
+            .map(|c| {
+                std::array::from_fn(|k| {
+                    u32::from_le_bytes([c[4 * k], c[4 * k + 1], c[4 * k + 2], c[4 * k + 3]])
+                })
+            })
+            .collect()
+    }
+
     /// Submits `enc` with a copy of the first `size` bytes of `buffer` (made with
     /// `COPY_SRC`) appended, waits for it, and returns those bytes.
     fn submit_and_read(
@@ -1239,11 +1293,13 @@ fn quiet_runtime_dir() {
     }
 }
 
-fn f32_bytes(v: &[f32]) -> Vec<u8> {
+/// `v` as little-endian bytes (a buffer's contents).
+pub fn f32_bytes(v: &[f32]) -> Vec<u8> {
     v.iter().flat_map(|x| x.to_le_bytes()).collect()
 }
 
-fn u32_bytes(v: &[u32]) -> Vec<u8> {
+/// `v` as little-endian bytes (a buffer's contents).
+pub fn u32_bytes(v: &[u32]) -> Vec<u8> {
     v.iter().flat_map(|x| x.to_le_bytes()).collect()
 }
 
@@ -1388,6 +1444,24 @@ pub struct GpuHit {
     pub cell: [u32; 2],
 }
 
+impl GpuHit {
+    /// The hit of a test kernel's sixteen output words: has_hit, flags, fetches, (a
+    /// kernel's own word), point, t, normal, clearance, cell.
+    pub fn from_words(w: &[u32; 16]) -> GpuHit {
+        let f = |k: usize| f32::from_bits(w[k]);
+        GpuHit {
+            hit: w[0] != 0,
+            flags: w[1],
+            fetches: w[2],
+            t: f(7),
+            point: [f(4), f(5), f(6)],
+            normal: [f(8), f(9), f(10)],
+            clearance: f(11),
+            cell: [w[12], w[13]],
+        }
+    }
+}
+
 /// One ray and both answers, for a failure message: the CPU's and the GPU's hit (t,
 /// point, normal, cell, flags, fetches, clearance) or miss.
 pub fn describe(r: &Ray, cpu: &Trace<f32>, g: &GpuHit) -> String {
@@ -1421,9 +1495,6 @@ pub fn describe(r: &Ray, cpu: &Trace<f32>, g: &GpuHit) -> String {
         g.clearance
     )
 }
-
-/// Bytes of one `TestOut`.
-const OUT_BYTES: u64 = 64;
 
 /// The bind group layout entry of binding `b` of group 0 (`int_heights`: the heights
 /// are a `texture_2d<u32>`).
@@ -1588,61 +1659,8 @@ pub fn run_kernel(
             .collect::<Vec<_>>(),
     });
 
-    let ray_data: Vec<f32> = rays
+    gpu.dispatch_rays(&kernel.pipeline, &kernel.layout1, &group0, rays)
         .iter()
-        .flat_map(|r| {
-            let (o, d) = (r.origin(), r.dir());
-            [o[0], o[1], o[2], r.t_min(), d[0], d[1], d[2], r.t_max()]
-        })
-        .collect();
-    let ray_buf = gpu.buffer(wgpu::BufferUsages::STORAGE, &f32_bytes(&ray_data));
-    let size = OUT_BYTES * rays.len() as u64;
-    let out = dev.create_buffer(&wgpu::BufferDescriptor {
-        label: None,
-        size,
-        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
-        mapped_at_creation: false,
-    });
-    let group1 = dev.create_bind_group(&wgpu::BindGroupDescriptor {
-        label: None,
-        layout: &kernel.layout1,
-        entries: &[
-            wgpu::BindGroupEntry {
-                binding: 0,
-                resource: ray_buf.as_entire_binding(),
-            },
-            wgpu::BindGroupEntry {
-                binding: 1,
-                resource: out.as_entire_binding(),
-            },
-        ],
-    });
-    let mut enc = dev.create_command_encoder(&wgpu::CommandEncoderDescriptor::default());
-    {
-        let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor::default());
-        pass.set_pipeline(&kernel.pipeline);
-        pass.set_bind_group(0, &group0, &[]);
-        pass.set_bind_group(1, &group1, &[]);
-        pass.dispatch_workgroups((rays.len() as u32).div_ceil(64), 1, 1);
-    }
-    gpu.submit_and_read(enc, &out, size)
-        .chunks_exact(OUT_BYTES as usize)
-        .map(|c| {
-            let w: Vec<u32> = c
-                .chunks_exact(4)
-                .map(|b| u32::from_le_bytes([b[0], b[1], b[2], b[3]]))
-                .collect();
-            let f = |k: usize| f32::from_bits(w[k]);
-            GpuHit {
-                hit: w[0] != 0,
-                flags: w[1],
-                fetches: w[2],
-                t: f(7),
-                point: [f(4), f(5), f(6)],
-                normal: [f(8), f(9), f(10)],
-                clearance: f(11),
-                cell: [w[12], w[13]],
-            }
-        })
+        .map(GpuHit::from_words)
         .collect()
 }
