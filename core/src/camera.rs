@@ -4,6 +4,7 @@
 //! the same map texels, so [`Pinhole::tiles`] hands pixels out in square tiles rather
 //! than in image rows (the C API's `hf_trace_camera` traces in this order).
 
+use crate::math::{cross3, dot3};
 use crate::ray::{Query, RayError};
 use core::ops::Range;
 
@@ -54,21 +55,9 @@ pub struct Pinhole {
     pub height: u32,
 }
 
-fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-}
-
-fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [
-        a[1] * b[2] - a[2] * b[1],
-        a[2] * b[0] - a[0] * b[2],
-        a[0] * b[1] - a[1] * b[0],
-    ]
-}
-
 /// `v` scaled to length `len`; `None` for a zero (or not finite) vector.
 fn scaled(v: [f64; 3], len: f64) -> Option<[f64; 3]> {
-    let n = libm::sqrt(dot(v, v));
+    let n = libm::sqrt(dot3(v, v));
     (n > 0.0 && n.is_finite()).then(|| v.map(|c| c * len / n))
 }
 
@@ -97,10 +86,10 @@ impl Pinhole {
         let tan_y = libm::tan(fov_y_deg.to_radians() / 2.0);
         let tan_x = tan_y * f64::from(width) / f64::from(height);
         let forward = scaled(forward, 1.0).ok_or(CameraError::Degenerate)?;
-        let right = scaled(cross(forward, up), tan_x).ok_or(CameraError::Degenerate)?;
-        let up = scaled(cross(right, forward), tan_y).ok_or(CameraError::Degenerate)?;
+        let right = scaled(cross3(forward, up), tan_x).ok_or(CameraError::Degenerate)?;
+        let up = scaled(cross3(right, forward), tan_y).ok_or(CameraError::Degenerate)?;
         // A hint within rounding of the view direction leaves no usable right vector.
-        if dot(right, right) < 1e-24 * tan_x * tan_x {
+        if dot3(right, right) < 1e-24 * tan_x * tan_x {
             return Err(CameraError::Degenerate);
         }
         Ok(Pinhole {

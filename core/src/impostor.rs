@@ -40,7 +40,7 @@
 //! fields are the better ones there. The intersection beats either single field by
 //! an order of magnitude.
 
-use crate::math::Real;
+use crate::math::{cross3, dot3, sub3, Real};
 use crate::projective::{mul, Mat4, Projective, ProjectiveError};
 use crate::ray::{Flags, Hit, Query, RayError, Trace};
 use crate::HeightField;
@@ -223,17 +223,17 @@ impl<'a> Mesh<'a> {
         let mut best: Option<(f64, u32)> = None;
         for k in 0..self.triangles.len() {
             let [a, b, c] = self.triangle(k);
-            let (e1, e2) = (sub(b, a), sub(c, a));
-            let p = cross(d, e2);
-            let det = dot(e1, p);
+            let (e1, e2) = (sub3(b, a), sub3(c, a));
+            let p = cross3(d, e2);
+            let det = dot3(e1, p);
             if det == 0.0 {
                 continue;
             }
-            let s = sub(o, a);
-            let u = dot(s, p) / det;
-            let q = cross(s, e1);
-            let v = dot(d, q) / det;
-            let t = dot(e2, q) / det;
+            let s = sub3(o, a);
+            let u = dot3(s, p) / det;
+            let q = cross3(s, e1);
+            let v = dot3(d, q) / det;
+            let t = dot3(e2, q) / det;
             let inside = u >= 0.0 && v >= 0.0 && u + v <= 1.0;
             if inside && t >= t_min && t <= t_max && best.is_none_or(|(bt, _)| t < bt) {
                 best = Some((t, k as u32));
@@ -382,7 +382,7 @@ impl Layout {
         let s = self.half;
         // World to the face's frame: u, v along the tangents, z along the normal,
         // each from the cube's centre.
-        let frame = [tx, ty, n].map(|a| [a[0], a[1], a[2], -dot(a, self.center)]);
+        let frame = [tx, ty, n].map(|a| [a[0], a[1], a[2], -dot3(a, self.center)]);
         let local: Mat4 = [frame[0], frame[1], frame[2], [0.0, 0.0, 0.0, 1.0]];
         let unit: Mat4 = match self.frustum {
             Frustum::Orthographic => [
@@ -624,9 +624,9 @@ impl<'a> Impostor<'a> {
             }
             let (a, b) = (map.to_world([x, y, z]), map.to_world([x, y, z + 1.0]));
             let d = [b[0] - a[0], b[1] - a[1], b[2] - a[2]];
-            let len = libm::sqrt(dot(d, d));
+            let len = libm::sqrt(dot3(d, d));
             let along = if len > 0.0 {
-                dot(d, n).abs() / len
+                dot3(d, n).abs() / len
             } else {
                 0.0
             };
@@ -729,22 +729,6 @@ impl<'a> Impostor<'a> {
         }
         Ok(out)
     }
-}
-
-fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
-}
-
-fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-}
-
-fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [
-        a[1] * b[2] - a[2] * b[1],
-        a[2] * b[0] - a[0] * b[2],
-        a[0] * b[1] - a[1] * b[0],
-    ]
 }
 
 /// Twice the signed area of the grid-space triangle `a b p` (x and y only).

@@ -177,6 +177,28 @@ pub fn normal_from_gradient<R: Real>(gx: R, gy: R) -> [R; 3] {
     [-gx / len, -gy / len, R::ONE / len]
 }
 
+/// `a − b` of two `f64` points (the geometry of cameras and meshes is `f64`).
+#[inline]
+pub fn sub3(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
+}
+
+/// `a · b` of two `f64` vectors.
+#[inline]
+pub fn dot3(a: [f64; 3], b: [f64; 3]) -> f64 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+
+/// `a × b` of two `f64` vectors.
+#[inline]
+pub fn cross3(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    [
+        a[1] * b[2] - a[2] * b[1],
+        a[2] * b[0] - a[0] * b[2],
+        a[0] * b[1] - a[1] * b[0],
+    ]
+}
+
 #[cfg(test)]
 mod tests {
     use super::Real;

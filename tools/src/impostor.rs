@@ -15,6 +15,7 @@ use hfcast::impostor::{
     pad_silhouettes, procedural_tower, rasterize, Combine, Frustum, Impostor, Layout, Mesh,
     NO_TRIANGLE,
 };
+use hfcast::math::{cross3, dot3, sub3};
 use hfcast::projective::Mat4;
 use hfcast::{dda, HeightField, Query, Surface};
 use std::path::Path;
@@ -195,14 +196,7 @@ pub fn capture(
 ) -> Result<Capture, String> {
     let mesh = data.mesh()?;
     let layout = Layout::around(&mesh, frustum).map_err(|e| e.to_string())?;
-    let mut out = Capture {
-        layout,
-        side,
-        colour_side,
-        heights: Vec::new(),
-        colour: Vec::new(),
-        normal: Vec::new(),
-    };
+    let mut out = Capture::empty(layout, side, colour_side);
     for face in 0..6 {
         let map = layout.face_map(face, side).map_err(|e| e.to_string())?;
         let mut h = vec![0.0; (side * side) as usize];
@@ -257,25 +251,16 @@ fn surface_at(
     towards: [f64; 3],
 ) -> ([f32; 3], [f32; 3]) {
     let [a, b, c] = mesh.triangle(k);
-    let sub = |x: [f64; 3], y: [f64; 3]| [0, 1, 2].map(|i| x[i] - y[i]);
-    let cross = |x: [f64; 3], y: [f64; 3]| {
-        [
-            x[1] * y[2] - x[2] * y[1],
-            x[2] * y[0] - x[0] * y[2],
-            x[0] * y[1] - x[1] * y[0],
-        ]
-    };
-    let dot = |x: [f64; 3], y: [f64; 3]| x[0] * y[0] + x[1] * y[1] + x[2] * y[2];
-    let n = cross(sub(b, a), sub(c, a));
-    let area = dot(n, n);
+    let n = cross3(sub3(b, a), sub3(c, a));
+    let area = dot3(n, n);
     let len = area.sqrt().max(f64::MIN_POSITIVE);
-    let sign = if dot(n, towards) < 0.0 { -1.0 } else { 1.0 };
+    let sign = if dot3(n, towards) < 0.0 { -1.0 } else { 1.0 };
     let normal = n.map(|v| (sign * v / len) as f32);
     let colour = match &data.colours {
         Some(cols) if area > 0.0 => {
             // Barycentric weights of p in the triangle.
-            let wa = dot(cross(sub(b, p), sub(c, p)), n) / area;
-            let wb = dot(cross(sub(c, p), sub(a, p)), n) / area;
+            let wa = dot3(cross3(sub3(b, p), sub3(c, p)), n) / area;
+            let wb = dot3(cross3(sub3(c, p), sub3(a, p)), n) / area;
             let wc = 1.0 - wa - wb;
             let [ia, ib, ic] = data.triangles[k].map(|i| cols[i as usize]);
             [0, 1, 2].map(|i| {
@@ -296,6 +281,18 @@ fn surface_at(
 }
 
 impl Capture {
+    /// A capture of `layout` without fields or textures yet.
+    fn empty(layout: Layout, side: u32, colour_side: u32) -> Capture {
+        Capture {
+            layout,
+            side,
+            colour_side,
+            heights: Vec::new(),
+            colour: Vec::new(),
+            normal: Vec::new(),
+        }
+    }
+
     /// The impostor over the six fields.
     pub fn impostor(&self) -> Result<Impostor<'_>, String> {
         let fields: Result<Vec<HeightField>, _> = self
@@ -398,14 +395,7 @@ impl Capture {
         }
         let layout = Layout::from_parts([c[0], c[1], c[2]], num("half")?, frustum, units)
             .map_err(|e| err(&path, &e))?;
-        let mut out = Capture {
-            layout,
-            side,
-            colour_side,
-            heights: Vec::new(),
-            colour: Vec::new(),
-            normal: Vec::new(),
-        };
+        let mut out = Capture::empty(layout, side, colour_side);
         for tag in FACE_TAGS {
             let p = dir.join(format!("heights-{tag}.f32"));
             let bytes = std::fs::read(&p).map_err(|e| err(&p, &e))?;
