@@ -106,7 +106,7 @@ pub fn facing_face(d: [f64; 3]) -> usize {
 pub enum ImpostorError {
     /// The mesh has no triangles.
     NoTriangles,
-    /// A vertex position is NaN or infinite.
+    /// A vertex position, or a layout's centre or half side, is NaN or infinite.
     NotFinite,
     /// A triangle names a vertex past the end of the positions.
     IndexOutOfRange,
@@ -128,7 +128,9 @@ impl core::fmt::Display for ImpostorError {
     fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
         match self {
             ImpostorError::NoTriangles => f.write_str("the mesh has no triangles"),
-            ImpostorError::NotFinite => f.write_str("a vertex position is NaN or infinite"),
+            ImpostorError::NotFinite => {
+                f.write_str("a vertex position, centre or half side is NaN or infinite")
+            }
             ImpostorError::IndexOutOfRange => {
                 f.write_str("a triangle names a vertex past the end of the positions")
             }
