@@ -22,16 +22,12 @@
 
 mod common;
 
-use common::{describe, f32_bytes, u32_bytes, Gpu, GpuHit, MIN_AGREE};
-use hfcast::impostor::{
-    pad_silhouettes, procedural_tower, rasterize, Combine, Frustum, Impostor, ImpostorTrace,
-    Layout, Mesh,
-};
-use hfcast::projective::Mat4;
+use common::{bunny, describe, impostor_capture, impostor_uniforms, Gpu, GpuHit, MIN_AGREE};
+use hfcast::impostor::{procedural_tower, Combine, Frustum, Impostor, ImpostorTrace, Layout, Mesh};
 use hfcast::scene::{MethodKind, Scene};
 use hfcast::{dda, HeightField, Query, Surface};
 use hfcast_shaders::{wgsl_layout as binding, Lang};
-use hfcast_tools::impostor::{load_mesh, six_views};
+use hfcast_tools::impostor::six_views;
 use std::fmt::Write as _;
 
 /// Largest difference of an agreeing hit's t (times the direction's length) and of its
@@ -88,29 +84,6 @@ fn test_main(@builtin(global_invocation_id) gid: vec3<u32>) {
 }
 "#;
 
-/// The Stanford bunny of `data/`, read as the CLI reads it.
-fn bunny() -> (Vec<[f32; 3]>, Vec<[u32; 3]>) {
-    let path = concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/../data/mesh_stanford_bunny.obj"
-    );
-    let m = load_mesh(std::path::Path::new(path)).unwrap_or_else(|e| panic!("{e}"));
-    (m.positions, m.triangles)
-}
-
-/// The six padded fields of `mesh` on `layout`, stacked: face k's rows follow the
-/// faces before it (the texture of `SIDE × 6·SIDE`).
-fn capture(mesh: &Mesh, layout: &Layout) -> Vec<f32> {
-    let n = (SIDE * SIDE) as usize;
-    let mut stacked = vec![0.0; 6 * n];
-    for (face, h) in stacked.chunks_exact_mut(n).enumerate() {
-        let map = layout.face_map(face, SIDE).unwrap();
-        rasterize(mesh, &map, SIDE, h, None).unwrap();
-        pad_silhouettes(h, SIDE).unwrap();
-    }
-    stacked
-}
-
 /// Rays of six pinhole cameras (`PIXELS²` each) three half sides from the centre,
 /// looking at it from around the object (`hfcast_tools::impostor::six_views`).
 fn camera_rays(layout: &Layout) -> Vec<Query<f32>> {
@@ -123,11 +96,6 @@ fn camera_rays(layout: &Layout) -> Vec<Query<f32>> {
         }
     }
     out
-}
-
-/// The rows of `m` in f32.
-fn rows(m: &Mat4) -> impl Iterator<Item = f32> + '_ {
-    m.iter().flatten().map(|&v| v as f32)
 }
 
 /// A compiled impostor kernel (one combination) and its bind group layouts.
@@ -228,25 +196,7 @@ impl Kernel {
     ) -> Vec<(GpuHit, u32, u32)> {
         let dev = &gpu.device;
         let heights = gpu.heights_texture(SIDE, 6 * SIDE, stacked);
-        // FieldParams: size (the side of one field), height_range and height_step
-        // unused, padded to 32 bytes.
-        let mut field = u32_bytes(&[SIDE, SIDE]);
-        field.resize(32, 0);
-        let field = gpu.uniform(&field);
-        let ranges: Vec<f32> = (0..6)
-            .flat_map(|k| {
-                let hf = imp.field(k);
-                [hf.min_height(), hf.max_height(), 0.0, 0.0]
-            })
-            .collect();
-        let ranges = gpu.uniform(&f32_bytes(&ranges));
-        // ImpostorParams: the six maps, the six inverses, the cube.
-        let l = imp.layout();
-        let mut params: Vec<f32> = (0..6).flat_map(|k| rows(imp.map(k).matrix())).collect();
-        params.extend((0..6).flat_map(|k| rows(imp.map(k).inverse())));
-        params.extend(l.center().map(|v| v as f32));
-        params.push(l.half() as f32);
-        let params = gpu.uniform(&f32_bytes(&params));
+        let [field, ranges, params] = impostor_uniforms(gpu, imp, SIDE);
         let group0 = dev.create_bind_group(&wgpu::BindGroupDescriptor {
             label: None,
             layout: &self.layout0,
@@ -385,7 +335,7 @@ fn wgsl_impostor_rays_match_the_rust_core_ray_by_ray() {
         let mesh = Mesh::new(pos, tri).expect("a mesh");
         for frustum in [Frustum::Orthographic, Frustum::DEFAULT_REVERSE] {
             let layout = Layout::around(&mesh, frustum).expect("a layout");
-            let stacked = capture(&mesh, &layout);
+            let stacked = impostor_capture(&mesh, &layout, SIDE);
             let n = (SIDE * SIDE) as usize;
             let fields = core::array::from_fn(|k| {
                 HeightField::new(&stacked[k * n..(k + 1) * n], SIDE, SIDE, SIDE as usize)

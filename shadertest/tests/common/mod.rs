@@ -1664,3 +1664,72 @@ pub fn run_kernel(
         .map(GpuHit::from_words)
         .collect()
 }
+
+// ---------------------------------------------------------------------------------
+// Six-field impostors (wgsl_impostor.rs, wgsl_impostor_render.rs)
+// ---------------------------------------------------------------------------------
+
+/// The Stanford bunny of `data/`, read as the CLI reads it.
+pub fn bunny() -> (Vec<[f32; 3]>, Vec<[u32; 3]>) {
+    let path = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../data/mesh_stanford_bunny.obj"
+    );
+    let m = hfcast_tools::impostor::load_mesh(std::path::Path::new(path))
+        .unwrap_or_else(|e| panic!("{e}"));
+    (m.positions, m.triangles)
+}
+
+/// The six padded fields of `mesh` on `layout`, `side` × `side` each, stacked: face
+/// k's rows follow the faces before it (the texture of `side × 6·side`).
+pub fn impostor_capture(
+    mesh: &hfcast::impostor::Mesh,
+    layout: &hfcast::impostor::Layout,
+    side: u32,
+) -> Vec<f32> {
+    let n = (side * side) as usize;
+    let mut stacked = vec![0.0; 6 * n];
+    for (face, h) in stacked.chunks_exact_mut(n).enumerate() {
+        let map = layout.face_map(face, side).unwrap();
+        hfcast::impostor::rasterize(mesh, &map, side, h, None).unwrap();
+        hfcast::impostor::pad_silhouettes(h, side).unwrap();
+    }
+    stacked
+}
+
+/// The rows of `m` in f32.
+pub fn mat4_rows(m: &hfcast::projective::Mat4) -> impl Iterator<Item = f32> + '_ {
+    m.iter().flatten().map(|&v| v as f32)
+}
+
+/// The uniforms of impostor.wgsl for `imp` with fields of side `side`, as its header
+/// asks: the field params (binding 1), the field ranges (binding 20) and the
+/// ImpostorParams (binding 21), in that order.
+pub fn impostor_uniforms(
+    gpu: &Gpu,
+    imp: &hfcast::impostor::Impostor,
+    side: u32,
+) -> [wgpu::Buffer; 3] {
+    // FieldParams: size (the side of one field), height_range and height_step
+    // unused, padded to 32 bytes.
+    let mut field = u32_bytes(&[side, side]);
+    field.resize(32, 0);
+    let field = gpu.uniform(&field);
+    let ranges: Vec<f32> = (0..6)
+        .flat_map(|k| {
+            let hf = imp.field(k);
+            [hf.min_height(), hf.max_height(), 0.0, 0.0]
+        })
+        .collect();
+    let ranges = gpu.uniform(&f32_bytes(&ranges));
+    // ImpostorParams: the six maps, the six inverses, the cube.
+    let l = imp.layout();
+    let mut params: Vec<f32> = (0..6)
+        .flat_map(|k| mat4_rows(imp.map(k).matrix()))
+        .collect();
+    params.extend((0..6).flat_map(|k| mat4_rows(imp.map(k).inverse())));
+    params.extend(l.center().map(|v| v as f32));
+    params.push(l.half() as f32);
+    let params = gpu.uniform(&f32_bytes(&params));
+    [field, ranges, params]
+}
