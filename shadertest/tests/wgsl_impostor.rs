@@ -22,7 +22,10 @@
 
 mod common;
 
-use common::{bunny, describe, impostor_capture, impostor_uniforms, Gpu, GpuHit, MIN_AGREE};
+use common::{
+    bunny, describe, impostor_capture, impostor_layout0, impostor_uniforms, storage_entry, Gpu,
+    GpuHit, MIN_AGREE,
+};
 use hfcast::impostor::{procedural_tower, Combine, Frustum, Impostor, ImpostorTrace, Layout, Mesh};
 use hfcast::scene::{MethodKind, Scene};
 use hfcast::{dda, HeightField, Query, Surface};
@@ -105,25 +108,6 @@ struct Kernel {
     layout1: wgpu::BindGroupLayout,
 }
 
-/// The bind group layout entry of `binding` (a texture or a uniform, or a storage
-/// buffer `read_only` or not).
-fn entry(binding: u32, ty: wgpu::BindingType) -> wgpu::BindGroupLayoutEntry {
-    wgpu::BindGroupLayoutEntry {
-        binding,
-        visibility: wgpu::ShaderStages::COMPUTE,
-        ty,
-        count: None,
-    }
-}
-
-fn buffer_type(ty: wgpu::BufferBindingType) -> wgpu::BindingType {
-    wgpu::BindingType::Buffer {
-        ty,
-        has_dynamic_offset: false,
-        min_binding_size: None,
-    }
-}
-
 impl Kernel {
     /// The impostor shader of the exact method on the triangle surface with the test
     /// entry point for `combine`, compiled (wgpu's message on a refusal).
@@ -141,25 +125,10 @@ impl Kernel {
             label: Some("impostor"),
             source: wgpu::ShaderSource::Wgsl(src.as_str().into()),
         });
-        let uniform = buffer_type(wgpu::BufferBindingType::Uniform);
-        let heights = wgpu::BindingType::Texture {
-            sample_type: wgpu::TextureSampleType::Float { filterable: false },
-            view_dimension: wgpu::TextureViewDimension::D2,
-            multisampled: false,
-        };
-        let layout0 = dev.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: None,
-            entries: &[
-                entry(binding::HEIGHTS, heights),
-                entry(binding::FIELD, uniform),
-                entry(binding::FIELD_RANGES, uniform),
-                entry(binding::IMPOSTOR, uniform),
-            ],
-        });
-        let storage = |read_only| buffer_type(wgpu::BufferBindingType::Storage { read_only });
+        let layout0 = impostor_layout0(dev, wgpu::ShaderStages::COMPUTE, false);
         let layout1 = dev.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: None,
-            entries: &[entry(0, storage(true)), entry(1, storage(false))],
+            entries: &[storage_entry(0, true), storage_entry(1, false)],
         });
         let pipeline_layout = dev.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
             label: None,

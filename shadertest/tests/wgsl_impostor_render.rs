@@ -39,7 +39,7 @@
 
 mod common;
 
-use common::{bunny, impostor_capture, impostor_uniforms, mat4_rows, Gpu};
+use common::{bunny, impostor_capture, impostor_layout0, impostor_uniforms, mat4_rows, Gpu};
 use hfcast::camera::Pinhole;
 use hfcast::impostor::{Combine, Frustum, Impostor, Layout, Mesh};
 use hfcast::projective::Mat4;
@@ -238,21 +238,7 @@ impl Renderer {
             label: Some("impostor render"),
             source: wgpu::ShaderSource::Wgsl(src.as_str().into()),
         });
-        let heights = wgpu::BindingType::Texture {
-            sample_type: wgpu::TextureSampleType::Float { filterable: false },
-            view_dimension: wgpu::TextureViewDimension::D2,
-            multisampled: false,
-        };
-        let layout0 = dev.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: None,
-            entries: &[
-                entry(binding::HEIGHTS, heights),
-                entry(binding::FIELD, UNIFORM),
-                entry(binding::FIELD_RANGES, UNIFORM),
-                entry(binding::IMPOSTOR, UNIFORM),
-                entry(binding::VIEW_PROJ, UNIFORM),
-            ],
-        });
+        let layout0 = impostor_layout0(dev, wgpu::ShaderStages::VERTEX_FRAGMENT, true);
         let layout1 = dev.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: None,
             entries: &[entry(0, UNIFORM)],

@@ -1529,7 +1529,8 @@ fn layout_entry(b: u32, int_heights: bool) -> wgpu::BindGroupLayoutEntry {
     }
 }
 
-fn storage_entry(b: u32, read_only: bool) -> wgpu::BindGroupLayoutEntry {
+/// The compute stage's layout entry of storage buffer `b`, `read_only` or not.
+pub fn storage_entry(b: u32, read_only: bool) -> wgpu::BindGroupLayoutEntry {
     wgpu::BindGroupLayoutEntry {
         binding: b,
         visibility: wgpu::ShaderStages::COMPUTE,
@@ -1700,6 +1701,45 @@ pub fn impostor_capture(
 /// The rows of `m` in f32.
 pub fn mat4_rows(m: &hfcast::projective::Mat4) -> impl Iterator<Item = f32> + '_ {
     m.iter().flatten().map(|&v| v as f32)
+}
+
+/// The group-0 layout of impostor.wgsl seen by the `visibility` stages: the stacked
+/// heights (binding 0), the field params (1), the field ranges (20), the
+/// ImpostorParams (21) and, with `view_proj`, hf_view_proj (22).
+pub fn impostor_layout0(
+    dev: &wgpu::Device,
+    visibility: wgpu::ShaderStages,
+    view_proj: bool,
+) -> wgpu::BindGroupLayout {
+    let uniform = wgpu::BindingType::Buffer {
+        ty: wgpu::BufferBindingType::Uniform,
+        has_dynamic_offset: false,
+        min_binding_size: None,
+    };
+    let heights = wgpu::BindingType::Texture {
+        sample_type: wgpu::TextureSampleType::Float { filterable: false },
+        view_dimension: wgpu::TextureViewDimension::D2,
+        multisampled: false,
+    };
+    let mut entries = vec![(binding::HEIGHTS, heights)];
+    let mut uniforms = vec![binding::FIELD, binding::FIELD_RANGES, binding::IMPOSTOR];
+    if view_proj {
+        uniforms.push(binding::VIEW_PROJ);
+    }
+    entries.extend(uniforms.into_iter().map(|b| (b, uniform)));
+    let entries: Vec<_> = entries
+        .into_iter()
+        .map(|(binding, ty)| wgpu::BindGroupLayoutEntry {
+            binding,
+            visibility,
+            ty,
+            count: None,
+        })
+        .collect();
+    dev.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+        label: None,
+        entries: &entries,
+    })
 }
 
 /// The uniforms of impostor.wgsl for `imp` with fields of side `side`, as its header
