@@ -2061,6 +2061,83 @@ static int traces_surface(uint32_t method, uint32_t surface) {
     }
 }
 
+/* 1 when two answers hit the same point the same way, bit for bit: `fetches` and
+ * `clearance` may differ between a shared horizon and none. */
+static int same_hit(const hf_hit *a, const hf_hit *b) {
+    return a->hit == b->hit && a->flags == b->flags && a->cell[0] == b->cell[0] &&
+           a->cell[1] == b->cell[1] && memcmp(&a->t, &b->t, sizeof a->t) == 0 &&
+           memcmp(a->point, b->point, sizeof a->point) == 0 &&
+           memcmp(a->normal, b->normal, sizeof a->normal) == 0;
+}
+
+/* Rays from one eye share a horizon (hf_trace_options::horizon): a camera of 64 x 48
+ * pixels over a rough 120 x 100 field, from outside it at a low elevation and from over
+ * it looking down, traced by hf_trace_camera and by hf_trace_batch on its rays, each
+ * with the default HF_HORIZON_AUTO and with HF_HORIZON_OFF, by the exact DDA and the
+ * maximum mipmap, on 1 and 2 threads: the same hits bit for bit, and the horizon reads
+ * fewer texels. */
+static void check_horizon(void) {
+    enum { W = 120, H = 100, CW = 64, CH = 48, NP = CW * CH };
+    static float heights[W * H];
+    for (int j = 0; j < H; j++)
+        for (int i = 0; i < W; i++)
+            heights[j * W + i] = 6.0f * sinf(0.21f * (float)i) * cosf(0.17f * (float)j) +
+                                 2.0f * sinf(0.9f * (float)(i + 2 * j)) + (float)((i * 7 + j * 13) % 5);
+    hf_field *f = NULL;
+    CHECK_OK(hf_field_create_f32(heights, W * H, W, H, W, &f));
+    size_t plen = 0;
+    float *pyr = (float *)bake_map(HF_METHOD_MAXMIP, f, NULL, &plen);
+    const hf_camera cams[2] = {
+        {{-30.0f, -20.0f, 16.0f}, {150.0f, 120.0f, -12.0f}, {0.0f, 0.0f, 1.0f}, 35.0f, CW, CH,
+         INFINITY},
+        {{55.0f, 45.0f, 60.0f}, {0.1f, 0.2f, -1.0f}, {0.0f, 1.0f, 0.0f}, 100.0f, CW, CH,
+         INFINITY}};
+    static hf_ray rays[NP];
+    static hf_hit off[NP], on[NP];
+    const uint32_t methods[2] = {HF_METHOD_EXACT, HF_METHOD_MAXMIP};
+    const void *maps[2] = {NULL, pyr};
+    const size_t lens[2] = {0, plen};
+    unsigned long long fetched[2] = {0, 0};
+    for (int c = 0; c < 2; c++) {
+        for (uint32_t y = 0; y < CH; y++)
+            for (uint32_t x = 0; x < CW; x++)
+                CHECK_OK(hf_camera_ray(&cams[c], x, y, &rays[y * CW + x]));
+        for (int m = 0; m < 2; m++) {
+            hf_trace_options o;
+            CHECK_OK(hf_trace_options_default(&o));
+            o.horizon = HF_HORIZON_OFF;
+            CHECK_OK(hf_trace_batch(f, methods[m], maps[m], lens[m], &o, rays, NP, off, NP));
+            for (uint32_t t = 1; t <= 2; t++) {
+                o.horizon = HF_HORIZON_AUTO;
+                o.threads = t;
+                for (int camera = 0; camera < 2; camera++) {
+                    memset(on, 0x5A, sizeof on);
+                    if (camera)
+                        CHECK_OK(hf_trace_camera(f, methods[m], maps[m], lens[m], &o, &cams[c],
+                                                 on, NP));
+                    else
+                        CHECK_OK(hf_trace_batch(f, methods[m], maps[m], lens[m], &o, rays, NP,
+                                                on, NP));
+                    int same = 1;
+                    for (int k = 0; k < NP; k++) {
+                        same &= same_hit(&on[k], &off[k]);
+                        if (m == 0 && t == 1 && !camera) {
+                            fetched[0] += off[k].fetches;
+                            fetched[1] += on[k].fetches;
+                        }
+                    }
+                    CHECK(same);
+                }
+            }
+        }
+    }
+    CHECK(fetched[1] < fetched[0]);
+    printf("horizon: %llu texels read one ray at a time, %llu sharing a horizon\n",
+           fetched[0], fetched[1]);
+    free(pyr);
+    hf_field_destroy(f);
+}
+
 /* hf_trace_camera: its hits are hf_trace_batch's on hf_camera_ray's rays, bit for bit,
  * for each of `n` methods `all` of field `f` (W x H), at 1 and 2 threads; its shadow
  * pass is hf_shadow_ray then hf_trace per pixel (hf_shadow_ray_from_light when the maps
@@ -2160,10 +2237,10 @@ static void test_trace_options(void) {
     memset(&d, 0xAB, sizeof d);
     CHECK_OK(hf_trace_options_default(&d));
     int reserved_zero = 1;
-    for (int k = 0; k < 9; k++) reserved_zero &= d.reserved[k] == 0;
+    for (int k = 0; k < 8; k++) reserved_zero &= d.reserved[k] == 0;
     CHECK(d.surface == HF_SURFACE_TRIANGLES && d.ray_classes == 0 && d.steps == 64 &&
           d.binary_steps == 8 && d.radius_zero == HF_RADIUS_WALK && d.threads == 1 &&
-          d.simd == HF_SIMD_AUTO && reserved_zero);
+          d.simd == HF_SIMD_AUTO && d.horizon == HF_HORIZON_AUTO && reserved_zero);
     CHECK_BAD(hf_trace_options_default(NULL), HF_ERR_NULL_POINTER, nothing, 0);
 
     /* Every method's map of this field (NULL and 0 for the three without one): the
@@ -2194,9 +2271,10 @@ static void test_trace_options(void) {
         CHECK(memcmp(a, b, sizeof a) == 0);
         CHECK_OK(hf_trace(f, me, map, len, NULL, &rays[3], &h));
         CHECK(memcmp(&h, &a[3], sizeof h) == 0);
-        /* A nonzero reserved word, whichever, is refused; so is an unknown hf_simd. */
+        /* A nonzero reserved word, whichever, is refused; so is an unknown hf_simd or
+         * hf_horizon. */
         memset(b, 0x5A, sizeof b);
-        for (int k = 0; k < 9; k++) {
+        for (int k = 0; k < 8; k++) {
             hf_trace_options o = d;
             o.reserved[k] = 1;
             CHECK_BAD(hf_trace(f, me, map, len, &o, &rays[0], &h), HF_ERR_INVALID_ARGUMENT, &h,
@@ -2210,6 +2288,12 @@ static void test_trace_options(void) {
                   sizeof h);
         CHECK_BAD(hf_trace_batch(f, me, map, len, &bad_simd, rays, R, b, R), HF_ERR_INVALID_ENUM,
                   b, sizeof b);
+        hf_trace_options bad_horizon = d;
+        bad_horizon.horizon = HF_HORIZON_OFF + 1;
+        CHECK_BAD(hf_trace(f, me, map, len, &bad_horizon, &rays[0], &h), HF_ERR_INVALID_ENUM, &h,
+                  sizeof h);
+        CHECK_BAD(hf_trace_batch(f, me, map, len, &bad_horizon, rays, R, b, R),
+                  HF_ERR_INVALID_ENUM, b, sizeof b);
         /* The surfaces it does not trace are refused, unknown ones are bad enums. */
         for (uint32_t s = HF_SURFACE_TRIANGLES; s <= HF_SURFACE_COUNT; s++) {
             hf_trace_options o = on(s);
@@ -2323,6 +2407,7 @@ static void test_trace_options(void) {
     for (int m = 0; m < 2; m++) free((void *)exterior[m].map);
     for (int m = 0; m < (int)HF_METHOD_COUNT; m++) free((void *)all[m].map);
     hf_field_destroy(f);
+    check_horizon();
 }
 
 /* ---- bake options, row counts, the methods without a map --------------------------- */

@@ -301,6 +301,10 @@ typedef uint32_t hf_impostor_combine;
 // Shader language of `hf_shader_generate`: WGSL.
 #define HF_SHADER_WGSL 1
 
+// Rays from one eye a batch needs before it shares a horizon among them
+// (`hf_trace_options::horizon`): fewer do not repay its pass over the field.
+#define HF_HORIZON_MIN_GROUP 2048
+
 // Result code of every `hf_` function. `HF_OK` is 0; every other value is an error,
 // and a function that returns one has written nothing to its outputs.
 enum hf_result
@@ -424,6 +428,26 @@ enum hf_simd
 typedef enum hf_simd hf_simd;
 #else
 typedef uint32_t hf_simd;
+#endif // __STDC_VERSION__ >= 202311L
+#endif // __cplusplus
+
+// Whether rays from one eye share a horizon (`hf_trace_options::horizon`). Passed as
+// `uint32_t`.
+enum hf_horizon
+#if defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+  : uint32_t
+#endif // defined(__cplusplus) || __STDC_VERSION__ >= 202311L
+ {
+  // A horizon where the method and the batch allow it.
+  HF_HORIZON_AUTO = 0,
+  // Every ray marched from its own start.
+  HF_HORIZON_OFF = 1,
+};
+#ifndef __cplusplus
+#if __STDC_VERSION__ >= 202311L
+typedef enum hf_horizon hf_horizon;
+#else
+typedef uint32_t hf_horizon;
 #endif // __STDC_VERSION__ >= 202311L
 #endif // __cplusplus
 
@@ -673,8 +697,16 @@ typedef struct hf_trace_options {
   // has it), `HF_SIMD_OFF` (one ray after another: for comparison). The answers do
   // not depend on it.
   uint32_t simd;
+  // Whether a batch's or camera's rays from one eye share a horizon, an
+  // `hf_horizon`: default `HF_HORIZON_AUTO` (with the exact DDA and the exact maximum
+  // mipmap, a batch of at least `HF_HORIZON_MIN_GROUP` rays from one eye, and every
+  // camera of as many pixels, start each ray's march near its hit: docs/DESIGN.md,
+  // "Coherent batches"), `HF_HORIZON_OFF` (each ray from its own start: for
+  // comparison). The hits do not depend on it; `fetches` and `clearance` (a lower
+  // bound either way) do.
+  uint32_t horizon;
   // Room for later options: must be 0 (else `HF_ERR_INVALID_ARGUMENT`).
-  uint32_t reserved[9];
+  uint32_t reserved[8];
 } hf_trace_options;
 
 // The answer to one query. On a miss `hit` is 0 and every field but `fetches`,

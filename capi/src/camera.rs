@@ -5,10 +5,12 @@
 use crate::detail::{fail, Named};
 use crate::hf_result::{self, *};
 use crate::trace::{
-    check, hf_hit, hf_ray, hf_trace_options, marcher, query, shadow_ray_of, trace_locals,
+    check, grid_line, hf_hit, hf_ray, hf_trace_options, horizon_start, marcher, query,
+    shadow_ray_of, trace_locals,
 };
 use crate::{guard, hf_field, ptr, surface_of};
 use hfcore::camera::{Pinhole, TILE};
+use hfcore::horizon::{Horizon, MIN_GROUP};
 use hfcore::scene::Shadows;
 use hfcore::Marcher;
 use std::ffi::c_void;
@@ -175,6 +177,28 @@ unsafe fn trace_pixels(
             })?,
             false => corners.into_iter().try_for_each(check_at)?,
         }
+        // Primary rays share the eye: a horizon placed by the image's border rays (an
+        // azimuth inside the image is one of the border's; the others are traced
+        // without it).
+        let horizon = match every_pixel {
+            true => None,
+            false => {
+                let border = (0..w)
+                    .flat_map(|x| [(x, 0), (x, h - 1)])
+                    .chain((0..h).flat_map(|y| [(0, y), (w - 1, y)]));
+                let lines = border
+                    .map(|(x, y)| ray(&p, &m, c.t_max, x, y))
+                    .collect::<Result<Vec<_>, _>>()?;
+                let lines: Vec<_> = lines.iter().flatten().map(|r| grid_line(hf, r)).collect();
+                match (m.dda_surface().filter(|_| o.horizon), lines.first()) {
+                    (Some(surface), Some(&(eye, _))) if pixels >= MIN_GROUP => {
+                        let dirs = lines.iter().map(|l| l.1);
+                        Horizon::sized(hf, surface, eye, dirs, pixels)
+                    }
+                    _ => None,
+                }
+            }
+        };
         let out = &mut out[..pixels];
         crate::par::bake_bands(
             c.height,
@@ -190,19 +214,27 @@ unsafe fn trace_pixels(
                 let width = c.width as usize;
                 let mut local = [hf_hit::default(); (TILE * TILE) as usize];
                 let mut queries = Vec::with_capacity(local.len());
+                let mut starts = Vec::with_capacity(local.len());
+                let mut hint = 0;
                 for (ys, xs) in p.tiles(rows) {
                     let (y0, x0, tw) = (ys.start, xs.start, xs.len());
                     queries.clear();
+                    starts.clear();
                     for y in ys.clone() {
                         for x in xs.clone() {
                             let k = y as usize * width + x as usize;
-                            queries.push(match ray(&p, &m, c.t_max, x, y)? {
-                                Some(r) => Some(query(hf, &r, Some(k))?),
+                            let r = ray(&p, &m, c.t_max, x, y)?;
+                            queries.push(match &r {
+                                Some(r) => Some(query(hf, r, Some(k))?),
                                 None => None,
+                            });
+                            starts.push(match (&horizon, &r) {
+                                (Some(h), Some(r)) => horizon_start(h, hf, r, &mut hint),
+                                _ => None,
                             });
                         }
                     }
-                    trace_locals(&m, &o, hf, &queries, &mut local[..queries.len()]);
+                    trace_locals(&m, &o, hf, &queries, &starts, &mut local[..queries.len()]);
                     for (dy, row) in local.chunks(tw).take(ys.len()).enumerate() {
                         let k = (y0 as usize + dy) * width + x0 as usize - first;
                         band[k..k + tw].copy_from_slice(row);

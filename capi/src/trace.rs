@@ -5,6 +5,7 @@ use crate::hf_result::{self, *};
 use crate::ptr::Named;
 use crate::{guard, hf_field, ptr, surface_of};
 use hfcore::condition::{condition, condition_query, Local};
+use hfcore::horizon::{Horizon, Start};
 use hfcore::march::MarchOptions;
 use hfcore::projective::{Mat4, Projective};
 use hfcore::scene::RayClasses;
@@ -170,8 +171,16 @@ pub struct hf_trace_options {
     /// has it), `HF_SIMD_OFF` (one ray after another: for comparison). The answers do
     /// not depend on it.
     pub simd: u32,
+    /// Whether a batch's or camera's rays from one eye share a horizon, an
+    /// `hf_horizon`: default `HF_HORIZON_AUTO` (with the exact DDA and the exact maximum
+    /// mipmap, a batch of at least `HF_HORIZON_MIN_GROUP` rays from one eye, and every
+    /// camera of as many pixels, start each ray's march near its hit: docs/DESIGN.md,
+    /// "Coherent batches"), `HF_HORIZON_OFF` (each ray from its own start: for
+    /// comparison). The hits do not depend on it; `fetches` and `clearance` (a lower
+    /// bound either way) do.
+    pub horizon: u32,
     /// Room for later options: must be 0 (else `HF_ERR_INVALID_ARGUMENT`).
-    pub reserved: [u32; 9],
+    pub reserved: [u32; 8],
 }
 
 /// Whether a batch may use SIMD lanes (`hf_trace_options::simd`). Passed as `uint32_t`.
@@ -183,6 +192,22 @@ pub enum hf_simd {
     /// One ray after another.
     HF_SIMD_OFF = 1,
 }
+
+/// Whether rays from one eye share a horizon (`hf_trace_options::horizon`). Passed as
+/// `uint32_t`.
+#[repr(u32)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum hf_horizon {
+    /// A horizon where the method and the batch allow it.
+    HF_HORIZON_AUTO = 0,
+    /// Every ray marched from its own start.
+    HF_HORIZON_OFF = 1,
+}
+
+/// Rays from one eye a batch needs before it shares a horizon among them
+/// (`hf_trace_options::horizon`): fewer do not repay its pass over the field.
+pub const HF_HORIZON_MIN_GROUP: u32 = 2048;
+const _: () = assert!(HF_HORIZON_MIN_GROUP as usize == hfcore::horizon::MIN_GROUP);
 
 impl Default for hf_trace_options {
     fn default() -> Self {
@@ -196,7 +221,8 @@ impl Default for hf_trace_options {
             radius_zero: 0,
             threads: 1,
             simd: hf_simd::HF_SIMD_AUTO as u32,
-            reserved: [0; 9],
+            horizon: hf_horizon::HF_HORIZON_AUTO as u32,
+            reserved: [0; 8],
         }
     }
 }
@@ -228,6 +254,8 @@ pub(crate) struct TraceOptions {
     pub threads: u32,
     /// The SIMD lanes a batch may use: the CPU's, unless the options turn them off.
     pub simd: Option<hfcore::simd::Avx2>,
+    /// Whether rays from one eye may share a horizon.
+    pub horizon: bool,
 }
 
 impl TraceOptions {
@@ -274,6 +302,15 @@ impl TraceOptions {
             1 => None,
             _ => return Err(fail(HF_ERR_INVALID_ENUM, "options.simd: not an hf_simd")),
         };
+        let horizon = match o.horizon {
+            0 | 1 => o.horizon == 0,
+            _ => {
+                return Err(fail(
+                    HF_ERR_INVALID_ENUM,
+                    "options.horizon: not an hf_horizon",
+                ))
+            }
+        };
         Ok(TraceOptions {
             march: MarchOptions {
                 surface,
@@ -284,6 +321,7 @@ impl TraceOptions {
             classes,
             threads: o.threads,
             simd,
+            horizon,
         })
     }
 }
@@ -384,28 +422,83 @@ pub unsafe extern "C" fn hf_trace(
     })
 }
 
+/// The ray `r`'s line in grid space, in `f64`: what a horizon's eye and wedges are
+/// measured in.
+pub(crate) fn grid_line(hf: &HeightField, r: &hf_ray) -> ([f64; 3], [f64; 3]) {
+    let xf = hf.transform();
+    if xf.is_identity() {
+        (r.origin.map(f64::from), r.dir.map(f64::from))
+    } else {
+        (
+            xf.point_to_grid(r.origin.map(f64::from)),
+            xf.dir_to_grid(r.dir.map(f64::from)),
+        )
+    }
+}
+
+/// The horizon a batch of `rays` can share ([`Marcher::horizon`]): `None` unless the
+/// options allow one, `m`'s hits are the DDA's and enough rays share an origin.
+pub(crate) fn batch_horizon(
+    m: &Marcher,
+    o: &TraceOptions,
+    hf: &HeightField,
+    rays: &[hf_ray],
+) -> Option<Horizon> {
+    let surface = m.dda_surface().filter(|_| o.horizon)?;
+    Horizon::for_batch(hf, surface, rays.iter().map(|r| grid_line(hf, r)))
+}
+
+/// Where `horizon` places the ray `r` (`None`: it says nothing of it), `hint` the
+/// band of the last ray asked ([`Horizon::start`]).
+pub(crate) fn horizon_start(
+    horizon: &Horizon,
+    hf: &HeightField,
+    r: &hf_ray,
+    hint: &mut usize,
+) -> Option<(Start<f64>, u32)> {
+    let (o, d) = grid_line(hf, r);
+    horizon.start(o, d, (f64::from(r.t_min), f64::from(r.t_max)), hint)
+}
+
 /// The hits of the conditioned queries `locals` into `out` (same lengths; `None`: a
-/// miss that cost nothing), traced together by `m` ([`Marcher::trace_all`]: in the
-/// SIMD lanes `o` allows where the method has them), the answers those of one
-/// `hf_trace` each.
+/// miss that cost nothing), the answers those of one `hf_trace` each. A query with a
+/// horizon's start in `starts` (empty, or one per query) marches from there
+/// ([`Marcher::trace_started`]); the others are traced together by `m`
+/// ([`Marcher::trace_each`]: in the SIMD lanes `o` allows where the method has them).
 pub(crate) fn trace_locals(
     m: &Marcher,
     o: &TraceOptions,
     hf: &HeightField,
     locals: &[Option<Local>],
+    starts: &[Option<(Start<f64>, u32)>],
     out: &mut [hf_hit],
 ) {
-    let queries: Vec<Query<f32>> = locals.iter().flatten().map(|l| l.query).collect();
+    let start = |k: usize| starts.get(k).copied().flatten();
+    let rest = |k: &usize| locals[*k].is_some() && start(*k).is_none();
+    let queries: Vec<Query<f32>> = (0..locals.len())
+        .filter(rest)
+        .filter_map(|k| locals[k].map(|l| l.query))
+        .collect();
     let mut traces = vec![Trace::MISS; queries.len()];
-    m.trace_all(hf, &queries, &mut traces, o.simd);
+    m.trace_each(hf, &queries, &mut traces, o.simd);
     let mut traces = traces.into_iter();
-    for (l, h) in locals.iter().zip(out.iter_mut()) {
-        *h = match l {
-            Some(local) => {
+    for (k, (l, h)) in locals.iter().zip(out.iter_mut()).enumerate() {
+        *h = match (l, start(k)) {
+            (Some(local), Some((Start::At(t, before), probes))) => answer(
+                hf,
+                local.trace_from(Some(t), |q, t| {
+                    let t = t.expect("a start in local units");
+                    m.trace_started(hf, q, (Start::At(t, before as f32), probes))
+                }),
+            ),
+            (Some(_), Some((Start::Miss(clearance), probes))) => {
+                hf_hit::from(Trace::<f32>::miss(probes, clearance as f32))
+            }
+            (Some(local), None) => {
                 let trace = traces.next().expect("one trace per query");
                 answer(hf, local.trace(|_| trace))
             }
-            None => hf_hit::from(Trace::<f32>::miss(0, f32::INFINITY)),
+            (None, _) => hf_hit::from(Trace::<f32>::miss(0, f32::INFINITY)),
         };
     }
 }
@@ -478,6 +571,8 @@ pub unsafe extern "C" fn hf_trace_batch(
         for (k, r) in rays.iter().enumerate() {
             check(hf, r, Some(k))?;
         }
+        // Rays from one eye (a camera's) share a horizon, built once for all threads.
+        let horizon = batch_horizon(&m, &o, hf, rays);
         // Bands of rays taken in turn by the threads; `u32` counts them.
         let n = u32::try_from(rays.len()).unwrap_or(u32::MAX);
         let threads = if n == u32::MAX { 1 } else { o.threads };
@@ -489,7 +584,15 @@ pub unsafe extern "C" fn hf_trace_batch(
                 .enumerate()
                 .map(|(k, r)| query(hf, r, Some(first + k)).map(Some))
                 .collect::<Result<Vec<_>, _>>()?;
-            trace_locals(&m, &o, hf, &locals, out);
+            let mut hint = 0;
+            let starts: Vec<_> = match &horizon {
+                Some(h) => band_rays
+                    .iter()
+                    .map(|r| horizon_start(h, hf, r, &mut hint))
+                    .collect(),
+                None => Vec::new(),
+            };
+            trace_locals(&m, &o, hf, &locals, &starts, out);
             Ok(())
         })
     })

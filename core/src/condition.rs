@@ -71,10 +71,27 @@ impl Local {
     /// parameter. A ray that misses the box is [`Trace::MISS`] without a march. A hit
     /// whose `t` exceeds the `f32` range reports `t = f32::MAX` (its point is exact).
     pub fn trace(&self, march: impl FnOnce(&Query<f32>) -> Trace<f32>) -> Trace<f32> {
+        self.trace_from(None, |q, _| march(q))
+    }
+
+    /// [`Local::trace`] of a ray whose start `t0` on the original ray is known (a
+    /// [`crate::horizon::Horizon`]'s): `march` gets the local query and that start in
+    /// local units, rounded and kept inside the local range (`None`: no start).
+    pub fn trace_from(
+        &self,
+        t0: Option<f64>,
+        march: impl FnOnce(&Query<f32>, Option<f32>) -> Trace<f32>,
+    ) -> Trace<f32> {
         if self.miss {
             return Trace::MISS;
         }
-        let mut tr = march(&self.query);
+        let q = &self.query;
+        let local = t0.map(|t| ((t * self.scale - self.shift) as f32).clamp(q.t_min(), q.t_max()));
+        self.finish(march(q, local))
+    }
+
+    /// The answer of the local march `tr` on the original ray.
+    fn finish(&self, mut tr: Trace<f32>) -> Trace<f32> {
         if self.shift != 0.0 || self.scale != 1.0 {
             if let Some(h) = tr.hit.as_mut() {
                 let t = (self.shift + f64::from(h.t)) / self.scale;

@@ -404,7 +404,38 @@ fn refine<R: Real>(
 /// Cost: four fetches (the corners) per cell visited.
 pub fn trace<R: Real>(hf: &HeightField, surface: Surface, q: &Query<R>) -> Trace<R> {
     let test = |c, a, b, ca, cb, wall| surface.segment_hit(c, a, b, ca, cb, wall);
-    finish(hf, surface, q, walk(hf, surface, q, test))
+    finish(hf, surface, q, walk::<R, false>(hf, surface, q, test))
+}
+
+/// [`trace`] with a bound test first in each cell: a cell the ray passes over, above
+/// its highest corner by a margin of rounding, is stepped over without its exact test.
+/// The hit (t, point, cell, normal, flags) is [`trace`]'s bit for bit: a tested cell
+/// gets the same entry point and clearance as there (both come from the crossing's
+/// edge samples, shared by the cells on both sides), and a skipped one has no contact.
+/// `clearance` is a lower bound of [`trace`]'s (a skipped cell reports the ray's
+/// height above its highest corner). The coherent batches' march after their shared
+/// start ([`crate::horizon`]).
+///
+/// Cost: four fetches (the corners) per cell visited.
+pub fn trace_skipping<R: Real>(hf: &HeightField, surface: Surface, q: &Query<R>) -> Trace<R> {
+    let test = |c, a, b, ca, cb, wall| surface.segment_hit(c, a, b, ca, cb, wall);
+    finish(hf, surface, q, walk::<R, true>(hf, surface, q, test))
+}
+
+/// Highest point of `surface` over a cell with corners `c`, raised by a margin that
+/// covers the rounding of the cell's exact test: its highest corner (corner planes
+/// reach `h10 + h01 − h00` at the far corner, under the highest corner plus the
+/// corners' range).
+#[inline(always)]
+fn cell_top<R: Real>(surface: Surface, c: [R; 4]) -> R {
+    let hi = c[0].max(c[1]).max(c[2].max(c[3]));
+    let top = if surface == Surface::CornerPlanes {
+        let lo = c[0].min(c[1]).min(c[2].min(c[3]));
+        hi + (hi - lo)
+    } else {
+        hi
+    };
+    top + top.abs() * R::from_f32(16.0) * R::EPSILON
 }
 
 /// Qu et al.'s bilinear method (§3.3), **approximate**: the cells of [`trace`] on the
@@ -417,13 +448,13 @@ pub fn trace_bilinear_search<R: Real>(
     (linear, bisect): (u32, u32),
 ) -> Trace<R> {
     let test = |c, a, b, ca, cb, _| bilinear_search_segment(c, a, b, ca, cb, (linear, bisect));
-    walk(hf, Surface::Bilinear, q, test)
+    walk::<R, false>(hf, Surface::Bilinear, q, test)
 }
 
 /// [`trace`] before the robust finish, with the cell test `test` (the arguments of
-/// [`Surface::segment_hit`]).
+/// [`Surface::segment_hit`]); with `SKIP`, [`trace_skipping`]'s.
 #[inline(always)]
-fn walk<R: Real>(
+fn walk<R: Real, const SKIP: bool>(
     hf: &HeightField,
     surface: Surface,
     q: &Query<R>,
@@ -456,6 +487,9 @@ fn walk<R: Real>(
     let mut ta = span.t0;
     let mut wall = [R::ZERO, R::ZERO, R::ONE];
     let mut t_cross = [0, 1].map(|k| next_crossing(cell[k], step[k], o[k], d[k]));
+    // Skipping: the point where the ray entered the cell, and how (`a` and `ca` are
+    // then computed only for a cell that gets its exact test).
+    let (mut pa, mut entered, mut fresh) = (p0, on, true);
     'walk: loop {
         let t_next = t_cross[0].min(t_cross[1]);
         let (tb, cross) = if t_next < span.t1 {
@@ -463,18 +497,44 @@ fn walk<R: Real>(
         } else {
             (span.t1, [false; 2])
         };
+        let pb = q.at(tb);
         // Clearance at the exit point; on a centerline, from that edge's two samples only.
         let on = [0, 1].map(|k| cross[k].then_some(step[k] > 0));
-        let (b, cb) = local_clearance(surface, c, cell, q.at(tb), on);
-        let seg = test(c, a, b, ca, cb, wall);
-        clearance = clearance.min(seg.clearance);
-        if let Some(found) = seg.hit {
-            return Trace::hit(
-                segment_point(cell, ((ta, tb), (a, b)), found),
-                fetches,
-                clearance,
-            );
-        }
+        let low = pa[2].min(pb[2]);
+        let top = if SKIP {
+            cell_top(surface, c)
+        } else {
+            R::INFINITY
+        };
+        let b = if low > top {
+            clearance = clearance.min(low - top);
+            fresh = false;
+            pb
+        } else {
+            if !fresh {
+                (a, ca) = local_clearance(surface, c, cell, pa, entered);
+            }
+            let (b, cb) = local_clearance(surface, c, cell, pb, on);
+            let seg = test(c, a, b, ca, cb, wall);
+            clearance = clearance.min(seg.clearance);
+            if let Some(found) = seg.hit {
+                return Trace::hit(
+                    segment_point(cell, ((ta, tb), (a, b)), found),
+                    fetches,
+                    clearance,
+                );
+            }
+            // The next cell's entry: this one's exit, seen from there.
+            a = [0, 1, 2].map(|k| {
+                if k < 2 && cross[k] {
+                    R::ONE - b[k]
+                } else {
+                    b[k]
+                }
+            });
+            (ca, fresh) = (cb, true);
+            pb
+        };
         if cross == [false; 2] {
             break;
         }
@@ -494,15 +554,7 @@ fn walk<R: Real>(
         wall[k] = if step[k] > 0 { -R::ONE } else { R::ONE };
         c = corners(hf, cell[0], cell[1]);
         fetches += 4;
-        a = [0, 1, 2].map(|k| {
-            if k < 2 && cross[k] {
-                R::ONE - b[k]
-            } else {
-                b[k]
-            }
-        });
-        ca = cb;
-        ta = tb;
+        (pa, entered, ta) = (b, [0, 1].map(|k| cross[k].then_some(step[k] < 0)), tb);
     }
     Trace::miss(fetches, clearance)
 }

@@ -232,6 +232,11 @@ impl<'a> HeightField<'a> {
         debug_assert!(i < self.width && j < self.height);
         self.samples[j as usize * self.stride + i as usize]
     }
+    /// The `width` samples of row `j`. Panics when out of range (a bug in the caller).
+    #[inline]
+    pub fn row(&self, j: u32) -> &'a [f32] {
+        &self.samples[j as usize * self.stride..][..self.width as usize]
+    }
     /// The four corners of cell (i, j) as `[h00, h10, h01, h11]` (h10 is at x = i + 1).
     #[inline]
     pub fn cell_corners(&self, i: u32, j: u32) -> [f32; 4] {

@@ -125,6 +125,8 @@ pub mod condition;
 pub mod cone;
 pub mod dda;
 pub mod field;
+#[cfg(feature = "alloc")]
+pub mod horizon;
 pub mod hybrid;
 pub mod impostor;
 pub mod judge;

@@ -221,11 +221,113 @@ impl<'a> Marcher<'a> {
         }
     }
 
+    /// The surface whose [`dda::trace`] this marcher's hits equal bit for bit (the
+    /// exact DDA, and the maximum mipmap with exact options): the marches a coherent
+    /// batch may replace, after its horizon's start, by [`dda::trace_skipping`].
+    /// `None` for the others.
+    pub fn dda_surface(&self) -> Option<Surface> {
+        match *self {
+            Marcher::Exact(surface) => Some(surface),
+            #[cfg(feature = "maxmip")]
+            Marcher::MaxMip(_, surface, ref opts) if opts.is_exact() => Some(surface),
+            _ => None,
+        }
+    }
+
+    /// The horizon that [`Marcher::trace_all_with`] can share among `queries` (those
+    /// of them from one eye: [`Horizon::for_batch`](crate::horizon::Horizon::for_batch)),
+    /// when this method's hits are the DDA's ([`Marcher::dda_surface`]) and the group
+    /// is large enough; `None` otherwise.
+    #[cfg(feature = "alloc")]
+    pub fn horizon<R: Real>(
+        &self,
+        hf: &HeightField,
+        queries: &[Query<R>],
+    ) -> Option<crate::horizon::Horizon> {
+        let rays = queries
+            .iter()
+            .map(|q| (q.origin().map(R::to_f64), q.dir().map(R::to_f64)));
+        crate::horizon::Horizon::for_batch(hf, self.dda_surface()?, rays)
+    }
+
+    /// [`Marcher::trace`] of `q`, a ray the horizon placed `start`: from there by
+    /// [`dda::trace_skipping`] when this method's hits are the DDA's, else (a start
+    /// this marcher cannot use) from its `t_min`; a miss when the horizon proved one.
+    /// The clearance takes the horizon's bound before the start; `fetches` adds the
+    /// horizon's `probes`.
+    #[cfg(feature = "alloc")]
+    pub fn trace_started(
+        &self,
+        hf: &HeightField,
+        q: &Query<f32>,
+        (start, probes): (crate::horizon::Start<f32>, u32),
+    ) -> Trace<f32> {
+        use crate::horizon::Start;
+        let mut trace = match (start, self.dda_surface()) {
+            (Start::At(t, before), Some(surface)) => {
+                let mut trace = dda::trace_skipping(hf, surface, &q.starting_at(t));
+                trace.clearance = trace.clearance.min(before);
+                trace
+            }
+            (Start::Miss(clearance), Some(_)) => Trace::miss(0, clearance),
+            (_, None) => self.trace(hf, q),
+        };
+        trace.fetches += probes;
+        trace
+    }
+
+    /// [`Marcher::trace_all`] with the horizon of a group of the queries (built once,
+    /// e.g. for a whole camera batch that threads then share; see
+    /// [`Marcher::horizon`]). A query the horizon knows starts its march at the
+    /// horizon's start with [`dda::trace_skipping`]: its hit (t, point, cell, normal,
+    /// flags) is bit for bit the one of [`Marcher::trace`]; `fetches` counts the
+    /// horizon texels read and the march's from the start, `clearance` is a lower
+    /// bound of the march's. The other queries go through [`Marcher::trace_all`].
+    #[cfg(feature = "alloc")]
+    pub fn trace_all_with(
+        &self,
+        hf: &HeightField,
+        horizon: Option<&crate::horizon::Horizon>,
+        queries: &[Query<f32>],
+        out: &mut [Trace<f32>],
+        simd: Option<crate::simd::Avx2>,
+    ) {
+        assert_eq!(queries.len(), out.len(), "one answer per query");
+        let (Some(horizon), Some(_)) = (horizon, self.dda_surface()) else {
+            return self.trace_each(hf, queries, out, simd);
+        };
+        let mut hint = 0;
+        for (o, q) in out.iter_mut().zip(queries) {
+            *o = match horizon.start_query(q, &mut hint) {
+                Some(start) => self.trace_started(hf, q, start),
+                None => self.trace(hf, q),
+            };
+        }
+    }
+
     /// [`Marcher::trace`] of every query of `queries` into `out` (same lengths), the
-    /// answers bit for bit the same: with `simd`, the methods with a laned march
+    /// hits bit for bit the same: a large group of queries from one eye (a camera's)
+    /// shares a horizon that starts each ray's march near its hit
+    /// ([`Marcher::trace_all_with`]); with `simd`, the methods with a laned march
     /// ([`crate::maxmip::trace_lanes`]) march several rays at once; the others, and
     /// every method without `simd`, trace one ray after another.
     pub fn trace_all(
+        &self,
+        hf: &HeightField,
+        queries: &[Query<f32>],
+        out: &mut [Trace<f32>],
+        simd: Option<crate::simd::Avx2>,
+    ) {
+        #[cfg(feature = "alloc")]
+        if let Some(horizon) = self.horizon(hf, queries) {
+            return self.trace_all_with(hf, Some(&horizon), queries, out, simd);
+        }
+        self.trace_each(hf, queries, out, simd)
+    }
+
+    /// [`Marcher::trace_all`] without a horizon: in SIMD lanes where the method has
+    /// them (with `simd`), else one ray after another.
+    pub fn trace_each(
         &self,
         hf: &HeightField,
         queries: &[Query<f32>],

@@ -105,6 +105,14 @@ impl<R: Real> Query<R> {
         })
     }
 
+    /// The same query from `t_min = t` on (`t` no less than its `t_min` and no more
+    /// than its `t_max`: a start the caller has proved no hit precedes).
+    #[inline]
+    pub fn starting_at(&self, t: R) -> Query<R> {
+        debug_assert!(t >= self.t_min && t <= self.t_max);
+        Query { t_min: t, ..*self }
+    }
+
     /// Origin in grid space.
     #[inline]
     pub fn origin(&self) -> [R; 3] {

@@ -116,6 +116,7 @@ impl WorldTransform {
         self.offset[2]
     }
     /// `true` for [`WorldTransform::IDENTITY`].
+    #[inline]
     pub fn is_identity(&self) -> bool {
         *self == WorldTransform::IDENTITY
     }

@@ -1,0 +1,570 @@
+//! Rays from one eye: an exact lower bound, shared by all of them, on where each can
+//! first meet the surface. The coherent path of the batch traces (issue 21): a camera's
+//! primary rays start their exact march a band before their hit instead of at the eye.
+//!
+//! **The bound.** Every ray from the eye E lies in the vertical plane at its azimuth;
+//! at horizontal distance `s` it is at height `E_z + m·s`, `m` its slope (`d_z / |d_xy|`).
+//! It passes over a cell whose surface lies under `H` (the cell's highest corner, or
+//! the highest corner (corner planes: plus the corners' range, see [`block_tops`])) wherever `m > g = max (H − E_z) / s` over the cell's distances `s`.
+//! The horizon splits the group's azimuths into wedges (bins, in a pseudo-angle) and
+//! distance into unit bands, keeps for each wedge and band the largest `g` of the cells
+//! that the wedge meets and whose nearest point is in the band, and their running
+//! maximum `P` along the wedge. A ray of slope `m` in a wedge passes over every cell
+//! nearer than the first band where `P ≥ m`: it cannot meet the surface (nor a side
+//! wall, which lies on a cell's edge) before that band, and a ray whose wedge never
+//! reaches `m` misses the field.
+//!
+//! **Exactness.** The walk that starts half a band before that band enters every cell
+//! after its first through the same integer crossings as the walk from the eye, so the
+//! hit is the same bit for bit ([`crate::dda::trace`]'s, which every exact march
+//! returns). Its first cell is one the ray clears with a margin (heights are raised by
+//! [`MARGIN`] relative), so no rounding of the `f32` march can find a hit there. The
+//! bins are conservative: a cell's pseudo-angle range is widened before binning.
+//!
+//! Cost: one pass over the field's cells per group (a few ns a cell), then per ray a
+//! pseudo-angle, a binary search in its wedge's steps and the march from the start.
+
+use crate::field::HeightField;
+use crate::math::Real;
+use crate::ray::Query;
+use crate::surface::Surface;
+use alloc::vec;
+use alloc::vec::Vec;
+
+/// Relative margin by which a cell's bound is raised (of the heights and distances
+/// involved): far above the `f32` march's rounding, far below a texel.
+pub const MARGIN: f64 = 1e-5;
+
+/// Widening of a cell's pseudo-angle range before binning, relative to the group's
+/// range (at least 1): the build's pseudo-angles are `f32`, a few ulps off.
+const ANGLE_SLACK: f64 = 1e-6;
+
+/// Pseudo-angle of `(x, y)` in `(−2, 2]`: increasing counter-clockwise from the
+/// negative x axis (−2) through +x (0) to the negative x axis again (2), and a half
+/// turn apart for opposite vectors. NaN at the origin.
+#[inline]
+fn pseudo_angle(x: f64, y: f64) -> f64 {
+    let r = y / (x.abs() + y.abs());
+    if x >= 0.0 {
+        r
+    } else if y >= 0.0 {
+        2.0 - r
+    } else {
+        -2.0 - r
+    }
+}
+
+/// [`pseudo_angle`] in `f32`, without branches (the build's vectorized loop).
+#[inline(always)]
+fn pseudo_angle_f32(x: f32, y: f32) -> f32 {
+    let r = y / (x.abs() + y.abs());
+    if x >= 0.0 {
+        r
+    } else {
+        2.0f32.copysign(y) - r
+    }
+}
+
+/// The horizon of a field seen from one eye, for the azimuths of a group of rays (see
+/// the module docs).
+#[derive(Clone, Debug)]
+pub struct Horizon {
+    eye: [f64; 3],
+    /// The group's mean horizontal direction (unit): pseudo-angles are measured from it.
+    axis: [f64; 2],
+    /// Pseudo-angle of bin 0's start, and bins per unit pseudo-angle.
+    angle0: f64,
+    per_angle: f64,
+    bins: usize,
+    /// Horizontal distance where band 0 begins (the eye's distance to the footprint).
+    s0: f64,
+    bands: usize,
+    /// Band width (the block's side, in cells).
+    width: f64,
+    /// The running maximum `P` of bin `b` at band `k`: `running[k * bins + b]` (band
+    /// by band, so that neighbouring rays, in neighbouring bins, read one cache line).
+    running: Vec<f32>,
+}
+
+/// Where a ray of a [`Horizon`]'s group may first meet the surface.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Start<R> {
+    /// Not before this `t` (at least the query's `t_min`, at most its `t_max`); and
+    /// the lower bound of the ray's clearance before it that the horizon proves.
+    At(R, R),
+    /// Never in `[t_min, t_max]`: the ray passes over the field (or its range ends
+    /// before the start). The lower bound of its clearance the horizon proves.
+    Miss(R),
+}
+
+/// Where a group's wedges lie: its mean horizontal direction (unit), from which
+/// pseudo-angles are measured, and the range of its rays' pseudo-angles.
+#[derive(Clone, Copy, Debug)]
+struct Frame {
+    axis: [f64; 2],
+    lo: f64,
+    hi: f64,
+}
+
+/// Directions [`Horizon::new`] reads to place its wedges.
+const FRAME_SAMPLES: usize = 4096;
+
+/// Rays that must share an origin before a batch builds a [`Horizon`] for them
+/// ([`Horizon::for_batch`]): fewer do not repay a pass over the field.
+pub const MIN_GROUP: usize = 2048;
+
+impl Horizon {
+    /// The horizon of `hf` (as `surface` reconstructs it) seen from `eye`, in `bins`
+    /// wedges spanning the azimuths of `dirs` (the group's directions), over square
+    /// blocks of `block` cells (1: every cell; larger: fewer items to bin, a looser
+    /// bound); `None` when no direction has a horizontal part.
+    pub fn new(
+        hf: &HeightField,
+        surface: Surface,
+        eye: [f64; 3],
+        dirs: impl Iterator<Item = [f64; 3]> + Clone,
+        bins: usize,
+        block: u32,
+    ) -> Option<Horizon> {
+        let n = dirs.clone().count();
+        let (frame, _) = frame(dirs, n)?;
+        Some(Horizon::build(hf, surface, eye, frame, bins, block))
+    }
+
+    /// [`Horizon::new`] in the wedges of `frame`: the group's axis and its range of
+    /// pseudo-angles.
+    fn build(
+        hf: &HeightField,
+        surface: Surface,
+        eye: [f64; 3],
+        Frame { axis, lo, hi }: Frame,
+        bins: usize,
+        block: u32,
+    ) -> Horizon {
+        let e = eye;
+        let block = block.max(1);
+        let (w, h) = (hf.width(), hf.height());
+        let (fx, fy) = (f64::from(w - 1), f64::from(h - 1));
+        let gap = |v: f64, end: f64| (0.0 - v).max(v - end).max(0.0);
+        let s0 = norm(gap(e[0], fx), gap(e[1], fy));
+        let far = norm(
+            e[0].abs().max((fx - e[0]).abs()),
+            e[1].abs().max((fy - e[1]).abs()),
+        );
+        let width = f64::from(block);
+        let per_band = 1.0 / width;
+        let bands = ((far - s0) / width) as usize + 2;
+        let bins = bins.clamp(1, ((1usize << 24) / bands).max(1));
+        let per_angle = bins as f64 / (hi - lo).max(1e-12);
+        let mut g = vec![f32::NEG_INFINITY; bins * bands];
+        let bin_of =
+            |a: f32| ((f64::from(a) - lo) * per_angle).clamp(0.0, (bins - 1) as f64) as usize;
+        let mut raise = |b0: usize, b1: usize, band: usize, slope: f32| {
+            for v in &mut g[band * bins + b0..=band * bins + b1] {
+                *v = v.max(slope);
+            }
+        };
+        // Block row by block row, in f32 (the margins cover its rounding), each step a
+        // loop over the row that the compiler vectorizes; only raising the wedges is
+        // scalar. Block `i` of a row spans samples `edges[i]..=edges[i + 1]`.
+        let edges = |n: u32| -> Vec<u32> {
+            (0..n - 1)
+                .step_by(block as usize)
+                .chain(core::iter::once(n - 1))
+                .collect()
+        };
+        let (ex, ey) = (edges(w), edges(h));
+        let nx = ex.len() - 1;
+        let span_of = |a: u32, b: u32, v: f64| {
+            let (a, b) = (f64::from(a) - v, f64::from(b) - v);
+            let near = if a > 0.0 {
+                a
+            } else if b < 0.0 {
+                -b
+            } else {
+                0.0
+            };
+            (near as f32, a.abs().max(b.abs()) as f32)
+        };
+        let (near_x, far_x): (Vec<f32>, Vec<f32>) =
+            ex.windows(2).map(|p| span_of(p[0], p[1], e[0])).unzip();
+        let xs: Vec<f32> = ex.iter().map(|&i| (f64::from(i) - e[0]) as f32).collect();
+        let (ax, ay) = (axis[0] as f32, axis[1] as f32);
+        let angles_of = |j: u32, out: &mut [f32]| {
+            let y = (f64::from(j) - e[1]) as f32;
+            for (a, &x) in out.iter_mut().zip(&xs) {
+                *a = pseudo_angle_f32(x * ax + y * ay, y * ax - x * ay);
+            }
+        };
+        let (mut below, mut above) = (vec![0.0f32; nx + 1], vec![0.0f32; nx + 1]);
+        let (mut top, mut col_hi, mut col_lo) = (
+            vec![0.0f32; nx],
+            vec![0.0f32; w as usize],
+            vec![0.0f32; w as usize],
+        );
+        let (mut slope, mut dist) = (vec![0.0f32; nx], vec![0.0f32; nx]);
+        let (mut amin, mut amax) = (vec![0.0f32; nx], vec![0.0f32; nx]);
+        let ez = e[2] as f32;
+        let slack = (ANGLE_SLACK * (hi - lo).max(1.0)) as f32;
+        let (lo32, hi32) = (lo as f32, hi as f32);
+        angles_of(ey[0], &mut above);
+        for rows in ey.windows(2) {
+            core::mem::swap(&mut below, &mut above);
+            angles_of(rows[1], &mut above);
+            block_tops(
+                hf,
+                surface,
+                rows[0]..=rows[1],
+                &ex,
+                (&mut col_hi, &mut col_lo),
+                &mut top,
+            );
+            let (near_y, far_y) = span_of(rows[0], rows[1], e[1]);
+            for i in 0..nx {
+                let s_min = (near_x[i] * near_x[i] + near_y * near_y).sqrt();
+                let s_max = (far_x[i] * far_x[i] + far_y * far_y).sqrt();
+                let t = top[i];
+                let rise = t - ez + MARGIN as f32 * (1.0 + t.abs() + ez.abs() + s_max);
+                slope[i] = if rise >= 0.0 {
+                    rise / s_min
+                } else {
+                    rise / s_max
+                };
+                dist[i] = s_min;
+                let a = [below[i], below[i + 1], above[i], above[i + 1]];
+                amin[i] = a[0].min(a[1]).min(a[2].min(a[3]));
+                amax[i] = a[0].max(a[1]).max(a[2].max(a[3]));
+            }
+            for i in 0..nx {
+                let k = (((f64::from(dist[i]) - s0) * per_band).max(0.0) as usize).min(bands - 1);
+                let (g, a0, a1) = (slope[i], amin[i], amax[i]);
+                if dist[i] == 0.0 {
+                    // The eye is over the block (or on its edge): every azimuth meets
+                    // it, and no ray passes over it unless it is lower than the eye.
+                    let g = if g.is_nan() || g > 0.0 {
+                        f32::INFINITY
+                    } else {
+                        g
+                    };
+                    raise(0, bins - 1, k, g);
+                } else if a1 - a0 <= 2.0 {
+                    if a1 + slack >= lo32 && a0 - slack <= hi32 {
+                        raise(bin_of(a0 - slack), bin_of(a1 + slack), k, g);
+                    }
+                } else {
+                    // Across the cut behind the axis: [min of the positive ones, 2] and
+                    // [−2, max of the negative ones].
+                    let a = [below[i], below[i + 1], above[i], above[i + 1]];
+                    let pos = a
+                        .iter()
+                        .copied()
+                        .filter(|&v| v > 0.0)
+                        .fold(2.0f32, f32::min);
+                    let neg = a
+                        .iter()
+                        .copied()
+                        .filter(|&v| v <= 0.0)
+                        .fold(-2.0f32, f32::max);
+                    if hi32 + slack >= pos {
+                        raise(bin_of(pos - slack), bins - 1, k, g);
+                    }
+                    if lo32 - slack <= neg {
+                        raise(0, bin_of(neg + slack), k, g);
+                    }
+                }
+            }
+        }
+        // Each wedge's running maximum.
+        for k in 1..bands {
+            let (done, rest) = g.split_at_mut(k * bins);
+            for (v, &before) in rest[..bins].iter_mut().zip(&done[(k - 1) * bins..]) {
+                *v = v.max(before);
+            }
+        }
+        Horizon {
+            eye,
+            axis,
+            angle0: lo,
+            per_angle,
+            bins,
+            s0,
+            bands,
+            width,
+            running: g,
+        }
+    }
+
+    /// Bytes the horizon holds.
+    pub fn size_bytes(&self) -> usize {
+        self.running.len() * 4
+    }
+
+    /// The eye the horizon is seen from.
+    pub fn eye(&self) -> [f64; 3] {
+        self.eye
+    }
+
+    /// The horizon for the rays of a batch (`(origin, direction)` pairs in grid
+    /// space, read once) that share the first one's origin, when there are at least
+    /// [`MIN_GROUP`] of them: sized by [`Horizon::sized`]. `None` otherwise.
+    pub fn for_batch(
+        hf: &HeightField,
+        surface: Surface,
+        rays: impl ExactSizeIterator<Item = ([f64; 3], [f64; 3])>,
+    ) -> Option<Horizon> {
+        let total = rays.len();
+        if total < MIN_GROUP {
+            return None;
+        }
+        let mut rays = rays.peekable();
+        let eye = rays.peek()?.0;
+        let dirs = rays.filter(|r| r.0 == eye).map(|r| r.1);
+        let (frame, n) = frame(dirs, total)?;
+        (n >= MIN_GROUP).then(|| Horizon::fitted(hf, surface, eye, frame, n))
+    }
+
+    /// [`Horizon::new`] for `n` rays from `eye`, whose directions' azimuths `dirs`
+    /// span (all of them, or a camera image's border): sized as [`Horizon::fitted`].
+    pub fn sized(
+        hf: &HeightField,
+        surface: Surface,
+        eye: [f64; 3],
+        dirs: impl Iterator<Item = [f64; 3]> + Clone,
+        n: usize,
+    ) -> Option<Horizon> {
+        let (frame, _) = frame(dirs.clone(), dirs.count())?;
+        Some(Horizon::fitted(hf, surface, eye, frame, n))
+    }
+
+    /// The horizon in `frame` sized for `n` rays: about 512 rays a wedge, and blocks of
+    /// 2ᵏ cells, as fine as keeps them under twice the rays (a pass over the field must
+    /// not cost more than the rays it serves).
+    fn fitted(
+        hf: &HeightField,
+        surface: Surface,
+        eye: [f64; 3],
+        frame: Frame,
+        n: usize,
+    ) -> Horizon {
+        let cells = f64::from(hf.width() - 1) * f64::from(hf.height() - 1);
+        let mut block = 1u32;
+        while cells / f64::from(block * block) > 2.0 * n as f64 && block < 64 {
+            block *= 2;
+        }
+        Horizon::build(hf, surface, eye, frame, (n / 512).clamp(16, 4096), block)
+    }
+
+    /// [`Horizon::start`] of a query, in its precision.
+    pub fn start_query<R: Real>(&self, q: &Query<R>, hint: &mut usize) -> Option<(Start<R>, u32)> {
+        let range = (q.t_min().to_f64(), q.t_max().to_f64());
+        let (start, probes) = self.start(
+            q.origin().map(R::to_f64),
+            q.dir().map(R::to_f64),
+            range,
+            hint,
+        )?;
+        Some((
+            match start {
+                // Rounded into `R` within the range (the half band covers the rounding).
+                Start::At(t, c) => {
+                    Start::At(R::from_f64(t).max(q.t_min()).min(q.t_max()), R::from_f64(c))
+                }
+                Start::Miss(c) => Start::Miss(R::from_f64(c)),
+            },
+            probes,
+        ))
+    }
+
+    /// Where the ray `origin + t · dir` (grid space), traced over `t_range`, may first
+    /// meet the surface, and the horizon texels read to say it (its fetches): `None`
+    /// when the horizon says nothing of it (another origin, a vertical ray, an azimuth
+    /// outside the group's). `hint` is a band to search from, the last answer's for
+    /// the best speed (neighbouring rays start near each other); it is updated.
+    pub fn start(
+        &self,
+        origin: [f64; 3],
+        d: [f64; 3],
+        (t_min, t_max): (f64, f64),
+        hint: &mut usize,
+    ) -> Option<(Start<f64>, u32)> {
+        if origin != self.eye {
+            return None;
+        }
+        let rho = norm(d[0], d[1]);
+        if rho == 0.0 {
+            return None;
+        }
+        let (ax, ay) = (self.axis[0], self.axis[1]);
+        let a = pseudo_angle(d[0] * ax + d[1] * ay, d[1] * ax - d[0] * ay);
+        let b = (a - self.angle0) * self.per_angle;
+        if !(b >= 0.0 && b < self.bins as f64 + 1.0) {
+            return None;
+        }
+        let b = (b as usize).min(self.bins - 1);
+        let m = d[2] / rho;
+        let mut probes = 0;
+        let reaches = |k: usize| {
+            probes += 1;
+            f64::from(self.running[k * self.bins + b]) >= m
+        };
+        // Over every block of the bands before `k` by `m − P[k − 1]` times its
+        // distance, at least `s0`: the clearance there.
+        let over = |k: usize| match k {
+            0 => f64::INFINITY,
+            k => {
+                let p = f64::from(self.running[(k - 1) * self.bins + b]);
+                ((m - p) * self.s0).max(0.0) * (1.0 - 1e-6)
+            }
+        };
+        let Some(band) = first_reaching(self.bands, reaches, hint) else {
+            return Some((Start::Miss(over(self.bands)), probes));
+        };
+        // Half a band before the first band the ray may not pass over.
+        let t = (self.s0 + (band as f64 - 0.5) * self.width) / rho;
+        let start = if t > t_max {
+            Start::Miss(0.0)
+        } else if t > t_min {
+            Start::At(t, over(band))
+        } else {
+            Start::At(t_min, f64::INFINITY)
+        };
+        Some((start, probes))
+    }
+}
+
+/// The unit mean horizontal direction of `dirs` (or +x when they cancel) and the range
+/// of their pseudo-angles from it, widened by a hundredth of itself on each side, and
+/// how many directions there were; `None` when no direction has a horizontal part.
+/// Taken in one pass from about [`FRAME_SAMPLES`] of the directions (of about `n`),
+/// spread by a multiplicative hash so that no stride of a batch (an image's columns)
+/// is missed; a ray outside the range is traced without the horizon.
+fn frame(dirs: impl Iterator<Item = [f64; 3]>, n: usize) -> Option<(Frame, usize)> {
+    let below = (FRAME_SAMPLES as f64 / n.max(1) as f64 * 18_446_744_073_709_551_616.0)
+        .min(u64::MAX as f64) as u64;
+    let mut count = 0;
+    let mut sample = Vec::with_capacity(2 * FRAME_SAMPLES);
+    for d in dirs {
+        let picked = (count as u64).wrapping_mul(0x9E37_79B9_7F4A_7C15) <= below;
+        if picked && (d[0] != 0.0 || d[1] != 0.0) {
+            sample.push([d[0], d[1]]);
+        }
+        count += 1;
+    }
+    let mut sum = [0.0f64; 2];
+    for d in &sample {
+        let len = norm(d[0], d[1]);
+        sum = [sum[0] + d[0] / len, sum[1] + d[1] / len];
+    }
+    let len = norm(sum[0], sum[1]);
+    let axis = if len > 1e-9 {
+        [sum[0] / len, sum[1] / len]
+    } else {
+        [1.0, 0.0]
+    };
+    let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
+    for d in &sample {
+        let a = pseudo_angle(
+            d[0] * axis[0] + d[1] * axis[1],
+            d[1] * axis[0] - d[0] * axis[1],
+        );
+        (lo, hi) = (lo.min(a), hi.max(a));
+    }
+    let pad = (hi - lo) / 100.0;
+    let (lo, hi) = ((lo - pad).max(-2.0), (hi + pad).min(2.0));
+    (lo <= hi).then_some((Frame { axis, lo, hi }, count))
+}
+
+/// An upper bound of the surface over each block of one block row: its highest
+/// sample, plus the samples' range on corner planes (whose plane reaches
+/// `h10 + h01 − h00` at a cell's far corner). The blocks span sample rows `rows` and
+/// sample columns `edges[i]..=edges[i + 1]`; `col_hi` and `col_lo` are scratch of the
+/// field's width (each column's highest and lowest sample over `rows`).
+fn block_tops(
+    hf: &HeightField,
+    surface: Surface,
+    rows: core::ops::RangeInclusive<u32>,
+    edges: &[u32],
+    (col_hi, col_lo): (&mut [f32], &mut [f32]),
+    top: &mut [f32],
+) {
+    col_hi.copy_from_slice(hf.row(*rows.start()));
+    col_lo.copy_from_slice(hf.row(*rows.start()));
+    for j in rows.skip(1) {
+        for ((hi, lo), &v) in col_hi.iter_mut().zip(col_lo.iter_mut()).zip(hf.row(j)) {
+            *hi = hi.max(v);
+            *lo = lo.min(v);
+        }
+    }
+    for (t, pair) in top.iter_mut().zip(edges.windows(2)) {
+        let (a, b) = (pair[0] as usize, pair[1] as usize);
+        let hi = col_hi[a..=b]
+            .iter()
+            .fold(f32::NEG_INFINITY, |m, &v| m.max(v));
+        *t = if surface == Surface::CornerPlanes {
+            let lo = col_lo[a..=b].iter().fold(f32::INFINITY, |m, &v| m.min(v));
+            hi + (hi - lo)
+        } else {
+            hi
+        };
+    }
+}
+
+/// `|(x, y)|` (of values far from overflow: f32 coordinates in f64).
+#[inline]
+fn norm(x: f64, y: f64) -> f64 {
+    libm::sqrt(x * x + y * y)
+}
+
+/// The first of `0..len` that `reaches` (false, then true), searched outwards from
+/// `*hint` (then set to it); `None` when none does.
+#[inline]
+fn first_reaching(
+    len: usize,
+    mut reaches: impl FnMut(usize) -> bool,
+    hint: &mut usize,
+) -> Option<usize> {
+    let last = len - 1;
+    if !reaches(last) {
+        return None;
+    }
+    let k = (*hint).min(last);
+    // Gallop to a bracket (lo, hi]: `lo` does not reach (or is −1), `hi` does.
+    let (mut lo, mut hi) = if reaches(k) {
+        let mut step = 1;
+        let mut hi = k;
+        loop {
+            if hi < step {
+                break (None, hi);
+            }
+            let probe = hi - step;
+            if !reaches(probe) {
+                break (Some(probe), hi);
+            }
+            hi = probe;
+            step *= 2;
+        }
+    } else {
+        let mut step = 1;
+        let mut lo = k;
+        loop {
+            let probe = (lo + step).min(last);
+            if reaches(probe) {
+                break (Some(lo), probe);
+            }
+            lo = probe;
+            step *= 2;
+        }
+    };
+    // Bisect: the answer is in (lo, hi].
+    while hi - lo.map_or(0, |l| l + 1) > 0 {
+        let from = lo.map_or(0, |l| l + 1);
+        let mid = from + (hi - from) / 2;
+        if reaches(mid) {
+            hi = mid;
+        } else {
+            lo = Some(mid);
+        }
+    }
+    *hint = hi;
+    Some(hi)
+}

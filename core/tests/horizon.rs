@@ -1,0 +1,393 @@
+//! Coherent batches (issue 21): a horizon shared by the rays of one eye starts each
+//! ray's march near its hit. Checked here: no hit precedes a start (against the f64
+//! oracle), the coherent batch answers every query with the per-ray march's hit bit for
+//! bit (the DDA and the maximum mipmap, every surface, cameras outside, inside, over and
+//! under the field), the test would see a start placed too late, and the skipping DDA
+//! it marches with equals the DDA.
+#![cfg(feature = "maxmip")]
+
+mod common;
+
+use common::{
+    eps_f32, fractal_field, is_ambiguous, kind_blocks, march_fields, Field, RayKind, Rng,
+};
+use hfcast::camera::Pinhole;
+use hfcast::horizon::{Horizon, Start};
+use hfcast::march::Marcher;
+use hfcast::maxmip::{self, MaxMip, Options};
+use hfcast::{dda, HeightField, Query, Surface, Trace};
+
+/// A camera's eye and look-at point, in fractions of the field's box (x, y across the
+/// footprint, z from the lowest sample (0) to the highest (1)), its vertical field of
+/// view and image size.
+struct Shot {
+    name: &'static str,
+    eye: [f64; 3],
+    at: [f64; 3],
+    fov: f64,
+    size: (u32, u32),
+}
+
+/// Cameras of every kind the horizon meets: outside the box at several elevations (a
+/// telephoto grazing across the field among them), far away, over the footprint
+/// looking down (every azimuth), inside the box among the peaks, and under the
+/// surface.
+const SHOTS: [Shot; 8] = [
+    Shot {
+        name: "45 deg outside",
+        eye: [-0.6, -0.5, 1.8],
+        at: [0.5, 0.5, 0.3],
+        fov: 40.0,
+        size: (48, 40),
+    },
+    Shot {
+        name: "5 deg outside",
+        eye: [1.9, -0.7, 1.15],
+        at: [0.4, 0.6, 0.5],
+        fov: 30.0,
+        size: (48, 40),
+    },
+    Shot {
+        name: "telephoto grazing",
+        eye: [-1.5, 0.4, 0.95],
+        at: [1.0, 0.55, 0.45],
+        fov: 3.0,
+        size: (48, 40),
+    },
+    Shot {
+        name: "far away",
+        eye: [60.0, 45.0, 30.0],
+        at: [0.5, 0.5, 0.5],
+        fov: 2.0,
+        size: (48, 40),
+    },
+    Shot {
+        name: "over, looking down",
+        eye: [0.45, 0.55, 2.5],
+        at: [0.5, 0.5, 0.0],
+        fov: 120.0,
+        size: (48, 40),
+    },
+    Shot {
+        name: "inside the box",
+        eye: [0.3, 0.4, 0.8],
+        at: [0.9, 0.7, 0.2],
+        fov: 70.0,
+        size: (48, 40),
+    },
+    Shot {
+        name: "level, inside",
+        eye: [0.7, 0.2, 0.6],
+        at: [0.1, 0.9, 0.6],
+        fov: 60.0,
+        size: (48, 40),
+    },
+    Shot {
+        name: "under the surface",
+        eye: [0.5, 0.5, -0.5],
+        at: [0.9, 0.1, 0.5],
+        fov: 60.0,
+        size: (48, 40),
+    },
+];
+
+impl Shot {
+    /// The primary rays of the shot over `field`.
+    fn rays(&self, field: &Field) -> Vec<Query<f32>> {
+        let (w, h) = field.far_corner();
+        let (lo, hi) = field.range();
+        let at = |f: [f64; 3]| [f[0] * w, f[1] * h, lo + f[2] * (hi - lo).max(1.0)];
+        let (eye, target) = (at(self.eye), at(self.at));
+        let forward = [0, 1, 2].map(|k| target[k] - eye[k]);
+        let cam = Pinhole::new(
+            eye,
+            forward,
+            [0.0, 0.0, 1.0],
+            self.fov,
+            self.size.0,
+            self.size.1,
+        )
+        .or_else(|_| {
+            Pinhole::new(
+                eye,
+                forward,
+                [0.0, 1.0, 0.0],
+                self.fov,
+                self.size.0,
+                self.size.1,
+            )
+        })
+        .expect("a camera");
+        let (cw, ch) = self.size;
+        (0..ch)
+            .flat_map(|y| (0..cw).map(move |x| (x, y)))
+            .map(|(x, y)| cam.ray(x, y, f32::INFINITY).expect("a ray"))
+            .collect()
+    }
+}
+
+/// The fields: the march fields of the other suites and two larger fractals (cameras
+/// see many cells a ray there).
+fn fields() -> Vec<(String, Field)> {
+    let mut rng = Rng::new(0x40_12_20);
+    let extra = vec![
+        (
+            "fractal 160x120".to_string(),
+            fractal_field(&mut rng, 160, 120, 160, 16.0),
+        ),
+        (
+            "fractal 97x211 steep".to_string(),
+            fractal_field(&mut rng, 97, 211, 101, 60.0),
+        ),
+    ];
+    march_fields(0x40_12, 5, ("checkerboard 16x16", 0.0, 2.0), extra, 3)
+}
+
+fn pyramid(hf: &HeightField) -> Vec<f32> {
+    let mut p = vec![f32::NAN; maxmip::pyramid_len(hf.width(), hf.height())];
+    maxmip::bake(hf, &mut p).expect("bake");
+    p
+}
+
+/// The horizon of `rays` (all from one eye), sized for them.
+fn horizon_of(hf: &HeightField, surface: Surface, rays: &[Query<f32>]) -> Horizon {
+    let eye = rays[0].origin().map(f64::from);
+    let dirs = rays.iter().map(|q| q.dir().map(f64::from));
+    Horizon::sized(hf, surface, eye, dirs, rays.len()).expect("rays with a horizontal part")
+}
+
+/// The hit of a trace, bit for bit (`Debug` shows every bit of the floats).
+fn hit_bits(t: &Trace<f32>) -> String {
+    format!("{:?}", t.hit)
+}
+
+/// No ray meets the surface before its start: the f64 oracle's hit is never before it
+/// (nor is there one when the horizon says the ray misses), on every field, surface
+/// and camera, unless the oracle calls the ray ambiguous.
+#[test]
+fn no_hit_precedes_a_start() {
+    let (mut starts, mut misses, mut advanced) = (0usize, 0usize, 0usize);
+    for (name, field) in fields() {
+        let hf = field.hf();
+        let eps = eps_f32(field.z_scale());
+        for surface in Surface::ALL {
+            for shot in &SHOTS {
+                let rays = shot.rays(&field);
+                let horizon = horizon_of(&hf, surface, &rays);
+                let mut hint = 0;
+                for q in &rays {
+                    let Some((start, _)) = horizon.start_query(q, &mut hint) else {
+                        continue;
+                    };
+                    let oracle = dda::trace(&hf, surface, &q.cast::<f64>());
+                    if is_ambiguous(&oracle, eps) {
+                        continue;
+                    }
+                    match start {
+                        Start::At(t, before) => {
+                            starts += 1;
+                            advanced += usize::from(t > q.t_min());
+                            if t > q.t_min() {
+                                let o = q.cast::<f64>();
+                                let skipped = Query::from_arrays(
+                                    o.origin(),
+                                    o.dir(),
+                                    o.t_min(),
+                                    f64::from(t),
+                                )
+                                .unwrap();
+                                let c = dda::trace(&hf, surface, &skipped).clearance;
+                                assert!(
+                                    f64::from(before) <= c,
+                                    "{name} {surface:?}: {before} over {c}"
+                                );
+                            }
+                            if let Some(h) = oracle.hit {
+                                assert!(
+                                    h.t >= f64::from(t),
+                                    "{name} {surface:?} {}: hit at {} before the start {t}",
+                                    shot.name,
+                                    h.t
+                                );
+                            }
+                        }
+                        Start::Miss(clearance) => {
+                            misses += 1;
+                            assert!(
+                                oracle.hit.is_none(),
+                                "{name} {surface:?} {}: a hit",
+                                shot.name
+                            );
+                            assert!(
+                                f64::from(clearance) <= oracle.clearance,
+                                "{name} {surface:?}"
+                            );
+                        }
+                    }
+                }
+            }
+        }
+    }
+    println!("{starts} starts ({advanced} past t_min) and {misses} proved misses checked");
+    assert!(
+        advanced > starts / 4 && misses > 1000,
+        "the horizon must place rays"
+    );
+}
+
+/// The coherent batch ([`Marcher::trace_all_with`]) answers every query with the
+/// per-ray march's hit bit for bit, for the DDA and the maximum mipmap, on every field,
+/// surface and camera, and reads fewer texels doing so on the larger fields.
+#[test]
+fn coherent_hits_equal_the_per_ray_march() {
+    let (mut compared, mut saved) = (0usize, 0i64);
+    for (name, field) in fields() {
+        let hf = field.hf();
+        let pyramid = pyramid(&hf);
+        let mip = MaxMip::new(&hf, &pyramid).expect("pyramid");
+        for surface in Surface::ALL {
+            let marchers = [
+                Marcher::Exact(surface),
+                Marcher::MaxMip(mip, surface, Options::default()),
+            ];
+            for m in &marchers {
+                for shot in &SHOTS {
+                    let rays = shot.rays(&field);
+                    let horizon = horizon_of(&hf, surface, &rays);
+                    let mut got = vec![Trace::MISS; rays.len()];
+                    m.trace_all_with(&hf, Some(&horizon), &rays, &mut got, hfcast::detect_avx2!());
+                    for (q, g) in rays.iter().zip(&got) {
+                        let want = m.trace(&hf, q);
+                        let exact = dda::trace(&hf, surface, q);
+                        assert_eq!(
+                            hit_bits(g),
+                            hit_bits(&want),
+                            "{name} {surface:?} {:?} {}: {q:?}",
+                            m.kind(),
+                            shot.name
+                        );
+                        // A lower bound, to the rounding of the skipped cells' bound.
+                        let slack = 1e-5 * (1.0 + exact.clearance.abs());
+                        assert!(
+                            g.clearance <= exact.clearance + slack,
+                            "{name} {surface:?} {} {:?}: {g:?} {exact:?}",
+                            shot.name,
+                            m.kind()
+                        );
+                        if let Marcher::Exact(_) = m {
+                            saved += i64::from(want.fetches) - i64::from(g.fetches);
+                        }
+                    }
+                    compared += rays.len();
+                }
+            }
+        }
+    }
+    println!(
+        "{compared} coherent answers equal the per-ray march; the DDA read {saved} fewer texels"
+    );
+    assert!(compared > 100_000 && saved > 0);
+}
+
+/// A batch from one eye larger than [`hfcast::horizon::MIN_GROUP`] shares a horizon by
+/// itself ([`Marcher::trace_all`]), with the same hits as one ray after another; and the
+/// equality checks above would see a start placed too late (two bands further, some
+/// ray's hit changes).
+#[test]
+fn batches_share_a_horizon_and_a_late_start_is_seen() {
+    let mut rng = Rng::new(0x40_13);
+    let field = fractal_field(&mut rng, 300, 260, 300, 30.0);
+    let hf = field.hf();
+    let shot = Shot {
+        size: (64, 48),
+        ..SHOTS[1]
+    };
+    let rays = shot.rays(&field);
+    assert!(rays.len() >= hfcast::horizon::MIN_GROUP);
+    let m = Marcher::Exact(Surface::Triangles);
+    let mut got = vec![Trace::MISS; rays.len()];
+    m.trace_all(&hf, &rays, &mut got, None);
+    let mut plain = vec![Trace::MISS; rays.len()];
+    m.trace_each(&hf, &rays, &mut plain, None);
+    let fetched = |v: &[Trace<f32>]| v.iter().map(|t| u64::from(t.fetches)).sum::<u64>();
+    for (g, p) in got.iter().zip(&plain) {
+        assert_eq!(hit_bits(g), hit_bits(p));
+    }
+    println!(
+        "fetches: {} per ray one by one, {} sharing a horizon",
+        fetched(&plain) / rays.len() as u64,
+        fetched(&got) / rays.len() as u64
+    );
+    assert!(
+        fetched(&got) * 2 < fetched(&plain),
+        "the horizon must save fetches"
+    );
+
+    // Four cells later than the start (two bands of the widest blocks): some hit is
+    // lost, so the equality checks above see a start placed past a hit.
+    let horizon = horizon_of(&hf, Surface::Triangles, &rays);
+    let mut hint = 0;
+    let late = rays
+        .iter()
+        .zip(&plain)
+        .filter(|(q, p)| {
+            let Some((Start::At(t, _), _)) = horizon.start_query(q, &mut hint) else {
+                return false;
+            };
+            let d = q.dir();
+            let t = (t + 4.0 / d[0].hypot(d[1])).min(q.t_max());
+            hit_bits(&dda::trace_skipping(
+                &hf,
+                Surface::Triangles,
+                &q.starting_at(t),
+            )) != hit_bits(p)
+        })
+        .count();
+    println!(
+        "{late} of {} rays change their hit when started two bands late",
+        rays.len()
+    );
+    assert!(late >= 10, "a late start must change some hit");
+}
+
+/// [`dda::trace_skipping`] is [`dda::trace`] hit for hit, bit for bit, on every march
+/// field, surface and ray kind, its clearance a lower bound, in `f32` and `f64`.
+#[test]
+fn the_skipping_dda_is_the_dda() {
+    let mut rng = Rng::new(0x5c1b);
+    let mut n = 0;
+    for (name, field) in fields() {
+        let hf = field.hf();
+        for surface in Surface::ALL {
+            for spec in kind_blocks(&mut rng, &field, surface, &RayKind::ALL, 12) {
+                let (q32, q64) = (spec.q32(), spec.q64());
+                let (a, b) = (
+                    dda::trace(&hf, surface, &q32),
+                    dda::trace_skipping(&hf, surface, &q32),
+                );
+                assert_eq!(
+                    format!("{:?}", a.hit),
+                    format!("{:?}", b.hit),
+                    "{name} {surface:?} {q32:?}"
+                );
+                let slack = 1e-5 * (1.0 + a.clearance.abs());
+                assert!(
+                    b.clearance <= a.clearance + slack && b.fetches == a.fetches,
+                    "{a:?} {b:?}"
+                );
+                let (a, b) = (
+                    dda::trace(&hf, surface, &q64),
+                    dda::trace_skipping(&hf, surface, &q64),
+                );
+                assert_eq!(
+                    format!("{:?}", a.hit),
+                    format!("{:?}", b.hit),
+                    "{name} {surface:?} {q64:?}"
+                );
+                n += 2;
+            }
+        }
+    }
+    println!("{n} traces compared");
+    assert!(n > 5000);
+}
