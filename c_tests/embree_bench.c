@@ -37,10 +37,12 @@
  *   hit at t = 0 for hfcast (the solid is solid) but not for a triangle mesh, so only
  *   those that start above it are kept.
  * hfcast traces through its C API (hf_trace_batch with HF_METHOD_CC: the exact CC map,
- * cap 64; HF_METHOD_MAXMIP, in AVX2 lanes where the CPU has them and with HF_SIMD_OFF
- * one ray after another; HF_METHOD_SAFETY: the exact directional safety distances;
- * HF_METHOD_EXACT: the exact DDA, no bake); Embree traces single rays (rtcIntersect1)
- * and, for the cameras, packets of 8 rays from 4 x 2 pixel tiles (rtcIntersect8).
+ * cap 64; HF_METHOD_MAXMIP, by default (a camera's rays share a horizon that starts each
+ * ray's march near its hit), and without the horizon in AVX2 lanes where the CPU has
+ * them and with HF_SIMD_OFF one ray after another; HF_METHOD_SAFETY: the exact
+ * directional safety distances; HF_METHOD_EXACT: the exact DDA, no bake, by default:
+ * with the horizon); Embree traces single rays (rtcIntersect1) and, for the cameras,
+ * packets of 8 rays from 4 x 2 pixel tiles (rtcIntersect8).
  *
  * The benchmark ends with two lines per set, `speedup over embree-packets <set>: <x>`
  * and `speedup over embree-single <set>: <x>`: x = the best Embree variant's ns per ray
@@ -547,23 +549,35 @@ static size_t disagreements(const hf_hit *hits, const float *t, size_t n, size_t
     return bad;
 }
 
-/* hfcast's exact methods compared, through the batch functions of the C API; the
- * maximum mipmap twice, in AVX2 lanes of 8 rays (the default where the CPU has AVX2)
- * and one ray after another (HF_SIMD_OFF). */
-enum { METHOD_CC, METHOD_MAXMIP, METHOD_MAXMIP_SCALAR, METHOD_SD, METHOD_DDA, METHODS };
-static const char *const METHOD_NAMES[METHODS] = {"cc exact", "maxmip exact (lanes)",
-                                                  "maxmip exact (scalar)", "sd exact",
-                                                  "dda exact"};
+/* hfcast's exact methods compared, through the batch functions of the C API with
+ * their default options (a batch from one eye shares a horizon: HF_HORIZON_AUTO); the
+ * maximum mipmap also without the horizon, in AVX2 lanes of 8 rays (where the CPU has
+ * AVX2) and one ray after another (HF_SIMD_OFF). */
+enum {
+    METHOD_CC,
+    METHOD_MAXMIP,
+    METHOD_MAXMIP_LANES,
+    METHOD_MAXMIP_SCALAR,
+    METHOD_SD,
+    METHOD_DDA,
+    METHODS
+};
+static const char *const METHOD_NAMES[METHODS] = {
+    "cc exact",         "maxmip (horizon)", "maxmip (lanes)", "maxmip (scalar)",
+    "sd exact",         "dda (horizon)"};
 
 /* Traces `rays` with hfcast's exact `method` (triangle surface) into `hits`. */
 static void trace_method(const field_data *fd, int method, const hf_ray *rays, size_t n,
                          hf_hit *hits) {
-    static const uint32_t api[METHODS] = {HF_METHOD_CC, HF_METHOD_MAXMIP, HF_METHOD_MAXMIP,
-                                          HF_METHOD_SAFETY, HF_METHOD_EXACT};
-    const void *map[METHODS] = {fd->cc, fd->pyramid, fd->pyramid, fd->sd, NULL};
-    const size_t len[METHODS] = {fd->cc_len, fd->pyramid_len, fd->pyramid_len, fd->sd_len, 0};
+    static const uint32_t api[METHODS] = {HF_METHOD_CC,     HF_METHOD_MAXMIP, HF_METHOD_MAXMIP,
+                                          HF_METHOD_MAXMIP, HF_METHOD_SAFETY, HF_METHOD_EXACT};
+    const void *map[METHODS] = {fd->cc, fd->pyramid, fd->pyramid, fd->pyramid, fd->sd, NULL};
+    const size_t len[METHODS] = {fd->cc_len,      fd->pyramid_len, fd->pyramid_len,
+                                 fd->pyramid_len, fd->sd_len,      0};
     hf_trace_options o;
     check_hf("hf_trace_options_default", hf_trace_options_default(&o));
+    if (method == METHOD_MAXMIP_LANES || method == METHOD_MAXMIP_SCALAR)
+        o.horizon = HF_HORIZON_OFF;
     if (method == METHOD_MAXMIP_SCALAR) o.simd = HF_SIMD_OFF;
     check_hf(METHOD_NAMES[method],
              hf_trace_batch(fd->field, api[method], map[method], len[method], &o, rays, n, hits,

@@ -484,22 +484,34 @@ pub(crate) fn trace_locals(
     let mut traces = traces.into_iter();
     for (k, (l, h)) in locals.iter().zip(out.iter_mut()).enumerate() {
         *h = match (l, start(k)) {
-            (Some(local), Some((Start::At(t, before), probes))) => answer(
-                hf,
-                local.trace_from(Some(t), |q, t| {
-                    let t = t.expect("a start in local units");
-                    m.trace_started(hf, q, (Start::At(t, before as f32), probes))
-                }),
-            ),
-            (Some(_), Some((Start::Miss(clearance), probes))) => {
-                hf_hit::from(Trace::<f32>::miss(probes, clearance as f32))
-            }
+            (Some(local), Some(start)) => trace_from_start(m, hf, local, start),
             (Some(local), None) => {
                 let trace = traces.next().expect("one trace per query");
                 answer(hf, local.trace(|_| trace))
             }
             (None, _) => hf_hit::from(Trace::<f32>::miss(0, f32::INFINITY)),
         };
+    }
+}
+
+/// The answer to the conditioned query `local` whose horizon placed it `start`
+/// ([`Marcher::trace_started`]).
+#[inline]
+fn trace_from_start(
+    m: &Marcher,
+    hf: &HeightField,
+    local: &Local,
+    (start, probes): (Start<f64>, u32),
+) -> hf_hit {
+    match start {
+        Start::At(t, before) => answer(
+            hf,
+            local.trace_from(Some(t), |q, t| {
+                let t = t.expect("a start in local units");
+                m.trace_started(hf, q, (Start::At(t, before as f32), probes))
+            }),
+        ),
+        Start::Miss(clearance) => hf_hit::from(Trace::<f32>::miss(probes, clearance as f32)),
     }
 }
 
@@ -579,20 +591,24 @@ pub unsafe extern "C" fn hf_trace_batch(
         crate::par::bake_bands(n, 1, RAY_BAND, threads, hits, |band, out| {
             let first = band.start as usize;
             let band_rays = &rays[first..first + out.len()];
+            if let Some(h) = &horizon {
+                // One ray at a time: nothing to gather for lanes.
+                let mut hint = 0;
+                for (k, (r, hit)) in band_rays.iter().zip(out.iter_mut()).enumerate() {
+                    let local = query(hf, r, Some(first + k))?;
+                    *hit = match horizon_start(h, hf, r, &mut hint) {
+                        Some(start) => trace_from_start(&m, hf, &local, start),
+                        None => answer(hf, local.trace(|q| m.trace(hf, q))),
+                    };
+                }
+                return Ok(());
+            }
             let locals = band_rays
                 .iter()
                 .enumerate()
                 .map(|(k, r)| query(hf, r, Some(first + k)).map(Some))
                 .collect::<Result<Vec<_>, _>>()?;
-            let mut hint = 0;
-            let starts: Vec<_> = match &horizon {
-                Some(h) => band_rays
-                    .iter()
-                    .map(|r| horizon_start(h, hf, r, &mut hint))
-                    .collect(),
-                None => Vec::new(),
-            };
-            trace_locals(&m, &o, hf, &locals, &starts, out);
+            trace_locals(&m, &o, hf, &locals, &[], out);
             Ok(())
         })
     })

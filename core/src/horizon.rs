@@ -156,12 +156,12 @@ impl Horizon {
         let bands = ((far - s0) / width) as usize + 2;
         let bins = bins.clamp(1, ((1usize << 24) / bands).max(1));
         let per_angle = bins as f64 / (hi - lo).max(1e-12);
-        let mut g = vec![f32::NEG_INFINITY; bins * bands];
+        let mut g_rows = vec![f32::NEG_INFINITY; bins * bands];
         let bin_of =
             |a: f32| ((f64::from(a) - lo) * per_angle).clamp(0.0, (bins - 1) as f64) as usize;
-        let mut raise = |b0: usize, b1: usize, band: usize, slope: f32| {
+        let raise = |g: &mut [f32], b0: usize, b1: usize, band: usize, slope: f32| {
             for v in &mut g[band * bins + b0..=band * bins + b1] {
-                *v = v.max(slope);
+                *v = mx(*v, slope);
             }
         };
         // Block row by block row, in f32 (the margins cover its rounding), each step a
@@ -203,10 +203,13 @@ impl Horizon {
             vec![0.0f32; w as usize],
         );
         let (mut slope, mut dist) = (vec![0.0f32; nx], vec![0.0f32; nx]);
-        let (mut amin, mut amax) = (vec![0.0f32; nx], vec![0.0f32; nx]);
+        let (mut band, mut first, mut last) = (vec![0u32; nx], vec![0u32; nx], vec![0u32; nx]);
+        let mut plain = vec![false; nx];
         let ez = e[2] as f32;
         let slack = (ANGLE_SLACK * (hi - lo).max(1.0)) as f32;
-        let (lo32, hi32) = (lo as f32, hi as f32);
+        let (lo32, hi32, s0_32) = (lo as f32, hi as f32, s0 as f32);
+        let (per_band32, per_angle32, top_bin) =
+            (per_band as f32, per_angle as f32, (bins - 1) as f32);
         angles_of(ey[0], &mut above);
         for rows in ey.windows(2) {
             core::mem::swap(&mut below, &mut above);
@@ -231,13 +234,38 @@ impl Horizon {
                     rise / s_max
                 };
                 dist[i] = s_min;
+                // The band of the block's nearest point, rounded down (its distance
+                // lowered by a few ulps first: a band too far would let rays start
+                // past the block).
+                let near = s_min * (1.0 - 1.0 / 524_288.0) - s0_32;
+                band[i] = ((near * per_band32).max(0.0) as u32).min(bands as u32 - 1);
                 let a = [below[i], below[i + 1], above[i], above[i + 1]];
-                amin[i] = a[0].min(a[1]).min(a[2].min(a[3]));
-                amax[i] = a[0].max(a[1]).max(a[2].max(a[3]));
+                let a0 = a[0].min(a[1]).min(a[2].min(a[3])) - slack;
+                let a1 = a[0].max(a[1]).max(a[2].max(a[3])) + slack;
+                let bin = |a: f32| ((a - lo32) * per_angle32).clamp(0.0, top_bin) as u32;
+                (first[i], last[i]) = (bin(a0), bin(a1));
+                // Not over the eye, not across the cut, inside the group's range.
+                plain[i] = s_min > 0.0 && a1 - a0 <= 2.0 && a1 >= lo32 && a0 <= hi32;
             }
             for i in 0..nx {
-                let k = (((f64::from(dist[i]) - s0) * per_band).max(0.0) as usize).min(bands - 1);
-                let (g, a0, a1) = (slope[i], amin[i], amax[i]);
+                let (k, g) = (band[i] as usize, slope[i]);
+                if plain[i] {
+                    let (b0, b1) = (first[i] as usize, last[i] as usize);
+                    let row = &mut g_rows[k * bins..(k + 1) * bins];
+                    row[b0] = mx(row[b0], g);
+                    row[b1] = mx(row[b1], g);
+                    for v in row.iter_mut().take(b1).skip(b0 + 1) {
+                        *v = mx(*v, g);
+                    }
+                    continue;
+                }
+                let (a0, a1) = {
+                    let a = [below[i], below[i + 1], above[i], above[i + 1]];
+                    (
+                        a[0].min(a[1]).min(a[2].min(a[3])),
+                        a[0].max(a[1]).max(a[2].max(a[3])),
+                    )
+                };
                 if dist[i] == 0.0 {
                     // The eye is over the block (or on its edge): every azimuth meets
                     // it, and no ray passes over it unless it is lower than the eye.
@@ -246,12 +274,8 @@ impl Horizon {
                     } else {
                         g
                     };
-                    raise(0, bins - 1, k, g);
-                } else if a1 - a0 <= 2.0 {
-                    if a1 + slack >= lo32 && a0 - slack <= hi32 {
-                        raise(bin_of(a0 - slack), bin_of(a1 + slack), k, g);
-                    }
-                } else {
+                    raise(&mut g_rows, 0, bins - 1, k, g);
+                } else if a1 - a0 > 2.0 {
                     // Across the cut behind the axis: [min of the positive ones, 2] and
                     // [−2, max of the negative ones].
                     let a = [below[i], below[i + 1], above[i], above[i + 1]];
@@ -266,19 +290,20 @@ impl Horizon {
                         .filter(|&v| v <= 0.0)
                         .fold(-2.0f32, f32::max);
                     if hi32 + slack >= pos {
-                        raise(bin_of(pos - slack), bins - 1, k, g);
+                        raise(&mut g_rows, bin_of(pos - slack), bins - 1, k, g);
                     }
                     if lo32 - slack <= neg {
-                        raise(0, bin_of(neg + slack), k, g);
+                        raise(&mut g_rows, 0, bin_of(neg + slack), k, g);
                     }
                 }
             }
         }
         // Each wedge's running maximum.
+        let mut g = g_rows;
         for k in 1..bands {
             let (done, rest) = g.split_at_mut(k * bins);
             for (v, &before) in rest[..bins].iter_mut().zip(&done[(k - 1) * bins..]) {
-                *v = v.max(before);
+                *v = mx(*v, before);
             }
         }
         Horizon {
@@ -491,21 +516,52 @@ fn block_tops(
     col_lo.copy_from_slice(hf.row(*rows.start()));
     for j in rows.skip(1) {
         for ((hi, lo), &v) in col_hi.iter_mut().zip(col_lo.iter_mut()).zip(hf.row(j)) {
-            *hi = hi.max(v);
-            *lo = lo.min(v);
+            *hi = mx(*hi, v);
+            *lo = mn(*lo, v);
         }
     }
-    for (t, pair) in top.iter_mut().zip(edges.windows(2)) {
-        let (a, b) = (pair[0] as usize, pair[1] as usize);
-        let hi = col_hi[a..=b]
-            .iter()
-            .fold(f32::NEG_INFINITY, |m, &v| m.max(v));
-        *t = if surface == Surface::CornerPlanes {
-            let lo = col_lo[a..=b].iter().fold(f32::INFINITY, |m, &v| m.min(v));
-            hi + (hi - lo)
-        } else {
-            hi
-        };
+    // Every block but the last spans `edges[1] − edges[0]` cells: its columns are
+    // `i · block + o`, loops the compiler vectorizes.
+    let block = (edges[1] - edges[0]) as usize;
+    let n = top.len();
+    let span = |col: &[f32], init: f32, f: fn(f32, f32) -> f32, out: &mut [f32]| {
+        out.fill(init);
+        for o in 0..=block {
+            let cols = col[o..].iter().step_by(block);
+            for (t, &v) in out[..n - 1].iter_mut().zip(cols) {
+                *t = f(*t, v);
+            }
+        }
+        let (a, b) = (edges[n - 1] as usize, edges[n] as usize);
+        out[n - 1] = col[a..=b].iter().fold(init, |m, &v| f(m, v));
+    };
+    span(col_hi, f32::NEG_INFINITY, mx, top);
+    if surface == Surface::CornerPlanes {
+        let mut low = vec![0.0f32; n];
+        span(col_lo, f32::INFINITY, mn, &mut low);
+        for (t, l) in top.iter_mut().zip(&low) {
+            *t += *t - l;
+        }
+    }
+}
+
+/// The larger of two values that are not NaN (one `maxss`, unlike `f32::max`).
+#[inline(always)]
+fn mx(a: f32, b: f32) -> f32 {
+    if a > b {
+        a
+    } else {
+        b
+    }
+}
+
+/// The smaller of two values that are not NaN.
+#[inline(always)]
+fn mn(a: f32, b: f32) -> f32 {
+    if a < b {
+        a
+    } else {
+        b
     }
 }
 

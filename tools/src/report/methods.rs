@@ -128,9 +128,22 @@ pub struct Marched<'a> {
     map: Arc<Texels>,
     opts: MarchOptions,
     maxmip: Option<maxmip::Options>,
-    /// One ray after another even where the method has SIMD lanes.
-    scalar: bool,
+    batching: Batching,
     shared_seconds: Option<f64>,
+}
+
+/// How a setting hands its rays to the core ([`Marcher::trace_all`] and its parts):
+/// the report's scalar, packet and stream settings of a method.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Batching {
+    /// One ray after another, each from its own start.
+    Scalar,
+    /// In SIMD lanes where the method has them (the maximum mipmap's), each ray from
+    /// its own start ([`Marcher::trace_each`]).
+    Lanes,
+    /// A camera's rays sharing a horizon that starts each near its hit, where the
+    /// method's hits are the DDA's ([`Marcher::trace_all`]), else in lanes.
+    Horizon,
 }
 
 impl Caster for Marched<'_> {
@@ -141,15 +154,15 @@ impl Caster for Marched<'_> {
             (Marcher::MaxMip(mip, surface, _), Some(o)) => Marcher::MaxMip(mip, surface, o),
             (m, _) => m,
         };
-        // In SIMD lanes where the method has them (the maximum mipmap's), so that the
-        // report's wrong-ray counts cover the laned march on every scene.
+        // As the setting batches, so that the report's wrong-ray counts cover the laned
+        // and the horizon's marches on every scene.
         let mut traces = vec![Trace::MISS; rays.len()];
-        let simd = if self.scalar {
-            None
-        } else {
-            hfcast::detect_avx2!()
-        };
-        m.trace_all(&self.hf, rays, &mut traces, simd);
+        let simd = hfcast::detect_avx2!();
+        match self.batching {
+            Batching::Scalar => m.trace_each(&self.hf, rays, &mut traces, None),
+            Batching::Lanes => m.trace_each(&self.hf, rays, &mut traces, simd),
+            Batching::Horizon => m.trace_all(&self.hf, rays, &mut traces, simd),
+        }
         for (o, t) in out.iter_mut().zip(&traces) {
             *o = Out::of(t);
         }
@@ -164,14 +177,14 @@ impl Caster for Marched<'_> {
 
 /// How a setting over a baked map bakes and marches: the method, the map's bake (the
 /// default `Spec` of the method's map changed by `spec`), the step budgets, the
-/// maximum mipmap's options, whether it marches one ray after another even where the
-/// method has SIMD lanes, and the bake it shares with other settings (`None`: its own).
+/// maximum mipmap's options, how it batches its rays, and the bake it shares with
+/// other settings (`None`: its own).
 struct MapSetting {
     kind: MethodKind,
     spec: fn(&mut Spec),
     steps: [u32; 2],
     maxmip: Option<maxmip::Options>,
-    scalar: bool,
+    batching: Batching,
     shared: Option<Arc<SharedBake>>,
 }
 
@@ -184,7 +197,7 @@ impl MapSetting {
             spec: |_| {},
             steps: [o.steps, o.binary_steps],
             maxmip: None,
-            scalar: false,
+            batching: Batching::Lanes,
             shared: None,
         }
     }
@@ -215,7 +228,7 @@ impl MapSetting {
                 map,
                 opts,
                 maxmip: self.maxmip,
-                scalar: self.scalar,
+                batching: self.batching,
                 shared_seconds,
             })
         })
@@ -461,16 +474,35 @@ fn per_ray<R: Real>(
     })
 }
 
+/// A bake-free setting tracing a whole ray set at once with `f` (into core traces).
+fn batched(
+    f: impl Fn(&HeightField, Surface, &[Query<f32>], &mut [Trace<f32>]) + Copy + Sync + 'static,
+) -> Baker {
+    baker(move |hf, surface| {
+        let hf = *hf;
+        Box::new(Batch(
+            move |rays: &[Query<f32>], out: &mut [Out]| {
+                let mut traces = vec![Trace::MISS; rays.len()];
+                f(&hf, surface, rays, &mut traces);
+                for (o, t) in out.iter_mut().zip(&traces) {
+                    *o = Out::of(t);
+                }
+            },
+            0,
+        ))
+    })
+}
+
 /// A bake-free [`Method`] of the core.
 fn core_method(m: Method) -> Baker {
     per_ray(move |hf, surface, q| m.trace(hf, surface, q))
 }
 
-/// The maximum mipmap with `opts`, in SIMD lanes where the CPU has them unless `scalar`.
-fn maxmip_setting(opts: maxmip::Options, scalar: bool) -> Baker {
+/// The maximum mipmap with `opts`, its rays batched as `batching` says.
+fn maxmip_setting(opts: maxmip::Options, batching: Batching) -> Baker {
     MapSetting {
         maxmip: Some(opts),
-        scalar,
+        batching,
         ..MapSetting::of(MethodKind::MaxMip)
     }
     .baker()
@@ -508,6 +540,15 @@ pub fn settings(sweep: &Sweep) -> Vec<Setting> {
             ALL_SURFACES,
             core_method(Method::Exact),
         ),
+        setting(
+            Family::Dda,
+            "dda f32 horizon",
+            true,
+            ALL_SURFACES,
+            batched(|hf, surface, rays, traces| {
+                Marcher::Exact(surface).trace_all(hf, rays, traces, None)
+            }),
+        ),
         Setting {
             f64: true,
             ..setting(
@@ -519,12 +560,13 @@ pub fn settings(sweep: &Sweep) -> Vec<Setting> {
             )
         },
     ];
-    // One-level ascent in AVX2 lanes (where the CPU has them) and one ray after another;
-    // the highest ascent is not laned.
-    for (ascent, name, scalar) in [
-        (Ascent::OneLevel, "one-level", false),
-        (Ascent::OneLevel, "one-level scalar", true),
-        (Ascent::Highest, "highest", false),
+    // One-level ascent in AVX2 lanes (where the CPU has them), one ray after another
+    // and sharing a camera's horizon; the highest ascent is not laned.
+    for (ascent, name, batching) in [
+        (Ascent::OneLevel, "one-level", Batching::Lanes),
+        (Ascent::OneLevel, "one-level scalar", Batching::Scalar),
+        (Ascent::OneLevel, "one-level horizon", Batching::Horizon),
+        (Ascent::Highest, "highest", Batching::Lanes),
     ] {
         let opts = maxmip::Options {
             ascent,
@@ -535,7 +577,7 @@ pub fn settings(sweep: &Sweep) -> Vec<Setting> {
             format!("maxmip {name}"),
             true,
             ALL_SURFACES,
-            maxmip_setting(opts, scalar),
+            maxmip_setting(opts, batching),
         ));
     }
     for &px in &sweep.lod_pixels {
@@ -548,7 +590,7 @@ pub fn settings(sweep: &Sweep) -> Vec<Setting> {
             format!("maxmip lod {px}px"),
             false,
             ALL_SURFACES,
-            maxmip_setting(opts, false),
+            maxmip_setting(opts, Batching::Lanes),
         ));
     }
     v.push(setting(
@@ -580,7 +622,7 @@ pub fn settings(sweep: &Sweep) -> Vec<Setting> {
             format!("maxmip iter {linear}:{bisect}"),
             false,
             BILINEAR,
-            maxmip_setting(opts, false),
+            maxmip_setting(opts, Batching::Lanes),
         ));
         v.push(setting(
             Family::QuBilinear,
