@@ -404,7 +404,8 @@ fn refine<R: Real>(
 /// Cost: four fetches (the corners) per cell visited.
 pub fn trace<R: Real>(hf: &HeightField, surface: Surface, q: &Query<R>) -> Trace<R> {
     let test = |c, a, b, ca, cb, wall| surface.segment_hit(c, a, b, ca, cb, wall);
-    finish(hf, surface, q, walk::<R, false>(hf, surface, q, test))
+    let walked = walk::<R, false>(hf, surface, q, u32::MAX, test);
+    finish(hf, surface, q, walked.expect("no budget"))
 }
 
 /// [`trace`] with a bound test first in each cell: a cell the ray passes over, above
@@ -418,16 +419,42 @@ pub fn trace<R: Real>(hf: &HeightField, surface: Surface, q: &Query<R>) -> Trace
 ///
 /// Cost: four fetches (the corners) per cell visited.
 pub fn trace_skipping<R: Real>(hf: &HeightField, surface: Surface, q: &Query<R>) -> Trace<R> {
-    let test = |c, a, b, ca, cb, wall| surface.segment_hit(c, a, b, ca, cb, wall);
-    finish(hf, surface, q, walk::<R, true>(hf, surface, q, test))
+    match trace_skipping_for(hf, surface, q, u32::MAX) {
+        Ok(trace) | Err(Restart { trace, .. }) => trace,
+    }
 }
 
-/// Highest point of `surface` over a cell with corners `c`, raised by a margin that
-/// covers the rounding of the cell's exact test: its highest corner (corner planes
-/// reach `h10 + h01 − h00` at the far corner, under the highest corner plus the
-/// corners' range).
+/// Where [`trace_skipping_for`] stopped without an answer: a `t` from which a march
+/// (any exact one) has the same hit — the entry of a cell the ray passes above — and
+/// what was spent before it (its fetches and the least clearance seen, a miss).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Restart<R: Real> {
+    /// The entry of the cell passed above.
+    pub t: R,
+    /// Fetches and clearance up to it.
+    pub trace: Trace<R>,
+}
+
+/// [`trace_skipping`] for at most `cells` cells: when the walk passes above its cell
+/// number `cells` still without an answer, where a march may go on from
+/// ([`Restart`]; the maximum mipmap does, over long stretches of empty space).
+pub fn trace_skipping_for<R: Real>(
+    hf: &HeightField,
+    surface: Surface,
+    q: &Query<R>,
+    cells: u32,
+) -> Result<Trace<R>, Restart<R>> {
+    let test = |c, a, b, ca, cb, wall| surface.segment_hit(c, a, b, ca, cb, wall);
+    walk::<R, true>(hf, surface, q, cells, test).map(|trace| finish(hf, surface, q, trace))
+}
+
+/// How far a ray whose lowest height over a cell with corners `c` is `low` passes
+/// above `surface` there, when it does by more than the rounding of the cell's exact
+/// test: above its highest corner (corner planes reach `h10 + h01 − h00` at the far
+/// corner, under the highest corner plus the corners' range) by 16 ulps of the larger
+/// magnitude.
 #[inline(always)]
-fn cell_top<R: Real>(surface: Surface, c: [R; 4]) -> R {
+fn passes_above<R: Real>(surface: Surface, c: [R; 4], low: R) -> Option<R> {
     let hi = c[0].max(c[1]).max(c[2].max(c[3]));
     let top = if surface == Surface::CornerPlanes {
         let lo = c[0].min(c[1]).min(c[2].min(c[3]));
@@ -435,7 +462,8 @@ fn cell_top<R: Real>(surface: Surface, c: [R; 4]) -> R {
     } else {
         hi
     };
-    top + top.abs() * R::from_f32(16.0) * R::EPSILON
+    let above = low - top;
+    (above > (top.abs() + low.abs()) * R::from_f32(16.0) * R::EPSILON).then_some(above)
 }
 
 /// Qu et al.'s bilinear method (§3.3), **approximate**: the cells of [`trace`] on the
@@ -448,20 +476,22 @@ pub fn trace_bilinear_search<R: Real>(
     (linear, bisect): (u32, u32),
 ) -> Trace<R> {
     let test = |c, a, b, ca, cb, _| bilinear_search_segment(c, a, b, ca, cb, (linear, bisect));
-    walk::<R, false>(hf, Surface::Bilinear, q, test)
+    walk::<R, false>(hf, Surface::Bilinear, q, u32::MAX, test).expect("no budget")
 }
 
 /// [`trace`] before the robust finish, with the cell test `test` (the arguments of
-/// [`Surface::segment_hit`]); with `SKIP`, [`trace_skipping`]'s.
+/// [`Surface::segment_hit`]); with `SKIP`, [`trace_skipping_for`]'s, stopping after
+/// `budget` cells (only on a cell passed above).
 #[inline(always)]
 fn walk<R: Real, const SKIP: bool>(
     hf: &HeightField,
     surface: Surface,
     q: &Query<R>,
+    budget: u32,
     test: impl Fn([R; 4], [R; 3], [R; 3], R, R, [R; 3]) -> SegmentHit<R>,
-) -> Trace<R> {
+) -> Result<Trace<R>, Restart<R>> {
     let Some(span) = clip_surface(hf, surface, q) else {
-        return Trace::MISS;
+        return Ok(Trace::MISS);
     };
     let (o, d) = (q.origin(), q.dir());
     // Per-axis state, index 0 = x, 1 = y.
@@ -476,11 +506,11 @@ fn walk<R: Real, const SKIP: bool>(
     let (mut a, mut ca) = local_clearance(surface, c, cell, [start[0], start[1], p0[2]], on);
 
     if ca <= R::ZERO {
-        return Trace::hit(
+        return Ok(Trace::hit(
             start_hit(surface, &span, c, cell, a, p0),
             fetches,
             start_clearance(&span.entry, ca),
-        );
+        ));
     }
 
     let mut clearance = ca;
@@ -501,13 +531,17 @@ fn walk<R: Real, const SKIP: bool>(
         // Clearance at the exit point; on a centerline, from that edge's two samples only.
         let on = [0, 1].map(|k| cross[k].then_some(step[k] > 0));
         let low = pa[2].min(pb[2]);
-        let top = if SKIP {
-            cell_top(surface, c)
+        let above = if SKIP {
+            passes_above(surface, c, low)
         } else {
-            R::INFINITY
+            None
         };
-        let b = if low > top {
-            clearance = clearance.min(low - top);
+        let b = if let Some(above) = above {
+            if fetches / 4 > budget {
+                let trace = Trace::miss(fetches, clearance);
+                return Err(Restart { t: ta, trace });
+            }
+            clearance = clearance.min(above);
             fresh = false;
             pb
         } else {
@@ -518,11 +552,11 @@ fn walk<R: Real, const SKIP: bool>(
             let seg = test(c, a, b, ca, cb, wall);
             clearance = clearance.min(seg.clearance);
             if let Some(found) = seg.hit {
-                return Trace::hit(
+                return Ok(Trace::hit(
                     segment_point(cell, ((ta, tb), (a, b)), found),
                     fetches,
                     clearance,
-                );
+                ));
             }
             // The next cell's entry: this one's exit, seen from there.
             a = [0, 1, 2].map(|k| {
@@ -556,7 +590,7 @@ fn walk<R: Real, const SKIP: bool>(
         fetches += 4;
         (pa, entered, ta) = (b, [0, 1].map(|k| cross[k].then_some(step[k] < 0)), tb);
     }
-    Trace::miss(fetches, clearance)
+    Ok(Trace::miss(fetches, clearance))
 }
 
 #[cfg(test)]

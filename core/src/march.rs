@@ -38,6 +38,11 @@ impl MarchOptions {
     }
 }
 
+/// Cells the maximum mipmap walks cell by cell after a horizon's start before its own
+/// march takes over ([`Marcher::trace_started`]).
+#[cfg(feature = "alloc")]
+const DDA_CELLS: u32 = 16;
+
 /// A method ready to march: its map (borrowed), surface and options. Built by the
 /// caller from a bake it has checked; [`Marcher::trace`] traces one query.
 #[derive(Clone, Copy, Debug)]
@@ -265,7 +270,7 @@ impl<'a> Marcher<'a> {
         use crate::horizon::Start;
         let mut trace = match (start, self.dda_surface()) {
             (Start::At(t, before), Some(surface)) => {
-                let mut trace = dda::trace_skipping(hf, surface, &q.starting_at(t));
+                let mut trace = self.march_from(hf, surface, &q.starting_at(t));
                 trace.clearance = trace.clearance.min(before);
                 trace
             }
@@ -274,6 +279,30 @@ impl<'a> Marcher<'a> {
         };
         trace.fetches += probes;
         trace
+    }
+
+    /// The march of `q` from its start (a horizon's): [`dda::trace_skipping`], which
+    /// costs least near a hit; the maximum mipmap hands a walk still running after
+    /// [`DDA_CELLS`] cells to its own march, which crosses empty space by whole nodes
+    /// (from the entry of a cell the ray passes above: the same hit).
+    #[cfg(feature = "alloc")]
+    fn march_from(&self, hf: &HeightField, surface: Surface, q: &Query<f32>) -> Trace<f32> {
+        match *self {
+            #[cfg(feature = "maxmip")]
+            Marcher::MaxMip(ref mip, _, ref opts) => {
+                match dda::trace_skipping_for(hf, surface, q, DDA_CELLS) {
+                    Ok(trace) => trace,
+                    Err(restart) => {
+                        let q = q.starting_at(restart.t);
+                        let mut trace = crate::maxmip::trace(hf, mip, surface, &q, opts);
+                        trace.fetches += restart.trace.fetches;
+                        trace.clearance = trace.clearance.min(restart.trace.clearance);
+                        trace
+                    }
+                }
+            }
+            _ => dda::trace_skipping(hf, surface, q),
+        }
     }
 
     /// [`Marcher::trace_all`] with the horizon of a group of the queries (built once,
