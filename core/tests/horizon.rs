@@ -33,63 +33,36 @@ struct Shot {
 /// looking down (every azimuth), inside the box among the peaks, and under the
 /// surface.
 const SHOTS: [Shot; 8] = [
-    Shot {
-        name: "45 deg outside",
-        eye: [-0.6, -0.5, 1.8],
-        at: [0.5, 0.5, 0.3],
-        fov: 40.0,
-        size: (48, 40),
-    },
-    Shot {
-        name: "5 deg outside",
-        eye: [1.9, -0.7, 1.15],
-        at: [0.4, 0.6, 0.5],
-        fov: 30.0,
-        size: (48, 40),
-    },
-    Shot {
-        name: "telephoto grazing",
-        eye: [-1.5, 0.4, 0.95],
-        at: [1.0, 0.55, 0.45],
-        fov: 3.0,
-        size: (48, 40),
-    },
-    Shot {
-        name: "far away",
-        eye: [60.0, 45.0, 30.0],
-        at: [0.5, 0.5, 0.5],
-        fov: 2.0,
-        size: (48, 40),
-    },
-    Shot {
-        name: "over, looking down",
-        eye: [0.45, 0.55, 2.5],
-        at: [0.5, 0.5, 0.0],
-        fov: 120.0,
-        size: (48, 40),
-    },
-    Shot {
-        name: "inside the box",
-        eye: [0.3, 0.4, 0.8],
-        at: [0.9, 0.7, 0.2],
-        fov: 70.0,
-        size: (48, 40),
-    },
-    Shot {
-        name: "level, inside",
-        eye: [0.7, 0.2, 0.6],
-        at: [0.1, 0.9, 0.6],
-        fov: 60.0,
-        size: (48, 40),
-    },
-    Shot {
-        name: "under the surface",
-        eye: [0.5, 0.5, -0.5],
-        at: [0.9, 0.1, 0.5],
-        fov: 60.0,
-        size: (48, 40),
-    },
+    shot("45 deg outside", [-0.6, -0.5, 1.8], [0.5, 0.5, 0.3], 40.0),
+    shot("5 deg outside", [1.9, -0.7, 1.15], [0.4, 0.6, 0.5], 30.0),
+    shot(
+        "telephoto grazing",
+        [-1.5, 0.4, 0.95],
+        [1.0, 0.55, 0.45],
+        3.0,
+    ),
+    shot("far away", [60.0, 45.0, 30.0], [0.5, 0.5, 0.5], 2.0),
+    shot(
+        "over, looking down",
+        [0.45, 0.55, 2.5],
+        [0.5, 0.5, 0.0],
+        120.0,
+    ),
+    shot("inside the box", [0.3, 0.4, 0.8], [0.9, 0.7, 0.2], 70.0),
+    shot("level, inside", [0.7, 0.2, 0.6], [0.1, 0.9, 0.6], 60.0),
+    shot("under the surface", [0.5, 0.5, -0.5], [0.9, 0.1, 0.5], 60.0),
 ];
+
+/// A shot of 48 × 40 pixels.
+const fn shot(name: &'static str, eye: [f64; 3], at: [f64; 3], fov: f64) -> Shot {
+    Shot {
+        name,
+        eye,
+        at,
+        fov,
+        size: (48, 40),
+    }
+}
 
 impl Shot {
     /// The primary rays of the shot over `field`.
