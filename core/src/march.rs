@@ -255,9 +255,10 @@ impl<'a> Marcher<'a> {
         crate::horizon::Horizon::for_batch(hf, self.dda_surface()?, rays)
     }
 
-    /// [`Marcher::trace`] of `q`, a ray the horizon placed `start`: from there by
-    /// [`dda::trace_skipping`] when this method's hits are the DDA's, else (a start
-    /// this marcher cannot use) from its `t_min`; a miss when the horizon proved one.
+    /// [`Marcher::trace`] of `q`, a ray the horizon placed `start`: from there when
+    /// this method's hits are the DDA's (by [`dda::trace_skipping`], the maximum mipmap
+    /// taking over long walks), else (a start this marcher cannot use) from its
+    /// `t_min`; a miss when the horizon proved one.
     /// The clearance takes the horizon's bound before the start; `fetches` adds the
     /// horizon's `probes`.
     #[cfg(feature = "alloc")]
@@ -307,11 +308,12 @@ impl<'a> Marcher<'a> {
 
     /// [`Marcher::trace_all`] with the horizon of a group of the queries (built once,
     /// e.g. for a whole camera batch that threads then share; see
-    /// [`Marcher::horizon`]). A query the horizon knows starts its march at the
-    /// horizon's start with [`dda::trace_skipping`]: its hit (t, point, cell, normal,
-    /// flags) is bit for bit the one of [`Marcher::trace`]; `fetches` counts the
-    /// horizon texels read and the march's from the start, `clearance` is a lower
-    /// bound of the march's. The other queries go through [`Marcher::trace_all`].
+    /// [`Marcher::horizon`]). A query the horizon knows marches from the horizon's
+    /// start ([`Marcher::trace_started`]): its hit (t, point, cell, normal, flags) is
+    /// bit for bit the one of [`Marcher::trace`]; `fetches` counts the horizon texels
+    /// read and the march's from the start, `clearance` is a lower bound of the
+    /// march's. The other queries are traced one by one ([`Marcher::trace`]); without
+    /// a horizon, every query goes through [`Marcher::trace_each`].
     #[cfg(feature = "alloc")]
     pub fn trace_all_with(
         &self,
