@@ -193,7 +193,7 @@ unsafe fn trace_pixels(
                 match (m.dda_surface().filter(|_| o.horizon), lines.first()) {
                     (Some(surface), Some(&(eye, _))) if pixels >= MIN_GROUP => {
                         let dirs = lines.iter().map(|l| l.1);
-                        Horizon::sized(hf, surface, eye, dirs, pixels)
+                        Horizon::sized(hf, surface, eye, dirs, pixels, m.horizon_max_block())
                     }
                     _ => None,
                 }

@@ -445,7 +445,8 @@ pub(crate) fn batch_horizon(
     rays: &[hf_ray],
 ) -> Option<Horizon> {
     let surface = m.dda_surface().filter(|_| o.horizon)?;
-    Horizon::for_batch(hf, surface, rays.iter().map(|r| grid_line(hf, r)))
+    let lines = rays.iter().map(|r| grid_line(hf, r));
+    Horizon::for_batch(hf, surface, lines, m.horizon_max_block())
 }
 
 /// Where `horizon` places the ray `r` (`None`: it says nothing of it), `hint` the

@@ -338,11 +338,13 @@ impl Horizon {
 
     /// The horizon for the rays of a batch (`(origin, direction)` pairs in grid
     /// space, read once) that share the first one's origin, when there are at least
-    /// [`MIN_GROUP`] of them: sized by [`Horizon::sized`]. `None` otherwise.
+    /// [`MIN_GROUP`] of them and their blocks need be no coarser than `max_block`
+    /// cells: sized by [`Horizon::sized`]. `None` otherwise.
     pub fn for_batch(
         hf: &HeightField,
         surface: Surface,
         rays: impl ExactSizeIterator<Item = ([f64; 3], [f64; 3])>,
+        max_block: u32,
     ) -> Option<Horizon> {
         let total = rays.len();
         if total < MIN_GROUP {
@@ -352,19 +354,25 @@ impl Horizon {
         let eye = rays.peek()?.0;
         let dirs = rays.filter(|r| r.0 == eye).map(|r| r.1);
         let (frame, n) = frame(dirs, total)?;
-        (n >= MIN_GROUP).then(|| Horizon::fitted(hf, surface, eye, frame, n))
+        let fits = n >= MIN_GROUP && block_for(hf, n) <= max_block;
+        fits.then(|| Horizon::fitted(hf, surface, eye, frame, n))
     }
 
     /// [`Horizon::new`] for `n` rays from `eye`, whose directions' azimuths `dirs`
     /// span (all of them, or a camera image's border): about 512 rays a wedge, and
-    /// blocks of 2ᵏ cells, as fine as keeps them under twice the rays.
+    /// blocks of 2ᵏ cells, as fine as keeps them under twice the rays ([`block_for`]);
+    /// `None` when those would be coarser than `max_block` cells.
     pub fn sized(
         hf: &HeightField,
         surface: Surface,
         eye: [f64; 3],
         dirs: impl Iterator<Item = [f64; 3]> + Clone,
         n: usize,
+        max_block: u32,
     ) -> Option<Horizon> {
+        if block_for(hf, n) > max_block {
+            return None;
+        }
         let (frame, _) = frame(dirs.clone(), dirs.count())?;
         Some(Horizon::fitted(hf, surface, eye, frame, n))
     }
@@ -379,11 +387,7 @@ impl Horizon {
         frame: Frame,
         n: usize,
     ) -> Horizon {
-        let cells = f64::from(hf.width() - 1) * f64::from(hf.height() - 1);
-        let mut block = 1u32;
-        while cells / f64::from(block * block) > 2.0 * n as f64 && block < 64 {
-            block *= 2;
-        }
+        let block = block_for(hf, n);
         Horizon::build(hf, surface, eye, frame, (n / 512).clamp(16, 4096), block)
     }
 
@@ -463,6 +467,19 @@ impl Horizon {
         };
         Some((start, probes))
     }
+}
+
+/// The side, in cells, of the blocks a horizon of `hf` for `n` rays is built over: the
+/// smallest power of 2 (up to 64) that keeps the blocks under twice the rays, so that
+/// the pass over the field costs no more than the rays it serves. Coarser blocks place
+/// the starts farther from the hits.
+pub fn block_for(hf: &HeightField, n: usize) -> u32 {
+    let cells = f64::from(hf.width() - 1) * f64::from(hf.height() - 1);
+    let mut block = 1u32;
+    while cells / f64::from(block * block) > 2.0 * n as f64 && block < 64 {
+        block *= 2;
+    }
+    block
 }
 
 /// The unit mean horizontal direction of `dirs` (or +x when they cancel) and the range

@@ -126,7 +126,8 @@ fn pyramid(hf: &HeightField) -> Vec<f32> {
 fn horizon_of(hf: &HeightField, surface: Surface, rays: &[Query<f32>]) -> Horizon {
     let eye = rays[0].origin().map(f64::from);
     let dirs = rays.iter().map(|q| q.dir().map(f64::from));
-    Horizon::sized(hf, surface, eye, dirs, rays.len()).expect("rays with a horizontal part")
+    Horizon::sized(hf, surface, eye, dirs, rays.len(), u32::MAX)
+        .expect("rays with a horizontal part")
 }
 
 /// The hit of a trace, bit for bit (`Debug` shows every bit of the floats).
