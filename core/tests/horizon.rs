@@ -15,7 +15,7 @@ use hfcast::camera::Pinhole;
 use hfcast::horizon::{Horizon, Start};
 use hfcast::march::Marcher;
 use hfcast::maxmip::{self, MaxMip, Options};
-use hfcast::{dda, HeightField, Query, Surface, Trace};
+use hfcast::{dda, HeightField, Query, Real, Surface, Trace};
 
 /// A camera's eye and look-at point, in fractions of the field's box (x, y across the
 /// footprint, z from the lowest sample (0) to the highest (1)), its vertical field of
@@ -324,6 +324,22 @@ fn batches_share_a_horizon_and_a_late_start_is_seen() {
     assert!(late >= 10, "a late start must change some hit");
 }
 
+/// [`dda::trace_skipping`] answers `q` with [`dda::trace`]'s hit bit for bit, its
+/// fetches and a clearance no larger (to the rounding of the cells' bound).
+fn skips_as_the_dda<R: Real>(hf: &HeightField, surface: Surface, q: &Query<R>, name: &str) {
+    let (a, b) = (
+        dda::trace(hf, surface, q),
+        dda::trace_skipping(hf, surface, q),
+    );
+    let same = format!("{:?}", a.hit) == format!("{:?}", b.hit);
+    assert!(same, "{name} {surface:?} {q:?}: {a:?} {b:?}");
+    let slack = R::from_f64(1e-5) * (R::ONE + a.clearance.abs());
+    assert!(
+        b.clearance <= a.clearance + slack && b.fetches == a.fetches,
+        "{a:?} {b:?}"
+    );
+}
+
 /// [`dda::trace_skipping`] is [`dda::trace`] hit for hit, bit for bit, on every march
 /// field, surface and ray kind, its clearance a lower bound, in `f32` and `f64`.
 #[test]
@@ -334,30 +350,8 @@ fn the_skipping_dda_is_the_dda() {
         let hf = field.hf();
         for surface in Surface::ALL {
             for spec in kind_blocks(&mut rng, &field, surface, &RayKind::ALL, 12) {
-                let (q32, q64) = (spec.q32(), spec.q64());
-                let (a, b) = (
-                    dda::trace(&hf, surface, &q32),
-                    dda::trace_skipping(&hf, surface, &q32),
-                );
-                assert_eq!(
-                    format!("{:?}", a.hit),
-                    format!("{:?}", b.hit),
-                    "{name} {surface:?} {q32:?}"
-                );
-                let slack = 1e-5 * (1.0 + a.clearance.abs());
-                assert!(
-                    b.clearance <= a.clearance + slack && b.fetches == a.fetches,
-                    "{a:?} {b:?}"
-                );
-                let (a, b) = (
-                    dda::trace(&hf, surface, &q64),
-                    dda::trace_skipping(&hf, surface, &q64),
-                );
-                assert_eq!(
-                    format!("{:?}", a.hit),
-                    format!("{:?}", b.hit),
-                    "{name} {surface:?} {q64:?}"
-                );
+                skips_as_the_dda(&hf, surface, &spec.q32(), &name);
+                skips_as_the_dda(&hf, surface, &spec.q64(), &name);
                 n += 2;
             }
         }
