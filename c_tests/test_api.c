@@ -263,8 +263,10 @@ static const bad_option bad_options[] = {
     BAD_OPTION(max_view_angle_deg, 180.5, HF_ERR_INVALID_ARGUMENT),
     BAD_OPTION(max_view_angle_deg, NAN, HF_ERR_INVALID_ARGUMENT),
     BAD_OPTION(max_view_angle_deg, INFINITY, HF_ERR_INVALID_ARGUMENT),
+    BAD_OPTION(occluder_count, HF_MAX_OCCLUDERS + 1, HF_ERR_INVALID_ARGUMENT),
+    BAD_OPTION(occluder_count, 1, HF_ERR_NULL_POINTER), /* occluders NULL */
     BAD_OPTION(reserved[0], 1, HF_ERR_INVALID_ARGUMENT),
-    BAD_OPTION(reserved[6], 1, HF_ERR_INVALID_ARGUMENT),
+    BAD_OPTION(reserved[3], 1, HF_ERR_INVALID_ARGUMENT),
 };
 
 /* `o` with the bad option `b`. */
@@ -2138,6 +2140,147 @@ static void check_horizon(void) {
     hf_field_destroy(f);
 }
 
+/* Occluders: a ring of four walls (eight triangle tops, `top` high) one texel around a
+ * W x H field, into `walls`. */
+static void walls_around(uint32_t w, uint32_t h, float top, hf_occluder walls[8]) {
+    const float X = (float)(w - 1), Y = (float)(h - 1);
+    const float rects[4][4] = {{-3.0f, -1.0f, -3.0f, Y + 3.0f},
+                               {X + 1.0f, X + 3.0f, -3.0f, Y + 3.0f},
+                               {-3.0f, X + 3.0f, -3.0f, -1.0f},
+                               {-3.0f, X + 3.0f, Y + 1.0f, Y + 3.0f}};
+    for (int r = 0; r < 4; r++) {
+        const float *q = rects[r];
+        const float c[4][3] = {{q[0], q[2], top}, {q[1], q[2], top}, {q[1], q[3], top},
+                               {q[0], q[3], top}};
+        const int tri[2][3] = {{0, 1, 2}, {0, 2, 3}};
+        for (int t = 0; t < 2; t++)
+            for (int v = 0; v < 3; v++)
+                memcpy(walls[2 * r + t].corners[v], c[tri[t][v]], sizeof c[0]);
+    }
+}
+
+/* Safety and cylinder-cone maps baked over occluders (exterior rays that pass over a
+ * ring of walls): never shorter than the exterior maps, longer somewhere; traced with
+ * the same occluders, every camera ray (over the walls, and low ones through them,
+ * which walk cell by cell) gets the exact hit, one by one, in batches and through
+ * hf_trace_camera at 1 and 2 threads; other occluders, none, or occluders for a map
+ * baked without are HF_ERR_MAP_MISMATCH; bad occluders are refused. */
+static void check_occluders(void) {
+    enum { W = 48, H = 40, CW = 40, CH = 30, NP = CW * CH };
+    static float heights[W * H];
+    for (int j = 0; j < H; j++)
+        for (int i = 0; i < W; i++)
+            heights[j * W + i] = 6.0f * sinf(0.21f * (float)i) * cosf(0.17f * (float)j) +
+                                 (float)((i * 7 + j * 13) % 5);
+    hf_field *f = NULL;
+    CHECK_OK(hf_field_create_f32(heights, W * H, W, H, W, &f));
+    hf_occluder walls[8];
+    walls_around(W, H, 14.0f, walls);
+    const hf_camera cams[2] = {
+        {{-2.0f, -2.0f, 20.0f}, {32.0f, 27.0f, -20.0f}, {0.0f, 0.0f, 1.0f}, 50.0f, CW, CH,
+         INFINITY},
+        {{-12.0f, 20.0f, 12.0f}, {1.0f, 0.0f, -0.15f}, {0.0f, 0.0f, 1.0f}, 60.0f, CW, CH,
+         INFINITY}};
+    static hf_ray rays[2 * NP];
+    for (int c = 0; c < 2; c++)
+        for (uint32_t y = 0; y < CH; y++)
+            for (uint32_t x = 0; x < CW; x++)
+                CHECK_OK(hf_camera_ray(&cams[c], x, y, &rays[c * NP + y * CW + x]));
+    hf_hit *exact = exact_hits(f, rays, 2 * NP);
+    static hf_hit got[2 * NP];
+    const uint32_t methods[2] = {HF_METHOD_SAFETY, HF_METHOD_CC};
+    for (int m = 0; m < 2; m++) {
+        uint32_t me = methods[m];
+        hf_bake_options ext = bake_defaults(me), over = ext;
+        ext.exterior = over.exterior = 1;
+        over.occluders = walls;
+        over.occluder_count = 8;
+        size_t elen = 0, olen = 0;
+        unsigned char *emap = (unsigned char *)bake_map(me, f, &ext, &elen);
+        unsigned char *omap = (unsigned char *)bake_map(me, f, &over, &olen);
+        int shorter = 0, longer = 0;
+        for (size_t k = 0; m == 0 && k + HF_MAP_DESC_BYTES < olen; k++) {
+            shorter += omap[k] < emap[k];
+            longer += omap[k] > emap[k];
+        }
+        CHECK(olen == elen && shorter == 0 && (m == 1 || longer > 0));
+        hf_trace_options o;
+        CHECK_OK(hf_trace_options_default(&o));
+        o.occluders = walls;
+        o.occluder_count = 8;
+        unsigned long long fetched[2] = {0, 0};
+        for (uint32_t t = 1; t <= 2; t++) {
+            o.threads = t;
+            CHECK_OK(hf_trace_batch(f, me, omap, olen, &o, rays, 2 * NP, got, 2 * NP));
+            CHECK(agreeing(exact, got, 2 * NP) == 2 * NP);
+            for (int k = 0; t == 1 && k < NP; k++) fetched[1] += got[k].fetches;
+            for (int c = 0; c < 2; c++) {
+                CHECK_OK(hf_trace_camera(f, me, omap, olen, &o, &cams[c], got, NP));
+                CHECK(agreeing(exact + c * NP, got, NP) == NP);
+            }
+        }
+        hf_hit h;
+        CHECK_OK(hf_trace(f, me, omap, olen, &o, &rays[5], &h));
+        CHECK(agreeing(&exact[5], &h, 1) == 1);
+        hf_trace_options eo;
+        CHECK_OK(hf_trace_options_default(&eo));
+        CHECK_OK(hf_trace_batch(f, me, emap, elen, &eo, rays, 2 * NP, got, 2 * NP));
+        for (int k = 0; k < NP; k++) fetched[0] += got[k].fetches;
+        printf("occluders, %s: %d texel distances longer than exterior's; %d camera rays "
+               "exact; the camera over the walls reads %llu texels over the exterior map, "
+               "%llu over the walls'\n",
+               m ? "cc" : "safety", longer, 2 * NP, fetched[0], fetched[1]);
+        /* Not the map's occluders: none, fewer, or some for a map baked without. */
+        hf_trace_options none = o, fewer = o;
+        none.occluders = NULL;
+        none.occluder_count = 0;
+        fewer.occluder_count = 7;
+        memset(got, 0x5A, sizeof got);
+        CHECK_BAD(hf_trace_batch(f, me, omap, olen, &none, rays, NP, got, NP),
+                  HF_ERR_MAP_MISMATCH, got, sizeof(hf_hit) * NP);
+        CHECK_BAD(hf_trace(f, me, omap, olen, &fewer, &rays[0], &h), HF_ERR_MAP_MISMATCH, &h,
+                  sizeof h);
+        CHECK_BAD(hf_trace_camera(f, me, emap, elen, &o, &cams[0], got, NP), HF_ERR_MAP_MISMATCH,
+                  got, sizeof(hf_hit) * NP);
+        free(emap);
+        free(omap);
+    }
+    /* Bad occluders: a footprint of zero area, a NaN corner, too many, NULL. */
+    hf_occluder bad[HF_MAX_OCCLUDERS + 1];
+    for (int k = 0; k <= HF_MAX_OCCLUDERS; k++) bad[k] = walls[k % 8];
+    hf_bake_options bo = bake_defaults(HF_METHOD_SAFETY);
+    bo.exterior = 1;
+    bo.occluders = bad;
+    size_t len = 0;
+    CHECK_OK(hf_map_len(HF_METHOD_SAFETY, W, H, &bo, &len));
+    unsigned char *map = (unsigned char *)calloc(len, 1);
+    for (int c = 0; c < 4; c++) {
+        bad[0] = walls[0];
+        bo.occluder_count = 1;
+        hf_result want = HF_ERR_INVALID_ARGUMENT;
+        if (c == 0) memcpy(bad[0].corners[2], bad[0].corners[0], sizeof bad[0].corners[0]);
+        if (c == 1) bad[0].corners[1][2] = NAN;
+        if (c == 2) bo.occluder_count = HF_MAX_OCCLUDERS + 1;
+        if (c == 3) {
+            bo.occluders = NULL;
+            want = HF_ERR_NULL_POINTER;
+        }
+        CHECK_BAD(hf_bake(HF_METHOD_SAFETY, f, &bo, map, len), want, map, len);
+        hf_trace_options to;
+        CHECK_OK(hf_trace_options_default(&to));
+        to.occluders = bo.occluders;
+        to.occluder_count = bo.occluder_count;
+        hf_hit h;
+        CHECK_BAD(hf_trace(f, HF_METHOD_EXACT, NULL, 0, &to, &rays[0], &h), want, &h, sizeof h);
+    }
+    bo.occluders = bad;
+    bo.occluder_count = HF_MAX_OCCLUDERS;
+    CHECK_OK(hf_bake(HF_METHOD_SAFETY, f, &bo, map, len));
+    free(map);
+    free(exact);
+    hf_field_destroy(f);
+}
+
 /* hf_trace_camera: its hits are hf_trace_batch's on hf_camera_ray's rays, bit for bit,
  * for each of `n` methods `all` of field `f` (W x H), at 1 and 2 threads; its shadow
  * pass is hf_shadow_ray then hf_trace per pixel (hf_shadow_ray_from_light when the maps
@@ -2237,10 +2380,11 @@ static void test_trace_options(void) {
     memset(&d, 0xAB, sizeof d);
     CHECK_OK(hf_trace_options_default(&d));
     int reserved_zero = 1;
-    for (int k = 0; k < 8; k++) reserved_zero &= d.reserved[k] == 0;
+    for (int k = 0; k < 5; k++) reserved_zero &= d.reserved[k] == 0;
     CHECK(d.surface == HF_SURFACE_TRIANGLES && d.ray_classes == 0 && d.steps == 64 &&
           d.binary_steps == 8 && d.radius_zero == HF_RADIUS_WALK && d.threads == 1 &&
-          d.simd == HF_SIMD_AUTO && d.horizon == HF_HORIZON_AUTO && reserved_zero);
+          d.simd == HF_SIMD_AUTO && d.horizon == HF_HORIZON_AUTO && d.occluders == NULL &&
+          d.occluder_count == 0 && reserved_zero);
     CHECK_BAD(hf_trace_options_default(NULL), HF_ERR_NULL_POINTER, nothing, 0);
 
     /* Every method's map of this field (NULL and 0 for the three without one): the
@@ -2274,7 +2418,7 @@ static void test_trace_options(void) {
         /* A nonzero reserved word, whichever, is refused; so is an unknown hf_simd or
          * hf_horizon. */
         memset(b, 0x5A, sizeof b);
-        for (int k = 0; k < 8; k++) {
+        for (int k = 0; k < 5; k++) {
             hf_trace_options o = d;
             o.reserved[k] = 1;
             CHECK_BAD(hf_trace(f, me, map, len, &o, &rays[0], &h), HF_ERR_INVALID_ARGUMENT, &h,
@@ -2408,6 +2552,7 @@ static void test_trace_options(void) {
     for (int m = 0; m < (int)HF_METHOD_COUNT; m++) free((void *)all[m].map);
     hf_field_destroy(f);
     check_horizon();
+    check_occluders();
 }
 
 /* ---- bake options, row counts, the methods without a map --------------------------- */
@@ -2429,10 +2574,11 @@ static void test_bake_defaults(void) {
     for (uint32_t m = HF_METHOD_EXACT; m < HF_METHOD_COUNT; m++) {
         const hf_bake_options d = bake_defaults(m);
         int zero = 1;
-        for (int k = 0; k < 7; k++) zero &= d.reserved[k] == 0;
+        for (int k = 0; k < 4; k++) zero &= d.reserved[k] == 0;
         CHECK(d.variant == HF_SAFETY_DIRECTIONAL && d.positive == 0 && d.cap == caps[m] &&
               d.slope == HF_CC_SLOPE_EXACT && d.ray_classes == 0 && d.tolerance == 0.0f &&
-              d.threads == 1 && d.exterior == 0 && d.max_view_angle_deg == 0.0f && zero);
+              d.threads == 1 && d.exterior == 0 && d.max_view_angle_deg == 0.0f &&
+              d.occluder_count == 0 && d.occluders == NULL && zero);
         uint32_t r_null = 77, r_def = 77;
         CHECK_OK(hf_bake_row_count(m, W, H, NULL, &r_null));
         CHECK_OK(hf_bake_row_count(m, W, H, &d, &r_def));

@@ -280,6 +280,9 @@ typedef uint32_t hf_impostor_combine;
 // field).
 #define HF_MAP_FINGERPRINT_KNOWN 1
 
+// The most occluders a map's ray set takes.
+#define HF_MAX_OCCLUDERS 64
+
 // Ray-class bit of `hf_scene::ray_classes`: rays with dx ≥ |dy|.
 #define HF_RAYS_X_POS 1
 
@@ -582,6 +585,17 @@ typedef uint32_t hf_impostor_frustum;
 // old and new heights).
 typedef struct hf_field hf_field;
 
+// A static occluder: the solid under a triangle, every point at or below it over its
+// footprint (a wall's or a mountain's top around the field). `corners` are `[x, y,
+// z]` in grid units (the field's frame, before any world transform), finite, with a
+// footprint (x, y) of non-zero area. A map baked over occluders serves only the rays
+// whose line, up to where it leaves the field's footprint, never dips under one;
+// every other ray walks cell by cell (exact). docs/DESIGN.md, "Ray sets".
+typedef struct hf_occluder {
+  // The triangle's corners `[x, y, z]`.
+  float corners[3][3];
+} hf_occluder;
+
 // How a method's map is baked. Pass NULL for the method's defaults, or start from
 // `hf_bake_options_default` and change fields. Each bake reads the fields whose
 // comment names its method and ignores the others, which must still hold valid values
@@ -623,8 +637,19 @@ typedef struct hf_bake_options {
   // φmax = −45°); 0 (the default) is 180, every direction. Recorded and guarded as
   // `exterior`.
   float max_view_angle_deg;
+  // Safety distances, cylinder–cone shapes: how many `occluders` there are, at most
+  // `HF_MAX_OCCLUDERS` (0, the default: none).
+  uint32_t occluder_count;
+  // Safety distances, cylinder–cone shapes: static occluders around the field (the
+  // solids under these triangles, `hf_occluder`): the map serves only the rays whose
+  // line passes over every one (longer steps for them), and the descriptor records
+  // the list's fingerprint. Every trace over the map must pass the same list
+  // (`hf_trace_options::occluders`); `hf_trace` walks any other ray cell by cell
+  // (still exact). NULL with a count of 0 (the default): none. Read during the
+  // call only.
+  const struct hf_occluder *occluders;
   // Room for later options: must be 0.
-  uint32_t reserved[7];
+  uint32_t reserved[4];
 } hf_bake_options;
 
 // A pinhole camera in the field's world units (grid units for a field without a
@@ -705,8 +730,15 @@ typedef struct hf_trace_options {
   // comparison). The hits do not depend on it; `fetches` and `clearance` (a lower
   // bound either way) do.
   uint32_t horizon;
+  // The occluders a safety or cylinder–cone map was baked over
+  // (`hf_bake_options::occluders`): the same list, in the same order, for every
+  // trace over such a map (else `HF_ERR_MAP_MISMATCH`), NULL and 0 (the default)
+  // for any other map. Read during the call only.
+  const struct hf_occluder *occluders;
+  // How many `occluders` there are, at most `HF_MAX_OCCLUDERS`.
+  uint32_t occluder_count;
   // Room for later options: must be 0 (else `HF_ERR_INVALID_ARGUMENT`).
-  uint32_t reserved[8];
+  uint32_t reserved[5];
 } hf_trace_options;
 
 // The answer to one query. On a miss `hit` is 0 and every field but `fetches`,

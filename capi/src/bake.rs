@@ -6,11 +6,12 @@
 use crate::detail::fail;
 use crate::hf_result::{self, *};
 use crate::mapdesc::{elems, room, stamp, Texel};
+use crate::occluder::{hf_occluder, mismatch, occluders_of};
 use crate::ptr::Named;
 use crate::{guard, hf_field, ptr};
 use hfcore::bake::{self, Spec};
 use hfcore::ktx2::{DataMut, Desc, MapKind};
-use hfcore::rayset::Rays;
+use hfcore::rayset::{Occluder, Rays};
 use hfcore::scene::{MethodKind, RayClasses};
 use hfcore::HeightField;
 use std::ffi::c_void;
@@ -59,8 +60,19 @@ pub struct hf_bake_options {
     /// φmax = −45°); 0 (the default) is 180, every direction. Recorded and guarded as
     /// `exterior`.
     pub max_view_angle_deg: f32,
+    /// Safety distances, cylinder–cone shapes: how many `occluders` there are, at most
+    /// `HF_MAX_OCCLUDERS` (0, the default: none).
+    pub occluder_count: u32,
+    /// Safety distances, cylinder–cone shapes: static occluders around the field (the
+    /// solids under these triangles, `hf_occluder`): the map serves only the rays whose
+    /// line passes over every one (longer steps for them), and the descriptor records
+    /// the list's fingerprint. Every trace over the map must pass the same list
+    /// (`hf_trace_options::occluders`); `hf_trace` walks any other ray cell by cell
+    /// (still exact). NULL with a count of 0 (the default): none. Read during the
+    /// call only.
+    pub occluders: *const hf_occluder,
     /// Room for later options: must be 0.
-    pub reserved: [u32; 7],
+    pub reserved: [u32; 4],
 }
 
 impl hf_bake_options {
@@ -76,16 +88,20 @@ impl hf_bake_options {
             threads: 1,
             exterior: 0,
             max_view_angle_deg: 0.0,
-            reserved: [0; 7],
+            occluder_count: 0,
+            occluders: core::ptr::null(),
+            reserved: [0; 4],
         }
     }
 }
 
 /// A checked bake: the core's spec and the thread count, or `None` for a method that
 /// bakes no map.
-pub(crate) struct Checked {
+pub(crate) struct Checked<'a> {
     pub(crate) spec: Option<Spec>,
     threads: u32,
+    /// The options' occluders (their fingerprint is in the spec's ray set).
+    occluders: &'a [Occluder],
 }
 
 /// A two-valued option (a flag or a two-variant enum): 0 or 1, else `code` with the
@@ -103,12 +119,12 @@ fn binary(v: u32, code: hf_result, why: &str) -> Result<bool, hf_result> {
 ///
 /// # Safety
 /// `options` NULL or valid for reading one `hf_bake_options`.
-pub(crate) unsafe fn checked(
+pub(crate) unsafe fn checked<'a>(
     method: u32,
     width: u32,
     height: u32,
     options: *const hf_bake_options,
-) -> Result<Checked, hf_result> {
+) -> Result<Checked<'a>, hf_result> {
     let kind = crate::built_method_of(method)?;
     let o = match options.is_null() {
         true => hf_bake_options::default_for(kind),
@@ -147,12 +163,16 @@ pub(crate) unsafe fn checked(
             0.0 => 180.0,
             a => a,
         },
+        occluders: 0,
     }
     .validate()
     .map_err(|_| {
         let why = "options.max_view_angle_deg: must be 0 or in (0, 180]";
         fail(HF_ERR_INVALID_ARGUMENT, why)
     })?;
+    // SAFETY: the caller promises the options' occluders are readable.
+    let occluders = unsafe { occluders_of(o.occluders, o.occluder_count, "occluders") }?;
+    let rays = rays.passing_over(occluders).map_err(mismatch)?;
     if !o.tolerance.is_finite() || o.tolerance < 0.0 {
         let why = "options.tolerance: must be finite and at least 0";
         return Err(fail(HF_ERR_INVALID_ARGUMENT, why));
@@ -177,6 +197,7 @@ pub(crate) unsafe fn checked(
     Ok(Checked {
         spec,
         threads: o.threads,
+        occluders,
     })
 }
 
@@ -188,6 +209,7 @@ impl From<bake::Error> for hf_result {
                 HF_ERR_INVALID_ARGUMENT
             }
             bake::Error::NotBuilt(_) => HF_ERR_NOT_BUILT,
+            bake::Error::Occluders(e) => mismatch(e),
         }
     }
 }
@@ -366,8 +388,8 @@ unsafe fn bake_job(
         // SAFETY: the caller's promises for the job's buffers, passed on.
         unsafe {
             match spec.is_float() {
-                true => job.run::<f32>(f, &spec, c.threads),
-                false => job.run::<u8>(f, &spec, c.threads),
+                true => job.run::<f32>(f, &spec, c.threads, c.occluders),
+                false => job.run::<u8>(f, &spec, c.threads, c.occluders),
             }
         }
     })
@@ -383,6 +405,7 @@ impl Job {
         f: &hf_field,
         spec: &Spec,
         threads: u32,
+        occluders: &[Occluder],
     ) -> Result<(), hf_result> {
         match self {
             Job::Prepare(_, _) if spec.scratch_len() == 0 => Ok(()),
@@ -398,10 +421,12 @@ impl Job {
                     _ => unsafe { ptr::slice(scratch.0, scratch.1) }.named("scratch")?,
                 };
                 // SAFETY: the caller's promises for `map`, passed on.
-                unsafe { rows_of::<T>(f, spec, scratch, rows, map.0, map.1) }
+                unsafe { rows_of::<T>(f, spec, occluders, scratch, rows, map.0, map.1) }
             }
             // SAFETY: the caller's promises for the map, passed on.
-            Job::Whole(map, map_len) => unsafe { whole::<T>(f, spec, threads, map, map_len) },
+            Job::Whole(map, map_len) => unsafe {
+                whole::<T>(f, spec, (threads, occluders), map, map_len)
+            },
         }
     }
 }
@@ -486,6 +511,7 @@ impl Out for u8 {
 unsafe fn rows_of<T: Out>(
     f: &hf_field,
     spec: &Spec,
+    occluders: &[Occluder],
     scratch: &[f32],
     rows: Range<u32>,
     map: *mut c_void,
@@ -511,7 +537,7 @@ unsafe fn rows_of<T: Out>(
     // SAFETY: inside the caller's buffer (length checked), this call's alone (the
     // documented contract).
     let out = unsafe { ptr::slice_mut(map.add(rows.start as usize * row), rows.len() * row) }?;
-    spec.bake_rows(f.view(), scratch, rows.clone(), T::data(out))?;
+    spec.bake_rows_over(f.view(), occluders, scratch, rows.clone(), T::data(out))?;
     if rows.start == 0 {
         // SAFETY: the descriptor follows the texels (length checked); only the call
         // whose rows start at 0 writes it.
@@ -551,7 +577,7 @@ pub unsafe extern "C" fn hf_bake(
 unsafe fn whole<T: Out + Send>(
     f: &hf_field,
     spec: &Spec,
-    threads: u32,
+    (threads, occluders): (u32, &[Occluder]),
     map: *mut c_void,
     map_len: usize,
 ) -> Result<(), hf_result> {
@@ -561,7 +587,7 @@ unsafe fn whole<T: Out + Send>(
     room::<T>(map_len, texels, "map_len")?;
     let hf = f.view();
     let (texel_out, slot) = out.split_at_mut(texels);
-    bake_threaded(hf, spec, threads, texel_out)?;
+    bake_threaded(hf, spec, (threads, occluders), texel_out)?;
     stamp(f, spec.desc, texels, slot);
     Ok(())
 }
@@ -570,7 +596,7 @@ unsafe fn whole<T: Out + Send>(
 fn bake_threaded<T: Out + Send>(
     hf: &HeightField,
     spec: &Spec,
-    threads: u32,
+    (threads, occluders): (u32, &[Occluder]),
     out: &mut [T],
 ) -> Result<(), hf_result> {
     #[cfg(feature = "maxmip")]
@@ -592,7 +618,7 @@ fn bake_threaded<T: Out + Send>(
         8,
         threads,
         out,
-        |rows, chunk| spec.bake_rows(hf, scratch, rows, T::data(chunk)),
+        |rows, chunk| spec.bake_rows_over(hf, occluders, scratch, rows, T::data(chunk)),
     )?;
     Ok(())
 }

@@ -37,6 +37,7 @@ pub mod mapdesc;
 pub mod maps;
 #[cfg(feature = "maxmip")]
 pub mod maxmip;
+pub mod occluder;
 mod par;
 mod ptr;
 pub mod scene;

@@ -2,6 +2,7 @@
 
 use crate::detail::fail_at;
 use crate::hf_result::{self, *};
+use crate::occluder::{hf_occluder, mismatch, occluders_of};
 use crate::ptr::Named;
 use crate::{guard, hf_field, ptr, surface_of};
 use hfcore::condition::{condition, condition_query, Local};
@@ -179,8 +180,15 @@ pub struct hf_trace_options {
     /// comparison). The hits do not depend on it; `fetches` and `clearance` (a lower
     /// bound either way) do.
     pub horizon: u32,
+    /// The occluders a safety or cylinder–cone map was baked over
+    /// (`hf_bake_options::occluders`): the same list, in the same order, for every
+    /// trace over such a map (else `HF_ERR_MAP_MISMATCH`), NULL and 0 (the default)
+    /// for any other map. Read during the call only.
+    pub occluders: *const hf_occluder,
+    /// How many `occluders` there are, at most `HF_MAX_OCCLUDERS`.
+    pub occluder_count: u32,
     /// Room for later options: must be 0 (else `HF_ERR_INVALID_ARGUMENT`).
-    pub reserved: [u32; 8],
+    pub reserved: [u32; 5],
 }
 
 /// Whether a batch may use SIMD lanes (`hf_trace_options::simd`). Passed as `uint32_t`.
@@ -222,7 +230,9 @@ impl Default for hf_trace_options {
             threads: 1,
             simd: hf_simd::HF_SIMD_AUTO as u32,
             horizon: hf_horizon::HF_HORIZON_AUTO as u32,
-            reserved: [0; 8],
+            occluders: core::ptr::null(),
+            occluder_count: 0,
+            reserved: [0; 5],
         }
     }
 }
@@ -344,9 +354,12 @@ pub(crate) unsafe fn marcher<'a>(
         // SAFETY: the caller promises non-NULL options are readable.
         false => *unsafe { ptr::get(options) }.named("options")?,
     };
+    // SAFETY: the caller promises the options' occluders are readable.
+    let occluders = unsafe { occluders_of(o.occluders, o.occluder_count, "occluders") }?;
     let o = TraceOptions::of(kind, &o)?;
     // SAFETY: the caller's promise, passed on.
     let m = unsafe { crate::maps::marcher(kind, f, map, map_len, &o) }?;
+    let m = m.with_occluders(occluders).map_err(mismatch)?;
     Ok((m, o))
 }
 

@@ -49,6 +49,8 @@ pub enum Error {
     WrongType,
     /// The map's method is not in this build (its Cargo feature is off).
     NotBuilt(MapKind),
+    /// The occluders are not the ray set's ([`crate::rayset::Rays::check_occluders`]).
+    Occluders(crate::rayset::RaysError),
 }
 
 impl fmt::Display for Error {
@@ -59,6 +61,7 @@ impl fmt::Display for Error {
             Error::WrongField => write!(f, "the field is not of the map's size"),
             Error::WrongType => write!(f, "the output's element type is not the map's"),
             Error::NotBuilt(m) => write!(f, "{} maps are not in this build", m.method()),
+            Error::Occluders(e) => e.fmt(f),
         }
     }
 }
@@ -166,7 +169,8 @@ impl Spec {
     /// Bakes rows `rows` of `hf`'s map into `out`, which holds those rows only
     /// ([`Spec::row_len`] elements a row, from element `rows.start · row_len` of the
     /// whole map), reading the `scratch` [`Spec::prepare`] filled. Rows are independent:
-    /// any job system may bake disjoint ranges at once.
+    /// any job system may bake disjoint ranges at once. A ray set with occluders is
+    /// baked without them (safe for it, less tight): [`Spec::bake_rows_over`] takes them.
     pub fn bake_rows(
         &self,
         hf: &HeightField,
@@ -174,7 +178,24 @@ impl Spec {
         rows: Range<u32>,
         out: DataMut,
     ) -> Result<(), Error> {
+        self.bake_rows_over(hf, &[], scratch, rows, out)
+    }
+
+    /// [`Spec::bake_rows`] with the occluders of the description's ray set (refused
+    /// unless they are the set's; none for a set without occluders).
+    pub fn bake_rows_over(
+        &self,
+        hf: &HeightField,
+        occluders: &[crate::rayset::Occluder],
+        scratch: &[f32],
+        rows: Range<u32>,
+        out: DataMut,
+    ) -> Result<(), Error> {
         self.check_field(hf)?;
+        if !occluders.is_empty() {
+            let rays = self.desc.rays;
+            rays.check_occluders(occluders).map_err(Error::Occluders)?;
+        }
         if rows.start > rows.end || rows.end > self.rows() {
             return Err(BufferError::BadRows.into());
         }
@@ -192,7 +213,7 @@ impl Spec {
         if self.is_float() != matches!(out, DataMut::F32(_)) {
             return Err(Error::WrongType);
         }
-        let _ = (scratch, &rows);
+        let _ = (scratch, &rows, occluders);
         match (self.desc.map, out) {
             (MapKind::Heights, DataMut::F32(out)) => {
                 let w = hf.width() as usize;
@@ -229,7 +250,7 @@ impl Spec {
                     cap: self.desc.cap,
                 };
                 let classes = self.desc.classes;
-                let rays = self.desc.rays.on(hf);
+                let rays = self.rays_on(hf, occluders);
                 Ok(safety::bake_rows_classes(
                     hf, scratch, &rays, classes, rows, opts, out,
                 )?)
@@ -251,7 +272,7 @@ impl Spec {
                     hf,
                     strips,
                     nb,
-                    &self.desc.rays.on(hf),
+                    &self.rays_on(hf, occluders),
                     self.desc.classes,
                     rows,
                     opts,
@@ -268,6 +289,18 @@ impl Spec {
             }
             (m, _) => Err(Error::NotBuilt(m)),
         }
+    }
+
+    /// The description's ray set as the bake tests it, with `occluders` (checked by
+    /// [`Spec::bake_rows_over`]) where given.
+    #[cfg(feature = "safety")]
+    fn rays_on<'a>(
+        &self,
+        hf: &'a HeightField<'a>,
+        occluders: &'a [crate::rayset::Occluder],
+    ) -> crate::safety::RaysOn<'a> {
+        let rays = self.desc.rays;
+        rays.on_over(hf, occluders).unwrap_or_else(|_| rays.on(hf))
     }
 
     /// Prepares `scratch` and bakes every row of `hf`'s map into `out` (at least
@@ -311,6 +344,16 @@ impl Texels {
 impl Spec {
     /// Bakes `hf`'s whole map into buffers of its own, one thread.
     pub fn bake_owned(&self, hf: &HeightField) -> Result<Texels, Error> {
+        self.bake_owned_over(hf, &[])
+    }
+
+    /// [`Spec::bake_owned`] with the occluders of the description's ray set
+    /// ([`Spec::bake_rows_over`]).
+    pub fn bake_owned_over(
+        &self,
+        hf: &HeightField,
+        occluders: &[crate::rayset::Occluder],
+    ) -> Result<Texels, Error> {
         let n = self.map_len()?;
         let mut scratch = alloc::vec![0.0; self.scratch_len()];
         let mut out = match self.is_float() {
@@ -321,7 +364,8 @@ impl Spec {
             Texels::F32(v) => DataMut::F32(v),
             Texels::U8(v) => DataMut::U8(v),
         };
-        self.bake(hf, &mut scratch, data)?;
+        self.prepare(hf, &mut scratch)?;
+        self.bake_rows_over(hf, occluders, &scratch, 0..self.rows(), data)?;
         Ok(out)
     }
 }

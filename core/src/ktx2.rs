@@ -427,10 +427,11 @@ impl Texture {
 }
 
 /// The metadata of a file: `(key, value)` sorted by key.
-type Metadata = heapless::Vec<(&'static str, heapless::String<64>), 9>;
+type Metadata = heapless::Vec<(&'static str, heapless::String<96>), 9>;
 
-/// A metadata value from its display form (always fits: the longest is a tolerance).
-fn text(v: impl fmt::Display) -> heapless::String<64> {
+/// A metadata value from its display form (always fits: the longest is a ray set with
+/// a tiny angle, under 80 bytes).
+fn text(v: impl fmt::Display) -> heapless::String<96> {
     let mut s = heapless::String::new();
     let _ = write!(s, "{v}");
     s
@@ -471,7 +472,7 @@ const CLASS_NAMES: [&str; 4] = ["x+", "x-", "y+", "y-"];
 /// The metadata [`write()`] stores for `d` (normalized), sorted by key.
 fn metadata(d: &Desc) -> Metadata {
     let mut m = Metadata::new();
-    let mut put = |k: &'static str, v: heapless::String<64>| {
+    let mut put = |k: &'static str, v: heapless::String<96>| {
         let _ = m.push((k, v));
     };
     put("KTXwriter", text(WRITER));
@@ -1124,6 +1125,18 @@ mod tests {
         let view = read(&file[..n]).unwrap();
         assert_eq!(view.text("hfcast.ray_set"), Some("exterior,angle:45"));
         assert_eq!(view.desc(), Ok(narrowed));
+        // The longest set's text: a tiny angle (printed without an exponent) and
+        // occluders.
+        let longest = Desc {
+            rays: Rays {
+                max_view_angle_deg: f32::MIN_POSITIVE,
+                occluders: 0xabcdef,
+                ..Rays::EXTERIOR
+            },
+            ..d
+        };
+        let n = write(&longest, Data::U8(&data), &mut file).unwrap();
+        assert_eq!(read(&file[..n]).unwrap().desc(), Ok(longest));
         // A radius map keeps no such set.
         let radius = Desc {
             rays: Rays::EXTERIOR,

@@ -12,7 +12,8 @@
 //! **Layout** (little-endian, [`LEN`] bytes): `0` magic `HFMD`; `4` u32 layout
 //! version ([`VERSION`]); `8` u32 map (`MapKind` value); `12`, `16` u32 width,
 //! height; `20` u32 cap; `24` u32 ray-class bits; `28` f32 tolerance (the radius
-//! bake's ray set); `32` u64 fingerprint; `40` u32 ray-set flags (bit 0: exterior rays only); `44` f32
+//! bake's ray set); `32` u64 fingerprint; `40` u32 ray-set flags (bit 0: exterior rays only; bit 1: over occluders, their
+//! 24-bit fingerprint in bits 8–31); `44` f32
 //! largest view angle of the ray set (0: any, 180°); `48` u64 texel bytes;
 //! `56` u32 flags ([`FINGERPRINT_KNOWN`]); `60` u32 FNV-1a hash of bytes 0–59.
 
@@ -79,7 +80,8 @@ impl MapDescriptor {
         } else {
             0
         };
-        let rays = u64::from(d.rays.exterior) | angle << 32;
+        let occluded = u32::from(d.rays.occluders != 0) << 1 | d.rays.occluders << 8;
+        let rays = u64::from(u32::from(d.rays.exterior) | occluded) | angle << 32;
         let longs = [d.fingerprint.unwrap_or(0), rays, self.texel_bytes];
         for (k, v) in longs.iter().enumerate() {
             b[32 + 8 * k..40 + 8 * k].copy_from_slice(&v.to_le_bytes());
@@ -105,7 +107,11 @@ impl MapDescriptor {
         if word(4) != VERSION {
             return Err(DescriptorError::Version(word(4)));
         }
-        if word(60) != fnv1a(&b[..60]) || word(56) & !FINGERPRINT_KNOWN != 0 || word(40) > 1 {
+        if word(60) != fnv1a(&b[..60])
+            || word(56) & !FINGERPRINT_KNOWN != 0
+            || word(40) & 0xfc != 0
+            || (word(40) & 2 != 0) != (word(40) >> 8 != 0)
+        {
             return Err(DescriptorError::Corrupt);
         }
         let map = MapKind::from_u32(word(8)).ok_or(DescriptorError::Corrupt)?;
@@ -116,7 +122,8 @@ impl MapDescriptor {
         desc.classes = RayClasses(classes);
         desc.tolerance = f32::from_bits(word(28));
         desc.rays = crate::rayset::Rays {
-            exterior: word(40) == 1,
+            exterior: word(40) & 1 == 1,
+            occluders: word(40) >> 8,
             max_view_angle_deg: match word(44) {
                 0 => 180.0,
                 bits => f32::from_bits(bits),
@@ -185,7 +192,12 @@ mod tests {
         let mut unknown = d;
         unknown.desc.fingerprint = None;
         assert_eq!(MapDescriptor::decode(&unknown.encode()), Ok(unknown));
-        for rays in ["exterior", "angle:45", "exterior,angle:120.5"] {
+        for rays in [
+            "exterior",
+            "angle:45",
+            "exterior,angle:120.5",
+            "exterior,occluders:a1b2c3",
+        ] {
             let mut narrowed = d;
             narrowed.desc.rays = rays.parse().unwrap();
             assert_eq!(

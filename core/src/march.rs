@@ -226,6 +226,25 @@ impl<'a> Marcher<'a> {
         }
     }
 
+    /// The same marcher with the occluders its map's ray set passes over
+    /// ([`SafetyMap::with_occluders`](crate::safety::SafetyMap::with_occluders); refused
+    /// unless they are the set's). Methods without a ray set take none.
+    pub fn with_occluders(
+        self,
+        occluders: &'a [crate::rayset::Occluder],
+    ) -> Result<Self, crate::rayset::RaysError> {
+        Ok(match self {
+            #[cfg(feature = "safety")]
+            Marcher::Safety(map, s) => Marcher::Safety(map.with_occluders(occluders)?, s),
+            #[cfg(feature = "safety")]
+            Marcher::Cc(map, s) => Marcher::Cc(map.with_occluders(occluders)?, s),
+            other => {
+                crate::rayset::Rays::ALL.check_occluders(occluders)?;
+                other
+            }
+        })
+    }
+
     /// The surface whose [`dda::trace`] this marcher's hits equal bit for bit (the
     /// exact DDA, and the maximum mipmap with exact options): the marches a coherent
     /// batch may replace, after its horizon's start, by [`dda::trace_skipping`].

@@ -52,7 +52,7 @@ use crate::surface::{corners, triangle_planes, Surface};
 pub mod cc;
 pub mod rays;
 
-pub use crate::rayset::{Rays, RaysError};
+pub use crate::rayset::{Occluder, Rays, RaysError};
 pub use rays::{RaysOn, Witness};
 
 /// Cells per strip of the bake's bound (along the minor axis of a class).
@@ -787,6 +787,7 @@ pub struct SafetyMap<'a> {
     variant: Variant,
     classes: RayClasses,
     rays: Rays,
+    occluders: &'a [Occluder],
 }
 
 impl<'a> SafetyMap<'a> {
@@ -814,6 +815,7 @@ impl<'a> SafetyMap<'a> {
             variant,
             classes,
             rays: Rays::ALL,
+            occluders: &[],
         })
     }
 
@@ -827,6 +829,19 @@ impl<'a> SafetyMap<'a> {
     /// The rays the map is baked for.
     pub fn rays(&self) -> Rays {
         self.rays
+    }
+
+    /// The same map with the occluders its set passes over ([`Rays::occluders`];
+    /// refused unless they are the set's). Without them a map baked for occluders
+    /// holds no ray: every ray walks cell by cell (exact).
+    pub fn with_occluders(self, occluders: &'a [Occluder]) -> Result<Self, RaysError> {
+        self.rays.check_occluders(occluders)?;
+        Ok(SafetyMap { occluders, ..self })
+    }
+
+    /// The occluders given with [`SafetyMap::with_occluders`].
+    pub fn occluders(&self) -> &'a [Occluder] {
+        self.occluders
     }
 
     /// The layout.
@@ -1167,7 +1182,7 @@ pub fn trace_on<R: Real>(
     surface: MarchSurface,
     q: &Query<R>,
 ) -> Trace<R> {
-    let held = map.rays.holds(hf, q);
+    let held = map.rays.holds(hf, map.occluders, q);
     march_with(hf, surface, q, |class| {
         // A class the map does not hold, or a ray outside its set: distance 0 (zero
         // jumps, exact).

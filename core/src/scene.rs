@@ -623,6 +623,7 @@ impl Scene {
         let scene_rays = crate::rayset::Rays {
             exterior: self.outside_only,
             max_view_angle_deg: self.max_view_angle_deg,
+            occluders: 0,
         };
         let scene_rays = match scene_rays.validate() {
             Ok(r) if self.shadows != Shadows::FromSurface => r,

@@ -13,7 +13,7 @@ use common::{judge_trace, march_fields, rays_with_grazing, Field, RaySpec, Rng, 
 use hfcast::bake::{Spec, Texels};
 use hfcast::ktx2::{Desc, MapKind};
 use hfcast::safety::cc::{CcMap, CcOptions, Slope};
-use hfcast::safety::{self, MarchSurface, Rays, SafetyMap, Variant, Witness, CLASSES};
+use hfcast::safety::{self, MarchSurface, Occluder, Rays, SafetyMap, Variant, Witness, CLASSES};
 use hfcast::{dda, Marcher, Query, Real, Surface, Trace};
 
 const TRI: Surface = Surface::Triangles;
@@ -23,6 +23,7 @@ fn sets() -> [(&'static str, Rays); 4] {
     let angle = |exterior, deg| Rays {
         exterior,
         max_view_angle_deg: deg,
+        occluders: 0,
     };
     [
         ("exterior", Rays::EXTERIOR),
@@ -38,6 +39,20 @@ fn fields() -> Vec<(String, Field)> {
 
 /// `field`'s map `map` baked for `rays` through the one bake interface.
 fn bake_for(field: &Field, map: MapKind, rays: Rays, nbuffer_slope: bool) -> Vec<u8> {
+    bake_with(field, map, (rays, &[]), nbuffer_slope)
+}
+
+/// [`bake_for`] with the set's occluders (exact cone slopes).
+fn bake_over(field: &Field, map: MapKind, rays: Rays, occluders: &[Occluder]) -> Vec<u8> {
+    bake_with(field, map, (rays, occluders), false)
+}
+
+fn bake_with(
+    field: &Field,
+    map: MapKind,
+    (rays, occluders): (Rays, &[Occluder]),
+    nbuffer_slope: bool,
+) -> Vec<u8> {
     let spec = Spec {
         nbuffer_slope,
         ..Spec::new(Desc {
@@ -45,7 +60,7 @@ fn bake_for(field: &Field, map: MapKind, rays: Rays, nbuffer_slope: bool) -> Vec
             ..Desc::new(map, field.w, field.h)
         })
     };
-    match spec.bake_owned(&field.hf()).unwrap() {
+    match spec.bake_owned_over(&field.hf(), occluders).unwrap() {
         Texels::U8(v) => v,
         Texels::F32(_) => unreachable!("8-bit maps"),
     }
@@ -141,13 +156,13 @@ fn judge_all(
     name: &str,
     field: &Field,
     m: &Marcher,
-    rays: Rays,
+    (rays, occluders): (Rays, &[Occluder]),
     specs: &[RaySpec],
     held: &mut u64,
 ) -> Tally {
     let mut t = Tally::new(name);
     for s in specs {
-        *held += u64::from(rays.holds(&field.hf(), &s.q64()));
+        *held += u64::from(rays.holds(&field.hf(), occluders, &s.q64()));
         judge_one(field, m, &s.q32(), &mut t);
         judge_one(field, m, &s.q64(), &mut t);
     }
@@ -205,7 +220,7 @@ fn zero_wrong_rays_for_every_set() {
                     &format!("{name} {set_name} {what}"),
                     &field,
                     &m,
-                    rays,
+                    (rays, &[]),
                     &specs,
                     &mut held,
                 );
@@ -242,7 +257,7 @@ fn the_guard_matters() {
             qs.extend(inside_witnesses(&field, &all, &data));
             let map = SafetyMap::new(&hf, &data, Variant::Directional).unwrap();
             for q in &qs {
-                if rays.holds(&hf, q) {
+                if rays.holds(&hf, &[], q) {
                     continue;
                 }
                 tried += 1;
@@ -344,71 +359,79 @@ fn narrower_sets_have_longer_distances() {
 fn witnesses_show_distance_plus_one_is_wrong() {
     let mut rng = Rng::new(0x717);
     for (set_name, rays) in sets() {
-        let (mut sampled, mut shown, mut gave_up) = (0u64, 0u64, 0u64);
-        let (mut exits, mut lands) = (0u64, 0u64);
-        for (_, field) in fields().into_iter().take(8) {
-            let hf = field.hf();
-            let (w, h) = (field.w, field.h);
-            if w < 8 || h < 8 {
+        witnesses_of(set_name, |_| (rays, Vec::new()), &mut rng);
+    }
+}
+
+/// [`witnesses_show_distance_plus_one_is_wrong`] for the set (and occluders) that
+/// `set_of` gives each field.
+fn witnesses_of(set_name: &str, set_of: impl Fn(&Field) -> (Rays, Vec<Occluder>), rng: &mut Rng) {
+    let (mut sampled, mut shown, mut gave_up) = (0u64, 0u64, 0u64);
+    let (mut exits, mut lands) = (0u64, 0u64);
+    for (_, field) in fields().into_iter().take(8) {
+        let hf = field.hf();
+        let (w, h) = (field.w, field.h);
+        if w < 8 || h < 8 {
+            continue;
+        }
+        let (rays, occluders) = set_of(&field);
+        let data = bake_over(&field, MapKind::Safety, rays, &occluders);
+        let set = rays.on_over(&hf, &occluders).unwrap();
+        for _ in 0..120 {
+            let (i, j) = (rng.below(w as usize) as u32, rng.below(h as usize) as u32);
+            let class = CLASSES[rng.below(4)];
+            let k = u32::from(data[safety::texel_offset(w, Variant::Directional, class, i, j)]);
+            let (ax, sg) = common::class_axis(class);
+            let (m, lm) = if ax == 0 { (i, w) } else { (j, h) };
+            let ahead = if sg > 0.0 { lm - 1 - m } else { m };
+            if k >= ahead || k == 255 {
                 continue;
             }
-            let data = bake_sd(&field, rays, Variant::Directional);
-            let set = rays.on(&hf);
-            for _ in 0..120 {
-                let (i, j) = (rng.below(w as usize) as u32, rng.below(h as usize) as u32);
-                let class = CLASSES[rng.below(4)];
-                let k = u32::from(data[safety::texel_offset(w, Variant::Directional, class, i, j)]);
-                let (ax, sg) = common::class_axis(class);
-                let (m, lm) = if ax == 0 { (i, w) } else { (j, h) };
-                let ahead = if sg > 0.0 { lm - 1 - m } else { m };
-                if k >= ahead || k == 255 {
-                    continue;
-                }
-                sampled += 1;
-                let (mut any, mut exit, mut land) = (false, false, false);
-                for lower in [1e-6, 1e-3, 0.1, 0.5, 0.9] {
-                    match set.witness(class, i, j, k, lower) {
-                        Witness::Ray(q) => {
-                            any = true;
-                            let verdict = witness_checks(&field, rays, &q, ax, sg, m, k);
-                            exit |= verdict.is_some();
-                            land |= verdict == Some(true);
-                            if land {
-                                break;
-                            }
-                        }
-                        Witness::NoRay => {
-                            gave_up += 1;
+            sampled += 1;
+            let (mut any, mut exit, mut land) = (false, false, false);
+            for lower in [1e-6, 1e-3, 0.1, 0.5, 0.9] {
+                match set.witness(class, i, j, k, lower) {
+                    Witness::Ray(q) => {
+                        any = true;
+                        let at = (ax, sg, m, k);
+                        let verdict = witness_checks(&field, (rays, &occluders), &q, at);
+                        exit |= verdict.is_some();
+                        land |= verdict == Some(true);
+                        if land {
                             break;
                         }
-                        Witness::None => break,
                     }
+                    Witness::NoRay => {
+                        gave_up += 1;
+                        break;
+                    }
+                    Witness::None => break,
                 }
-                shown += u64::from(any);
-                exits += u64::from(exit);
-                lands += u64::from(land);
             }
+            shown += u64::from(any);
+            exits += u64::from(exit);
+            lands += u64::from(land);
         }
-        println!(
-            "{set_name}: {sampled} texels sampled: {shown} witnesses, {gave_up} without a \
-             ray to show (conservative); by the oracle {exits} exit the solid in column k, {lands} of them are \
-             above it where a jump of k + 1 lands"
-        );
-        assert!(sampled > 200, "{set_name}: {sampled} sampled");
-        assert_eq!(
-            shown + gave_up,
-            sampled,
-            "{set_name}: a texel without a witness"
-        );
-        assert!(
-            exits * 10 >= shown * 9,
-            "{set_name}: {exits} of {shown} witnesses exit"
-        );
-        assert!(
-            lands * 3 >= shown,
-            "{set_name}: {lands} of {shown} witnesses land above"
-        );
     }
+    println!(
+        "{set_name}: {sampled} texels sampled: {shown} witnesses, {gave_up} without a \
+         ray to show (conservative); by the oracle {exits} exit the solid in column k, \
+         {lands} of them are above it where a jump of k + 1 lands"
+    );
+    assert!(sampled > 200, "{set_name}: {sampled} sampled");
+    assert_eq!(
+        shown + gave_up,
+        sampled,
+        "{set_name}: a texel without a witness"
+    );
+    assert!(
+        exits * 10 >= shown * 9,
+        "{set_name}: {exits} of {shown} witnesses exit"
+    );
+    assert!(
+        lands * 3 >= shown,
+        "{set_name}: {lands} of {shown} witnesses land above"
+    );
 }
 
 /// What the oracle says of a witness `q` for the texel on centerline `m` and column
@@ -419,15 +442,12 @@ fn witnesses_show_distance_plus_one_is_wrong() {
 /// centerline, where a jump of `k + 1` would land (so that jump would skip the hit).
 fn witness_checks(
     field: &Field,
-    rays: Rays,
+    (rays, occluders): (Rays, &[Occluder]),
     q: &Query<f64>,
-    ax: usize,
-    sg: f64,
-    m: u32,
-    k: u32,
+    (ax, sg, m, k): (usize, f64, u32, u32),
 ) -> Option<bool> {
     let hf = field.hf();
-    if !rays.holds(&hf, q) {
+    if !rays.holds(&hf, occluders, q) {
         return None;
     }
     let (o, d) = (q.origin(), q.dir());
@@ -474,7 +494,7 @@ fn shadow_rays_from_the_light() {
                 let up = hit.shadow_query(&hf, TRI, light, m).unwrap();
                 let from_light = hit.shadow_query_from_light(&hf, TRI, light, m).unwrap();
                 assert!(
-                    Rays::EXTERIOR.holds(&hf, &from_light),
+                    Rays::EXTERIOR.holds(&hf, &[], &from_light),
                     "{name}: {from_light:?} does not start outside the box"
                 );
                 let (a, b) = (exact.trace(&hf, &up), exact.trace(&hf, &from_light));
@@ -493,8 +513,8 @@ fn shadow_rays_from_the_light() {
         // A set no ray here is in (none is within a thousandth of a degree of the
         // vertical): the guard walks every ray.
         let none = Rays {
-            exterior: true,
             max_view_angle_deg: 1e-3,
+            ..Rays::EXTERIOR
         };
         let maps = [Rays::EXTERIOR, none].map(|set| {
             [
@@ -540,4 +560,247 @@ fn shadow_rays_from_the_light() {
             "the maps' steps do not serve the light's rays"
         );
     }
+}
+
+/// Walls around `field` as occluders (each wall's top as two triangles, one texel out
+/// from the field, two thick). `ring`: four walls with level tops a fifth of the
+/// height range above the highest sample. Else three (none to the south) whose tops
+/// slope from the middle of the range up to above the highest sample: partly lower
+/// than the terrain, so rays come in over them at every height.
+fn walls_around(field: &Field, ring: bool) -> Vec<Occluder> {
+    let (xm, ym) = field.far_corner();
+    let (zlo, zhi) = field.range();
+    let zr = (zhi - zlo).max(1e-3);
+    let level = zhi + 0.2 * zr;
+    let top = |x: f64, y: f64| {
+        if ring {
+            level
+        } else {
+            zlo + 0.5 * zr + 0.7 * zr * (x / xm.max(1.0) + y / ym.max(1.0)) / 2.0
+        }
+    };
+    let (x0, x1, y0, y1) = (-3.0, xm + 3.0, -3.0, ym + 3.0);
+    let mut rects = vec![
+        (x0, -1.0, y0, y1),
+        (xm + 1.0, x1, y0, y1),
+        (x0, x1, ym + 1.0, y1),
+    ];
+    if ring {
+        rects.push((x0, x1, y0, -1.0));
+    }
+    let corner = |x: f64, y: f64| [x as f32, y as f32, top(x, y) as f32];
+    rects
+        .into_iter()
+        .flat_map(|(a, b, c, d)| {
+            [
+                [corner(a, c), corner(b, c), corner(b, d)],
+                [corner(a, c), corner(b, d), corner(a, d)],
+            ]
+        })
+        .map(|corners| Occluder { corners })
+        .collect()
+}
+
+/// The occluder sets under test on `field`: the exterior set over each kind of walls,
+/// and over the ring within 45° of the vertical.
+fn occluder_sets(field: &Field) -> Vec<(&'static str, Rays, Vec<Occluder>)> {
+    let over = |rays: Rays, ring| {
+        let walls = walls_around(field, ring);
+        (rays.passing_over(&walls).unwrap(), walls)
+    };
+    let phi = sets()[3].1;
+    let (a, b, c) = (
+        over(Rays::EXTERIOR, true),
+        over(Rays::EXTERIOR, false),
+        over(phi, true),
+    );
+    vec![
+        ("exterior occluder ring", a.0, a.1),
+        ("exterior occluder slopes", b.0, b.1),
+        ("exterior phi 45 occluder ring", c.0, c.1),
+    ]
+}
+
+/// Maps baked over occluders: 0 wrong rays against the oracle (rays of the set, which
+/// come in over the walls, and every other ray through the guard, in `f32` and `f64`),
+/// and no distance shorter than the set's without the occluders, some longer.
+#[test]
+fn occluders_zero_wrong_rays_and_longer_distances() {
+    let mut rng = Rng::new(0x0cc1);
+    let mut out = String::new();
+    let (mut wrong, mut tried, mut held) = (0, 0, 0);
+    let (mut sum_without, mut sum_with) = (0u64, 0u64);
+    for (name, field) in fields().into_iter().take(10) {
+        let hf = field.hf();
+        let mut specs = set_rays(&field, &mut rng, 240);
+        specs.extend(rays_with_grazing(&field, TRI, &mut rng, 12));
+        specs.extend(dipping_rays(&field, &mut rng, 300));
+        for (set_name, rays, walls) in occluder_sets(&field) {
+            let without = Rays {
+                occluders: 0,
+                ..rays
+            };
+            let sd_without = bake_sd(&field, without, Variant::Directional);
+            let sd = bake_over(&field, MapKind::Safety, rays, &walls);
+            let cc = bake_over(&field, MapKind::Cc, rays, &walls);
+            let shorter = sd.iter().zip(&sd_without).filter(|(a, b)| a < b).count();
+            assert_eq!(
+                shorter, 0,
+                "{name} {set_name}: shorter than without occluders"
+            );
+            sum_without += sd_without.iter().map(|&d| u64::from(d)).sum::<u64>();
+            sum_with += sd.iter().map(|&d| u64::from(d)).sum::<u64>();
+            let sd_map = SafetyMap::new(&hf, &sd, Variant::Directional).unwrap();
+            let cc_map = CcMap::new(&hf, &cc, CcOptions::default().cap).unwrap();
+            let marchers = [
+                (
+                    "SD",
+                    Marcher::Safety(sd_map.with_rays(rays), MarchSurface::Triangles),
+                ),
+                (
+                    "CC",
+                    Marcher::Cc(cc_map.with_rays(rays), MarchSurface::Triangles),
+                ),
+            ];
+            for (what, m) in marchers {
+                let m = m.with_occluders(&walls).unwrap();
+                let j = judge_all(
+                    &format!("{name} {set_name} {what}"),
+                    &field,
+                    &m,
+                    (rays, &walls),
+                    &specs,
+                    &mut held,
+                );
+                wrong += j.wrong;
+                tried += j.tried;
+                j.report(&mut out);
+            }
+        }
+    }
+    println!("{out}");
+    println!(
+        "{tried} traces, {held} of their rays in the map's set; safety distances summed: \
+         {sum_without} without the occluders, {sum_with} with them"
+    );
+    assert!(held > 5_000, "too few rays of the sets: {held}");
+    assert!(
+        sum_with > sum_without,
+        "the occluders lengthened no distance"
+    );
+    assert_eq!(wrong, 0, "wrong rays");
+}
+
+/// A map over occluders must be read with them: the guard of the exterior set alone
+/// (the same bytes read as an exterior map) gets rays wrong that come from under a
+/// wall, the occluders' guard none. The rays: for texels the walls lengthen, the
+/// exterior set's own witnesses of its shorter distance (exterior rays that would be
+/// wrong with one more step, so they must dip under a wall).
+#[test]
+fn the_occluder_guard_matters() {
+    let (mut tried, mut wrong_exterior, mut wrong_guarded) = (0u64, 0u64, 0u64);
+    for (_, field) in fields().into_iter().take(10) {
+        let hf = field.hf();
+        let (rays, walls) = {
+            let (_, r, w) = occluder_sets(&field).swap_remove(0);
+            (r, w)
+        };
+        let ext = bake_sd(&field, Rays::EXTERIOR, Variant::Directional);
+        let data = bake_over(&field, MapKind::Safety, rays, &walls);
+        let map = SafetyMap::new(&hf, &data, Variant::Directional).unwrap();
+        let as_exterior = map.with_rays(Rays::EXTERIOR);
+        let guarded = map.with_rays(rays).with_occluders(&walls).unwrap();
+        let every_exterior = Rays::EXTERIOR.on(&hf);
+        for j in 0..field.h {
+            for i in 0..field.w {
+                for class in CLASSES {
+                    let at = safety::texel_offset(field.w, Variant::Directional, class, i, j);
+                    if data[at] <= ext[at] {
+                        continue;
+                    }
+                    let k = u32::from(ext[at]);
+                    let Witness::Ray(q) = every_exterior.witness(class, i, j, k, 0.5) else {
+                        continue;
+                    };
+                    if !Rays::EXTERIOR.holds(&hf, &[], &q) {
+                        continue;
+                    }
+                    tried += 1;
+                    let oracle = dda::trace(&hf, TRI, &q);
+                    let bad = |t: &Trace<f64>| match (oracle.hit, t.hit) {
+                        (None, None) => false,
+                        (Some(a), Some(b)) => {
+                            common::dist(a.point.to_array(), b.point.to_array()) > 1e-6
+                        }
+                        _ => true,
+                    };
+                    let clear = oracle.clearance > 1e-9;
+                    wrong_exterior +=
+                        u64::from(bad(&safety::trace(&as_exterior, &hf, &q)) && clear);
+                    wrong_guarded += u64::from(bad(&safety::trace(&guarded, &hf, &q)) && clear);
+                    assert!(
+                        !rays.holds(&hf, &walls, &q) || !bad(&safety::trace(&guarded, &hf, &q))
+                    );
+                }
+            }
+        }
+    }
+    println!(
+        "{tried} exterior witnesses where the walls lengthen a distance: read as an \
+         exterior map {wrong_exterior} wrong, with the occluders' guard {wrong_guarded}"
+    );
+    assert_eq!(wrong_guarded, 0, "guarded");
+    assert!(wrong_exterior > 0, "the occluders' guard saved no ray");
+}
+
+/// The bake's witnesses over occluders: explicit rays that come in over the walls and
+/// would be wrong with one more step ([`witnesses_of`]).
+#[test]
+fn occluder_witnesses_show_distance_plus_one_is_wrong() {
+    let mut rng = Rng::new(0x0cc2);
+    for k in 0..3 {
+        let name = [
+            "exterior occluder ring",
+            "exterior occluder slopes",
+            "exterior phi 45 occluder ring",
+        ][k];
+        witnesses_of(
+            name,
+            |field| {
+                let (_, rays, walls) = occluder_sets(field).swap_remove(k);
+                (rays, walls)
+            },
+            &mut rng,
+        );
+    }
+}
+
+/// A map baked over occluders refuses other occluders, and without them holds no ray.
+#[test]
+fn a_map_over_occluders_takes_its_own() {
+    let (_, field) = fields().swap_remove(0);
+    let hf = field.hf();
+    let (_, rays, walls) = occluder_sets(&field).swap_remove(0);
+    let data = bake_over(&field, MapKind::Safety, rays, &walls);
+    let map = SafetyMap::new(&hf, &data, Variant::Directional)
+        .unwrap()
+        .with_rays(rays);
+    assert!(map.with_occluders(&walls[1..]).is_err());
+    assert!(map.with_occluders(&[]).is_err());
+    let spec = Spec::new(Desc {
+        rays,
+        ..Desc::new(MapKind::Safety, field.w, field.h)
+    });
+    assert!(spec.bake_owned_over(&hf, &walls[..2]).is_err());
+    let (xm, ym) = field.far_corner();
+    let (_, zhi) = field.range();
+    let q = Query::from_arrays(
+        [xm / 2.0, ym / 2.0, zhi + 100.0],
+        [0.1, 0.2, -1.0],
+        0.0,
+        f64::INFINITY,
+    )
+    .unwrap();
+    assert!(rays.holds(&hf, &walls, &q));
+    assert!(!rays.holds(&hf, &[], &q), "no occluders: no ray held");
 }

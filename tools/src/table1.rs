@@ -141,6 +141,7 @@ pub fn run(name: &str, heights: &[f32], w: u32, h: u32, opts: &Table1Options) ->
                 let rays_set = Rays {
                     exterior,
                     max_view_angle_deg: phi.unwrap_or(180.0),
+                    occluders: 0,
                 };
                 let phi_s = phi.map_or("–".into(), |p| format!("−{p}°"));
                 eprintln!("table1: {side_s} {label} {rays_set}");
@@ -162,7 +163,11 @@ pub fn run(name: &str, heights: &[f32], w: u32, h: u32, opts: &Table1Options) ->
                     let mut got = vec![Trace::MISS; v.rays.len()];
                     tracer.trace_all(&v.rays, &mut got);
                     let b = bench(&tracer, v);
-                    let held = v.rays.iter().filter(|q| rays_set.holds(&hf, q)).count();
+                    let held = v
+                        .rays
+                        .iter()
+                        .filter(|q| rays_set.holds(&hf, &[], q))
+                        .count();
                     let _ = writeln!(
                         md,
                         "| {side_s} | {label} | {phi_s} | {:.2} | {} | {}° | {:.0} % | {:.1} | {:.0} | {} |",

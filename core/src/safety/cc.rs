@@ -89,8 +89,8 @@ use core::ops::Range;
 
 use super::{
     axis_of, band_cells, cell_tris, check_len, column_ahead, extents, march_with, sample, sigma_of,
-    strides, texel_distance, tri_masks, AllRays, ClassRows, Jump, Line, MarchSurface, RaySet, Rays,
-    SafetyError, Sigma, Tri, Variant, CLASSES,
+    strides, texel_distance, tri_masks, AllRays, ClassRows, Jump, Line, MarchSurface, Occluder,
+    RaySet, Rays, RaysError, SafetyError, Sigma, Tri, Variant, CLASSES,
 };
 use crate::field::HeightField;
 use crate::math::Real;
@@ -1285,6 +1285,7 @@ pub struct CcMap<'a> {
     classes: RayClasses,
     cap: u8,
     rays: Rays,
+    occluders: &'a [Occluder],
 }
 
 /// One texel's shape for one class, decoded.
@@ -1321,6 +1322,7 @@ impl<'a> CcMap<'a> {
             classes,
             cap,
             rays: Rays::ALL,
+            occluders: &[],
         })
     }
 
@@ -1334,6 +1336,19 @@ impl<'a> CcMap<'a> {
     /// The rays the map is baked for.
     pub fn rays(&self) -> Rays {
         self.rays
+    }
+
+    /// The same map with the occluders its set passes over ([`Rays::occluders`];
+    /// refused unless they are the set's). Without them a map baked for occluders
+    /// holds no ray: every ray walks cell by cell (exact).
+    pub fn with_occluders(self, occluders: &'a [Occluder]) -> Result<Self, RaysError> {
+        self.rays.check_occluders(occluders)?;
+        Ok(CcMap { occluders, ..self })
+    }
+
+    /// The occluders given with [`CcMap::with_occluders`].
+    pub fn occluders(&self) -> &'a [Occluder] {
+        self.occluders
     }
 
     /// Longest cone step.
@@ -1493,7 +1508,7 @@ pub fn trace_on<R: Real>(
     surface: MarchSurface,
     q: &Query<R>,
 ) -> Trace<R> {
-    let held = map.rays.holds(hf, q);
+    let held = map.rays.holds(hf, map.occluders, q);
     // The per-trace constants, once the ray is known to march.
     march_with(hf, surface, q, |class| {
         let d = q.dir();

@@ -59,10 +59,12 @@ use heapless::Vec;
 use super::{cell_corners, tri_masks, AllRays, RaySet, Sigma, Tri};
 use crate::field::HeightField;
 use crate::ray::{Query, RayClass};
-use crate::rayset::Rays;
+use crate::rayset::{Occluder, Rays, RaysError};
 
 impl Rays {
-    /// The set as the bake tests it, for the field `hf`.
+    /// The set as the bake tests it, for the field `hf`, without occluders: for a set
+    /// with occluders this bakes the set without them (larger, so the map is safe for
+    /// it too, only less tight); [`Rays::on_over`] gives them.
     pub fn on<'a>(self, hf: &'a HeightField<'a>) -> RaysOn<'a> {
         let top = f64::from(hf.max_height());
         let low = f64::from(hf.min_height());
@@ -80,8 +82,30 @@ impl Rays {
             top,
             tol: 1e-7 * (1.0 + top.abs().max(low.abs())),
             sliver: 1e-12 * (1.0 + top.abs().max(low.abs())),
+            occluders: &[],
+            occluder_tol: 0.0,
             scan: RefCell::new(Scan::new()),
         }
+    }
+
+    /// The set as the bake tests it, for the field `hf`, with the set's occluders
+    /// (refused unless they are the set's, [`Rays::check_occluders`]).
+    pub fn on_over<'a>(
+        self,
+        hf: &'a HeightField<'a>,
+        occluders: &'a [Occluder],
+    ) -> Result<RaysOn<'a>, RaysError> {
+        self.check_occluders(occluders)?;
+        let size = occluders
+            .iter()
+            .flat_map(|o| o.corners.iter().flatten())
+            .fold(0f64, |m, c| m.max(f64::from(c.abs())));
+        let on = self.on(hf);
+        Ok(RaysOn {
+            occluders,
+            occluder_tol: on.tol + 1e-7 * size,
+            ..on
+        })
     }
 }
 
@@ -123,6 +147,11 @@ pub struct RaysOn<'a> {
     /// Where the segment lies on the triangle's own edge, the plane *is* the surface
     /// there, and only touching rays lie between.
     sliver: f64,
+    /// The set's occluders ([`Rays::on_over`]; none for [`Rays::on`]).
+    occluders: &'a [Occluder],
+    /// Height tolerance at the occluders: [`RaysOn::tol`](RaysOn) grown by their
+    /// coordinates' size (a plane's height far from the field rounds more).
+    occluder_tol: f64,
     /// The buffers of [`RaySet::limiting`]'s scan, reused by every triangle tested:
     /// clearing new ones per triangle cost a tenth of the bake.
     scan: RefCell<Scan>,
@@ -286,6 +315,24 @@ impl Pieces {
         add(&mut self.lists[self.live], p)
     }
 
+    /// Removes the lines through the open convex hull of `pts` ([`split`]).
+    fn remove_through(&mut self, pts: &[[f64; 2]]) -> Result<(), Full> {
+        let [a, b] = &mut self.lists;
+        let (old, new) = if self.live == 0 { (a, b) } else { (b, a) };
+        new.clear();
+        self.live ^= 1;
+        for p in old.iter() {
+            match split(p, pts) {
+                None => add(new, p.clone())?,
+                Some([x, y]) => {
+                    add(new, x)?;
+                    add(new, y)?;
+                }
+            }
+        }
+        Ok(())
+    }
+
     /// Keeps the lines that meet the closed triangle `verts` (grown by [`EPS`]): the
     /// lines not strictly above all of its vertices nor strictly below all of them.
     fn keep_meeting(&mut self, verts: &[[f64; 2]; 3]) -> Result<(), Full> {
@@ -360,7 +407,40 @@ impl RaysOn<'_> {
             }
             pieces.add(p)?;
         }
-        pieces.keep_meeting(&tri.verts)
+        pieces.keep_meeting(&tri.verts)?;
+        for o in self.occluders {
+            let k = self.occluder_blocker(sigma, tri, o);
+            if k.len() >= 2 {
+                pieces.remove_through(&k)?;
+            }
+        }
+        Ok(())
+    }
+
+    /// Where the solid under occluder `o` rises above `tri`'s plane by twice the
+    /// tolerance behind the segment (`u ≤ 0`), in the frame: a line of the plane
+    /// through it dips under the occluder before the segment, and so does every ray of
+    /// the set that it lifts (it is under the line there), which the set excludes.
+    fn occluder_blocker(&self, sigma: &Sigma, tri: &Tri, o: &Occluder) -> Poly {
+        let vs: Vec<(f64, f64, f64), 3> = o
+            .corners_f64()
+            .iter()
+            .map(|c| {
+                let (main, minor) = if sigma.ax == 0 {
+                    (c[0], c[1])
+                } else {
+                    (c[1], c[0])
+                };
+                let u = (sigma.sg as f64) * (main - f64::from(sigma.m));
+                (u, minor, c[2] - Self::plane(tri, u, minor))
+            })
+            .collect();
+        let mut k = Poly::new();
+        for x in blocker(&vs, 2.0 * self.occluder_tol) {
+            let _ = k.push(x);
+        }
+        // Behind the segment: `−u ≥ 0` (the points are primal `[u, v]` here).
+        clip(&k, &[-1.0, 0.0, 0.0])
     }
 
     /// Whether a line of `pieces` survives the surface behind the segment (exterior):
@@ -715,8 +795,8 @@ fn centre(p: &Poly) -> Dual {
 /// lines weakly on one side of every point (all above, or all below), as two polygons;
 /// `None` when `p` lies on one side already.
 fn split(p: &Poly, pts: &[[f64; 2]]) -> Option<[Poly; 2]> {
-    let mut ups: Vec<Half, 4> = Vec::new();
-    let mut downs: Vec<Half, 4> = Vec::new();
+    let mut ups: Vec<Half, 6> = Vec::new();
+    let mut downs: Vec<Half, 6> = Vec::new();
     for &[u, v] in pts {
         let _ = ups.push(above(u, v));
         let _ = downs.push(below(u, v));

@@ -85,8 +85,8 @@ pub const SUBSETS: [u8; 2] = [0b1001, 0b0010];
 /// rays start outside the box (the 45° ones mostly within the angle, the 5° ones
 /// not); the random rays start anywhere: a ray outside the set walks cell by cell.
 pub const RAY_SET: Rays = Rays {
-    exterior: true,
     max_view_angle_deg: 60.0,
+    ..Rays::EXTERIOR
 };
 
 /// The maps the scenes bake beside the whole ones: each class subset for every ray,

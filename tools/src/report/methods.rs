@@ -510,14 +510,14 @@ fn maxmip_setting(opts: maxmip::Options, batching: Batching) -> Baker {
 
 /// Rays within 45° of the downward vertical (the paper's φmax = −45°).
 const PHI45: Rays = Rays {
-    exterior: false,
     max_view_angle_deg: 45.0,
+    ..Rays::ALL
 };
 
 /// Exterior rays within 45° of the downward vertical.
 const EXTERIOR_PHI45: Rays = Rays {
-    exterior: true,
     max_view_angle_deg: 45.0,
+    ..Rays::EXTERIOR
 };
 
 /// A setting of the cone family (`kind`) with step budgets `steps`, sharing `shared`.
