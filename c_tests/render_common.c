@@ -149,6 +149,8 @@ static void bake_class_maps(scene *s, int safety, int cc) {
     o.ray_classes = s->classes;
     o.exterior = s->exterior;
     o.max_view_angle_deg = s->max_view_angle_deg;
+    o.occluders = s->occluder_count ? s->occluders : NULL;
+    o.occluder_count = s->occluder_count;
     s->safety = bake_map(s, HF_METHOD_SAFETY, &o, safety, &s->safety_len, &s->safety_bake_ms);
     o.variant = HF_SAFETY_ISOTROPIC;
     s->safety_iso = bake_map(s, HF_METHOD_SAFETY, &o, safety, &s->safety_iso_len, NULL);
@@ -157,6 +159,8 @@ static void bake_class_maps(scene *s, int safety, int cc) {
     c.ray_classes = s->classes;
     c.exterior = s->exterior;
     c.max_view_angle_deg = s->max_view_angle_deg;
+    c.occluders = o.occluders;
+    c.occluder_count = o.occluder_count;
     s->cc = bake_map(s, HF_METHOD_CC, &c, cc, &s->cc_len, &s->cc_bake_ms);
 }
 
@@ -173,6 +177,31 @@ void scene_set_maps_of(scene *s, uint32_t classes, uint32_t exterior, float max_
     s->exterior = exterior;
     s->max_view_angle_deg = max_view_angle_deg;
     bake_class_maps(s, safety, cc);
+}
+
+void scene_use_walls(scene *s, int on) {
+    s->occluder_count = 0;
+    if (!on) return;
+    const float xm = (float)(s->w - 1), ym = (float)(s->h - 1);
+    const float zlo = s->info.min_height;
+    const float zr = s->info.max_height > zlo ? s->info.max_height - zlo : 1e-3f;
+    const float rects[4][4] = {{-3.0f, -1.0f, -3.0f, ym + 3.0f},
+                               {xm + 1.0f, xm + 3.0f, -3.0f, ym + 3.0f},
+                               {-3.0f, xm + 3.0f, -3.0f, -1.0f},
+                               {-3.0f, xm + 3.0f, ym + 1.0f, ym + 3.0f}};
+    const int tri[2][3] = {{0, 1, 2}, {0, 2, 3}};
+    for (int r = 0; r < 4; r++) {
+        const float *q = rects[r];
+        const float xy[4][2] = {{q[0], q[2]}, {q[1], q[2]}, {q[1], q[3]}, {q[0], q[3]}};
+        for (int t = 0; t < 2; t++)
+            for (int v = 0; v < 3; v++) {
+                float *c = s->occluders[2 * r + t].corners[v];
+                c[0] = xy[tri[t][v]][0];
+                c[1] = xy[tri[t][v]][1];
+                c[2] = (float)((double)zlo + 0.5 * zr + 0.35 * zr * (c[0] / xm + c[1] / ym));
+            }
+    }
+    s->occluder_count = 8;
 }
 
 int scene_load_heights(scene *s, const char *png_path) { return scene_load_crop(s, png_path, 0); }
@@ -343,7 +372,12 @@ static hf_result trace_setup(const scene *s, method_cfg cfg, const void **map, s
     o->binary_steps = cfg.binary;
     o->radius_zero = cfg.zero;
     /* The maps' ray classes, as the shaders' hf_safety_classes and hf_cc_classes. */
-    if (cfg.method == HF_METHOD_SAFETY || cfg.method == HF_METHOD_CC) o->ray_classes = s->classes;
+    if (cfg.method == HF_METHOD_SAFETY || cfg.method == HF_METHOD_CC) {
+        o->ray_classes = s->classes;
+        /* And the occluders they are baked over. */
+        o->occluders = s->occluder_count ? s->occluders : NULL;
+        o->occluder_count = s->occluder_count;
+    }
     *map = maps[cfg.method];
     *len = lens[cfg.method];
     return HF_OK;
@@ -584,8 +618,16 @@ int gpu_init(gpu *g, const scene *s, int w, int h) {
 void gpu_upload_class_maps(gpu *g, const scene *s) {
     int n = 0;
     for (uint32_t c = s->classes; c != 0; c &= c - 1) n++;
-    GLuint old[3] = {g->tex_safety, g->tex_safety_iso, g->tex_cc};
-    glDeleteTextures(3, old); /* names 0 (gpu_init) are ignored */
+    GLuint old[4] = {g->tex_safety, g->tex_safety_iso, g->tex_cc, g->tex_occluders};
+    glDeleteTextures(4, old); /* names 0 (gpu_init) are ignored */
+    /* The occluders: corner v of occluder k at texel 3k + v (x, y, z), RGBA32F; one
+     * unused occluder's texels when there are none. */
+    float corners[8 * 3 * 4] = {0};
+    for (uint32_t k = 0; k < s->occluder_count; k++)
+        for (int v = 0; v < 3; v++)
+            memcpy(&corners[(3 * k + v) * 4], s->occluders[k].corners[v], 3 * sizeof(float));
+    int texels = 3 * (s->occluder_count ? (int)s->occluder_count : 1);
+    g->tex_occluders = make_texture(GL_RGBA32F, texels, 1, GL_RGBA, GL_FLOAT, corners);
     /* R8UI rows are W bytes: alignment 1. Directional safety distances: one byte per ray
      * class, each texel row as n rows (one per class held, in class order), an R8UI
      * texture of W x nH, texel (i, n j + slot); the shaders' hf_safety_classes says
@@ -635,12 +677,13 @@ void gpu_render_program(gpu *g, GLuint p, const scene *s, method_cfg cfg, float 
     glClearDepth(1.0);
     glClear(GL_DEPTH_BUFFER_BIT);
     GLuint safety = cfg.variant == HF_SAFETY_ISOTROPIC ? g->tex_safety_iso : g->tex_safety;
-    GLuint tex[10] = {u16 ? g->tex_heights16 : g->tex_heights, g->tex_pyramid, g->tex_origin,  g->tex_dir, safety,
-                      g->tex_cone,    g->tex_qdm,     g->tex_relaxed, g->tex_cc, g->tex_radius};
-    const char *names[10] = {"hf_heights",  "hf_pyramid", "hf_ray_origin",  "hf_ray_dir",
+    GLuint tex[11] = {u16 ? g->tex_heights16 : g->tex_heights, g->tex_pyramid, g->tex_origin,  g->tex_dir, safety,
+                      g->tex_cone,    g->tex_qdm,     g->tex_relaxed, g->tex_cc, g->tex_radius,
+                      g->tex_occluders};
+    const char *names[11] = {"hf_heights",  "hf_pyramid", "hf_ray_origin",  "hf_ray_dir",
                              "hf_safety_map", "hf_cone_map", "hf_qdm_map", "hf_relaxed_map",
-                             "hf_cc_map", "hf_radius_map"};
-    for (int k = 0; k < 10; k++) {
+                             "hf_cc_map", "hf_radius_map", "hf_occluders"};
+    for (int k = 0; k < 11; k++) {
         glActiveTexture(GL_TEXTURE0 + (GLenum)k);
         glBindTexture(GL_TEXTURE_2D, tex[k]);
         GLint loc = glGetUniformLocation(p, names[k]);
@@ -669,6 +712,8 @@ void gpu_render_program(gpu *g, GLuint p, const scene *s, method_cfg cfg, float 
     sloc = glGetUniformLocation(p, "hf_rays_max_view_angle");
     if (sloc >= 0)
         glUniform1f(sloc, s->max_view_angle_deg > 0.0f ? s->max_view_angle_deg : 180.0f);
+    sloc = glGetUniformLocation(p, "hf_occluder_count");
+    if (sloc >= 0) glUniform1ui(sloc, s->occluder_count);
     GLint loc = glGetUniformLocation(p, "hf_linear_steps");
     if (loc >= 0) glUniform1ui(loc, cfg.linear);
     loc = glGetUniformLocation(p, "hf_binary_steps");
@@ -735,11 +780,11 @@ void gpu_read(gpu *g, frame *f) {
 
 void gpu_free(gpu *g) {
     for (int m = 0; m < NUM_METHODS; m++) glDeleteProgram(g->prog[m]);
-    GLuint tex[15] = {g->tex_heights, g->tex_pyramid, g->tex_safety, g->tex_safety_iso,
+    GLuint tex[16] = {g->tex_heights, g->tex_pyramid, g->tex_safety, g->tex_safety_iso,
                       g->tex_origin,  g->tex_dir,     g->tex_point,  g->tex_normal,
                       g->tex_color,   g->tex_cone,    g->tex_qdm,    g->tex_relaxed,
-                      g->tex_cc,      g->tex_heights16, g->tex_radius};
-    glDeleteTextures(15, tex);
+                      g->tex_cc,      g->tex_heights16, g->tex_radius, g->tex_occluders};
+    glDeleteTextures(16, tex);
     glDeleteRenderbuffers(1, &g->rb_depth);
     glDeleteFramebuffers(1, &g->fbo);
     glDeleteVertexArrays(1, &g->vao);

@@ -51,6 +51,10 @@ typedef struct scene {
      * hf_rays_exterior and hf_rays_max_view_angle. */
     uint32_t exterior;
     float max_view_angle_deg;
+    /* The occluders those maps are baked over (hf_bake_options.occluders; none after
+     * scene_load): the shaders' hf_occluders and hf_occluder_count. scene_use_walls. */
+    hf_occluder occluders[8];
+    uint32_t occluder_count;
     unsigned char *safety; /* directional safety distances, W x H x n for n classes */
     size_t safety_len;
     unsigned char *safety_iso; /* isotropic safety distances, W x H (of those classes) */
@@ -81,6 +85,7 @@ typedef struct gpu {
     GLuint tex_heights, tex_pyramid, tex_safety, tex_safety_iso, tex_origin, tex_dir;
     GLuint tex_cone, tex_relaxed, tex_qdm, tex_cc, tex_radius;
     GLuint tex_heights16; /* R16UI samples, for generated shaders of HF_HEIGHTS_U16 scenes */
+    GLuint tex_occluders; /* RGBA32F, 3 texels per occluder (gpu_upload_class_maps) */
     GLuint fbo, tex_point, tex_normal, tex_color, rb_depth;
     int primary_only; /* 1: frames trace no shadow rays (0 after gpu_init) */
 } gpu;
@@ -119,6 +124,11 @@ void scene_set_maps(scene *s, uint32_t classes, uint32_t exterior, float max_vie
  * when `cc` (the other maps zeros of their size). */
 void scene_set_maps_of(scene *s, uint32_t classes, uint32_t exterior, float max_view_angle_deg,
                        int safety, int cc);
+/* When `on`, the next scene_set_maps bakes over four walls one texel around the field
+ * (eight occluders: tops rising from the middle of the height range, south-west, to a
+ * fifth of it above the highest sample, north-east; shadertest's walls_around); else
+ * over none. */
+void scene_use_walls(scene *s, int on);
 /* The fixed view of the tests: both renderers' images of it are compared. */
 camera default_camera(void);
 float scene_depth_far(const scene *s, const camera *c);

@@ -150,6 +150,7 @@ static const uint32_t SUBSETS[] = {HF_RAYS_X_POS | HF_RAYS_Y_NEG, HF_RAYS_X_NEG}
 typedef struct map_set {
     uint32_t classes, exterior;
     float angle;
+    int walls; /* baked over walls around the field (scene_use_walls) */
 } map_set;
 
 /* Each class subset for every ray, then every class for exterior rays within 60
@@ -157,18 +158,20 @@ typedef struct map_set {
  * default camera is outside the box and looks 14 to 54 degrees below the horizon: its
  * steeper rays are within 60 degrees, the flatter ones not. Over exterior maps the
  * shadow rays are traced from the light's side (query_walked_back, hf_ray_walked_back):
- * exterior, 61 degrees from the vertical (outside the first set, in the second). A
- * ray outside the set walks cell by cell. */
+ * exterior, 61 degrees from the vertical (outside the first set, in the second). Last,
+ * the first set over walls around the field (scene_use_walls): rays whose line dips
+ * under a wall are outside it. A ray outside the set walks cell by cell. */
 static const map_set MAP_SETS[] = {
-    {HF_RAYS_X_POS | HF_RAYS_Y_NEG, 0, 0.0f},
-    {HF_RAYS_X_NEG, 0, 0.0f},
-    {HF_RAYS_ALL, 1, 60.0f},
-    {HF_RAYS_ALL, 1, 0.0f},
+    {HF_RAYS_X_POS | HF_RAYS_Y_NEG, 0, 0.0f, 0},
+    {HF_RAYS_X_NEG, 0, 0.0f, 0},
+    {HF_RAYS_ALL, 1, 60.0f, 0},
+    {HF_RAYS_ALL, 1, 0.0f, 0},
+    {HF_RAYS_ALL, 1, 60.0f, 1},
 };
 #define NUM_MAP_SETS (sizeof MAP_SETS / sizeof MAP_SETS[0])
 
-/* Whether `r` is a ray of the set of s's maps (`Rays::holds`, in float: for the counts
- * printed only). */
+/* Whether `r` is a ray of the set of s's maps (`Rays::holds`, in float, its walls
+ * aside: for the counts printed only). */
 static int ray_in_set(const scene *s, const hf_ray *r) {
     if (s->exterior) {
         float p[3];
@@ -213,6 +216,8 @@ static void classes_suffix(char *buf, size_t len, const scene *s) {
         snprintf(buf + at, len - at, " for exterior");
     else if (s->max_view_angle_deg > 0.0f)
         snprintf(buf + at, len - at, " for angle:%g", s->max_view_angle_deg);
+    at = strlen(buf);
+    if (s->occluder_count) snprintf(buf + at, len - at, " over walls");
 }
 
 /* A map set up for rendering: its scene, GPU state and the default camera's rays. */
@@ -229,7 +234,7 @@ typedef void (*map_fn)(map_job *j, int w, int h, void *ctx);
 /* "MAP METHOD[-isotropic|-clamp]/SURFACE`extra`[ holding CLASSES]": a case's label. */
 static void case_label(char *buf, size_t len, const map_job *j, method_cfg c,
                        const char *extra) {
-    char holding[32];
+    char holding[64];
     classes_suffix(holding, sizeof holding, &j->s);
     snprintf(buf, len, "%s %s%s/%s%s%s", j->s.name, method_name(c.method),
              c.method == HF_METHOD_SAFETY && c.variant == HF_SAFETY_ISOTROPIC ? "-isotropic"
@@ -365,6 +370,7 @@ static void subset_cfgs(method_cfg out[SUBSET_CFGS]) {
  * only, for its ray set), uploads them (W x nH) and prints how many primary rays are of
  * classes held and in the set. */
 static void use_maps(map_job *j, int w, int h, map_set m) {
+    scene_use_walls(&j->s, m.walls);
     scene_set_maps(&j->s, m.classes, m.exterior, m.angle);
     gpu_upload_class_maps(&j->g, &j->s);
     size_t held = 0, in_set = 0, n = (size_t)w * h;
@@ -377,7 +383,7 @@ static void use_maps(map_job *j, int w, int h, map_set m) {
     const float from_light[3] = {-LIGHT_DIR[0], -LIGHT_DIR[1], -LIGHT_DIR[2]};
     const float *shadow_dir = m.exterior ? from_light : LIGHT_DIR;
     printf("maps of %s%s: %zu primary rays of classes held, %zu of classes not held, %zu in "
-           "the ray set; shadow rays (%s, from the %s) of a class %s\n",
+           "the ray set (walls aside); shadow rays (%s, from the %s) of a class %s\n",
            j->s.name, holding, held, n - held, in_set, m.exterior ? "x-" : "x+",
            m.exterior ? "light" : "surface",
            ray_class_bit(shadow_dir) & m.classes ? "held" : "not held");
@@ -897,7 +903,7 @@ static void generated_map(map_job *j, int w, int h, void *ctx) {
     }
     for (int k = 0; k < ncases; k++) generated_case(j, w, h, cases[k], &fg, &fm, t);
     for (size_t m = 0; m < NUM_SUBSETS; m++) {
-        map_set ms = {SUBSETS[m], 0, 0.0f};
+        map_set ms = {SUBSETS[m], 0, 0.0f, 0};
         use_maps(j, w, h, ms);
         gen_case gc = {cfg_of(HF_METHOD_SAFETY, HF_SURFACE_TRIANGLES), 0};
         hf_scene sc = scene_of_cfg(gc.cfg, 0, SUBSETS[m]);

@@ -947,6 +947,11 @@ typedef struct hf_scene {
   uint32_t depth_output;
   // The height texture's format (`hf_height_format`).
   uint32_t height_format;
+  // 1 when the safety-shape maps are baked over static occluders
+  // (`hf_bake_options::occluders`; `hf_scene_bake_plan` leaves the list to the
+  // caller): the shader keeps their guard (the uniform `hf_occluder_count` and the
+  // texture `hf_occluders`); else 0.
+  uint32_t occluders;
 } hf_scene;
 
 // What to bake for a scene (`hf_scene_bake_plan`): an `hf_need` per product, the ray
@@ -1932,7 +1937,7 @@ hf_result hf_maxmip_bake_passes(uint32_t width,
 
 // Writes the general scene of `method` on `surface` to `*out`: every ray class,
 // viewpoints anywhere, any direction, shadows from the surface, no LOD, depth output,
-// `F32` heights. Thread safe.
+// `F32` heights, occluders. Thread safe.
 //
 // # Safety
 // `out` is NULL (an error) or valid for writing one `hf_scene`.

@@ -67,6 +67,11 @@ pub struct hf_scene {
     pub depth_output: u32,
     /// The height texture's format (`hf_height_format`).
     pub height_format: u32,
+    /// 1 when the safety-shape maps are baked over static occluders
+    /// (`hf_bake_options::occluders`; `hf_scene_bake_plan` leaves the list to the
+    /// caller): the shader keeps their guard (the uniform `hf_occluder_count` and the
+    /// texture `hf_occluders`); else 0.
+    pub occluders: u32,
 }
 
 /// Checks a ray-class set passed as `uint32_t`: `HF_RAYS_*` bits, not 0.
@@ -101,6 +106,7 @@ pub(crate) fn scene_of(s: &hf_scene) -> Result<Scene, hf_result> {
         lod: flag(s.lod)?,
         depth_output: flag(s.depth_output)?,
         heights,
+        occluders: flag(s.occluders)?,
     };
     scene
         .validate()
@@ -120,12 +126,13 @@ pub(crate) fn c_scene(s: &Scene) -> hf_scene {
         lod: u32::from(s.lod),
         depth_output: u32::from(s.depth_output),
         height_format: s.heights as u32,
+        occluders: u32::from(s.occluders),
     }
 }
 
 /// Writes the general scene of `method` on `surface` to `*out`: every ray class,
 /// viewpoints anywhere, any direction, shadows from the surface, no LOD, depth output,
-/// `F32` heights. Thread safe.
+/// `F32` heights, occluders. Thread safe.
 ///
 /// # Safety
 /// `out` is NULL (an error) or valid for writing one `hf_scene`.

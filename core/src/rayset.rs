@@ -89,8 +89,11 @@ impl Occluder {
         (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0])
     }
 
-    /// Whether the line `p + t·d`, for `t ≤ t_hi`, passes strictly under the triangle
-    /// somewhere over its closed footprint (into the solid). In `f64`.
+    /// Whether the line `p + t·d`, for `t ≤ t_hi`, comes within the guard's margin of
+    /// the solid under the triangle somewhere over its closed footprint: within
+    /// `10⁻⁵·(1 + m)` of the triangle's height or under it, `m` the largest magnitude
+    /// of the triangle's and `p`'s coordinates (so the shaders' `f32` check, with the
+    /// same margin, agrees). In `f64`.
     pub fn dips_under(&self, p: [f64; 3], d: [f64; 3], t_hi: f64) -> bool {
         let [a, b, c] = self.corners_f64();
         let area = self.twice_area();
@@ -117,14 +120,18 @@ impl Occluder {
         let gy = ((b[0] - a[0]) * (c[2] - a[2]) - (b[2] - a[2]) * (c[0] - a[0])) / area;
         let depth0 = a[2] + gx * (p[0] - a[0]) + gy * (p[1] - a[1]) - p[2];
         let rate = gx * d[0] + gy * d[1] - d[2];
-        let depth = |t: f64| depth0 + rate * t;
+        let big = [a, b, c, p]
+            .iter()
+            .flatten()
+            .fold(0f64, |m, v| m.max(v.abs()));
+        let margin = 1e-5 * (1.0 + big);
         // Linear: deepest at an end of the interval (towards `−∞` when it falls
         // with `t`, towards `+∞` when it rises, anywhere when flat).
         if rate == 0.0 {
-            return depth0 > 0.0;
+            return depth0 > -margin;
         }
         let end = if rate < 0.0 { lo } else { hi };
-        !end.is_finite() || depth(end) > 0.0
+        !end.is_finite() || depth0 + rate * end > -margin
     }
 }
 

@@ -366,6 +366,10 @@ pub struct Scene {
     pub depth_output: bool,
     /// The height texture's format.
     pub heights: HeightFormat,
+    /// Whether the safety-shape maps are baked over static occluders
+    /// ([`Rays::occluders`](crate::rayset::Rays::occluders); the list goes to the
+    /// bake and the traces beside the plan's ray set): the shader keeps their guard.
+    pub occluders: bool,
 }
 
 /// Why a [`Scene`] is invalid ([`Scene::validate`]).
@@ -403,7 +407,7 @@ impl Scene {
 
     /// The general scene of `method` on `surface`: every ray class, viewpoints
     /// anywhere, any direction, shadows from the surface, no LOD, depth output, `F32`
-    /// heights.
+    /// heights, occluders.
     pub fn general(method: MethodKind, surface: Surface) -> Scene {
         Scene {
             surface,
@@ -415,6 +419,7 @@ impl Scene {
             lod: false,
             depth_output: true,
             heights: HeightFormat::F32,
+            occluders: true,
         }
     }
 }

@@ -16,14 +16,89 @@
 // Ray sets (docs/DESIGN.md, "Ray sets"; `Rays`): the safety-distance or cylinder-cone
 // map in use was baked for exterior rays only when `hf_rays_exterior` is 1, and for
 // rays within `hf_rays_max_view_angle` degrees of the downward vertical (180: any
-// direction). A ray outside the set reads distance 0 and no cone (one fetch counted,
-// as for a class the map does not hold): it walks cell by cell, still exact.
+// direction), and over `hf_occluder_count` occluders (below). A ray outside the set
+// reads distance 0 and no cone (one fetch counted, as for a class the map does not
+// hold): it walks cell by cell, still exact.
 
 uniform usampler2D hf_safety_map;
 uniform uint hf_safety_variant = 0u;
 uniform uint hf_safety_classes = 15u;
 uniform uint hf_rays_exterior = 0u;
 uniform float hf_rays_max_view_angle = 180.0;
+//#if occluders
+
+// Occluders (`Rays::occluders`, `Occluder`): a map baked over `hf_occluder_count` of
+// them (0: none) serves only the rays whose line, up to where it leaves the field's
+// footprint, passes over the solid under every triangle. Their corners (x, y, z) are
+// texels (3k, 0), (3k + 1, 0) and (3k + 2, 0) of `hf_occluders`.
+uniform sampler2D hf_occluders;
+uniform uint hf_occluder_count = 0u;
+
+// `footprint_exit`: where the line p + t d leaves the field's footprint
+// [0, W - 1] x [0, H - 1], a little late; infinity when it never does or never meets it.
+float safety_footprint_exit(vec3 p, vec3 d) {
+    vec2 ends = vec2(float(field_width() - 1u), float(field_height() - 1u));
+    float lo = -real_infinity();
+    float hi = real_infinity();
+    for (int a = 0; a < 2; a++) {
+        if (d[a] != 0.0) {
+            float t0 = (0.0 - p[a]) / d[a];
+            float t1 = (ends[a] - p[a]) / d[a];
+            lo = real_max(lo, real_min(t0, t1));
+            hi = real_min(hi, real_max(t0, t1));
+        } else if (p[a] < 0.0 || p[a] > ends[a]) {
+            return real_infinity();
+        }
+    }
+    if (lo > hi) {
+        return real_infinity();
+    }
+    return hi + 1e-5 * (1.0 + abs(hi));
+}
+
+// `Occluder::dips_under`: whether the line p + t d, t <= t_hi, comes within the
+// guard's margin of the solid under occluder k over its closed footprint. The core
+// checks in f64 with the same margin, 1e-5 (1 + the largest coordinate of the
+// triangle and of p): far above the difference.
+bool safety_dips_under(uint k, vec3 p, vec3 d, float t_hi) {
+    vec3 a = texelFetch(hf_occluders, ivec2(3u * k, 0u), 0).xyz;
+    vec3 b = texelFetch(hf_occluders, ivec2(3u * k + 1u, 0u), 0).xyz;
+    vec3 c = texelFetch(hf_occluders, ivec2(3u * k + 2u, 0u), 0).xyz;
+    float area = (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
+    float orient = ((area > 0.0) ? (1.0) : (-1.0));
+    float lo = -real_infinity();
+    float hi = t_hi;
+    for (uint e = 0u; e < 3u; e++) {
+        vec3 e0 = ((e == 0u) ? (a) : (((e == 1u) ? (b) : (c))));
+        vec3 e1 = ((e == 0u) ? (b) : (((e == 1u) ? (c) : (a))));
+        float ex = e1[0] - e0[0];
+        float ey = e1[1] - e0[1];
+        float alpha = orient * (ex * (p[1] - e0[1]) - ey * (p[0] - e0[0]));
+        float beta = orient * (ex * d[1] - ey * d[0]);
+        if (beta > 0.0) {
+            lo = real_max(lo, -alpha / beta);
+        } else if (beta < 0.0) {
+            hi = real_min(hi, -alpha / beta);
+        } else if (alpha < 0.0) {
+            return false;
+        }
+    }
+    if (lo > hi) {
+        return false;
+    }
+    float gx = ((b[2] - a[2]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[2] - a[2])) / area;
+    float gy = ((b[0] - a[0]) * (c[2] - a[2]) - (b[2] - a[2]) * (c[0] - a[0])) / area;
+    float depth0 = a[2] + gx * (p[0] - a[0]) + gy * (p[1] - a[1]) - p[2];
+    float rate = gx * d[0] + gy * d[1] - d[2];
+    vec3 big = max(max(abs(a), abs(b)), max(abs(c), abs(p)));
+    float margin = 1e-5 * (1.0 + max(max(big[0], big[1]), big[2]));
+    if (rate == 0.0) {
+        return depth0 > -margin;
+    }
+    float end = ((rate < 0.0) ? (lo) : (hi));
+    return !real_is_finite(end) || depth0 + rate * end > -margin;
+}
+//#endif
 
 // `Rays::holds`: whether q is a ray of the map's set. The core checks in f64, here in
 // f32; the set's margin (a millionth) is far above the difference.
@@ -50,6 +125,16 @@ bool safety_rays_hold(Query q) {
             return false;
         }
     }
+//#if occluders
+    if (hf_occluder_count > 0u) {
+        float t_hi = safety_footprint_exit(q.origin, q.dir);
+        for (uint k = 0u; k < hf_occluder_count; k++) {
+            if (safety_dips_under(k, q.origin, q.dir, t_hi)) {
+                return false;
+            }
+        }
+    }
+//#endif
     return true;
 }
 

@@ -109,7 +109,7 @@ pub fn file(lang: Lang, stem: &str) -> Option<&'static str> {
 /// The specialisation flags of the markers, with what each says. A generated shader
 /// sets those of its scene and `one_field`, an [`impostor`] shader its own; the general
 /// shaders set them all.
-pub const FLAGS: [(&str, &str); 17] = [
+pub const FLAGS: [(&str, &str); 18] = [
     ("triangles", "the surface is the triangle surface"),
     ("bilinear", "the surface is bilinear"),
     ("height_planes", "the surface is height planes"),
@@ -145,6 +145,10 @@ pub const FLAGS: [(&str, &str); 17] = [
     (
         "lod",
         "level-of-detail marching (maximum mipmaps; no port yet)",
+    ),
+    (
+        "occluders",
+        "the safety-shape maps are baked over static occluders: the guard checks rays against them",
     ),
     (
         "one_field",
@@ -336,6 +340,9 @@ pub fn scene_flags(scene: &Scene, opts: &Options) -> Result<Vec<&'static str>, G
         HeightFormat::U16 => "heights_u16",
         HeightFormat::U8 => "heights_u8",
     });
+    if scene.occluders {
+        flags.push("occluders");
+    }
     Ok(flags)
 }
 

@@ -58,7 +58,7 @@ enum Line {
 
 /// WGSL resource bindings of group 0 ([`crate::wgsl_layout`]): `(binding, name, type,
 /// declared in)`.
-const WGSL_BINDINGS: [(u32, &str, &str, &str); 20] = [
+const WGSL_BINDINGS: [(u32, &str, &str, &str); 21] = [
     (
         b::HEIGHTS,
         "hf_heights",
@@ -163,6 +163,12 @@ const WGSL_BINDINGS: [(u32, &str, &str, &str); 20] = [
         "hf_safety_pass",
         "uniform SafetyBakePass",
         "bake_safety.wgsl",
+    ),
+    (
+        b::OCCLUDERS,
+        "hf_occluders",
+        "texture_2d<f32>, RGBA32Float, 3n x 1",
+        "safety.wgsl",
     ),
 ];
 
@@ -315,13 +321,18 @@ fn render(lang: Lang) -> String {
         for (b, name, ty, file) in WGSL_BINDINGS {
             writeln!(s, "//   {b:<8} {name:<15} {ty:<38} {file}").unwrap();
         }
-        let (next, last) = (WGSL_BINDINGS.len(), b::RESERVED_UP_TO);
-        let reserved = format!("Bindings {next} to {last} of group 0 are");
+        let (impostor, last) = ((b::FIELD_RANGES, b::VIEW_PROJ), b::RESERVED_UP_TO);
+        let reserved = format!(
+            "Bindings {} to {} (the impostor shaders') and the others up\n\
+             // to {last} of group 0 are",
+            impostor.0, impostor.1
+        );
         s.push_str(&format!(
             "// {reserved} reserved; a caller's own resources go in group 1\n\
              // or later. Textures are read with textureLoad only (never sampled). Scene-level\n\
              // choices are override constants: hf_surface, hf_safety_variant,\n\
-             // hf_safety_classes, hf_cc_classes, hf_rays_exterior, hf_rays_max_view_angle.\n"
+             // hf_safety_classes, hf_cc_classes, hf_rays_exterior, hf_rays_max_view_angle,\n\
+             // hf_occluder_count.\n"
         ));
     }
     for line in table() {

@@ -70,5 +70,9 @@ pub const IMPOSTOR: u32 = 21;
 /// `hf_view_proj`: uniform `Mat4Rows`, the world-to-clip matrix of an impostor
 /// shader's depth output (impostor.wgsl, scenes with `depth_output`).
 pub const VIEW_PROJ: u32 = 22;
+/// `hf_occluders`: `texture_2d<f32>`, RGBA32Float, 3·n × 1 for the override
+/// `hf_occluder_count` = n: occluder `k`'s corners (x, y, z) at texels `3k` to
+/// `3k + 2` (safety.wgsl, shaders of scenes with occluders).
+pub const OCCLUDERS: u32 = 23;
 /// The last binding of group 0 kept for hfcast's own resources.
 pub const RESERVED_UP_TO: u32 = 31;

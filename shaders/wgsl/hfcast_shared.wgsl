@@ -25,10 +25,13 @@
 //   17       hf_safety_scratch storage array<f32>, read_write         bake_safety.wgsl
 //   18       hf_safety_out   storage array<u32>, read_write         bake_safety.wgsl
 //   19       hf_safety_pass  uniform SafetyBakePass                 bake_safety.wgsl
-// Bindings 20 to 31 of group 0 are reserved; a caller's own resources go in group 1
+//   23       hf_occluders    texture_2d<f32>, RGBA32Float, 3n x 1   safety.wgsl
+// Bindings 20 to 22 (the impostor shaders') and the others up
+// to 31 of group 0 are reserved; a caller's own resources go in group 1
 // or later. Textures are read with textureLoad only (never sampled). Scene-level
 // choices are override constants: hf_surface, hf_safety_variant,
-// hf_safety_classes, hf_cc_classes, hf_rays_exterior, hf_rays_max_view_angle.
+// hf_safety_classes, hf_cc_classes, hf_rays_exterior, hf_rays_max_view_angle,
+// hf_occluder_count.
 
 // Surfaces (hfcast::Surface, hf_surface).
 const HF_SURFACE_TRIANGLES: u32 = 0u;

@@ -14,14 +14,89 @@
 // Ray sets (docs/DESIGN.md, "Ray sets"; `Rays`): the safety-distance or cylinder-cone
 // map in use was baked for exterior rays only when `hf_rays_exterior` is 1, and for
 // rays within `hf_rays_max_view_angle` degrees of the downward vertical (180: any
-// direction). A ray outside the set reads distance 0 and no cone (one fetch counted,
-// as for a class the map does not hold): it walks cell by cell, still exact.
+// direction), and over `hf_occluder_count` occluders (below). A ray outside the set
+// reads distance 0 and no cone (one fetch counted, as for a class the map does not
+// hold): it walks cell by cell, still exact.
 
 @group(0) @binding(5) var hf_safety_map: texture_2d<u32>;
 override hf_safety_variant: u32 = 0u;
 override hf_safety_classes: u32 = 15u;
 override hf_rays_exterior: u32 = 0u;
 override hf_rays_max_view_angle: f32 = 180.0;
+//#if occluders
+
+// Occluders (`Rays::occluders`, `Occluder`): a map baked over `hf_occluder_count` of
+// them (0: none) serves only the rays whose line, up to where it leaves the field's
+// footprint, passes over the solid under every triangle. Their corners (x, y, z) are
+// texels (3k, 0), (3k + 1, 0) and (3k + 2, 0) of `hf_occluders`.
+@group(0) @binding(23) var hf_occluders: texture_2d<f32>;
+override hf_occluder_count: u32 = 0u;
+
+// `footprint_exit`: where the line p + t d leaves the field's footprint
+// [0, W - 1] x [0, H - 1], a little late; infinity when it never does or never meets it.
+fn safety_footprint_exit(p: vec3<f32>, d: vec3<f32>) -> f32 {
+    let ends: vec2<f32> = vec2<f32>(f32(field_width() - 1u), f32(field_height() - 1u));
+    var lo: f32 = -real_infinity();
+    var hi: f32 = real_infinity();
+    for (var a: i32 = 0; a < 2; a++) {
+        if (d[a] != 0.0) {
+            let t0: f32 = (0.0 - p[a]) / d[a];
+            let t1: f32 = (ends[a] - p[a]) / d[a];
+            lo = real_max(lo, real_min(t0, t1));
+            hi = real_min(hi, real_max(t0, t1));
+        } else if (p[a] < 0.0 || p[a] > ends[a]) {
+            return real_infinity();
+        }
+    }
+    if (lo > hi) {
+        return real_infinity();
+    }
+    return hi + 1e-5 * (1.0 + abs(hi));
+}
+
+// `Occluder::dips_under`: whether the line p + t d, t <= t_hi, comes within the
+// guard's margin of the solid under occluder k over its closed footprint. The core
+// checks in f64 with the same margin, 1e-5 (1 + the largest coordinate of the
+// triangle and of p): far above the difference.
+fn safety_dips_under(k: u32, p: vec3<f32>, d: vec3<f32>, t_hi: f32) -> bool {
+    let a: vec3<f32> = textureLoad(hf_occluders, vec2<u32>(3u * k, 0u), 0).xyz;
+    let b: vec3<f32> = textureLoad(hf_occluders, vec2<u32>(3u * k + 1u, 0u), 0).xyz;
+    let c: vec3<f32> = textureLoad(hf_occluders, vec2<u32>(3u * k + 2u, 0u), 0).xyz;
+    let area: f32 = (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
+    let orient: f32 = select(-1.0, 1.0, area > 0.0);
+    var lo: f32 = -real_infinity();
+    var hi: f32 = t_hi;
+    for (var e: u32 = 0u; e < 3u; e++) {
+        let e0: vec3<f32> = select(select(c, b, e == 1u), a, e == 0u);
+        let e1: vec3<f32> = select(select(a, c, e == 1u), b, e == 0u);
+        let ex: f32 = e1[0] - e0[0];
+        let ey: f32 = e1[1] - e0[1];
+        let alpha: f32 = orient * (ex * (p[1] - e0[1]) - ey * (p[0] - e0[0]));
+        let beta: f32 = orient * (ex * d[1] - ey * d[0]);
+        if (beta > 0.0) {
+            lo = real_max(lo, -alpha / beta);
+        } else if (beta < 0.0) {
+            hi = real_min(hi, -alpha / beta);
+        } else if (alpha < 0.0) {
+            return false;
+        }
+    }
+    if (lo > hi) {
+        return false;
+    }
+    let gx: f32 = ((b[2] - a[2]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[2] - a[2])) / area;
+    let gy: f32 = ((b[0] - a[0]) * (c[2] - a[2]) - (b[2] - a[2]) * (c[0] - a[0])) / area;
+    let depth0: f32 = a[2] + gx * (p[0] - a[0]) + gy * (p[1] - a[1]) - p[2];
+    let rate: f32 = gx * d[0] + gy * d[1] - d[2];
+    let big: vec3<f32> = max(max(abs(a), abs(b)), max(abs(c), abs(p)));
+    let margin: f32 = 1e-5 * (1.0 + max(max(big[0], big[1]), big[2]));
+    if (rate == 0.0) {
+        return depth0 > -margin;
+    }
+    let end: f32 = select(hi, lo, rate < 0.0);
+    return !real_is_finite(end) || depth0 + rate * end > -margin;
+}
+//#endif
 
 // `Rays::holds`: whether q is a ray of the map's set. The core checks in f64, here in
 // f32; the set's margin (a millionth) is far above the difference.
@@ -48,6 +123,16 @@ fn safety_rays_hold(q: Query) -> bool {
             return false;
         }
     }
+//#if occluders
+    if (hf_occluder_count > 0u) {
+        let t_hi: f32 = safety_footprint_exit(q.origin, q.dir);
+        for (var k: u32 = 0u; k < hf_occluder_count; k++) {
+            if (safety_dips_under(k, q.origin, q.dir, t_hi)) {
+                return false;
+            }
+        }
+    }
+//#endif
     return true;
 }
 

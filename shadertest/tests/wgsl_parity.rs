@@ -142,8 +142,9 @@ fn wgsl_marches_match_the_rust_core_ray_by_ray() {
             let got = run_kernel(&gpu, &kernel, sg, &case, rays);
             let want = case.cpu(scene, rays);
             let hf = scene.hf();
+            let (set, walls) = case.set_on(scene);
             for ((r, g), cpu) in rays.iter().zip(&got).zip(&want) {
-                let outside = !case.rays.holds(&hf, &[], r);
+                let outside = !set.holds(&hf, walls, r);
                 tally.outside += u64::from(outside);
                 // A generated shader serves its scene's rays only (an outside-only
                 // scene's leaves out the start under the surface, a view angle's the

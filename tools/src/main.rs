@@ -69,8 +69,9 @@ commands:
            (glsl) --rays x+,x-,y+,y- (all) --max-view-angle DEG (180) --heights
            f32|u16|u8 (f32) --safety-variant directional|isotropic (directional)
            --no-shadows --shadows-from-light (traced down from the light's side, as
-           exterior rays) --outside-only --no-depth --lod --all-methods (every method
-           in one shader, hf_method chosen at run time) --out FILE (default stdout)
+           exterior rays) --outside-only --occluders (maps baked over occluders: keep
+           their guard) --no-depth --lod --all-methods (every method in one shader,
+           hf_method chosen at run time) --out FILE (default stdout)
   bake     bake one method's map and write it as a KTX 2 file (hfcast::ktx2)
            --method heights|maxmip|safety|cc|cone|relaxed|qdm|radius --map PATH
            --depth GRID_UNITS --out FILE.ktx2 --cap N (safety, radius 255; cc 64)

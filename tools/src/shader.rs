@@ -7,8 +7,9 @@ use hfcast_shaders::{all_methods, generate_with, Lang, Options, SafetyVariant};
 use std::path::PathBuf;
 
 /// The boolean options of the subcommand.
-pub const FLAGS: [&str; 6] = [
+pub const FLAGS: [&str; 7] = [
     "no-shadows",
+    "occluders",
     "shadows-from-light",
     "outside-only",
     "no-depth",
@@ -74,6 +75,7 @@ pub fn cmd_shader(mut args: Args) -> Result<bool, String> {
         lod: args.get("lod", false)?,
         depth_output: !args.get("no-depth", false)?,
         heights,
+        occluders: args.get("occluders", false)?,
         ..Scene::general(method, surface)
     };
     let every = args.get("all-methods", false)?;

@@ -9,7 +9,7 @@ use hfcast::maxmip::{self, Layout, MaxMip};
 use hfcast::projective::Projective;
 use hfcast::qdm::{self, QdmMap};
 use hfcast::radius::{self, RadiusMap, Zero};
-use hfcast::rayset::Rays;
+use hfcast::rayset::{Occluder, Rays};
 use hfcast::relaxed;
 use hfcast::safety::cc::{self, CcMap, CcOptions, Slope};
 use hfcast::safety::{self, MarchSurface, SafetyMap, Variant};
@@ -90,12 +90,46 @@ pub const RAY_SET: Rays = Rays {
 };
 
 /// The maps the scenes bake beside the whole ones: each class subset for every ray,
-/// and every class for [`RAY_SET`].
-pub const MAP_SETS: [(u8, Rays); 3] = [
-    (SUBSETS[0], Rays::ALL),
-    (SUBSETS[1], Rays::ALL),
-    (15, RAY_SET),
+/// and every class for [`RAY_SET`], alone and over the scene's walls
+/// ([`Scene::walls`]: `true`).
+pub const MAP_SETS: [(u8, Rays, bool); 4] = [
+    (SUBSETS[0], Rays::ALL, false),
+    (SUBSETS[1], Rays::ALL, false),
+    (15, RAY_SET, false),
+    (15, RAY_SET, true),
 ];
+
+/// Occluders around every scene (`hf_occluder_count` of the cases over walls): four
+/// walls, each top two triangles.
+pub const WALLS: usize = 8;
+
+/// Four walls one texel around a `w × h` field of heights in `[zlo, zhi]`, two thick,
+/// as occluders: their tops rise from the middle of the height range (south-west) to a
+/// fifth of it above the highest sample (north-east), so rays come in over them at
+/// every height and some pass under them.
+pub fn walls_around(w: u32, h: u32, zlo: f32, zhi: f32) -> Vec<Occluder> {
+    let (xm, ym) = (f64::from(w - 1), f64::from(h - 1));
+    let (zlo, zr) = (f64::from(zlo), f64::from((zhi - zlo).max(1e-3)));
+    let top = |x: f64, y: f64| zlo + 0.5 * zr + 0.35 * zr * (x / xm + y / ym);
+    let (x0, x1, y0, y1) = (-3.0, xm + 3.0, -3.0, ym + 3.0);
+    let rects = [
+        (x0, -1.0, y0, y1),
+        (xm + 1.0, x1, y0, y1),
+        (x0, x1, y0, -1.0),
+        (x0, x1, ym + 1.0, y1),
+    ];
+    let corner = |x: f64, y: f64| [x as f32, y as f32, top(x, y) as f32];
+    rects
+        .into_iter()
+        .flat_map(|(a, b, c, d)| {
+            [
+                [corner(a, c), corner(b, c), corner(b, d)],
+                [corner(a, c), corner(b, d), corner(a, d)],
+            ]
+        })
+        .map(|corners| Occluder { corners })
+        .collect()
+}
 
 /// A short name of the ray-class set `classes`: `x+,y-`.
 pub fn classes_name(classes: u8) -> String {
@@ -136,13 +170,14 @@ pub fn int_heights_source(method: MethodKind) -> String {
 }
 
 /// The `override` constants of the general sources (scene-level choices).
-const OVERRIDES: [&str; 6] = [
+const OVERRIDES: [&str; 7] = [
     "hf_surface",
     "hf_safety_variant",
     "hf_safety_classes",
     "hf_cc_classes",
     "hf_rays_exterior",
     "hf_rays_max_view_angle",
+    "hf_occluder_count",
 ];
 
 /// The cylinder–cone cap of the bake and the march (as the C tests).
@@ -175,6 +210,10 @@ pub struct Case {
     /// `hf_rays_max_view_angle`; the generated shader's scene's `outside_only` and
     /// `max_view_angle_deg`): [`Rays::ALL`], or [`RAY_SET`] on the whole maps.
     pub rays: Rays,
+    /// The maps of [`RAY_SET`] are baked over the scene's [`Scene::walls`]
+    /// (`hf_occluder_count` [`WALLS`], the texture `hf_occluders`; the generated
+    /// shader's scene's `occluders`).
+    pub occluders: bool,
     /// Traces world rays with `hf_trace_world` under this transform (the `hf_world`
     /// uniform; the CPU side `WorldTransform::trace`) instead of grid rays with
     /// `hf_trace`.
@@ -198,6 +237,7 @@ impl Case {
             generated: false,
             classes: 15,
             rays: Rays::ALL,
+            occluders: false,
             world: None,
             projective: None,
         }
@@ -214,6 +254,26 @@ impl Case {
         Case {
             rays: RAY_SET,
             ..self
+        }
+    }
+
+    /// This case on the maps baked for [`RAY_SET`] over the scene's walls.
+    const fn over_walls(self) -> Case {
+        Case {
+            rays: RAY_SET,
+            occluders: true,
+            ..self
+        }
+    }
+
+    /// The ray set of this case's maps on `scene` (with the fingerprint of its walls
+    /// for a case over walls), and the occluders the marches take.
+    pub fn set_on<'a>(&self, scene: &'a Scene) -> (Rays, &'a [Occluder]) {
+        if self.occluders {
+            let set = self.rays.passing_over(&scene.walls).expect("walls");
+            (set, &scene.walls)
+        } else {
+            (self.rays, &[])
         }
     }
 
@@ -311,6 +371,18 @@ impl Case {
             Case::new(MethodKind::Cc, tri, [0; 4], true).exterior(),
             Case::new(MethodKind::Cc, Surface::ViewLinear, [0; 4], true).exterior(),
         ]);
+        // The same set over the scene's walls: a ray whose line dips under one reads
+        // zero jumps.
+        cases.extend([
+            Case::new(MethodKind::Safety, tri, [0; 4], true).over_walls(),
+            Case {
+                variant: Variant::Isotropic,
+                ..Case::new(MethodKind::Safety, tri, [0; 4], true)
+            }
+            .over_walls(),
+            Case::new(MethodKind::Cc, tri, [0; 4], true).over_walls(),
+            Case::new(MethodKind::Cc, Surface::ViewLinear, [0; 4], true).over_walls(),
+        ]);
         // And every general one generated for its scene (overrides made constants,
         // unused branches and functions left out).
         let generated: Vec<Case> = cases
@@ -365,7 +437,8 @@ impl Case {
         } else {
             format!(" for {}", self.rays)
         };
-        name + &surface + &classes + &rays + heights + generated
+        let walls = if self.occluders { " over walls" } else { "" };
+        name + &surface + &classes + &rays + walls + heights + generated
     }
 
     /// The source the case runs, with the test entry point (calling `hf_trace_world`
@@ -383,6 +456,7 @@ impl Case {
             scene.max_view_angle_deg = self.rays.max_view_angle_deg;
             scene.shadows = hfcast::scene::Shadows::None;
         }
+        scene.occluders = self.occluders;
         let src = if self.generated {
             generated_source(&scene, self.variant)
         } else {
@@ -424,6 +498,7 @@ impl Case {
             "hf_safety_classes" | "hf_cc_classes" => f64::from(self.classes),
             "hf_rays_exterior" => f64::from(u8::from(self.rays.exterior)),
             "hf_rays_max_view_angle" => f64::from(self.rays.max_view_angle_deg),
+            "hf_occluder_count" => f64::from(if self.occluders { WALLS as u32 } else { 0 }),
             _ => f64::from(layout(self.variant) as u32),
         };
         OVERRIDES
@@ -448,7 +523,8 @@ impl Case {
         let hf = scene.hf();
         let p = self.params;
         let mip = MaxMip::new(&hf, &scene.pyramid).expect("pyramid");
-        let maps = scene.maps(self.classes, self.rays);
+        let maps = scene.maps(self.classes, self.rays, self.occluders);
+        let (set, walls) = self.set_on(scene);
         let safety_data = match self.variant {
             Variant::Directional => maps.safety_dir,
             Variant::Isotropic => maps.safety_iso,
@@ -456,10 +532,14 @@ impl Case {
         let classes = RayClasses(self.classes);
         let safety_map = SafetyMap::with_classes(&hf, safety_data, self.variant, classes)
             .expect("safety map")
-            .with_rays(self.rays);
+            .with_rays(set)
+            .with_occluders(walls)
+            .expect("the walls");
         let cc_map = CcMap::with_classes(&hf, maps.cc, CC_CAP, classes)
             .expect("cc map")
-            .with_rays(self.rays);
+            .with_rays(set)
+            .with_occluders(walls)
+            .expect("the walls");
         let cone_map = ConeMap::new(&hf, &scene.cone).expect("cone map");
         let qdm_map = QdmMap::new(&hf, &scene.qdm).expect("qdm map");
         let radius_map = RadiusMap::new(&hf, &scene.radius).expect("radius map");
@@ -537,11 +617,11 @@ impl Case {
                 &[HEIGHTS, FIELD, PARAMS]
             }
             MethodKind::MaxMip => &[HEIGHTS, FIELD, PYRAMID, MAXMIP],
-            MethodKind::Safety => &[HEIGHTS, FIELD, SAFETY_MAP],
+            MethodKind::Safety => &[HEIGHTS, FIELD, SAFETY_MAP, OCCLUDERS],
             MethodKind::Cone => &[HEIGHTS, FIELD, PARAMS, CONE_MAP],
             MethodKind::Qdm => &[HEIGHTS, FIELD, PARAMS, QDM_MAP],
             MethodKind::Relaxed => &[HEIGHTS, FIELD, PARAMS, RELAXED_MAP],
-            MethodKind::Cc => &[HEIGHTS, FIELD, CC_MAP, CC],
+            MethodKind::Cc => &[HEIGHTS, FIELD, CC_MAP, CC, OCCLUDERS],
             MethodKind::Radius => &[HEIGHTS, FIELD, PARAMS, RADIUS_MAP],
         }
     }
@@ -583,6 +663,8 @@ pub struct Scene {
     pub samples: Option<(Vec<u16>, f32)>,
     /// The maps of each of [`MAP_SETS`], in its order.
     pub subsets: Vec<ClassMaps>,
+    /// The occluders around the field ([`walls_around`], [`WALLS`] of them).
+    pub walls: Vec<Occluder>,
 }
 
 /// The safety-distance (both layouts) and cylinder–cone maps of a ray-class set, as
@@ -594,6 +676,8 @@ pub struct ClassMaps {
     pub classes: u8,
     /// The rays the maps are baked for.
     pub rays: Rays,
+    /// Whether they are baked over the scene's walls too.
+    pub occluded: bool,
     /// Directional safety distances, W × nH bytes.
     pub safety_dir: Vec<u8>,
     /// Isotropic safety distances over the set, W × H bytes.
@@ -662,10 +746,13 @@ impl Scene {
         });
         // The maps of the class subsets and the ray set; `scratch` holds what
         // safety::prepare filled.
+        let walls = walls_around(w, h, hf.min_height(), hf.max_height());
         let subsets = MAP_SETS
             .iter()
-            .map(|&(bits, rays)| {
+            .map(|&(bits, rays, occluded)| {
                 let classes = RayClasses(bits);
+                let over: &[Occluder] = if occluded { &walls } else { &[] };
+                let set = rays.passing_over(over).expect("walls");
                 let sd = |variant: Variant| {
                     let opts = safety::Options {
                         variant,
@@ -678,7 +765,7 @@ impl Scene {
                         safety::bake_rows_classes(
                             &hf,
                             &scratch,
-                            &rays.on(&hf),
+                            &set.on_over(&hf, over).expect("walls"),
                             classes,
                             rows,
                             opts,
@@ -691,12 +778,14 @@ impl Scene {
                 let mut cc_sub = vec![0u8; cc::map_len_classes(w, h, classes)];
                 let row_len = cc::map_len_classes(w, 1, classes);
                 in_row_ranges(h, row_len, &mut cc_sub, |rows, out| {
-                    cc::bake_rows_with(&hf, &scratch, &nb, &rays.on(&hf), classes, rows, opts, out)
+                    let on = set.on_over(&hf, over).expect("walls");
+                    cc::bake_rows_with(&hf, &scratch, &nb, &on, classes, rows, opts, out)
                         .expect("cc bake of a class subset");
                 });
                 ClassMaps {
                     classes: bits,
                     rays,
+                    occluded,
                     safety_dir: sd(Variant::Directional),
                     safety_iso: sd(Variant::Isotropic),
                     cc: cc_sub,
@@ -724,12 +813,14 @@ impl Scene {
             heights,
             samples: None,
             subsets,
+            walls,
         }
     }
 
-    /// The maps holding the ray classes `classes` for the rays `rays`: the whole maps
-    /// for 15 and every ray, else those of one of [`MAP_SETS`].
-    pub fn maps(&self, classes: u8, rays: Rays) -> MapsRef<'_> {
+    /// The maps holding the ray classes `classes` for the rays `rays` (over the
+    /// walls when `occluded`): the whole maps for 15 and every ray, else those of one
+    /// of [`MAP_SETS`].
+    pub fn maps(&self, classes: u8, rays: Rays, occluded: bool) -> MapsRef<'_> {
         if classes == 15 && rays.is_all() {
             return MapsRef {
                 safety_dir: &self.safety_dir,
@@ -740,7 +831,7 @@ impl Scene {
         let m = self
             .subsets
             .iter()
-            .find(|m| m.classes == classes && m.rays == rays)
+            .find(|m| m.classes == classes && m.rays == rays && m.occluded == occluded)
             .unwrap_or_else(|| panic!("no maps of the classes {classes:#06b} for {rays}"));
         MapsRef {
             safety_dir: &m.safety_dir,
@@ -1318,9 +1409,11 @@ pub struct SceneGpu {
     cc_map: wgpu::TextureView,
     cc: wgpu::Buffer,
     radius: wgpu::TextureView,
-    /// Per [`MAP_SETS`] entry: its classes, its rays and its maps' textures (directional
-    /// and cylinder–cone W × nH, isotropic W × H).
-    subsets: Vec<(u8, Rays, ClassTextures)>,
+    /// The walls' corners, RGBA32Float 3·[`WALLS`] × 1 (`hf_occluders`).
+    occluders: wgpu::TextureView,
+    /// Per [`MAP_SETS`] entry: its classes, its rays, whether over the walls, and its
+    /// maps' textures (directional and cylinder–cone W × nH, isotropic W × H).
+    subsets: Vec<(u8, Rays, bool, ClassTextures)>,
 }
 
 /// The textures of one class set's maps.
@@ -1385,7 +1478,7 @@ impl SceneGpu {
                         safety_iso: gpu.texture(w, h, F::R8Uint, &m.safety_iso),
                         cc_map: gpu.texture(w, n * h, F::Rg8Uint, &m.cc),
                     };
-                    (m.classes, m.rays, tex)
+                    (m.classes, m.rays, m.occluded, tex)
                 })
                 .collect(),
             safety_dir: gpu.texture(w, 4 * h, F::R8Uint, &s.safety_dir),
@@ -1399,6 +1492,13 @@ impl SceneGpu {
             cc_map: gpu.texture(w, 4 * h, F::Rg8Uint, &s.cc),
             cc: gpu.uniform(&cc),
             radius: gpu.texture(w, h, F::R8Uint, &s.radius),
+            occluders: {
+                let texels: Vec<f32> = (s.walls.iter())
+                    .flat_map(|o| o.corners)
+                    .flat_map(|[x, y, z]| [x, y, z, 0.0])
+                    .collect();
+                gpu.texture(3 * WALLS as u32, 1, F::Rgba32Float, &f32_bytes(&texels))
+            },
         }
     }
 }
@@ -1410,14 +1510,15 @@ impl SceneGpu {
         &self,
         classes: u8,
         rays: Rays,
+        occluded: bool,
     ) -> (&wgpu::TextureView, &wgpu::TextureView, &wgpu::TextureView) {
         if classes == 15 && rays.is_all() {
             return (&self.safety_dir, &self.safety_iso, &self.cc_map);
         }
-        let (_, _, t) = self
+        let (_, _, _, t) = self
             .subsets
             .iter()
-            .find(|(c, r, _)| *c == classes && *r == rays)
+            .find(|(c, r, o, _)| *c == classes && *r == rays && *o == occluded)
             .unwrap_or_else(|| panic!("no textures of the classes {classes:#06b} for {rays}"));
         (&t.safety_dir, &t.safety_iso, &t.cc_map)
     }
@@ -1511,7 +1612,8 @@ fn layout_entry(b: u32, int_heights: bool) -> wgpu::BindGroupLayoutEntry {
         | binding::PYRAMID
         | binding::CONE_MAP
         | binding::QDM_MAP
-        | binding::RELAXED_MAP => texture(float),
+        | binding::RELAXED_MAP
+        | binding::OCCLUDERS => texture(float),
         binding::SAFETY_MAP | binding::CC_MAP | binding::RADIUS_MAP => {
             texture(wgpu::TextureSampleType::Uint)
         }
@@ -1621,7 +1723,7 @@ pub fn run_kernel(
     let (oz, sz) = (t.height_offset(), t.height_scale());
     let world = [ox, oy, oz, 0.0, sx, sy, sz, 0.0].map(|v| v as f32);
     let world = gpu.uniform(&f32_bytes(&world));
-    let (safety_dir, safety_iso, cc_map) = sg.maps(case.classes, case.rays);
+    let (safety_dir, safety_iso, cc_map) = sg.maps(case.classes, case.rays, case.occluders);
     let resource = |b: u32| -> wgpu::BindingResource<'_> {
         match b {
             binding::HEIGHTS if case.int_heights => {
@@ -1645,6 +1747,7 @@ pub fn run_kernel(
             binding::CC => sg.cc.as_entire_binding(),
             binding::RADIUS_MAP => wgpu::BindingResource::TextureView(&sg.radius),
             binding::WORLD => world.as_entire_binding(),
+            binding::OCCLUDERS => wgpu::BindingResource::TextureView(&sg.occluders),
             other => panic!("no resource for binding {other}"),
         }
     };
