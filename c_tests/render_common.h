@@ -126,8 +126,8 @@ void scene_set_maps_of(scene *s, uint32_t classes, uint32_t exterior, float max_
                        int safety, int cc);
 /* When `on`, the next scene_set_maps bakes over four walls one texel around the field
  * (eight occluders: tops rising from the middle of the height range, south-west, to a
- * fifth of it above the highest sample, north-east; shadertest's walls_around); else
- * over none. */
+ * fifth of it above the highest sample, north-east: hfcast_tools::maps::walls_around);
+ * else over none. */
 void scene_use_walls(scene *s, int on);
 /* The fixed view of the tests: both renderers' images of it are compared. */
 camera default_camera(void);

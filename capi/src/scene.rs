@@ -348,6 +348,7 @@ mod tests {
                 ..s
             },
             hf_scene { shadows: 3, ..s },
+            hf_scene { occluders: 2, ..s },
         ] {
             assert_eq!(scene_of(&bad), Err(HF_ERR_INVALID_ARGUMENT));
         }

@@ -359,7 +359,7 @@ pub(crate) unsafe fn marcher<'a>(
     let o = TraceOptions::of(kind, &o)?;
     // SAFETY: the caller's promise, passed on.
     let m = unsafe { crate::maps::marcher(kind, f, map, map_len, &o) }?;
-    let m = m.with_occluders(occluders).map_err(mismatch)?;
+    let m = m.with_occluders(f.view(), occluders).map_err(mismatch)?;
     Ok((m, o))
 }
 

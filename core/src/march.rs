@@ -226,18 +226,20 @@ impl<'a> Marcher<'a> {
         }
     }
 
-    /// The same marcher with the occluders its map's ray set passes over
+    /// The same marcher of `hf` with the occluders its map's ray set passes over
     /// ([`SafetyMap::with_occluders`](crate::safety::SafetyMap::with_occluders); refused
     /// unless they are the set's). Methods without a ray set take none.
     pub fn with_occluders(
         self,
+        hf: &HeightField,
         occluders: &'a [crate::rayset::Occluder],
     ) -> Result<Self, crate::rayset::RaysError> {
+        let _ = hf;
         Ok(match self {
             #[cfg(feature = "safety")]
-            Marcher::Safety(map, s) => Marcher::Safety(map.with_occluders(occluders)?, s),
+            Marcher::Safety(map, s) => Marcher::Safety(map.with_occluders(hf, occluders)?, s),
             #[cfg(feature = "safety")]
-            Marcher::Cc(map, s) => Marcher::Cc(map.with_occluders(occluders)?, s),
+            Marcher::Cc(map, s) => Marcher::Cc(map.with_occluders(hf, occluders)?, s),
             other => {
                 crate::rayset::Rays::ALL.check_occluders(occluders)?;
                 other

@@ -59,6 +59,46 @@ pub struct Occluder {
     pub corners: [[f32; 3]; 3],
 }
 
+/// A set's occluders prepared for the guard on one field ([`Rays::holds_over`]): the
+/// list, and what lets most rays pass without a test per occluder.
+#[derive(Clone, Copy, Debug)]
+pub struct Occluders<'a> {
+    list: &'a [Occluder],
+    /// The highest corner.
+    top: f64,
+    /// The largest magnitude of a corner's coordinate.
+    size: f64,
+    /// Whether every occluder's bounding box lies outside the field's open footprint.
+    outside: bool,
+}
+
+impl<'a> Occluders<'a> {
+    /// No occluders.
+    pub const NONE: Occluders<'static> = Occluders {
+        list: &[],
+        top: f64::NEG_INFINITY,
+        size: 0.0,
+        outside: true,
+    };
+
+    /// `list` prepared for the field `hf` (not checked: [`Rays::check_occluders`]).
+    pub fn prepare(hf: &HeightField, list: &'a [Occluder]) -> Occluders<'a> {
+        let ends = [f64::from(hf.width() - 1), f64::from(hf.height() - 1)];
+        let corners = || list.iter().flat_map(|o| o.corners_f64());
+        Occluders {
+            list,
+            top: corners().fold(f64::NEG_INFINITY, |m, c| m.max(c[2])),
+            size: corners().flatten().fold(0f64, |m, v| m.max(v.abs())),
+            outside: list.iter().all(|o| o.outside(ends)),
+        }
+    }
+
+    /// The list.
+    pub fn list(&self) -> &'a [Occluder] {
+        self.list
+    }
+}
+
 /// Most occluders a set takes (the shaders' occluder texture is one row this wide).
 pub const MAX_OCCLUDERS: usize = 64;
 
@@ -78,6 +118,26 @@ pub fn fingerprint(occluders: &[Occluder]) -> u32 {
 }
 
 impl Occluder {
+    /// The top of the rectangle `x × y` (grid units) as two occluders, its corners at
+    /// the heights `top(x, y)`: a wall or a block standing around the field.
+    pub fn rectangle(x: [f64; 2], y: [f64; 2], top: impl Fn(f64, f64) -> f64) -> [Occluder; 2] {
+        let c = |x: f64, y: f64| [x as f32, y as f32, top(x, y) as f32];
+        let [a, b, p, q] = [c(x[0], y[0]), c(x[1], y[0]), c(x[1], y[1]), c(x[0], y[1])];
+        [
+            Occluder { corners: [a, b, p] },
+            Occluder { corners: [a, p, q] },
+        ]
+    }
+
+    /// Whether the bounding box of the footprint lies outside the open footprint
+    /// `(0, ends[0]) × (0, ends[1])` of a field.
+    fn outside(&self, ends: [f64; 2]) -> bool {
+        let c = self.corners_f64();
+        let min = |k: usize| c.iter().fold(f64::INFINITY, |m, v| m.min(v[k]));
+        let max = |k: usize| c.iter().fold(f64::NEG_INFINITY, |m, v| m.max(v[k]));
+        max(0) <= 0.0 || min(0) >= ends[0] || max(1) <= 0.0 || min(1) >= ends[1]
+    }
+
     /// The corners in `f64`.
     pub fn corners_f64(&self) -> [[f64; 3]; 3] {
         self.corners.map(|c| c.map(f64::from))
@@ -95,7 +155,24 @@ impl Occluder {
     /// of the triangle's and `p`'s coordinates (so the shaders' `f32` check, with the
     /// same margin, agrees). In `f64`.
     pub fn dips_under(&self, p: [f64; 3], d: [f64; 3], t_hi: f64) -> bool {
+        let big = self
+            .corners_f64()
+            .iter()
+            .chain([&p])
+            .flatten()
+            .fold(0f64, |m, v| m.max(v.abs()));
+        self.dips_under_by(p, d, t_hi, 1e-5 * (1.0 + big))
+    }
+
+    /// [`Occluder::dips_under`] with its `margin`.
+    fn dips_under_by(&self, p: [f64; 3], d: [f64; 3], t_hi: f64, margin: f64) -> bool {
         let [a, b, c] = self.corners_f64();
+        // Every corner strictly on one side of the line's footprint: it misses.
+        let side = |v: [f64; 3]| d[0] * (v[1] - p[1]) - d[1] * (v[0] - p[0]);
+        let (sa, sb, sc) = (side(a), side(b), side(c));
+        if (sa > 0.0 && sb > 0.0 && sc > 0.0) || (sa < 0.0 && sb < 0.0 && sc < 0.0) {
+            return false;
+        }
         let area = self.twice_area();
         let orient = area.signum();
         // The footprint's edges as `α + β·t ≥ 0` along the line.
@@ -120,11 +197,6 @@ impl Occluder {
         let gy = ((b[0] - a[0]) * (c[2] - a[2]) - (b[2] - a[2]) * (c[0] - a[0])) / area;
         let depth0 = a[2] + gx * (p[0] - a[0]) + gy * (p[1] - a[1]) - p[2];
         let rate = gx * d[0] + gy * d[1] - d[2];
-        let big = [a, b, c, p]
-            .iter()
-            .flatten()
-            .fold(0f64, |m, v| m.max(v.abs()));
-        let margin = 1e-5 * (1.0 + big);
         // Linear: deepest at an end of the interval (towards `−∞` when it falls
         // with `t`, towards `+∞` when it rises, anywhere when flat).
         if rate == 0.0 {
@@ -244,6 +316,17 @@ impl Rays {
     /// the ray's line, up to where it leaves the field's footprint, dips under none
     /// ([`Occluder::dips_under`]).
     pub fn holds<R: Real>(self, hf: &HeightField, occluders: &[Occluder], q: &Query<R>) -> bool {
+        self.holds_over(hf, &Occluders::prepare(hf, occluders), q)
+    }
+
+    /// [`Rays::holds`] with occluders prepared once for many rays (the marches'):
+    /// most rays then pass without a test per occluder.
+    pub fn holds_over<R: Real>(
+        self,
+        hf: &HeightField,
+        occluders: &Occluders,
+        q: &Query<R>,
+    ) -> bool {
         if self.exterior {
             let p = q.at(q.t_min()).map(|c| c.to_f64());
             let (w, h) = (f64::from(hf.width() - 1), f64::from(hf.height() - 1));
@@ -266,25 +349,58 @@ impl Rays {
             }
         }
         if self.occluders != 0 {
-            if occluders.is_empty() {
+            if occluders.list.is_empty() {
                 return false;
             }
             let p = q.origin().map(|c| c.to_f64());
             let d = q.dir().map(|c| c.to_f64());
-            let t_hi = footprint_exit(hf, p, d);
-            if occluders.iter().any(|o| o.dips_under(p, d, t_hi)) {
-                return false;
+            let ends = [f64::from(hf.width() - 1), f64::from(hf.height() - 1)];
+            let span = footprint_span(ends, p, d);
+            let p_size = p.iter().fold(0f64, |m, v| m.max(v.abs()));
+            // Over an occluder outside the field's open footprint the line can be only
+            // before it enters the footprint (or after it leaves): the same answer as up
+            // to the exit, for fewer points. A line that falls with `t` and is above
+            // every corner by the margin where it enters passes over them all.
+            let margin = 1e-5 * (1.0 + occluders.size.max(p_size));
+            let entry_z = p[2] + span[0] * d[2];
+            if occluders.outside && d[2] < 0.0 && entry_z > occluders.top + margin {
+                return true;
+            }
+            for o in occluders.list {
+                let c = o.corners_f64();
+                let t_end = if o.outside(ends) { span[0] } else { span[1] };
+                if t_end == f64::NEG_INFINITY {
+                    continue;
+                }
+                // The same for this occluder alone (its own margin, as `dips_under`'s).
+                let size = c.iter().flatten().fold(p_size, |m, v| m.max(v.abs()));
+                let margin = 1e-5 * (1.0 + size);
+                let top = c[0][2].max(c[1][2]).max(c[2][2]);
+                let falls = d[2] < 0.0 && t_end.is_finite();
+                if falls && p[2] + t_end * d[2] > top + margin {
+                    continue;
+                }
+                // Every corner ahead of the range's end along the line: the line is
+                // over the occluder only later.
+                let along = |v: &[f64; 3]| (v[0] - p[0]) * d[0] + (v[1] - p[1]) * d[1];
+                let end = t_end * (d[0] * d[0] + d[1] * d[1]);
+                if end.is_finite() && c.iter().all(|v| along(v) > end * (1.0 + 1e-9) + 1e-9) {
+                    continue;
+                }
+                if o.dips_under_by(p, d, t_end, margin) {
+                    return false;
+                }
             }
         }
         true
     }
 }
 
-/// Where the line `p + t·d` leaves the field's footprint `[0, w−1] × [0, h−1]`, a
-/// little late (so the rounding of the slabs never cuts a point of the line inside);
-/// `+∞` when it never does or never meets it.
-fn footprint_exit(hf: &HeightField, p: [f64; 3], d: [f64; 3]) -> f64 {
-    let ends = [f64::from(hf.width() - 1), f64::from(hf.height() - 1)];
+/// Where the line `p + t·d` enters and leaves the field's footprint `[0, ends[0]] ×
+/// [0, ends[1]]`, each a little late (so the rounding of the slabs never cuts a point
+/// of the line inside); both `+∞` when it never meets it, the entry `−∞` when it never
+/// leaves it backwards.
+fn footprint_span(ends: [f64; 2], p: [f64; 3], d: [f64; 3]) -> [f64; 2] {
     let (mut lo, mut hi) = (f64::NEG_INFINITY, f64::INFINITY);
     for a in 0..2 {
         if d[a] != 0.0 {
@@ -292,13 +408,16 @@ fn footprint_exit(hf: &HeightField, p: [f64; 3], d: [f64; 3]) -> f64 {
             lo = lo.max(t0.min(t1));
             hi = hi.min(t0.max(t1));
         } else if p[a] < 0.0 || p[a] > ends[a] {
-            return f64::INFINITY;
+            return [f64::INFINITY; 2];
         }
     }
     if lo > hi {
-        return f64::INFINITY;
+        return [f64::INFINITY; 2];
     }
-    hi + 1e-9 * (1.0 + hi.abs())
+    [lo, hi].map(|t| match t.is_finite() {
+        true => t + 1e-9 * (1.0 + t.abs()),
+        false => t,
+    })
 }
 
 /// Refuses occluders that are not finite, have no footprint, or are too many.

@@ -52,7 +52,7 @@ use crate::surface::{corners, triangle_planes, Surface};
 pub mod cc;
 pub mod rays;
 
-pub use crate::rayset::{Occluder, Rays, RaysError};
+pub use crate::rayset::{Occluder, Occluders, Rays, RaysError};
 pub use rays::{RaysOn, Witness};
 
 /// Cells per strip of the bake's bound (along the minor axis of a class).
@@ -787,7 +787,7 @@ pub struct SafetyMap<'a> {
     variant: Variant,
     classes: RayClasses,
     rays: Rays,
-    occluders: &'a [Occluder],
+    occluders: Occluders<'a>,
 }
 
 impl<'a> SafetyMap<'a> {
@@ -815,7 +815,7 @@ impl<'a> SafetyMap<'a> {
             variant,
             classes,
             rays: Rays::ALL,
-            occluders: &[],
+            occluders: Occluders::NONE,
         })
     }
 
@@ -831,17 +831,22 @@ impl<'a> SafetyMap<'a> {
         self.rays
     }
 
-    /// The same map with the occluders its set passes over ([`Rays::occluders`];
-    /// refused unless they are the set's). Without them a map baked for occluders
-    /// holds no ray: every ray walks cell by cell (exact).
-    pub fn with_occluders(self, occluders: &'a [Occluder]) -> Result<Self, RaysError> {
+    /// The same map of `hf` with the occluders its set passes over
+    /// ([`Rays::occluders`]; refused unless they are the set's). Without them a map
+    /// baked for occluders holds no ray: every ray walks cell by cell (exact).
+    pub fn with_occluders(
+        self,
+        hf: &HeightField,
+        occluders: &'a [Occluder],
+    ) -> Result<Self, RaysError> {
         self.rays.check_occluders(occluders)?;
+        let occluders = Occluders::prepare(hf, occluders);
         Ok(SafetyMap { occluders, ..self })
     }
 
     /// The occluders given with [`SafetyMap::with_occluders`].
     pub fn occluders(&self) -> &'a [Occluder] {
-        self.occluders
+        self.occluders.list()
     }
 
     /// The layout.
@@ -1182,7 +1187,7 @@ pub fn trace_on<R: Real>(
     surface: MarchSurface,
     q: &Query<R>,
 ) -> Trace<R> {
-    let held = map.rays.holds(hf, map.occluders, q);
+    let held = map.rays.holds_over(hf, &map.occluders, q);
     march_with(hf, surface, q, |class| {
         // A class the map does not hold, or a ray outside its set: distance 0 (zero
         // jumps, exact).

@@ -150,23 +150,45 @@ fn dipping_rays(field: &Field, rng: &mut Rng, n: usize) -> Vec<RaySpec> {
     v
 }
 
-/// Judges `rays` traced with `m` in `f32` and `f64`; counts how many the map's set
-/// holds.
+/// What a test's [`judge_all`] calls add up to: wrong rays, traces, rays of the maps'
+/// sets, and the report lines.
+#[derive(Default)]
+struct Totals {
+    wrong: u64,
+    tried: u64,
+    held: u64,
+    out: String,
+}
+
+impl Totals {
+    /// Prints the counts; no wrong ray, and at least `held` rays of the sets.
+    fn check(&self, held: u64) {
+        let (tried, n) = (self.tried, self.held);
+        println!("{tried} traces, {n} of their rays in the map's set");
+        assert!(n > held, "too few rays of the sets: {n}");
+        assert_eq!(self.wrong, 0, "wrong rays");
+    }
+}
+
+/// Judges `rays` traced with `m` in `f32` and `f64` into `totals` (with how many the
+/// map's set holds), and reports them as `name`.
 fn judge_all(
     name: &str,
     field: &Field,
     m: &Marcher,
     (rays, occluders): (Rays, &[Occluder]),
     specs: &[RaySpec],
-    held: &mut u64,
-) -> Tally {
+    totals: &mut Totals,
+) {
     let mut t = Tally::new(name);
     for s in specs {
-        *held += u64::from(rays.holds(&field.hf(), occluders, &s.q64()));
+        totals.held += u64::from(rays.holds(&field.hf(), occluders, &s.q64()));
         judge_one(field, m, &s.q32(), &mut t);
         judge_one(field, m, &s.q64(), &mut t);
     }
-    t
+    totals.wrong += t.wrong;
+    totals.tried += t.tried;
+    t.report(&mut totals.out);
 }
 
 /// Traces `q` with `m` and counts the verdict in `t`.
@@ -184,8 +206,7 @@ fn judge_one<R: Real>(field: &Field, m: &Marcher, q: &Query<R>, t: &mut Tally) {
 #[test]
 fn zero_wrong_rays_for_every_set() {
     let mut rng = Rng::new(0xe7e);
-    let mut out = String::new();
-    let (mut wrong, mut tried, mut held) = (0, 0, 0);
+    let mut totals = Totals::default();
     for (name, field) in fields() {
         let hf = field.hf();
         let mut specs = set_rays(&field, &mut rng, 240);
@@ -216,24 +237,13 @@ fn zero_wrong_rays_for_every_set() {
                         MarchSurface::Triangles,
                     ),
                 };
-                let j = judge_all(
-                    &format!("{name} {set_name} {what}"),
-                    &field,
-                    &m,
-                    (rays, &[]),
-                    &specs,
-                    &mut held,
-                );
-                wrong += j.wrong;
-                tried += j.tried;
-                j.report(&mut out);
+                let name = format!("{name} {set_name} {what}");
+                judge_all(&name, &field, &m, (rays, &[]), &specs, &mut totals);
             }
         }
     }
-    println!("{out}");
-    println!("{tried} traces, {held} of their rays in the map's set");
-    assert!(held > 20_000, "too few rays of the sets: {held}");
-    assert_eq!(wrong, 0, "wrong rays");
+    println!("{}", totals.out);
+    totals.check(20_000);
 }
 
 /// Without the guard (the same bytes read as a map for every ray) some ray outside
@@ -581,23 +591,16 @@ fn walls_around(field: &Field, ring: bool) -> Vec<Occluder> {
     };
     let (x0, x1, y0, y1) = (-3.0, xm + 3.0, -3.0, ym + 3.0);
     let mut rects = vec![
-        (x0, -1.0, y0, y1),
-        (xm + 1.0, x1, y0, y1),
-        (x0, x1, ym + 1.0, y1),
+        ([x0, -1.0], [y0, y1]),
+        ([xm + 1.0, x1], [y0, y1]),
+        ([x0, x1], [ym + 1.0, y1]),
     ];
     if ring {
-        rects.push((x0, x1, y0, -1.0));
+        rects.push(([x0, x1], [y0, -1.0]));
     }
-    let corner = |x: f64, y: f64| [x as f32, y as f32, top(x, y) as f32];
     rects
         .into_iter()
-        .flat_map(|(a, b, c, d)| {
-            [
-                [corner(a, c), corner(b, c), corner(b, d)],
-                [corner(a, c), corner(b, d), corner(a, d)],
-            ]
-        })
-        .map(|corners| Occluder { corners })
+        .flat_map(|(x, y)| Occluder::rectangle(x, y, top))
         .collect()
 }
 
@@ -627,8 +630,7 @@ fn occluder_sets(field: &Field) -> Vec<(&'static str, Rays, Vec<Occluder>)> {
 #[test]
 fn occluders_zero_wrong_rays_and_longer_distances() {
     let mut rng = Rng::new(0x0cc1);
-    let mut out = String::new();
-    let (mut wrong, mut tried, mut held) = (0, 0, 0);
+    let mut totals = Totals::default();
     let (mut sum_without, mut sum_with) = (0u64, 0u64);
     for (name, field) in fields().into_iter().take(10) {
         let hf = field.hf();
@@ -663,32 +665,19 @@ fn occluders_zero_wrong_rays_and_longer_distances() {
                 ),
             ];
             for (what, m) in marchers {
-                let m = m.with_occluders(&walls).unwrap();
-                let j = judge_all(
-                    &format!("{name} {set_name} {what}"),
-                    &field,
-                    &m,
-                    (rays, &walls),
-                    &specs,
-                    &mut held,
-                );
-                wrong += j.wrong;
-                tried += j.tried;
-                j.report(&mut out);
+                let m = m.with_occluders(&hf, &walls).unwrap();
+                let name = format!("{name} {set_name} {what}");
+                judge_all(&name, &field, &m, (rays, &walls), &specs, &mut totals);
             }
         }
     }
-    println!("{out}");
-    println!(
-        "{tried} traces, {held} of their rays in the map's set; safety distances summed: \
-         {sum_without} without the occluders, {sum_with} with them"
-    );
-    assert!(held > 5_000, "too few rays of the sets: {held}");
+    println!("{}", totals.out);
+    println!("safety distances summed: {sum_without} without the occluders, {sum_with} with them");
     assert!(
         sum_with > sum_without,
         "the occluders lengthened no distance"
     );
-    assert_eq!(wrong, 0, "wrong rays");
+    totals.check(5_000);
 }
 
 /// A map over occluders must be read with them: the guard of the exterior set alone
@@ -709,7 +698,7 @@ fn the_occluder_guard_matters() {
         let data = bake_over(&field, MapKind::Safety, rays, &walls);
         let map = SafetyMap::new(&hf, &data, Variant::Directional).unwrap();
         let as_exterior = map.with_rays(Rays::EXTERIOR);
-        let guarded = map.with_rays(rays).with_occluders(&walls).unwrap();
+        let guarded = map.with_rays(rays).with_occluders(&hf, &walls).unwrap();
         let every_exterior = Rays::EXTERIOR.on(&hf);
         for j in 0..field.h {
             for i in 0..field.w {
@@ -785,8 +774,8 @@ fn a_map_over_occluders_takes_its_own() {
     let map = SafetyMap::new(&hf, &data, Variant::Directional)
         .unwrap()
         .with_rays(rays);
-    assert!(map.with_occluders(&walls[1..]).is_err());
-    assert!(map.with_occluders(&[]).is_err());
+    assert!(map.with_occluders(&hf, &walls[1..]).is_err());
+    assert!(map.with_occluders(&hf, &[]).is_err());
     let spec = Spec::new(Desc {
         rays,
         ..Desc::new(MapKind::Safety, field.w, field.h)

@@ -45,10 +45,7 @@ pub fn cmd_bake(mut args: Args) -> Result<bool, String> {
         None => RayClasses::ALL,
     };
     let tolerance = args.get("tolerance", 0.0f32)?;
-    let rays: hfcast::rayset::Rays = match args.opt("rays") {
-        None => hfcast::rayset::Rays::ALL,
-        Some(r) => r.parse().map_err(|e| format!("--rays: {e}"))?,
-    };
+    let rays = hfcast_tools::parse_ray_set(args.opt("rays"))?;
     let threads = args.get("threads", default_threads())?.max(1);
     args.finish()?;
     if let Some(p) = args.positional.first() {

@@ -212,6 +212,20 @@ pub fn parse_method(name: &str) -> Result<MethodSpec, String> {
     Ok(method)
 }
 
+/// The CLI's `--rays` value (`all`, `exterior`, `angle:A`, `exterior,angle:A`): a set
+/// with occluders is refused, since the CLI takes no occluder list (the library does:
+/// `Spec::bake_rows_over`, `hf_bake_options.occluders`).
+pub fn parse_ray_set(text: Option<String>) -> Result<hfcast::rayset::Rays, String> {
+    let Some(text) = text else {
+        return Ok(hfcast::rayset::Rays::ALL);
+    };
+    let rays: hfcast::rayset::Rays = text.parse().map_err(|e| format!("--rays: {e}"))?;
+    if rays.occluders != 0 {
+        return Err("--rays: occluders need their triangles, which the CLI does not take".into());
+    }
+    Ok(rays)
+}
+
 /// The machine's available parallelism (1 when unknown).
 pub fn default_threads() -> usize {
     std::thread::available_parallelism().map_or(1, |n| n.get())
@@ -277,6 +291,15 @@ impl Rng {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_cli_ray_set_takes_no_occluders() {
+        let set = |t: &str| parse_ray_set(Some(t.to_string()));
+        assert_eq!(parse_ray_set(None), Ok(hfcast::rayset::Rays::ALL));
+        assert_eq!(set("exterior"), Ok(hfcast::rayset::Rays::EXTERIOR));
+        assert!(set("exterior,occluders:abcdef").is_err());
+        assert!(set("sideways").is_err());
+    }
 
     #[test]
     fn method_names_round_trip() {

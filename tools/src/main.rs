@@ -1,6 +1,5 @@
 //! `hfcast`: render, trace and benchmark height fields from the command line.
 
-use hfcast::rayset::Rays;
 use hfcast::scene::{MethodKind, RayClasses};
 use hfcast::{Surface, WorldTransform};
 use hfcast_tools::advise::{self, AdviseOptions};
@@ -265,10 +264,7 @@ fn render_options(args: &mut Args, method: MethodSpec) -> Result<RenderOptions, 
         height: args.get("height", d.height)?,
         threads: args.get("threads", d.threads)?,
         progress: std::io::stderr().is_terminal(),
-        rays: match args.opt("rays") {
-            None => Rays::ALL,
-            Some(r) => r.parse().map_err(|e| format!("--rays: {e}"))?,
-        },
+        rays: hfcast_tools::parse_ray_set(args.opt("rays"))?,
     };
     if opts.width == 0 || opts.height == 0 {
         return Err("--width and --height must be positive".into());
@@ -433,10 +429,7 @@ fn cmd_bench(mut args: Args) -> Result<bool, String> {
         Some("scalar") => bench::Order::Scalar,
         Some(o) => return Err(format!("--order: bad value {o:?} (want scalar or lanes)")),
     };
-    let rays: Rays = match args.opt("rays") {
-        None => Rays::ALL,
-        Some(r) => r.parse().map_err(|e| format!("--rays: {e}"))?,
-    };
+    let rays = hfcast_tools::parse_ray_set(args.opt("rays"))?;
     let (w, h) = args.size((1280, 1024))?;
     let threads: Vec<usize> = args.list("threads", "1,2", |_| true, "thread counts")?;
     args.finish()?;

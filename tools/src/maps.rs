@@ -11,6 +11,7 @@
 //! The image order is kept: image row 0 (the top, north for DEMs) is grid row y = 0,
 //! so y grows southwards and x eastwards.
 
+use hfcast::rayset::Occluder;
 use hfcast::{FieldError, HeightField, WorldTransform};
 use std::fmt;
 use std::fs::File;
@@ -141,6 +142,28 @@ fn sidecar_transform(png_path: &Path, depth: f32) -> Option<WorldTransform> {
     };
     let s = spacing_metres(spacing["value"].as_f64()?, spacing["units"].as_str()?, lat)?;
     real_transform(s, range, depth)
+}
+
+/// Four walls one texel around `hf`, two thick, as eight occluders (each top two
+/// triangles): the tops rise from the middle of the height range at the field's
+/// first corner to a fifth of the range above its highest sample at the last, so rays
+/// come in over them at every height and some pass under them. The walls of the
+/// report's `occluder` settings and of the shader parity tests.
+pub fn walls_around(hf: &HeightField) -> Vec<Occluder> {
+    let (xm, ym) = (f64::from(hf.width() - 1), f64::from(hf.height() - 1));
+    let zlo = f64::from(hf.min_height());
+    let zr = (f64::from(hf.max_height()) - zlo).max(1e-3);
+    let top = |x: f64, y: f64| zlo + 0.5 * zr + 0.35 * zr * (x / xm + y / ym);
+    let (x0, x1, y0, y1) = (-3.0, xm + 3.0, -3.0, ym + 3.0);
+    [
+        ([x0, -1.0], [y0, y1]),
+        ([xm + 1.0, x1], [y0, y1]),
+        ([x0, x1], [y0, -1.0]),
+        ([x0, x1], [ym + 1.0, y1]),
+    ]
+    .into_iter()
+    .flat_map(|(x, y)| Occluder::rectangle(x, y, top))
+    .collect()
 }
 
 /// The default relief depth of a `width × height` map: 0.1 × max(W, H) grid units.

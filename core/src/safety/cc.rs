@@ -90,7 +90,7 @@ use core::ops::Range;
 use super::{
     axis_of, band_cells, cell_tris, check_len, column_ahead, extents, march_with, sample, sigma_of,
     strides, texel_distance, tri_masks, AllRays, ClassRows, Jump, Line, MarchSurface, Occluder,
-    RaySet, Rays, RaysError, SafetyError, Sigma, Tri, Variant, CLASSES,
+    Occluders, RaySet, Rays, RaysError, SafetyError, Sigma, Tri, Variant, CLASSES,
 };
 use crate::field::HeightField;
 use crate::math::Real;
@@ -1285,7 +1285,7 @@ pub struct CcMap<'a> {
     classes: RayClasses,
     cap: u8,
     rays: Rays,
-    occluders: &'a [Occluder],
+    occluders: Occluders<'a>,
 }
 
 /// One texel's shape for one class, decoded.
@@ -1322,7 +1322,7 @@ impl<'a> CcMap<'a> {
             classes,
             cap,
             rays: Rays::ALL,
-            occluders: &[],
+            occluders: Occluders::NONE,
         })
     }
 
@@ -1338,17 +1338,22 @@ impl<'a> CcMap<'a> {
         self.rays
     }
 
-    /// The same map with the occluders its set passes over ([`Rays::occluders`];
-    /// refused unless they are the set's). Without them a map baked for occluders
-    /// holds no ray: every ray walks cell by cell (exact).
-    pub fn with_occluders(self, occluders: &'a [Occluder]) -> Result<Self, RaysError> {
+    /// The same map of `hf` with the occluders its set passes over
+    /// ([`Rays::occluders`]; refused unless they are the set's). Without them a map
+    /// baked for occluders holds no ray: every ray walks cell by cell (exact).
+    pub fn with_occluders(
+        self,
+        hf: &HeightField,
+        occluders: &'a [Occluder],
+    ) -> Result<Self, RaysError> {
         self.rays.check_occluders(occluders)?;
+        let occluders = Occluders::prepare(hf, occluders);
         Ok(CcMap { occluders, ..self })
     }
 
     /// The occluders given with [`CcMap::with_occluders`].
     pub fn occluders(&self) -> &'a [Occluder] {
-        self.occluders
+        self.occluders.list()
     }
 
     /// Longest cone step.
@@ -1508,7 +1513,7 @@ pub fn trace_on<R: Real>(
     surface: MarchSurface,
     q: &Query<R>,
 ) -> Trace<R> {
-    let held = map.rays.holds(hf, map.occluders, q);
+    let held = map.rays.holds_over(hf, &map.occluders, q);
     // The per-trace constants, once the ray is known to march.
     march_with(hf, surface, q, |class| {
         let d = q.dir();

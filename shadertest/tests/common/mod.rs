@@ -103,34 +103,6 @@ pub const MAP_SETS: [(u8, Rays, bool); 4] = [
 /// walls, each top two triangles.
 pub const WALLS: usize = 8;
 
-/// Four walls one texel around a `w × h` field of heights in `[zlo, zhi]`, two thick,
-/// as occluders: their tops rise from the middle of the height range (south-west) to a
-/// fifth of it above the highest sample (north-east), so rays come in over them at
-/// every height and some pass under them.
-pub fn walls_around(w: u32, h: u32, zlo: f32, zhi: f32) -> Vec<Occluder> {
-    let (xm, ym) = (f64::from(w - 1), f64::from(h - 1));
-    let (zlo, zr) = (f64::from(zlo), f64::from((zhi - zlo).max(1e-3)));
-    let top = |x: f64, y: f64| zlo + 0.5 * zr + 0.35 * zr * (x / xm + y / ym);
-    let (x0, x1, y0, y1) = (-3.0, xm + 3.0, -3.0, ym + 3.0);
-    let rects = [
-        (x0, -1.0, y0, y1),
-        (xm + 1.0, x1, y0, y1),
-        (x0, x1, y0, -1.0),
-        (x0, x1, ym + 1.0, y1),
-    ];
-    let corner = |x: f64, y: f64| [x as f32, y as f32, top(x, y) as f32];
-    rects
-        .into_iter()
-        .flat_map(|(a, b, c, d)| {
-            [
-                [corner(a, c), corner(b, c), corner(b, d)],
-                [corner(a, c), corner(b, d), corner(a, d)],
-            ]
-        })
-        .map(|corners| Occluder { corners })
-        .collect()
-}
-
 /// A short name of the ray-class set `classes`: `x+,y-`.
 pub fn classes_name(classes: u8) -> String {
     let names: Vec<&str> = ["x+", "x-", "y+", "y-"]
@@ -533,12 +505,12 @@ impl Case {
         let safety_map = SafetyMap::with_classes(&hf, safety_data, self.variant, classes)
             .expect("safety map")
             .with_rays(set)
-            .with_occluders(walls)
+            .with_occluders(&hf, walls)
             .expect("the walls");
         let cc_map = CcMap::with_classes(&hf, maps.cc, CC_CAP, classes)
             .expect("cc map")
             .with_rays(set)
-            .with_occluders(walls)
+            .with_occluders(&hf, walls)
             .expect("the walls");
         let cone_map = ConeMap::new(&hf, &scene.cone).expect("cone map");
         let qdm_map = QdmMap::new(&hf, &scene.qdm).expect("qdm map");
@@ -663,7 +635,8 @@ pub struct Scene {
     pub samples: Option<(Vec<u16>, f32)>,
     /// The maps of each of [`MAP_SETS`], in its order.
     pub subsets: Vec<ClassMaps>,
-    /// The occluders around the field ([`walls_around`], [`WALLS`] of them).
+    /// The occluders around the field (`hfcast_tools::maps::walls_around`, [`WALLS`]
+    /// of them).
     pub walls: Vec<Occluder>,
 }
 
@@ -746,7 +719,7 @@ impl Scene {
         });
         // The maps of the class subsets and the ray set; `scratch` holds what
         // safety::prepare filled.
-        let walls = walls_around(w, h, hf.min_height(), hf.max_height());
+        let walls = hfcast_tools::maps::walls_around(&hf);
         let subsets = MAP_SETS
             .iter()
             .map(|&(bits, rays, occluded)| {

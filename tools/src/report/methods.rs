@@ -8,7 +8,7 @@ use hfcast::bake::{Spec, Texels};
 use hfcast::ktx2::{Desc, MapKind};
 use hfcast::march::MarchOptions;
 use hfcast::maxmip::{self, Ascent};
-use hfcast::rayset::Rays;
+use hfcast::rayset::{Occluder, Rays};
 use hfcast::scene::MethodKind;
 use hfcast::search::SearchSteps;
 use hfcast::{dda, HeightField, Marcher, Method, Query, Real, Surface, Trace};
@@ -125,6 +125,8 @@ pub struct Marched<'a> {
     hf: HeightField<'a>,
     kind: MethodKind,
     desc: Desc,
+    /// The occluders the map's ray set passes over (none for most settings).
+    walls: Vec<Occluder>,
     map: Arc<Texels>,
     opts: MarchOptions,
     maxmip: Option<maxmip::Options>,
@@ -150,7 +152,10 @@ impl Caster for Marched<'_> {
     fn trace_all(&self, rays: &[Query<f32>], out: &mut [Out]) {
         let data = Some(self.map.data());
         let m = Marcher::of(self.kind, &self.hf, &self.desc, data, &self.opts);
-        let m = match (m.expect("baked for hf"), self.maxmip) {
+        let m = m
+            .expect("baked for hf")
+            .with_occluders(&self.hf, &self.walls);
+        let m = match (m.expect("the map's occluders"), self.maxmip) {
             (Marcher::MaxMip(mip, surface, _), Some(o)) => Marcher::MaxMip(mip, surface, o),
             (m, _) => m,
         };
@@ -186,6 +191,9 @@ struct MapSetting {
     maxmip: Option<maxmip::Options>,
     batching: Batching,
     shared: Option<Arc<SharedBake>>,
+    /// Bakes the map's ray set over walls around the field
+    /// ([`walls_around`](crate::maps::walls_around)).
+    walls: bool,
 }
 
 impl MapSetting {
@@ -199,6 +207,7 @@ impl MapSetting {
             maxmip: None,
             batching: Batching::Lanes,
             shared: None,
+            walls: false,
         }
     }
 
@@ -208,7 +217,13 @@ impl MapSetting {
             let map = self.kind.info().map.expect("a method with a map");
             let mut spec = Spec::new(Desc::new(map, hf.width(), hf.height()));
             (self.spec)(&mut spec);
-            let bake = |hf: &HeightField| spec.bake_owned(hf).expect("sized by the spec");
+            let walls = match self.walls {
+                true => crate::maps::walls_around(hf),
+                false => Vec::new(),
+            };
+            spec.desc.rays = spec.desc.rays.passing_over(&walls).expect("walls");
+            let bake =
+                |hf: &HeightField| spec.bake_owned_over(hf, &walls).expect("sized by the spec");
             let (map, shared_seconds) = match &self.shared {
                 Some(shared) => {
                     let (m, s) = shared.get(hf, bake);
@@ -225,6 +240,7 @@ impl MapSetting {
                 hf: *hf,
                 kind: self.kind,
                 desc: spec.desc,
+                walls,
                 map,
                 opts,
                 maxmip: self.maxmip,
@@ -632,7 +648,7 @@ pub fn settings(sweep: &Sweep) -> Vec<Setting> {
             per_ray(move |hf, _, q| dda::trace_bilinear_search(hf, q, (linear, bisect))),
         ));
     }
-    let safety: [(_, _, fn(&mut Spec)); 6] = [
+    let safety: [(_, _, fn(&mut Spec)); 7] = [
         (Family::Safety, "safety 4 classes", |_| {}),
         (Family::Safety, "safety isotropic", |s| {
             s.desc.map = MapKind::SafetyIsotropic
@@ -645,6 +661,11 @@ pub fn settings(sweep: &Sweep) -> Vec<Setting> {
         (Family::Safety, "safety exterior phi45", |s| {
             s.desc.rays = EXTERIOR_PHI45
         }),
+        // The exterior set over walls around the field: rays whose line dips under
+        // a wall walk cell by cell too.
+        (Family::Safety, "safety exterior occluder", |s| {
+            s.desc.rays = Rays::EXTERIOR
+        }),
         (Family::SafetyApprox, "safety 4 classes, positive", |s| {
             s.positive = true
         }),
@@ -656,6 +677,7 @@ pub fn settings(sweep: &Sweep) -> Vec<Setting> {
     for (family, name, spec) in safety {
         let bake = MapSetting {
             spec,
+            walls: name.contains("occluder"),
             ..MapSetting::of(MethodKind::Safety)
         };
         let exact = family == Family::Safety;
@@ -664,15 +686,17 @@ pub fn settings(sweep: &Sweep) -> Vec<Setting> {
             ..setting(family, name, exact, TRIANGLES, bake.baker())
         });
     }
-    let cc: [(_, fn(&mut Spec)); 4] = [
+    let cc: [(_, fn(&mut Spec)); 5] = [
         ("cc exact slope", |_| {}),
         ("cc N-buffer slope", |s| s.nbuffer_slope = true),
         ("cc exterior", |s| s.desc.rays = Rays::EXTERIOR),
         ("cc exterior phi45", |s| s.desc.rays = EXTERIOR_PHI45),
+        ("cc exterior occluder", |s| s.desc.rays = Rays::EXTERIOR),
     ];
     for (name, spec) in cc {
         let bake = MapSetting {
             spec,
+            walls: name.contains("occluder"),
             ..MapSetting::of(MethodKind::Cc)
         };
         let limit = rays_limit(name).map_or(sweep.cc_max_texels, |r| r.min(sweep.cc_max_texels));
