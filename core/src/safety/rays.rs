@@ -315,21 +315,18 @@ impl Pieces {
         add(&mut self.lists[self.live], p)
     }
 
-    /// Removes the lines through the open convex hull of `pts` ([`split`]).
+    /// Removes the lines through the open convex hull of `pts` ([`split`]), in place:
+    /// the polygons on one side stay where they are (copying them was a fifth of a
+    /// bake over occluders).
     fn remove_through(&mut self, pts: &[[f64; 2]]) -> Result<(), Full> {
-        let [a, b] = &mut self.lists;
-        let (old, new) = if self.live == 0 { (a, b) } else { (b, a) };
-        new.clear();
-        self.live ^= 1;
-        for p in old.iter() {
-            match split(p, pts) {
-                None => add(new, p.clone())?,
-                Some([x, y]) => {
-                    add(new, x)?;
-                    add(new, y)?;
-                }
+        let list = &mut self.lists[self.live];
+        for k in 0..list.len() {
+            if let Some([x, y]) = split(&list[k], pts) {
+                list[k] = x;
+                add(list, y)?;
             }
         }
+        list.retain(|p| p.len() >= 3);
         Ok(())
     }
 

@@ -436,6 +436,9 @@ pub struct Sweep {
     /// distances and cylinder–cone shapes bake on: one thread takes 23–110 s per map at
     /// 1024² (`docs/report/table1.md` has them there, on 2 cores).
     pub rayset_max_texels: usize,
+    /// Largest field (samples) the occluder settings bake on: cutting the candidate
+    /// lines by every wall makes their bakes about 7× the exterior ones'.
+    pub occluder_max_texels: usize,
 }
 
 impl Sweep {
@@ -453,6 +456,7 @@ impl Sweep {
             relaxed_max_texels: 300_000,
             cc_max_texels: 1_100_000,
             rayset_max_texels: 300_000,
+            occluder_max_texels: 100_000,
         }
     }
 
@@ -471,6 +475,8 @@ impl Sweep {
             cc_max_texels: 5_000,
             // Every `--quick` scene (128² crops and fields).
             rayset_max_texels: 20_000,
+            // None of the `--quick` scenes: minutes of CI; the tests cover them.
+            occluder_max_texels: 5_000,
         }
     }
 }
@@ -670,9 +676,12 @@ pub fn settings(sweep: &Sweep) -> Vec<Setting> {
             s.positive = true
         }),
     ];
-    // A ray-set setting's bake: [`Sweep::rayset_max_texels`].
-    let rays_limit = |name: &str| {
-        (name.contains("exterior") || name.contains("phi")).then_some(sweep.rayset_max_texels)
+    // A ray-set setting's bake: [`Sweep::rayset_max_texels`]; an occluder one's
+    // [`Sweep::occluder_max_texels`].
+    let rays_limit = |name: &str| match name {
+        n if n.contains("occluder") => Some(sweep.occluder_max_texels),
+        n if n.contains("exterior") || n.contains("phi") => Some(sweep.rayset_max_texels),
+        _ => None,
     };
     for (family, name, spec) in safety {
         let bake = MapSetting {
