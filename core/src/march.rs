@@ -40,7 +40,7 @@ impl MarchOptions {
 
 /// Cells the maximum mipmap walks cell by cell after a horizon's start before its own
 /// march takes over ([`Marcher::trace_started`]).
-#[cfg(feature = "alloc")]
+#[cfg(all(feature = "alloc", feature = "maxmip"))]
 const DDA_CELLS: u32 = 16;
 
 /// A method ready to march: its map (borrowed), surface and options. Built by the

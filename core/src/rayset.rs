@@ -384,7 +384,8 @@ impl Rays {
                 // over the occluder only later.
                 let along = |v: &[f64; 3]| (v[0] - p[0]) * d[0] + (v[1] - p[1]) * d[1];
                 let end = t_end * (d[0] * d[0] + d[1] * d[1]);
-                if end.is_finite() && c.iter().all(|v| along(v) > end * (1.0 + 1e-9) + 1e-9) {
+                let beyond = end + 1e-9 * (1.0 + end.abs());
+                if end.is_finite() && c.iter().all(|v| along(v) > beyond) {
                     continue;
                 }
                 if o.dips_under_by(p, d, t_end, margin) {

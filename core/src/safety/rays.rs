@@ -1,6 +1,8 @@
-//! Ray sets narrower than every ray: exterior rays and a largest view angle
-//! (Baboud, Eisemann, Seidel 2011, §6.2), for both safety-shape bakes (the distances
-//! of the parent module, the cylinder–cone slopes of [`super::cc`]) and their marches.
+//! Ray sets narrower than every ray: exterior rays, a largest view angle and rays
+//! over static occluders (Baboud, Eisemann, Seidel 2011, §6.2), for both safety-shape
+//! bakes (the distances of the parent module, the cylinder–cone slopes of
+//! [`super::cc`]) and their marches. Occluders cut the candidate lines as the
+//! surface's blockers do ([`Rays::on_over`]; docs/DESIGN.md, "Ray sets", says why).
 //!
 //! **What a map holds** ([`Rays`]): a bake for a ray set is exact for the rays of the
 //! set only, so a map carries its set, and the march checks every ray against it
