@@ -249,6 +249,7 @@ fn overrides_and_bindings_are_one_line_and_fixed() {
                     "hf_field_ranges" => wgsl_layout::FIELD_RANGES,
                     "hf_impostor" => wgsl_layout::IMPOSTOR,
                     "hf_view_proj" => wgsl_layout::VIEW_PROJ,
+                    "hf_occluders" => wgsl_layout::OCCLUDERS,
                     other => panic!("{name}: {other} is not in hfcast_shaders::wgsl_layout"),
                 };
                 assert_eq!(b, fixed, "{name}: {id} is not at its wgsl_layout binding");
