@@ -3,7 +3,7 @@
  * arbitrary methods and options.
  * Input: a field (fz_field), a method number (now and then any u32), every
  * hf_bake_options field (variant, positive, cap, slope, ray classes, tolerance,
- * threads 0..4, the ray set, a reserved word; each now and then out of range), whether to pass
+ * threads 0..4, the ray set, occluders, a reserved word; each now and then out of range), whether to pass
  * NULL options (the defaults), an output length off the needed one by a fuzzed
  * amount, a row split, then a few rays. Checks: a valid code; the size queries
  * accept exactly the known methods with valid options, and the bakes refuse the
@@ -28,6 +28,14 @@ static void same_bytes(const void *a, const void *b, size_t len, const char *wha
     if (memcmp(a, b, len) != 0) FZ_FAIL("%s: the maps differ", what);
 }
 
+/* Occluders for the ray set: two wall tops west of the field (GOOD_WALLS) and one
+ * whose footprint is a segment (BAD_WALL, refused). */
+static const hf_occluder GOOD_WALLS[2] = {
+    {{{-3.0f, -3.0f, 5.0f}, {-1.0f, -3.0f, 5.0f}, {-1.0f, 9.0f, 6.0f}}},
+    {{{-3.0f, -3.0f, 5.0f}, {-1.0f, 9.0f, 6.0f}, {-3.0f, 9.0f, 6.0f}}},
+};
+static const hf_occluder BAD_WALL[1] = {{{{0.0f, 0.0f, 1.0f}, {1.0f, 1.0f, 2.0f}, {2.0f, 2.0f, 3.0f}}}};
+
 /* Every field of `o` from the input, each now and then out of range. */
 static void read_options(fz_in *in, hf_bake_options *o) {
     memset(o, 0, sizeof *o);
@@ -42,15 +50,26 @@ static void read_options(fz_in *in, hf_bake_options *o) {
     o->exterior = opt(in, 2);
     uint8_t a = fz_u8(in);
     o->max_view_angle_deg = a < 128 ? 0.0f : a < 250 ? fz_range(in, 1.0f, 180.0f) : fz_raw_float(in);
+    uint8_t oc = fz_u8(in);
+    if (oc >= 232) {
+        /* 1 or 2 good walls, one bad, NULL with a count, or too many. */
+        static const hf_occluder *const lists[4] = {GOOD_WALLS, GOOD_WALLS, BAD_WALL, NULL};
+        static const uint32_t counts[4] = {1, 2, 1, 2};
+        o->occluders = lists[oc % 4];
+        o->occluder_count = oc >= 254 ? HF_MAX_OCCLUDERS + 1 : counts[oc % 4];
+    }
     uint8_t rb = fz_u8(in);
-    if (rb >= 248) o->reserved[rb % 7] = fz_u32(in);
+    if (rb >= 248) o->reserved[rb % 4] = fz_u32(in);
 }
 
 /* Whether the library must accept `o` (whatever the method): the checks that
  * hf_bake_options documents. */
 static int options_valid(const hf_bake_options *o) {
-    for (int k = 0; k < 7; k++)
+    for (int k = 0; k < 4; k++)
         if (o->reserved[k] != 0) return 0;
+    if (o->occluder_count != 0 &&
+        (o->occluders != GOOD_WALLS || o->occluder_count > HF_MAX_OCCLUDERS))
+        return 0;
     float a = o->max_view_angle_deg;
     return o->variant <= 1 && o->positive <= 1 && o->cap <= 255 && o->slope <= 1 &&
            o->ray_classes <= HF_RAYS_ALL && isfinite(o->tolerance) && o->tolerance >= 0.0f &&
@@ -156,7 +175,11 @@ static void trace_map(fz_in *in, const hf_field *f, uint32_t w, uint32_t h, uint
      * are the descriptor's. */
     hf_trace_options to;
     hf_trace_options_default(&to);
-    to.ray_classes = method == HF_METHOD_SAFETY || method == HF_METHOD_CC ? o->ray_classes : 0;
+    int set = method == HF_METHOD_SAFETY || method == HF_METHOD_CC;
+    to.ray_classes = set ? o->ray_classes : 0;
+    /* And the occluders the map was baked over. */
+    to.occluders = set ? o->occluders : NULL;
+    to.occluder_count = set ? o->occluder_count : 0;
     to.steps = 1000; /* cone, QDM iterations */
     hf_result rt = hf_trace_batch(f, method, map, len, &to, rays, n, got, n);
     if (fz_code(rt, what) != HF_OK)
@@ -173,6 +196,9 @@ static void trace_map(fz_in *in, const hf_field *f, uint32_t w, uint32_t h, uint
  * field's top-left crop of at most FZ_RAYSET_SIDE samples a side (a strided view of the
  * same heights), so that an input stays under the 1 s hang limit. */
 #define FZ_RAYSET_SIDE 12
+
+/* Over occluders the same bakes cut every candidate by every wall: a smaller crop. */
+#define FZ_OCCLUDER_SIDE 6
 
 /* `*f` (`*w` x `*h` of `heights`) as its top-left crop of at most `side` a side. */
 static void crop_field(hf_field **f, uint32_t *w, uint32_t *h, uint32_t side,
@@ -203,6 +229,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
     uint32_t split = fz_u16(&in);
     if (given.exterior != 0 || given.max_view_angle_deg != 0.0f)
         crop_field(&f, &w, &h, FZ_RAYSET_SIDE, heights);
+    if (given.occluder_count != 0) crop_field(&f, &w, &h, FZ_OCCLUDER_SIDE, heights);
 
     /* NULL options bake as the method's defaults (what the row bakes then pass). */
     const hf_bake_options *op = null_options ? NULL : &given;

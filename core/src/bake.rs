@@ -182,7 +182,8 @@ impl Spec {
     }
 
     /// [`Spec::bake_rows`] with the occluders of the description's ray set (refused
-    /// unless they are the set's; none for a set without occluders).
+    /// unless they are the set's; none for a set without occluders). Maps without a
+    /// ray set (all but safety distances and cylinder–cones) ignore them.
     pub fn bake_rows_over(
         &self,
         hf: &HeightField,
@@ -192,7 +193,12 @@ impl Spec {
         out: DataMut,
     ) -> Result<(), Error> {
         self.check_field(hf)?;
-        if !occluders.is_empty() {
+        // Only the safety-shape maps have a ray set; the others ignore occluders.
+        let has_set = matches!(
+            self.desc.map,
+            MapKind::Safety | MapKind::SafetyIsotropic | MapKind::Cc
+        );
+        if has_set && !occluders.is_empty() {
             let rays = self.desc.rays;
             rays.check_occluders(occluders).map_err(Error::Occluders)?;
         }
