@@ -5,12 +5,12 @@
 use crate::detail::{fail, Named};
 use crate::hf_result::{self, *};
 use crate::trace::{
-    check, grid_line, hf_hit, hf_ray, hf_trace_options, horizon_start, marcher, query,
-    shadow_ray_of, trace_locals,
+    build_horizon, check, grid_line, hf_hit, hf_ray, hf_trace_options, horizon_start, marcher,
+    query, shadow_ray_of, trace_locals,
 };
 use crate::{guard, hf_field, ptr, surface_of};
 use hfcore::camera::{Pinhole, TILE};
-use hfcore::horizon::{Horizon, MIN_GROUP};
+use hfcore::horizon::{Plan, MIN_GROUP};
 use hfcore::scene::Shadows;
 use hfcore::Marcher;
 use std::ffi::c_void;
@@ -193,7 +193,9 @@ unsafe fn trace_pixels(
                 match (m.dda_surface().filter(|_| o.horizon), lines.first()) {
                     (Some(surface), Some(&(eye, _))) if pixels >= MIN_GROUP => {
                         let dirs = lines.iter().map(|l| l.1);
-                        Horizon::sized(hf, surface, eye, dirs, pixels, m.horizon_max_block())
+                        let max_block = m.horizon_max_block();
+                        Plan::sized(hf, surface, eye, dirs, pixels, max_block)
+                            .map(|plan| build_horizon(plan, o.threads))
                     }
                     _ => None,
                 }

@@ -78,6 +78,40 @@ pub fn bake_bands<T: Send, E: Send>(
     })
 }
 
+/// `work(part)` for each part of `0..units` cut into [`thread_count`] ranges, run by the
+/// calling thread and up to `threads − 1` more, the results in the parts' order. A
+/// thread the system refuses to create leaves its part to the calling thread.
+pub fn split<T: Send>(units: u32, threads: u32, work: impl Fn(Range<u32>) -> T + Sync) -> Vec<T> {
+    let n = thread_count(threads, units);
+    let per = units.div_ceil(n.max(1)).max(1);
+    let parts: Vec<Range<u32>> = (0..n)
+        .map(|k| (k * per).min(units)..((k + 1) * per).min(units))
+        .collect();
+    if n <= 1 {
+        return parts.into_iter().map(&work).collect();
+    }
+    let work = &work;
+    std::thread::scope(|s| {
+        let helpers: Vec<_> = parts[1..]
+            .iter()
+            .map(|r| {
+                let r = r.clone();
+                std::thread::Builder::new()
+                    .spawn_scoped(s, move || crate::detail::quietly(|_| work(r)))
+                    .map_err(|_| ())
+            })
+            .collect();
+        let mine = work(parts[0].clone());
+        // A panicking helper re-panics here, caught by the export's panic boundary.
+        core::iter::once(mine)
+            .chain(helpers.into_iter().zip(&parts[1..]).map(|(h, r)| match h {
+                Ok(h) => h.join().unwrap_or_else(|p| std::panic::resume_unwind(p)),
+                Err(()) => work(r.clone()),
+            }))
+            .collect()
+    })
+}
+
 /// `n` zeroed floats, allocated fallibly (`HF_ERR_OUT_OF_MEMORY`): a bake's scratch.
 pub fn zeroed(n: usize) -> Result<Vec<f32>, hf_result> {
     let mut v = Vec::new();

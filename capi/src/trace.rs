@@ -6,7 +6,7 @@ use crate::occluder::{hf_occluder, mismatch, occluders_of};
 use crate::ptr::Named;
 use crate::{guard, hf_field, ptr, surface_of};
 use hfcore::condition::{condition, condition_query, Local};
-use hfcore::horizon::{Horizon, Start};
+use hfcore::horizon::{Horizon, Plan, Start};
 use hfcore::march::MarchOptions;
 use hfcore::projective::{Mat4, Projective};
 use hfcore::scene::RayClasses;
@@ -459,7 +459,15 @@ pub(crate) fn batch_horizon(
 ) -> Option<Horizon> {
     let surface = m.dda_surface().filter(|_| o.horizon)?;
     let lines = rays.iter().map(|r| grid_line(hf, r));
-    Horizon::for_batch(hf, surface, lines, m.horizon_max_block())
+    let plan = Plan::for_batch(hf, surface, lines, m.horizon_max_block())?;
+    Some(build_horizon(plan, o.threads))
+}
+
+/// The horizon of `plan`, its pass over the field shared by the batch's `threads`
+/// ([`crate::par::split`]): the same horizon as one thread builds.
+pub(crate) fn build_horizon(plan: Plan, threads: u32) -> Horizon {
+    let parts = crate::par::split(plan.block_rows(), threads, |rows| plan.wedges(rows));
+    plan.finish(parts)
 }
 
 /// Where `horizon` places the ray `r` (`None`: it says nothing of it), `hint` the
@@ -599,6 +607,7 @@ pub unsafe extern "C" fn hf_trace_batch(
         }
         // Rays from one eye (a camera's) share a horizon, built once for all threads.
         let horizon = batch_horizon(&m, &o, hf, rays);
+        let identity = hf.transform().is_identity();
         // Bands of rays taken in turn by the threads; `u32` counts them.
         let n = u32::try_from(rays.len()).unwrap_or(u32::MAX);
         let threads = if n == u32::MAX { 1 } else { o.threads };
@@ -610,9 +619,18 @@ pub unsafe extern "C" fn hf_trace_batch(
                 let mut hint = 0;
                 for (k, (r, hit)) in band_rays.iter().zip(out.iter_mut()).enumerate() {
                     let local = query(hf, r, Some(first + k))?;
-                    *hit = match horizon_start(h, hf, r, &mut hint) {
-                        Some(start) => trace_from_start(&m, hf, &local, start),
-                        None => answer(hf, local.trace(|q| m.trace(hf, q))),
+                    *hit = if local.is_unchanged() && identity {
+                        // The common case, without conversions: the caller's own ray.
+                        let q = &local.query;
+                        hf_hit::from(match h.start_query(q, &mut hint) {
+                            Some(start) => m.trace_started(hf, q, start),
+                            None => m.trace(hf, q),
+                        })
+                    } else {
+                        match horizon_start(h, hf, r, &mut hint) {
+                            Some(start) => trace_from_start(&m, hf, &local, start),
+                            None => answer(hf, local.trace(|q| m.trace(hf, q))),
+                        }
                     };
                 }
                 return Ok(());

@@ -85,9 +85,14 @@ impl Local {
         if self.miss {
             return Trace::MISS;
         }
+        self.finish(march(&self.query, t0.map(|t| self.local_t(t))))
+    }
+
+    /// The parameter `t` of the original ray in local units, rounded and kept inside the
+    /// local range.
+    pub fn local_t(&self, t: f64) -> f32 {
         let q = &self.query;
-        let local = t0.map(|t| ((t * self.scale - self.shift) as f32).clamp(q.t_min(), q.t_max()));
-        self.finish(march(q, local))
+        ((t * self.scale - self.shift) as f32).clamp(q.t_min(), q.t_max())
     }
 
     /// The answer of the local march `tr` on the original ray.

@@ -140,14 +140,211 @@ impl Horizon {
         hf: &HeightField,
         surface: Surface,
         eye: [f64; 3],
-        Frame { axis, lo, hi }: Frame,
+        frame: Frame,
         bins: usize,
         block: u32,
     ) -> Horizon {
+        Plan::new(hf, surface, eye, frame, bins, block).build()
+    }
+
+    /// Bytes the horizon holds.
+    pub fn size_bytes(&self) -> usize {
+        self.running.len() * 4
+    }
+
+    /// The eye the horizon is seen from.
+    pub fn eye(&self) -> [f64; 3] {
+        self.eye
+    }
+
+    /// The horizon for the rays of a batch (`(origin, direction)` pairs in grid
+    /// space, read once) that share the first one's origin, when there are at least
+    /// [`MIN_GROUP`] of them and their blocks need be no coarser than `max_block`
+    /// cells: sized by [`Horizon::sized`]. `None` otherwise. [`Plan::for_batch`], built.
+    pub fn for_batch(
+        hf: &HeightField,
+        surface: Surface,
+        rays: impl ExactSizeIterator<Item = ([f64; 3], [f64; 3])>,
+        max_block: u32,
+    ) -> Option<Horizon> {
+        Plan::for_batch(hf, surface, rays, max_block).map(Plan::build)
+    }
+
+    /// [`Horizon::new`] for `n` rays from `eye`, whose directions' azimuths `dirs`
+    /// span (all of them, or a camera image's border): about 512 rays a wedge, and
+    /// blocks of 2ᵏ cells, as fine as keeps them under twice the rays ([`block_for`]);
+    /// `None` when those would be coarser than `max_block` cells. [`Plan::sized`],
+    /// built.
+    pub fn sized(
+        hf: &HeightField,
+        surface: Surface,
+        eye: [f64; 3],
+        dirs: impl Iterator<Item = [f64; 3]> + Clone,
+        n: usize,
+        max_block: u32,
+    ) -> Option<Horizon> {
+        Plan::sized(hf, surface, eye, dirs, n, max_block).map(Plan::build)
+    }
+
+    /// [`Horizon::start`] of a query, in its precision.
+    pub fn start_query<R: Real>(&self, q: &Query<R>, hint: &mut usize) -> Option<(Start<R>, u32)> {
+        let range = (q.t_min().to_f64(), q.t_max().to_f64());
+        let (start, probes) = self.start(
+            q.origin().map(R::to_f64),
+            q.dir().map(R::to_f64),
+            range,
+            hint,
+        )?;
+        Some((
+            match start {
+                // Rounded into `R` within the range (the half band covers the rounding).
+                Start::At(t, c) => {
+                    Start::At(R::from_f64(t).max(q.t_min()).min(q.t_max()), R::from_f64(c))
+                }
+                Start::Miss(c) => Start::Miss(R::from_f64(c)),
+            },
+            probes,
+        ))
+    }
+
+    /// Where the ray `origin + t · dir` (grid space), traced over `t_range`, may first
+    /// meet the surface, and the horizon texels read to say it (its fetches): `None`
+    /// when the horizon says nothing of it (another origin, a vertical ray, an azimuth
+    /// outside the group's). `hint` is a band to search from, the last answer's for
+    /// the best speed (neighbouring rays start near each other); it is updated.
+    pub fn start(
+        &self,
+        origin: [f64; 3],
+        d: [f64; 3],
+        (t_min, t_max): (f64, f64),
+        hint: &mut usize,
+    ) -> Option<(Start<f64>, u32)> {
+        if origin != self.eye {
+            return None;
+        }
+        let rho = norm(d[0], d[1]);
+        if rho == 0.0 {
+            return None;
+        }
+        let (ax, ay) = (self.axis[0], self.axis[1]);
+        let a = pseudo_angle(d[0] * ax + d[1] * ay, d[1] * ax - d[0] * ay);
+        let b = (a - self.angle0) * self.per_angle;
+        if !(b >= 0.0 && b < self.bins as f64 + 1.0) {
+            return None;
+        }
+        let b = (b as usize).min(self.bins - 1);
+        let m = d[2] / rho;
+        let mut probes = 0;
+        let reaches = |k: usize| {
+            probes += 1;
+            f64::from(self.running[k * self.bins + b]) >= m
+        };
+        // Over every block of the bands before `k` by `m − P[k − 1]` times its
+        // distance, at least `s0`: the clearance there.
+        let over = |k: usize| match k {
+            0 => f64::INFINITY,
+            k => {
+                let p = f64::from(self.running[(k - 1) * self.bins + b]);
+                ((m - p) * self.s0).max(0.0) * (1.0 - 1e-6)
+            }
+        };
+        let Some(band) = first_reaching(self.bands, reaches, hint) else {
+            return Some((Start::Miss(over(self.bands)), probes));
+        };
+        // Half a band before the first band the ray may not pass over.
+        let t = (self.s0 + (band as f64 - 0.5) * self.width) / rho;
+        let start = if t > t_max {
+            Start::Miss(0.0)
+        } else if t > t_min {
+            Start::At(t, over(band))
+        } else {
+            Start::At(t_min, f64::INFINITY)
+        };
+        Some((start, probes))
+    }
+}
+
+/// A horizon to build: its eye, wedges, bands and blocks ([`Plan::for_batch`],
+/// [`Plan::sized`]).
+/// [`Plan::build`] builds it in one pass over the field; [`Plan::wedges`] and
+/// [`Plan::finish`] let threads share that pass.
+#[derive(Clone, Copy, Debug)]
+pub struct Plan<'a> {
+    hf: HeightField<'a>,
+    surface: Surface,
+    eye: [f64; 3],
+    frame: Frame,
+    bins: usize,
+    bands: usize,
+    block: u32,
+    s0: f64,
+    width: f64,
+    per_angle: f64,
+}
+
+impl<'a> Plan<'a> {
+    /// The plan of [`Horizon::for_batch`].
+    pub fn for_batch(
+        hf: &HeightField<'a>,
+        surface: Surface,
+        rays: impl ExactSizeIterator<Item = ([f64; 3], [f64; 3])>,
+        max_block: u32,
+    ) -> Option<Plan<'a>> {
+        let total = rays.len();
+        if total < MIN_GROUP {
+            return None;
+        }
+        let mut rays = rays.peekable();
+        let eye = rays.peek()?.0;
+        let dirs = rays.filter(|r| r.0 == eye).map(|r| r.1);
+        let (frame, n) = frame(dirs, total)?;
+        let fits = n >= MIN_GROUP && block_for(hf, n) <= max_block;
+        fits.then(|| Plan::fitted(hf, surface, eye, frame, n))
+    }
+
+    /// The plan of [`Horizon::sized`].
+    pub fn sized(
+        hf: &HeightField<'a>,
+        surface: Surface,
+        eye: [f64; 3],
+        dirs: impl Iterator<Item = [f64; 3]> + Clone,
+        n: usize,
+        max_block: u32,
+    ) -> Option<Plan<'a>> {
+        if block_for(hf, n) > max_block {
+            return None;
+        }
+        let (frame, _) = frame(dirs.clone(), dirs.count())?;
+        Some(Plan::fitted(hf, surface, eye, frame, n))
+    }
+
+    /// The plan in `frame` sized for `n` rays: about 512 rays a wedge, and blocks of
+    /// 2ᵏ cells, as fine as keeps them under twice the rays (a pass over the field must
+    /// not cost more than the rays it serves).
+    fn fitted(
+        hf: &HeightField<'a>,
+        surface: Surface,
+        eye: [f64; 3],
+        frame: Frame,
+        n: usize,
+    ) -> Plan<'a> {
+        let block = block_for(hf, n);
+        Plan::new(hf, surface, eye, frame, (n / 512).clamp(16, 4096), block)
+    }
+
+    /// The plan of [`Horizon::new`] in the wedges of `frame`: the group's axis and its
+    /// range of pseudo-angles.
+    fn new(
+        hf: &HeightField<'a>,
+        surface: Surface,
+        eye: [f64; 3],
+        frame: Frame,
+        bins: usize,
+        block: u32,
+    ) -> Plan<'a> {
         let e = eye;
         let block = block.max(1);
-        let (w, h) = (hf.width(), hf.height());
-        let (fx, fy) = (f64::from(w - 1), f64::from(h - 1));
+        let (fx, fy) = (f64::from(hf.width() - 1), f64::from(hf.height() - 1));
         let gap = |v: f64, end: f64| (0.0 - v).max(v - end).max(0.0);
         let s0 = norm(gap(e[0], fx), gap(e[1], fy));
         let far = norm(
@@ -155,10 +352,53 @@ impl Horizon {
             e[1].abs().max((fy - e[1]).abs()),
         );
         let width = f64::from(block);
-        let per_band = 1.0 / width;
         let bands = ((far - s0) / width) as usize + 2;
         let bins = bins.clamp(1, ((1usize << 24) / bands).max(1));
-        let per_angle = bins as f64 / (hi - lo).max(1e-12);
+        let per_angle = bins as f64 / (frame.hi - frame.lo).max(1e-12);
+        Plan {
+            hf: *hf,
+            surface,
+            eye,
+            frame,
+            bins,
+            bands,
+            block,
+            s0,
+            width,
+            per_angle,
+        }
+    }
+
+    /// How many block rows the field has: the rows [`Plan::wedges`] takes.
+    pub fn block_rows(&self) -> u32 {
+        (self.hf.height() - 1).div_ceil(self.block)
+    }
+
+    /// The horizon from one pass over the whole field.
+    pub fn build(self) -> Horizon {
+        let all = self.wedges(0..self.block_rows());
+        self.finish([all])
+    }
+
+    /// The largest slope `g` per wedge and band (`bins × bands` values, band by band)
+    /// over the blocks of block rows `rows`: one part of the pass over the field, which
+    /// threads can share (each a part, [`Plan::finish`] then joins them).
+    pub fn wedges(&self, rows: core::ops::Range<u32>) -> Vec<f32> {
+        let Plan {
+            ref hf,
+            surface,
+            eye: e,
+            frame: Frame { lo, hi, .. },
+            bins,
+            bands,
+            block,
+            s0,
+            width,
+            per_angle,
+        } = *self;
+        let axis = self.frame.axis;
+        let (w, h) = (hf.width(), hf.height());
+        let per_band = 1.0 / width;
         let mut g_rows = vec![f32::NEG_INFINITY; bins * bands];
         let bin_of =
             |a: f32| ((f64::from(a) - lo) * per_angle).clamp(0.0, (bins - 1) as f64) as usize;
@@ -213,6 +453,10 @@ impl Horizon {
         let (lo32, hi32, s0_32) = (lo as f32, hi as f32, s0 as f32);
         let (per_band32, per_angle32, top_bin) =
             (per_band as f32, per_angle as f32, (bins - 1) as f32);
+        let ey = &ey[rows.start as usize..=(rows.end as usize).min(ey.len() - 1)];
+        if ey.len() < 2 {
+            return g_rows;
+        }
         angles_of(ey[0], &mut above);
         for rows in ey.windows(2) {
             core::mem::swap(&mut below, &mut above);
@@ -305,8 +549,32 @@ impl Horizon {
                 }
             }
         }
+        g_rows
+    }
+
+    /// The horizon from the parts of the pass over the field ([`Plan::wedges`]; together
+    /// covering every block row): their largest slopes joined, then each wedge's running
+    /// maximum. The same horizon however the rows were split.
+    pub fn finish(self, parts: impl IntoIterator<Item = Vec<f32>>) -> Horizon {
+        let Plan {
+            eye,
+            frame,
+            bins,
+            bands,
+            s0,
+            width,
+            per_angle,
+            ..
+        } = self;
+        let mut parts = parts.into_iter();
+        let mut g = parts.next().unwrap_or_default();
+        g.resize(bins * bands, f32::NEG_INFINITY);
+        for part in parts {
+            for (v, &p) in g.iter_mut().zip(&part) {
+                *v = mx(*v, p);
+            }
+        }
         // Each wedge's running maximum.
-        let mut g = g_rows;
         for k in 1..bands {
             let (done, rest) = g.split_at_mut(k * bins);
             for (v, &before) in rest[..bins].iter_mut().zip(&done[(k - 1) * bins..]) {
@@ -315,8 +583,8 @@ impl Horizon {
         }
         Horizon {
             eye,
-            axis,
-            angle0: lo,
+            axis: frame.axis,
+            angle0: frame.lo,
             per_angle,
             bins,
             s0,
@@ -324,148 +592,6 @@ impl Horizon {
             width,
             running: g,
         }
-    }
-
-    /// Bytes the horizon holds.
-    pub fn size_bytes(&self) -> usize {
-        self.running.len() * 4
-    }
-
-    /// The eye the horizon is seen from.
-    pub fn eye(&self) -> [f64; 3] {
-        self.eye
-    }
-
-    /// The horizon for the rays of a batch (`(origin, direction)` pairs in grid
-    /// space, read once) that share the first one's origin, when there are at least
-    /// [`MIN_GROUP`] of them and their blocks need be no coarser than `max_block`
-    /// cells: sized by [`Horizon::sized`]. `None` otherwise.
-    pub fn for_batch(
-        hf: &HeightField,
-        surface: Surface,
-        rays: impl ExactSizeIterator<Item = ([f64; 3], [f64; 3])>,
-        max_block: u32,
-    ) -> Option<Horizon> {
-        let total = rays.len();
-        if total < MIN_GROUP {
-            return None;
-        }
-        let mut rays = rays.peekable();
-        let eye = rays.peek()?.0;
-        let dirs = rays.filter(|r| r.0 == eye).map(|r| r.1);
-        let (frame, n) = frame(dirs, total)?;
-        let fits = n >= MIN_GROUP && block_for(hf, n) <= max_block;
-        fits.then(|| Horizon::fitted(hf, surface, eye, frame, n))
-    }
-
-    /// [`Horizon::new`] for `n` rays from `eye`, whose directions' azimuths `dirs`
-    /// span (all of them, or a camera image's border): about 512 rays a wedge, and
-    /// blocks of 2ᵏ cells, as fine as keeps them under twice the rays ([`block_for`]);
-    /// `None` when those would be coarser than `max_block` cells.
-    pub fn sized(
-        hf: &HeightField,
-        surface: Surface,
-        eye: [f64; 3],
-        dirs: impl Iterator<Item = [f64; 3]> + Clone,
-        n: usize,
-        max_block: u32,
-    ) -> Option<Horizon> {
-        if block_for(hf, n) > max_block {
-            return None;
-        }
-        let (frame, _) = frame(dirs.clone(), dirs.count())?;
-        Some(Horizon::fitted(hf, surface, eye, frame, n))
-    }
-
-    /// The horizon in `frame` sized for `n` rays: about 512 rays a wedge, and blocks of
-    /// 2ᵏ cells, as fine as keeps them under twice the rays (a pass over the field must
-    /// not cost more than the rays it serves).
-    fn fitted(
-        hf: &HeightField,
-        surface: Surface,
-        eye: [f64; 3],
-        frame: Frame,
-        n: usize,
-    ) -> Horizon {
-        let block = block_for(hf, n);
-        Horizon::build(hf, surface, eye, frame, (n / 512).clamp(16, 4096), block)
-    }
-
-    /// [`Horizon::start`] of a query, in its precision.
-    pub fn start_query<R: Real>(&self, q: &Query<R>, hint: &mut usize) -> Option<(Start<R>, u32)> {
-        let range = (q.t_min().to_f64(), q.t_max().to_f64());
-        let (start, probes) = self.start(
-            q.origin().map(R::to_f64),
-            q.dir().map(R::to_f64),
-            range,
-            hint,
-        )?;
-        Some((
-            match start {
-                // Rounded into `R` within the range (the half band covers the rounding).
-                Start::At(t, c) => {
-                    Start::At(R::from_f64(t).max(q.t_min()).min(q.t_max()), R::from_f64(c))
-                }
-                Start::Miss(c) => Start::Miss(R::from_f64(c)),
-            },
-            probes,
-        ))
-    }
-
-    /// Where the ray `origin + t · dir` (grid space), traced over `t_range`, may first
-    /// meet the surface, and the horizon texels read to say it (its fetches): `None`
-    /// when the horizon says nothing of it (another origin, a vertical ray, an azimuth
-    /// outside the group's). `hint` is a band to search from, the last answer's for
-    /// the best speed (neighbouring rays start near each other); it is updated.
-    pub fn start(
-        &self,
-        origin: [f64; 3],
-        d: [f64; 3],
-        (t_min, t_max): (f64, f64),
-        hint: &mut usize,
-    ) -> Option<(Start<f64>, u32)> {
-        if origin != self.eye {
-            return None;
-        }
-        let rho = norm(d[0], d[1]);
-        if rho == 0.0 {
-            return None;
-        }
-        let (ax, ay) = (self.axis[0], self.axis[1]);
-        let a = pseudo_angle(d[0] * ax + d[1] * ay, d[1] * ax - d[0] * ay);
-        let b = (a - self.angle0) * self.per_angle;
-        if !(b >= 0.0 && b < self.bins as f64 + 1.0) {
-            return None;
-        }
-        let b = (b as usize).min(self.bins - 1);
-        let m = d[2] / rho;
-        let mut probes = 0;
-        let reaches = |k: usize| {
-            probes += 1;
-            f64::from(self.running[k * self.bins + b]) >= m
-        };
-        // Over every block of the bands before `k` by `m − P[k − 1]` times its
-        // distance, at least `s0`: the clearance there.
-        let over = |k: usize| match k {
-            0 => f64::INFINITY,
-            k => {
-                let p = f64::from(self.running[(k - 1) * self.bins + b]);
-                ((m - p) * self.s0).max(0.0) * (1.0 - 1e-6)
-            }
-        };
-        let Some(band) = first_reaching(self.bands, reaches, hint) else {
-            return Some((Start::Miss(over(self.bands)), probes));
-        };
-        // Half a band before the first band the ray may not pass over.
-        let t = (self.s0 + (band as f64 - 0.5) * self.width) / rho;
-        let start = if t > t_max {
-            Start::Miss(0.0)
-        } else if t > t_min {
-            Start::At(t, over(band))
-        } else {
-            Start::At(t_min, f64::INFINITY)
-        };
-        Some((start, probes))
     }
 }
 

@@ -12,7 +12,7 @@ use common::{
     eps_f32, fractal_field, is_ambiguous, kind_blocks, march_fields, Field, RayKind, Rng,
 };
 use hfcast::camera::Pinhole;
-use hfcast::horizon::{Horizon, Start};
+use hfcast::horizon::{Horizon, Plan, Start};
 use hfcast::march::Marcher;
 use hfcast::maxmip::{self, MaxMip, Options};
 use hfcast::{dda, HeightField, Query, Real, Surface, Trace};
@@ -326,6 +326,37 @@ fn batches_share_a_horizon_and_a_late_start_is_seen() {
 
 /// [`dda::trace_skipping`] answers `q` with [`dda::trace`]'s hit bit for bit, its
 /// fetches and a clearance no larger (to the rounding of the cells' bound).
+/// A horizon whose pass over the field is cut into parts (as threads share it) is the
+/// one pass's: every ray of every field, surface and camera gets the same start.
+#[test]
+fn a_pass_in_parts_is_the_whole_pass() {
+    let mut compared = 0usize;
+    for (name, field) in fields() {
+        let hf = field.hf();
+        for surface in Surface::ALL {
+            for shot in &SHOTS {
+                let rays = shot.rays(&field);
+                let eye = rays[0].origin().map(f64::from);
+                let dirs = rays.iter().map(|q| q.dir().map(f64::from));
+                let plan = Plan::sized(&hf, surface, eye, dirs, rays.len(), u32::MAX)
+                    .expect("rays with a horizontal part");
+                let rows = plan.block_rows();
+                let cuts = [0, 1, rows / 3, rows / 2, rows];
+                let parts = cuts.windows(2).map(|c| plan.wedges(c[0]..c[1]));
+                let (whole, split) = (plan.build(), plan.finish(parts));
+                let (mut a, mut b) = (0, 0);
+                for q in &rays {
+                    let (x, y) = (whole.start_query(q, &mut a), split.start_query(q, &mut b));
+                    assert_eq!(x, y, "{name} {surface:?} {}: {q:?}", shot.name);
+                    compared += usize::from(x.is_some());
+                }
+            }
+        }
+    }
+    println!("{compared} starts compared");
+    assert!(compared > 100_000);
+}
+
 fn skips_as_the_dda<R: Real>(hf: &HeightField, surface: Surface, q: &Query<R>, name: &str) {
     let (a, b) = (
         dda::trace(hf, surface, q),
