@@ -131,20 +131,7 @@ impl Horizon {
     ) -> Option<Horizon> {
         let n = dirs.clone().count();
         let (frame, _) = frame(dirs, n)?;
-        Some(Horizon::build(hf, surface, eye, frame, bins, block))
-    }
-
-    /// [`Horizon::new`] in the wedges of `frame`: the group's axis and its range of
-    /// pseudo-angles.
-    fn build(
-        hf: &HeightField,
-        surface: Surface,
-        eye: [f64; 3],
-        frame: Frame,
-        bins: usize,
-        block: u32,
-    ) -> Horizon {
-        Plan::new(hf, surface, eye, frame, bins, block).build()
+        Some(Plan::new(hf, surface, eye, frame, bins, block).build())
     }
 
     /// Bytes the horizon holds.
