@@ -6,10 +6,11 @@ use crate::detail::{fail, Named};
 use crate::hf_result::{self, *};
 use crate::trace::{
     build_horizon, check, grid_line, hf_hit, hf_ray, hf_trace_options, horizon_start, marcher,
-    query, shadow_ray_of, trace_locals,
+    query_near, shadow_ray_of, trace_locals,
 };
 use crate::{guard, hf_field, ptr, surface_of};
 use hfcore::camera::{Pinhole, TILE};
+use hfcore::condition::Near;
 use hfcore::horizon::{Plan, MIN_GROUP};
 use hfcore::scene::Shadows;
 use hfcore::Marcher;
@@ -217,7 +218,7 @@ unsafe fn trace_pixels(
                 let mut local = [hf_hit::default(); (TILE * TILE) as usize];
                 let mut queries = Vec::with_capacity(local.len());
                 let mut starts = Vec::with_capacity(local.len());
-                let mut hint = 0;
+                let (mut hint, near) = (0, Near::of(hf));
                 for (ys, xs) in p.tiles(rows) {
                     let (y0, x0, tw) = (ys.start, xs.start, xs.len());
                     queries.clear();
@@ -227,7 +228,7 @@ unsafe fn trace_pixels(
                             let k = y as usize * width + x as usize;
                             let r = ray(&p, &m, c.t_max, x, y)?;
                             queries.push(match &r {
-                                Some(r) => Some(query(hf, r, Some(k))?),
+                                Some(r) => Some(query_near(hf, &near, r, Some(k))?),
                                 None => None,
                             });
                             starts.push(match (&horizon, &r) {

@@ -5,7 +5,7 @@ use crate::hf_result::{self, *};
 use crate::occluder::{hf_occluder, mismatch, occluders_of};
 use crate::ptr::Named;
 use crate::{guard, hf_field, ptr, surface_of};
-use hfcore::condition::{condition, condition_query, Local};
+use hfcore::condition::{condition, condition_query_near, Local, Near};
 use hfcore::horizon::{Horizon, Plan, Start};
 use hfcore::march::MarchOptions;
 use hfcore::projective::{Mat4, Projective};
@@ -103,12 +103,23 @@ pub(crate) fn query(
     r: &hf_ray,
     index: Option<usize>,
 ) -> Result<Local, hf_result> {
+    query_near(hf, &Near::of(hf), r, index)
+}
+
+/// [`query`] with the conditioning's test prepared ([`Near::of`] of `hf`): a batch's.
+#[inline]
+pub(crate) fn query_near(
+    hf: &HeightField,
+    near: &Near<f32>,
+    r: &hf_ray,
+    index: Option<usize>,
+) -> Result<Local, hf_result> {
     let err = |e| ray_error(e, index);
     // The world ray's own faults first, named as such.
     let q = Query::from_arrays(r.origin, r.dir, r.t_min, r.t_max).map_err(err)?;
     let xf = hf.transform();
     if xf.is_identity() {
-        return Ok(condition_query(hf, &q));
+        return Ok(condition_query_near(hf, near, &q));
     }
     let o = xf.point_to_grid(r.origin.map(f64::from));
     let d = xf.dir_to_grid(r.dir.map(f64::from));
@@ -616,7 +627,7 @@ pub unsafe extern "C" fn hf_trace_batch(
             // buffer for a whole 640 × 512 batch cost 160 ns a ray in page faults and
             // misses, for rays that miss the box).
             let mut locals = Vec::with_capacity(RAY_BAND as usize);
-            let mut hint = 0;
+            let (mut hint, near) = (0, Near::of(hf));
             for (c, out) in out.chunks_mut(RAY_BAND as usize).enumerate() {
                 let first = band.start as usize + c * RAY_BAND as usize;
                 let rays = &rays[first..first + out.len()];
@@ -625,7 +636,7 @@ pub unsafe extern "C" fn hf_trace_batch(
                     None => {
                         locals.clear();
                         for (k, r) in rays.iter().enumerate() {
-                            locals.push(Some(query(hf, r, Some(first + k))?));
+                            locals.push(Some(query_near(hf, &near, r, Some(first + k))?));
                         }
                         trace_locals(&m, &o, hf, &locals, &[], out);
                     }
@@ -647,10 +658,10 @@ fn trace_from_horizon(
     hint: &mut usize,
     out: &mut [hf_hit],
 ) -> Result<(), hf_result> {
-    let identity = hf.transform().is_identity();
+    let (identity, near) = (hf.transform().is_identity(), Near::of(hf));
     // One ray at a time: nothing to gather for lanes.
     for (k, (r, hit)) in rays.iter().zip(out.iter_mut()).enumerate() {
-        let local = query(hf, r, Some(first + k))?;
+        let local = query_near(hf, &near, r, Some(first + k))?;
         *hit = if local.is_unchanged() && identity {
             // The common case, without conversions: the caller's own ray.
             let q = &local.query;

@@ -121,7 +121,7 @@ pub fn condition(
     let round = |v: [f64; 3]| v.map(|x| x as f32);
     // The caller's ray as the march would see it: its faults are reported as such.
     let plain = Query::from_arrays(round(origin), round(dir), t_min, t_max)?;
-    Ok(match needs(hf, origin, dir) {
+    Ok(match Near::of(hf).needs(origin, dir) {
         (false, false) => Local::unchanged(plain),
         need => localize(hf, origin, dir, plain, need),
     })
@@ -131,30 +131,65 @@ pub fn condition(
 /// conditioning costs a few `f32` compares).
 #[inline]
 pub fn condition_query(hf: &HeightField, q: &Query<f32>) -> Local {
+    condition_query_near(hf, &Near::of(hf), q)
+}
+
+/// [`condition_query`] with its test prepared ([`Near::of`] of `hf`): what a batch
+/// calls for each of its rays.
+#[inline]
+pub fn condition_query_near(hf: &HeightField, near: &Near<f32>, q: &Query<f32>) -> Local {
     let (o, d) = (q.origin(), q.dir());
-    match needs(hf, o, d) {
+    match near.needs(o, d) {
         (false, false) => Local::unchanged(*q),
         need => localize(hf, o.map(f64::from), d.map(f64::from), *q, need),
     }
 }
 
-/// What the ray from `o` along `d` needs, by the rules of the module docs evaluated in
-/// its own precision (the thresholds are not sharp): `(scale, far)`, whether its
-/// direction is to be scaled and whether its origin is far from the box.
-#[inline]
-fn needs<R: Real>(hf: &HeightField, o: [R; 3], d: [R; 3]) -> (bool, bool) {
-    let m = d.iter().fold(R::ZERO, |m, v| m.max(v.abs()));
-    let lo = [R::ZERO, R::ZERO, R::from_f32(hf.min_height())];
-    let hi = [
-        R::from_u32(hf.width() - 1),
-        R::from_u32(hf.height() - 1),
-        R::from_f32(hf.max_height()),
-    ];
-    let dist = (0..3).fold(R::ZERO, |m, k| m.max(lo[k] - o[k]).max(o[k] - hi[k]));
-    let extent = hi[0].max(hi[1]).max(hi[2] - lo[2]) + R::ONE;
-    let small = R::from_f64(SMALL);
-    let scale = !(m >= small && m <= R::ONE / small);
-    (scale, dist > R::from_f64(FAR) * extent)
+/// What a ray needs to be conditioned, for one field, in precision `R`: its box (the
+/// samples' footprint and height range), how far outside it an origin may lie, and the
+/// direction magnitudes that need no scaling (the rules of the module docs).
+#[derive(Clone, Copy, Debug)]
+pub struct Near<R> {
+    lo: [R; 3],
+    hi: [R; 3],
+    /// [`FAR`] field extents.
+    far: R,
+    /// Smallest and largest direction magnitude left unscaled.
+    small: R,
+    big: R,
+}
+
+impl<R: Real> Near<R> {
+    /// The test for rays of `hf`.
+    pub fn of(hf: &HeightField) -> Near<R> {
+        let lo = [R::ZERO, R::ZERO, R::from_f32(hf.min_height())];
+        let hi = [
+            R::from_u32(hf.width() - 1),
+            R::from_u32(hf.height() - 1),
+            R::from_f32(hf.max_height()),
+        ];
+        let extent = hi[0].max(hi[1]).max(hi[2] - lo[2]) + R::ONE;
+        let small = R::from_f64(SMALL);
+        Near {
+            lo,
+            hi,
+            far: R::from_f64(FAR) * extent,
+            small,
+            big: R::ONE / small,
+        }
+    }
+
+    /// What the ray from `o` along `d` needs, evaluated in its own precision (the
+    /// thresholds are not sharp): `(scale, far)`, whether its direction is to be scaled
+    /// and whether its origin is far from the box.
+    #[inline]
+    fn needs(&self, o: [R; 3], d: [R; 3]) -> (bool, bool) {
+        let m = d[0].abs().max(d[1].abs()).max(d[2].abs());
+        let dist = (0..3).fold(R::ZERO, |m, k| {
+            m.max(self.lo[k] - o[k]).max(o[k] - self.hi[k])
+        });
+        (!(m >= self.small && m <= self.big), dist > self.far)
+    }
 }
 
 /// The local form of `plain`, the `f32` rounding of the ray `origin + t·dir`, given
