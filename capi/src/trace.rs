@@ -627,19 +627,36 @@ pub unsafe extern "C" fn hf_trace_batch(
             // buffer for a whole 640 × 512 batch cost 160 ns a ray in page faults and
             // misses, for rays that miss the box).
             let mut locals = Vec::with_capacity(RAY_BAND as usize);
+            let (mut plain, mut traces) = (Vec::new(), Vec::new());
             let (mut hint, near) = (0, Near::of(hf));
             for (c, out) in out.chunks_mut(RAY_BAND as usize).enumerate() {
                 let first = band.start as usize + c * RAY_BAND as usize;
                 let rays = &rays[first..first + out.len()];
-                match &horizon {
-                    Some(h) => trace_from_horizon(&m, h, hf, (rays, first), &mut hint, out)?,
-                    None => {
-                        locals.clear();
-                        for (k, r) in rays.iter().enumerate() {
-                            locals.push(Some(query_near(hf, &near, r, Some(first + k))?));
-                        }
-                        trace_locals(&m, &o, hf, &locals, &[], out);
+                let is_plain = plain_queries(hf, &near, rays, &mut plain);
+                if let (Some(h), true) = (&horizon, is_plain) {
+                    // The common case: the callers' own rays, each from its start.
+                    for (hit, q) in out.iter_mut().zip(&plain) {
+                        *hit = hf_hit::from(match h.start_query(q, &mut hint) {
+                            Some(start) => m.trace_started(hf, q, start),
+                            None => m.trace(hf, q),
+                        });
                     }
+                } else if let Some(h) = &horizon {
+                    trace_from_horizon(&m, h, hf, (rays, first), &mut hint, out)?;
+                } else if is_plain {
+                    // The common case: the callers' own rays, traced as they are.
+                    traces.clear();
+                    traces.resize(plain.len(), Trace::MISS);
+                    m.trace_each(hf, &plain, &mut traces, o.simd);
+                    for (hit, tr) in out.iter_mut().zip(&traces) {
+                        *hit = hf_hit::from(*tr);
+                    }
+                } else {
+                    locals.clear();
+                    for (k, r) in rays.iter().enumerate() {
+                        locals.push(Some(query_near(hf, &near, r, Some(first + k))?));
+                    }
+                    trace_locals(&m, &o, hf, &locals, &[], out);
                 }
             }
             Ok(())
@@ -647,9 +664,33 @@ pub unsafe extern "C" fn hf_trace_batch(
     })
 }
 
+/// `rays` as the queries a march traces, into `out`, when every one is the caller's
+/// own ray: valid, on a field without a transform, needing no conditioning (`near`,
+/// [`Near::holds`]). `false` (and `out` partly filled) otherwise: then [`query`] gives
+/// each its local form, or its error.
+fn plain_queries(
+    hf: &HeightField,
+    near: &Near<f32>,
+    rays: &[hf_ray],
+    out: &mut Vec<Query<f32>>,
+) -> bool {
+    out.clear();
+    hf.transform().is_identity()
+        && rays.iter().all(|r| {
+            let q = Query::from_arrays(r.origin, r.dir, r.t_min, r.t_max);
+            q.is_ok_and(|q| {
+                near.holds(&q) && {
+                    out.push(q);
+                    true
+                }
+            })
+        })
+}
+
 /// The hits of `rays` (the first of them `rays[first]` of the batch) into `out`, each
 /// marched from where `horizon` places it ([`Marcher::trace_started`]), or from its own
-/// start where the horizon says nothing of it; `hint` is the last ray's band.
+/// start where the horizon says nothing of it; `hint` is the last ray's band. Any rays:
+/// conditioned, or on a field with a transform.
 fn trace_from_horizon(
     m: &Marcher,
     horizon: &Horizon,
@@ -658,22 +699,13 @@ fn trace_from_horizon(
     hint: &mut usize,
     out: &mut [hf_hit],
 ) -> Result<(), hf_result> {
-    let (identity, near) = (hf.transform().is_identity(), Near::of(hf));
+    let near = Near::of(hf);
     // One ray at a time: nothing to gather for lanes.
     for (k, (r, hit)) in rays.iter().zip(out.iter_mut()).enumerate() {
         let local = query_near(hf, &near, r, Some(first + k))?;
-        *hit = if local.is_unchanged() && identity {
-            // The common case, without conversions: the caller's own ray.
-            let q = &local.query;
-            hf_hit::from(match horizon.start_query(q, hint) {
-                Some(start) => m.trace_started(hf, q, start),
-                None => m.trace(hf, q),
-            })
-        } else {
-            match horizon_start(horizon, hf, r, hint) {
-                Some(start) => trace_from_start(m, hf, &local, start),
-                None => answer(hf, local.trace(|q| m.trace(hf, q))),
-            }
+        *hit = match horizon_start(horizon, hf, r, hint) {
+            Some(start) => trace_from_start(m, hf, &local, start),
+            None => answer(hf, local.trace(|q| m.trace(hf, q))),
         };
     }
     Ok(())

@@ -179,6 +179,12 @@ impl<R: Real> Near<R> {
         }
     }
 
+    /// Whether `q` needs no conditioning: [`condition_query`] would trace it as it is.
+    #[inline]
+    pub fn holds(&self, q: &Query<R>) -> bool {
+        self.needs(q.origin(), q.dir()) == (false, false)
+    }
+
     /// What the ray from `o` along `d` needs, evaluated in its own precision (the
     /// thresholds are not sharp): `(scale, far)`, whether its direction is to be scaled
     /// and whether its origin is far from the box.
