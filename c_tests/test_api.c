@@ -2089,18 +2089,23 @@ static void check_horizon(void) {
     CHECK_OK(hf_field_create_f32(heights, W * H, W, H, W, &f));
     size_t plen = 0;
     float *pyr = (float *)bake_map(HF_METHOD_MAXMIP, f, NULL, &plen);
-    const hf_camera cams[2] = {
+    /* From outside, from over the field looking down, and from far away (a telephoto
+     * whose rays the batches condition: their local form, not the plain queries). */
+    const hf_camera cams[3] = {
         {{-30.0f, -20.0f, 16.0f}, {150.0f, 120.0f, -12.0f}, {0.0f, 0.0f, 1.0f}, 35.0f, CW, CH,
          INFINITY},
         {{55.0f, 45.0f, 60.0f}, {0.1f, 0.2f, -1.0f}, {0.0f, 1.0f, 0.0f}, 100.0f, CW, CH,
-         INFINITY}};
+         INFINITY},
+        {{-2000.0f, -1700.0f, 300.0f}, {2060.0f, 1750.0f, -300.0f}, {0.0f, 0.0f, 1.0f}, 4.0f, CW,
+         CH, INFINITY}};
     static hf_ray rays[NP];
     static hf_hit off[NP], on[NP];
     const uint32_t methods[2] = {HF_METHOD_EXACT, HF_METHOD_MAXMIP};
     const void *maps[2] = {NULL, pyr};
     const size_t lens[2] = {0, plen};
     unsigned long long fetched[2] = {0, 0};
-    for (int c = 0; c < 2; c++) {
+    int far_hits = 0;
+    for (int c = 0; c < 3; c++) {
         for (uint32_t y = 0; y < CH; y++)
             for (uint32_t x = 0; x < CW; x++)
                 CHECK_OK(hf_camera_ray(&cams[c], x, y, &rays[y * CW + x]));
@@ -2109,6 +2114,7 @@ static void check_horizon(void) {
             CHECK_OK(hf_trace_options_default(&o));
             o.horizon = HF_HORIZON_OFF;
             CHECK_OK(hf_trace_batch(f, methods[m], maps[m], lens[m], &o, rays, NP, off, NP));
+            for (int k = 0; c == 2 && k < NP; k++) far_hits += (int)off[k].hit;
             for (uint32_t t = 1; t <= 2; t++) {
                 o.horizon = HF_HORIZON_AUTO;
                 o.threads = t;
@@ -2134,6 +2140,7 @@ static void check_horizon(void) {
         }
     }
     CHECK(fetched[1] < fetched[0]);
+    CHECK(far_hits > NP / 2); /* the far camera sees the field */
     printf("horizon: %llu texels read one ray at a time, %llu sharing a horizon\n",
            fetched[0], fetched[1]);
     free(pyr);

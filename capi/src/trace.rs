@@ -626,42 +626,93 @@ pub unsafe extern "C" fn hf_trace_batch(
             // one band: the per-ray buffers stay small and in cache (measured: one
             // buffer for a whole 640 × 512 batch cost 160 ns a ray in page faults and
             // misses, for rays that miss the box).
-            let mut locals = Vec::with_capacity(RAY_BAND as usize);
-            let (mut plain, mut traces) = (Vec::new(), Vec::new());
-            let (mut hint, near) = (0, Near::of(hf));
+            let (mut hint, mut scratch) = (0, BandScratch::default());
+            let near = Near::of(hf);
             for (c, out) in out.chunks_mut(RAY_BAND as usize).enumerate() {
                 let first = band.start as usize + c * RAY_BAND as usize;
-                let rays = &rays[first..first + out.len()];
-                let is_plain = plain_queries(hf, &near, rays, &mut plain);
-                if let (Some(h), true) = (&horizon, is_plain) {
-                    // The common case: the callers' own rays, each from its start.
-                    for (hit, q) in out.iter_mut().zip(&plain) {
-                        *hit = hf_hit::from(match h.start_query(q, &mut hint) {
-                            Some(start) => m.trace_started(hf, q, start),
-                            None => m.trace(hf, q),
-                        });
-                    }
-                } else if let Some(h) = &horizon {
-                    trace_from_horizon(&m, h, hf, (rays, first), &mut hint, out)?;
-                } else if is_plain {
-                    // The common case: the callers' own rays, traced as they are.
-                    traces.clear();
-                    traces.resize(plain.len(), Trace::MISS);
-                    m.trace_each(hf, &plain, &mut traces, o.simd);
-                    for (hit, tr) in out.iter_mut().zip(&traces) {
-                        *hit = hf_hit::from(*tr);
-                    }
-                } else {
-                    locals.clear();
-                    for (k, r) in rays.iter().enumerate() {
-                        locals.push(Some(query_near(hf, &near, r, Some(first + k))?));
-                    }
-                    trace_locals(&m, &o, hf, &locals, &[], out);
-                }
+                let rays = (&rays[first..first + out.len()], first);
+                let band = Band {
+                    m: &m,
+                    o: &o,
+                    hf,
+                    near: &near,
+                };
+                band.trace(horizon.as_ref(), rays, &mut hint, &mut scratch, out)?;
             }
             Ok(())
         })
     })
+}
+
+/// What every band of an `hf_trace_batch` call is traced with.
+struct Band<'a> {
+    m: &'a Marcher<'a>,
+    o: &'a TraceOptions,
+    hf: &'a HeightField<'a>,
+    /// The conditioning's test, prepared once.
+    near: &'a Near<f32>,
+}
+
+/// The buffers a thread of `hf_trace_batch` reuses from band to band.
+#[derive(Default)]
+struct BandScratch {
+    plain: Vec<Query<f32>>,
+    traces: Vec<Trace<f32>>,
+    locals: Vec<Option<Local>>,
+}
+
+impl Band<'_> {
+    /// The hits of `rays` (the first of them `rays[first]` of the batch) into `out`,
+    /// those of one `hf_trace` each: marched from where `horizon` places them (`hint`:
+    /// the last ray's band), else by the method itself, in lanes where it has them. The
+    /// callers' own rays (no transform, no conditioning: the common case) go to the
+    /// marches as they are; the others through their local form ([`query`]).
+    fn trace(
+        &self,
+        horizon: Option<&Horizon>,
+        (rays, first): (&[hf_ray], usize),
+        hint: &mut usize,
+        s: &mut BandScratch,
+        out: &mut [hf_hit],
+    ) -> Result<(), hf_result> {
+        let Band { m, o, hf, near } = *self;
+        match (horizon, plain_queries(hf, near, rays, &mut s.plain)) {
+            (Some(h), true) => {
+                for (hit, q) in out.iter_mut().zip(&s.plain) {
+                    *hit = hf_hit::from(match h.start_query(q, hint) {
+                        Some(start) => m.trace_started(hf, q, start),
+                        None => m.trace(hf, q),
+                    });
+                }
+            }
+            (Some(h), false) => {
+                for (k, (r, hit)) in rays.iter().zip(out.iter_mut()).enumerate() {
+                    let local = query_near(hf, near, r, Some(first + k))?;
+                    *hit = match horizon_start(h, hf, r, hint) {
+                        Some(start) => trace_from_start(m, hf, &local, start),
+                        None => answer(hf, local.trace(|q| m.trace(hf, q))),
+                    };
+                }
+            }
+            (None, true) => {
+                s.traces.clear();
+                s.traces.resize(s.plain.len(), Trace::MISS);
+                m.trace_each(hf, &s.plain, &mut s.traces, o.simd);
+                for (hit, tr) in out.iter_mut().zip(&s.traces) {
+                    *hit = hf_hit::from(*tr);
+                }
+            }
+            (None, false) => {
+                s.locals.clear();
+                for (k, r) in rays.iter().enumerate() {
+                    s.locals
+                        .push(Some(query_near(hf, near, r, Some(first + k))?));
+                }
+                trace_locals(m, o, hf, &s.locals, &[], out);
+            }
+        }
+        Ok(())
+    }
 }
 
 /// `rays` as the queries a march traces, into `out`, when every one is the caller's
@@ -685,30 +736,6 @@ fn plain_queries(
                 }
             })
         })
-}
-
-/// The hits of `rays` (the first of them `rays[first]` of the batch) into `out`, each
-/// marched from where `horizon` places it ([`Marcher::trace_started`]), or from its own
-/// start where the horizon says nothing of it; `hint` is the last ray's band. Any rays:
-/// conditioned, or on a field with a transform.
-fn trace_from_horizon(
-    m: &Marcher,
-    horizon: &Horizon,
-    hf: &HeightField,
-    (rays, first): (&[hf_ray], usize),
-    hint: &mut usize,
-    out: &mut [hf_hit],
-) -> Result<(), hf_result> {
-    let near = Near::of(hf);
-    // One ray at a time: nothing to gather for lanes.
-    for (k, (r, hit)) in rays.iter().zip(out.iter_mut()).enumerate() {
-        let local = query_near(hf, &near, r, Some(first + k))?;
-        *hit = match horizon_start(horizon, hf, r, hint) {
-            Some(start) => trace_from_start(m, hf, &local, start),
-            None => answer(hf, local.trace(|q| m.trace(hf, q))),
-        };
-    }
-    Ok(())
 }
 
 /// `hf_trace_batch` on a projective height field (Baboud & Décoret §4: a frustum, e.g.
