@@ -6,7 +6,7 @@ use crate::detail::{fail, Named};
 use crate::hf_result::{self, *};
 use crate::trace::{
     build_horizon, check, grid_line, hf_hit, hf_ray, hf_trace_options, horizon_start, marcher,
-    query_near, shadow_ray_of, trace_locals,
+    plain_queries, query_near, shadow_ray_of, trace_locals, trace_plain,
 };
 use crate::{guard, hf_field, ptr, surface_of};
 use hfcore::camera::{Pinhole, TILE};
@@ -218,26 +218,48 @@ unsafe fn trace_pixels(
                 let mut local = [hf_hit::default(); (TILE * TILE) as usize];
                 let mut queries = Vec::with_capacity(local.len());
                 let mut starts = Vec::with_capacity(local.len());
+                let (mut rays, mut flat) = (Vec::new(), Vec::new());
+                let (mut plain, mut traces) = (Vec::new(), Vec::new());
                 let (mut hint, near) = (0, Near::of(hf));
                 for (ys, xs) in p.tiles(rows) {
                     let (y0, x0, tw) = (ys.start, xs.start, xs.len());
-                    queries.clear();
-                    starts.clear();
+                    let n = ys.len() * tw;
+                    rays.clear();
                     for y in ys.clone() {
                         for x in xs.clone() {
+                            rays.push(ray(&p, &m, c.t_max, x, y)?);
+                        }
+                    }
+                    flat.clear();
+                    flat.extend(rays.iter().flatten());
+                    if flat.len() == n && plain_queries(hf, &near, &flat, &mut plain) {
+                        // Every pixel has a ray that needs no conditioning: traced as the
+                        // batches trace theirs.
+                        let plain = (plain.as_slice(), &mut traces);
+                        trace_plain(
+                            (&m, &o, hf),
+                            horizon.as_ref(),
+                            plain,
+                            &mut hint,
+                            &mut local[..n],
+                        );
+                    } else {
+                        queries.clear();
+                        starts.clear();
+                        let pixels = ys.clone().flat_map(|y| xs.clone().map(move |x| (x, y)));
+                        for ((x, y), r) in pixels.zip(&rays) {
                             let k = y as usize * width + x as usize;
-                            let r = ray(&p, &m, c.t_max, x, y)?;
-                            queries.push(match &r {
+                            queries.push(match r {
                                 Some(r) => Some(query_near(hf, &near, r, Some(k))?),
                                 None => None,
                             });
-                            starts.push(match (&horizon, &r) {
+                            starts.push(match (&horizon, r) {
                                 (Some(h), Some(r)) => horizon_start(h, hf, r, &mut hint),
                                 _ => None,
                             });
                         }
+                        trace_locals(&m, &o, hf, &queries, &starts, &mut local[..n]);
                     }
-                    trace_locals(&m, &o, hf, &queries, &starts, &mut local[..queries.len()]);
                     for (dy, row) in local.chunks(tw).take(ys.len()).enumerate() {
                         let k = (y0 as usize + dy) * width + x0 as usize - first;
                         band[k..k + tw].copy_from_slice(row);

@@ -676,16 +676,13 @@ impl Band<'_> {
         out: &mut [hf_hit],
     ) -> Result<(), hf_result> {
         let Band { m, o, hf, near } = *self;
-        match (horizon, plain_queries(hf, near, rays, &mut s.plain)) {
-            (Some(h), true) => {
-                for (hit, q) in out.iter_mut().zip(&s.plain) {
-                    *hit = hf_hit::from(match h.start_query(q, hint) {
-                        Some(start) => m.trace_started(hf, q, start),
-                        None => m.trace(hf, q),
-                    });
-                }
-            }
-            (Some(h), false) => {
+        if plain_queries(hf, near, rays, &mut s.plain) {
+            let plain = (s.plain.as_slice(), &mut s.traces);
+            trace_plain((m, o, hf), horizon, plain, hint, out);
+            return Ok(());
+        }
+        match horizon {
+            Some(h) => {
                 for (k, (r, hit)) in rays.iter().zip(out.iter_mut()).enumerate() {
                     let local = query_near(hf, near, r, Some(first + k))?;
                     *hit = match horizon_start(h, hf, r, hint) {
@@ -694,15 +691,7 @@ impl Band<'_> {
                     };
                 }
             }
-            (None, true) => {
-                s.traces.clear();
-                s.traces.resize(s.plain.len(), Trace::MISS);
-                m.trace_each(hf, &s.plain, &mut s.traces, o.simd);
-                for (hit, tr) in out.iter_mut().zip(&s.traces) {
-                    *hit = hf_hit::from(*tr);
-                }
-            }
-            (None, false) => {
+            None => {
                 s.locals.clear();
                 for (k, r) in rays.iter().enumerate() {
                     s.locals
@@ -715,11 +704,42 @@ impl Band<'_> {
     }
 }
 
+/// The hits of `plain`, the callers' own rays as a march takes them
+/// ([`plain_queries`]), into `out`, those of one `hf_trace` each: marched from where
+/// `horizon` places them (`hint`: the last ray's band), else by the method itself, in
+/// lanes where it has them (`traces`: scratch).
+pub(crate) fn trace_plain(
+    (m, o, hf): (&Marcher, &TraceOptions, &HeightField),
+    horizon: Option<&Horizon>,
+    (plain, traces): (&[Query<f32>], &mut Vec<Trace<f32>>),
+    hint: &mut usize,
+    out: &mut [hf_hit],
+) {
+    match horizon {
+        Some(h) => {
+            for (hit, q) in out.iter_mut().zip(plain) {
+                *hit = hf_hit::from(match h.start_query(q, hint) {
+                    Some(start) => m.trace_started(hf, q, start),
+                    None => m.trace(hf, q),
+                });
+            }
+        }
+        None => {
+            traces.clear();
+            traces.resize(plain.len(), Trace::MISS);
+            m.trace_each(hf, plain, traces, o.simd);
+            for (hit, tr) in out.iter_mut().zip(traces.iter()) {
+                *hit = hf_hit::from(*tr);
+            }
+        }
+    }
+}
+
 /// `rays` as the queries a march traces, into `out`, when every one is the caller's
 /// own ray: valid, on a field without a transform, needing no conditioning (`near`,
 /// [`Near::holds`]). `false` (and `out` partly filled) otherwise: then [`query`] gives
 /// each its local form, or its error.
-fn plain_queries(
+pub(crate) fn plain_queries(
     hf: &HeightField,
     near: &Near<f32>,
     rays: &[hf_ray],
