@@ -440,6 +440,9 @@ impl<'a> Plan<'a> {
         let (lo32, hi32, s0_32) = (lo as f32, hi as f32, s0 as f32);
         let (per_band32, per_angle32, top_bin) =
             (per_band as f32, per_angle as f32, (bins - 1) as f32);
+        if rows.is_empty() {
+            return g_rows;
+        }
         let ey = &ey[rows.start as usize..=(rows.end as usize).min(ey.len() - 1)];
         if ey.len() < 2 {
             return g_rows;
