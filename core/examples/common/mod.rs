@@ -47,10 +47,6 @@ pub fn camera_rays(
     w: u32,
     h: u32,
 ) -> Vec<Query<f32>> {
-    let dir = |az: f64, el: f64| {
-        let (a, e) = (az.to_radians(), el.to_radians());
-        [e.cos() * a.sin(), -e.cos() * a.cos(), e.sin()]
-    };
     let dot = |a: [f64; 3], b: [f64; 3]| a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
     let (zmin, zmax) = (hf.min_height() as f64, hf.max_height() as f64);
     let size = [
@@ -59,34 +55,100 @@ pub fn camera_rays(
         zmax - zmin,
     ];
     let centre = [size[0] / 2.0, size[1] / 2.0, zmin + size[2] / 2.0];
-    let tan_y = 20f64.to_radians().tan();
-    let tan_x = tan_y * w as f64 / h as f64;
-    let to_eye = dir(azimuth, elevation);
-    let fwd = to_eye.map(|v| -v);
-    let right = dir(azimuth + 270.0, 0.0);
-    let up = [
-        fwd[1] * right[2] - fwd[2] * right[1],
-        fwd[2] * right[0] - fwd[0] * right[2],
-        fwd[0] * right[1] - fwd[1] * right[0],
-    ];
+    let lens = Lens::new(elevation, azimuth, 20.0, w, h);
     let mut dist = 1e-3f64;
     for corner in 0..8 {
         let c = [0, 1, 2].map(|k| size[k] * (f64::from((corner >> k) & 1) - 0.5));
-        let need_x = dot(c, right).abs() / tan_x - dot(c, fwd);
-        let need_y = dot(c, up).abs() / tan_y - dot(c, fwd);
+        let need_x = dot(c, lens.right).abs() / lens.tan[0] - dot(c, lens.fwd);
+        let need_y = dot(c, lens.up).abs() / lens.tan[1] - dot(c, lens.fwd);
         dist = dist.max(need_x.max(need_y));
     }
-    let eye = [0, 1, 2].map(|k| (centre[k] + 1.05 * dist * to_eye[k]) as f32);
-    let mut rays = Vec::with_capacity((w * h) as usize);
-    for py in 0..h {
-        for px in 0..w {
-            let sx = 2.0 * (px as f64 + 0.5) / w as f64 - 1.0;
-            let sy = 1.0 - 2.0 * (py as f64 + 0.5) / h as f64;
-            let d = [0, 1, 2].map(|k| (fwd[k] + sx * tan_x * right[k] + sy * tan_y * up[k]) as f32);
-            rays.push(Query::from_arrays(eye, d, 0.0, f32::INFINITY).unwrap());
+    lens.rays(centre, 1.05 * dist, w, h)
+}
+
+/// Primary rays of a pinhole camera of `half_fov` degrees of half its vertical field
+/// of view, at compass `azimuth` and `elevation` (degrees) over the plane `z = zref`,
+/// framed so that the terrain fills the image: looking at the footprint's centre on
+/// that plane, as far back as keeps the four corner rays' meetings with it inside the
+/// footprint (shrunk by 1%). The filled cameras of `c_tests/embree_bench.c`.
+pub fn filled_camera_rays(
+    hf: &HeightField,
+    (elevation, azimuth, half_fov): (f64, f64, f64),
+    zref: f64,
+    w: u32,
+    h: u32,
+) -> Vec<Query<f32>> {
+    let size = [(hf.width() - 1) as f64, (hf.height() - 1) as f64];
+    let lens = Lens::new(elevation, azimuth, half_fov, w, h);
+    // Corner ray `c` meets the plane horizontally linearly in the distance: each side
+    // of the footprint bounds it directly.
+    let mut dist = f64::INFINITY;
+    for corner in 0..4 {
+        let sign = |bit: i32, v: f64| if corner & bit != 0 { v } else { -v };
+        let c = [0, 1, 2].map(|k| {
+            lens.fwd[k] + sign(1, lens.tan[0]) * lens.right[k] + sign(2, lens.tan[1]) * lens.up[k]
+        });
+        for k in 0..2 {
+            let v = lens.to_eye[k] + lens.to_eye[2] / -c[2] * c[k];
+            if v != 0.0 {
+                dist = dist.min(0.99 * (size[k] / 2.0) / v.abs());
+            }
         }
     }
-    rays
+    lens.rays([size[0] / 2.0, size[1] / 2.0, zref], dist, w, h)
+}
+
+/// A pinhole camera's orientation and lens: the unit vector to the eye, its frame and
+/// the tangents of its half fields of view.
+struct Lens {
+    to_eye: [f64; 3],
+    fwd: [f64; 3],
+    right: [f64; 3],
+    up: [f64; 3],
+    tan: [f64; 2],
+}
+
+impl Lens {
+    fn new(elevation: f64, azimuth: f64, half_fov: f64, w: u32, h: u32) -> Lens {
+        let dir = |az: f64, el: f64| {
+            let (a, e) = (az.to_radians(), el.to_radians());
+            [e.cos() * a.sin(), -e.cos() * a.cos(), e.sin()]
+        };
+        let tan_y = half_fov.to_radians().tan();
+        let to_eye = dir(azimuth, elevation);
+        let fwd = to_eye.map(|v| -v);
+        let right = dir(azimuth + 270.0, 0.0);
+        let up = [
+            fwd[1] * right[2] - fwd[2] * right[1],
+            fwd[2] * right[0] - fwd[0] * right[2],
+            fwd[0] * right[1] - fwd[1] * right[0],
+        ];
+        Lens {
+            to_eye,
+            fwd,
+            right,
+            up,
+            tan: [tan_y * w as f64 / h as f64, tan_y],
+        }
+    }
+
+    /// The `w × h` image's rays from `dist` back from `target`.
+    fn rays(&self, target: [f64; 3], dist: f64, w: u32, h: u32) -> Vec<Query<f32>> {
+        let eye = [0, 1, 2].map(|k| (target[k] + dist * self.to_eye[k]) as f32);
+        let mut rays = Vec::with_capacity((w * h) as usize);
+        for py in 0..h {
+            for px in 0..w {
+                let sx = 2.0 * (px as f64 + 0.5) / w as f64 - 1.0;
+                let sy = 1.0 - 2.0 * (py as f64 + 0.5) / h as f64;
+                let d = [0, 1, 2].map(|k| {
+                    (self.fwd[k] + sx * self.tan[0] * self.right[k] + sy * self.tan[1] * self.up[k])
+                        as f32
+                });
+                rays.push(Query::from_arrays(eye, d, 0.0, f32::INFINITY).unwrap());
+            }
+        }
+        rays
+    }
 }
 
 /// The command line as `--option value` pairs (an option without its value panics).
