@@ -2147,6 +2147,70 @@ static void check_horizon(void) {
     hf_field_destroy(f);
 }
 
+/* A camera batch large enough that hf_trace_batch checks and sights its rays in parts on
+ * its threads (the first bad ray reported wherever it lies, nothing written; the horizon
+ * of the parts giving the hits of rays traced without one). */
+static void check_batch_in_parts(void) {
+    enum { W = 120, H = 100, CW = 256, CH = 160, NP = CW * CH };
+    static float heights[W * H];
+    for (int j = 0; j < H; j++)
+        for (int i = 0; i < W; i++)
+            heights[j * W + i] = 5.0f * sinf(0.23f * (float)i) * cosf(0.19f * (float)j) +
+                                 (float)((i * 5 + j * 11) % 4);
+    hf_field *f = NULL;
+    CHECK_OK(hf_field_create_f32(heights, W * H, W, H, W, &f));
+    const hf_camera cam = {{-25.0f, -15.0f, 30.0f}, {140.0f, 110.0f, -90.0f},
+                           {0.0f, 0.0f, 1.0f}, 40.0f, CW, CH, INFINITY};
+    static hf_ray rays[NP];
+    static hf_hit off[NP], on[NP], before[NP];
+    for (uint32_t y = 0; y < CH; y++)
+        for (uint32_t x = 0; x < CW; x++) CHECK_OK(hf_camera_ray(&cam, x, y, &rays[y * CW + x]));
+    hf_trace_options o;
+    CHECK_OK(hf_trace_options_default(&o));
+    o.horizon = HF_HORIZON_OFF;
+    CHECK_OK(hf_trace_batch(f, HF_METHOD_EXACT, NULL, 0, &o, rays, NP, off, NP));
+    o.horizon = HF_HORIZON_AUTO;
+    int hits = 0;
+    for (uint32_t t = 1; t <= 2; t++) {
+        o.threads = t;
+        CHECK_OK(hf_trace_batch(f, HF_METHOD_EXACT, NULL, 0, &o, rays, NP, on, NP));
+        int same = 1;
+        unsigned long long fetched[2] = {0, 0};
+        for (int k = 0; k < NP; k++) {
+            same &= same_hit(&on[k], &off[k]);
+            fetched[0] += off[k].fetches;
+            fetched[1] += on[k].fetches;
+        }
+        CHECK(same);
+        CHECK(fetched[1] < fetched[0]); /* the horizon was built and used */
+        for (int k = 0; t == 1 && k < NP; k++) hits += (int)on[k].hit;
+    }
+    CHECK(hits > NP / 2);
+    /* Bad rays in the second thread's part, then in both: the first is reported. */
+    const size_t bad[2] = {NP - 5000, NP / 4};
+    const hf_ray keep[2] = {rays[bad[0]], rays[bad[1]]};
+    char detail[128], want[32];
+    size_t written = 0, at = 0;
+    memset(on, 0x5A, sizeof on);
+    memcpy(before, on, sizeof on);
+    for (int b = 0; b < 2; b++) {
+        rays[bad[b]].dir[0] = rays[bad[b]].dir[1] = rays[bad[b]].dir[2] = 0.0f;
+        for (uint32_t t = 1; t <= 2; t++) {
+            o.threads = t;
+            CHECK(hf_trace_batch(f, HF_METHOD_EXACT, NULL, 0, &o, rays, NP, on, NP) ==
+                  HF_ERR_INVALID_RAY);
+            CHECK(memcmp(on, before, sizeof on) == 0);
+            CHECK(hf_last_error_index(&at) == HF_OK && at == bad[b]);
+            snprintf(want, sizeof want, "rays[%zu]", bad[b]);
+            CHECK(hf_last_error_detail(detail, sizeof detail, &written) == HF_OK &&
+                  strstr(detail, want) != NULL);
+        }
+    }
+    rays[bad[0]] = keep[0];
+    rays[bad[1]] = keep[1];
+    hf_field_destroy(f);
+}
+
 /* Occluders: a ring of four walls (eight triangle tops, `top` high) one texel around a
  * W x H field, into `walls`. */
 static void walls_around(uint32_t w, uint32_t h, float top, hf_occluder walls[8]) {
@@ -2559,6 +2623,7 @@ static void test_trace_options(void) {
     for (int m = 0; m < (int)HF_METHOD_COUNT; m++) free((void *)all[m].map);
     hf_field_destroy(f);
     check_horizon();
+    check_batch_in_parts();
     check_occluders();
 }
 

@@ -6,13 +6,14 @@ use crate::occluder::{hf_occluder, mismatch, occluders_of};
 use crate::ptr::Named;
 use crate::{guard, hf_field, ptr, surface_of};
 use hfcore::condition::{condition, condition_query_near, Local, Near};
-use hfcore::horizon::{Horizon, Plan, Start};
+use hfcore::horizon::{Horizon, Plan, Sighting, Start, MIN_GROUP};
 use hfcore::march::MarchOptions;
 use hfcore::projective::{Mat4, Projective};
 use hfcore::scene::RayClasses;
 use hfcore::scene::{MethodKind, Shadows};
 use hfcore::{Flags, HeightField, Hit, Marcher, Query, Surface, Trace};
 use std::ffi::c_void;
+use std::ops::Range;
 
 /// A ray: the points `origin + t * dir` for `t` in `[t_min, t_max]`, in grid space, or
 /// in the field's world units when it has a transform (`hf_field_set_transform`).
@@ -460,18 +461,53 @@ pub(crate) fn grid_line(hf: &HeightField, r: &hf_ray) -> ([f64; 3], [f64; 3]) {
     }
 }
 
-/// The horizon a batch of `rays` can share ([`Marcher::horizon`]): `None` unless the
-/// options allow one, `m`'s hits are the DDA's and enough rays share an origin.
-pub(crate) fn batch_horizon(
+/// Rays from which a batch checks its rays on its threads ([`checked_horizon`]): a
+/// smaller batch's pass is shorter than starting them.
+const PARALLEL_CHECK: usize = 1 << 15;
+
+/// Checks every ray of a batch ([`check`]: the first bad ray's error, its detail
+/// recorded on the calling thread) and, in the same pass, sights the rays for the
+/// horizon they can share ([`Plan::for_sightings`]; [`Marcher::horizon`]'s horizon,
+/// `None` unless the options allow one, `m`'s hits are the DDA's and enough rays share
+/// an origin). A large batch's pass is split among its threads.
+pub(crate) fn checked_horizon(
     m: &Marcher,
     o: &TraceOptions,
     hf: &HeightField,
     rays: &[hf_ray],
-) -> Option<Horizon> {
-    let surface = m.dda_surface().filter(|_| o.horizon)?;
-    let lines = rays.iter().map(|r| grid_line(hf, r));
-    let plan = Plan::for_batch(hf, surface, lines, m.horizon_max_block())?;
-    Some(build_horizon(plan, o.threads))
+) -> Result<Option<Horizon>, hf_result> {
+    let total = rays.len();
+    let surface = m.dda_surface().filter(|_| o.horizon && total >= MIN_GROUP);
+    let eye = rays.first().map(|r| grid_line(hf, r).0);
+    let sight = |part: Range<usize>| -> Result<Sighting, usize> {
+        let mut seen = Sighting::new(total);
+        for (k, r) in part.clone().zip(&rays[part]) {
+            check(hf, r, None).map_err(|_| k)?;
+            if surface.is_some() {
+                let (origin, dir) = grid_line(hf, r);
+                if Some(origin) == eye {
+                    seen.add(k, dir);
+                }
+            }
+        }
+        Ok(seen)
+    };
+    let parts = match u32::try_from(total) {
+        Ok(n) if total >= PARALLEL_CHECK => crate::par::split(n, o.threads, |part| {
+            sight(part.start as usize..part.end as usize)
+        }),
+        _ => vec![sight(0..total)],
+    };
+    let parts: Vec<Sighting> = match parts.into_iter().collect() {
+        Ok(parts) => parts,
+        // Found on some thread: checked again on this one for its detail.
+        Err(k) => return check(hf, &rays[k], Some(k)).and(Err(HF_ERR_INVALID_RAY)),
+    };
+    let (Some(surface), Some(eye)) = (surface, eye) else {
+        return Ok(None);
+    };
+    let plan = Plan::for_sightings(hf, surface, eye, parts, m.horizon_max_block());
+    Ok(plan.map(|plan| build_horizon(plan, o.threads)))
 }
 
 /// The horizon of `plan`, its pass over the field shared by the batch's `threads`
@@ -613,11 +649,9 @@ pub unsafe extern "C" fn hf_trace_batch(
         // SAFETY: the caller's promises, passed on.
         let (m, o) = unsafe { marcher(f, method, map, map_len, options) }?;
         let hf = f.view();
-        for (k, r) in rays.iter().enumerate() {
-            check(hf, r, Some(k))?;
-        }
-        // Rays from one eye (a camera's) share a horizon, built once for all threads.
-        let horizon = batch_horizon(&m, &o, hf, rays);
+        // Every ray is checked first; rays from one eye (a camera's) share a horizon,
+        // built once for all threads.
+        let horizon = checked_horizon(&m, &o, hf, rays)?;
         // Bands of rays taken in turn by the threads; `u32` counts them.
         let n = u32::try_from(rays.len()).unwrap_or(u32::MAX);
         let threads = if n == u32::MAX { 1 } else { o.threads };

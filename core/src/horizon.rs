@@ -130,7 +130,7 @@ impl Horizon {
         block: u32,
     ) -> Option<Horizon> {
         let n = dirs.clone().count();
-        let (frame, _) = frame(dirs, n)?;
+        let frame = frame(&Sighting::of(dirs, n))?;
         Some(Plan::new(hf, surface, eye, frame, bins, block).build())
     }
 
@@ -283,9 +283,30 @@ impl<'a> Plan<'a> {
         }
         let mut rays = rays.peekable();
         let eye = rays.peek()?.0;
-        let dirs = rays.filter(|r| r.0 == eye).map(|r| r.1);
-        let (frame, n) = frame(dirs, total)?;
+        let mut seen = Sighting::new(total);
+        for (k, (o, d)) in rays.enumerate() {
+            if o == eye {
+                seen.add(k, d);
+            }
+        }
+        Plan::for_sightings(hf, surface, eye, [seen], max_block)
+    }
+
+    /// [`Plan::for_batch`] from its pass over the batch's rays made in parts: `parts`
+    /// in order, each the [`Sighting`] (of the whole batch's size) of one range of the
+    /// rays, of those among them that leave `eye` (the first ray's origin), numbered in
+    /// the batch.
+    pub fn for_sightings(
+        hf: &HeightField<'a>,
+        surface: Surface,
+        eye: [f64; 3],
+        parts: impl IntoIterator<Item = Sighting>,
+        max_block: u32,
+    ) -> Option<Plan<'a>> {
+        let seen = Sighting::join(parts)?;
+        let n = seen.count;
         let fits = n >= MIN_GROUP && block_for(hf, n) <= max_block;
+        let frame = frame(&seen)?;
         fits.then(|| Plan::fitted(hf, surface, eye, frame, n))
     }
 
@@ -301,7 +322,7 @@ impl<'a> Plan<'a> {
         if block_for(hf, n) > max_block {
             return None;
         }
-        let (frame, _) = frame(dirs.clone(), dirs.count())?;
+        let frame = frame(&Sighting::of(dirs.clone(), dirs.count()))?;
         Some(Plan::fitted(hf, surface, eye, frame, n))
     }
 
@@ -598,26 +619,69 @@ pub fn block_for(hf: &HeightField, n: usize) -> u32 {
     block
 }
 
-/// The unit mean horizontal direction of `dirs` (or +x when they cancel) and the range
-/// of their pseudo-angles from it, widened by a hundredth of itself on each side, and
-/// how many directions there were; `None` when no direction has a horizontal part.
-/// Taken in one pass from about [`FRAME_SAMPLES`] of the directions (of about `n`),
-/// spread by a multiplicative hash so that no stride of a batch (an image's columns)
-/// is missed; a ray outside the range is traced without the horizon.
-fn frame(dirs: impl Iterator<Item = [f64; 3]>, n: usize) -> Option<(Frame, usize)> {
-    let below = (FRAME_SAMPLES as f64 / n.max(1) as f64 * 18_446_744_073_709_551_616.0)
-        .min(u64::MAX as f64) as u64;
-    let mut count = 0;
-    let mut sample = Vec::with_capacity(2 * FRAME_SAMPLES);
-    for d in dirs {
-        let picked = (count as u64).wrapping_mul(0x9E37_79B9_7F4A_7C15) <= below;
-        if picked && (d[0] != 0.0 || d[1] != 0.0) {
-            sample.push([d[0], d[1]]);
+/// What a pass over a group's rays (or a part of them) gathers to place its wedges:
+/// how many rays it saw, and the horizontal directions of about [`FRAME_SAMPLES`] of
+/// the whole group, picked by their number in it through a multiplicative hash so
+/// that no stride of a batch (an image's columns) is missed. Parts of a batch
+/// (consecutive ranges of its rays) can be sighted apart, on several threads, then
+/// joined in order ([`Plan::for_sightings`]): the same sample as one pass takes.
+#[derive(Clone, Debug)]
+pub struct Sighting {
+    /// The hash's threshold: `FRAME_SAMPLES / total` of its range.
+    below: u64,
+    count: usize,
+    sample: Vec<[f64; 2]>,
+}
+
+impl Sighting {
+    /// An empty sighting of a group of about `total` rays.
+    pub fn new(total: usize) -> Sighting {
+        let below = (FRAME_SAMPLES as f64 / total.max(1) as f64 * 18_446_744_073_709_551_616.0)
+            .min(u64::MAX as f64) as u64;
+        Sighting {
+            below,
+            count: 0,
+            sample: Vec::new(),
         }
-        count += 1;
     }
+
+    /// Sees ray number `k` of the group, its direction `d` (grid space).
+    #[inline]
+    pub fn add(&mut self, k: usize, d: [f64; 3]) {
+        self.count += 1;
+        let picked = (k as u64).wrapping_mul(0x9E37_79B9_7F4A_7C15) <= self.below;
+        if picked && (d[0] != 0.0 || d[1] != 0.0) {
+            self.sample.push([d[0], d[1]]);
+        }
+    }
+
+    /// The sighting of the directions `dirs`, the whole group.
+    fn of(dirs: impl Iterator<Item = [f64; 3]>, total: usize) -> Sighting {
+        let mut s = Sighting::new(total);
+        for (k, d) in dirs.enumerate() {
+            s.add(k, d);
+        }
+        s
+    }
+
+    /// `parts` joined in order.
+    fn join(parts: impl IntoIterator<Item = Sighting>) -> Option<Sighting> {
+        parts.into_iter().reduce(|mut all, part| {
+            all.count += part.count;
+            all.sample.extend(part.sample);
+            all
+        })
+    }
+}
+
+/// The unit mean horizontal direction of the sampled directions of `seen` (or +x when
+/// they cancel) and the range of their pseudo-angles from it, widened by a hundredth
+/// of itself on each side; `None` when no direction has a horizontal part. A ray
+/// outside the range is traced without the horizon.
+fn frame(seen: &Sighting) -> Option<Frame> {
+    let sample = seen.sample.as_slice();
     let mut sum = [0.0f64; 2];
-    for d in &sample {
+    for d in sample {
         let len = norm(d[0], d[1]);
         sum = [sum[0] + d[0] / len, sum[1] + d[1] / len];
     }
@@ -628,7 +692,7 @@ fn frame(dirs: impl Iterator<Item = [f64; 3]>, n: usize) -> Option<(Frame, usize
         [1.0, 0.0]
     };
     let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
-    for d in &sample {
+    for d in sample {
         let a = pseudo_angle(
             d[0] * axis[0] + d[1] * axis[1],
             d[1] * axis[0] - d[0] * axis[1],
@@ -637,7 +701,7 @@ fn frame(dirs: impl Iterator<Item = [f64; 3]>, n: usize) -> Option<(Frame, usize
     }
     let pad = (hi - lo) / 100.0;
     let (lo, hi) = ((lo - pad).max(-2.0), (hi + pad).min(2.0));
-    (lo <= hi).then_some((Frame { axis, lo, hi }, count))
+    (lo <= hi).then_some(Frame { axis, lo, hi })
 }
 
 /// An upper bound of the surface over each block of one block row: its highest
