@@ -12,7 +12,7 @@ use common::{
     eps_f32, fractal_field, is_ambiguous, kind_blocks, march_fields, Field, RayKind, Rng,
 };
 use hfcast::camera::Pinhole;
-use hfcast::horizon::{Horizon, Plan, Start};
+use hfcast::horizon::{Horizon, Plan, Sighting, Start};
 use hfcast::march::Marcher;
 use hfcast::maxmip::{self, MaxMip, Options};
 use hfcast::{dda, HeightField, Query, Real, Surface, Trace};
@@ -355,6 +355,62 @@ fn a_pass_in_parts_is_the_whole_pass() {
     }
     println!("{compared} starts compared");
     assert!(compared > 100_000);
+}
+
+/// A batch sighted in parts (as `hf_trace_batch`'s threads sight it: consecutive
+/// ranges, some empty, some rays from another origin) places the wedges as one pass
+/// ([`Plan::for_batch`]): every ray of every field and camera gets the same start.
+#[test]
+fn a_batch_sighted_in_parts_is_the_whole_batch() {
+    let mut compared = 0usize;
+    for (name, field) in fields() {
+        let hf = field.hf();
+        for shot in &SHOTS {
+            let shot = Shot {
+                size: (64, 48),
+                ..*shot
+            };
+            let mut lines: Vec<([f64; 3], [f64; 3])> = shot
+                .rays(&field)
+                .iter()
+                .map(|q| (q.origin().map(f64::from), q.dir().map(f64::from)))
+                .collect();
+            // Every seventh ray from elsewhere: not the batch's eye, not sighted.
+            for line in lines.iter_mut().skip(3).step_by(7) {
+                line.0[2] += 1.0;
+            }
+            let (n, eye) = (lines.len(), lines[0].0);
+            let surface = Surface::Triangles;
+            let whole = Plan::for_batch(&hf, surface, lines.iter().copied(), u32::MAX);
+            let cuts = [0, 1, n / 3, n / 3, n / 2 + 5, n];
+            let parts = cuts.windows(2).map(|c| {
+                let mut seen = Sighting::new(n);
+                for (k, line) in lines.iter().enumerate().take(c[1]).skip(c[0]) {
+                    if line.0 == eye {
+                        seen.add(k, line.1);
+                    }
+                }
+                seen
+            });
+            let split = Plan::for_sightings(&hf, surface, eye, parts, u32::MAX);
+            let (whole, split) = (
+                whole.expect("a batch from one eye").build(),
+                split.expect("the same batch").build(),
+            );
+            let (mut a, mut b) = (0, 0);
+            for (o, d) in &lines {
+                let range = (0.0, f64::INFINITY);
+                let (x, y) = (
+                    whole.start(*o, *d, range, &mut a),
+                    split.start(*o, *d, range, &mut b),
+                );
+                assert_eq!(x, y, "{name} {}: {o:?} {d:?}", shot.name);
+                compared += usize::from(x.is_some());
+            }
+        }
+    }
+    println!("{compared} starts compared");
+    assert!(compared > 50_000);
 }
 
 fn skips_as_the_dda<R: Real>(hf: &HeightField, surface: Surface, q: &Query<R>, name: &str) {
