@@ -7,8 +7,8 @@
 //! horizons (blocks of one cell, four times the wedges). One thread; medians.
 //!
 //! `cargo run --release -p hfcast --example horizon_cost [-- --map NAME --reps N]`
-//! (default the Himalaya DEM of ../shared/data, `--map fractal` the synthetic fractal
-//! field at 1024²; 5 repetitions).
+//! (default the Himalaya DEM of ../shared/data, `--map fractal` the core benchmarks'
+//! sum of sines at 1024², not `embree_bench.c`'s fBm; 5 repetitions).
 
 mod common;
 use common::{camera_rays, filled_camera_rays, load_png, median, options, wall};
