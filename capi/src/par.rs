@@ -61,20 +61,34 @@ pub fn bake_bands<T: Send, E: Send>(
             bake(r0..r1, &mut chunk)?;
         }
     };
+    // A helper the system refuses leaves its bands to the others.
+    let (mine, helpers) = with_helpers(threads as usize - 1, |_| work(), work);
+    helpers.into_iter().flatten().fold(mine, Result::and)
+}
+
+/// `mine()` on the calling thread while `n` more threads run `helper(0)` …
+/// `helper(n − 1)`, in the library's quiet section; the helpers' results in order,
+/// `None` for one the system refused to create. A panicking helper re-panics here,
+/// caught by the export's panic boundary.
+fn with_helpers<T: Send>(
+    n: usize,
+    helper: impl Fn(usize) -> T + Sync,
+    mine: impl FnOnce() -> T,
+) -> (T, Vec<Option<T>>) {
+    let helper = &helper;
     std::thread::scope(|s| {
-        let helpers: Vec<_> = (1..threads)
-            .map_while(|_| {
+        let spawned: Vec<_> = (0..n)
+            .map(|i| {
                 std::thread::Builder::new()
-                    .spawn_scoped(s, || crate::detail::quietly(|_| work()))
+                    .spawn_scoped(s, move || crate::detail::quietly(|_| helper(i)))
                     .ok()
             })
             .collect();
-        let mine = work();
-        // A panicking helper re-panics here, caught by the export's panic boundary.
-        helpers
+        let mine = mine();
+        let joined = spawned
             .into_iter()
-            .map(|w| w.join().unwrap_or_else(|p| std::panic::resume_unwind(p)))
-            .fold(mine, Result::and)
+            .map(|h| h.map(|h| h.join().unwrap_or_else(|p| std::panic::resume_unwind(p))));
+        (mine, joined.collect())
     })
 }
 
@@ -90,26 +104,20 @@ pub fn split<T: Send>(units: u32, threads: u32, work: impl Fn(Range<u32>) -> T +
     if n <= 1 {
         return parts.into_iter().map(&work).collect();
     }
-    let work = &work;
-    std::thread::scope(|s| {
-        let helpers: Vec<_> = parts[1..]
-            .iter()
-            .map(|r| {
-                let r = r.clone();
-                std::thread::Builder::new()
-                    .spawn_scoped(s, move || crate::detail::quietly(|_| work(r)))
-                    .map_err(|_| ())
-            })
-            .collect();
-        let mine = work(parts[0].clone());
-        // A panicking helper re-panics here, caught by the export's panic boundary.
-        core::iter::once(mine)
-            .chain(helpers.into_iter().zip(&parts[1..]).map(|(h, r)| match h {
-                Ok(h) => h.join().unwrap_or_else(|p| std::panic::resume_unwind(p)),
-                Err(()) => work(r.clone()),
-            }))
-            .collect()
-    })
+    let rest = &parts[1..];
+    let (mine, helpers) = with_helpers(
+        rest.len(),
+        |i| work(rest[i].clone()),
+        || work(parts[0].clone()),
+    );
+    core::iter::once(mine)
+        .chain(
+            helpers
+                .into_iter()
+                .zip(rest)
+                .map(|(h, r)| h.unwrap_or_else(|| work(r.clone()))),
+        )
+        .collect()
 }
 
 /// `n` zeroed floats, allocated fallibly (`HF_ERR_OUT_OF_MEMORY`): a bake's scratch.
