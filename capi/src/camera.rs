@@ -5,13 +5,13 @@
 use crate::detail::{fail, Named};
 use crate::hf_result::{self, *};
 use crate::trace::{
-    build_horizon, check, grid_line, hf_hit, hf_ray, hf_trace_options, horizon_start, marcher,
-    plain_queries, query_near, shadow_ray_of, trace_locals, trace_plain,
+    build_horizon, check, grid_line, hf_hit, hf_ray, hf_trace_options, horizon_start,
+    horizon_surface, marcher, plain_queries, query_near, shadow_ray_of, trace_locals, trace_plain,
 };
 use crate::{guard, hf_field, ptr, surface_of};
 use hfcore::camera::{Pinhole, TILE};
 use hfcore::condition::Near;
-use hfcore::horizon::{Plan, MIN_GROUP};
+use hfcore::horizon::Plan;
 use hfcore::scene::Shadows;
 use hfcore::Marcher;
 use std::ffi::c_void;
@@ -191,8 +191,8 @@ unsafe fn trace_pixels(
                     .map(|(x, y)| ray(&p, &m, c.t_max, x, y))
                     .collect::<Result<Vec<_>, _>>()?;
                 let lines: Vec<_> = lines.iter().flatten().map(|r| grid_line(hf, r)).collect();
-                match (m.dda_surface().filter(|_| o.horizon), lines.first()) {
-                    (Some(surface), Some(&(eye, _))) if pixels >= MIN_GROUP => {
+                match (horizon_surface(&m, &o, pixels), lines.first()) {
+                    (Some(surface), Some(&(eye, _))) => {
                         let dirs = lines.iter().map(|l| l.1);
                         let max_block = m.horizon_max_block();
                         Plan::sized(hf, surface, eye, dirs, pixels, max_block)

@@ -461,6 +461,14 @@ pub(crate) fn grid_line(hf: &HeightField, r: &hf_ray) -> ([f64; 3], [f64; 3]) {
     }
 }
 
+/// The surface of a horizon for `rays` rays traced by `m` with `o` (the one whose hits
+/// `m`'s are): `None` unless the options allow one, `m`'s hits are the DDA's, and there
+/// are enough rays to repay its pass over the field ([`MIN_GROUP`]; the batch's own
+/// rays must share an origin too).
+pub(crate) fn horizon_surface(m: &Marcher, o: &TraceOptions, rays: usize) -> Option<Surface> {
+    m.dda_surface().filter(|_| o.horizon && rays >= MIN_GROUP)
+}
+
 /// Rays from which a batch checks its rays on its threads ([`checked_horizon`]): a
 /// smaller batch's pass is shorter than starting them.
 const PARALLEL_CHECK: usize = 1 << 15;
@@ -477,7 +485,7 @@ pub(crate) fn checked_horizon(
     rays: &[hf_ray],
 ) -> Result<Option<Horizon>, hf_result> {
     let total = rays.len();
-    let surface = m.dda_surface().filter(|_| o.horizon && total >= MIN_GROUP);
+    let surface = horizon_surface(m, o, total);
     let eye = rays.first().map(|r| grid_line(hf, r).0);
     let sight = |part: Range<usize>| -> Result<Sighting, usize> {
         let mut seen = Sighting::new(total);
