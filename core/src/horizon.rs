@@ -620,8 +620,8 @@ pub fn block_for(hf: &HeightField, n: usize) -> u32 {
 }
 
 /// What a pass over a group's rays (or a part of them) gathers to place its wedges:
-/// how many rays it saw, and the horizontal directions of about [`FRAME_SAMPLES`] of
-/// the whole group, picked by their number in it through a multiplicative hash so
+/// how many rays it saw, and the horizontal directions of about 4096 of the whole
+/// group, picked by their number in it through a multiplicative hash so
 /// that no stride of a batch (an image's columns) is missed. Parts of a batch
 /// (consecutive ranges of its rays) can be sighted apart, on several threads, then
 /// joined in order ([`Plan::for_sightings`]): the same sample as one pass takes.
