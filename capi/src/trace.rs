@@ -670,16 +670,16 @@ pub unsafe extern "C" fn hf_trace_batch(
             // misses, for rays that miss the box).
             let (mut hint, mut scratch) = (0, BandScratch::default());
             let near = Near::of(hf);
+            let traced = Band {
+                m: &m,
+                o: &o,
+                hf,
+                near: &near,
+            };
             for (c, out) in out.chunks_mut(RAY_BAND as usize).enumerate() {
                 let first = band.start as usize + c * RAY_BAND as usize;
                 let rays = (&rays[first..first + out.len()], first);
-                let band = Band {
-                    m: &m,
-                    o: &o,
-                    hf,
-                    near: &near,
-                };
-                band.trace(horizon.as_ref(), rays, &mut hint, &mut scratch, out)?;
+                traced.trace(horizon.as_ref(), rays, &mut hint, &mut scratch, out)?;
             }
             Ok(())
         })
