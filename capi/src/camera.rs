@@ -7,6 +7,7 @@ use crate::hf_result::{self, *};
 use crate::trace::{
     build_horizon, check, grid_line, hf_hit, hf_ray, hf_trace_options, horizon_start,
     horizon_surface, marcher, plain_queries, query_near, shadow_ray_of, trace_locals, trace_plain,
+    PlainScratch,
 };
 use crate::{guard, hf_field, ptr, surface_of};
 use hfcore::camera::{Pinhole, TILE};
@@ -219,7 +220,7 @@ unsafe fn trace_pixels(
                 let mut queries = Vec::with_capacity(local.len());
                 let mut starts = Vec::with_capacity(local.len());
                 let (mut rays, mut flat) = (Vec::new(), Vec::new());
-                let (mut plain, mut traces) = (Vec::new(), Vec::new());
+                let (mut plain, mut traced) = (Vec::new(), PlainScratch::default());
                 let (mut hint, near) = (0, Near::of(hf));
                 for (ys, xs) in p.tiles(rows) {
                     let (y0, x0, tw) = (ys.start, xs.start, xs.len());
@@ -235,7 +236,7 @@ unsafe fn trace_pixels(
                     if flat.len() == n && plain_queries(hf, &near, &flat, &mut plain) {
                         // Every pixel has a ray that needs no conditioning: traced as the
                         // batches trace theirs.
-                        let plain = (plain.as_slice(), &mut traces);
+                        let plain = (plain.as_slice(), &mut traced);
                         trace_plain(
                             (&m, &o, hf),
                             horizon.as_ref(),

@@ -8,6 +8,7 @@ use crate::{guard, hf_field, ptr, surface_of};
 use hfcore::condition::{condition, condition_query_near, Local, Near};
 use hfcore::horizon::{Horizon, Plan, Sighting, Start, MIN_GROUP};
 use hfcore::march::MarchOptions;
+use hfcore::march::Placed;
 use hfcore::projective::{Mat4, Projective};
 use hfcore::scene::RayClasses;
 use hfcore::scene::{MethodKind, Shadows};
@@ -699,7 +700,7 @@ struct Band<'a> {
 #[derive(Default)]
 struct BandScratch {
     plain: Vec<Query<f32>>,
-    traces: Vec<Trace<f32>>,
+    traced: PlainScratch,
     locals: Vec<Option<Local>>,
 }
 
@@ -719,7 +720,7 @@ impl Band<'_> {
     ) -> Result<(), hf_result> {
         let Band { m, o, hf, near } = *self;
         if plain_queries(hf, near, rays, &mut s.plain) {
-            let plain = (s.plain.as_slice(), &mut s.traces);
+            let plain = (s.plain.as_slice(), &mut s.traced);
             trace_plain((m, o, hf), horizon, plain, hint, out);
             return Ok(());
         }
@@ -746,34 +747,33 @@ impl Band<'_> {
     }
 }
 
+/// The buffers [`trace_plain`] reuses from call to call.
+#[derive(Default)]
+pub(crate) struct PlainScratch {
+    traces: Vec<Trace<f32>>,
+    placed: Placed,
+}
+
 /// The hits of `plain`, the callers' own rays as a march takes them
 /// ([`plain_queries`]), into `out`, those of one `hf_trace` each: marched from where
 /// `horizon` places them (`hint`: the last ray's band), else by the method itself, in
-/// lanes where it has them (`traces`: scratch).
+/// lanes where `o` allows them (`s`: scratch).
 pub(crate) fn trace_plain(
     (m, o, hf): (&Marcher, &TraceOptions, &HeightField),
     horizon: Option<&Horizon>,
-    (plain, traces): (&[Query<f32>], &mut Vec<Trace<f32>>),
+    (plain, s): (&[Query<f32>], &mut PlainScratch),
     hint: &mut usize,
     out: &mut [hf_hit],
 ) {
+    let traces = &mut s.traces;
+    traces.clear();
+    traces.resize(plain.len(), Trace::MISS);
     match horizon {
-        Some(h) => {
-            for (hit, q) in out.iter_mut().zip(plain) {
-                *hit = hf_hit::from(match h.start_query(q, hint) {
-                    Some(start) => m.trace_started(hf, q, start),
-                    None => m.trace(hf, q),
-                });
-            }
-        }
-        None => {
-            traces.clear();
-            traces.resize(plain.len(), Trace::MISS);
-            m.trace_each(hf, plain, traces, o.simd);
-            for (hit, tr) in out.iter_mut().zip(traces.iter()) {
-                *hit = hf_hit::from(*tr);
-            }
-        }
+        Some(h) => m.trace_placed(hf, h, (plain, hint), traces, o.simd, &mut s.placed),
+        None => m.trace_each(hf, plain, traces, o.simd),
+    }
+    for (hit, tr) in out.iter_mut().zip(traces.iter()) {
+        *hit = hf_hit::from(*tr);
     }
 }
 

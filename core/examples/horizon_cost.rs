@@ -2,9 +2,11 @@
 //! four cameras of `scripts/embree_bench.sh` (640 × 512: the whole box from 45° and 5°,
 //! the terrain filling the frame from 45° and in a 2° telephoto from 5°), the cost of
 //! each stage per ray — the horizon's build, the start lookup, the box clip alone, the
-//! march from the start with its finish — then the march's cost against the cells it
-//! visits (its part per ray, its part per cell), and the same stages with finer
-//! horizons (blocks of one cell, four times the wedges). One thread; medians.
+//! march from the start with its finish, one ray after another and in AVX-512 lanes
+//! (`dda::trace_skipping_lanes`, where the CPU has them) — then the march's cost
+//! against the cells it visits (its part per ray, its part per cell), and the same
+//! stages with finer horizons (blocks of one cell, four times the wedges). One thread;
+//! medians.
 //!
 //! `cargo run --release -p hfcast --example horizon_cost [-- --map NAME --reps N]`
 //! (default the Himalaya DEM of ../shared/data, `--map fractal` the core benchmarks'
@@ -133,15 +135,23 @@ fn stages(
             black_box(dda::trace_skipping(hf, SURFACE, black_box(q)));
         }
     });
+    let mut walked = vec![Ok(Trace::MISS); started.len()];
+    let lanes_s = wall(reps, || {
+        let simd = hfcast::detect_avx2!().and_then(|s| s.avx512());
+        dda::trace_skipping_lanes(hf, SURFACE, &started, u32::MAX, &mut walked, simd);
+        black_box(&walked);
+    });
     let cells: f64 = started
         .iter()
         .map(|q| f64::from(dda::trace_skipping(hf, SURFACE, q).fetches / 4))
         .sum();
     println!(
-        "  {what}: build {:.1}, lookup {:.1}, march {:.1} ({:.1} cells a ray); {} KiB",
+        "  {what}: build {:.1}, lookup {:.1}, march {:.1}, in lanes {:.1} ({:.1} cells a \
+         ray); {} KiB",
         ns(build_s),
         ns(lookup_s),
         ns(march_s),
+        ns(lanes_s),
         cells / n,
         horizon.size_bytes() / 1024
     );

@@ -15,6 +15,9 @@ use crate::surface::{
     bilinear, bilinear_search_segment, corners, plane, triangle_planes, SegmentHit, Surface,
 };
 
+mod lanes;
+pub use lanes::{trace_skipping_lanes, Walked, LANES};
+
 /// How the traced part of a ray begins.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Entry<R: Real> {
@@ -479,6 +482,67 @@ pub fn trace_bilinear_search<R: Real>(
     walk::<R, false>(hf, Surface::Bilinear, q, u32::MAX, test).expect("no budget")
 }
 
+/// A walk's first cell, where its span begins (per-axis arrays: index 0 = x, 1 = y).
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct First<R: Real> {
+    /// The ray's span over the field.
+    pub span: Span<R>,
+    /// The ray's point at the span's start.
+    pub p0: [R; 3],
+    /// The cell holding it.
+    pub cell: [u32; 2],
+    /// The ray's cell steps ([`step_of`]).
+    pub step: [i64; 2],
+    /// The cell's corners.
+    pub c: [R; 4],
+    /// How the start lies on the cell's edges ([`entry_on`]).
+    pub on: [Option<bool>; 2],
+    /// The start's local point and clearance (`ca > 0`).
+    pub a: [R; 3],
+    /// See `a`.
+    pub ca: R,
+}
+
+/// The first cell of `q`'s walk (four fetches), or the answer when there is no walk:
+/// a miss of the box, or a hit where the span begins (the ray starts or enters under
+/// the surface).
+#[inline(always)]
+pub(crate) fn first_cell<R: Real>(
+    hf: &HeightField,
+    surface: Surface,
+    q: &Query<R>,
+) -> Result<First<R>, Trace<R>> {
+    let Some(span) = clip_surface(hf, surface, q) else {
+        return Err(Trace::MISS);
+    };
+    let d = q.dir();
+    let cells = [hf.width() - 1, hf.height() - 1];
+    let p0 = q.at(span.t0);
+    let start = [0, 1].map(|k| p0[k].clamp_to(R::ZERO, R::from_u32(cells[k])));
+    let cell = [0, 1].map(|k| cell_index(start[k], d[k], cells[k]));
+    let step = [step_of(d[0]), step_of(d[1])];
+    let c: [R; 4] = corners(hf, cell[0], cell[1]);
+    let on = entry_on(surface, &span.entry);
+    let (a, ca) = local_clearance(surface, c, cell, [start[0], start[1], p0[2]], on);
+    if ca <= R::ZERO {
+        return Err(Trace::hit(
+            start_hit(surface, &span, c, cell, a, p0),
+            4,
+            start_clearance(&span.entry, ca),
+        ));
+    }
+    Ok(First {
+        span,
+        p0,
+        cell,
+        step,
+        c,
+        on,
+        a,
+        ca,
+    })
+}
+
 /// [`trace`] before the robust finish, with the cell test `test` (the arguments of
 /// [`Surface::segment_hit`]); with `SKIP`, [`trace_skipping_for`]'s, stopping after
 /// `budget` cells (only on a cell passed above).
@@ -490,29 +554,22 @@ fn walk<R: Real, const SKIP: bool>(
     budget: u32,
     test: impl Fn([R; 4], [R; 3], [R; 3], R, R, [R; 3]) -> SegmentHit<R>,
 ) -> Result<Trace<R>, Restart<R>> {
-    let Some(span) = clip_surface(hf, surface, q) else {
-        return Ok(Trace::MISS);
+    let First {
+        span,
+        p0,
+        mut cell,
+        step,
+        mut c,
+        on,
+        mut a,
+        mut ca,
+    } = match first_cell(hf, surface, q) {
+        Ok(first) => first,
+        Err(answer) => return Ok(answer),
     };
     let (o, d) = (q.origin(), q.dir());
-    // Per-axis state, index 0 = x, 1 = y.
     let cells = [hf.width() - 1, hf.height() - 1];
-    let p0 = q.at(span.t0);
-    let start = [0, 1].map(|k| p0[k].clamp_to(R::ZERO, R::from_u32(cells[k])));
-    let mut cell = [0, 1].map(|k| cell_index(start[k], d[k], cells[k]));
-    let step = [step_of(d[0]), step_of(d[1])];
-    let mut c: [R; 4] = corners(hf, cell[0], cell[1]);
     let mut fetches = 4u32;
-    let on = entry_on(surface, &span.entry);
-    let (mut a, mut ca) = local_clearance(surface, c, cell, [start[0], start[1], p0[2]], on);
-
-    if ca <= R::ZERO {
-        return Ok(Trace::hit(
-            start_hit(surface, &span, c, cell, a, p0),
-            fetches,
-            start_clearance(&span.entry, ca),
-        ));
-    }
-
     let mut clearance = ca;
     let mut ta = span.t0;
     let mut wall = [R::ZERO, R::ZERO, R::ONE];

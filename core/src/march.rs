@@ -43,6 +43,19 @@ impl MarchOptions {
 #[cfg(all(feature = "alloc", feature = "maxmip"))]
 const DDA_CELLS: u32 = 16;
 
+/// The buffers [`Marcher::trace_placed`] reuses from call to call.
+#[cfg(feature = "alloc")]
+#[derive(Clone, Debug, Default)]
+pub struct Placed {
+    /// The queries placed at a start: their positions, bounds before the start and
+    /// horizon texels read.
+    which: alloc::vec::Vec<(usize, f32, u32)>,
+    /// Those queries from their starts.
+    from: alloc::vec::Vec<Query<f32>>,
+    /// Their walks.
+    walked: alloc::vec::Vec<dda::Walked>,
+}
+
 /// A method ready to march: its map (borrowed), surface and options. Built by the
 /// caller from a bake it has checked; [`Marcher::trace`] traces one query.
 #[derive(Clone, Copy, Debug)]
@@ -323,21 +336,101 @@ impl<'a> Marcher<'a> {
     /// (from the entry of a cell the ray passes above: the same hit).
     #[cfg(feature = "alloc")]
     fn march_from(&self, hf: &HeightField, surface: Surface, q: &Query<f32>) -> Trace<f32> {
+        let walked = dda::trace_skipping_for(hf, surface, q, self.walk_budget());
+        self.went_on(hf, surface, q, walked)
+    }
+
+    /// The cells [`Marcher::march_from`] walks before this method takes over.
+    #[cfg(feature = "alloc")]
+    fn walk_budget(&self) -> u32 {
+        match self {
+            #[cfg(feature = "maxmip")]
+            Marcher::MaxMip(..) => DDA_CELLS,
+            _ => u32::MAX,
+        }
+    }
+
+    /// The answer of `q` from its walk's ([`dda::trace_skipping_for`] for
+    /// [`Marcher::walk_budget`] cells): a walk still running goes on by the maximum
+    /// mipmap's march.
+    #[cfg(feature = "alloc")]
+    fn went_on(
+        &self,
+        hf: &HeightField,
+        surface: Surface,
+        q: &Query<f32>,
+        walked: dda::Walked,
+    ) -> Trace<f32> {
+        let restart = match walked {
+            Ok(trace) => return trace,
+            Err(restart) => restart,
+        };
         match *self {
             #[cfg(feature = "maxmip")]
             Marcher::MaxMip(ref mip, _, ref opts) => {
-                match dda::trace_skipping_for(hf, surface, q, DDA_CELLS) {
-                    Ok(trace) => trace,
-                    Err(restart) => {
-                        let q = q.starting_at(restart.t);
-                        let mut trace = crate::maxmip::trace(hf, mip, surface, &q, opts);
-                        trace.fetches += restart.trace.fetches;
-                        trace.clearance = trace.clearance.min(restart.trace.clearance);
-                        trace
-                    }
-                }
+                let q = q.starting_at(restart.t);
+                let mut trace = crate::maxmip::trace(hf, mip, surface, &q, opts);
+                trace.fetches += restart.trace.fetches;
+                trace.clearance = trace.clearance.min(restart.trace.clearance);
+                trace
             }
-            _ => dda::trace_skipping(hf, surface, q),
+            // Not reached: an unlimited walk never stops early.
+            _ => {
+                let _ = (hf, surface, q);
+                restart.trace
+            }
+        }
+    }
+
+    /// [`Marcher::trace_started`] of the queries `queries` that `horizon` places
+    /// (`hint`: the band of the last query asked), the others by [`Marcher::trace`],
+    /// into `out` (same lengths): the walks from the starts in SIMD lanes with `simd`
+    /// ([`dda::trace_skipping_lanes`]), the answers the same bit for bit. `scratch`
+    /// keeps its buffers from call to call.
+    #[cfg(feature = "alloc")]
+    pub fn trace_placed(
+        &self,
+        hf: &HeightField,
+        horizon: &crate::horizon::Horizon,
+        (queries, hint): (&[Query<f32>], &mut usize),
+        out: &mut [Trace<f32>],
+        simd: Option<crate::simd::Avx2>,
+        scratch: &mut Placed,
+    ) {
+        use crate::horizon::Start;
+        assert_eq!(queries.len(), out.len(), "one answer per query");
+        let Some(surface) = self.dda_surface() else {
+            for (o, q) in out.iter_mut().zip(queries) {
+                *o = self.trace(hf, q);
+            }
+            return;
+        };
+        let Placed {
+            which,
+            from,
+            walked,
+        } = scratch;
+        which.clear();
+        from.clear();
+        for (k, (o, q)) in out.iter_mut().zip(queries).enumerate() {
+            match horizon.start_query(q, hint) {
+                Some((Start::At(t, before), probes)) => {
+                    which.push((k, before, probes));
+                    from.push(q.starting_at(t));
+                }
+                Some((Start::Miss(clearance), probes)) => *o = Trace::miss(probes, clearance),
+                None => *o = self.trace(hf, q),
+            }
+        }
+        walked.clear();
+        walked.resize(from.len(), Ok(Trace::MISS));
+        let simd = simd.and_then(crate::simd::Avx2::avx512);
+        dda::trace_skipping_lanes(hf, surface, from, self.walk_budget(), walked, simd);
+        for ((&(k, before, probes), q), w) in which.iter().zip(from.iter()).zip(walked.iter()) {
+            let mut trace = self.went_on(hf, surface, q, *w);
+            trace.clearance = trace.clearance.min(before);
+            trace.fetches += probes;
+            out[k] = trace;
         }
     }
 
@@ -362,13 +455,8 @@ impl<'a> Marcher<'a> {
         let (Some(horizon), Some(_)) = (horizon, self.dda_surface()) else {
             return self.trace_each(hf, queries, out, simd);
         };
-        let mut hint = 0;
-        for (o, q) in out.iter_mut().zip(queries) {
-            *o = match horizon.start_query(q, &mut hint) {
-                Some(start) => self.trace_started(hf, q, start),
-                None => self.trace(hf, q),
-            };
-        }
+        let placed = (queries, &mut 0);
+        self.trace_placed(hf, horizon, placed, out, simd, &mut Placed::default());
     }
 
     /// [`Marcher::trace`] of every query of `queries` into `out` (same lengths), the

@@ -446,3 +446,70 @@ fn the_skipping_dda_is_the_dda() {
     println!("{n} traces compared");
     assert!(n > 5000);
 }
+
+/// [`dda::trace_skipping_lanes`] answers each query with [`dda::trace_skipping_for`]'s
+/// answer bit for bit (the hit, fetches and clearance, or the restart), on every field,
+/// surface (only the triangle surface has lanes) and ray kind, for the cameras' rays
+/// from their horizons' starts (the coherent batches' march) and from their own
+/// `t_min`, with budgets from none to unlimited; fewer queries than lanes and more;
+/// with the SIMD token and without.
+#[test]
+fn the_laned_dda_is_the_skipping_dda() {
+    let mut rng = Rng::new(0x1a_2e5);
+    let (mut compared, mut hits) = (0usize, 0usize);
+    for (name, field) in fields() {
+        let hf = field.hf();
+        for surface in Surface::ALL {
+            let mut sets: Vec<(String, Vec<Query<f32>>)> = Vec::new();
+            for shot in &SHOTS {
+                let rays = shot.rays(&field);
+                let horizon = horizon_of(&hf, surface, &rays);
+                let mut hint = 0;
+                let started = rays
+                    .iter()
+                    .filter_map(|q| match horizon.start_query(q, &mut hint)?.0 {
+                        Start::At(t, _) => Some(q.starting_at(t)),
+                        Start::Miss(_) => None,
+                    })
+                    .collect();
+                sets.push((format!("{} from the horizon", shot.name), started));
+                sets.push((shot.name.to_string(), rays));
+            }
+            let kinds = kind_blocks(&mut rng, &field, surface, &RayKind::ALL, 9);
+            sets.push(("ray kinds".into(), kinds.iter().map(|s| s.q32()).collect()));
+            for (set, queries) in &sets {
+                for budget in [u32::MAX, 0, 3, 16] {
+                    for n in [queries.len().min(3), queries.len()] {
+                        let queries = &queries[..n];
+                        let want: Vec<String> = queries
+                            .iter()
+                            .map(|q| {
+                                format!("{:?}", dda::trace_skipping_for(&hf, surface, q, budget))
+                            })
+                            .collect();
+                        for simd in [hfcast::detect_avx2!().and_then(|s| s.avx512()), None] {
+                            let mut got = vec![Ok(Trace::MISS); n];
+                            dda::trace_skipping_lanes(
+                                &hf, surface, queries, budget, &mut got, simd,
+                            );
+                            for ((g, w), q) in got.iter().zip(&want).zip(queries) {
+                                assert_eq!(
+                                    &format!("{g:?}"),
+                                    w,
+                                    "{name} {surface:?} {set}, budget {budget}, {simd:?}: {q:?}"
+                                );
+                                hits += usize::from(matches!(g, Ok(t) if t.hit.is_some()));
+                            }
+                            compared += n;
+                        }
+                    }
+                }
+            }
+        }
+    }
+    println!(
+        "laned DDA ({:?}): {compared} answers equal the scalar walk's, {hits} of them hits",
+        hfcast::detect_avx2!().and_then(|s| s.avx512())
+    );
+    assert!(compared > 500_000 && hits > 100_000);
+}

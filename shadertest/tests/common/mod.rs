@@ -918,7 +918,7 @@ pub fn spiky_fractal(seed: u64, w: u32, h: u32, amp: f64) -> Vec<f32> {
                 .map(|[fx, fy, ph, a]| a * (fx * x + fy * y + ph).sin())
                 .sum();
             z += rng.range(-0.02, 0.02) * amp;
-            if rng.next_u64() % 37 == 0 {
+            if rng.next_u64().is_multiple_of(37) {
                 z += 3.0 * amp;
             }
             if i == w / 3 || j == 2 * h / 3 || i == j {
@@ -1107,16 +1107,28 @@ pub fn random_rays(scene: &Scene, seed: u64, n: usize) -> Vec<Ray> {
                 2 => [az.cos(), az.sin(), rng.range(-0.03, 0.01)],
                 // Along x or y.
                 3 => {
-                    let s = if rng.next_u64() % 2 == 0 { 1.0 } else { -1.0 };
+                    let s = if rng.next_u64().is_multiple_of(2) {
+                        1.0
+                    } else {
+                        -1.0
+                    };
                     let dz = rng.range(-0.3, 0.05);
-                    if rng.next_u64() % 2 == 0 {
+                    if rng.next_u64().is_multiple_of(2) {
                         [s, 0.0, dz]
                     } else {
                         [0.0, s, dz]
                     }
                 }
                 // Vertical (down, sometimes up).
-                4 => [0.0, 0.0, if rng.next_u64() % 8 == 0 { 1.0 } else { -1.0 }],
+                4 => [
+                    0.0,
+                    0.0,
+                    if rng.next_u64().is_multiple_of(8) {
+                        1.0
+                    } else {
+                        -1.0
+                    },
+                ],
                 // Steep.
                 _ => [az.cos(), az.sin(), -rng.range(1.0, 8.0)],
             };
