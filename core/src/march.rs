@@ -54,6 +54,20 @@ pub struct Placed {
     from: alloc::vec::Vec<Query<f32>>,
     /// Their walks.
     walked: alloc::vec::Vec<dda::Walked>,
+    /// The walks still running: from where they stopped, which they are, and their
+    /// answers by this method's march.
+    again: alloc::vec::Vec<Query<f32>>,
+    restarts: alloc::vec::Vec<usize>,
+    went_on: alloc::vec::Vec<Trace<f32>>,
+}
+
+/// The answer of a walk that stopped at `restart` and went on to `trace`: the fetches
+/// of both, the least clearance of both.
+#[cfg(feature = "alloc")]
+fn joined(restart: &dda::Restart<f32>, mut trace: Trace<f32>) -> Trace<f32> {
+    trace.fetches += restart.trace.fetches;
+    trace.clearance = trace.clearance.min(restart.trace.clearance);
+    trace
 }
 
 /// A method ready to march: its map (borrowed), surface and options. Built by the
@@ -337,7 +351,7 @@ impl<'a> Marcher<'a> {
     #[cfg(feature = "alloc")]
     fn march_from(&self, hf: &HeightField, surface: Surface, q: &Query<f32>) -> Trace<f32> {
         let walked = dda::trace_skipping_for(hf, surface, q, self.walk_budget());
-        self.went_on(hf, surface, q, walked)
+        self.went_on(hf, q, walked)
     }
 
     /// The cells [`Marcher::march_from`] walks before this method takes over.
@@ -351,34 +365,13 @@ impl<'a> Marcher<'a> {
     }
 
     /// The answer of `q` from its walk's ([`dda::trace_skipping_for`] for
-    /// [`Marcher::walk_budget`] cells): a walk still running goes on by the maximum
-    /// mipmap's march.
+    /// [`Marcher::walk_budget`] cells): a walk still running goes on by this method's
+    /// march (only the maximum mipmap's walks stop early).
     #[cfg(feature = "alloc")]
-    fn went_on(
-        &self,
-        hf: &HeightField,
-        surface: Surface,
-        q: &Query<f32>,
-        walked: dda::Walked,
-    ) -> Trace<f32> {
-        let restart = match walked {
-            Ok(trace) => return trace,
-            Err(restart) => restart,
-        };
-        match *self {
-            #[cfg(feature = "maxmip")]
-            Marcher::MaxMip(ref mip, _, ref opts) => {
-                let q = q.starting_at(restart.t);
-                let mut trace = crate::maxmip::trace(hf, mip, surface, &q, opts);
-                trace.fetches += restart.trace.fetches;
-                trace.clearance = trace.clearance.min(restart.trace.clearance);
-                trace
-            }
-            // Not reached: an unlimited walk never stops early.
-            _ => {
-                let _ = (hf, surface, q);
-                restart.trace
-            }
+    fn went_on(&self, hf: &HeightField, q: &Query<f32>, walked: dda::Walked) -> Trace<f32> {
+        match walked {
+            Ok(trace) => trace,
+            Err(restart) => joined(&restart, self.trace(hf, &q.starting_at(restart.t))),
         }
     }
 
@@ -409,6 +402,9 @@ impl<'a> Marcher<'a> {
             which,
             from,
             walked,
+            again,
+            restarts,
+            went_on,
         } = scratch;
         which.clear();
         from.clear();
@@ -424,10 +420,29 @@ impl<'a> Marcher<'a> {
         }
         walked.clear();
         walked.resize(from.len(), Ok(Trace::MISS));
-        let simd = simd.and_then(crate::simd::Avx2::avx512);
-        dda::trace_skipping_lanes(hf, surface, from, self.walk_budget(), walked, simd);
-        for ((&(k, before, probes), q), w) in which.iter().zip(from.iter()).zip(walked.iter()) {
-            let mut trace = self.went_on(hf, surface, q, *w);
+        let avx512 = simd.and_then(crate::simd::Avx2::avx512);
+        dda::trace_skipping_lanes(hf, surface, from, self.walk_budget(), walked, avx512);
+        // The walks still running go on together, in this method's lanes.
+        again.clear();
+        restarts.clear();
+        for (i, (q, w)) in from.iter().zip(walked.iter()).enumerate() {
+            if let Err(restart) = w {
+                again.push(q.starting_at(restart.t));
+                restarts.push(i);
+            }
+        }
+        went_on.clear();
+        went_on.resize(again.len(), Trace::MISS);
+        self.trace_each(hf, again, went_on, simd);
+        for (&i, trace) in restarts.iter().zip(went_on.iter()) {
+            if let Err(restart) = walked[i] {
+                walked[i] = Ok(joined(&restart, *trace));
+            }
+        }
+        for (&(k, before, probes), w) in which.iter().zip(walked.iter()) {
+            let mut trace = match w {
+                Ok(trace) | Err(dda::Restart { trace, .. }) => *trace,
+            };
             trace.clearance = trace.clearance.min(before);
             trace.fetches += probes;
             out[k] = trace;
