@@ -590,15 +590,40 @@ mod avx512 {
         pack(&mut bg.t0, t0);
         pack(&mut bg.ca, ca);
         (bg.n, bg.head) = (walks.count_ones() as usize, 0);
-        // The others' answers.
+        // The others' answers: a miss of the box; a hit where the ray enters a side
+        // under the surface (`start_hit`: common in low views of the whole box); the
+        // rare rays that start, or enter through the top, under it by the scalar walk.
+        let sides = under & (side[0] | side[1]);
+        let mut v = [[0f32; LANES]; 5];
+        for (to, x) in v.iter_mut().zip([t0, p0[0], p0[1], p0[2], ca]) {
+            st!(f, to, x);
+        }
+        let mut at = [[0u32; LANES]; 2];
+        for (to, x) in at.iter_mut().zip(cell) {
+            st!(i, to, x);
+        }
         let mut done = valid & !walks;
         while done != 0 {
             let l = done.trailing_zeros() as usize;
             done &= done - 1;
             let (k, q) = (next + l, &queries[next + l]);
-            out[k] = match under & (1 << l) {
-                0 => Ok(Trace::MISS),
-                _ => trace_skipping_for(hf, Surface::Triangles, q, budget),
+            let bit = 1 << l;
+            out[k] = if under & bit == 0 {
+                Ok(Trace::MISS)
+            } else if sides & bit != 0 {
+                let axis = usize::from(side[1] & bit != 0);
+                let mut normal = [0.0; 3];
+                normal[axis] = if q.dir()[axis] > 0.0 { -1.0 } else { 1.0 };
+                let hit = crate::ray::Hit {
+                    t: v[0][l],
+                    point: glam::Vec3::new(v[1][l], v[2][l], v[3][l]),
+                    cell: [at[0][l], at[1][l]],
+                    normal: glam::Vec3::from_array(normal),
+                    flags: crate::ray::Flags::SIDE,
+                };
+                Ok(Trace::hit(hit, 4, -v[4][l]))
+            } else {
+                trace_skipping_for(hf, Surface::Triangles, q, budget)
             };
         }
         count
