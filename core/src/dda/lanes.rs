@@ -1,18 +1,20 @@
 //! The skipping DDA ([`super::trace_skipping_for`]) on [`LANES`] rays at once in
 //! AVX-512: [`trace_skipping_lanes`].
 //!
-//! A ray's first cell ([`super::first_cell`]: the clip, the start's cell and clearance)
-//! is found by the scalar code as its lane takes it. From there on the lane holds the
-//! walk field by field (one array of [`LANES`] per field, one bit per lane for each
-//! flag), and a step is one pass of AVX-512 code over all sixteen walks: the next
-//! crossing, the exit point, the bound test that skips a cell the ray passes above, the
-//! clearances at the entry and the exit (each edge's two samples at a crossing, the
-//! triangle surface's planes elsewhere), the step to the next cell and the gather of
-//! its corners, every branch of the scalar walk a blend. A lane leaves the lanes once,
-//! when its ray ends: a miss, a budget spent ([`Restart`]), or the cell whose exit lies
-//! on or under the surface. Those cells wait in [`Contacts`] until sixteen have come,
-//! then get their contact test, hit point and robust finish together, the finish's
-//! Newton steps in `f64` eight lanes at a time.
+//! Sixteen queries at a time begin in lanes (the scalar `first_cell`: the box clip, the
+//! start's cell, its corners and clearance); those with a walk are packed into a queue
+//! ([`Begun`]), and idle lanes take them from it. A lane holds its walk field by field
+//! (one array of [`LANES`] per field, one bit per lane for each flag), and a step is
+//! one pass of AVX-512 code over all sixteen walks: the next crossing, the exit point,
+//! the bound test that skips a cell the ray passes above, the clearances at the entry
+//! and the exit (each edge's two samples at a crossing, the triangle surface's planes
+//! elsewhere), the step to the next cell and the gather of its corners, every branch of
+//! the scalar walk a blend. A lane leaves the lanes once, when its ray ends: a miss, a
+//! budget spent ([`Restart`]), or the cell whose exit lies on or under the surface.
+//! Those cells wait in [`Contacts`] until sixteen have come, then get their contact
+//! test, hit point and robust finish together, the finish's Newton steps in `f64` eight
+//! lanes at a time. Rays that begin under the surface get their hit in the begin pass
+//! when they enter through a side of the box, else (rare) from the scalar walk.
 //!
 //! Each lane operation is the scalar code's on the same values in the same order (the
 //! same IEEE divisions, square roots, products and sums, no fused forms; `min`, `max`
@@ -70,11 +72,11 @@ pub fn trace_skipping_lanes(
     if u32::try_from(queries.len()).is_err() {
         return trace_skipping_lanes(hf, surface, queries, budget, out, None);
     }
-    let (mut lanes, mut begun, mut contacts) = (Lanes::idle(), Begun::new(), Contacts::new());
-    let mut next = 0;
     #[cfg(target_arch = "x86_64")]
     // SAFETY: the token proves the CPU executes AVX-512F.
     unsafe {
+        let (mut lanes, mut begun, mut contacts) = (Lanes::idle(), Begun::new(), Contacts::new());
+        let mut next = 0;
         loop {
             // Idle lanes take the next walks, begun sixteen queries at a time.
             while lanes.busy != u16::MAX && (begun.head < begun.n || next < queries.len()) {
