@@ -721,17 +721,11 @@ mod avx512 {
         // The two planes, [h0, gu, gv] (`triangle_planes`), and each one's clearance at
         // both ends and root along the segment (`triangles_segment`).
         let planes = planes(c);
-        let height = |p: &[__m512; 3], u: __m512, v: __m512| {
-            _mm512_add_ps(
-                _mm512_add_ps(p[0], _mm512_mul_ps(p[1], u)),
-                _mm512_mul_ps(p[2], v),
-            )
-        };
         let mut s = [_mm512_setzero_ps(); 2];
         let mut under = [0u16; 2];
         for k in 0..2 {
-            let la = _mm512_sub_ps(a[2], height(&planes[k], a[0], a[1]));
-            let lb = _mm512_sub_ps(b[2], height(&planes[k], b[0], b[1]));
+            let la = _mm512_sub_ps(a[2], plane_at(&planes[k], a[0], a[1]));
+            let lb = _mm512_sub_ps(b[2], plane_at(&planes[k], b[0], b[1]));
             under[k] = _mm512_cmp_ps_mask::<_CMP_LE_OQ>(lb, _mm512_setzero_ps());
             let root = _mm512_div_ps(la, _mm512_sub_ps(la, lb));
             let started = _mm512_cmp_ps_mask::<_CMP_LE_OQ>(la, _mm512_setzero_ps());
@@ -741,8 +735,8 @@ mod avx512 {
         let found = under[0] | under[1];
         // Neither root (rounding): the contact is at `b`, on the plane on top there.
         let first_on_top = _mm512_cmp_ps_mask::<_CMP_GE_OQ>(
-            height(&planes[0], b[0], b[1]),
-            height(&planes[1], b[0], b[1]),
+            plane_at(&planes[0], b[0], b[1]),
+            plane_at(&planes[1], b[0], b[1]),
         );
         let upper = (found & second) | (!found & !first_on_top);
         let s = pick(found, pick(second, s[1], s[0]), one);
@@ -796,6 +790,17 @@ mod avx512 {
             };
             Trace::hit(hit, cs.fetches[j], kept[l])
         })
+    }
+
+    /// A plane `[h0, gu, gv]`'s height at local `(u, v)` per lane (`plane`:
+    /// `h0 + gu·u + gv·v`, in that order).
+    #[inline]
+    #[target_feature(enable = "avx512f")]
+    fn plane_at(p: &[__m512; 3], u: __m512, v: __m512) -> __m512 {
+        _mm512_add_ps(
+            _mm512_add_ps(p[0], _mm512_mul_ps(p[1], u)),
+            _mm512_mul_ps(p[2], v),
+        )
     }
 
     /// The triangle split's two planes (`triangle_planes`) per lane, `[h0, gu, gv]`.
@@ -963,30 +968,8 @@ mod avx512 {
         let on_x = lerp(x0, x1, v);
         let on_y = lerp(y0, y1, u);
         // Inside: the higher of the triangle split's two planes (`triangle_planes`).
-        let diagonal =
-            _mm512_cmp_ps_mask::<_CMP_LE_OQ>(_mm512_add_ps(c[0], c[3]), _mm512_add_ps(c[1], c[2]));
-        let p_v = pick(
-            diagonal,
-            _mm512_sub_ps(c[3], c[1]),
-            _mm512_sub_ps(c[2], c[0]),
-        );
-        let q0 = pick(
-            diagonal,
-            c[0],
-            _mm512_sub_ps(_mm512_add_ps(c[1], c[2]), c[3]),
-        );
-        let q_v = pick(
-            diagonal,
-            _mm512_sub_ps(c[2], c[0]),
-            _mm512_sub_ps(c[3], c[1]),
-        );
-        let plane = |h: __m512, gu: __m512, gv: __m512| {
-            _mm512_add_ps(_mm512_add_ps(h, _mm512_mul_ps(gu, u)), _mm512_mul_ps(gv, v))
-        };
-        let inner = rmax(
-            plane(c[0], _mm512_sub_ps(c[1], c[0]), p_v),
-            plane(q0, _mm512_sub_ps(c[3], c[2]), q_v),
-        );
+        let [first, second] = planes(c);
+        let inner = rmax(plane_at(&first, u, v), plane_at(&second, u, v));
         let height = pick(
             on_edge[0],
             pick(on_edge[1], on_corner, on_x),
