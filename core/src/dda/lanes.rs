@@ -120,14 +120,10 @@ struct Lanes {
     c: [Lane<f32>; 4],
     /// The next crossing along each axis.
     t_cross: [Lane<f32>; 2],
-    /// Where the ray entered the cell: `t`, point, and per axis whether on an edge of
-    /// the cell and on the far one (`u = 1`).
+    /// Where the ray entered the cell: `t` and point, and its local point and
+    /// clearance (the last cell's exit, seen from this one).
     ta: Lane<f32>,
     pa: [Lane<f32>; 3],
-    entered_on: [u16; 2],
-    entered_far: [u16; 2],
-    /// `a` and `ca` (the entry's local point and clearance) are up to date.
-    fresh: u16,
     a: [Lane<f32>; 3],
     ca: Lane<f32>,
     fetches: Lane<u32>,
@@ -148,9 +144,6 @@ impl Lanes {
             t_cross: [[1.0; LANES]; 2],
             ta: [0.0; LANES],
             pa: [[0.0; LANES]; 3],
-            entered_on: [0; 2],
-            entered_far: [0; 2],
-            fresh: u16::MAX,
             a: [[0.0; LANES]; 3],
             ca: [1.0; LANES],
             fetches: [0; LANES],
@@ -160,8 +153,7 @@ impl Lanes {
 }
 
 /// The first cells of up to [`LANES`] walks ([`super::first_cell`]'s state) waiting
-/// for idle lanes, from `head` to `n`, field by field as [`Lanes`] holds them (each
-/// flag a lane of all bits set or none).
+/// for idle lanes, from `head` to `n`, field by field as [`Lanes`] holds them.
 struct Begun {
     n: usize,
     head: usize,
@@ -174,8 +166,6 @@ struct Begun {
     t_cross: [Lane<f32>; 2],
     t0: Lane<f32>,
     p0: [Lane<f32>; 3],
-    on: [Lane<u32>; 2],
-    far: [Lane<u32>; 2],
     a: [Lane<f32>; 3],
     ca: Lane<f32>,
 }
@@ -195,8 +185,6 @@ impl Begun {
             t_cross: [[1.0; LANES]; 2],
             t0: [0.0; LANES],
             p0: [[0.0; LANES]; 3],
-            on: [[0; LANES]; 2],
-            far: [[0; LANES]; 2],
             a: [[0.0; LANES]; 3],
             ca: [1.0; LANES],
         }
@@ -299,13 +287,11 @@ mod avx512 {
         let skip = _mm512_cmp_ps_mask::<_CMP_GT_OQ>(above, margin);
         let most = _mm512_set1_epi32(budget.min(i32::MAX as u32) as i32);
         let spent = _mm512_cmpgt_epi32_mask(_mm512_srli_epi32::<2>(fetches), most);
-        // The test of a cell not passed above: the entry's clearance (unless carried
-        // from the last cell's exit) and the exit's.
-        let fresh = ln.fresh;
-        let entered = (ln.entered_on, ln.entered_far);
-        let (a_new, ca_new) = local_clearance(c, cell, pa, entered);
-        let a = [0, 1, 2].map(|k| pick(fresh, ld!(f, ln.a[k]), a_new[k]));
-        let ca = pick(fresh, ld!(f, ln.ca), ca_new);
+        // The test of a cell not passed above: the entry's clearance (carried from the
+        // last cell's exit, which every step computes: the scalar walk's fresh entry
+        // after a skipped cell reads the same samples in the same order) and the exit's.
+        let a = [0, 1, 2].map(|k| ld!(f, ln.a[k]));
+        let ca = ld!(f, ln.ca);
         let (b, cb) = local_clearance(c, cell, pb, (cross, [cross[0] & up[0], cross[1] & up[1]]));
         let clear = _mm512_cmp_ps_mask::<_CMP_GT_OQ>(cb, zero);
         let tested = rmin(clearance, rmin(ca, cb));
@@ -401,8 +387,6 @@ mod avx512 {
             st!(i, ln.cell[k], cell_next[k]);
             st!(f, ln.t_cross[k], t_cross_next[k]);
         }
-        ln.entered_on = cross;
-        ln.entered_far = [cross[0] & !up[0], cross[1] & !up[1]];
         for k in 0..3 {
             st!(f, ln.pa[k], pb[k]);
             // The next cell's entry: this one's exit, seen from there.
@@ -411,10 +395,9 @@ mod avx512 {
             } else {
                 b[k]
             };
-            st!(f, ln.a[k], pick(skip, a[k], mirrored));
+            st!(f, ln.a[k], mirrored);
         }
-        st!(f, ln.ca, pick(skip, ca, cb));
-        ln.fresh = !skip;
+        st!(f, ln.ca, cb);
         st!(f, ln.ta, tb);
         st!(f, ln.clearance, clearance_now);
         st!(
@@ -574,7 +557,6 @@ mod avx512 {
             // SAFETY: as `pack`.
             _mm512_mask_compressstoreu_epi32(to.as_mut_ptr() as *mut i32, walks, v)
         };
-        let flag = |m: __mmask16| _mm512_maskz_mov_epi32(m, _mm512_set1_epi32(-1));
         pack_i(&mut bg.index, index);
         for k in 0..3 {
             pack(&mut bg.o[k], o[k]);
@@ -590,8 +572,6 @@ mod avx512 {
                 &mut bg.t_cross[k],
                 next_crossing(cell[k], (up, moving[k]), o[k], d[k]),
             );
-            pack_i(&mut bg.on[k], flag(side[k]));
-            pack_i(&mut bg.far[k], flag(far[k]));
         }
         for (to, v) in bg.c.iter_mut().zip(c) {
             pack(to, v);
@@ -662,11 +642,6 @@ mod avx512 {
             let v = unsafe { _mm512_mask_expandloadu_epi32(was, take, at) };
             st!(i, to, v);
         };
-        let bits = |to: u16, from: &Lane<u32>| {
-            let at = from[h..].as_ptr() as *const i32;
-            let v = unsafe { _mm512_maskz_expandloadu_epi32(take, at) };
-            (to & !take) | _mm512_test_epi32_mask(v, v)
-        };
         mv_i(&mut ln.index, &bg.index);
         for k in 0..3 {
             mv(&mut ln.o[k], &bg.o[k]);
@@ -677,8 +652,6 @@ mod avx512 {
         for k in 0..2 {
             mv_i(&mut ln.cell[k], &bg.cell[k]);
             mv(&mut ln.t_cross[k], &bg.t_cross[k]);
-            ln.entered_on[k] = bits(ln.entered_on[k], &bg.on[k]);
-            ln.entered_far[k] = bits(ln.entered_far[k], &bg.far[k]);
         }
         for k in 0..4 {
             mv(&mut ln.c[k], &bg.c[k]);
@@ -689,7 +662,7 @@ mod avx512 {
         mv(&mut ln.clearance, &bg.ca);
         let fetches = _mm512_mask_mov_epi32(ld!(i, ln.fetches), take, _mm512_set1_epi32(4));
         st!(i, ln.fetches, fetches);
-        (ln.fresh, ln.busy) = (ln.fresh | take, ln.busy | take);
+        ln.busy |= take;
         bg.head += take.count_ones() as usize;
     }
 
@@ -698,21 +671,18 @@ mod avx512 {
     #[target_feature(enable = "avx512f")]
     pub(super) fn finish_contacts(cs: &mut Contacts, out: &mut [Walked]) {
         for at in (0..cs.n).step_by(LANES) {
-            let hits = finish_sixteen(cs, at);
-            for (h, &k) in hits.iter().zip(&cs.index[at..cs.n]) {
-                out[k] = Ok(*h);
-            }
+            finish_sixteen(cs, at, out);
         }
         cs.n = 0;
     }
 
-    /// The contacts from `at` (at most [`CONTACTS`] − [`LANES`]; those past `cs.n`
-    /// come out as harmless garbage) to their answers: the cell's contact test on the
+    /// The contacts from `at` (at most [`CONTACTS`] − [`LANES`]; lanes past `cs.n`
+    /// compute harmless garbage) to their answers in `out`: the cell's contact test on the
     /// triangle surface ([`crate::surface::Surface::segment_hit`]), the hit's point
     /// ([`super::super::segment_point`]) and the robust finish
     /// ([`super::super::finish`], its `f64` Newton steps eight lanes at a time).
     #[target_feature(enable = "avx512f")]
-    fn finish_sixteen(cs: &Contacts, at: usize) -> [Trace<f32>; LANES] {
+    fn finish_sixteen(cs: &Contacts, at: usize, out: &mut [Walked]) {
         let one = _mm512_set1_ps(1.0);
         let f = |a: &[f32; CONTACTS]| ld!(f, a[at..]);
         let c = cs.c.each_ref().map(f);
@@ -779,8 +749,9 @@ mod avx512 {
         let clearance = rmin(f(&cs.clearance), f(&cs.ca));
         let mut kept = [0f32; LANES];
         st!(f, kept, clearance);
-        core::array::from_fn(|l| {
-            let j = (at + l).min(CONTACTS - 1);
+        let n = (cs.n - at).min(LANES);
+        for (l, &k) in cs.index[at..at + n].iter().enumerate() {
+            let j = at + l;
             let hit = crate::ray::Hit {
                 t: hit[0][l],
                 point: glam::Vec3::new(hit[1][l], hit[2][l], hit[3][l]),
@@ -788,8 +759,8 @@ mod avx512 {
                 normal: glam::Vec3::new(hit[4][l], hit[5][l], hit[6][l]),
                 flags: crate::ray::Flags::default(),
             };
-            Trace::hit(hit, cs.fetches[j], kept[l])
-        })
+            out[k] = Ok(Trace::hit(hit, cs.fetches[j], kept[l]));
+        }
     }
 
     /// A plane `[h0, gu, gv]`'s height at local `(u, v)` per lane (`plane`:
