@@ -474,24 +474,42 @@ pub(crate) fn horizon_surface(m: &Marcher, o: &TraceOptions, rays: usize) -> Opt
 /// smaller batch's pass is shorter than starting them.
 const PARALLEL_CHECK: usize = 1 << 15;
 
+/// What the first pass over a batch found ([`checked_horizon`]).
+pub(crate) struct Checked {
+    /// The horizon its rays share ([`Marcher::horizon`]'s), if any.
+    pub horizon: Option<Horizon>,
+    /// Every ray is the caller's own query: a field without a transform, no ray
+    /// needing conditioning ([`Near::holds`]); [`as_queries`] then views them.
+    pub plain: bool,
+}
+
 /// Checks every ray of a batch ([`check`]: the first bad ray's error, its detail
 /// recorded on the calling thread) and, in the same pass, sights the rays for the
 /// horizon they can share ([`Plan::for_sightings`]; [`Marcher::horizon`]'s horizon,
 /// `None` unless the options allow one, `m`'s hits are the DDA's and enough rays share
-/// an origin). A large batch's pass is split among its threads.
+/// an origin) and sees whether they are all plain. A large batch's pass is split among
+/// its threads.
 pub(crate) fn checked_horizon(
     m: &Marcher,
     o: &TraceOptions,
     hf: &HeightField,
     rays: &[hf_ray],
-) -> Result<Option<Horizon>, hf_result> {
+) -> Result<Checked, hf_result> {
     let total = rays.len();
     let surface = horizon_surface(m, o, total);
     let eye = rays.first().map(|r| grid_line(hf, r).0);
-    let sight = |part: Range<usize>| -> Result<Sighting, usize> {
+    let identity = hf.transform().is_identity();
+    let near = Near::of(hf);
+    let sight = |part: Range<usize>| -> Result<(Sighting, bool), usize> {
         let mut seen = Sighting::new(total);
+        let mut plain = identity;
         for (k, r) in part.clone().zip(&rays[part]) {
-            check(hf, r, None).map_err(|_| k)?;
+            if identity {
+                let q = Query::from_arrays(r.origin, r.dir, r.t_min, r.t_max).map_err(|_| k)?;
+                plain &= near.holds(&q);
+            } else {
+                check(hf, r, None).map_err(|_| k)?;
+            }
             if surface.is_some() {
                 let (origin, dir) = grid_line(hf, r);
                 if Some(origin) == eye {
@@ -499,7 +517,7 @@ pub(crate) fn checked_horizon(
                 }
             }
         }
-        Ok(seen)
+        Ok((seen, plain))
     };
     let parts = match u32::try_from(total) {
         Ok(n) if total >= PARALLEL_CHECK => crate::par::split(n, o.threads, |part| {
@@ -507,16 +525,35 @@ pub(crate) fn checked_horizon(
         }),
         _ => vec![sight(0..total)],
     };
-    let parts: Vec<Sighting> = match parts.into_iter().collect() {
+    let parts: Vec<(Sighting, bool)> = match parts.into_iter().collect() {
         Ok(parts) => parts,
         // Found on some thread: checked again on this one for its detail.
         Err(k) => return check(hf, &rays[k], Some(k)).and(Err(HF_ERR_INVALID_RAY)),
     };
-    let (Some(surface), Some(eye)) = (surface, eye) else {
-        return Ok(None);
+    let plain = parts.iter().all(|p| p.1);
+    let horizon = match (surface, eye) {
+        (Some(surface), Some(eye)) => {
+            let seen = parts.into_iter().map(|p| p.0);
+            Plan::for_sightings(hf, surface, eye, seen, m.horizon_max_block())
+                .map(|plan| build_horizon(plan, o.threads))
+        }
+        _ => None,
     };
-    let plan = Plan::for_sightings(hf, surface, eye, parts, m.horizon_max_block());
-    Ok(plan.map(|plan| build_horizon(plan, o.threads)))
+    Ok(Checked { horizon, plain })
+}
+
+/// The rays of a batch that [`checked_horizon`] found plain, as the queries the marches
+/// take, where they lie.
+pub(crate) fn as_queries(rays: &[hf_ray]) -> &[Query<f32>] {
+    const {
+        assert!(size_of::<hf_ray>() == size_of::<Query<f32>>());
+        assert!(align_of::<hf_ray>() == align_of::<Query<f32>>());
+    }
+    // SAFETY: `Query<f32>` is `repr(C)` with the fields of `hf_ray` in the same order
+    // (both four arrays of `f32`; the sizes and alignments are checked above, the order
+    // by `tests::rays_are_queries`), and every ray passed `Query::from_arrays`, so each
+    // is a valid query.
+    unsafe { core::slice::from_raw_parts(rays.as_ptr().cast::<Query<f32>>(), rays.len()) }
 }
 
 /// The horizon of `plan`, its pass over the field shared by the batch's `threads`
@@ -660,7 +697,10 @@ pub unsafe extern "C" fn hf_trace_batch(
         let hf = f.view();
         // Every ray is checked first; rays from one eye (a camera's) share a horizon,
         // built once for all threads.
-        let horizon = checked_horizon(&m, &o, hf, rays)?;
+        let Checked { horizon, plain } = checked_horizon(&m, &o, hf, rays)?;
+        // The callers' own rays (no transform, no conditioning: the common case) go to
+        // the marches where they lie.
+        let queries = plain.then(|| as_queries(rays));
         // Bands of rays taken in turn by the threads; `u32` counts them.
         let n = u32::try_from(rays.len()).unwrap_or(u32::MAX);
         let threads = if n == u32::MAX { 1 } else { o.threads };
@@ -679,8 +719,14 @@ pub unsafe extern "C" fn hf_trace_batch(
             };
             for (c, out) in out.chunks_mut(RAY_BAND as usize).enumerate() {
                 let first = band.start as usize + c * RAY_BAND as usize;
-                let rays = (&rays[first..first + out.len()], first);
-                traced.trace(horizon.as_ref(), rays, &mut hint, &mut scratch, out)?;
+                let part = first..first + out.len();
+                if let Some(queries) = queries {
+                    let plain = (&queries[part], &mut scratch.traced);
+                    trace_plain((&m, &o, hf), horizon.as_ref(), plain, &mut hint, out);
+                } else {
+                    let rays = (&rays[part], first);
+                    traced.trace(horizon.as_ref(), rays, &mut hint, &mut scratch, out)?;
+                }
             }
             Ok(())
         })
@@ -1073,6 +1119,36 @@ impl From<Query<f32>> for hf_ray {
             dir: q.dir(),
             t_min: q.t_min(),
             t_max: q.t_max(),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// [`as_queries`] reads each ray's fields as the query's own.
+    #[test]
+    fn rays_are_queries() {
+        let rays = [
+            hf_ray {
+                origin: [1.0, 2.0, 3.0],
+                dir: [4.0, 5.0, 6.0],
+                t_min: 7.0,
+                t_max: 8.0,
+            },
+            hf_ray {
+                origin: [-1.5, 0.25, 9.0],
+                dir: [0.0, -1.0, 0.5],
+                t_min: 0.0,
+                t_max: f32::INFINITY,
+            },
+        ];
+        for (r, q) in rays.iter().zip(as_queries(&rays)) {
+            let own = Query::from_arrays(r.origin, r.dir, r.t_min, r.t_max).unwrap();
+            assert_eq!(*q, own);
+            assert_eq!((q.origin(), q.dir()), (r.origin, r.dir));
+            assert_eq!((q.t_min(), q.t_max()), (r.t_min, r.t_max));
         }
     }
 }

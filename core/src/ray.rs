@@ -62,7 +62,10 @@ impl RayClass {
 
 /// A validated ray query in grid space: `origin + t · dir` for `t` in `[t_min, t_max]`.
 ///
-/// `dir` need not be normalised; `t_max` may be `+∞`.
+/// `dir` need not be normalised; `t_max` may be `+∞`. Laid out as C lays out
+/// `{ R origin[3]; R dir[3]; R t_min; R t_max; }`: the C API marches its callers' rays,
+/// once checked, where they lie.
+#[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Query<R: Real = f32> {
     origin: [R; 3],
