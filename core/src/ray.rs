@@ -113,7 +113,11 @@ impl<R: Real> Query<R> {
     #[inline]
     pub fn starting_at(&self, t: R) -> Query<R> {
         debug_assert!(t >= self.t_min && t <= self.t_max);
-        Query { t_min: t, ..*self }
+        // Copied whole, then changed: field by field, the copy of the three-element
+        // arrays went through stores the CPU could not forward to the next read.
+        let mut q = *self;
+        q.t_min = t;
+        q
     }
 
     /// Origin in grid space.
