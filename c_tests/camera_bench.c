@@ -60,8 +60,11 @@ int main(int argc, char **argv) {
     uint16_t *samples = argc > 1 ? read_png_gray16(argv[1], &w, &h) : NULL;
     const char *only = argc > 3 ? argv[2] : NULL;
     int only_reps = argc > 3 ? atoi(argv[3]) : 0;
-    if (samples == NULL || argc == 3 || (only != NULL && only_reps < 1)) {
-        fprintf(stderr, "usage: camera_bench MAP.png [METHOD REPS]\n");
+    int known = only == NULL || strcmp(only, "maxmip") == 0 || strcmp(only, "cc") == 0 ||
+                strcmp(only, "dda") == 0;
+    if (samples == NULL || argc == 3 || !known || (only != NULL && only_reps < 1)) {
+        fprintf(stderr, "usage: camera_bench MAP.png [METHOD REPS] (METHOD: maxmip, cc or dda; "
+                        "REPS at least 1)\n");
         return 1;
     }
     float depth = 0.1f * (float)(w > h ? w : h);
