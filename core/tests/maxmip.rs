@@ -501,7 +501,8 @@ fn bits<R: Real>(tr: &Trace<R>) -> String {
 /// [`maxmip::trace_lanes`] answers each query with exactly [`maxmip::trace`]'s answer,
 /// hit, fetches and clearance, on every march field, surface and ray kind, with both
 /// ascents, with level of detail and with the iterative bilinear search; fewer
-/// queries than lanes and more; with the SIMD token and without.
+/// queries than a set of lanes, more than one set and fewer than two, and more; with the
+/// SIMD token and without.
 #[test]
 fn lanes_equal_the_scalar_march() {
     let mut rng = Rng::new(0x1a7e5);
@@ -529,7 +530,7 @@ fn lanes_equal_the_scalar_march() {
         for surface in Surface::ALL {
             let specs = kind_blocks(&mut rng, field, surface, &RayKind::ALL, 7);
             for o in &options {
-                for n in [1, 5, specs.len()] {
+                for n in [1, 5, 12, specs.len()] {
                     let qs: Vec<Query<f32>> = specs[..n].iter().map(|s| s.q32()).collect();
                     let want: Vec<String> = qs
                         .iter()
