@@ -452,7 +452,7 @@ mod avx2 {
             st!(f, ln.t, pick_f!(moves, tb, t));
             let start = ld!(i, ln.start);
             st!(i, ln.start, _mm256_andnot_si256(moves, start));
-            // The next step's texels, asked for now: the other lanes' step hides the wait.
+            // The next step's texels, asked for now: the other set's step hides the wait.
             let cell = [ld!(i, ln.cell[0]), ld!(i, ln.cell[1])];
             let mut ahead = [0u32; LANES];
             st!(i, ahead, texel_index(tables, texels.len(), level, cell));
