@@ -40,9 +40,9 @@
  *   those that start above it are kept.
  * hfcast traces through its C API (hf_trace_batch with HF_METHOD_CC: the exact CC map,
  * cap 64; HF_METHOD_MAXMIP, by default (a camera's rays share a horizon that starts each
- * ray's march near its hit), and without the horizon in AVX2 lanes where the CPU has
- * them and with HF_SIMD_OFF one ray after another; HF_METHOD_SAFETY: the exact
- * directional safety distances; HF_METHOD_EXACT: the exact DDA, no bake, by default:
+ * ray's march near its hit), and without the horizon in SIMD lanes (AVX-512 or AVX2)
+ * where the CPU has them and with HF_SIMD_OFF one ray after another; HF_METHOD_SAFETY:
+ * the exact directional safety distances; HF_METHOD_EXACT: the exact DDA, no bake, by default:
  * with the horizon); Embree traces single rays (rtcIntersect1) and, for the cameras,
  * packets of 8 rays from 4 x 2 pixel tiles (rtcIntersect8).
  *
@@ -615,8 +615,8 @@ static size_t disagreements(const hf_hit *hits, const float *t, size_t n, size_t
 
 /* hfcast's exact methods compared, through the batch functions of the C API with
  * their default options (a batch from one eye shares a horizon: HF_HORIZON_AUTO); the
- * maximum mipmap also without the horizon, in AVX2 lanes of 8 rays (where the CPU has
- * AVX2) and one ray after another (HF_SIMD_OFF). */
+ * maximum mipmap also without the horizon, in SIMD lanes (16 rays in AVX-512, 8 in AVX2,
+ * where the CPU has them) and one ray after another (HF_SIMD_OFF). */
 enum {
     METHOD_CC,
     METHOD_MAXMIP,

@@ -718,8 +718,8 @@ typedef struct hf_trace_options {
   // answers do not depend on it. `hf_trace` (one ray) ignores it.
   uint32_t threads;
   // Whether batches and cameras may use the CPU's SIMD lanes, an `hf_simd`: default
-  // `HF_SIMD_AUTO` (the maximum mipmap marches 8 rays at once in AVX2 where the CPU
-  // has it), `HF_SIMD_OFF` (one ray after another: for comparison). The answers do
+  // `HF_SIMD_AUTO` (the maximum mipmap marches 16 rays at once in AVX-512, 8 in AVX2,
+  // where the CPU has them), `HF_SIMD_OFF` (one ray after another: for comparison). The answers do
   // not depend on it.
   uint32_t simd;
   // Whether a batch's or camera's rays from one eye share a horizon, an

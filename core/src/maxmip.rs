@@ -34,7 +34,7 @@ use crate::surface::{bilinear_search_segment, corners, Surface};
 use core::ops::Range;
 
 mod lanes;
-pub use lanes::{trace_lanes, LANES};
+pub use lanes::{trace_lanes, LANES, LANES_AVX2};
 
 /// Most levels a pyramid has: fewer than 2²⁴ cells per side need at most 25.
 pub const MAX_LEVELS: usize = 25;

@@ -5,7 +5,8 @@
 /// Proof that the running CPU executes AVX2 instructions: what the laned marches
 /// ([`crate::maxmip::trace_lanes`]) need to take their SIMD path; it also says whether
 /// the CPU executes AVX-512 ([`Avx2::avx512`]), which the laned DDA
-/// ([`crate::dda::trace_skipping_lanes`]) needs.
+/// ([`crate::dda::trace_skipping_lanes`]) needs and the maximum mipmap's lanes use
+/// (sixteen a set instead of eight).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Avx2 {
     avx512: bool,

@@ -502,7 +502,8 @@ fn bits<R: Real>(tr: &Trace<R>) -> String {
 /// hit, fetches and clearance, on every march field, surface and ray kind, with both
 /// ascents, with level of detail and with the iterative bilinear search; fewer
 /// queries than a set of lanes, more than one set and fewer than two, and more; with the
-/// SIMD token and without.
+/// SIMD token (AVX-512's sixteen lanes where the CPU has them, and AVX2's eight) and
+/// without.
 #[test]
 fn lanes_equal_the_scalar_march() {
     let mut rng = Rng::new(0x1a7e5);
@@ -530,13 +531,14 @@ fn lanes_equal_the_scalar_march() {
         for surface in Surface::ALL {
             let specs = kind_blocks(&mut rng, field, surface, &RayKind::ALL, 7);
             for o in &options {
-                for n in [1, 5, 12, specs.len()] {
+                for n in [1, 5, 12, 20, specs.len()] {
                     let qs: Vec<Query<f32>> = specs[..n].iter().map(|s| s.q32()).collect();
                     let want: Vec<String> = qs
                         .iter()
                         .map(|q| bits(&maxmip::trace(&hf, &mip, surface, q, o)))
                         .collect();
-                    for simd in [hfcast::detect_avx2!(), None] {
+                    let avx2 = hfcast::detect_avx2!().map(|s| s.without_avx512());
+                    for simd in [hfcast::detect_avx2!(), avx2, None] {
                         let mut got = vec![Trace::MISS; n];
                         maxmip::trace_lanes(&hf, &mip, surface, &qs, o, &mut got, simd);
                         let d = got

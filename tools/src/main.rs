@@ -43,7 +43,8 @@ commands:
            --map PATH (default ../shared/data/dem_etopo5_himalaya_1024.png)
            --depth GRID_UNITS --reps N (3) --random N (1000000) --size WxH (1280x1024)
            --threads LIST (1,2) --method M --surface S --order lanes|scalar
-           (lanes, the default: 8 rays at once in AVX2 where the method and CPU can)
+           (lanes, the default: 16 rays at once in AVX-512, 8 in AVX2, where the
+           method and CPU can)
            --rays all|exterior|angle:A|exterior,angle:A (all): the ray set the safety
            and cylinder-cone maps are baked for (rays outside it march cell by cell)
   report   error against run time of every method setting vs the f64 oracle, on every

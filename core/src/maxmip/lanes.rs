@@ -1,9 +1,10 @@
-//! The maximum-mipmap march on [`LANES`] rays at once in AVX2: [`trace_lanes`].
+//! The maximum-mipmap march on many rays at once: [`trace_lanes`], sixteen lanes in
+//! AVX-512 ([`LANES`]) or eight in AVX2 ([`LANES_AVX2`]).
 //!
-//! The lanes' walks are held field by field (one array of [`LANES`] per field), and a
-//! step is one pass of AVX2 code over all eight: the node's bounds, its two exit
-//! parameters, the texel read, the skip-descend-test decision, leaving the node with
-//! the other axis brought up to date (`sync_axis`) and the one-level ascent, every
+//! The lanes' walks are held field by field (one array per field, a value per lane),
+//! and a step is one pass of vector code over all of them: the node's bounds, its two
+//! exit parameters, the texel read, the skip-descend-test decision, leaving the node
+//! with the other axis brought up to date (`sync_axis`) and the one-level ascent, every
 //! branch of [`March::advance`] a blend. Only the exact cell test at level 0, the start
 //! of a walk and its finish run per lane, on the scalar march's own code. Two sets of
 //! lanes step in turn, and each step ends by prefetching its lanes' next texels: on
@@ -13,34 +14,46 @@
 //! (the same IEEE divisions, products and sums, no fused forms; `min`, `max` and the
 //! comparisons as blends with [`Real`]'s NaN behaviour), so each answer is the scalar
 //! answer bit for bit; `core/tests/maxmip.rs` checks it on every march field, surface
-//! and ray kind.
+//! and ray kind, at both widths.
+//!
+//! The step is written once, on the lane operations of [`wide::Wide`], and compiled
+//! for each width inside a function that enables its instructions.
 //!
 //! The core cannot ask the CPU what it supports (that needs `std`): the caller proves
-//! AVX2 with an [`Avx2`] token, which the std-side crates make after run-time detection.
-//! Without one, [`trace_lanes`] is the scalar march, query by query.
+//! AVX2, and AVX-512F if it has it, with an [`Avx2`] token, which the std-side crates
+//! make after run-time detection. Without one, [`trace_lanes`] is the scalar march,
+//! query by query.
+//!
+//! [`Real`]: crate::math::Real
 #![allow(unsafe_code)]
+// Elsewhere the lanes are never made: `trace_lanes` is the scalar march.
+#![cfg_attr(not(target_arch = "x86_64"), allow(dead_code))]
 
-use super::{trace, Ascent, March, MaxMip, Node, Options, Walk, MAX_LEVELS};
+use super::{trace, Ascent, March, MaxMip, Options, Walk, MAX_LEVELS};
 use crate::dda::{Entry, Span};
 use crate::field::HeightField;
 use crate::ray::{Query, Trace};
 use crate::simd::Avx2;
 use crate::surface::Surface;
 
-/// Rays [`trace_lanes`] marches side by side, one per lane.
-pub const LANES: usize = 8;
+#[cfg(target_arch = "x86_64")]
+mod wide;
 
-/// One value per lane.
-type Lane<T> = [T; LANES];
+/// Rays one set of lanes marches side by side with AVX-512.
+pub const LANES: usize = 16;
 
-/// A lane mask's "true" (all bits set), as the blends read it.
+/// Rays one set of lanes marches side by side with AVX2 only.
+pub const LANES_AVX2: usize = 8;
+
+/// A lane mask's "true" (all bits set), as the masks are stored.
 const TRUE: u32 = u32::MAX;
 
 /// [`super::trace`] of every query of `queries` into `out` (same lengths), the answers
-/// bit for bit those of [`super::trace`], [`LANES`] rays at a time with `simd` (see the
-/// module docs); without it, or for level of detail, [`Ascent::Highest`] or a pyramid
-/// of 2³¹ texels or more, query by query. A lane that finishes takes the next query,
-/// so coherent queries (a pixel tile's, in order) keep the lanes on neighbouring nodes.
+/// bit for bit those of [`super::trace`], [`LANES`] rays at a time with `simd` when it
+/// knows AVX-512F, [`LANES_AVX2`] with AVX2 only (see the module docs); without it, or
+/// for level of detail, [`Ascent::Highest`] or a pyramid of 2³¹ texels or more, query
+/// by query. A lane that finishes takes the next query, so coherent queries (a pixel
+/// tile's, in order) keep the lanes on neighbouring nodes.
 ///
 /// Panics when the lengths differ.
 pub fn trace_lanes(
@@ -56,56 +69,35 @@ pub fn trace_lanes(
     let laned = opts.lod.is_none()
         && opts.ascent == Ascent::OneLevel
         && i32::try_from(mip.texels.len()).is_ok();
-    let (true, Some(_avx2)) = (laned && cfg!(target_arch = "x86_64"), simd) else {
+    let (true, Some(avx2)) = (laned && cfg!(target_arch = "x86_64"), simd) else {
         for (o, q) in out.iter_mut().zip(queries) {
             *o = trace(hf, mip, surface, q, opts);
         }
         return;
     };
-    let march = March::new(hf, mip, surface, opts);
-    let tables = Tables::of(mip);
-    // Two sets of lanes stepped in turn: each step asks for its next texels, which
-    // arrive while the other set steps.
-    let mut sets: [Lanes; SETS] = core::array::from_fn(|_| Lanes::idle());
-    let mut next = 0;
-    loop {
-        for lanes in &mut sets {
-            for l in 0..LANES {
-                // An idle lane takes the next query that needs a march.
-                while lanes.index[l].is_none() && next < queries.len() {
-                    match march.begin(&queries[next]) {
-                        Ok(walk) => lanes.load(l, next, &walk),
-                        Err(trace) => out[next] = march.finish(&queries[next], trace),
-                    }
-                    next += 1;
-                }
+    #[cfg(target_arch = "x86_64")]
+    {
+        let march = March::new(hf, mip, surface, opts);
+        let tables = Tables::of(mip);
+        // SAFETY: the token proves the CPU executes AVX2, and AVX-512F when it says so.
+        unsafe {
+            match avx2.avx512() {
+                Some(_) => x86::run_avx512(&march, &tables, queries, out),
+                None => x86::run_avx2(&march, &tables, queries, out),
             }
-        }
-        let idle = |lanes: &Lanes| lanes.index.iter().all(Option::is_none);
-        if sets.iter().all(idle) {
-            return;
-        }
-        for lanes in &mut sets {
-            if idle(lanes) {
-                continue;
-            }
-            let mut ended = |k: usize, trace| out[k] = march.finish(&queries[k], trace);
-            #[cfg(target_arch = "x86_64")]
-            // SAFETY: the token proves the CPU executes AVX2.
-            unsafe {
-                march.step_lanes(&tables, lanes, &mut ended)
-            };
         }
     }
+    #[cfg(not(target_arch = "x86_64"))]
+    let _ = avx2;
 }
 
 /// Sets of lanes [`trace_lanes`] steps in turn.
 const SETS: usize = 2;
 
-/// The pyramid's level table in `i32` (the gathers' indices).
+/// The pyramid's level table (the gathers' indices).
 struct Tables {
-    offset: [i32; MAX_LEVELS],
-    width: [i32; MAX_LEVELS],
+    offset: [u32; MAX_LEVELS],
+    width: [u32; MAX_LEVELS],
 }
 
 impl Tables {
@@ -116,9 +108,9 @@ impl Tables {
             width: [0; MAX_LEVELS],
         };
         for level in 0..layout.levels() {
-            // Both fit: the caller checked that the texel count does.
-            t.offset[level as usize] = layout.offset(level) as i32;
-            t.width[level as usize] = layout.dims(level)[0] as i32;
+            // Both fit `i32`: the caller checked that the texel count does.
+            t.offset[level as usize] = layout.offset(level) as u32;
+            t.width[level as usize] = layout.dims(level)[0];
         }
         t
     }
@@ -142,29 +134,30 @@ fn on_of(code: u32) -> Option<bool> {
     (code != ON_NONE).then_some(code == ON_FAR)
 }
 
-/// [`LANES`] walks held field by field; `walk` keeps what only the per-lane code reads
-/// (the query and its span). An idle lane (`index` `None`) holds a harmless walk.
-struct Lanes {
+/// `N` walks held field by field; `walk` keeps what only the per-lane code reads (the
+/// query and its span). An idle lane (`index` `None`) holds a harmless walk. Masks are
+/// stored as `0` or [`TRUE`] per lane.
+struct Lanes<const N: usize> {
     /// The query each lane marches (its position in the caller's slice).
-    index: Lane<Option<usize>>,
-    walk: Lane<Walk<f32>>,
-    o: [Lane<f32>; 3],
-    d: [Lane<f32>; 3],
-    t1: Lane<f32>,
+    index: [Option<usize>; N],
+    walk: [Walk<f32>; N],
+    o: [[f32; N]; 3],
+    d: [[f32; N]; 3],
+    t1: [f32; N],
     /// Per axis, masks: the ray moves along it (`step ≠ 0`), towards `+` (`step > 0`).
-    moving: [Lane<u32>; 2],
-    up: [Lane<u32>; 2],
-    cell: [Lane<u32>; 2],
-    level: Lane<u32>,
-    t: Lane<f32>,
-    p: [Lane<f32>; 3],
-    start: Lane<u32>,
-    on: [Lane<u32>; 2],
-    fetches: Lane<u32>,
-    clearance: Lane<f32>,
+    moving: [[u32; N]; 2],
+    up: [[u32; N]; 2],
+    cell: [[u32; N]; 2],
+    level: [u32; N],
+    t: [f32; N],
+    p: [[f32; N]; 3],
+    start: [u32; N],
+    on: [[u32; N]; 2],
+    fetches: [u32; N],
+    clearance: [f32; N],
 }
 
-impl Lanes {
+impl<const N: usize> Lanes<N> {
     /// Every lane idle, on a walk that reads texel 0.
     fn idle() -> Self {
         let q = Query::from_arrays([0.0; 3], [1.0; 3], 0.0, 1.0).expect("a valid ray");
@@ -188,23 +181,23 @@ impl Lanes {
             clearance: f32::INFINITY,
         };
         let mut lanes = Lanes {
-            index: [None; LANES],
-            walk: [walk; LANES],
-            o: [[0.0; LANES]; 3],
-            d: [[1.0; LANES]; 3],
-            t1: [0.0; LANES],
-            moving: [[TRUE; LANES]; 2],
-            up: [[TRUE; LANES]; 2],
-            cell: [[0; LANES]; 2],
-            level: [0; LANES],
-            t: [0.0; LANES],
-            p: [[0.0; LANES]; 3],
-            start: [TRUE; LANES],
-            on: [[ON_NONE; LANES]; 2],
-            fetches: [0; LANES],
-            clearance: [f32::INFINITY; LANES],
+            index: [None; N],
+            walk: [walk; N],
+            o: [[0.0; N]; 3],
+            d: [[1.0; N]; 3],
+            t1: [0.0; N],
+            moving: [[TRUE; N]; 2],
+            up: [[TRUE; N]; 2],
+            cell: [[0; N]; 2],
+            level: [0; N],
+            t: [0.0; N],
+            p: [[0.0; N]; 3],
+            start: [TRUE; N],
+            on: [[ON_NONE; N]; 2],
+            fetches: [0; N],
+            clearance: [f32::INFINITY; N],
         };
-        for l in 0..LANES {
+        for l in 0..N {
             lanes.store(l, &walk);
         }
         lanes
@@ -244,142 +237,162 @@ impl Lanes {
         w
     }
 
-    /// The lanes marching a query, as a mask.
-    fn busy(&self) -> Lane<u32> {
+    /// The lanes marching a query, as stored masks.
+    fn busy(&self) -> [u32; N] {
         core::array::from_fn(|l| if self.index[l].is_some() { TRUE } else { 0 })
     }
 }
 
 #[cfg(target_arch = "x86_64")]
-mod avx2 {
+mod x86 {
+    use super::wide::{Wide, Ymm, Zmm};
     use super::*;
-    use core::arch::x86_64::*;
+    use crate::maxmip::Node;
+    use core::arch::x86_64::{_mm_prefetch, _MM_HINT_T0};
 
-    // Loads and stores of whole lane arrays. SAFETY (every use): an array of eight
-    // 4-byte values is exactly one unaligned 256-bit load or store.
-    macro_rules! ld {
-        (f, $a:expr) => {
-            unsafe { _mm256_loadu_ps($a.as_ptr()) }
-        };
-        (i, $a:expr) => {
-            unsafe { _mm256_loadu_si256($a.as_ptr() as *const __m256i) }
-        };
+    /// [`trace_lanes`]'s march in AVX2's eight lanes.
+    #[target_feature(enable = "avx2")]
+    pub(super) fn run_avx2(
+        march: &March,
+        tables: &Tables,
+        queries: &[Query<f32>],
+        out: &mut [Trace<f32>],
+    ) {
+        run(Ymm(()), march, tables, queries, out)
     }
-    macro_rules! st {
-        (f, $a:expr, $v:expr) => {
-            unsafe { _mm256_storeu_ps($a.as_mut_ptr(), $v) }
-        };
-        (i, $a:expr, $v:expr) => {
-            unsafe { _mm256_storeu_si256($a.as_mut_ptr() as *mut __m256i, $v) }
-        };
+
+    /// [`trace_lanes`]'s march in AVX-512's sixteen lanes.
+    #[target_feature(enable = "avx512f")]
+    pub(super) fn run_avx512(
+        march: &March,
+        tables: &Tables,
+        queries: &[Query<f32>],
+        out: &mut [Trace<f32>],
+    ) {
+        run(Zmm(()), march, tables, queries, out)
     }
-    // `if m { a } else { b }` per lane, for floats and for integers.
-    macro_rules! pick_f {
-        ($m:expr, $a:expr, $b:expr) => {
-            _mm256_blendv_ps($b, $a, _mm256_castsi256_ps($m))
-        };
-    }
-    macro_rules! pick_i {
-        ($m:expr, $a:expr, $b:expr) => {
-            _mm256_blendv_epi8($b, $a, $m)
-        };
-    }
-    // Comparisons as masks, false on NaN as Rust's.
-    macro_rules! cmp {
-        ($a:expr, $op:ident, $b:expr) => {
-            _mm256_castps_si256(_mm256_cmp_ps::<$op>($a, $b))
-        };
-    }
-    // `Real::min(a, b)` (`b < a ? b : a`) and `Real::max(a, b)` (`b > a ? b : a`).
-    macro_rules! rmin {
-        ($a:expr, $b:expr) => {{
-            let (a, b) = ($a, $b);
-            pick_f!(cmp!(b, _CMP_LT_OQ, a), b, a)
-        }};
-    }
-    macro_rules! rmax {
-        ($a:expr, $b:expr) => {{
-            let (a, b) = ($a, $b);
-            pick_f!(cmp!(b, _CMP_GT_OQ, a), b, a)
-        }};
+
+    /// Every query of `queries` marched in [`SETS`] sets of `N` lanes of width `w`, the
+    /// answers into `out`.
+    #[inline(always)]
+    fn run<const N: usize, W: Wide<N>>(
+        w: W,
+        march: &March,
+        tables: &Tables,
+        queries: &[Query<f32>],
+        out: &mut [Trace<f32>],
+    ) {
+        // Two sets of lanes stepped in turn: each step asks for its next texels, which
+        // arrive while the other set steps.
+        let mut sets: [Lanes<N>; SETS] = core::array::from_fn(|_| Lanes::idle());
+        let mut next = 0;
+        loop {
+            for lanes in &mut sets {
+                for l in 0..N {
+                    // An idle lane takes the next query that needs a march.
+                    while lanes.index[l].is_none() && next < queries.len() {
+                        match march.begin(&queries[next]) {
+                            Ok(walk) => lanes.load(l, next, &walk),
+                            Err(trace) => out[next] = march.finish(&queries[next], trace),
+                        }
+                        next += 1;
+                    }
+                }
+            }
+            let idle = |lanes: &Lanes<N>| lanes.index.iter().all(Option::is_none);
+            if sets.iter().all(idle) {
+                return;
+            }
+            for lanes in &mut sets {
+                if idle(lanes) {
+                    continue;
+                }
+                let mut ended = |k: usize, trace| out[k] = march.finish(&queries[k], trace);
+                march.step_lanes(w, tables, lanes, &mut ended);
+            }
+        }
     }
 
     impl March<'_, '_> {
         /// One node visit of every busy lane ([`March::advance`] on each, exact options,
         /// one-level ascent); `ended(k, trace)` receives the answer (before the finish)
         /// of each query `k` that ends, and its lane goes idle.
-        #[target_feature(enable = "avx2")]
-        pub(super) fn step_lanes(
+        #[inline(always)]
+        fn step_lanes<const N: usize, W: Wide<N>>(
             &self,
+            w: W,
             tables: &Tables,
-            ln: &mut Lanes,
+            ln: &mut Lanes<N>,
             ended: &mut impl FnMut(usize, Trace<f32>),
         ) {
-            let zero = _mm256_setzero_si256();
-            let one = _mm256_set1_epi32(1);
-            let level = ld!(i, ln.level);
-            let cell = [ld!(i, ln.cell[0]), ld!(i, ln.cell[1])];
-            let up = [ld!(i, ln.up[0]), ld!(i, ln.up[1])];
-            let moving = [ld!(i, ln.moving[0]), ld!(i, ln.moving[1])];
-            let o = [ld!(f, ln.o[0]), ld!(f, ln.o[1]), ld!(f, ln.o[2])];
-            let d = [ld!(f, ln.d[0]), ld!(f, ln.d[1]), ld!(f, ln.d[2])];
-            let (t, t1) = (ld!(f, ln.t), ld!(f, ln.t1));
+            let (zero, one) = (w.isplat(0), w.isplat(1));
+            let level = w.ild(&ln.level);
+            let cell = [w.ild(&ln.cell[0]), w.ild(&ln.cell[1])];
+            let up = [w.mld(&ln.up[0]), w.mld(&ln.up[1])];
+            let moving = [w.mld(&ln.moving[0]), w.mld(&ln.moving[1])];
+            let o = [w.fld(&ln.o[0]), w.fld(&ln.o[1]), w.fld(&ln.o[2])];
+            let d = [w.fld(&ln.d[0]), w.fld(&ln.d[1]), w.fld(&ln.d[2])];
+            let (t, t1) = (w.fld(&ln.t), w.fld(&ln.t1));
             // The node of each lane's cell at its level and where the ray leaves it.
             let mut lo = [zero; 2];
             let mut hi = [zero; 2];
             let mut bound = [zero; 2];
-            let mut t_out = [_mm256_setzero_ps(); 2];
+            let mut t_out = [w.fsplat(0.0); 2];
             for k in 0..2 {
-                lo[k] = _mm256_sllv_epi32(_mm256_srlv_epi32(cell[k], level), level);
-                let cells = _mm256_set1_epi32(self.cells[k] as i32);
-                hi[k] = _mm256_min_epu32(
-                    _mm256_add_epi32(lo[k], _mm256_sllv_epi32(one, level)),
-                    cells,
-                );
-                bound[k] = pick_i!(up[k], hi[k], lo[k]);
-                let tk = _mm256_div_ps(_mm256_sub_ps(_mm256_cvtepi32_ps(bound[k]), o[k]), d[k]);
-                t_out[k] = pick_f!(moving[k], tk, _mm256_set1_ps(f32::INFINITY));
+                lo[k] = w.ishl(w.ishr(cell[k], level), level);
+                let cells = w.isplat(self.cells[k]);
+                hi[k] = w.imin(w.iadd(lo[k], w.ishl(one, level)), cells);
+                bound[k] = w.ipick(up[k], hi[k], lo[k]);
+                let tk = w.fdiv(w.fsub(w.ifloat(bound[k]), o[k]), d[k]);
+                t_out[k] = w.fpick(moving[k], tk, w.fsplat(f32::INFINITY));
             }
-            let t_next = rmin!(t_out[0], t_out[1]);
-            let crossing = cmp!(t_next, _CMP_LT_OQ, t1);
-            let tb = pick_f!(crossing, rmax!(t_next, t), t1);
-            let pb = [0, 1, 2].map(|k| _mm256_add_ps(o[k], _mm256_mul_ps(tb, d[k])));
+            let t_next = w.rmin(t_out[0], t_out[1]);
+            let crossing = w.flt(t_next, t1);
+            let tb = w.fpick(crossing, w.rmax(t_next, t), t1);
+            // No closures in the lane code: one that is not inlined (one passed to
+            // `array::map`, say) runs without the width's instructions.
+            let pb = [
+                w.fadd(o[0], w.fmul(tb, d[0])),
+                w.fadd(o[1], w.fmul(tb, d[1])),
+            ];
+            let pb = [pb[0], pb[1], w.fadd(o[2], w.fmul(tb, d[2]))];
             let texels = self.mip.texels;
-            let at = texel_index(tables, texels.len(), level, cell);
+            let at = texel_index(w, tables, texels.len(), level, cell);
             // SAFETY: every index is at most the last texel's.
-            let top_z = unsafe { _mm256_i32gather_ps::<4>(texels.as_ptr(), at) };
-            let fetches = ld!(i, ln.fetches);
-            st!(i, ln.fetches, _mm256_add_epi32(fetches, one));
-            let low = rmin!(ld!(f, ln.p[2]), pb[2]);
-            let skip = cmp!(low, _CMP_GT_OQ, top_z);
-            let clearance = ld!(f, ln.clearance);
-            let skipped = rmin!(clearance, _mm256_sub_ps(low, top_z));
-            st!(f, ln.clearance, pick_f!(skip, skipped, clearance));
-            let above0 = _mm256_cmpgt_epi32(level, zero);
-            let descend = _mm256_andnot_si256(skip, above0);
+            let top_z = unsafe { w.fgather(texels.as_ptr(), at) };
+            let fetches = w.ild(&ln.fetches);
+            w.ist(&mut ln.fetches, w.iadd(fetches, one));
+            let low = w.rmin(w.fld(&ln.p[2]), pb[2]);
+            let skip = w.fgt(low, top_z);
+            let clearance = w.fld(&ln.clearance);
+            let skipped = w.rmin(clearance, w.fsub(low, top_z));
+            w.fst(&mut ln.clearance, w.fpick(skip, skipped, clearance));
+            let above0 = w.igt(level, zero);
+            let descend = w.mandnot(above0, skip);
             // Level 0, not skipped: the exact cell test, per lane.
-            let test = _mm256_movemask_ps(_mm256_castsi256_ps(_mm256_or_si256(skip, descend)));
-            if test != 0xff {
-                let mut a = [[0u32; LANES]; 6];
-                let mut fl = [[0f32; LANES]; 7];
+            let all = u32::MAX >> (32 - N);
+            let test = w.mbits(w.mor(skip, descend));
+            if test != all {
+                let mut a = [[0u32; N]; 6];
+                let mut fl = [[0f32; N]; 7];
                 for (k, v) in [lo[0], lo[1], hi[0], hi[1], bound[0], bound[1]]
                     .into_iter()
                     .enumerate()
                 {
-                    st!(i, a[k], v);
+                    w.ist(&mut a[k], v);
                 }
                 for (k, v) in [t_out[0], t_out[1], t_next, tb, pb[0], pb[1], pb[2]]
                     .into_iter()
                     .enumerate()
                 {
-                    st!(f, fl[k], v);
+                    w.fst(&mut fl[k], v);
                 }
-                let mut due = !test & 0xff;
+                let mut due = !test & all;
                 while due != 0 {
                     let l = due.trailing_zeros() as usize;
                     due &= due - 1;
                     let Some(k) = ln.index[l] else { continue };
-                    let mut w = ln.walk(l);
+                    let mut walk = ln.walk(l);
                     let node = Node {
                         lo: [a[0][l], a[1][l]],
                         hi: [a[2][l], a[3][l]],
@@ -390,77 +403,80 @@ mod avx2 {
                         tb: fl[3][l],
                         pb: [fl[4][l], fl[5][l], fl[6][l]],
                     };
-                    match self.cell_test(&mut w, &node) {
+                    match self.cell_test(&mut walk, &node) {
                         Some(trace) => {
                             ended(k, trace);
                             ln.index[l] = None;
                         }
-                        None => (ln.fetches[l], ln.clearance[l]) = (w.fetches, w.clearance),
+                        None => (ln.fetches[l], ln.clearance[l]) = (walk.fetches, walk.clearance),
                     }
                 }
             }
             // Leaving the node (`March::leave`).
-            let busy = ld!(i, ln.busy());
-            let leaving = _mm256_andnot_si256(descend, busy);
-            let mut ends = _mm256_andnot_si256(crossing, leaving);
-            let mut coarser = zero;
-            let parent = _mm256_sub_epi32(_mm256_sllv_epi32(_mm256_set1_epi32(2), level), one);
-            let mut crossed = [zero; 2];
+            let leaving = w.mandnot(w.mld(&ln.busy()), descend);
+            let mut ends = w.mandnot(leaving, crossing);
+            let parent = w.isub(w.ishl(w.isplat(2), level), one);
+            let mut crossed = [w.ieq(zero, one); 2];
+            let mut aligned = crossed;
             for k in 0..2 {
-                crossed[k] = _mm256_and_si256(moving[k], cmp!(t_out[k], _CMP_LE_OQ, t_next));
-                let edge = pick_i!(up[k], _mm256_set1_epi32(self.cells[k] as i32), zero);
-                let at_edge = _mm256_cmpeq_epi32(bound[k], edge);
-                ends = _mm256_or_si256(ends, _mm256_and_si256(crossed[k], at_edge));
+                crossed[k] = w.mand(moving[k], w.fle(t_out[k], t_next));
+                let edge = w.ipick(up[k], w.isplat(self.cells[k]), zero);
+                let at_edge = w.ieq(bound[k], edge);
+                ends = w.mor(ends, w.mand(crossed[k], at_edge));
                 // The boundary is also the parent's when it is a multiple of 2^(level+1).
-                let aligned = _mm256_cmpeq_epi32(_mm256_and_si256(bound[k], parent), zero);
-                coarser = _mm256_or_si256(coarser, _mm256_and_si256(crossed[k], aligned));
+                aligned[k] = w.mand(crossed[k], w.ieq(w.iand(bound[k], parent), zero));
             }
-            ends = _mm256_and_si256(ends, leaving);
-            let moves = _mm256_andnot_si256(ends, leaving);
-            let top = _mm256_set1_epi32(self.top as i32);
-            let up_one =
-                _mm256_min_epu32(pick_i!(coarser, _mm256_add_epi32(level, one), level), top);
-            let level = pick_i!(
-                descend,
-                _mm256_sub_epi32(level, one),
-                pick_i!(moves, up_one, level)
+            let coarser = w.mor(aligned[0], aligned[1]);
+            let ends = w.mand(ends, leaving);
+            let moves = w.mandnot(leaving, ends);
+            let up_one = w.imin(
+                w.ipick(coarser, w.iadd(level, one), level),
+                w.isplat(self.top),
             );
-            st!(i, ln.level, level);
+            let level = w.ipick(descend, w.isub(level, one), w.ipick(moves, up_one, level));
+            w.ist(&mut ln.level, level);
             for k in 0..2 {
-                let synced = _mm256_and_si256(moving[k], above0);
-                let active = _mm256_and_si256(synced, moves);
-                let (j, exact) =
-                    sync_axis(active, cell[k], up[k], lo[k], hi[k], o[k], d[k], t_next);
-                let far = pick_i!(
-                    up[k],
-                    _mm256_set1_epi32(ON_NEAR as i32),
-                    _mm256_set1_epi32(ON_FAR as i32)
+                let synced = w.mand(moving[k], above0);
+                let active = w.mand(synced, moves);
+                let (j, exact) = sync_axis(
+                    w,
+                    active,
+                    (cell[k], up[k]),
+                    (lo[k], hi[k]),
+                    o[k],
+                    d[k],
+                    t_next,
                 );
-                let stepped = pick_i!(up[k], bound[k], _mm256_sub_epi32(bound[k], one));
-                let kept = pick_i!(synced, j, cell[k]);
-                let on_kept = _mm256_and_si256(_mm256_and_si256(synced, exact), far);
-                let cell_k = pick_i!(crossed[k], stepped, kept);
-                let on_k = pick_i!(crossed[k], far, on_kept);
-                st!(i, ln.cell[k], pick_i!(moves, cell_k, cell[k]));
-                let on_was = ld!(i, ln.on[k]);
-                st!(i, ln.on[k], pick_i!(moves, on_k, on_was));
+                let far = w.ipick(up[k], w.isplat(ON_NEAR), w.isplat(ON_FAR));
+                let stepped = w.ipick(up[k], bound[k], w.isub(bound[k], one));
+                let kept = w.ipick(synced, j, cell[k]);
+                let on_kept = w.ipick(w.mand(synced, exact), far, zero);
+                let cell_k = w.ipick(crossed[k], stepped, kept);
+                let on_k = w.ipick(crossed[k], far, on_kept);
+                w.ist(&mut ln.cell[k], w.ipick(moves, cell_k, cell[k]));
+                let on_was = w.ild(&ln.on[k]);
+                w.ist(&mut ln.on[k], w.ipick(moves, on_k, on_was));
             }
             for (p, pb) in ln.p.iter_mut().zip(pb) {
-                let p_was = ld!(f, p);
-                st!(f, p, pick_f!(moves, pb, p_was));
+                let p_was = w.fld(p);
+                w.fst(p, w.fpick(moves, pb, p_was));
             }
-            st!(f, ln.t, pick_f!(moves, tb, t));
-            let start = ld!(i, ln.start);
-            st!(i, ln.start, _mm256_andnot_si256(moves, start));
+            w.fst(&mut ln.t, w.fpick(moves, tb, t));
+            let start = w.mld(&ln.start);
+            w.mst(&mut ln.start, w.mandnot(start, moves));
             // The next step's texels, asked for now: the other set's step hides the wait.
-            let cell = [ld!(i, ln.cell[0]), ld!(i, ln.cell[1])];
-            let mut ahead = [0u32; LANES];
-            st!(i, ahead, texel_index(tables, texels.len(), level, cell));
+            let cell = [w.ild(&ln.cell[0]), w.ild(&ln.cell[1])];
+            let mut ahead = [0u32; N];
+            w.ist(
+                &mut ahead,
+                texel_index(w, tables, texels.len(), level, cell),
+            );
             for at in ahead {
-                // SAFETY: `texel_index` is at most the last texel's.
-                _mm_prefetch::<_MM_HINT_T0>(unsafe { texels.as_ptr().add(at as usize) }.cast());
+                // SAFETY: `texel_index` is at most the last texel's; a prefetch is
+                // SSE, which every x86-64 CPU executes.
+                unsafe { _mm_prefetch::<_MM_HINT_T0>(texels.as_ptr().add(at as usize).cast()) };
             }
-            let mut ending = _mm256_movemask_ps(_mm256_castsi256_ps(ends));
+            let mut ending = w.mbits(ends);
             while ending != 0 {
                 let l = ending.trailing_zeros() as usize;
                 ending &= ending - 1;
@@ -472,81 +488,81 @@ mod avx2 {
 
     /// The index of every lane's texel, the node of `cell` at `level`: the level's
     /// offset + row × width + column, at most `len − 1`.
-    #[inline]
-    #[target_feature(enable = "avx2")]
-    fn texel_index(tables: &Tables, len: usize, level: __m256i, cell: [__m256i; 2]) -> __m256i {
-        let offset = gather_i(&tables.offset, level);
-        let width = gather_i(&tables.width, level);
-        let row = _mm256_mullo_epi32(_mm256_srlv_epi32(cell[1], level), width);
-        let at = _mm256_add_epi32(
-            offset,
-            _mm256_add_epi32(row, _mm256_srlv_epi32(cell[0], level)),
-        );
-        _mm256_min_epu32(at, _mm256_set1_epi32(len as i32 - 1))
+    #[inline(always)]
+    fn texel_index<const N: usize, W: Wide<N>>(
+        w: W,
+        tables: &Tables,
+        len: usize,
+        level: W::I,
+        cell: [W::I; 2],
+    ) -> W::I {
+        // `table[level]`, the level clamped below the tables' length.
+        let entry = w.imin(level, w.isplat(MAX_LEVELS as u32 - 1));
+        // SAFETY: every index is below the tables' length.
+        let (offset, width) = unsafe {
+            (
+                w.igather(tables.offset.as_ptr(), entry),
+                w.igather(tables.width.as_ptr(), entry),
+            )
+        };
+        let row = w.imul(w.ishr(cell[1], level), width);
+        let at = w.iadd(offset, w.iadd(row, w.ishr(cell[0], level)));
+        w.imin(at, w.isplat(len as u32 - 1))
     }
 
-    /// `table[level]` per lane (`level` below [`MAX_LEVELS`]; clamped to it).
-    #[target_feature(enable = "avx2")]
-    fn gather_i(table: &[i32; MAX_LEVELS], level: __m256i) -> __m256i {
-        let level = _mm256_min_epu32(level, _mm256_set1_epi32(MAX_LEVELS as i32 - 1));
-        // SAFETY: every index is below the table's length.
-        unsafe { _mm256_i32gather_epi32::<4>(table.as_ptr(), level) }
+    /// Where the ray crosses boundary `b` (`(b − o) / d`).
+    #[inline(always)]
+    fn crossing<const N: usize, W: Wide<N>>(w: W, b: W::I, o: W::F, d: W::F) -> W::F {
+        w.fdiv(w.fsub(w.ifloat(b), o), d)
     }
 
     /// The scalar march's `sync_axis` on one axis of every lane at `t`: the cell after
-    /// every boundary crossed at or before `t`, from cell `i` inside `[lo, hi)`, and
-    /// whether the last boundary crossed lies exactly at `t`, for the `active` lanes
-    /// (the others' answers are not used): the estimate, then the corrections while
-    /// some active lane needs one.
-    #[target_feature(enable = "avx2")]
-    #[allow(clippy::too_many_arguments)]
-    fn sync_axis(
-        active: __m256i,
-        i: __m256i,
-        up: __m256i,
-        lo: __m256i,
-        hi: __m256i,
-        o: __m256,
-        d: __m256,
-        t: __m256,
-    ) -> (__m256i, __m256i) {
-        let one = _mm256_set1_epi32(1);
-        let at = |b: __m256i| _mm256_div_ps(_mm256_sub_ps(_mm256_cvtepi32_ps(b), o), d);
-        let lo_x = _mm256_cvtepi32_ps(lo);
-        let hi_x = _mm256_cvtepi32_ps(_mm256_sub_epi32(_mm256_max_epu32(hi, one), one));
+    /// every boundary crossed at or before `t`, from cell `i` inside `[lo, hi)` moving
+    /// `up` (a mask) or down, and whether the last boundary crossed lies exactly at
+    /// `t`, for the `active` lanes (the others' answers are not used): the estimate,
+    /// then the corrections while some active lane needs one.
+    #[inline(always)]
+    fn sync_axis<const N: usize, W: Wide<N>>(
+        w: W,
+        active: W::M,
+        (i, up): (W::I, W::M),
+        (lo, hi): (W::I, W::I),
+        o: W::F,
+        d: W::F,
+        t: W::F,
+    ) -> (W::I, W::M) {
+        let one = w.isplat(1);
+        let lo_x = w.ifloat(lo);
+        let hi_x = w.ifloat(w.isub(w.imax(hi, one), one));
         // The estimate, clamped to the node (`clamp_to`: max, then min); x ≥ 0, so
         // truncation is the floor.
-        let x = _mm256_add_ps(o, _mm256_mul_ps(t, d));
-        let j = _mm256_cvttps_epi32(rmin!(rmax!(x, lo_x), hi_x));
-        let mut j = pick_i!(up, _mm256_max_epu32(j, i), _mm256_min_epu32(j, i));
-        let back_step = pick_i!(up, _mm256_set1_epi32(-1), one);
+        let x = w.fadd(o, w.fmul(t, d));
+        let j = w.ftrunc(w.rmin(w.rmax(x, lo_x), hi_x));
+        let mut j = w.ipick(up, w.imax(j, i), w.imin(j, i));
+        let (minus_one, plus_one) = (w.isplat(u32::MAX), one);
+        let back_step = w.ipick(up, minus_one, plus_one);
         loop {
-            let up_back = _mm256_and_si256(_mm256_cmpgt_epi32(j, i), cmp!(at(j), _CMP_GT_OQ, t));
-            let next = _mm256_add_epi32(j, one);
-            let down_back =
-                _mm256_and_si256(_mm256_cmpgt_epi32(i, j), cmp!(at(next), _CMP_GT_OQ, t));
-            let back = _mm256_and_si256(active, pick_i!(up, up_back, down_back));
-            if _mm256_testz_si256(back, back) != 0 {
+            let up_back = w.mand(w.igt(j, i), w.fgt(crossing(w, j, o, d), t));
+            let down_back = w.mand(w.igt(i, j), w.fgt(crossing(w, w.iadd(j, one), o, d), t));
+            let back = w.mand(active, w.mpick(up, up_back, down_back));
+            if !w.many(back) {
                 break;
             }
-            j = _mm256_add_epi32(j, _mm256_and_si256(back, back_step));
+            j = w.ipick(back, w.iadd(j, back_step), j);
         }
-        let zero = _mm256_setzero_si256();
-        let on_step = _mm256_sub_epi32(zero, back_step);
+        let on_step = w.ipick(up, plus_one, minus_one);
         loop {
-            let next = _mm256_add_epi32(j, one);
-            let up_on =
-                _mm256_and_si256(_mm256_cmpgt_epi32(hi, next), cmp!(at(next), _CMP_LE_OQ, t));
-            let down_on = _mm256_and_si256(_mm256_cmpgt_epi32(j, lo), cmp!(at(j), _CMP_LE_OQ, t));
-            let on = _mm256_and_si256(active, pick_i!(up, up_on, down_on));
-            if _mm256_testz_si256(on, on) != 0 {
+            let next = w.iadd(j, one);
+            let up_on = w.mand(w.igt(hi, next), w.fle(crossing(w, next, o, d), t));
+            let down_on = w.mand(w.igt(j, lo), w.fle(crossing(w, j, o, d), t));
+            let on = w.mand(active, w.mpick(up, up_on, down_on));
+            if !w.many(on) {
                 break;
             }
-            j = _mm256_add_epi32(j, _mm256_and_si256(on, on_step));
+            j = w.ipick(on, w.iadd(j, on_step), j);
         }
-        let moved = _mm256_andnot_si256(_mm256_cmpeq_epi32(j, i), _mm256_set1_epi32(-1));
-        let last = pick_f!(up, at(j), at(_mm256_add_epi32(j, one)));
-        let exact = _mm256_and_si256(moved, cmp!(last, _CMP_EQ_OQ, t));
+        let last = w.fpick(up, crossing(w, j, o, d), crossing(w, w.iadd(j, one), o, d));
+        let exact = w.mandnot(w.feq(last, t), w.ieq(j, i));
         (j, exact)
     }
 }

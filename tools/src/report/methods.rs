@@ -582,7 +582,7 @@ pub fn settings(sweep: &Sweep) -> Vec<Setting> {
             )
         },
     ];
-    // One-level ascent in AVX2 lanes (where the CPU has them), one ray after another
+    // One-level ascent in SIMD lanes (AVX-512 or AVX2, where the CPU has them), one ray after another
     // and sharing a camera's horizon; the highest ascent is not laned.
     for (ascent, name, batching) in [
         (Ascent::OneLevel, "one-level", Batching::Lanes),
