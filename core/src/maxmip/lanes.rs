@@ -5,8 +5,11 @@
 //! and a step is one pass of vector code over all of them: the node's bounds, its two
 //! exit parameters, the texel read, the skip-descend-test decision, leaving the node
 //! with the other axis brought up to date (`sync_axis`) and the one-level ascent, every
-//! branch of [`March::advance`] a blend. Only the exact cell test at level 0, the start
-//! of a walk and its finish run per lane, on the scalar march's own code. Two sets of
+//! branch of [`March::advance`] a blend. The walks begin in lanes too, `N` queries at a
+//! time (the box clip, the first cell and the starting level, without a branch on the
+//! ray's direction: on incoherent rays the scalar start's branches were mispredicted),
+//! and idle lanes take them from that queue. Only the exact cell test at level 0 and
+//! the finish run per lane, on the scalar march's own code. Two sets of
 //! lanes step in turn, and each step ends by prefetching its lanes' next texels: on
 //! incoherent rays the texel read is a cache miss, and the other set's step hides it
 //! (random rays over the Himalaya DEM: about 0.75× the time of one set). Every lane
@@ -30,7 +33,7 @@
 #![cfg_attr(not(target_arch = "x86_64"), allow(dead_code))]
 
 use super::{trace, Ascent, March, MaxMip, Options, Walk, MAX_LEVELS};
-use crate::dda::{Entry, Span};
+use crate::dda::{entry_on, Entry, Span};
 use crate::field::HeightField;
 use crate::ray::{Query, Trace};
 use crate::simd::Avx2;
@@ -68,6 +71,7 @@ pub fn trace_lanes(
     assert_eq!(queries.len(), out.len(), "one answer per query");
     let laned = opts.lod.is_none()
         && opts.ascent == Ascent::OneLevel
+        && surface != Surface::CornerPlanes
         && i32::try_from(mip.texels.len()).is_ok();
     let (true, Some(avx2)) = (laned && cfg!(target_arch = "x86_64"), simd) else {
         for (o, q) in out.iter_mut().zip(queries) {
@@ -134,6 +138,61 @@ fn on_of(code: u32) -> Option<bool> {
     (code != ON_NONE).then_some(code == ON_FAR)
 }
 
+/// A harmless walk, at texel 0 (an idle lane's).
+fn idle_walk() -> Walk<f32> {
+    let q = Query::from_arrays([0.0; 3], [1.0; 3], 0.0, 1.0).expect("a valid ray");
+    let span = Span {
+        t0: 0.0,
+        t1: 0.0,
+        entry: Entry::Start,
+    };
+    Walk {
+        q,
+        span,
+        step: [1, 1],
+        lod: None,
+        cell: [0; 2],
+        level: 0,
+        t: 0.0,
+        p: [0.0; 3],
+        start: true,
+        on: [None; 2],
+        fetches: 0,
+        clearance: f32::INFINITY,
+    }
+}
+
+/// Up to `N` walks begun together, from `head` to `n`, waiting for idle lanes, each
+/// with its query's position in the caller's slice.
+struct Begun<const N: usize> {
+    walks: [(usize, Walk<f32>); N],
+    head: usize,
+    n: usize,
+}
+
+/// How a span begins ([`Entry`], as a number the lanes can blend): at the start,
+/// through the side of the footprint whose outward normal is `−x`, `+x`, `−y` or `+y`,
+/// or through the top.
+const ENTRY_START: u32 = 0;
+const ENTRY_SIDE: [[u32; 2]; 2] = [[1, 2], [3, 4]];
+const ENTRY_TOP: u32 = 5;
+
+fn entry_of(code: u32) -> Entry<f32> {
+    let side = |k: usize, out: f32| {
+        let mut n = [0.0; 3];
+        n[k] = out;
+        Entry::Side(n)
+    };
+    match code {
+        1 => side(0, -1.0),
+        2 => side(0, 1.0),
+        3 => side(1, -1.0),
+        4 => side(1, 1.0),
+        ENTRY_TOP => Entry::Top,
+        _ => Entry::Start,
+    }
+}
+
 /// `N` walks held field by field; `walk` keeps what only the per-lane code reads (the
 /// query and its span). An idle lane (`index` `None`) holds a harmless walk. Masks are
 /// stored as `0` or [`TRUE`] per lane.
@@ -160,26 +219,7 @@ struct Lanes<const N: usize> {
 impl<const N: usize> Lanes<N> {
     /// Every lane idle, on a walk that reads texel 0.
     fn idle() -> Self {
-        let q = Query::from_arrays([0.0; 3], [1.0; 3], 0.0, 1.0).expect("a valid ray");
-        let span = Span {
-            t0: 0.0,
-            t1: 0.0,
-            entry: Entry::Start,
-        };
-        let walk = Walk {
-            q,
-            span,
-            step: [1, 1],
-            lod: None,
-            cell: [0; 2],
-            level: 0,
-            t: 0.0,
-            p: [0.0; 3],
-            start: true,
-            on: [None; 2],
-            fetches: 0,
-            clearance: f32::INFINITY,
-        };
+        let walk = idle_walk();
         let mut lanes = Lanes {
             index: [None; N],
             walk: [walk; N],
@@ -285,17 +325,26 @@ mod x86 {
         // Two sets of lanes stepped in turn: each step asks for its next texels, which
         // arrive while the other set steps.
         let mut sets: [Lanes<N>; SETS] = core::array::from_fn(|_| Lanes::idle());
+        let mut begun = Begun {
+            walks: [(0, idle_walk()); N],
+            head: 0,
+            n: 0,
+        };
         let mut next = 0;
         loop {
             for lanes in &mut sets {
                 for l in 0..N {
-                    // An idle lane takes the next query that needs a march.
-                    while lanes.index[l].is_none() && next < queries.len() {
-                        match march.begin(&queries[next]) {
-                            Ok(walk) => lanes.load(l, next, &walk),
-                            Err(trace) => out[next] = march.finish(&queries[next], trace),
+                    // An idle lane takes the next walk, the queries begun `N` at a time.
+                    while lanes.index[l].is_none() {
+                        if begun.head < begun.n {
+                            let (k, walk) = &begun.walks[begun.head];
+                            lanes.load(l, *k, walk);
+                            begun.head += 1;
+                        } else if next < queries.len() {
+                            next = march.begin_lanes(w, (queries, next), out, &mut begun);
+                        } else {
+                            break;
                         }
-                        next += 1;
                     }
                 }
             }
@@ -314,6 +363,157 @@ mod x86 {
     }
 
     impl March<'_, '_> {
+        /// [`March::begin`] of the queries from `next` on, `N` of them (fewer at the
+        /// end) in lanes: the box clip, the first cell and the starting level, each the
+        /// scalar code's operations on the same values in the same order. The walks go
+        /// to `begun` (emptied first), in order; the queries that miss the box get
+        /// their answer in `out`. Returns the position after the last query begun.
+        #[inline(always)]
+        fn begin_lanes<const N: usize, W: Wide<N>>(
+            &self,
+            w: W,
+            (queries, next): (&[Query<f32>], usize),
+            out: &mut [Trace<f32>],
+            begun: &mut Begun<N>,
+        ) -> usize {
+            let n = (queries.len() - next).min(N);
+            // The lanes past the last query repeat it; their answers are not used.
+            let mut q = [[0f32; N]; 8];
+            for l in 0..N {
+                let query = &queries[next + l.min(n - 1)];
+                let (o, d) = (query.origin(), query.dir());
+                for k in 0..3 {
+                    (q[k][l], q[3 + k][l]) = (o[k], d[k]);
+                }
+                (q[6][l], q[7][l]) = (query.t_min(), query.t_max());
+            }
+            let o = [w.fld(&q[0]), w.fld(&q[1]), w.fld(&q[2])];
+            let d = [w.fld(&q[3]), w.fld(&q[4]), w.fld(&q[5])];
+            let (mut t0, mut t1) = (w.fld(&q[6]), w.fld(&q[7]));
+            let (zero, one) = (w.fsplat(0.0), w.fsplat(1.0));
+            let (izero, ione) = (w.isplat(0), w.isplat(1));
+            let (hf, cells) = (self.hf, self.cells);
+            let (zmin, zmax) = (w.fsplat(hf.min_height()), w.fsplat(hf.max_height()));
+            // `dda::clip_surface` (any surface but corner planes). A level or rising
+            // ray above the box misses.
+            let top = w.fdiv(w.fsub(zmax, o[2]), d[2]);
+            let (rising, falling) = (w.fgt(d[2], zero), w.flt(d[2], zero));
+            let level = w.feq(d[2], zero);
+            let above = w.mand(level, w.fgt(o[2], zmax));
+            let mut ok = w.mandnot(
+                w.ieq(izero, izero),
+                w.mor(above, w.mand(rising, w.flt(top, t0))),
+            );
+            let mut entry = w.isplat(ENTRY_START);
+            let mut up = [ok; 2];
+            let mut down = [ok; 2];
+            for k in 0..2 {
+                let lim = w.fsplat(cells[k] as f32);
+                (up[k], down[k]) = (w.fgt(d[k], zero), w.flt(d[k], zero));
+                let moving = w.mor(up[k], down[k]);
+                // A level ray stays in or out of the slab.
+                let outside = w.mor(w.flt(o[k], zero), w.fgt(o[k], lim));
+                ok = w.mandnot(ok, w.mandnot(outside, moving));
+                let (enter, leave) = (w.fpick(up[k], zero, lim), w.fpick(up[k], lim, zero));
+                let near = w.fdiv(w.fsub(enter, o[k]), d[k]);
+                let far = w.fdiv(w.fsub(leave, o[k]), d[k]);
+                let later = w.mand(moving, w.fgt(near, t0));
+                t0 = w.fpick(later, near, t0);
+                let side = w.ipick(
+                    up[k],
+                    w.isplat(ENTRY_SIDE[k][0]),
+                    w.isplat(ENTRY_SIDE[k][1]),
+                );
+                entry = w.ipick(later, side, entry);
+                t1 = w.fpick(moving, w.rmin(t1, far), t1);
+            }
+            ok = w.mandnot(ok, w.fgt(t0, t1));
+            t1 = w.fpick(rising, w.rmin(t1, top), t1);
+            let later = w.mand(falling, w.fgt(top, t0));
+            t0 = w.fpick(later, top, t0);
+            entry = w.ipick(later, w.isplat(ENTRY_TOP), entry);
+            ok = w.mandnot(ok, w.mand(falling, w.fgt(t0, t1)));
+            // Well under the lowest sample the ray is inside the solid.
+            let margin = w.fadd(one, w.fsub(zmax, zmin));
+            let under = w.fdiv(w.fsub(w.fsub(zmin, margin), o[2]), d[2]);
+            let solid = w.rmin(w.rmax(under, t0), w.fsplat(f32::MAX));
+            t1 = w.fpick(falling, w.rmin(t1, solid), t1);
+            let finite = w.mand(
+                w.fgt(t0, w.fsplat(f32::NEG_INFINITY)),
+                w.flt(t1, w.fsplat(f32::INFINITY)),
+            );
+            ok = w.mand(ok, w.mand(w.fle(t0, t1), finite));
+            // The first cell: a point on a boundary belongs to the cell the ray moves
+            // into (`cell_index`).
+            let p = [
+                w.fadd(o[0], w.fmul(t0, d[0])),
+                w.fadd(o[1], w.fmul(t0, d[1])),
+                w.fadd(o[2], w.fmul(t0, d[2])),
+            ];
+            let mut cell = [izero; 2];
+            for k in 0..2 {
+                let x = w.rmin(w.rmax(p[k], zero), w.fsplat(cells[k] as f32));
+                let i = w.ftrunc(x);
+                let boundary = w.mand(w.feq(w.ifloat(i), x), w.igt(i, izero));
+                let i = w.ipick(w.mand(down[k], boundary), w.isub(i, ione), i);
+                cell[k] = w.imin(i, w.isplat(cells[k] - 1));
+            }
+            // Where nodes are a quarter to an eighth of the ray's horizontal reach:
+            // ilog2(reach + 1) − 2, the logarithm from the exponent of the value as
+            // `f32`, one less where that rounded up to the next power of two.
+            let reach = w.fmul(w.rmax(w.fabs(d[0]), w.fabs(d[1])), w.fsub(t1, t0));
+            let v = w.iadd(w.ftrunc(w.rmin(reach, w.fsplat((1u32 << 30) as f32))), ione);
+            let e = w.isub(w.ishr(w.fbits(w.ifloat(v)), w.isplat(23)), w.isplat(127));
+            let e = w.ipick(w.igt(w.ishl(ione, e), v), w.isub(e, ione), e);
+            let start = w.isub(w.imax(e, w.isplat(2)), w.isplat(2));
+            let start = w.imin(start, w.isplat(self.top));
+            let mut a = [[0u32; N]; 4];
+            for (k, v) in [cell[0], cell[1], start, entry].into_iter().enumerate() {
+                w.ist(&mut a[k], v);
+            }
+            let mut f = [[0f32; N]; 5];
+            for (k, v) in [t0, t1, p[0], p[1], p[2]].into_iter().enumerate() {
+                w.fst(&mut f[k], v);
+            }
+            let ok = w.mbits(ok);
+            let up = [w.mbits(up[0]), w.mbits(up[1])];
+            let down = [w.mbits(down[0]), w.mbits(down[1])];
+            begun.head = 0;
+            begun.n = 0;
+            for l in 0..n {
+                let (k, query) = (next + l, &queries[next + l]);
+                if ok >> l & 1 == 0 {
+                    out[k] = self.finish(query, Trace::MISS);
+                    continue;
+                }
+                let step = |k: usize| i64::from(up[k] >> l & 1) - i64::from(down[k] >> l & 1);
+                let span = Span {
+                    t0: f[0][l],
+                    t1: f[1][l],
+                    entry: entry_of(a[3][l]),
+                };
+                begun.walks[begun.n] = (
+                    k,
+                    Walk {
+                        q: *query,
+                        step: [step(0), step(1)],
+                        lod: None,
+                        cell: [a[0][l], a[1][l]],
+                        level: a[2][l],
+                        t: span.t0,
+                        p: [f[2][l], f[3][l], f[4][l]],
+                        start: true,
+                        on: entry_on(self.surface, &span.entry),
+                        span,
+                        fetches: 0,
+                        clearance: f32::INFINITY,
+                    },
+                );
+                begun.n += 1;
+            }
+            next + n
+        }
+
         /// One node visit of every busy lane ([`March::advance`] on each, exact options,
         /// one-level ascent); `ended(k, trace)` receives the answer (before the finish)
         /// of each query `k` that ends, and its lane goes idle.

@@ -28,8 +28,12 @@ pub(super) trait Wide<const N: usize>: Copy {
     fn feq(self, a: Self::F, b: Self::F) -> Self::M;
     /// `if m { a } else { b }` per lane.
     fn fpick(self, m: Self::M, a: Self::F, b: Self::F) -> Self::F;
+    /// `|a|`.
+    fn fabs(self, a: Self::F) -> Self::F;
     /// Truncation towards zero.
     fn ftrunc(self, a: Self::F) -> Self::I;
+    /// The bits of `a`.
+    fn fbits(self, a: Self::F) -> Self::I;
     fn ild(self, a: &[u32; N]) -> Self::I;
     fn ist(self, a: &mut [u32; N], v: Self::I);
     fn isplat(self, x: u32) -> Self::I;
@@ -151,8 +155,16 @@ impl Wide<8> for Ymm {
         unsafe { _mm256_blendv_ps(b, a, _mm256_castsi256_ps(m)) }
     }
     #[inline(always)]
+    fn fabs(self, a: __m256) -> __m256 {
+        unsafe { _mm256_andnot_ps(_mm256_set1_ps(-0.0), a) }
+    }
+    #[inline(always)]
     fn ftrunc(self, a: __m256) -> __m256i {
         unsafe { _mm256_cvttps_epi32(a) }
+    }
+    #[inline(always)]
+    fn fbits(self, a: __m256) -> __m256i {
+        unsafe { _mm256_castps_si256(a) }
     }
     #[inline(always)]
     fn ild(self, a: &[u32; 8]) -> __m256i {
@@ -305,8 +317,16 @@ impl Wide<16> for Zmm {
         unsafe { _mm512_mask_blend_ps(m, b, a) }
     }
     #[inline(always)]
+    fn fabs(self, a: __m512) -> __m512 {
+        unsafe { _mm512_abs_ps(a) }
+    }
+    #[inline(always)]
     fn ftrunc(self, a: __m512) -> __m512i {
         unsafe { _mm512_cvttps_epi32(a) }
+    }
+    #[inline(always)]
+    fn fbits(self, a: __m512) -> __m512i {
+        unsafe { _mm512_castps_si512(a) }
     }
     #[inline(always)]
     fn ild(self, a: &[u32; 16]) -> __m512i {
