@@ -54,8 +54,8 @@ const TRUE: u32 = u32::MAX;
 /// [`super::trace`] of every query of `queries` into `out` (same lengths), the answers
 /// bit for bit those of [`super::trace`], [`LANES`] rays at a time with `simd` when it
 /// knows AVX-512F, [`LANES_AVX2`] with AVX2 only (see the module docs); without it, or
-/// for level of detail, [`Ascent::Highest`] or a pyramid of 2³¹ texels or more, query
-/// by query. A lane that finishes takes the next query, so coherent queries (a pixel
+/// for level of detail, [`Ascent::Highest`], the corner-plane surface (which the scalar
+/// march hands to the DDA) or a pyramid of 2³¹ texels or more, query by query. A lane that finishes takes the next query, so coherent queries (a pixel
 /// tile's, in order) keep the lanes on neighbouring nodes.
 ///
 /// Panics when the lengths differ.
