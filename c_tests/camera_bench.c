@@ -2,8 +2,8 @@
  * hf_trace_batch on the same rays in row order, and on one thread against two: ns per
  * ray, best of five, on terrain-filled frames of a height map (`make camera-bench`).
  *   camera_bench MAP.png
- *   camera_bench MAP.png METHOD REPS   hf_trace_batch of METHOD (maxmip, cc or dda)
- *                                       alone, best of REPS: a loop to profile */
+ *   camera_bench MAP.png METHOD REPS [camera]   hf_trace_batch of METHOD (maxmip, cc
+ *       or dda) alone, best of REPS: a loop to profile; with `camera`, hf_trace_camera */
 #define _POSIX_C_SOURCE 199309L
 #include <hfcast.h>
 #include <math.h>
@@ -60,11 +60,13 @@ int main(int argc, char **argv) {
     uint16_t *samples = argc > 1 ? read_png_gray16(argv[1], &w, &h) : NULL;
     const char *only = argc > 3 ? argv[2] : NULL;
     int only_reps = argc > 3 ? atoi(argv[3]) : 0;
+    int only_camera = argc > 4 && strcmp(argv[4], "camera") == 0;
     int known = only == NULL || strcmp(only, "maxmip") == 0 || strcmp(only, "cc") == 0 ||
                 strcmp(only, "dda") == 0;
-    if (samples == NULL || argc == 3 || !known || (only != NULL && only_reps < 1)) {
-        fprintf(stderr, "usage: camera_bench MAP.png [METHOD REPS] (METHOD: maxmip, cc or dda; "
-                        "REPS at least 1)\n");
+    if (samples == NULL || argc == 3 || argc > 5 || (argc == 5 && !only_camera) || !known ||
+        (only != NULL && only_reps < 1)) {
+        fprintf(stderr, "usage: camera_bench MAP.png [METHOD REPS [camera]] (METHOD: maxmip, cc "
+                        "or dda; REPS at least 1)\n");
         return 1;
     }
     float depth = 0.1f * (float)(w > h ? w : h);
@@ -110,9 +112,10 @@ int main(int argc, char **argv) {
         for (int m = 0; m < 3; m++) {
             if (only != NULL) {
                 if (strcmp(only, methods[m].name) == 0)
-                    printf("%-6s %2.0f deg: batch (rows) %6.1f ns/ray, best of %d\n",
-                           methods[m].name, elevations[e],
-                           best_ns(f, &methods[m], &cam, rays, hits, 0, only_reps), only_reps);
+                    printf("%-6s %2.0f deg: %s %6.1f ns/ray, best of %d\n", methods[m].name,
+                           elevations[e], only_camera ? "camera (tiles)" : "batch (rows)",
+                           best_ns(f, &methods[m], &cam, rays, hits, only_camera, only_reps),
+                           only_reps);
                 continue;
             }
             double rows = best_ns(f, &methods[m], &cam, rays, hits, 0, 5);

@@ -211,44 +211,43 @@ unsafe fn trace_pixels(
             o.threads,
             out,
             |rows, band| {
-                let first = rows.start as usize * c.width as usize;
-                // A tile's hits gather in `local`, then go to the image a row at a time:
+                // A row of tiles is traced at once, its rays in tile order: a laned
+                // march's lanes drain at the end of each call (measured: a call for
+                // each tile of 64 rays cost 1.3× the time of the same rays in rows). Its
+                // hits gather in `local`, then go to the image a tile row at a time:
                 // stores scattered over eight image rows cost more than the traces of
                 // cheap rays (measured: 190 against 105 ns a ray that misses the box).
-                let width = c.width as usize;
-                let mut local = [hf_hit::default(); (TILE * TILE) as usize];
-                let mut queries = Vec::with_capacity(local.len());
-                let mut starts = Vec::with_capacity(local.len());
-                let (mut rays, mut flat) = (Vec::new(), Vec::new());
+                let (first, width) = (rows.start as usize * c.width as usize, c.width as usize);
+                let (mut rays, mut flat, mut local) = (Vec::new(), Vec::new(), Vec::new());
+                let (mut queries, mut starts) = (Vec::new(), Vec::new());
                 let (mut plain, mut traced) = (Vec::new(), PlainScratch::default());
                 let (mut hint, near) = (0, Near::of(hf));
-                for (ys, xs) in p.tiles(rows) {
-                    let (y0, x0, tw) = (ys.start, xs.start, xs.len());
-                    let n = ys.len() * tw;
+                for y0 in rows.clone().step_by(TILE as usize) {
+                    let tiles: Vec<_> = p.tiles(y0..(y0 + TILE).min(rows.end)).collect();
+                    let pixels = || {
+                        tiles.iter().flat_map(|(ys, xs)| {
+                            ys.clone()
+                                .flat_map(move |y| xs.clone().map(move |x| (x, y)))
+                        })
+                    };
                     rays.clear();
-                    for y in ys.clone() {
-                        for x in xs.clone() {
-                            rays.push(ray(&p, &m, c.t_max, x, y)?);
-                        }
+                    for (x, y) in pixels() {
+                        rays.push(ray(&p, &m, c.t_max, x, y)?);
                     }
+                    let n = rays.len();
+                    local.clear();
+                    local.resize(n, hf_hit::default());
                     flat.clear();
                     flat.extend(rays.iter().flatten());
                     if flat.len() == n && plain_queries(hf, &near, &flat, &mut plain) {
-                        // Every pixel has a ray that needs no conditioning: traced as the
-                        // batches trace theirs.
+                        // Every pixel has a ray that needs no conditioning: traced as
+                        // the batches trace theirs.
                         let plain = (plain.as_slice(), &mut traced);
-                        trace_plain(
-                            (&m, &o, hf),
-                            horizon.as_ref(),
-                            plain,
-                            &mut hint,
-                            &mut local[..n],
-                        );
+                        trace_plain((&m, &o, hf), horizon.as_ref(), plain, &mut hint, &mut local);
                     } else {
                         queries.clear();
                         starts.clear();
-                        let pixels = ys.clone().flat_map(|y| xs.clone().map(move |x| (x, y)));
-                        for ((x, y), r) in pixels.zip(&rays) {
+                        for ((x, y), r) in pixels().zip(&rays) {
                             let k = y as usize * width + x as usize;
                             queries.push(match r {
                                 Some(r) => Some(query_near(hf, &near, r, Some(k))?),
@@ -259,11 +258,16 @@ unsafe fn trace_pixels(
                                 _ => None,
                             });
                         }
-                        trace_locals(&m, &o, hf, &queries, &starts, &mut local[..n]);
+                        trace_locals(&m, &o, hf, &queries, &starts, &mut local);
                     }
-                    for (dy, row) in local.chunks(tw).take(ys.len()).enumerate() {
-                        let k = (y0 as usize + dy) * width + x0 as usize - first;
-                        band[k..k + tw].copy_from_slice(row);
+                    let mut hits = local.as_slice();
+                    for (ys, xs) in &tiles {
+                        let (tile, rest) = hits.split_at(ys.len() * xs.len());
+                        for (dy, row) in tile.chunks(xs.len()).enumerate() {
+                            let k = (ys.start as usize + dy) * width + xs.start as usize - first;
+                            band[k..k + xs.len()].copy_from_slice(row);
+                        }
+                        hits = rest;
                     }
                 }
                 Ok(())
