@@ -716,6 +716,15 @@ mod x86 {
         w.fdiv(w.fsub(w.ifloat(b), o), d)
     }
 
+    /// Where the ray crosses boundaries `j` and `j + 1`.
+    #[inline(always)]
+    fn across<const N: usize, W: Wide<N>>(w: W, j: W::I, o: W::F, d: W::F) -> [W::F; 2] {
+        [
+            crossing(w, j, o, d),
+            crossing(w, w.iadd(j, w.isplat(1)), o, d),
+        ]
+    }
+
     /// The scalar march's `sync_axis` on one axis of every lane at `t`: the cell after
     /// every boundary crossed at or before `t`, from cell `i` inside `[lo, hi)` moving
     /// `up` (a mask) or down, and whether the last boundary crossed lies exactly at
@@ -740,28 +749,32 @@ mod x86 {
         let j = w.ftrunc(w.rmin(w.rmax(x, lo_x), hi_x));
         let mut j = w.ipick(up, w.imax(j, i), w.imin(j, i));
         let (minus_one, plus_one) = (w.isplat(u32::MAX), one);
+        // Where the ray crosses the lanes' boundaries `j` and `j + 1`, divided again only
+        // when a correction moves `j` (the divisions are most of the step's time).
+        let mut at = across(w, j, o, d);
         let back_step = w.ipick(up, minus_one, plus_one);
         loop {
-            let up_back = w.mand(w.igt(j, i), w.fgt(crossing(w, j, o, d), t));
-            let down_back = w.mand(w.igt(i, j), w.fgt(crossing(w, w.iadd(j, one), o, d), t));
+            let up_back = w.mand(w.igt(j, i), w.fgt(at[0], t));
+            let down_back = w.mand(w.igt(i, j), w.fgt(at[1], t));
             let back = w.mand(active, w.mpick(up, up_back, down_back));
             if !w.many(back) {
                 break;
             }
             j = w.ipick(back, w.iadd(j, back_step), j);
+            at = across(w, j, o, d);
         }
         let on_step = w.ipick(up, plus_one, minus_one);
         loop {
-            let next = w.iadd(j, one);
-            let up_on = w.mand(w.igt(hi, next), w.fle(crossing(w, next, o, d), t));
-            let down_on = w.mand(w.igt(j, lo), w.fle(crossing(w, j, o, d), t));
+            let up_on = w.mand(w.igt(hi, w.iadd(j, one)), w.fle(at[1], t));
+            let down_on = w.mand(w.igt(j, lo), w.fle(at[0], t));
             let on = w.mand(active, w.mpick(up, up_on, down_on));
             if !w.many(on) {
                 break;
             }
             j = w.ipick(on, w.iadd(j, on_step), j);
+            at = across(w, j, o, d);
         }
-        let last = w.fpick(up, crossing(w, j, o, d), crossing(w, w.iadd(j, one), o, d));
+        let last = w.fpick(up, at[0], at[1]);
         let exact = w.mandnot(w.feq(last, t), w.ieq(j, i));
         (j, exact)
     }
