@@ -32,7 +32,7 @@
 // Elsewhere the lanes are never made: `trace_lanes` is the scalar march.
 #![cfg_attr(not(target_arch = "x86_64"), allow(dead_code))]
 
-use super::{trace, Ascent, March, MaxMip, Options, Walk, MAX_LEVELS};
+use super::{trace, Ascent, March, MaxMip, Options, Walk};
 use crate::dda::{entry_on, Entry, Span};
 use crate::field::HeightField;
 use crate::ray::{Query, Trace};
@@ -55,8 +55,10 @@ const TRUE: u32 = u32::MAX;
 /// bit for bit those of [`super::trace`], [`LANES`] rays at a time with `simd` when it
 /// knows AVX-512F, [`LANES_AVX2`] with AVX2 only (see the module docs); without it, or
 /// for level of detail, [`Ascent::Highest`], the corner-plane surface (which the scalar
-/// march hands to the DDA) or a pyramid of 2³¹ texels or more, query by query. A lane that finishes takes the next query, so coherent queries (a pixel
-/// tile's, in order) keep the lanes on neighbouring nodes.
+/// march hands to the DDA), a pyramid of 2³¹ texels or more or one of more than 16
+/// levels (a side of more than 2¹⁵ cells), query by query. A lane that finishes takes
+/// the next query, so coherent queries (a pixel tile's, in order) keep the lanes on
+/// neighbouring nodes.
 ///
 /// Panics when the lengths differ.
 pub fn trace_lanes(
@@ -72,7 +74,8 @@ pub fn trace_lanes(
     let laned = opts.lod.is_none()
         && opts.ascent == Ascent::OneLevel
         && surface != Surface::CornerPlanes
-        && i32::try_from(mip.texels.len()).is_ok();
+        && i32::try_from(mip.texels.len()).is_ok()
+        && mip.layout().levels() as usize <= TABLE_LEVELS;
     let (true, Some(avx2)) = (laned && cfg!(target_arch = "x86_64"), simd) else {
         for (o, q) in out.iter_mut().zip(queries) {
             *o = trace(hf, mip, surface, q, opts);
@@ -100,16 +103,21 @@ const SETS: usize = 2;
 
 /// The pyramid's level table (the gathers' indices).
 struct Tables {
-    offset: [u32; MAX_LEVELS],
-    width: [u32; MAX_LEVELS],
+    offset: [u32; TABLE_LEVELS],
+    width: [u32; TABLE_LEVELS],
 }
+
+/// The levels [`Tables`] holds: what a register of sixteen lanes holds, for a lookup
+/// by permutation (a pyramid of more levels, over a side of more than 2¹⁵ cells, is
+/// marched query by query).
+const TABLE_LEVELS: usize = 16;
 
 impl Tables {
     fn of(mip: &MaxMip) -> Tables {
         let layout = mip.layout();
         let mut t = Tables {
-            offset: [0; MAX_LEVELS],
-            width: [0; MAX_LEVELS],
+            offset: [0; TABLE_LEVELS],
+            width: [0; TABLE_LEVELS],
         };
         for level in 0..layout.levels() {
             // Both fit `i32`: the caller checked that the texel count does.
@@ -696,15 +704,11 @@ mod x86 {
         level: W::I,
         cell: [W::I; 2],
     ) -> W::I {
-        // `table[level]`, the level clamped below the tables' length.
-        let entry = w.imin(level, w.isplat(MAX_LEVELS as u32 - 1));
-        // SAFETY: every index is below the tables' length.
-        let (offset, width) = unsafe {
-            (
-                w.igather(tables.offset.as_ptr(), entry),
-                w.igather(tables.width.as_ptr(), entry),
-            )
-        };
+        // `table[level]` (a level is below the tables' length: the caller checked).
+        let (offset, width) = (
+            w.itable(&tables.offset, level),
+            w.itable(&tables.width, level),
+        );
         let row = w.imul(w.ishr(cell[1], level), width);
         let at = w.iadd(offset, w.iadd(row, w.ishr(cell[0], level)));
         w.imin(at, w.isplat(len as u32 - 1))

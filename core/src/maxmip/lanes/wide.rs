@@ -68,8 +68,9 @@ pub(super) trait Wide<const N: usize>: Copy {
     /// # Safety
     /// Every index is inside the allocation `base` points into.
     unsafe fn fgather(self, base: *const f32, at: Self::I) -> Self::F;
-    /// `base[at]` per lane, on `u32`s; the same contract.
-    unsafe fn igather(self, base: *const u32, at: Self::I) -> Self::I;
+    /// `table[at]` per lane, `at` below 16 (a permutation across the register, not
+    /// a gather).
+    fn itable(self, table: &[u32; 16], at: Self::I) -> Self::I;
 
     /// `Real::min(a, b)`: `b < a ? b : a`.
     #[inline(always)]
@@ -259,8 +260,17 @@ impl Wide<8> for Ymm {
         unsafe { _mm256_i32gather_ps::<4>(base, at) }
     }
     #[inline(always)]
-    unsafe fn igather(self, base: *const u32, at: __m256i) -> __m256i {
-        unsafe { _mm256_i32gather_epi32::<4>(base.cast(), at) }
+    fn itable(self, table: &[u32; 16], at: __m256i) -> __m256i {
+        // Each half of the table permuted by the low three bits, then the half chosen.
+        let (low, high) = unsafe {
+            let low = _mm256_loadu_si256(table.as_ptr().cast());
+            let high = _mm256_loadu_si256(table[8..].as_ptr().cast());
+            (
+                _mm256_permutevar8x32_epi32(low, at),
+                _mm256_permutevar8x32_epi32(high, at),
+            )
+        };
+        self.ipick(self.igt(at, self.isplat(7)), high, low)
     }
 }
 
@@ -423,7 +433,7 @@ impl Wide<16> for Zmm {
         unsafe { _mm512_i32gather_ps::<4>(at, base) }
     }
     #[inline(always)]
-    unsafe fn igather(self, base: *const u32, at: __m512i) -> __m512i {
-        unsafe { _mm512_i32gather_epi32::<4>(at, base.cast()) }
+    fn itable(self, table: &[u32; 16], at: __m512i) -> __m512i {
+        unsafe { _mm512_permutexvar_epi32(at, _mm512_loadu_si512(table.as_ptr().cast())) }
     }
 }
