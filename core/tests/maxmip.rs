@@ -454,6 +454,54 @@ fn approximate_options() {
     }
 }
 
+/// A pyramid of more levels than the lanes' level tables hold (a side of 2¹⁶ cells):
+/// [`maxmip::trace_lanes`] answers as [`maxmip::trace`] (query by query, with or
+/// without the SIMD token).
+#[test]
+fn lanes_on_a_pyramid_of_seventeen_levels() {
+    let (w, h) = ((1u32 << 16) + 1, 3);
+    let samples: Vec<f32> = (0..w * h).map(|k| ((k * 7919) % 13) as f32).collect();
+    let hf = HeightField::new(&samples, w, h, w as usize).unwrap();
+    let pyramid = baked(&hf);
+    let mip = MaxMip::new(&hf, &pyramid).unwrap();
+    assert_eq!(mip.layout().levels(), 17);
+    let mut rng = Rng::new(17);
+    let qs: Vec<Query<f32>> = (0..200)
+        .map(|_| {
+            let o = [
+                rng.range(0.0, w as f64),
+                rng.range(0.0, 2.0),
+                rng.range(0.0, 16.0),
+            ];
+            let d = [
+                rng.range(-1.0, 1.0),
+                rng.range(-0.01, 0.01),
+                rng.range(-0.2, 0.0),
+            ];
+            Query::from_arrays(o.map(|v| v as f32), d.map(|v| v as f32), 0.0, f32::INFINITY)
+                .unwrap()
+        })
+        .collect();
+    let o = Options::default();
+    let want: Vec<String> = qs
+        .iter()
+        .map(|q| bits(&maxmip::trace(&hf, &mip, Surface::Triangles, q, &o)))
+        .collect();
+    let mut got = vec![Trace::MISS; qs.len()];
+    maxmip::trace_lanes(
+        &hf,
+        &mip,
+        Surface::Triangles,
+        &qs,
+        &o,
+        &mut got,
+        hfcast::detect_avx2!(),
+    );
+    let got: Vec<String> = got.iter().map(bits).collect();
+    assert_eq!(got, want);
+    assert!(got.iter().any(|g| g.contains("hit: Some")), "some rays hit");
+}
+
 #[test]
 fn vertical_and_axis_rays_at_integers() {
     // Every integer grid point, straight down and along both axes through it.
