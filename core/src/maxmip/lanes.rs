@@ -202,11 +202,13 @@ fn entry_of(code: u32) -> Entry<f32> {
 }
 
 /// `N` walks held field by field; `walk` keeps what only the per-lane code reads (the
-/// query and its span). An idle lane (`index` `None`) holds a harmless walk. Masks are
+/// query and its span). An idle lane (its `busy` bit clear) holds a harmless walk. Masks are
 /// stored as `0` or [`TRUE`] per lane.
 struct Lanes<const N: usize> {
-    /// The query each lane marches (its position in the caller's slice).
-    index: [Option<usize>; N],
+    /// The lanes marching a query, a bit each.
+    busy: u32,
+    /// The query each busy lane marches (its position in the caller's slice).
+    index: [usize; N],
     walk: [Walk<f32>; N],
     o: [[f32; N]; 3],
     d: [[f32; N]; 3],
@@ -225,11 +227,15 @@ struct Lanes<const N: usize> {
 }
 
 impl<const N: usize> Lanes<N> {
+    /// A bit for every lane.
+    const ALL: u32 = u32::MAX >> (32 - N);
+
     /// Every lane idle, on a walk that reads texel 0.
     fn idle() -> Self {
         let walk = idle_walk();
         let mut lanes = Lanes {
-            index: [None; N],
+            busy: 0,
+            index: [0; N],
             walk: [walk; N],
             o: [[0.0; N]; 3],
             d: [[1.0; N]; 3],
@@ -253,7 +259,7 @@ impl<const N: usize> Lanes<N> {
 
     /// Lane `l` takes query `k`'s walk.
     fn load(&mut self, l: usize, k: usize, w: &Walk<f32>) {
-        self.index[l] = Some(k);
+        (self.busy, self.index[l]) = (self.busy | 1 << l, k);
         self.store(l, w);
     }
 
@@ -285,9 +291,9 @@ impl<const N: usize> Lanes<N> {
         w
     }
 
-    /// The lanes marching a query, as stored masks.
-    fn busy(&self) -> [u32; N] {
-        core::array::from_fn(|l| if self.index[l].is_some() { TRUE } else { 0 })
+    /// Lane `l` goes idle.
+    fn end(&mut self, l: usize) {
+        self.busy &= !(1 << l);
     }
 }
 
@@ -341,27 +347,25 @@ mod x86 {
         let mut next = 0;
         loop {
             for lanes in &mut sets {
-                for l in 0..N {
-                    // An idle lane takes the next walk, the queries begun `N` at a time.
-                    while lanes.index[l].is_none() {
-                        if begun.head < begun.n {
-                            let (k, walk) = &begun.walks[begun.head];
-                            lanes.load(l, *k, walk);
-                            begun.head += 1;
-                        } else if next < queries.len() {
-                            next = march.begin_lanes(w, (queries, next), out, &mut begun);
-                        } else {
-                            break;
-                        }
+                // The idle lanes take the next walks, the queries begun `N` at a time.
+                let mut idle = !lanes.busy & Lanes::<N>::ALL;
+                while idle != 0 {
+                    if begun.head < begun.n {
+                        let (k, walk) = &begun.walks[begun.head];
+                        lanes.load(idle.trailing_zeros() as usize, *k, walk);
+                        (begun.head, idle) = (begun.head + 1, idle & (idle - 1));
+                    } else if next < queries.len() {
+                        next = march.begin_lanes(w, (queries, next), out, &mut begun);
+                    } else {
+                        break;
                     }
                 }
             }
-            let idle = |lanes: &Lanes<N>| lanes.index.iter().all(Option::is_none);
-            if sets.iter().all(idle) {
+            if sets.iter().all(|lanes| lanes.busy == 0) {
                 return;
             }
             for lanes in &mut sets {
-                if idle(lanes) {
+                if lanes.busy == 0 {
                     continue;
                 }
                 let mut ended = |k: usize, trace| out[k] = march.finish(&queries[k], trace);
@@ -578,9 +582,8 @@ mod x86 {
             let above0 = w.igt(level, zero);
             let descend = w.mandnot(above0, skip);
             // Level 0, not skipped: the exact cell test, per lane.
-            let all = u32::MAX >> (32 - N);
             let test = w.mbits(w.mor(skip, descend));
-            if test != all {
+            if test & ln.busy != ln.busy {
                 let mut a = [[0u32; N]; 6];
                 let mut fl = [[0f32; N]; 7];
                 for (k, v) in [lo[0], lo[1], hi[0], hi[1], bound[0], bound[1]]
@@ -595,11 +598,11 @@ mod x86 {
                 {
                     w.fst(&mut fl[k], v);
                 }
-                let mut due = !test & all;
+                let mut due = !test & ln.busy;
                 while due != 0 {
                     let l = due.trailing_zeros() as usize;
                     due &= due - 1;
-                    let Some(k) = ln.index[l] else { continue };
+                    let k = ln.index[l];
                     let mut walk = ln.walk(l);
                     let node = Node {
                         lo: [a[0][l], a[1][l]],
@@ -614,14 +617,14 @@ mod x86 {
                     match self.cell_test(&mut walk, &node) {
                         Some(trace) => {
                             ended(k, trace);
-                            ln.index[l] = None;
+                            ln.end(l);
                         }
                         None => (ln.fetches[l], ln.clearance[l]) = (walk.fetches, walk.clearance),
                     }
                 }
             }
             // Leaving the node (`March::leave`).
-            let leaving = w.mandnot(w.mld(&ln.busy()), descend);
+            let leaving = w.mandnot(w.mfrom(ln.busy), descend);
             let mut ends = w.mandnot(leaving, crossing);
             let parent = w.isub(w.ishl(w.isplat(2), level), one);
             let mut crossed = [w.ieq(zero, one); 2];
@@ -688,8 +691,8 @@ mod x86 {
             while ending != 0 {
                 let l = ending.trailing_zeros() as usize;
                 ending &= ending - 1;
-                let k = ln.index[l].take().unwrap_or_default();
-                ended(k, Trace::miss(ln.fetches[l], ln.clearance[l]));
+                ln.end(l);
+                ended(ln.index[l], Trace::miss(ln.fetches[l], ln.clearance[l]));
             }
         }
     }

@@ -63,6 +63,8 @@ pub(super) trait Wide<const N: usize>: Copy {
     fn mpick(self, m: Self::M, a: Self::M, b: Self::M) -> Self::M;
     /// Bit `l` set for each lane `l` set.
     fn mbits(self, m: Self::M) -> u32;
+    /// The mask of the lanes whose bit is set.
+    fn mfrom(self, bits: u32) -> Self::M;
     /// `base[at]` per lane.
     ///
     /// # Safety
@@ -256,6 +258,11 @@ impl Wide<8> for Ymm {
         unsafe { _mm256_movemask_ps(_mm256_castsi256_ps(m)) as u32 }
     }
     #[inline(always)]
+    fn mfrom(self, bits: u32) -> __m256i {
+        let bit = unsafe { _mm256_setr_epi32(1, 2, 4, 8, 16, 32, 64, 128) };
+        self.ieq(self.iand(self.isplat(bits), bit), bit)
+    }
+    #[inline(always)]
     unsafe fn fgather(self, base: *const f32, at: __m256i) -> __m256 {
         unsafe { _mm256_i32gather_ps::<4>(base, at) }
     }
@@ -427,6 +434,10 @@ impl Wide<16> for Zmm {
     #[inline(always)]
     fn mbits(self, m: __mmask16) -> u32 {
         m as u32
+    }
+    #[inline(always)]
+    fn mfrom(self, bits: u32) -> __mmask16 {
+        bits as __mmask16
     }
     #[inline(always)]
     unsafe fn fgather(self, base: *const f32, at: __m512i) -> __m512 {
