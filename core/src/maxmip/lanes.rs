@@ -101,7 +101,8 @@ pub fn trace_lanes(
 /// Sets of lanes [`trace_lanes`] steps in turn.
 const SETS: usize = 2;
 
-/// The pyramid's level table (the gathers' indices).
+/// The pyramid's level tables, each level's first texel and width, read by a permutation
+/// across a register ([`wide::Wide::itable`]).
 struct Tables {
     offset: [u32; TABLE_LEVELS],
     width: [u32; TABLE_LEVELS],
@@ -202,8 +203,9 @@ fn entry_of(code: u32) -> Entry<f32> {
 }
 
 /// `N` walks held field by field; `walk` keeps what only the per-lane code reads (the
-/// query and its span). An idle lane (its `busy` bit clear) holds a harmless walk. Masks are
-/// stored as `0` or [`TRUE`] per lane.
+/// query and its span). An idle lane (its `busy` bit clear) keeps its last walk, which
+/// reads inside the pyramid and is masked out. Masks are stored as `0` or [`TRUE`] per
+/// lane.
 struct Lanes<const N: usize> {
     /// The lanes marching a query, a bit each.
     busy: u32,
