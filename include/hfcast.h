@@ -719,8 +719,8 @@ typedef struct hf_trace_options {
   uint32_t threads;
   // Whether batches and cameras may use the CPU's SIMD lanes, an `hf_simd`: default
   // `HF_SIMD_AUTO` (the maximum mipmap marches 16 rays at once in AVX-512, 8 in AVX2,
-  // where the CPU has them), `HF_SIMD_OFF` (one ray after another: for comparison). The answers do
-  // not depend on it.
+  // where the CPU has them), `HF_SIMD_OFF` (one ray after another: for comparison).
+  // The answers do not depend on it.
   uint32_t simd;
   // Whether a batch's or camera's rays from one eye share a horizon, an
   // `hf_horizon`: default `HF_HORIZON_AUTO` (with the exact DDA and the exact maximum

@@ -212,9 +212,10 @@ unsafe fn trace_pixels(
             out,
             |rows, band| {
                 // A row of tiles is traced at once, its rays in tile order: a laned
-                // march's lanes drain at the end of each call (measured: a call for
-                // each tile of 64 rays cost 1.3× the time of the same rays in rows). Its
-                // hits gather in `local`, then go to the image a tile row at a time:
+                // march's lanes drain at the end of each call (measured, the maximum
+                // mipmap on the Himalaya DEM: 198 ns a ray at 45° and 175 at 5° with a
+                // call a tile, 178 and 146 with a call a row of tiles). Its hits
+                // gather in `local`, then go to the image a tile row at a time:
                 // stores scattered over eight image rows cost more than the traces of
                 // cheap rays (measured: 190 against 105 ns a ray that misses the box).
                 let (first, width) = (rows.start as usize * c.width as usize, c.width as usize);
