@@ -689,6 +689,21 @@ mod x86 {
                 // SSE, which every x86-64 CPU executes.
                 unsafe { _mm_prefetch::<_MM_HINT_T0>(texels.as_ptr().add(at as usize).cast()) };
             }
+            // The corners of the lanes now at level 0, whose cell test may be next: its
+            // two rows (random rays: about 0.9x the time on the needles-like field).
+            let (samples, stride) = (self.hf.samples().as_ptr(), self.hf.stride());
+            let mut testing = w.mbits(w.mand(w.mfrom(ln.busy), w.ieq(level, zero)));
+            while testing != 0 {
+                let l = testing.trailing_zeros() as usize;
+                testing &= testing - 1;
+                let at = ln.cell[1][l] as usize * stride + ln.cell[0][l] as usize;
+                // SAFETY: a prefetch reads nothing and cannot fault; `wrapping_add`
+                // keeps the pointer arithmetic defined whatever the lane holds.
+                unsafe {
+                    _mm_prefetch::<_MM_HINT_T0>(samples.wrapping_add(at).cast());
+                    _mm_prefetch::<_MM_HINT_T0>(samples.wrapping_add(at + stride).cast());
+                }
+            }
             let mut ending = w.mbits(ends);
             while ending != 0 {
                 let l = ending.trailing_zeros() as usize;
