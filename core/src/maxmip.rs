@@ -616,7 +616,10 @@ impl<'m, 'a> March<'m, 'a> {
         let (cell, p, t, tb) = (w.cell, w.p, w.t, node.tb);
         let c: [R; 4] = corners(self.hf, cell[0], cell[1]);
         w.fetches += 4;
-        let (a, ca) = local_clearance(surface, c, cell, p, w.on);
+        // Read a side at a time, as they were written: read whole, the pair waits for
+        // its two stores to retire (a failed store forward).
+        let on = [w.on[0], w.on[1]];
+        let (a, ca) = local_clearance(surface, c, cell, p, on);
         // Past the start a continuous surface leaves `ca > 0` unless rounding lifts an
         // edge above its node's maximum (discontinuous ones ignore `ca`).
         if ca <= R::ZERO && (w.start || surface.is_continuous()) {
@@ -641,7 +644,7 @@ impl<'m, 'a> March<'m, 'a> {
         let exit =
             |k: usize| (node.crossing && node.t_out[k] <= node.t_next).then_some(step[k] > 0);
         let (b, cb) = local_clearance(surface, c, cell, node.pb, [exit(0), exit(1)]);
-        let wall = entry_wall(w.on, step);
+        let wall = entry_wall(on, step);
         let seg = match self.iterative {
             Some(steps) => bilinear_search_segment(c, a, b, ca, cb, steps),
             None => surface.segment_hit(c, a, b, ca, cb, wall),
