@@ -10,9 +10,11 @@
 //! ray's direction: on incoherent rays the scalar start's branches were mispredicted),
 //! and idle lanes take them from that queue. Only the exact cell test at level 0 and
 //! the finish run per lane, on the scalar march's own code. Two sets of
-//! lanes step in turn, and each step ends by prefetching its lanes' next texels: on
-//! incoherent rays the texel read is a cache miss, and the other set's step hides it
-//! (random rays over the Himalaya DEM: about 0.75× the time of one set). Every lane
+//! lanes step in turn, and each step ends by prefetching its lanes' next texels, and
+//! the two corner rows of each lane now at level 0, whose cell test may be next: on
+//! incoherent rays those reads miss the cache, and the other set's step hides the wait
+//! (random rays over the Himalaya DEM: about 0.75× the time of one set; the corner rows
+//! 0.9× more on a needles-like field). Every lane
 //! operation is the scalar march's operation on the same values in the same order
 //! (the same IEEE divisions, products and sums, no fused forms; `min`, `max` and the
 //! comparisons as blends with [`Real`]'s NaN behaviour), so each answer is the scalar
