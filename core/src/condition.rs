@@ -199,7 +199,7 @@ impl<R: Real> Near<R> {
 }
 
 /// The local form of `plain`, the `f32` rounding of the ray `origin + t·dir`, given
-/// what it needs ([`needs`], not `(false, false)`).
+/// what it needs ([`Near::needs`], not `(false, false)`).
 fn localize(
     hf: &HeightField,
     origin: [f64; 3],

@@ -356,8 +356,8 @@ fn mx(a: f32, b: f32) -> f32 {
     }
 }
 
-/// The N-buffers of one axis, as [`range_max`] reads them (the offsets of
-/// [`nb_index`], computed once).
+/// The N-buffers of one axis, as [`range_max`] reads them (the offsets of their
+/// levels and columns, computed once).
 #[derive(Clone, Copy)]
 struct NbView<'a> {
     nb: &'a [f32],
