@@ -64,7 +64,9 @@ fn pinhole_of(c: &hf_camera) -> Result<Pinhole, hf_result> {
     Ok(p)
 }
 
-/// The primary ray of pixel (x, y) of `p` as an `hf_ray`.
+/// The primary ray of pixel (x, y) of `p` as an `hf_ray` (inlined: returned through
+/// memory, its narrow stores stall the wide loads that read it back).
+#[inline(always)]
 fn pixel_ray(p: &Pinhole, t_max: f32, x: u32, y: u32) -> Result<hf_ray, hf_result> {
     let q = p
         .ray(x, y, t_max)
@@ -107,11 +109,6 @@ pub unsafe extern "C" fn hf_camera_ray(
     })
 }
 
-/// The ray a camera pass traces for pixel (x, y) of the camera (with its `t_max`) with
-/// the pass's marcher, or `None` for a pixel answered as a miss without a trace.
-type PixelRay<'a> =
-    dyn Fn(&Pinhole, &Marcher, f32, u32, u32) -> Result<Option<hf_ray>, hf_result> + Sync + 'a;
-
 /// What both camera passes trace: their exports' first arguments (`field`, `method`,
 /// `map`, `map_len`, `options`, `camera`), as they take them.
 type Pass = (
@@ -132,13 +129,16 @@ type Pass = (
 ///
 /// # Safety
 /// As `hf_trace_camera`.
-unsafe fn trace_pixels(
+unsafe fn trace_pixels<PixelRay>(
     pass: Pass,
     out_hits: *mut hf_hit,
     out_hits_len: usize,
-    ray: &PixelRay<'_>,
+    ray: &PixelRay,
     every_pixel: bool,
-) -> hf_result {
+) -> hf_result
+where
+    PixelRay: Fn(&Pinhole, &Marcher, f32, u32, u32) -> Result<Option<hf_ray>, hf_result> + Sync,
+{
     let (field, method, map, map_len, options, camera) = pass;
     guard(|| {
         // SAFETY: the caller promises a live handle and a readable camera.
@@ -221,7 +221,7 @@ unsafe fn trace_pixels(
                 let (first, width) = (rows.start as usize * c.width as usize, c.width as usize);
                 let (mut rays, mut flat, mut local) = (Vec::new(), Vec::new(), Vec::new());
                 let (mut queries, mut starts) = (Vec::new(), Vec::new());
-                let (mut plain, mut traced) = (Vec::new(), PlainScratch::default());
+                let mut traced = PlainScratch::default();
                 let (mut hint, near) = (0, Near::of(hf));
                 for y0 in rows.clone().step_by(TILE as usize) {
                     let tiles: Vec<_> = p.tiles(y0..(y0 + TILE).min(rows.end)).collect();
@@ -232,18 +232,20 @@ unsafe fn trace_pixels(
                         })
                     };
                     rays.clear();
+                    flat.clear();
                     for (x, y) in pixels() {
-                        rays.push(ray(&p, &m, c.t_max, x, y)?);
+                        let r = ray(&p, &m, c.t_max, x, y)?;
+                        flat.extend(r);
+                        rays.push(r);
                     }
                     let n = rays.len();
                     local.clear();
                     local.resize(n, hf_hit::default());
-                    flat.clear();
-                    flat.extend(rays.iter().flatten());
-                    if flat.len() == n && plain_queries(hf, &near, &flat, &mut plain) {
+                    let plain = (flat.len() == n).then(|| plain_queries(hf, &near, &flat));
+                    if let Some(plain) = plain.flatten() {
                         // Every pixel has a ray that needs no conditioning: traced as
                         // the batches trace theirs.
-                        let plain = (plain.as_slice(), &mut traced);
+                        let plain = (plain, &mut traced);
                         trace_plain((&m, &o, hf), horizon.as_ref(), plain, &mut hint, &mut local);
                     } else {
                         queries.clear();

@@ -752,7 +752,6 @@ struct Band<'a> {
 /// The buffers a thread of `hf_trace_batch` reuses from band to band.
 #[derive(Default)]
 struct BandScratch {
-    plain: Vec<Query<f32>>,
     traced: PlainScratch,
     locals: Vec<Option<Local>>,
 }
@@ -772,8 +771,8 @@ impl Band<'_> {
         out: &mut [hf_hit],
     ) -> Result<(), hf_result> {
         let Band { m, o, hf, near } = *self;
-        if plain_queries(hf, near, rays, &mut s.plain) {
-            let plain = (s.plain.as_slice(), &mut s.traced);
+        if let Some(plain) = plain_queries(hf, near, rays) {
+            let plain = (plain, &mut s.traced);
             trace_plain((m, o, hf), horizon, plain, hint, out);
             return Ok(());
         }
@@ -830,27 +829,21 @@ pub(crate) fn trace_plain(
     }
 }
 
-/// `rays` as the queries a march traces, into `out`, when every one is the caller's
-/// own ray: valid, on a field without a transform, needing no conditioning (`near`,
-/// [`Near::holds`]). `false` (and `out` partly filled) otherwise: then [`query`] gives
-/// each its local form, or its error.
-pub(crate) fn plain_queries(
+/// `rays` as the queries a march traces, where they lie ([`as_queries`]), when every
+/// one is the caller's own ray: valid, on a field without a transform, needing no
+/// conditioning (`near`, [`Near::holds`]). `None` otherwise: then [`query`] gives each
+/// its local form, or its error.
+pub(crate) fn plain_queries<'r>(
     hf: &HeightField,
     near: &Near<f32>,
-    rays: &[hf_ray],
-    out: &mut Vec<Query<f32>>,
-) -> bool {
-    out.clear();
-    hf.transform().is_identity()
+    rays: &'r [hf_ray],
+) -> Option<&'r [Query<f32>]> {
+    let plain = hf.transform().is_identity()
         && rays.iter().all(|r| {
             let q = Query::from_arrays(r.origin, r.dir, r.t_min, r.t_max);
-            q.is_ok_and(|q| {
-                near.holds(&q) && {
-                    out.push(q);
-                    true
-                }
-            })
-        })
+            q.is_ok_and(|q| near.holds(&q))
+        });
+    plain.then(|| as_queries(rays))
 }
 
 /// `hf_trace_batch` on a projective height field (Baboud & Décoret §4: a frustum, e.g.

@@ -106,6 +106,7 @@ impl Pinhole {
     /// eye, `t` in `[0, t_max]`, the direction `forward + sx·right + sy·up` (not unit;
     /// `sx`, `sy` in (−1, 1) across the image), rounded to f32 once; an error for an
     /// eye beyond the f32 range.
+    #[inline]
     pub fn ray(&self, px: u32, py: u32, t_max: f32) -> Result<Query<f32>, RayError> {
         let sx = 2.0 * (f64::from(px) + 0.5) / f64::from(self.width) - 1.0;
         let sy = 1.0 - 2.0 * (f64::from(py) + 0.5) / f64::from(self.height);
