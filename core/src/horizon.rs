@@ -24,8 +24,9 @@
 //! distance lowered before its band is taken.
 //!
 //! Cost: one pass over the field (f32, vectorized: about 4 ms at 1024² with blocks of 2
-//! cells), then per ray a pseudo-angle, a slope and a galloping search from the last
-//! ray's band, and the march from the start.
+//! cells; in each block row only the run of blocks the group's wedges may meet, so a
+//! telephoto's pass is a fraction of that), then per ray a pseudo-angle, a slope and a
+//! galloping search from the last ray's band, and the march from the start.
 
 use crate::field::HeightField;
 use crate::math::Real;
@@ -455,7 +456,7 @@ impl<'a> Plan<'a> {
         );
         let (mut slope, mut dist) = (vec![0.0f32; nx], vec![0.0f32; nx]);
         let (mut band, mut first, mut last) = (vec![0u32; nx], vec![0u32; nx], vec![0u32; nx]);
-        let mut plain = vec![false; nx];
+        let (mut plain, mut maybe) = (vec![false; nx], vec![false; nx]);
         let ez = e[2] as f32;
         let slack = (ANGLE_SLACK * (hi - lo).max(1.0)) as f32;
         let (lo32, hi32, s0_32) = (lo as f32, hi as f32, s0 as f32);
@@ -472,16 +473,35 @@ impl<'a> Plan<'a> {
         for rows in ey.windows(2) {
             core::mem::swap(&mut below, &mut above);
             angles_of(rows[1], &mut above);
+            let (near_y, far_y) = span_of(rows[0], rows[1], e[1]);
+            // The blocks from the first to the last that may raise a wedge: the others
+            // are provably outside the group's azimuths (`plain` false, and none of
+            // the cases of the second loop below), so skipping them changes nothing.
+            // A telephoto's wedges meet a small part of each row.
+            // (`mx` and `mn` are `max` and `min` where no angle is NaN, the others
+            // are never outside.)
+            for (i, maybe) in maybe.iter_mut().enumerate() {
+                let s_min = (near_x[i] * near_x[i] + near_y * near_y).sqrt();
+                let a = [below[i], below[i + 1], above[i], above[i + 1]];
+                let ordered = (a[0] == a[0]) & (a[1] == a[1]) & (a[2] == a[2]) & (a[3] == a[3]);
+                let a0 = mn(mn(a[0], a[1]), mn(a[2], a[3]));
+                let a1 = mx(mx(a[0], a[1]), mx(a[2], a[3]));
+                let away = (a1 + slack < lo32) | (a0 - slack > hi32);
+                *maybe = !((s_min > 0.0) & ordered & (a1 - a0 <= 2.0) & away);
+            }
+            let Some(i0) = maybe.iter().position(|&m| m) else {
+                continue;
+            };
+            let i1 = maybe.iter().rposition(|&m| m).map_or(nx, |i| i + 1);
             block_tops(
                 hf,
                 surface,
                 rows[0]..=rows[1],
-                &ex,
+                &ex[i0..=i1],
                 (&mut col_hi, &mut col_lo),
-                &mut top,
+                &mut top[i0..i1],
             );
-            let (near_y, far_y) = span_of(rows[0], rows[1], e[1]);
-            for i in 0..nx {
+            for i in i0..i1 {
                 let s_min = (near_x[i] * near_x[i] + near_y * near_y).sqrt();
                 let s_max = (far_x[i] * far_x[i] + far_y * far_y).sqrt();
                 let t = top[i];
@@ -505,7 +525,7 @@ impl<'a> Plan<'a> {
                 // Not over the eye, not across the cut, inside the group's range.
                 plain[i] = s_min > 0.0 && a1 - a0 <= 2.0 && a1 >= lo32 && a0 <= hi32;
             }
-            for i in 0..nx {
+            for i in i0..i1 {
                 let (k, g) = (band[i] as usize, slope[i]);
                 if plain[i] {
                     let (b0, b1) = (first[i] as usize, last[i] as usize);
@@ -704,11 +724,12 @@ fn frame(seen: &Sighting) -> Option<Frame> {
     (lo <= hi).then_some(Frame { axis, lo, hi })
 }
 
-/// An upper bound of the surface over each block of one block row: its highest
-/// sample, plus the samples' range on corner planes (whose plane reaches
-/// `h10 + h01 − h00` at a cell's far corner). The blocks span sample rows `rows` and
-/// sample columns `edges[i]..=edges[i + 1]`; `col_hi` and `col_lo` are scratch of the
-/// field's width (each column's highest and lowest sample over `rows`).
+/// An upper bound of the surface over each block of one block row (or of a run of
+/// its blocks): its highest sample, plus the samples' range on corner planes (whose
+/// plane reaches `h10 + h01 − h00` at a cell's far corner). The blocks span sample
+/// rows `rows` and sample columns `edges[i]..=edges[i + 1]`; `col_hi` and `col_lo`
+/// are scratch of the field's width (each column's highest and lowest sample over
+/// `rows`, for the columns of the blocks).
 fn block_tops(
     hf: &HeightField,
     surface: Surface,
@@ -717,22 +738,29 @@ fn block_tops(
     (col_hi, col_lo): (&mut [f32], &mut [f32]),
     top: &mut [f32],
 ) {
-    col_hi.copy_from_slice(hf.row(*rows.start()));
-    col_lo.copy_from_slice(hf.row(*rows.start()));
+    let n = top.len();
+    let cols = edges[0] as usize..=edges[n] as usize;
+    let first = &hf.row(*rows.start())[cols.clone()];
+    col_hi[cols.clone()].copy_from_slice(first);
+    col_lo[cols.clone()].copy_from_slice(first);
     for j in rows.skip(1) {
-        for ((hi, lo), &v) in col_hi.iter_mut().zip(col_lo.iter_mut()).zip(hf.row(j)) {
+        let (hi, lo) = (&mut col_hi[cols.clone()], &mut col_lo[cols.clone()]);
+        for ((hi, lo), &v) in hi
+            .iter_mut()
+            .zip(lo.iter_mut())
+            .zip(&hf.row(j)[cols.clone()])
+        {
             *hi = mx(*hi, v);
             *lo = mn(*lo, v);
         }
     }
     // Every block but the last spans `edges[1] − edges[0]` cells: its columns are
-    // `i · block + o`, loops the compiler vectorizes.
+    // `edges[0] + i · block + o`, loops the compiler vectorizes.
     let block = (edges[1] - edges[0]) as usize;
-    let n = top.len();
     let span = |col: &[f32], init: f32, f: fn(f32, f32) -> f32, out: &mut [f32]| {
         out.fill(init);
         for o in 0..=block {
-            let cols = col[o..].iter().step_by(block);
+            let cols = col[edges[0] as usize + o..].iter().step_by(block);
             for (t, &v) in out[..n - 1].iter_mut().zip(cols) {
                 *t = f(*t, v);
             }
