@@ -817,13 +817,15 @@ pub(crate) fn trace_plain(
     hint: &mut usize,
     out: &mut [hf_hit],
 ) {
+    if let Some(h) = horizon {
+        // The answers written as hits where they go.
+        m.trace_placed(hf, h, (plain, hint), out, o.simd, &mut s.placed);
+        return;
+    }
     let traces = &mut s.traces;
     traces.clear();
     traces.resize(plain.len(), Trace::MISS);
-    match horizon {
-        Some(h) => m.trace_placed(hf, h, (plain, hint), traces, o.simd, &mut s.placed),
-        None => m.trace_each(hf, plain, traces, o.simd),
-    }
+    m.trace_each(hf, plain, traces, o.simd);
     for (hit, tr) in out.iter_mut().zip(traces.iter()) {
         *hit = hf_hit::from(*tr);
     }

@@ -377,16 +377,17 @@ impl<'a> Marcher<'a> {
 
     /// [`Marcher::trace_started`] of the queries `queries` that `horizon` places
     /// (`hint`: the band of the last query asked), the others by [`Marcher::trace`],
-    /// into `out` (same lengths): the walks from the starts in SIMD lanes with `simd`
+    /// into `out` (same lengths; each answer as an `O`, e.g. a C API's hit written
+    /// where the caller wants it): the walks from the starts in SIMD lanes with `simd`
     /// ([`dda::trace_skipping_lanes`]), the answers the same bit for bit. `scratch`
     /// keeps its buffers from call to call.
     #[cfg(feature = "alloc")]
-    pub fn trace_placed(
+    pub fn trace_placed<O: From<Trace<f32>>>(
         &self,
         hf: &HeightField,
         horizon: &crate::horizon::Horizon,
         (queries, hint): (&[Query<f32>], &mut usize),
-        out: &mut [Trace<f32>],
+        out: &mut [O],
         simd: Option<crate::simd::Avx2>,
         scratch: &mut Placed,
     ) {
@@ -394,7 +395,7 @@ impl<'a> Marcher<'a> {
         assert_eq!(queries.len(), out.len(), "one answer per query");
         let Some(surface) = self.dda_surface() else {
             for (o, q) in out.iter_mut().zip(queries) {
-                *o = self.trace(hf, q);
+                *o = self.trace(hf, q).into();
             }
             return;
         };
@@ -414,8 +415,10 @@ impl<'a> Marcher<'a> {
                     which.push((k, before, probes));
                     from.push(q.starting_at(t));
                 }
-                Some((Start::Miss(clearance), probes)) => *o = Trace::miss(probes, clearance),
-                None => *o = self.trace(hf, q),
+                Some((Start::Miss(clearance), probes)) => {
+                    *o = Trace::miss(probes, clearance).into()
+                }
+                None => *o = self.trace(hf, q).into(),
             }
         }
         walked.clear();
@@ -445,7 +448,7 @@ impl<'a> Marcher<'a> {
             };
             trace.clearance = trace.clearance.min(before);
             trace.fetches += probes;
-            out[k] = trace;
+            out[k] = trace.into();
         }
     }
 
