@@ -449,7 +449,9 @@ pub unsafe extern "C" fn hf_trace(
 }
 
 /// The ray `r`'s line in grid space, in `f64`: what a horizon's eye and wedges are
-/// measured in.
+/// measured in. (Inlined: returned through memory, its narrow stores stalled the
+/// wide loads that read it, in the first pass over a batch.)
+#[inline(always)]
 pub(crate) fn grid_line(hf: &HeightField, r: &hf_ray) -> ([f64; 3], [f64; 3]) {
     let xf = hf.transform();
     if xf.is_identity() {
