@@ -483,7 +483,7 @@ impl<'a> Plan<'a> {
             for (i, maybe) in maybe.iter_mut().enumerate() {
                 let s_min = (near_x[i] * near_x[i] + near_y * near_y).sqrt();
                 let a = [below[i], below[i + 1], above[i], above[i + 1]];
-                let ordered = (a[0] == a[0]) & (a[1] == a[1]) & (a[2] == a[2]) & (a[3] == a[3]);
+                let ordered = !(a[0].is_nan() | a[1].is_nan() | a[2].is_nan() | a[3].is_nan());
                 let a0 = mn(mn(a[0], a[1]), mn(a[2], a[3]));
                 let a1 = mx(mx(a[0], a[1]), mx(a[2], a[3]));
                 let away = (a1 + slack < lo32) | (a0 - slack > hi32);
