@@ -479,9 +479,10 @@ impl<'a> Plan<'a> {
             // the cases of the second loop below), so skipping them changes nothing.
             // A telephoto's wedges meet a small part of each row.
             // (`mx` and `mn` are `max` and `min` where no angle is NaN, the others
-            // are never outside.)
-            for (i, maybe) in maybe.iter_mut().enumerate() {
+            // are never outside.) Each block's nearest distance is kept for the loops.
+            for (i, (maybe, dist)) in maybe.iter_mut().zip(dist.iter_mut()).enumerate() {
                 let s_min = (near_x[i] * near_x[i] + near_y * near_y).sqrt();
+                *dist = s_min;
                 let a = [below[i], below[i + 1], above[i], above[i + 1]];
                 let ordered = !(a[0].is_nan() | a[1].is_nan() | a[2].is_nan() | a[3].is_nan());
                 let a0 = mn(mn(a[0], a[1]), mn(a[2], a[3]));
@@ -502,7 +503,7 @@ impl<'a> Plan<'a> {
                 &mut top[i0..i1],
             );
             for i in i0..i1 {
-                let s_min = (near_x[i] * near_x[i] + near_y * near_y).sqrt();
+                let s_min = dist[i];
                 let s_max = (far_x[i] * far_x[i] + far_y * far_y).sqrt();
                 let t = top[i];
                 let rise = t - ez + MARGIN as f32 * (1.0 + t.abs() + ez.abs() + s_max);
@@ -511,7 +512,6 @@ impl<'a> Plan<'a> {
                 } else {
                     rise / s_max
                 };
-                dist[i] = s_min;
                 // The band of the block's nearest point, rounded down (its distance
                 // lowered by a few ulps first: a band too far would let rays start
                 // past the block).
