@@ -6,7 +6,7 @@ use crate::occluder::{hf_occluder, mismatch, occluders_of};
 use crate::ptr::Named;
 use crate::{guard, hf_field, ptr, surface_of};
 use hfcore::condition::{condition, condition_query_near, Local, Near};
-use hfcore::horizon::{Horizon, Plan, Sighting, Start, MIN_GROUP};
+use hfcore::horizon::{End, Horizon, Plan, Sighting, Start, MIN_GROUP};
 use hfcore::march::MarchOptions;
 use hfcore::march::Placed;
 use hfcore::projective::{Mat4, Projective};
@@ -621,11 +621,14 @@ fn trace_from_start(
     (start, probes): (Start<f64>, u32),
 ) -> hf_hit {
     match start {
-        Start::At(t, before) => answer(
+        // In the query's own frame: the span runs to its end (the horizon's bands are
+        // the grid's).
+        Start::At(t, before, _) => answer(
             hf,
             local.trace_from(Some(t), |q, t| {
                 let t = t.expect("a start in local units");
-                m.trace_started(hf, q, (Start::At(t, before as f32), probes))
+                let whole = End::whole(q.t_max());
+                m.trace_started(hf, None, q, (Start::At(t, before as f32, whole), probes))
             }),
         ),
         Start::Miss(clearance) => hf_hit::from(Trace::<f32>::miss(probes, clearance as f32)),

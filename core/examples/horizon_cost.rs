@@ -120,7 +120,7 @@ fn stages(
     let horizon = build().expect("rays with a horizontal part");
     let lookup = |hint: &mut usize| -> Vec<Query<f32>> {
         let from = |q: &Query<f32>, hint: &mut usize| match horizon.start_query(q, hint) {
-            Some((Start::At(t, _), _)) => Some(q.starting_at(t)),
+            Some((Start::At(t, _, _), _)) => Some(q.starting_at(t)),
             Some((Start::Miss(_), _)) => None,
             None => Some(*q),
         };

@@ -15,18 +15,35 @@
 //! first band where `P ≥ m`: it cannot meet the surface (nor a side wall, which lies on
 //! a cell's edge) before that band; a ray whose wedge never reaches `m` misses.
 //!
+//! **Spans.** Past that band the ray also passes over every block of a band whose own
+//! largest `g` is under `m` (a ridge crossed, the ground behind it out of reach; on a
+//! field of needles, the ground between them). So a march from the start that has
+//! walked some cells without a hit (most rays hit before) may stop past the next two
+//! such bands in a row ([`Horizon::cut_query`], an [`End`]: `1.5` bands into the pair,
+//! where the cell lies in a block of one of them), and [`Horizon::resume_query`] finds
+//! the next band the wedge reaches after them (from the bands' own `g`, and their
+//! maxima by chunks of 16 bands and from each chunk to the last: long clear runs in a
+//! read, proved misses in one), where the next span starts; that span's end is looked
+//! for at once. A march of the spans one after another, each to its end, finds the
+//! ray's hit, or proves a miss. An end is looked for a few bands (4) on: a ray
+//! whose wedge reaches further on marches on (it hits there, nearly always).
+//!
 //! **Exactness.** The walk that starts half a band before that band enters every cell
 //! after its first through the same integer crossings as the walk from the eye, so the
 //! hit is the same bit for bit ([`crate::dda::trace`]'s, which every exact march
 //! returns). Its first cell is one the ray clears with a margin (heights are raised by
-//! [`MARGIN`] relative), so no rounding of the `f32` march can find a hit there. The
+//! [`MARGIN`] relative), so no rounding of the `f32` march can find a hit there; so is
+//! the cell where a span ends, so the march cut there finds what the whole walk finds
+//! before it, and the next span's first cell is again one the ray clears. The
 //! wedges are conservative: a block's pseudo-angle range is widened before binning, its
 //! distance lowered before its band is taken.
 //!
 //! Cost: one pass over the field (f32, vectorized: about 4 ms at 1024² with blocks of 2
 //! cells; in each block row only the run of blocks the group's wedges may meet, so a
 //! telephoto's pass is a fraction of that), then per ray a pseudo-angle, a slope and a
-//! galloping search from the last ray's band, and the march from the start.
+//! galloping search from the last ray's band, and the march from the start; for a ray
+//! that walks on, a look at a few bands for an end, and the next spans' searches and
+//! marches.
 
 use crate::field::HeightField;
 use crate::math::Real;
@@ -88,17 +105,93 @@ pub struct Horizon {
     /// The running maximum `P` of bin `b` at band `k`: `running[k * bins + b]` (band
     /// by band, so that neighbouring rays, in neighbouring bins, read one cache line).
     running: Vec<f32>,
+    /// The largest slope `g` of bin `b` at band `k` itself, laid out as `running`
+    /// (neighbouring rays look at neighbouring bins): `slopes[k * bins + b]`; the bands
+    /// past the first reached that a ray may still skip ([`Horizon::resume_query`]).
+    slopes: Vec<f32>,
+    /// The largest `g` of bin `b` over the [`CHUNK`] bands of chunk `c`, and over every
+    /// band from there to the last: `chunks[c * bins + b]`, `ahead[c * bins + b]` (the
+    /// resumes' skips over long runs of clear bands, and their proved misses).
+    chunks: Vec<f32>,
+    ahead: Vec<f32>,
 }
+
+/// Bands a chunk of [`Horizon`]'s `chunks` spans.
+const CHUNK: usize = 16;
+
+/// Bands a span's end is looked for in (the first of two clear bands in a row among
+/// them; [`Horizon::cut_query`], [`Horizon::resume_query`]): a ray whose wedge reaches
+/// further on marches on.
+const RUN: usize = 4;
 
 /// Where a ray of a [`Horizon`]'s group may first meet the surface.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Start<R> {
-    /// Not before this `t` (at least the query's `t_min`, at most its `t_max`); and
-    /// the lower bound of the ray's clearance before it that the horizon proves.
-    At(R, R),
+    /// Not before this `t` (at least the query's `t_min`, at most its `t_max`); the
+    /// lower bound of its clearance before it that the horizon proves; and where the
+    /// span that opens there ends (the ray cannot meet the surface from there to the
+    /// next start, [`Horizon::resume_query`]): the query's end for a ray's first start,
+    /// which [`Horizon::cut_query`] may cut once a march from it has walked on.
+    At(R, R, End<R>),
     /// Never in `[t_min, t_max]`: the ray passes over the field (or its range ends
     /// before the start). The lower bound of its clearance the horizon proves.
     Miss(R),
+}
+
+impl Start<f64> {
+    /// In the precision of the query `q`, within its range (the half band before a
+    /// start and the half band past an end cover the rounding).
+    #[inline(always)]
+    fn rounded<R: Real>(self, q: &Query<R>) -> Start<R> {
+        match self {
+            Start::At(t, c, end) => {
+                let t = R::from_f64(t).max(q.t_min()).min(q.t_max());
+                let end = End {
+                    t: R::from_f64(end.t).max(t).min(q.t_max()),
+                    band: end.band,
+                };
+                Start::At(t, R::from_f64(c), end)
+            }
+            Start::Miss(c) => Start::Miss(R::from_f64(c)),
+        }
+    }
+}
+
+/// Where the span of a [`Start::At`] ends: past `t`, up to the next start, the ray
+/// passes over the surface (the bands of its wedge there rise to no block it could
+/// meet), so a march of the span alone, to `t`, finds the same hit as the march of the
+/// whole ray when there is one in the span, and no hit otherwise.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct End<R> {
+    /// The span's end (at most the query's `t_max`).
+    pub t: R,
+    /// The first of the two clear bands the end lies past; `u32::MAX` when the span
+    /// runs to the query's `t_max`.
+    band: u32,
+}
+
+/// A ray's wedge, slope `m` and horizontal length (`|d_xy|`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct Aim {
+    wedge: u32,
+    m: f64,
+    rho: f64,
+}
+
+impl<R> End<R> {
+    /// A span to `t_max`: the horizon proves nothing past the start.
+    pub fn whole(t_max: R) -> End<R> {
+        End {
+            t: t_max,
+            band: u32::MAX,
+        }
+    }
+
+    /// Whether the ray goes on past the span ([`Horizon::resume_query`] places its next
+    /// start); false when the span runs to the query's `t_max`.
+    pub fn goes_on(&self) -> bool {
+        self.band != u32::MAX
+    }
 }
 
 /// Where a group's wedges lie: its mean horizontal direction (unit), from which
@@ -137,7 +230,7 @@ impl Horizon {
 
     /// Bytes the horizon holds.
     pub fn size_bytes(&self) -> usize {
-        self.running.len() * 4
+        (self.running.len() + self.slopes.len() + self.chunks.len() + self.ahead.len()) * 4
     }
 
     /// The eye the horizon is seen from.
@@ -175,6 +268,9 @@ impl Horizon {
     }
 
     /// [`Horizon::start`] of a query, in its precision.
+    // Inlined with what it calls: the answer, a few dozen bytes, otherwise comes back
+    // through memory in narrow stores that a wide load cannot forward from.
+    #[inline(always)]
     pub fn start_query<R: Real>(&self, q: &Query<R>, hint: &mut usize) -> Option<(Start<R>, u32)> {
         let range = (q.t_min().to_f64(), q.t_max().to_f64());
         let (start, probes) = self.start(
@@ -183,33 +279,29 @@ impl Horizon {
             range,
             hint,
         )?;
-        Some((
-            match start {
-                // Rounded into `R` within the range (the half band covers the rounding).
-                Start::At(t, c) => {
-                    Start::At(R::from_f64(t).max(q.t_min()).min(q.t_max()), R::from_f64(c))
-                }
-                Start::Miss(c) => Start::Miss(R::from_f64(c)),
-            },
-            probes,
-        ))
+        Some((start.rounded(q), probes))
     }
 
-    /// Where the ray `origin + t · dir` (grid space), traced over `t_range`, may first
-    /// meet the surface, and the horizon texels read to say it (its fetches): `None`
-    /// when the horizon says nothing of it (another origin, a vertical ray, an azimuth
-    /// outside the group's). `hint` is a band to search from, the last answer's for
-    /// the best speed (neighbouring rays start near each other); it is updated.
-    pub fn start(
-        &self,
-        origin: [f64; 3],
-        d: [f64; 3],
-        (t_min, t_max): (f64, f64),
-        hint: &mut usize,
-    ) -> Option<(Start<f64>, u32)> {
-        if origin != self.eye {
+    /// The next start of the query `q` after its span that ended at `end` (of a start
+    /// this horizon placed for `q`, which went on: [`End::goes_on`]), and the horizon
+    /// texels read to say it: the first band after the end's two clear bands that the
+    /// ray's wedge may reach, and its span; or a proved miss when none. `None` when the
+    /// horizon says nothing of it (another origin, an end that does not go on).
+    pub fn resume_query<R: Real>(&self, q: &Query<R>, end: End<R>) -> Option<(Start<R>, u32)> {
+        if q.origin().map(R::to_f64) != self.eye || !end.goes_on() {
             return None;
         }
+        // (The aim is found again: carried in every span's end, it cost the many rays
+        // that never resume more than it saves the few that do.)
+        let aim = self.aim(q.dir().map(R::to_f64))?;
+        let (start, probes) = self.resume(aim, q.t_max().to_f64(), end.band as usize);
+        Some((start.rounded(q), probes))
+    }
+
+    /// The wedge, slope and horizontal length of the direction `d` of a ray from the
+    /// eye: `None` for a vertical ray or an azimuth outside the group's.
+    #[inline]
+    fn aim(&self, d: [f64; 3]) -> Option<Aim> {
         let rho = norm(d[0], d[1]);
         if rho == 0.0 {
             return None;
@@ -220,8 +312,161 @@ impl Horizon {
         if !(b >= 0.0 && b < self.bins as f64 + 1.0) {
             return None;
         }
-        let b = (b as usize).min(self.bins - 1);
-        let m = d[2] / rho;
+        let wedge = (b as usize).min(self.bins - 1) as u32;
+        Some(Aim {
+            wedge,
+            m: d[2] / rho,
+            rho,
+        })
+    }
+
+    /// Whether a ray of `aim` provably passes over every block of band `k` (past the
+    /// last band there are none); counts the read in `probes`.
+    #[inline(always)]
+    fn clear(&self, aim: &Aim, k: usize, probes: &mut u32) -> bool {
+        if k >= self.bands {
+            return true;
+        }
+        *probes += 1;
+        f64::from(self.slopes[k * self.bins + aim.wedge as usize]) < aim.m
+    }
+
+    /// The start of a span at band `band` (one the ray's wedge may reach, after only
+    /// clear bands) for a ray of `aim`, range `(t_min, t_max)`, clearance `before`
+    /// over what it skipped; the span runs to `t_max` ([`Horizon::end_after`] cuts it).
+    #[inline(always)]
+    fn span(&self, aim: Aim, band: usize, (t_min, t_max): (f64, f64), before: f64) -> Start<f64> {
+        // Half a band before the band the ray may not pass over: the cell there lies
+        // in a block of the two bands before (a block is one band wide, its diagonal
+        // √2 bands), which the ray passes over.
+        let t = (self.s0 + (band as f64 - 0.5) * self.width) / aim.rho;
+        if t > t_max {
+            Start::Miss(0.0)
+        } else if t <= t_min {
+            Start::At(t_min, f64::INFINITY, End::whole(t_max))
+        } else {
+            Start::At(t, before, End::whole(t_max))
+        }
+    }
+
+    /// The end of a span of a ray of `aim` (traced to `t_max`) past the first two
+    /// clear bands `j`, `j + 1` with `j` in `from..from + RUN`, at `j + 1.5` bands: the
+    /// cell there lies in a block of one of them (the argument of the starts), which
+    /// no march finds a contact in. The whole range when there are none.
+    fn end_after(&self, aim: Aim, from: usize, t_max: f64, probes: &mut u32) -> End<f64> {
+        // The bands read all at once, one bit each (without branches: the pattern is
+        // the terrain's), then the first pair of clear ones.
+        let mut clear = 0u32;
+        for i in 0..RUN + 1 {
+            let k = from + i;
+            let at = k * self.bins + aim.wedge as usize;
+            let g = self.slopes.get(at).filter(|_| k < self.bands);
+            clear |= u32::from(g.is_none_or(|&g| f64::from(g) < aim.m)) << i;
+        }
+        *probes += (RUN + 1).min(self.bands.saturating_sub(from)) as u32;
+        let pairs = clear & (clear >> 1);
+        if pairs == 0 {
+            return End::whole(t_max);
+        }
+        let j = from + pairs.trailing_zeros() as usize;
+        let end = (self.s0 + (j as f64 + 1.5) * self.width) / aim.rho;
+        match u32::try_from(j) {
+            Ok(band) if j + 1 < self.bands && end < t_max => End { t: end, band },
+            _ => End::whole(t_max),
+        }
+    }
+
+    /// Where a march of `q` that reached `t` without a hit (at the entry of a cell the
+    /// ray passes above, from where the march may go on: the same hit) may stop and
+    /// let the horizon place its next start ([`Horizon::resume_query`]): past the first
+    /// two clear bands in a row from there, within a few bands; the query's end when
+    /// there are none. And the horizon texels read. `None` when the horizon says
+    /// nothing of the ray (another origin, a vertical ray, an azimuth outside the
+    /// group's).
+    pub fn cut_query<R: Real>(&self, q: &Query<R>, t: R) -> Option<(End<R>, u32)> {
+        if q.origin().map(R::to_f64) != self.eye {
+            return None;
+        }
+        let aim = self.aim(q.dir().map(R::to_f64))?;
+        // The first band whose pair's end lies a quarter band past `t` at least (far
+        // above the rounding of `t`): `j + 1.5 > u + 0.25`, `u` the band (in
+        // fractions) at `t`.
+        let u = (t.to_f64() * aim.rho - self.s0) / self.width;
+        let from = libm::floor(u - 1.25).max(-1.0) as isize + 1;
+        let mut probes = 0;
+        let end = self.end_after(aim, from.max(0) as usize, q.t_max().to_f64(), &mut probes);
+        let end = End {
+            t: R::from_f64(end.t).max(t).min(q.t_max()),
+            band: end.band,
+        };
+        Some((end, probes))
+    }
+
+    /// [`Horizon::resume_query`] for a ray of `aim` traced to `t_max`, from band
+    /// `band` (the first of two clear bands) on.
+    fn resume(&self, aim: Aim, t_max: f64, band: usize) -> (Start<f64>, u32) {
+        let (b, m) = (aim.wedge as usize, aim.m);
+        // `g < m` for an `f32` `g` is `g < m_up`, the least `f32` no less than `m`.
+        let m_up = m as f32;
+        let m_up = if f64::from(m_up) < m {
+            m_up.next_up()
+        } else {
+            m_up
+        };
+        let mut probes = 0;
+        // The clear bands skipped: the ray is over every block there by `m − g` times
+        // its distance, at least `s0` (`g` their largest: none is NaN).
+        let mut g = f32::NEG_INFINITY;
+        let over = |g: f32| ((m - f64::from(g)) * self.s0).max(0.0) * (1.0 - 1e-6);
+        let mut k = band;
+        while k < self.bands {
+            if k.is_multiple_of(CHUNK) {
+                // A whole chunk at once, or all the rest.
+                let at = (k / CHUNK) * self.bins + b;
+                probes += 1;
+                let rest = self.ahead[at];
+                if rest < m_up {
+                    return (Start::Miss(over(mx(g, rest))), probes);
+                }
+                if self.chunks[at] < m_up {
+                    g = mx(g, self.chunks[at]);
+                    k += CHUNK;
+                    continue;
+                }
+            }
+            if !self.clear(&aim, k, &mut probes) {
+                let start = match self.span(aim, k, (0.0, t_max), over(g)) {
+                    Start::At(t, before, _) => {
+                        Start::At(t, before, self.end_after(aim, k + 1, t_max, &mut probes))
+                    }
+                    miss => miss,
+                };
+                return (start, probes);
+            }
+            g = mx(g, self.slopes[k * self.bins + b]);
+            k += 1;
+        }
+        (Start::Miss(over(g)), probes)
+    }
+
+    /// Where the ray `origin + t · dir` (grid space), traced over `t_range`, may first
+    /// meet the surface, and the horizon texels read to say it (its fetches): `None`
+    /// when the horizon says nothing of it (another origin, a vertical ray, an azimuth
+    /// outside the group's). `hint` is a band to search from, the last answer's for
+    /// the best speed (neighbouring rays start near each other); it is updated.
+    #[inline(always)]
+    pub fn start(
+        &self,
+        origin: [f64; 3],
+        d: [f64; 3],
+        (t_min, t_max): (f64, f64),
+        hint: &mut usize,
+    ) -> Option<(Start<f64>, u32)> {
+        if origin != self.eye {
+            return None;
+        }
+        let aim = self.aim(d)?;
+        let (b, m) = (aim.wedge as usize, aim.m);
         let mut probes = 0;
         let reaches = |k: usize| {
             probes += 1;
@@ -239,15 +484,8 @@ impl Horizon {
         let Some(band) = first_reaching(self.bands, reaches, hint) else {
             return Some((Start::Miss(over(self.bands)), probes));
         };
-        // Half a band before the first band the ray may not pass over.
-        let t = (self.s0 + (band as f64 - 0.5) * self.width) / rho;
-        let start = if t > t_max {
-            Start::Miss(0.0)
-        } else if t > t_min {
-            Start::At(t, over(band))
-        } else {
-            Start::At(t_min, f64::INFINITY)
-        };
+        let before = over(band);
+        let start = self.span(aim, band, (t_min, t_max), before);
         Some((start, probes))
     }
 }
@@ -605,11 +843,33 @@ impl<'a> Plan<'a> {
                 *v = mx(*v, p);
             }
         }
-        // Each wedge's running maximum.
-        for k in 1..bands {
-            let (done, rest) = g.split_at_mut(k * bins);
-            for (v, &before) in rest[..bins].iter_mut().zip(&done[(k - 1) * bins..]) {
-                *v = mx(*v, before);
+        // In one pass over the bands: each wedge's running maximum, and each chunk's
+        // maximum; then the maxima from each chunk on. The bands' own maxima stay.
+        let slopes = g;
+        let n_chunks = bands.div_ceil(CHUNK);
+        let mut running = vec![f32::NEG_INFINITY; bins * bands];
+        let mut chunks = vec![f32::NEG_INFINITY; n_chunks * bins];
+        for (k, row) in slopes.chunks_exact(bins).enumerate() {
+            let (done, rest) = running.split_at_mut(k * bins);
+            let before = done.get(done.len().wrapping_sub(bins)..).unwrap_or(&[]);
+            let now = &mut rest[..bins];
+            if before.is_empty() {
+                now.copy_from_slice(row);
+            } else {
+                for ((v, &g), &p) in now.iter_mut().zip(row).zip(before) {
+                    *v = mx(g, p);
+                }
+            }
+            let at = &mut chunks[(k / CHUNK) * bins..][..bins];
+            for (v, &g) in at.iter_mut().zip(row) {
+                *v = mx(*v, g);
+            }
+        }
+        let mut ahead = chunks.clone();
+        for c in (0..n_chunks.saturating_sub(1)).rev() {
+            let (this, after) = ahead.split_at_mut((c + 1) * bins);
+            for (v, &later) in this[c * bins..].iter_mut().zip(&after[..bins]) {
+                *v = mx(*v, later);
             }
         }
         Horizon {
@@ -621,7 +881,10 @@ impl<'a> Plan<'a> {
             s0,
             bands,
             width,
-            running: g,
+            running,
+            slopes,
+            chunks,
+            ahead,
         }
     }
 }

@@ -43,15 +43,24 @@ impl MarchOptions {
 #[cfg(all(feature = "alloc", feature = "maxmip"))]
 const DDA_CELLS: u32 = 16;
 
+/// Cells the DDA walks from a horizon's start, or from the start of a span, before
+/// the horizon may cut the walk ([`Marcher::trace_placed`]): most rays hit before and
+/// never look for a cut (looking for one at every start cost terrain frames 8–10 %).
+#[cfg(feature = "alloc")]
+const SPAN_CELLS: u32 = 64;
+
 /// The buffers [`Marcher::trace_placed`] reuses from call to call.
 #[cfg(feature = "alloc")]
 #[derive(Clone, Debug, Default)]
 pub struct Placed {
-    /// The queries placed at a start: their positions, bounds before the start and
-    /// horizon texels read.
-    which: alloc::vec::Vec<(usize, f32, u32)>,
-    /// Those queries from their starts.
+    /// The queries placed at a start: their positions, bounds of their clearance
+    /// before the start, texels read before it, and where their spans end.
+    which: alloc::vec::Vec<(usize, f32, u32, crate::horizon::End<f32>)>,
+    /// Those queries over their spans.
     from: alloc::vec::Vec<Query<f32>>,
+    /// The queries placed at their next spans, and those spans, for the next pass.
+    which_next: alloc::vec::Vec<(usize, f32, u32, crate::horizon::End<f32>)>,
+    from_next: alloc::vec::Vec<Query<f32>>,
     /// Their walks.
     walked: alloc::vec::Vec<dda::Walked>,
     /// The walks still running: from where they stopped, which they are, and their
@@ -59,6 +68,27 @@ pub struct Placed {
     again: alloc::vec::Vec<Query<f32>>,
     restarts: alloc::vec::Vec<usize>,
     went_on: alloc::vec::Vec<Trace<f32>>,
+}
+
+/// The start of the span after the one of `q` that ended at `end` without a hit
+/// ([`crate::horizon::Horizon::resume_query`]), and the texels read: `fetches` so far and
+/// the resume's. Without a horizon that places it (a start placed in another frame),
+/// the rest of the query's range from `end`, where the ray passes over the surface.
+#[cfg(feature = "alloc")]
+fn next_span(
+    horizon: Option<&crate::horizon::Horizon>,
+    q: &Query<f32>,
+    end: crate::horizon::End<f32>,
+    fetches: u32,
+) -> (crate::horizon::Start<f32>, u32) {
+    use crate::horizon::{End, Start};
+    match horizon.and_then(|h| h.resume_query(q, end)) {
+        Some((start, probes)) => (start, fetches + probes),
+        None => (
+            Start::At(end.t, f32::INFINITY, End::whole(q.t_max())),
+            fetches,
+        ),
+    }
 }
 
 /// The answer of a walk that stopped at `restart` and went on to `trace`: the fetches
@@ -317,31 +347,44 @@ impl<'a> Marcher<'a> {
         }
     }
 
-    /// [`Marcher::trace`] of `q`, a ray the horizon placed `start`: from there when
-    /// this method's hits are the DDA's (by [`dda::trace_skipping`], the maximum mipmap
-    /// taking over long walks), else (a start this marcher cannot use) from its
-    /// `t_min`; a miss when the horizon proved one.
-    /// The clearance takes the horizon's bound before the start; `fetches` adds the
-    /// horizon's `probes`.
+    /// [`Marcher::trace`] of `q`, a ray `horizon` placed `start`: span after span
+    /// when this method's hits are the DDA's (each span's march by
+    /// [`dda::trace_skipping`], the maximum mipmap taking over long walks; the next
+    /// span from [`crate::horizon::Horizon::resume_query`]), else (a start this marcher
+    /// cannot use) from its `t_min`; a miss when the horizon proved one. Without the
+    /// horizon (`None`: a start placed in another frame), a span that goes on is
+    /// marched to the query's end.
+    /// The clearance takes the horizon's bounds over what it skipped; `fetches` adds
+    /// the horizon's texels read (`probes` and the resumes').
     #[cfg(feature = "alloc")]
     pub fn trace_started(
         &self,
         hf: &HeightField,
+        horizon: Option<&crate::horizon::Horizon>,
         q: &Query<f32>,
         (start, probes): (crate::horizon::Start<f32>, u32),
     ) -> Trace<f32> {
         use crate::horizon::Start;
-        let mut trace = match (start, self.dda_surface()) {
-            (Start::At(t, before), Some(surface)) => {
-                let mut trace = self.march_from(hf, surface, &q.starting_at(t));
-                trace.clearance = trace.clearance.min(before);
-                trace
-            }
-            (Start::Miss(clearance), Some(_)) => Trace::miss(0, clearance),
-            (_, None) => self.trace(hf, q),
+        let Some(surface) = self.dda_surface() else {
+            let mut trace = self.trace(hf, q);
+            trace.fetches += probes;
+            return trace;
         };
-        trace.fetches += probes;
-        trace
+        let (mut start, mut fetches, mut clearance) = (start, probes, f32::INFINITY);
+        loop {
+            let (t, before, end) = match start {
+                Start::At(t, before, end) => (t, before, end),
+                Start::Miss(c) => return Trace::miss(fetches, clearance.min(c)),
+            };
+            let mut trace = self.march_from(hf, surface, &q.within(t, end.t));
+            trace.fetches += fetches;
+            trace.clearance = trace.clearance.min(before).min(clearance);
+            if trace.hit.is_some() || !end.goes_on() {
+                return trace;
+            }
+            (start, fetches) = next_span(horizon, q, end, trace.fetches);
+            clearance = trace.clearance;
+        }
     }
 
     /// The march of `q` from its start (a horizon's): [`dda::trace_skipping`], which
@@ -402,6 +445,8 @@ impl<'a> Marcher<'a> {
         let Placed {
             which,
             from,
+            which_next,
+            from_next,
             walked,
             again,
             restarts,
@@ -411,9 +456,9 @@ impl<'a> Marcher<'a> {
         from.clear();
         for (k, (o, q)) in out.iter_mut().zip(queries).enumerate() {
             match horizon.start_query(q, hint) {
-                Some((Start::At(t, before), probes)) => {
-                    which.push((k, before, probes));
-                    from.push(q.starting_at(t));
+                Some((Start::At(t, before, end), probes)) => {
+                    which.push((k, before, probes, end));
+                    from.push(q.within(t, end.t));
                 }
                 Some((Start::Miss(clearance), probes)) => {
                     *o = Trace::miss(probes, clearance).into()
@@ -421,34 +466,107 @@ impl<'a> Marcher<'a> {
                 None => *o = self.trace(hf, q).into(),
             }
         }
-        walked.clear();
-        walked.resize(from.len(), Ok(Trace::MISS));
+        // Pass after pass: the spans walked together for a few cells; then the walks
+        // still running cut where the horizon lets them stop (and go on together to
+        // there), or go on by this method's march; and the next spans of the rays
+        // that passed over theirs.
+        while !from.is_empty() {
+            walked.clear();
+            walked.resize(from.len(), Ok(Trace::MISS));
+            let avx512 = simd.and_then(crate::simd::Avx2::avx512);
+            dda::trace_skipping_lanes(hf, surface, from, self.span_budget(), walked, avx512);
+            which_next.clear();
+            from_next.clear();
+            again.clear();
+            restarts.clear();
+            for (i, (&(k, before, probes, _), w)) in which.iter().zip(walked.iter()).enumerate() {
+                let Err(restart) = w else { continue };
+                let q = &queries[k];
+                // The DDA's walks are cut into spans; the maximum mipmap's own march
+                // goes on faster than spans would (measured on the needles).
+                let dda = self.walk_budget() == u32::MAX;
+                let cut = dda.then(|| horizon.cut_query(q, restart.t)).flatten();
+                match cut {
+                    Some((end, cut)) if end.goes_on() => {
+                        let clearance = before.min(restart.trace.clearance);
+                        let fetches = probes + restart.trace.fetches + cut;
+                        which_next.push((k, clearance, fetches, end));
+                        from_next.push(q.within(restart.t, end.t));
+                    }
+                    _ => {
+                        again.push(from[i].starting_at(restart.t));
+                        restarts.push(i);
+                    }
+                }
+            }
+            went_on.clear();
+            went_on.resize(again.len(), Trace::MISS);
+            self.go_on(hf, surface, again, went_on, simd);
+            for (&i, trace) in restarts.iter().zip(went_on.iter()) {
+                if let Err(restart) = walked[i] {
+                    walked[i] = Ok(joined(&restart, *trace));
+                }
+            }
+            for (&(k, before, probes, end), w) in which.iter().zip(walked.iter()) {
+                // (A walk still stopped was cut: its next span is queued.)
+                let Ok(mut trace) = *w else { continue };
+                trace.clearance = trace.clearance.min(before);
+                trace.fetches += probes;
+                if trace.hit.is_none() && end.goes_on() {
+                    let q = &queries[k];
+                    match next_span(Some(horizon), q, end, trace.fetches) {
+                        (Start::At(t, before, end), fetches) => {
+                            let before = before.min(trace.clearance);
+                            which_next.push((k, before, fetches, end));
+                            from_next.push(q.within(t, end.t));
+                            continue;
+                        }
+                        (Start::Miss(c), fetches) => {
+                            trace = Trace::miss(fetches, trace.clearance.min(c));
+                        }
+                    }
+                }
+                out[k] = trace.into();
+            }
+            core::mem::swap(which, which_next);
+            core::mem::swap(from, from_next);
+        }
+    }
+
+    /// The cells a walk of a span takes before the horizon may cut it (the few rays
+    /// that walk on past a field's first ridge; most hit before): for the maximum
+    /// mipmap, the cells before its own march takes over.
+    #[cfg(feature = "alloc")]
+    fn span_budget(&self) -> u32 {
+        match self {
+            #[cfg(feature = "maxmip")]
+            Marcher::MaxMip(..) => DDA_CELLS,
+            _ => SPAN_CELLS,
+        }
+    }
+
+    /// The rest of the walks `again` (each from a cell its ray passes above) into
+    /// `out`: by this method's march (the maximum mipmap's, in lanes), or the DDA's
+    /// walk in lanes.
+    #[cfg(feature = "alloc")]
+    fn go_on(
+        &self,
+        hf: &HeightField,
+        surface: Surface,
+        again: &[Query<f32>],
+        out: &mut [Trace<f32>],
+        simd: Option<crate::simd::Avx2>,
+    ) {
+        if self.walk_budget() != u32::MAX {
+            return self.trace_each(hf, again, out, simd);
+        }
+        let mut walked = alloc::vec![Ok(Trace::MISS); again.len()];
         let avx512 = simd.and_then(crate::simd::Avx2::avx512);
-        dda::trace_skipping_lanes(hf, surface, from, self.walk_budget(), walked, avx512);
-        // The walks still running go on together, in this method's lanes.
-        again.clear();
-        restarts.clear();
-        for (i, (q, w)) in from.iter().zip(walked.iter()).enumerate() {
-            if let Err(restart) = w {
-                again.push(q.starting_at(restart.t));
-                restarts.push(i);
-            }
-        }
-        went_on.clear();
-        went_on.resize(again.len(), Trace::MISS);
-        self.trace_each(hf, again, went_on, simd);
-        for (&i, trace) in restarts.iter().zip(went_on.iter()) {
-            if let Err(restart) = walked[i] {
-                walked[i] = Ok(joined(&restart, *trace));
-            }
-        }
-        for (&(k, before, probes), w) in which.iter().zip(walked.iter()) {
-            let mut trace = match w {
-                Ok(trace) | Err(dda::Restart { trace, .. }) => *trace,
+        dda::trace_skipping_lanes(hf, surface, again, u32::MAX, &mut walked, avx512);
+        for (o, w) in out.iter_mut().zip(walked) {
+            *o = match w {
+                Ok(trace) | Err(dda::Restart { trace, .. }) => trace,
             };
-            trace.clearance = trace.clearance.min(before);
-            trace.fetches += probes;
-            out[k] = trace.into();
         }
     }
 

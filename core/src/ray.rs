@@ -120,6 +120,17 @@ impl<R: Real> Query<R> {
         q
     }
 
+    /// The same query over `[t0, t1]`, a part of its range (a horizon's span, which
+    /// the caller has proved no hit precedes).
+    #[inline]
+    pub fn within(&self, t0: R, t1: R) -> Query<R> {
+        debug_assert!(self.t_min <= t0 && t0 <= t1 && t1 <= self.t_max);
+        let mut q = *self;
+        q.t_min = t0;
+        q.t_max = t1;
+        q
+    }
+
     /// Origin in grid space.
     #[inline]
     pub fn origin(&self) -> [R; 3] {

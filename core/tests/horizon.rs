@@ -12,7 +12,7 @@ use common::{
     eps_f32, fractal_field, is_ambiguous, kind_blocks, march_fields, Field, RayKind, Rng,
 };
 use hfcast::camera::Pinhole;
-use hfcast::horizon::{Horizon, Plan, Sighting, Start};
+use hfcast::horizon::{End, Horizon, Plan, Sighting, Start};
 use hfcast::march::Marcher;
 use hfcast::maxmip::{self, MaxMip, Options};
 use hfcast::{dda, HeightField, Query, Real, Surface, Trace};
@@ -135,12 +135,46 @@ fn hit_bits(t: &Trace<f32>) -> String {
     format!("{:?}", t.hit)
 }
 
-/// No ray meets the surface before its start: the f64 oracle's hit is never before it
-/// (nor is there one when the horizon says the ray misses), on every field, surface
-/// and camera, unless the oracle calls the ray ambiguous.
+/// A span: its start, the clearance bound over what was skipped before it, its end.
+type Span = (f32, f32, End<f32>);
+
+/// The spans of `q` the horizon places, span after span as if none held a hit (each
+/// cut where [`Horizon::cut_query`] lets a march from its start stop, then
+/// [`Horizon::resume_query`] after each that goes on): each `(t, before, end)` (the
+/// bound of the clearance over what was skipped before `t`), and the clearance bound
+/// of the proved miss after the last, if any.
+fn spans_of(horizon: &Horizon, q: &Query<f32>, first: Start<f32>) -> (Vec<Span>, Option<f32>) {
+    let mut spans = Vec::new();
+    let mut start = first;
+    loop {
+        match start {
+            Start::Miss(c) => return (spans, Some(c)),
+            Start::At(t, before, end) => {
+                let end = match horizon.cut_query(q, t) {
+                    Some((cut, _)) if cut.goes_on() && !end.goes_on() => cut,
+                    _ => end,
+                };
+                assert!(
+                    end.t > t || !end.goes_on(),
+                    "{q:?}: a span from {t} to {end:?}"
+                );
+                spans.push((t, before, end));
+                if !end.goes_on() {
+                    return (spans, None);
+                }
+                start = horizon.resume_query(q, end).expect("a resume").0;
+            }
+        }
+    }
+}
+
+/// No ray meets the surface before its start, nor between a span's end and the next
+/// start: the f64 oracle's hit is in a span (nor is there one when the horizon says the
+/// ray misses, at first or after a span), and the clearance bounds of the parts skipped
+/// hold, on every field, surface and camera, unless the oracle calls the ray ambiguous.
 #[test]
 fn no_hit_precedes_a_start() {
-    let (mut starts, mut misses, mut advanced) = (0usize, 0usize, 0usize);
+    let (mut starts, mut misses, mut advanced, mut resumed) = (0usize, 0usize, 0usize, 0usize);
     for (name, field) in fields() {
         let hf = field.hf();
         let eps = eps_f32(field.z_scale());
@@ -157,32 +191,53 @@ fn no_hit_precedes_a_start() {
                     if is_ambiguous(&oracle, eps) {
                         continue;
                     }
+                    let o = q.cast::<f64>();
+                    // The oracle's clearance over `[a, b]`.
+                    let over = |a: f64, b: f64| {
+                        let part = Query::from_arrays(o.origin(), o.dir(), a, b).unwrap();
+                        dda::trace(&hf, surface, &part).clearance
+                    };
                     match start {
-                        Start::At(t, before) => {
+                        Start::At(t, before, _) => {
                             starts += 1;
                             advanced += usize::from(t > q.t_min());
                             if t > q.t_min() {
-                                let o = q.cast::<f64>();
-                                let skipped = Query::from_arrays(
-                                    o.origin(),
-                                    o.dir(),
-                                    o.t_min(),
-                                    f64::from(t),
-                                )
-                                .unwrap();
-                                let c = dda::trace(&hf, surface, &skipped).clearance;
+                                let c = over(o.t_min(), f64::from(t));
                                 assert!(
                                     f64::from(before) <= c,
                                     "{name} {surface:?}: {before} over {c}"
                                 );
                             }
-                            if let Some(h) = oracle.hit {
+                            let (spans, miss) = spans_of(&horizon, q, start);
+                            resumed += spans.len() - 1;
+                            // The parts skipped: before the first span, between spans,
+                            // after the last one that goes on.
+                            let mut gaps = vec![(f64::from(q.t_min()), f64::from(t))];
+                            for w in spans.windows(2) {
+                                let (from, to) = (f64::from(w[0].2.t), f64::from(w[1].0));
+                                gaps.push((from, to));
+                                let c = over(from, to);
                                 assert!(
-                                    h.t >= f64::from(t),
-                                    "{name} {surface:?} {}: hit at {} before the start {t}",
-                                    shot.name,
-                                    h.t
+                                    f64::from(w[1].1) <= c,
+                                    "{name} {surface:?}: {} over {c} between spans",
+                                    w[1].1
                                 );
+                            }
+                            if let Some(c) = miss {
+                                let last = f64::from(spans[spans.len() - 1].2.t);
+                                gaps.push((last, f64::from(q.t_max())));
+                                let over_rest = over(last, f64::from(q.t_max()));
+                                assert!(f64::from(c) <= over_rest, "{name} {surface:?}");
+                            }
+                            if let Some(h) = oracle.hit {
+                                for (a, b) in gaps {
+                                    assert!(
+                                        !(h.t >= a && h.t < b),
+                                        "{name} {surface:?} {}: hit at {} skipped ({a}, {b})",
+                                        shot.name,
+                                        h.t
+                                    );
+                                }
                             }
                         }
                         Start::Miss(clearance) => {
@@ -202,10 +257,13 @@ fn no_hit_precedes_a_start() {
             }
         }
     }
-    println!("{starts} starts ({advanced} past t_min) and {misses} proved misses checked");
+    println!(
+        "{starts} starts ({advanced} past t_min, {resumed} spans resumed) and {misses} \
+         proved misses checked"
+    );
     assert!(
-        advanced > starts / 4 && misses > 1000,
-        "the horizon must place rays"
+        advanced > starts / 4 && misses > 1000 && resumed > 1000,
+        "the horizon must place rays and resume spans"
     );
 }
 
@@ -305,7 +363,7 @@ fn batches_share_a_horizon_and_a_late_start_is_seen() {
         .iter()
         .zip(&plain)
         .filter(|(q, p)| {
-            let Some((Start::At(t, _), _)) = horizon.start_query(q, &mut hint) else {
+            let Some((Start::At(t, _, _), _)) = horizon.start_query(q, &mut hint) else {
                 return false;
             };
             let d = q.dir();
@@ -450,9 +508,9 @@ fn the_skipping_dda_is_the_dda() {
 /// [`dda::trace_skipping_lanes`] answers each query with [`dda::trace_skipping_for`]'s
 /// answer bit for bit (the hit, fetches and clearance, or the restart), on every field,
 /// surface (only the triangle surface has lanes) and ray kind, for the cameras' rays
-/// from their horizons' starts (the coherent batches' march) and from their own
-/// `t_min`, with budgets from none to unlimited; fewer queries than lanes and more;
-/// with the SIMD token and without.
+/// from their horizons' starts to where the horizon may cut them (the coherent batches'
+/// march) and from their own `t_min`, with budgets from none to unlimited; fewer
+/// queries than lanes and more; with the SIMD token and without.
 #[test]
 fn the_laned_dda_is_the_skipping_dda() {
     let mut rng = Rng::new(0x1a_2e5);
@@ -468,11 +526,12 @@ fn the_laned_dda_is_the_skipping_dda() {
                 let started = rays
                     .iter()
                     .filter_map(|q| match horizon.start_query(q, &mut hint)?.0 {
-                        Start::At(t, _) => Some(q.starting_at(t)),
+                        // Cut where the horizon lets a walk from the start stop.
+                        Start::At(t, _, _) => Some(q.within(t, horizon.cut_query(q, t)?.0.t)),
                         Start::Miss(_) => None,
                     })
                     .collect();
-                sets.push((format!("{} from the horizon", shot.name), started));
+                sets.push((format!("{} over the first spans", shot.name), started));
                 sets.push((shot.name.to_string(), rays));
             }
             let kinds = kind_blocks(&mut rng, &field, surface, &RayKind::ALL, 9);
