@@ -621,14 +621,12 @@ fn trace_from_start(
     (start, probes): (Start<f64>, u32),
 ) -> hf_hit {
     match start {
-        // In the query's own frame: the span runs to its end (the horizon's bands are
-        // the grid's).
         Start::At(t, before, _) => answer(
             hf,
             local.trace_from(Some(t), |q, t| {
                 let t = t.expect("a start in local units");
                 let whole = End::whole(q.t_max());
-                m.trace_started(hf, None, q, (Start::At(t, before as f32, whole), probes))
+                m.trace_started(hf, q, (Start::At(t, before as f32, whole), probes))
             }),
         ),
         Start::Miss(clearance) => hf_hit::from(Trace::<f32>::miss(probes, clearance as f32)),

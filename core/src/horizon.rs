@@ -291,8 +291,9 @@ impl Horizon {
         if q.origin().map(R::to_f64) != self.eye || !end.goes_on() {
             return None;
         }
-        // (The aim is found again: carried in every span's end, it cost the many rays
-        // that never resume more than it saves the few that do.)
+        // (The aim is found again: carried in every span's end, it made a resume about
+        // 35 ns cheaper and the ends of all spans four times larger, for no gain
+        // measured on terrain.)
         let aim = self.aim(q.dir().map(R::to_f64))?;
         let (start, probes) = self.resume(aim, q.t_max().to_f64(), end.band as usize);
         Some((start.rounded(q), probes))

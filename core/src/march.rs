@@ -71,18 +71,19 @@ pub struct Placed {
 }
 
 /// The start of the span after the one of `q` that ended at `end` without a hit
-/// ([`crate::horizon::Horizon::resume_query`]), and the texels read: `fetches` so far and
-/// the resume's. Without a horizon that places it (a start placed in another frame),
-/// the rest of the query's range from `end`, where the ray passes over the surface.
+/// ([`crate::horizon::Horizon::resume_query`]), and the texels read: `fetches` so far
+/// and the resume's. Where the horizon does not place it (it always does for a span it
+/// ended), the rest of the query's range from `end`, where the ray passes over the
+/// surface.
 #[cfg(feature = "alloc")]
 fn next_span(
-    horizon: Option<&crate::horizon::Horizon>,
+    horizon: &crate::horizon::Horizon,
     q: &Query<f32>,
     end: crate::horizon::End<f32>,
     fetches: u32,
 ) -> (crate::horizon::Start<f32>, u32) {
     use crate::horizon::{End, Start};
-    match horizon.and_then(|h| h.resume_query(q, end)) {
+    match horizon.resume_query(q, end) {
         Some((start, probes)) => (start, fetches + probes),
         None => (
             Start::At(end.t, f32::INFINITY, End::whole(q.t_max())),
@@ -347,44 +348,32 @@ impl<'a> Marcher<'a> {
         }
     }
 
-    /// [`Marcher::trace`] of `q`, a ray `horizon` placed `start`: span after span
-    /// when this method's hits are the DDA's (each span's march by
-    /// [`dda::trace_skipping`], the maximum mipmap taking over long walks; the next
-    /// span from [`crate::horizon::Horizon::resume_query`]), else (a start this marcher
-    /// cannot use) from its `t_min`; a miss when the horizon proved one. Without the
-    /// horizon (`None`: a start placed in another frame), a span that goes on is
-    /// marched to the query's end.
-    /// The clearance takes the horizon's bounds over what it skipped; `fetches` adds
-    /// the horizon's texels read (`probes` and the resumes').
+    /// [`Marcher::trace`] of `q`, a ray the horizon placed `start`: from there to the
+    /// query's end when this method's hits are the DDA's (by [`dda::trace_skipping`],
+    /// the maximum mipmap taking over long walks; the walk from a start finds the same
+    /// hit whether its span ends or not), else (a start this marcher cannot use) from
+    /// its `t_min`; a miss when the horizon proved one.
+    /// The clearance takes the horizon's bound before the start; `fetches` adds the
+    /// horizon's `probes`.
     #[cfg(feature = "alloc")]
     pub fn trace_started(
         &self,
         hf: &HeightField,
-        horizon: Option<&crate::horizon::Horizon>,
         q: &Query<f32>,
         (start, probes): (crate::horizon::Start<f32>, u32),
     ) -> Trace<f32> {
         use crate::horizon::Start;
-        let Some(surface) = self.dda_surface() else {
-            let mut trace = self.trace(hf, q);
-            trace.fetches += probes;
-            return trace;
-        };
-        let (mut start, mut fetches, mut clearance) = (start, probes, f32::INFINITY);
-        loop {
-            let (t, before, end) = match start {
-                Start::At(t, before, end) => (t, before, end),
-                Start::Miss(c) => return Trace::miss(fetches, clearance.min(c)),
-            };
-            let mut trace = self.march_from(hf, surface, &q.within(t, end.t));
-            trace.fetches += fetches;
-            trace.clearance = trace.clearance.min(before).min(clearance);
-            if trace.hit.is_some() || !end.goes_on() {
-                return trace;
+        let mut trace = match (start, self.dda_surface()) {
+            (Start::At(t, before, _), Some(surface)) => {
+                let mut trace = self.march_from(hf, surface, &q.starting_at(t));
+                trace.clearance = trace.clearance.min(before);
+                trace
             }
-            (start, fetches) = next_span(horizon, q, end, trace.fetches);
-            clearance = trace.clearance;
-        }
+            (Start::Miss(clearance), Some(_)) => Trace::miss(0, clearance),
+            (_, None) => self.trace(hf, q),
+        };
+        trace.fetches += probes;
+        trace
     }
 
     /// The march of `q` from its start (a horizon's): [`dda::trace_skipping`], which
@@ -514,7 +503,7 @@ impl<'a> Marcher<'a> {
                 trace.fetches += probes;
                 if trace.hit.is_none() && end.goes_on() {
                     let q = &queries[k];
-                    match next_span(Some(horizon), q, end, trace.fetches) {
+                    match next_span(horizon, q, end, trace.fetches) {
                         (Start::At(t, before, end), fetches) => {
                             let before = before.min(trace.clearance);
                             which_next.push((k, before, fetches, end));
