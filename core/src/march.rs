@@ -468,13 +468,13 @@ impl<'a> Marcher<'a> {
             from_next.clear();
             again.clear();
             restarts.clear();
+            // The DDA's walks are cut into spans; the maximum mipmap's own march goes
+            // on faster than spans would (measured on the needles).
+            let cuts = self.walk_budget() == u32::MAX;
             for (i, (&(k, before, probes, _), w)) in which.iter().zip(walked.iter()).enumerate() {
                 let Err(restart) = w else { continue };
                 let q = &queries[k];
-                // The DDA's walks are cut into spans; the maximum mipmap's own march
-                // goes on faster than spans would (measured on the needles).
-                let dda = self.walk_budget() == u32::MAX;
-                let cut = dda.then(|| horizon.cut_query(q, restart.t)).flatten();
+                let cut = cuts.then(|| horizon.cut_query(q, restart.t)).flatten();
                 match cut {
                     Some((end, cut)) if end.goes_on() => {
                         let clearance = before.min(restart.trace.clearance);
