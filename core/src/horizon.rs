@@ -321,17 +321,6 @@ impl Horizon {
         })
     }
 
-    /// Whether a ray of `aim` provably passes over every block of band `k` (past the
-    /// last band there are none); counts the read in `probes`.
-    #[inline(always)]
-    fn clear(&self, aim: &Aim, k: usize, probes: &mut u32) -> bool {
-        if k >= self.bands {
-            return true;
-        }
-        *probes += 1;
-        f64::from(self.slopes[k * self.bins + aim.wedge as usize]) < aim.m
-    }
-
     /// The start of a span at band `band` (one the ray's wedge may reach, after only
     /// clear bands) for a ray of `aim`, range `(t_min, t_max)`, clearance `before`
     /// over what it skipped; the span runs to `t_max` ([`Horizon::end_after`] cuts it).
@@ -435,7 +424,12 @@ impl Horizon {
                     continue;
                 }
             }
-            if !self.clear(&aim, k, &mut probes) {
+            // The band's own `g`: the ray passes over it when `g < m_up` (a NaN does
+            // not let it pass).
+            let here = self.slopes[k * self.bins + b];
+            probes += 1;
+            let passes = here < m_up;
+            if !passes {
                 let start = match self.span(aim, k, (0.0, t_max), over(g)) {
                     Start::At(t, before, _) => {
                         Start::At(t, before, self.end_after(aim, k + 1, t_max, &mut probes))
@@ -444,7 +438,7 @@ impl Horizon {
                 };
                 return (start, probes);
             }
-            g = mx(g, self.slopes[k * self.bins + b]);
+            g = mx(g, here);
             k += 1;
         }
         (Start::Miss(over(g)), probes)
@@ -852,12 +846,11 @@ impl<'a> Plan<'a> {
         let mut chunks = vec![f32::NEG_INFINITY; n_chunks * bins];
         for (k, row) in slopes.chunks_exact(bins).enumerate() {
             let (done, rest) = running.split_at_mut(k * bins);
-            let before = done.get(done.len().wrapping_sub(bins)..).unwrap_or(&[]);
             let now = &mut rest[..bins];
-            if before.is_empty() {
+            if k == 0 {
                 now.copy_from_slice(row);
             } else {
-                for ((v, &g), &p) in now.iter_mut().zip(row).zip(before) {
+                for ((v, &g), &p) in now.iter_mut().zip(row).zip(&done[(k - 1) * bins..]) {
                     *v = mx(g, p);
                 }
             }
