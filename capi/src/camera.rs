@@ -181,13 +181,18 @@ where
         }
         // Primary rays share the eye: a horizon placed by the image's border rays (an
         // azimuth inside the image is one of the border's; the others are traced
-        // without it).
+        // without it), its blocks sized by those and a grid of the pixels inside (how
+        // many rays come into the field above its surface).
         let horizon = match every_pixel {
             true => None,
             false => {
+                let inside = (0..h)
+                    .step_by(16)
+                    .flat_map(|y| (0..w).step_by(16).map(move |x| (x, y)));
                 let border = (0..w)
                     .flat_map(|x| [(x, 0), (x, h - 1)])
-                    .chain((0..h).flat_map(|y| [(0, y), (w - 1, y)]));
+                    .chain((0..h).flat_map(|y| [(0, y), (w - 1, y)]))
+                    .chain(inside);
                 let lines = border
                     .map(|(x, y)| ray(&p, &m, c.t_max, x, y))
                     .collect::<Result<Vec<_>, _>>()?;

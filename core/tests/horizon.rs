@@ -355,9 +355,10 @@ fn batches_share_a_horizon_and_a_late_start_is_seen() {
         "the horizon must save fetches"
     );
 
-    // Four cells later than the start (two bands of the widest blocks): some hit is
-    // lost, so the equality checks above see a start placed past a hit.
+    // Two bands later than the start: some hit is lost, so the equality checks above
+    // see a start placed past a hit.
     let horizon = horizon_of(&hf, Surface::Triangles, &rays);
+    let late = 2.0 * horizon.band_width() as f32;
     let mut hint = 0;
     let late = rays
         .iter()
@@ -367,7 +368,7 @@ fn batches_share_a_horizon_and_a_late_start_is_seen() {
                 return false;
             };
             let d = q.dir();
-            let t = (t + 4.0 / d[0].hypot(d[1])).min(q.t_max());
+            let t = (t + late / d[0].hypot(d[1])).min(q.t_max());
             hit_bits(&dda::trace_skipping(
                 &hf,
                 Surface::Triangles,
