@@ -12,6 +12,7 @@ use hfcore::march::Placed;
 use hfcore::projective::{Mat4, Projective};
 use hfcore::scene::RayClasses;
 use hfcore::scene::{MethodKind, Shadows};
+use hfcore::simd::Avx2;
 use hfcore::{Flags, HeightField, Hit, Marcher, Query, Surface, Trace};
 use std::ffi::c_void;
 use std::ops::Range;
@@ -502,9 +503,28 @@ pub(crate) fn checked_horizon(
     let eye = rays.first().map(|r| grid_line(hf, r).0);
     let identity = hf.transform().is_identity();
     let near = Near::of(hf);
+    let lanes = o.simd.and_then(Avx2::avx512).filter(|_| identity);
     let sight = |part: Range<usize>| -> Result<(Sighting, bool), usize> {
         let mut seen = Sighting::new(total);
         let mut plain = identity;
+        let mut from = part.start;
+        // Runs of 64 rays in AVX-512 lanes (`Near::sight`: the same tests); from a run
+        // that holds an invalid ray on, ray by ray, which finds the first.
+        if let (Some(avx512), Some(r0)) = (lanes, rays.first()) {
+            while from + RUN <= part.end {
+                let run = &rays[from..from + RUN];
+                let seen_run = near.sight(as_arrays(run), r0.origin, avx512);
+                if !seen_run.valid {
+                    break;
+                }
+                plain &= seen_run.plain;
+                if surface.is_some() {
+                    seen.add_run(from, RUN, seen_run.at_eye, |i| grid_line(hf, &run[i]).1);
+                }
+                from += RUN;
+            }
+        }
+        let part = from..part.end;
         for (k, r) in part.clone().zip(&rays[part]) {
             if identity {
                 let q = Query::from_arrays(r.origin, r.dir, r.t_min, r.t_max).map_err(|_| k)?;
@@ -542,6 +562,21 @@ pub(crate) fn checked_horizon(
         _ => None,
     };
     Ok(Checked { horizon, plain })
+}
+
+/// Rays [`checked_horizon`] checks at once in AVX-512 lanes.
+const RUN: usize = 64;
+
+/// The rays `rays` as arrays of their eight `f32` (origin, direction, `t_min`,
+/// `t_max`), where they lie: what [`Near::sight`] reads.
+fn as_arrays(rays: &[hf_ray]) -> &[[f32; 8]] {
+    const {
+        assert!(size_of::<hf_ray>() == size_of::<[f32; 8]>());
+        assert!(align_of::<hf_ray>() == align_of::<[f32; 8]>());
+    }
+    // SAFETY: `hf_ray` is `repr(C)`, four arrays of `f32` (3 + 3 + 1 + 1), no padding
+    // (the sizes are checked above): every `hf_ray` is eight initialized `f32`.
+    unsafe { core::slice::from_raw_parts(rays.as_ptr().cast::<[f32; 8]>(), rays.len()) }
 }
 
 /// The rays of a batch that [`checked_horizon`] found plain, as the queries the marches

@@ -30,6 +30,9 @@ use crate::math::Real;
 use crate::ray::{Query, RayError, Trace};
 use crate::surface::Surface;
 
+mod lanes;
+pub use lanes::Sighted;
+
 /// How many field extents (one more than the largest of `W − 1`, `H − 1` and the height
 /// range) an origin may lie outside the field's box before its ray is rebased.
 pub const FAR: f64 = 2.0;

@@ -942,8 +942,34 @@ impl Sighting {
     #[inline]
     pub fn add(&mut self, k: usize, d: [f64; 3]) {
         self.count += 1;
-        let picked = (k as u64).wrapping_mul(0x9E37_79B9_7F4A_7C15) <= self.below;
-        if picked && (d[0] != 0.0 || d[1] != 0.0) {
+        if self.picked(k) {
+            self.keep(d);
+        }
+    }
+
+    /// Sees the rays `first..first + n` of a batch (`n` at most 64) that leave the
+    /// group's eye, those whose bit is set in `at` (bit `i` for ray `first + i`),
+    /// `dir(i)` the direction of ray `first + i` (grid space): as [`Sighting::add`] of
+    /// each of them, in order.
+    #[inline]
+    pub fn add_run(&mut self, first: usize, n: usize, at: u64, dir: impl Fn(usize) -> [f64; 3]) {
+        self.count += at.count_ones() as usize;
+        for i in 0..n {
+            if self.picked(first + i) && at >> i & 1 == 1 {
+                self.keep(dir(i));
+            }
+        }
+    }
+
+    /// Whether ray number `k` of the group is in the sample.
+    #[inline(always)]
+    fn picked(&self, k: usize) -> bool {
+        (k as u64).wrapping_mul(0x9E37_79B9_7F4A_7C15) <= self.below
+    }
+
+    /// Keeps a picked direction `d` in the sample, unless it has no horizontal part.
+    fn keep(&mut self, d: [f64; 3]) {
+        if d[0] != 0.0 || d[1] != 0.0 {
             self.sample.push(d);
         }
     }

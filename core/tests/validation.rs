@@ -390,3 +390,107 @@ fn scenes_validate_their_ray_classes_and_view_angle() {
         assert_eq!(scene.validate(), want, "classes {classes}, angle {angle}");
     }
 }
+
+/// `Near::sight` (the first pass of a batch in AVX-512 lanes, two rays a vector)
+/// answers as the scalar checks do, run by run: valid exactly when
+/// `Query::from_arrays` accepts every ray, plain exactly when `Near::holds` holds for
+/// every ray, and the rays that leave the eye, on rays built from every kind of bad
+/// component and from values at the conditioning thresholds (runs of 1 to 64 rays,
+/// odd lengths included). Skipped (with a note) on a CPU without AVX-512F.
+#[test]
+fn sighting_in_lanes_is_the_scalar_check() {
+    use hfcast::condition::{Near, FAR};
+    let Some(avx512) = hfcast::detect_avx2!().and_then(|a| a.avx512()) else {
+        println!("no AVX-512F here: the lanes are not tested");
+        return;
+    };
+    let heights: Vec<f32> = (0..33 * 17).map(|k| (k % 7) as f32 * 3.0 - 5.0).collect();
+    let hf = HeightField::new(&heights, 33, 17, 33).unwrap();
+    let near = Near::<f32>::of(&hf);
+    // One more than the largest of W − 1, H − 1 and the height range: 33.
+    let reach = (FAR * 33.0) as f32;
+    let eye = [-4.0f32, 0.0, 12.5];
+    let small = 1.0 / 4_294_967_296.0f32;
+    // Components at and around every threshold, and every kind of bad value.
+    let edges = [
+        0.0,
+        -0.0,
+        f32::NAN,
+        f32::INFINITY,
+        f32::NEG_INFINITY,
+        small,
+        small.next_down(),
+        1.0 / small,
+        (1.0 / small).next_up(),
+        -reach,
+        (-reach).next_down(),
+        32.0 + reach,
+        (32.0 + reach).next_up(),
+        -5.0 - reach,
+        16.0 + reach,
+        f32::MAX,
+        f32::MIN_POSITIVE,
+    ];
+    let mut rng = Rng::new(0x51_6e);
+    let component = |rng: &mut Rng, lo: f32, hi: f32| match rng.below(8) {
+        0 => edges[rng.below(edges.len())],
+        _ => rng.range(f64::from(lo), f64::from(hi)) as f32,
+    };
+    let (mut runs, mut invalid_runs, mut odd_plain) = (0, 0, 0);
+    for _ in 0..20_000 {
+        let len = 1 + rng.below(64);
+        let rays: Vec<[f32; 8]> = (0..len)
+            .map(|_| {
+                let mut r = [0.0f32; 8];
+                for (k, v) in r.iter_mut().enumerate() {
+                    *v = match k {
+                        0..=2 if rng.below(3) == 0 => eye[k],
+                        0..=2 => component(&mut rng, -40.0, 70.0),
+                        3..=5 => component(&mut rng, -1.0, 1.0),
+                        6 => component(&mut rng, 0.0, 5.0),
+                        _ if rng.below(4) == 0 => f32::INFINITY,
+                        _ => component(&mut rng, 0.0, 100.0),
+                    };
+                }
+                // Some rays with no direction, some with a reversed range.
+                match rng.below(32) {
+                    0 => r[3..6].copy_from_slice(&[0.0, -0.0, 0.0]),
+                    1 => (r[6], r[7]) = (r[7].max(1.0), r[6].min(0.5)),
+                    _ => {}
+                }
+                // Mostly valid rays, so that the plain test is seen on whole runs.
+                if rng.below(4) != 0 {
+                    for v in r.iter_mut() {
+                        if !v.is_finite() {
+                            *v = 1.0;
+                        }
+                    }
+                    r[7] = r[7].max(r[6]);
+                }
+                r
+            })
+            .collect();
+        let queries: Vec<_> = rays
+            .iter()
+            .map(|r| Query::from_arrays([r[0], r[1], r[2]], [r[3], r[4], r[5]], r[6], r[7]))
+            .collect();
+        let valid = queries.iter().all(|q| q.is_ok());
+        let at_eye = rays
+            .iter()
+            .enumerate()
+            .filter(|(_, r)| r[0] == eye[0] && r[1] == eye[1] && r[2] == eye[2])
+            .fold(0u64, |m, (k, _)| m | 1 << k);
+        let got = near.sight(&rays, eye, avx512);
+        assert_eq!(got.valid, valid, "{rays:?}");
+        assert_eq!(got.at_eye, at_eye, "{rays:?}");
+        if valid {
+            let plain = queries.iter().flatten().all(|q| near.holds(q));
+            assert_eq!(got.plain, plain, "{rays:?}");
+            odd_plain += usize::from(!plain);
+        }
+        runs += 1;
+        invalid_runs += usize::from(!valid);
+    }
+    println!("{runs} runs, {invalid_runs} with an invalid ray, {odd_plain} valid ones not plain");
+    assert!(invalid_runs > 1000 && runs - invalid_runs > 1000 && odd_plain > 100);
+}
