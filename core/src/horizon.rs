@@ -259,10 +259,10 @@ impl Horizon {
 
     /// [`Horizon::new`] for `n` rays from `eye`, whose directions' azimuths `dirs`
     /// span (all of them, or a camera image's border with a grid of its pixels inside):
-    /// about 512 rays a wedge, and blocks of 2ᵏ cells, as fine as keeps them under
-    /// twice the rays that come into the field above its surface ([`block_for`], the
-    /// share of `dirs` that do, of `n`); `None` when those would be coarser than
-    /// `max_block` cells. [`Plan::sized`], built.
+    /// about 512 rays a wedge, and blocks of 2ᵏ cells sized for the rays that come
+    /// into the field above its surface ([`block_for`], the share of `dirs` that do,
+    /// of `n`); `None` when those would be coarser than `max_block` cells.
+    /// [`Plan::sized`], built.
     pub fn sized(
         hf: &HeightField,
         surface: Surface,
@@ -898,15 +898,19 @@ impl<'a> Plan<'a> {
 }
 
 /// The side, in cells, of the blocks a horizon of `hf` serving `n` rays is built over:
-/// the smallest power of 2 (up to 64) that keeps the blocks under twice the rays, so
-/// that the pass over the field costs no more than the rays it serves. Coarser blocks
-/// place the starts farther from the hits. (The rays a horizon serves are those that
-/// come into the field above its surface, [`Plan::for_sightings`]: a camera that shows
-/// the whole field from afar sends most of its rays past it or into its sides.)
+/// the power of 2 (up to 64) nearest, as a ratio, to `1.6 ∛(cells / n)`. The pass over
+/// the field costs as its blocks (`cells / B²`), each served ray's walk from its start
+/// grows with the blocks' side (`n B`), and the sum is least near `∛(cells / n)`; the
+/// factor is measured (640 × 512 cameras over the 1024² Himalaya DEM: blocks of 2 where
+/// the terrain fills the frame, 4 for the whole field from 45°, 4 or 8 from 5°; 8 for
+/// the report's 160 × 120 cameras). (The rays a horizon serves are those that come into
+/// the field above its surface, [`Plan::for_sightings`]: a camera that shows the whole
+/// field from afar sends most of its rays past it or into its sides.)
 pub fn block_for(hf: &HeightField, n: usize) -> u32 {
     let cells = f64::from(hf.width() - 1) * f64::from(hf.height() - 1);
+    let best = 1.6 * libm::cbrt(cells / n.max(1) as f64);
     let mut block = 1u32;
-    while cells / f64::from(block * block) > 2.0 * n as f64 && block < 64 {
+    while f64::from(block) * core::f64::consts::SQRT_2 <= best && block < 64 {
         block *= 2;
     }
     block
