@@ -90,9 +90,10 @@ mod avx512 {
     /// [`Near::sight`], the AVX-512 body.
     #[target_feature(enable = "avx512f")]
     pub(super) unsafe fn sight(near: &Near<f32>, rays: &[[f32; 8]], eye: [f32; 3]) -> Sighted {
-        // Each lane's bounds: a ray's lanes are origin (3), direction (3), t_min, t_max.
-        let per_ray = |o: [f32; 3], d: f32, t: [f32; 2]| {
-            let half = [o[0], o[1], o[2], d, d, d, t[0], t[1]];
+        // A bound of the origin lanes, for both rays (a ray's lanes are origin (3),
+        // direction (3), t_min, t_max; the other lanes' bounds are unused).
+        let per_ray = |o: [f32; 3]| {
+            let half = [o[0], o[1], o[2], 0.0, 0.0, 0.0, 0.0, 0.0];
             let mut v = [0.0f32; 16];
             v[..8].copy_from_slice(&half);
             v[8..].copy_from_slice(&half);
@@ -101,12 +102,12 @@ mod avx512 {
         };
         let inf = _mm512_set1_ps(f32::INFINITY);
         let zero = _mm512_setzero_ps();
-        let lo = per_ray(near.lo, 0.0, [0.0; 2]);
-        let hi = per_ray(near.hi, 0.0, [0.0; 2]);
+        let lo = per_ray(near.lo);
+        let hi = per_ray(near.hi);
         let far = _mm512_set1_ps(near.far);
         let small = _mm512_set1_ps(near.small);
         let big = _mm512_set1_ps(near.big);
-        let at = per_ray(eye, 0.0, [0.0; 2]);
+        let at = per_ray(eye);
         // Lane 6 (t_min) compared with lane 7 (t_max) of the same ray.
         let t_max_at_t_min = _mm512_set_epi32(15, 15, 13, 12, 11, 10, 9, 8, 7, 7, 5, 4, 3, 2, 1, 0);
         let (mut valid, mut plain, mut at_eye) = (true, true, 0u64);
