@@ -447,12 +447,34 @@ mod avx512 {
         let stride = hf.stride() as i32;
         let first = _mm512_add_epi32(_mm512_mullo_epi32(at[1], _mm512_set1_epi32(stride)), at[0]);
         let samples = hf.samples().as_ptr();
-        [0, 1, stride, stride + 1].map(|offset| {
-            let at = _mm512_add_epi32(first, _mm512_set1_epi32(offset));
-            // SAFETY: a cell below the field's last row and column has its four corners
-            // inside `samples`, whose length fits `i32` (the caller checked).
-            unsafe { _mm512_i32gather_ps::<4>(at, samples) }
-        })
+        let [h00, h10] = row_corners(samples, first);
+        let [h01, h11] = row_corners(samples, _mm512_add_epi32(first, _mm512_set1_epi32(stride)));
+        [h00, h10, h01, h11]
+    }
+
+    /// The samples at `at` and `at + 1` (indices into `samples`) of every lane: a
+    /// cell row's two corners, adjacent, so each lane's pair is one 8-byte element of a
+    /// gather (eight lanes a gather), split after into the left and the right corners:
+    /// half the elements two 4-byte gathers load (measured: 0.93–0.96× the time of the
+    /// DDA's camera frames).
+    #[inline]
+    #[target_feature(enable = "avx512f")]
+    fn row_corners(samples: *const f32, at: __m512i) -> [__m512; 2] {
+        let halves = [
+            _mm512_castsi512_si256(at),
+            _mm512_extracti64x4_epi64::<1>(at),
+        ];
+        // SAFETY (both halves): the caller's lanes index the first of two samples of a
+        // row inside `samples` (a cell below the field's last row and column).
+        let lo = unsafe { _mm512_i32gather_pd::<4>(halves[0], samples.cast()) };
+        let hi = unsafe { _mm512_i32gather_pd::<4>(halves[1], samples.cast()) };
+        let (lo, hi) = (_mm512_castpd_ps(lo), _mm512_castpd_ps(hi));
+        let even = _mm512_setr_epi32(0, 2, 4, 6, 8, 10, 12, 14, 16, 18, 20, 22, 24, 26, 28, 30);
+        let odd = _mm512_add_epi32(even, _mm512_set1_epi32(1));
+        [
+            _mm512_permutex2var_ps(lo, even, hi),
+            _mm512_permutex2var_ps(lo, odd, hi),
+        ]
     }
 
     /// [`super::super::first_cell`] of the next (up to) [`LANES`] queries from `next`,
