@@ -279,14 +279,7 @@ impl Horizon {
     // through memory in narrow stores that a wide load cannot forward from.
     #[inline(always)]
     pub fn start_query<R: Real>(&self, q: &Query<R>, hint: &mut usize) -> Option<(Start<R>, u32)> {
-        let range = (q.t_min().to_f64(), q.t_max().to_f64());
-        let (start, probes) = self.start(
-            q.origin().map(R::to_f64),
-            q.dir().map(R::to_f64),
-            range,
-            hint,
-        )?;
-        Some((start.rounded(q), probes))
+        self.start_aimed_query(q, self.aimed(q), hint)
     }
 
     /// The next start of the query `q` after its span that ended at `end` (of a start
@@ -461,13 +454,52 @@ impl Horizon {
         &self,
         origin: [f64; 3],
         d: [f64; 3],
-        (t_min, t_max): (f64, f64),
+        t_range: (f64, f64),
         hint: &mut usize,
     ) -> Option<(Start<f64>, u32)> {
         if origin != self.eye {
             return None;
         }
-        let aim = self.aim(d)?;
+        self.start_aimed(self.aim(d)?, t_range, hint)
+    }
+
+    /// The aim of each query of `queries` into `out` (cleared first), for
+    /// [`Horizon::start_aimed_query`]: a pass of square roots and divisions on its own,
+    /// ahead of the searches, whose branches then do not wait on them.
+    pub fn aims<R: Real>(&self, queries: &[Query<R>], out: &mut Vec<Aimed>) {
+        out.clear();
+        out.extend(queries.iter().map(|q| self.aimed(q)));
+    }
+
+    /// The aim of `q`: none for a ray from another origin (or none at all: see
+    /// [`Horizon::aim`]).
+    #[inline(always)]
+    fn aimed<R: Real>(&self, q: &Query<R>) -> Aimed {
+        let mine = q.origin().map(R::to_f64) == self.eye;
+        Aimed(mine.then(|| self.aim(q.dir().map(R::to_f64))).flatten())
+    }
+
+    /// [`Horizon::start_query`] of `q`, whose aim [`Horizon::aims`] found.
+    #[inline(always)]
+    pub fn start_aimed_query<R: Real>(
+        &self,
+        q: &Query<R>,
+        aimed: Aimed,
+        hint: &mut usize,
+    ) -> Option<(Start<R>, u32)> {
+        let range = (q.t_min().to_f64(), q.t_max().to_f64());
+        let (start, probes) = self.start_aimed(aimed.0?, range, hint)?;
+        Some((start.rounded(q), probes))
+    }
+
+    /// [`Horizon::start`] of a ray from the eye of `aim`.
+    #[inline(always)]
+    fn start_aimed(
+        &self,
+        aim: Aim,
+        (t_min, t_max): (f64, f64),
+        hint: &mut usize,
+    ) -> Option<(Start<f64>, u32)> {
         let (b, m) = (aim.wedge as usize, aim.m);
         let mut probes = 0;
         let reaches = |k: usize| {
@@ -491,6 +523,11 @@ impl Horizon {
         Some((start, probes))
     }
 }
+
+/// A ray's aim found ahead of its search ([`Horizon::aims`]): `None` inside where the
+/// horizon says nothing of the ray.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Aimed(Option<Aim>);
 
 /// A horizon to build: its eye, wedges, bands and blocks ([`Plan::for_batch`],
 /// [`Plan::sized`]).

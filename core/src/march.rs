@@ -68,6 +68,8 @@ pub struct Placed {
     again: alloc::vec::Vec<Query<f32>>,
     restarts: alloc::vec::Vec<usize>,
     went_on: alloc::vec::Vec<Trace<f32>>,
+    /// The queries' aims, found ahead of their searches.
+    aims: alloc::vec::Vec<crate::horizon::Aimed>,
 }
 
 /// The start of the span after the one of `q` that ended at `end` without a hit
@@ -440,11 +442,13 @@ impl<'a> Marcher<'a> {
             again,
             restarts,
             went_on,
+            aims,
         } = scratch;
         which.clear();
         from.clear();
-        for (k, (o, q)) in out.iter_mut().zip(queries).enumerate() {
-            match horizon.start_query(q, hint) {
+        horizon.aims(queries, aims);
+        for (k, ((o, q), &aim)) in out.iter_mut().zip(queries).zip(aims.iter()).enumerate() {
+            match horizon.start_aimed_query(q, aim, hint) {
                 Some((Start::At(t, before, end), probes)) => {
                     which.push((k, before, probes, end));
                     from.push(q.within(t, end.t));
