@@ -477,6 +477,49 @@ mod avx512 {
         ]
     }
 
+    /// Sixteen queries field by field (`origin`, `dir`, `t_min`, `t_max`: eight
+    /// vectors of a field's sixteen values), as an 8 × 8 transpose in each 256-bit
+    /// half: queries `j` and `j + 8` side by side, then the two steps of unpacking and
+    /// shuffling within 128-bit lanes, then the 128-bit blocks put in place. Scalar
+    /// stores read back as vectors wait on store forwarding that fails (measured: a
+    /// sixth of the begin pass).
+    #[inline]
+    #[target_feature(enable = "avx512f")]
+    fn transposed(queries: &[Query<f32>; LANES]) -> [__m512; 8] {
+        // SAFETY: `Query<f32>` is `repr(C)`, eight `f32`: each query one 256-bit load.
+        let row = |j: usize| unsafe { _mm256_loadu_ps((&raw const queries[j]).cast::<f32>()) };
+        let s: [__m512; 8] = core::array::from_fn(|j| {
+            let low = _mm512_castps_pd(_mm512_castps256_ps512(row(j)));
+            _mm512_castpd_ps(_mm512_insertf64x4::<1>(low, _mm256_castps_pd(row(j + 8))))
+        });
+        let t = [0, 2, 4, 6].map(|j| {
+            [
+                _mm512_unpacklo_ps(s[j], s[j + 1]),
+                _mm512_unpackhi_ps(s[j], s[j + 1]),
+            ]
+        });
+        // `u[h][f]`, block by block (128 bits): field `f`, then field `f + 4`, of queries
+        // `4h..4h + 4`, then the same of queries `8 + 4h..12 + 4h`.
+        let u = [0, 2].map(|j| {
+            let (a, b) = (t[j], t[j + 1]);
+            [
+                _mm512_shuffle_ps::<0x44>(a[0], b[0]),
+                _mm512_shuffle_ps::<0xEE>(a[0], b[0]),
+                _mm512_shuffle_ps::<0x44>(a[1], b[1]),
+                _mm512_shuffle_ps::<0xEE>(a[1], b[1]),
+            ]
+        });
+        // Field `f < 4` of the sixteen queries: the first block of each 256-bit half of
+        // `u[0][f]` and of `u[1][f]`, in order; field `f + 4`: the second blocks.
+        let low = _mm512_setr_epi32(0, 1, 2, 3, 16, 17, 18, 19, 8, 9, 10, 11, 24, 25, 26, 27);
+        let high = _mm512_add_epi32(low, _mm512_set1_epi32(4));
+        let field = |f: usize| {
+            let index = if f < 4 { low } else { high };
+            _mm512_permutex2var_ps(u[0][f % 4], index, u[1][f % 4])
+        };
+        core::array::from_fn(field)
+    }
+
     /// [`super::super::first_cell`] of the next (up to) [`LANES`] queries from `next`,
     /// in lanes: the queries with a walk into `bg` (which must be empty), in order; the
     /// answers of the others into `out` (a miss of the box; a ray starting or entering
@@ -492,21 +535,27 @@ mod avx512 {
         let count = (queries.len() - next).min(LANES);
         let valid = (u32::MAX >> (32 - count)) as u16;
         // The rays field by field; unused lanes hold a harmless one.
-        let mut ray = [[0f32; LANES]; 8];
-        #[allow(clippy::needless_range_loop)]
-        for l in 0..LANES {
-            let (o, d, range) = match queries.get(next + l).filter(|_| l < count) {
-                Some(q) => (q.origin(), q.dir(), [q.t_min(), q.t_max()]),
-                None => ([0.0; 3], [1.0; 3], [0.0, 1.0]),
-            };
-            for k in 0..3 {
-                (ray[k][l], ray[3 + k][l]) = (o[k], d[k]);
+        let ray = match queries[next..].first_chunk::<LANES>() {
+            Some(sixteen) => transposed(sixteen),
+            None => {
+                let mut ray = [[0f32; LANES]; 8];
+                #[allow(clippy::needless_range_loop)]
+                for l in 0..LANES {
+                    let (o, d, range) = match queries.get(next + l) {
+                        Some(q) => (q.origin(), q.dir(), [q.t_min(), q.t_max()]),
+                        None => ([0.0; 3], [1.0; 3], [0.0, 1.0]),
+                    };
+                    for k in 0..3 {
+                        (ray[k][l], ray[3 + k][l]) = (o[k], d[k]);
+                    }
+                    (ray[6][l], ray[7][l]) = (range[0], range[1]);
+                }
+                ray.map(|field| ld!(f, field))
             }
-            (ray[6][l], ray[7][l]) = (range[0], range[1]);
-        }
-        let o = [0, 1, 2].map(|k| ld!(f, ray[k]));
-        let d = [3, 4, 5].map(|k| ld!(f, ray[k]));
-        let (t_min, t_max) = (ld!(f, ray[6]), ld!(f, ray[7]));
+        };
+        let o = [ray[0], ray[1], ray[2]];
+        let d = [ray[3], ray[4], ray[5]];
+        let (t_min, t_max) = (ray[6], ray[7]);
         let zero = _mm512_setzero_ps();
         let lt = |a: __m512, b: __m512| _mm512_cmp_ps_mask::<_CMP_LT_OQ>(a, b);
         let gt = |a: __m512, b: __m512| _mm512_cmp_ps_mask::<_CMP_GT_OQ>(a, b);
