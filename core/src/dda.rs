@@ -15,7 +15,7 @@ use crate::surface::{
     bilinear, bilinear_search_segment, corners, plane, triangle_planes, SegmentHit, Surface,
 };
 
-mod lanes;
+pub(crate) mod lanes;
 pub use lanes::{trace_skipping_lanes, Walked, LANES};
 
 /// How the traced part of a ray begins.

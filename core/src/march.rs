@@ -446,7 +446,7 @@ impl<'a> Marcher<'a> {
         } = scratch;
         which.clear();
         from.clear();
-        horizon.aims(queries, aims);
+        horizon.aims(queries, aims, simd.and_then(crate::simd::Avx2::avx512));
         for (k, ((o, q), &aim)) in out.iter_mut().zip(queries).zip(aims.iter()).enumerate() {
             match horizon.start_aimed_query(q, aim, hint) {
                 Some((Start::At(t, before, end), probes)) => {

@@ -321,6 +321,56 @@ fn coherent_hits_equal_the_per_ray_march() {
     assert!(compared > 100_000 && saved > 0);
 }
 
+/// A batch's aims in AVX-512 lanes ([`Horizon::aims`] with the token) are the scalar
+/// aims, on every shot's rays (the one looking down from over the field meets every
+/// azimuth: rays behind the group's axis and on both sides of it) mixed with rays the
+/// horizon says nothing of (another origin by an ulp, vertical, reversed, any
+/// direction), in batches of every length around the lanes' group of sixteen.
+#[test]
+fn aims_in_lanes_are_the_scalar_aims() {
+    let Some(avx512) = hfcast::detect_avx2!().and_then(|t| t.avx512()) else {
+        println!("no AVX-512 on this CPU: the lanes do not run");
+        return;
+    };
+    let (mut rng, mut compared) = (Rng::new(0xa1_35), 0usize);
+    for (name, field) in fields() {
+        let hf = field.hf();
+        for shot in &SHOTS {
+            let rays = shot.rays(&field);
+            let horizon = horizon_of(&hf, Surface::Triangles, &rays);
+            let mut queries = rays.clone();
+            for q in rays.iter().step_by(5) {
+                let (o, d) = (q.origin(), q.dir());
+                let any = [0; 3].map(|_| rng.range(-1.0, 1.0) as f32);
+                for (o, d) in [
+                    ([o[0].next_up(), o[1], o[2]], d),
+                    (o, [0.0, 0.0, -1.0]),
+                    (o, [-d[0], -d[1], d[2]]),
+                    (o, any),
+                ] {
+                    if let Ok(q) = Query::from_arrays(o, d, 0.0, f32::INFINITY) {
+                        queries.push(q);
+                    }
+                }
+            }
+            for k in (1..queries.len()).rev() {
+                queries.swap(k, rng.below(k + 1));
+            }
+            let n = queries.len();
+            for len in [n, n - 1, n - 15, 33, 17, 16, 15, 1, 0] {
+                let batch = &queries[..len];
+                let (mut laned, mut scalar) = (Vec::new(), Vec::new());
+                horizon.aims(batch, &mut laned, Some(avx512));
+                horizon.aims(batch, &mut scalar, None);
+                assert_eq!(laned, scalar, "{name} {}: {len} rays", shot.name);
+                compared += len;
+            }
+        }
+    }
+    println!("{compared} aims in lanes equal the scalar aims");
+    assert!(compared > 100_000);
+}
+
 /// A batch from one eye larger than [`hfcast::horizon::MIN_GROUP`] shares a horizon by
 /// itself ([`Marcher::trace_all`]), with the same hits as one ray after another; and the
 /// equality checks above would see a start placed too late (two bands further, some

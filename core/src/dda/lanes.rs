@@ -171,6 +171,10 @@ impl Begun {
     }
 }
 
+/// Also the horizon's aims' reading of their rays.
+#[cfg(all(target_arch = "x86_64", feature = "alloc"))]
+pub(crate) use avx512::queries_by_field;
+
 #[cfg(target_arch = "x86_64")]
 mod avx512 {
     use super::*;
@@ -514,7 +518,7 @@ mod avx512 {
     /// sixth of the begin pass).
     #[inline]
     #[target_feature(enable = "avx512f")]
-    fn transposed(queries: &[Query<f32>; LANES]) -> [__m512; 8] {
+    pub(crate) fn queries_by_field(queries: &[Query<f32>; LANES]) -> [__m512; 8] {
         // (Loops, not closures: a closure that is not inlined runs without the lanes'
         // feature.)
         let mut s = [_mm512_setzero_ps(); 8];
@@ -577,7 +581,7 @@ mod avx512 {
         let valid = (u32::MAX >> (32 - count)) as u16;
         // The rays field by field; unused lanes hold a harmless one.
         let ray = match queries[next..].first_chunk::<LANES>() {
-            Some(sixteen) => transposed(sixteen),
+            Some(sixteen) => queries_by_field(sixteen),
             None => {
                 let mut ray = [[0f32; LANES]; 8];
                 #[allow(clippy::needless_range_loop)]
@@ -661,7 +665,7 @@ mod avx512 {
             _mm512_set1_epi32(next as i32),
             _mm512_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15),
         );
-        // (Macros, not closures: see `transposed`.) SAFETY (every use): at most
+        // (Macros, not closures: see `queries_by_field`.) SAFETY (every use): at most
         // `LANES` values into an array of `LANES`.
         macro_rules! pack {
             ($to:expr, $v:expr $(,)?) => {
