@@ -468,16 +468,16 @@ impl Horizon {
 
     /// The aim of each query of `queries` into `out` (cleared first), for
     /// [`Horizon::start_aimed_query`]: a pass of square roots and divisions on its own,
-    /// ahead of the searches, whose branches then do not wait on them; eight queries at
-    /// a time in AVX-512 lanes with `simd` (the same aims).
+    /// ahead of the searches, whose branches then do not wait on them; sixteen queries a
+    /// step in AVX-512 lanes with `simd` (the same aims).
     pub fn aims(&self, queries: &[Query<f32>], out: &mut Vec<Aimed>, simd: Option<Avx512>) {
         out.clear();
         let laned = simd.map_or(0, |simd| lanes::aims_in_lanes(self, queries, out, simd));
         out.extend(queries[laned..].iter().map(|q| self.aimed(q)));
     }
 
-    /// The aim of `q`: none for a ray from another origin (or none at all: see
-    /// [`Horizon::aim`]).
+    /// The aim of `q`: none for a ray from another origin, a vertical ray, or one
+    /// outside the group's azimuths ([`Horizon::aim`]).
     #[inline(always)]
     fn aimed<R: Real>(&self, q: &Query<R>) -> Aimed {
         let mine = q.origin().map(R::to_f64) == self.eye;

@@ -519,8 +519,8 @@ mod avx512 {
     #[inline]
     #[target_feature(enable = "avx512f")]
     pub(crate) fn queries_by_field(queries: &[Query<f32>; LANES]) -> [__m512; 8] {
-        // (Loops, not closures: a closure that is not inlined runs without the lanes'
-        // feature.)
+        // (Loops, not closures: a closure the compiler does not inline is a call per
+        // use, its vectors passed through memory.)
         let mut s = [_mm512_setzero_ps(); 8];
         for (j, s) in s.iter_mut().enumerate() {
             // SAFETY: `Query<f32>` is `repr(C)`, eight `f32`: a query is one 256-bit
