@@ -460,10 +460,7 @@ impl Horizon {
         t_range: (f64, f64),
         hint: &mut usize,
     ) -> Option<(Start<f64>, u32)> {
-        if origin != self.eye {
-            return None;
-        }
-        self.start_aimed(self.aim(d)?, t_range, hint)
+        self.start_aimed(self.aim_from(origin, d)?, t_range, hint)
     }
 
     /// The aim of each query of `queries` into `out` (cleared first), for
@@ -480,8 +477,17 @@ impl Horizon {
     /// outside the group's azimuths ([`Horizon::aim`]).
     #[inline(always)]
     fn aimed<R: Real>(&self, q: &Query<R>) -> Aimed {
-        let mine = q.origin().map(R::to_f64) == self.eye;
-        Aimed(mine.then(|| self.aim(q.dir().map(R::to_f64))).flatten())
+        Aimed(self.aim_from(q.origin().map(R::to_f64), q.dir().map(R::to_f64)))
+    }
+
+    /// [`Horizon::aim`] of a ray from `origin` in direction `d`: none unless it leaves
+    /// the eye.
+    #[inline(always)]
+    fn aim_from(&self, origin: [f64; 3], d: [f64; 3]) -> Option<Aim> {
+        if origin != self.eye {
+            return None;
+        }
+        self.aim(d)
     }
 
     /// [`Horizon::start_query`] of `q`, whose aim [`Horizon::aims`] found.
