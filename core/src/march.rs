@@ -49,17 +49,22 @@ const DDA_CELLS: u32 = 16;
 #[cfg(feature = "alloc")]
 const SPAN_CELLS: u32 = 64;
 
+/// A query placed at a start: its position in the batch, a bound of its clearance
+/// before the start, texels read before it, and where its span ends.
+#[cfg(feature = "alloc")]
+type Pending = (usize, f32, u32, crate::horizon::End<f32>);
+
 /// The buffers [`Marcher::trace_placed`] reuses from call to call.
 #[cfg(feature = "alloc")]
 #[derive(Clone, Debug, Default)]
 pub struct Placed {
     /// The queries placed at a start: their positions, bounds of their clearance
     /// before the start, texels read before it, and where their spans end.
-    which: alloc::vec::Vec<(usize, f32, u32, crate::horizon::End<f32>)>,
+    which: alloc::vec::Vec<Pending>,
     /// Those queries over their spans.
     from: alloc::vec::Vec<Query<f32>>,
     /// The queries placed at their next spans, and those spans, for the next pass.
-    which_next: alloc::vec::Vec<(usize, f32, u32, crate::horizon::End<f32>)>,
+    which_next: alloc::vec::Vec<Pending>,
     from_next: alloc::vec::Vec<Query<f32>>,
     /// Their walks.
     walked: alloc::vec::Vec<dda::Walked>,
@@ -447,17 +452,11 @@ impl<'a> Marcher<'a> {
         which.clear();
         from.clear();
         horizon.aims(queries, aims, simd.and_then(crate::simd::Avx2::avx512));
-        for (k, ((o, q), &aim)) in out.iter_mut().zip(queries).zip(aims.iter()).enumerate() {
-            match horizon.start_aimed_query(q, aim, hint) {
-                Some((Start::At(t, before, end), probes)) => {
-                    which.push((k, before, probes, end));
-                    from.push(q.within(t, end.t));
-                }
-                Some((Start::Miss(clearance), probes)) => {
-                    *o = Trace::miss(probes, clearance).into()
-                }
-                None => *o = self.trace(hf, q).into(),
-            }
+        let placed = (queries, aims.as_slice(), hint);
+        if horizon.ends_at_start() {
+            self.place::<_, true>(hf, horizon, placed, out, (which, from));
+        } else {
+            self.place::<_, false>(hf, horizon, placed, out, (which, from));
         }
         // Pass after pass: the spans walked together for a few cells; then the walks
         // still running cut where the horizon lets them stop (and go on together to
@@ -523,6 +522,39 @@ impl<'a> Marcher<'a> {
             }
             core::mem::swap(which, which_next);
             core::mem::swap(from, from_next);
+        }
+    }
+
+    /// The first pass of [`Marcher::trace_placed`]: the answers of the queries the
+    /// horizon does not place at a start into `out`, the others (their numbers,
+    /// clearance before the start, texels read, span's end) into `which` and their
+    /// spans into `from`; with `ENDS`, each span's end looked for at once
+    /// ([`crate::horizon::Horizon::start_aimed_query_ending`]).
+    #[cfg(feature = "alloc")]
+    #[inline(always)]
+    fn place<O: From<Trace<f32>>, const ENDS: bool>(
+        &self,
+        hf: &HeightField,
+        horizon: &crate::horizon::Horizon,
+        (queries, aims, hint): (&[Query<f32>], &[crate::horizon::Aimed], &mut usize),
+        out: &mut [O],
+        (which, from): (
+            &mut alloc::vec::Vec<Pending>,
+            &mut alloc::vec::Vec<Query<f32>>,
+        ),
+    ) {
+        use crate::horizon::Start;
+        for (k, ((o, q), &aim)) in out.iter_mut().zip(queries).zip(aims).enumerate() {
+            match horizon.start_aimed_query_ending::<_, ENDS>(q, aim, hint) {
+                Some((Start::At(t, before, end), probes)) => {
+                    which.push((k, before, probes, end));
+                    from.push(q.within(t, end.t));
+                }
+                Some((Start::Miss(clearance), probes)) => {
+                    *o = Trace::miss(probes, clearance).into()
+                }
+                None => *o = self.trace(hf, q).into(),
+            }
         }
     }
 

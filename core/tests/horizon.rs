@@ -168,13 +168,29 @@ fn spans_of(horizon: &Horizon, q: &Query<f32>, first: Start<f32>) -> (Vec<Span>,
     }
 }
 
+/// The starts of `rays` ([`Horizon::start_aimed_query_ending`]): with `ENDS`, each
+/// first span's end looked for at once.
+fn starts_of<const ENDS: bool>(horizon: &Horizon, rays: &[Query<f32>]) -> Vec<Option<Start<f32>>> {
+    let mut aims = Vec::new();
+    horizon.aims(rays, &mut aims, None);
+    let mut hint = 0;
+    let starts = rays.iter().zip(aims).map(|(q, aim)| {
+        let start = horizon.start_aimed_query_ending::<_, ENDS>(q, aim, &mut hint);
+        start.map(|s| s.0)
+    });
+    starts.collect()
+}
+
 /// No ray meets the surface before its start, nor between a span's end and the next
 /// start: the f64 oracle's hit is in a span (nor is there one when the horizon says the
 /// ray misses, at first or after a span), and the clearance bounds of the parts skipped
-/// hold, on every field, surface and camera, unless the oracle calls the ray ambiguous.
+/// hold, on every field, surface and camera, unless the oracle calls the ray ambiguous;
+/// also where the first span's end is looked for at its start
+/// ([`Horizon::ends_at_start`]), which some of the needles' shots do.
 #[test]
 fn no_hit_precedes_a_start() {
     let (mut starts, mut misses, mut advanced, mut resumed) = (0usize, 0usize, 0usize, 0usize);
+    let (mut ended, mut ending) = (0usize, 0usize);
     for (name, field) in fields() {
         let hf = field.hf();
         let eps = eps_f32(field.z_scale());
@@ -182,11 +198,21 @@ fn no_hit_precedes_a_start() {
             for shot in &SHOTS {
                 let rays = shot.rays(&field);
                 let horizon = horizon_of(&hf, surface, &rays);
-                let mut hint = 0;
-                for q in &rays {
-                    let Some((start, _)) = horizon.start_query(q, &mut hint) else {
+                ending += usize::from(horizon.ends_at_start());
+                let both = starts_of::<false>(&horizon, &rays)
+                    .into_iter()
+                    .zip(starts_of::<true>(&horizon, &rays));
+                let placed = rays
+                    .iter()
+                    .zip(both)
+                    .flat_map(|(q, (a, b))| [(q, a), (q, b)]);
+                for (q, start) in placed {
+                    let Some(start) = start else {
                         continue;
                     };
+                    if let Start::At(_, _, end) = start {
+                        ended += usize::from(end.goes_on());
+                    }
                     let oracle = dda::trace(&hf, surface, &q.cast::<f64>());
                     if is_ambiguous(&oracle, eps) {
                         continue;
@@ -258,21 +284,23 @@ fn no_hit_precedes_a_start() {
         }
     }
     println!(
-        "{starts} starts ({advanced} past t_min, {resumed} spans resumed) and {misses} \
-         proved misses checked"
+        "{starts} starts ({advanced} past t_min, {resumed} spans resumed, {ended} ended at \
+         once) and {misses} proved misses checked; {ending} horizons end spans at starts"
     );
     assert!(
-        advanced > starts / 4 && misses > 1000 && resumed > 1000,
-        "the horizon must place rays and resume spans"
+        advanced > starts / 4 && misses > 1000 && resumed > 1000 && ended > 1000,
+        "the horizon must place rays, resume spans and end them"
     );
+    assert!(ending > 0, "some shot must end its spans at the starts");
 }
 
 /// The coherent batch ([`Marcher::trace_all_with`]) answers every query with the
 /// per-ray march's hit bit for bit, for the DDA and the maximum mipmap, on every field,
-/// surface and camera, and reads fewer texels doing so on the larger fields.
+/// surface and camera (spans ended at their starts on some, [`Horizon::ends_at_start`]),
+/// and reads fewer texels doing so on the larger fields.
 #[test]
 fn coherent_hits_equal_the_per_ray_march() {
-    let (mut compared, mut saved) = (0usize, 0i64);
+    let (mut compared, mut saved, mut ending) = (0usize, 0i64, 0usize);
     for (name, field) in fields() {
         let hf = field.hf();
         let pyramid = pyramid(&hf);
@@ -286,6 +314,7 @@ fn coherent_hits_equal_the_per_ray_march() {
                 for shot in &SHOTS {
                     let rays = shot.rays(&field);
                     let horizon = horizon_of(&hf, surface, &rays);
+                    ending += usize::from(horizon.ends_at_start());
                     let mut got = vec![Trace::MISS; rays.len()];
                     m.trace_all_with(&hf, Some(&horizon), &rays, &mut got, hfcast::detect_avx2!());
                     for (q, g) in rays.iter().zip(&got) {
@@ -318,7 +347,7 @@ fn coherent_hits_equal_the_per_ray_march() {
     println!(
         "{compared} coherent answers equal the per-ray march; the DDA read {saved} fewer texels"
     );
-    assert!(compared > 100_000 && saved > 0);
+    assert!(compared > 100_000 && saved > 0 && ending > 0);
 }
 
 /// A batch's aims in AVX-512 lanes ([`Horizon::aims`] with the token) are the scalar
