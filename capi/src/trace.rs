@@ -594,10 +594,18 @@ pub(crate) fn as_queries(rays: &[hf_ray]) -> &[Query<f32>] {
 }
 
 /// The horizon of `plan`, its pass over the field shared by the batch's `threads`
-/// ([`crate::par::split`]): the same horizon as one thread builds.
+/// ([`crate::par::split`]), and the second pass it may call for ([`Plan::finer`]): the
+/// same horizon as one thread builds ([`Plan::build`]).
 pub(crate) fn build_horizon(plan: Plan, threads: u32) -> Horizon {
-    let parts = crate::par::split(plan.block_rows(), threads, |rows| plan.wedges(rows));
-    plan.finish(parts)
+    let pass = |plan: Plan| {
+        let parts = crate::par::split(plan.block_rows(), threads, |rows| plan.wedges(rows));
+        plan.finish(parts)
+    };
+    let built = pass(plan);
+    match plan.finer(&built) {
+        Some(finer) => pass(finer),
+        None => built,
+    }
 }
 
 /// Where `horizon` places the ray `r` (`None`: it says nothing of it), `hint` the

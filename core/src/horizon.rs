@@ -243,7 +243,7 @@ impl Horizon {
     ) -> Option<Horizon> {
         let n = dirs.clone().count();
         let frame = frame(&Sighting::of(dirs, n))?;
-        Some(Plan::new(hf, surface, eye, frame, bins, block).build())
+        Some(Plan::new(hf, surface, eye, frame, bins, block).pass())
     }
 
     /// Whether a march from a start should have its span's end looked for at once
@@ -721,10 +721,40 @@ impl<'a> Plan<'a> {
         (self.hf.height() - 1).div_ceil(self.block)
     }
 
-    /// The horizon from one pass over the whole field.
+    /// The horizon from one pass over the whole field, and a second over blocks half
+    /// as wide where the first calls for them ([`Plan::finer`]).
     pub fn build(self) -> Horizon {
+        let built = self.pass();
+        match self.finer(&built) {
+            Some(finer) => finer.pass(),
+            None => built,
+        }
+    }
+
+    /// The horizon from one pass over the whole field, over this plan's blocks.
+    fn pass(self) -> Horizon {
         let all = self.wedges(0..self.block_rows());
         self.finish([all])
+    }
+
+    /// The plan to build again when `built`, this plan's horizon, ends its spans at
+    /// the starts ([`Horizon::ends_at_start`]: tall, sparse features over low ground)
+    /// over blocks of more than one cell: the same wedges over blocks half as wide.
+    /// There a block's top is a feature's over cells around it the rays pass over:
+    /// the needles' filled telephoto takes about 0.8× the time with blocks of 1 cell
+    /// instead of 2, both passes included.
+    pub fn finer(&self, built: &Horizon) -> Option<Plan<'a>> {
+        let Plan {
+            ref hf,
+            surface,
+            eye,
+            frame,
+            bins,
+            block,
+            ..
+        } = *self;
+        (built.ends_at_start() && block > 1)
+            .then(|| Plan::new(hf, surface, eye, frame, bins, block / 2))
     }
 
     /// The largest slope `g` per wedge and band (`bins × bands` values, band by band)

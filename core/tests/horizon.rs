@@ -462,13 +462,11 @@ fn batches_share_a_horizon_and_a_late_start_is_seen() {
     assert!(late >= 10, "a late start must change some hit");
 }
 
-/// [`dda::trace_skipping`] answers `q` with [`dda::trace`]'s hit bit for bit, its
-/// fetches and a clearance no larger (to the rounding of the cells' bound).
-/// A horizon whose pass over the field is cut into parts (as threads share it) is the
-/// one pass's: every ray of every field, surface and camera gets the same start.
+/// A horizon whose passes over the field are cut into parts (as threads share them)
+/// is the one pass's: every ray of every field, surface and camera gets the same start.
 #[test]
 fn a_pass_in_parts_is_the_whole_pass() {
-    let mut compared = 0usize;
+    let (mut compared, mut refined) = (0usize, 0usize);
     for (name, field) in fields() {
         let hf = field.hf();
         for surface in Surface::ALL {
@@ -478,10 +476,17 @@ fn a_pass_in_parts_is_the_whole_pass() {
                 let dirs = rays.iter().map(|q| q.dir().map(f64::from));
                 let plan = Plan::sized(&hf, surface, eye, dirs, rays.len(), u32::MAX)
                     .expect("rays with a horizontal part");
-                let rows = plan.block_rows();
-                let cuts = [0, 1, rows / 3, rows / 2, rows];
-                let parts = cuts.windows(2).map(|c| plan.wedges(c[0]..c[1]));
-                let (whole, split) = (plan.build(), plan.finish(parts));
+                // Each pass in parts, as a batch's threads share it (capi's
+                // `build_horizon`): the first, and the finer one it may call for.
+                let in_parts = |plan: Plan| {
+                    let rows = plan.block_rows();
+                    let cuts = [0, 1, rows / 3, rows / 2, rows];
+                    plan.finish(cuts.windows(2).map(|c| plan.wedges(c[0]..c[1])))
+                };
+                let split = in_parts(plan);
+                refined += usize::from(plan.finer(&split).is_some());
+                let split = plan.finer(&split).map_or(split, in_parts);
+                let whole = plan.build();
                 let (mut a, mut b) = (0, 0);
                 for q in &rays {
                     let (x, y) = (whole.start_query(q, &mut a), split.start_query(q, &mut b));
@@ -491,8 +496,8 @@ fn a_pass_in_parts_is_the_whole_pass() {
             }
         }
     }
-    println!("{compared} starts compared");
-    assert!(compared > 100_000);
+    println!("{compared} starts compared, {refined} horizons built again finer");
+    assert!(compared > 100_000 && refined > 0);
 }
 
 /// A batch sighted in parts (as `hf_trace_batch`'s threads sight it: consecutive
@@ -551,6 +556,8 @@ fn a_batch_sighted_in_parts_is_the_whole_batch() {
     assert!(compared > 50_000);
 }
 
+/// [`dda::trace_skipping`] answers `q` with [`dda::trace`]'s hit bit for bit, its
+/// fetches and a clearance no larger (to the rounding of the cells' bound).
 fn skips_as_the_dda<R: Real>(hf: &HeightField, surface: Surface, q: &Query<R>, name: &str) {
     let (a, b) = (
         dda::trace(hf, surface, q),
