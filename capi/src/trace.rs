@@ -593,19 +593,13 @@ pub(crate) fn as_queries(rays: &[hf_ray]) -> &[Query<f32>] {
     unsafe { core::slice::from_raw_parts(rays.as_ptr().cast::<Query<f32>>(), rays.len()) }
 }
 
-/// The horizon of `plan`, its pass over the field shared by the batch's `threads`
-/// ([`crate::par::split`]), and the second pass it may call for ([`Plan::finer`]): the
-/// same horizon as one thread builds ([`Plan::build`]).
+/// The horizon of `plan`, each pass over the field shared by the batch's `threads`
+/// ([`crate::par::split`], [`Plan::build_by`]): the same horizon as one thread builds.
 pub(crate) fn build_horizon(plan: Plan, threads: u32) -> Horizon {
-    let pass = |plan: Plan| {
+    plan.build_by(|plan| {
         let parts = crate::par::split(plan.block_rows(), threads, |rows| plan.wedges(rows));
         plan.finish(parts)
-    };
-    let built = pass(plan);
-    match plan.finer(&built) {
-        Some(finer) => pass(finer),
-        None => built,
-    }
+    })
 }
 
 /// Where `horizon` places the ray `r` (`None`: it says nothing of it), `hint` the

@@ -724,9 +724,16 @@ impl<'a> Plan<'a> {
     /// The horizon from one pass over the whole field, and a second over blocks half
     /// as wide where the first calls for them ([`Plan::finer`]).
     pub fn build(self) -> Horizon {
-        let built = self.pass();
+        self.build_by(Plan::pass)
+    }
+
+    /// [`Plan::build`] with `pass` the pass over the field of a plan (its
+    /// [`Plan::wedges`] in parts, which threads share, then [`Plan::finish`]): the same
+    /// horizon however the passes are cut.
+    pub fn build_by(self, pass: impl Fn(Plan<'a>) -> Horizon) -> Horizon {
+        let built = pass(self);
         match self.finer(&built) {
-            Some(finer) => finer.pass(),
+            Some(finer) => pass(finer),
             None => built,
         }
     }

@@ -483,10 +483,8 @@ fn a_pass_in_parts_is_the_whole_pass() {
                     let cuts = [0, 1, rows / 3, rows / 2, rows];
                     plan.finish(cuts.windows(2).map(|c| plan.wedges(c[0]..c[1])))
                 };
-                let split = in_parts(plan);
-                refined += usize::from(plan.finer(&split).is_some());
-                let split = plan.finer(&split).map_or(split, in_parts);
-                let whole = plan.build();
+                refined += usize::from(plan.finer(&in_parts(plan)).is_some());
+                let (split, whole) = (plan.build_by(in_parts), plan.build());
                 let (mut a, mut b) = (0, 0);
                 for q in &rays {
                     let (x, y) = (whole.start_query(q, &mut a), split.start_query(q, &mut b));
