@@ -573,9 +573,12 @@ impl Horizon {
         };
         let before = over(band);
         let start = match self.span(aim, band, (t_min, t_max), before) {
-            // The band reached is not clear; the end is looked for from the next on.
+            // The band reached is not clear; the end is looked for from the next on
+            // (past the start: one at the query's `t_min` may lie beyond it).
             Start::At(t, before, _) if ENDS => {
-                Start::At(t, before, self.end_after(aim, band + 1, t_max, &mut probes))
+                let end = self.end_after(aim, band + 1, t_max, &mut probes);
+                let end = if end.t > t { end } else { End::whole(t_max) };
+                Start::At(t, before, end)
             }
             start => start,
         };

@@ -199,13 +199,20 @@ fn no_hit_precedes_a_start() {
                 let rays = shot.rays(&field);
                 let horizon = horizon_of(&hf, surface, &rays);
                 ending += usize::from(horizon.ends_at_start());
-                let both = starts_of::<false>(&horizon, &rays)
-                    .into_iter()
-                    .zip(starts_of::<true>(&horizon, &rays));
-                let placed = rays
+                // The rays, and the rays from a later `t_min` (their starts there),
+                // with and without ends looked for at the starts.
+                let later: Vec<Query<f32>> = rays
                     .iter()
-                    .zip(both)
-                    .flat_map(|(q, (a, b))| [(q, a), (q, b)]);
+                    .map(|q| q.within(q.t_min() + 0.25 * hf.width() as f32, q.t_max()))
+                    .collect();
+                let mut placed = Vec::new();
+                for rays in [&rays, &later] {
+                    let both = starts_of::<false>(&horizon, rays)
+                        .into_iter()
+                        .zip(starts_of::<true>(&horizon, rays));
+                    let both = rays.iter().zip(both);
+                    placed.extend(both.flat_map(|(q, (a, b))| [(q, a), (q, b)]));
+                }
                 for (q, start) in placed {
                     let Some(start) = start else {
                         continue;
@@ -312,9 +319,16 @@ fn coherent_hits_equal_the_per_ray_march() {
             ];
             for m in &marchers {
                 for shot in &SHOTS {
-                    let rays = shot.rays(&field);
-                    let horizon = horizon_of(&hf, surface, &rays);
+                    let shot_rays = shot.rays(&field);
+                    let horizon = horizon_of(&hf, surface, &shot_rays);
                     ending += usize::from(horizon.ends_at_start());
+                    // Also from a later `t_min` (the starts clamped there).
+                    let mut rays = shot_rays.clone();
+                    rays.extend(
+                        shot_rays
+                            .iter()
+                            .map(|q| q.within(q.t_min() + 0.25 * hf.width() as f32, q.t_max())),
+                    );
                     let mut got = vec![Trace::MISS; rays.len()];
                     m.trace_all_with(&hf, Some(&horizon), &rays, &mut got, hfcast::detect_avx2!());
                     for (q, g) in rays.iter().zip(&got) {
