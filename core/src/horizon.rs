@@ -369,6 +369,27 @@ impl Horizon {
         }
     }
 
+    /// [`Horizon::span`] with its end looked for at once ([`Horizon::end_after`]) from
+    /// the band after `band` (which is not clear), as resumed spans have theirs: an end
+    /// not past the start (one at the query's `t_min` may lie beyond it) counts as none.
+    #[inline(always)]
+    fn ended_span(
+        &self,
+        aim: Aim,
+        band: usize,
+        (t_min, t_max): (f64, f64),
+        before: f64,
+        probes: &mut u32,
+    ) -> Start<f64> {
+        match self.span(aim, band, (t_min, t_max), before) {
+            Start::At(t, before, _) => {
+                let end = self.end_after(aim, band + 1, t_max, probes);
+                Start::At(t, before, if end.t > t { end } else { End::whole(t_max) })
+            }
+            miss => miss,
+        }
+    }
+
     /// The end of a span of a ray of `aim` (traced to `t_max`) past the first two
     /// clear bands `j`, `j + 1` with `j` in `from..from + RUN`, at `j + 1.5` bands: the
     /// cell there lies in a block of one of them (the argument of the starts), which
@@ -460,12 +481,7 @@ impl Horizon {
             probes += 1;
             let passes = here < m_up;
             if !passes {
-                let start = match self.span(aim, k, (0.0, t_max), over(g)) {
-                    Start::At(t, before, _) => {
-                        Start::At(t, before, self.end_after(aim, k + 1, t_max, &mut probes))
-                    }
-                    miss => miss,
-                };
+                let start = self.ended_span(aim, k, (0.0, t_max), over(g), &mut probes);
                 return (start, probes);
             }
             g = mx(g, here);
@@ -572,15 +588,11 @@ impl Horizon {
             return Some((Start::Miss(over(self.bands)), probes));
         };
         let before = over(band);
-        let start = match self.span(aim, band, (t_min, t_max), before) {
-            // The band reached is not clear; the end is looked for from the next on
-            // (past the start: one at the query's `t_min` may lie beyond it).
-            Start::At(t, before, _) if ENDS => {
-                let end = self.end_after(aim, band + 1, t_max, &mut probes);
-                let end = if end.t > t { end } else { End::whole(t_max) };
-                Start::At(t, before, end)
-            }
-            start => start,
+        let range = (t_min, t_max);
+        let start = if ENDS {
+            self.ended_span(aim, band, range, before, &mut probes)
+        } else {
+            self.span(aim, band, range, before)
         };
         Some((start, probes))
     }
