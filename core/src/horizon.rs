@@ -52,6 +52,7 @@
 //! and the next spans' searches and marches.
 
 mod lanes;
+mod sector;
 
 use crate::field::HeightField;
 use crate::math::Real;
@@ -60,6 +61,7 @@ use crate::simd::Avx512;
 use crate::surface::Surface;
 use alloc::vec;
 use alloc::vec::Vec;
+use sector::Sector;
 
 /// Relative margin by which a cell's bound is raised (of the heights and distances
 /// involved): far above the `f32` march's rounding, far below a texel.
@@ -783,6 +785,13 @@ impl<'a> Plan<'a> {
     /// over the blocks of block rows `rows`: one part of the pass over the field, which
     /// threads can share (each a part, [`Plan::finish`] then joins them).
     pub fn wedges(&self, rows: core::ops::Range<u32>) -> Vec<f32> {
+        self.wedges_reading(rows, true)
+    }
+
+    /// [`Plan::wedges`], reading in each row only the blocks the sector of the group's
+    /// azimuths may meet ([`Sector::blocks_met`]) with `sector`, else every block: the
+    /// same slopes.
+    fn wedges_reading(&self, rows: core::ops::Range<u32>, sector: bool) -> Vec<f32> {
         let Plan {
             ref hf,
             surface,
@@ -832,9 +841,11 @@ impl<'a> Plan<'a> {
             ex.windows(2).map(|p| span_of(p[0], p[1], e[0])).unzip();
         let xs: Vec<f32> = ex.iter().map(|&i| (f64::from(i) - e[0]) as f32).collect();
         let (ax, ay) = (axis[0] as f32, axis[1] as f32);
-        let angles_of = |j: u32, out: &mut [f32]| {
+        // The pseudo-angles of the block corners of sample row `j`, at `edges` (indices
+        // into the block edges).
+        let angles_of = |j: u32, out: &mut [f32], edges: core::ops::Range<usize>| {
             let y = (f64::from(j) - e[1]) as f32;
-            for (a, &x) in out.iter_mut().zip(&xs) {
+            for (a, &x) in out[edges.clone()].iter_mut().zip(&xs[edges]) {
                 *a = pseudo_angle_f32(x * ax + y * ay, y * ax - x * ay);
             }
         };
@@ -863,10 +874,24 @@ impl<'a> Plan<'a> {
         if ey.len() < 2 {
             return g_rows;
         }
-        angles_of(ey[0], &mut above);
-        for rows in ey.windows(2) {
+        // The blocks of each block row the sector of the group's azimuths may meet
+        // (every block when it spans half a turn or more), and the corners they need.
+        let sector = sector.then(|| Sector::new(e, axis, (lo, hi))).flatten();
+        let met: Vec<core::ops::Range<usize>> = ey
+            .windows(2)
+            .map(|rows| match &sector {
+                Some(sector) => sector.blocks_met((rows[0], rows[1]), block, nx),
+                None => 0..nx,
+            })
+            .collect();
+        let corners = |k: usize| met.get(k).map_or(0..0, |m| m.start..m.end + 1);
+        let both = |a: core::ops::Range<usize>, b: core::ops::Range<usize>| {
+            a.start.min(b.start)..a.end.max(b.end)
+        };
+        angles_of(ey[0], &mut above, corners(0));
+        for (r, rows) in ey.windows(2).enumerate() {
             core::mem::swap(&mut below, &mut above);
-            angles_of(rows[1], &mut above);
+            angles_of(rows[1], &mut above, both(corners(r), corners(r + 1)));
             let (near_y, far_y) = span_of(rows[0], rows[1], e[1]);
             // The blocks from the first to the last that may raise a wedge: the others
             // are provably outside the group's azimuths (`plain` false, and none of
@@ -874,20 +899,34 @@ impl<'a> Plan<'a> {
             // A telephoto's wedges meet a small part of each row.
             // (`mx` and `mn` are `max` and `min` where no angle is NaN, the others
             // are never outside.) Each block's nearest distance is kept for the loops.
-            for (i, (maybe, dist)) in maybe.iter_mut().zip(dist.iter_mut()).enumerate() {
+            let met = met[r].clone();
+            // (Slices of the run's length, for the loop the compiler vectorizes.)
+            let (at, len) = (met.start, met.len());
+            let (near_x, low, high) = (
+                &near_x[at..][..len],
+                &below[at..][..len + 1],
+                &above[at..][..len + 1],
+            );
+            let run = maybe[met.clone()].iter_mut().zip(&mut dist[met.clone()]);
+            for (i, (maybe, dist)) in run.enumerate() {
                 let s_min = (near_x[i] * near_x[i] + near_y * near_y).sqrt();
                 *dist = s_min;
-                let a = [below[i], below[i + 1], above[i], above[i + 1]];
+                let a = [low[i], low[i + 1], high[i], high[i + 1]];
                 let ordered = !(a[0].is_nan() | a[1].is_nan() | a[2].is_nan() | a[3].is_nan());
                 let a0 = mn(mn(a[0], a[1]), mn(a[2], a[3]));
                 let a1 = mx(mx(a[0], a[1]), mx(a[2], a[3]));
                 let away = (a1 + slack < lo32) | (a0 - slack > hi32);
                 *maybe = !((s_min > 0.0) & ordered & (a1 - a0 <= 2.0) & away);
             }
-            let Some(i0) = maybe.iter().position(|&m| m) else {
+            let Some(i0) = maybe[met.clone()].iter().position(|&m| m) else {
                 continue;
             };
-            let i1 = maybe.iter().rposition(|&m| m).map_or(nx, |i| i + 1);
+            let i0 = met.start + i0;
+            let i1 = met.start
+                + maybe[met.clone()]
+                    .iter()
+                    .rposition(|&m| m)
+                    .map_or(0, |i| i + 1);
             block_tops(
                 hf,
                 surface,
