@@ -759,6 +759,22 @@ static double time_run(const field_data *fd, RTCScene scenes[2], int run, const 
 static char speedups[2][RAY_SETS][96];
 static int set_count = 0;
 
+/* The distinct cells that `hits` (of `n` rays over `fd`) land on. Rays over a cell
+ * measure a view's magnification: a telephoto's rays hit the same cell by the dozen,
+ * where Embree's packets share their traversal and each of hfcast's rays walks alone. */
+static size_t hit_cells(const field_data *fd, const hf_hit *hits, size_t n) {
+    uint8_t *seen = (uint8_t *)calloc((size_t)fd->w * fd->h, 1);
+    size_t cells = 0;
+    for (size_t i = 0; i < n; i++) {
+        if (!hits[i].hit || hits[i].cell[0] >= fd->w || hits[i].cell[1] >= fd->h) continue;
+        uint8_t *s = &seen[(size_t)hits[i].cell[1] * fd->w + hits[i].cell[0]];
+        cells += !*s;
+        *s = 1;
+    }
+    free(seen);
+    return cells;
+}
+
 /* Times every run on `rays` twice over and counts the hits of each hfcast method that
  * differ from each Embree run's. Cold: medians of `reps` passes, each pass running
  * every method once, so that each run finds the caches holding the others' data (the
@@ -789,7 +805,9 @@ static void bench_set(const field_data *fd, RTCScene scenes[2], int reps, const 
         hit_count += hits[METHOD_CC][i].hit;
         for (int m = 0; m < METHODS; m++) fetches[m] += hits[m][i].fetches;
     }
-    printf("%s: %zu rays, %zu hits\n", name, n, hit_count);
+    size_t cells = hit_cells(fd, hits[METHOD_CC], n);
+    printf("%s: %zu rays, %zu hits on %zu cells (%.1f a cell)\n", name, n, hit_count, cells,
+           (double)hit_count / (double)(cells ? cells : 1));
     double cc = median(ns + METHOD_CC * reps, reps);
     double cc_warm = median(warm + METHOD_CC * reps, reps);
     for (int run = 0; run < RUNS; run++) {
